@@ -1,0 +1,56 @@
+// CPU images: what renders read back into, what files are written from, what parity compares.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace janus::renderer {
+
+// 8-bit RGBA, row 0 on top, sRGB-encoded when it is a display image.
+struct ImageRGBA8 {
+    uint32_t width = 0;
+    uint32_t height = 0;
+    std::vector<uint8_t> pixels;   // width * height * 4
+};
+
+// 32-bit float RGBA, row 0 on top, linear.
+struct ImageRGBAF {
+    uint32_t width = 0;
+    uint32_t height = 0;
+    std::vector<float> pixels;     // width * height * 4
+};
+
+class ImageIOError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+// Writers are atomic: they write a temporary file beside `path` and rename it into place, so a
+// reader never sees a half-written file. They throw ImageIOError naming the path on failure.
+void writePNG(const std::filesystem::path& path, const ImageRGBA8& image);
+void writePFM(const std::filesystem::path& path, const ImageRGBAF& image);   // RGB, little-endian
+void writeEXR(const std::filesystem::path& path, const ImageRGBAF& image);   // RGBA, 32-bit float
+ImageRGBA8 readPNG(const std::filesystem::path& path);
+
+// Writes `bytes` to `path` atomically (temporary file + rename). Throws ImageIOError.
+void writeFileAtomically(const std::filesystem::path& path, const std::string& bytes);
+
+struct ImageDifference {
+    uint32_t maxChannelDifference = 0;   // in 1/255 steps
+    double psnr = 0.0;                   // dB; +infinity when identical
+    uint64_t differingPixels = 0;        // pixels with any channel difference > threshold
+    uint64_t totalPixels = 0;
+};
+
+// Compares two images of equal size (throws std::invalid_argument otherwise). A pixel counts
+// as differing when any channel differs by more than `threshold` steps.
+ImageDifference compareImages(const ImageRGBA8& a, const ImageRGBA8& b, uint32_t threshold = 0);
+
+// Heat map of |a - b| (max over channels): black where equal, then blue -> green -> yellow -> red
+// up to `fullScaleSteps` (differences at or above it are red).
+ImageRGBA8 differenceHeatmap(const ImageRGBA8& a, const ImageRGBA8& b, uint32_t fullScaleSteps = 8);
+
+}  // namespace janus::renderer

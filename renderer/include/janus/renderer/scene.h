@@ -1,0 +1,121 @@
+// Scenes: glTF 2.0 content plus what glTF lacks (camera, environment, extra lights, quality),
+// given by a small JSON scene file that references the glTF. See docs/SCENES.md.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace janus::renderer {
+
+class SceneError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+struct Vertex {
+    glm::vec3 position;
+    glm::vec3 normal;
+    glm::vec2 uv;
+    glm::vec4 tangent;   // xyz tangent, w handedness; zero when the mesh has none
+};
+
+struct Mesh {
+    std::vector<Vertex> vertices;
+    std::vector<uint32_t> indices;
+    int32_t material = -1;           // index into Scene::materials; -1 = default material
+};
+
+// Decoded 8-bit RGBA texture (images from glTF, row 0 on top).
+struct TextureImage {
+    uint32_t width = 0, height = 0;
+    std::vector<uint8_t> rgba;
+    bool srgb = false;               // base colour and emissive are sRGB; data textures are not
+    std::string name;
+};
+
+struct Material {
+    glm::vec4 baseColorFactor{1.0f};
+    float metallicFactor = 1.0f;
+    float roughnessFactor = 1.0f;
+    glm::vec3 emissiveFactor{0.0f};
+    int32_t baseColorTexture = -1;          // indices into Scene::textures
+    int32_t metallicRoughnessTexture = -1;
+    int32_t normalTexture = -1;
+    int32_t occlusionTexture = -1;
+    int32_t emissiveTexture = -1;
+    bool doubleSided = false;
+    std::string name;
+};
+
+// A mesh placed in the world (glTF node hierarchy flattened).
+struct Instance {
+    uint32_t mesh = 0;
+    glm::mat4 world{1.0f};
+};
+
+enum class LightType { Directional, Point, Spot };
+
+struct Light {
+    LightType type = LightType::Directional;
+    glm::vec3 color{1.0f};
+    float intensity = 1.0f;          // lux for directional, candela for point/spot (glTF units)
+    glm::vec3 position{0.0f};
+    glm::vec3 direction{0.0f, -1.0f, 0.0f};   // direction the light travels
+    std::optional<float> range;
+    float innerConeAngle = 0.0f;
+    float outerConeAngle = 0.7853982f;
+};
+
+struct Camera {
+    glm::vec3 position{0.0f, 0.0f, 3.0f};
+    glm::vec3 target{0.0f};
+    glm::vec3 up{0.0f, 1.0f, 0.0f};
+    float fovYRadians = 0.8726646f;   // 50 degrees
+    float nearPlane = 0.05f;
+    float farPlane = 100.0f;
+};
+
+struct Environment {
+    glm::vec3 ambientColor{0.03f};    // uniform ambient radiance until probes/IBL land
+    float exposure = 1.0f;
+};
+
+// Named empty nodes from glTF (e.g. the cornell box's "IrradianceVolume", "ReflectionCubemap"),
+// kept for features that place probes from them.
+struct Marker {
+    std::string name;
+    glm::mat4 world{1.0f};
+};
+
+struct Scene {
+    std::string name;
+    std::vector<Mesh> meshes;
+    std::vector<Material> materials;
+    std::vector<TextureImage> textures;
+    std::vector<Instance> instances;
+    std::vector<Light> lights;
+    std::vector<Marker> markers;
+    Camera camera;
+    Environment environment;
+};
+
+// Loads a .gltf / .glb file or a .json scene file. Throws SceneError naming the file and the
+// problem (missing file, malformed glTF, missing texture, NaN in a transform or colour, ...).
+Scene loadScene(const std::filesystem::path& path);
+
+// The built-in default scene: a closed room with coloured walls and objects of varied
+// roughness and metalness, lit by a directional light. `janus render` with no scene uses it.
+Scene defaultScene();
+
+// Throws SceneError when the scene holds NaN/Inf or out-of-range values (checked by loadScene
+// and by the Renderer for scenes built in code).
+void validateScene(const Scene& scene);
+
+}  // namespace janus::renderer

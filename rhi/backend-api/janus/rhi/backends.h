@@ -1,0 +1,16 @@
+// Entry points each backend implements; only the device factory calls them.
+#pragma once
+
+#include <memory>
+
+#include "janus/rhi/rhi.h"
+
+namespace janus::rhi::vulkan {
+// Throws Error(BackendUnavailable) when no Vulkan 1.2 device can start.
+std::unique_ptr<IDevice> createDevice(const DeviceDesc& desc);
+}  // namespace janus::rhi::vulkan
+
+namespace janus::rhi::gl {
+// desc.backend is GL (4.3 core) or GLES (3.0); desc.glPlatform picks EGL or OSMesa.
+std::unique_ptr<IDevice> createDevice(const DeviceDesc& desc);
+}  // namespace janus::rhi::gl

@@ -1,0 +1,581 @@
+// Janus RHI: the backend-neutral rendering interface.
+//
+// One section per resource kind (NVRHI style): a plain `XxxDesc` with defaults and chainable
+// setters, an interface `IXxx`, and a ref-counted handle `XxxHandle`. No Vulkan or GL type is
+// visible from here; backends live in rhi-vulkan/ and rhi-gl/ and are chosen at run time with
+// createDevice().
+//
+// Conventions (see docs/ARCHITECTURE.md, "Conventions"). Every backend presents the same ones:
+//  * Clip space is Vulkan's: NDC depth in [0, 1]; NDC y = -1 maps to row 0 of the render target.
+//  * Row 0 of every texture and of every readback is the row at texture coordinate v = 0, which
+//    images show at the top. No backend flips rows on upload, render or readback.
+//  * FrontFace::CounterClockwise means counter-clockwise as seen in the image (row 0 on top).
+//  * Cube faces are ordered +X, -X, +Y, -Y, +Z, -Z (layer 0..5), oriented as in the Vulkan/GL spec.
+//  * Binding model: shaders declare `layout(set = S, binding = B)`; binding numbers are unique
+//    across all sets of one pipeline (so GL can use B as its binding point / texture unit / image
+//    unit directly). Sampled textures are combined image samplers (`sampler2D`...).
+//  * Work is ordered: the backend inserts the barriers needed between render passes, dispatches
+//    and copies (conservative full barriers; correctness first).
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "janus/rhi/format.h"
+
+namespace janus::rhi {
+
+// ---------------------------------------------------------------------------------------------
+// Errors
+// ---------------------------------------------------------------------------------------------
+
+enum class ErrorCode {
+    BackendUnavailable,     // the backend (driver, platform layer, context) could not start
+    UnsupportedCapability,  // the device lacks a capability the call needs (see Capability)
+    InvalidDescription,     // a Desc has absurd or contradictory values; the message names the field
+    InvalidUsage,           // a call in the wrong state (draw outside a render pass, ...)
+    ShaderTranslation,      // SPIR-V could not be turned into code for this backend
+    ShaderCompilation,      // the driver rejected a shader or program
+    OutOfMemory,
+    DeviceLost,
+};
+const char* toString(ErrorCode code);
+
+// Every RHI failure throws this. what() says what went wrong and what to change.
+class Error : public std::runtime_error {
+public:
+    Error(ErrorCode code, const std::string& message);
+    ErrorCode code() const { return m_code; }
+
+private:
+    ErrorCode m_code;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Device creation and capabilities
+// ---------------------------------------------------------------------------------------------
+
+enum class Backend { Vulkan, GL, GLES };
+const char* toString(Backend backend);            // "vulkan", "gl", "gles"
+std::optional<Backend> parseBackend(std::string_view name);
+
+// How the GL backends get a context. Vulkan ignores it.
+enum class GLPlatform { EGL, OSMesa };
+const char* toString(GLPlatform platform);        // "egl", "osmesa"
+std::optional<GLPlatform> parseGLPlatform(std::string_view name);
+
+enum class MessageSeverity { Info, Warning, Error };
+
+struct DebugMessage {
+    MessageSeverity severity = MessageSeverity::Info;
+    std::string text;
+};
+
+struct DeviceDesc {
+    Backend backend = Backend::Vulkan;
+    GLPlatform glPlatform = GLPlatform::EGL;
+    // Vulkan validation layers / GL debug output. Warnings and errors are collected and can be
+    // drained with IDevice::takeDebugMessages(); tests fail on any.
+    bool enableValidation = false;
+    // Called for every collected message as it arrives (optional).
+    std::function<void(const DebugMessage&)> messageCallback;
+
+    DeviceDesc& setBackend(Backend v) { backend = v; return *this; }
+    DeviceDesc& setGLPlatform(GLPlatform v) { glPlatform = v; return *this; }
+    DeviceDesc& setEnableValidation(bool v) { enableValidation = v; return *this; }
+};
+
+enum class Capability {
+    Compute,                 // compute pipelines and dispatch
+    StorageBuffers,          // SSBOs (std430)
+    StorageImages,           // image load/store
+    RenderToVolumeSlice,     // a slice of a 3D texture as a colour attachment
+    RenderToCubeFaceMip,     // any face and mip level of a cube map as an attachment
+    FloatRenderTargets,      // RGBA16F / RGBA32F / R11G11B10F / R32F colour attachments
+    FloatBlend,              // blending into 32-bit float attachments
+    TimestampQueries,        // GPU timers
+};
+const char* toString(Capability cap);
+inline constexpr std::array kAllCapabilities = {
+    Capability::Compute,           Capability::StorageBuffers,     Capability::StorageImages,
+    Capability::RenderToVolumeSlice, Capability::RenderToCubeFaceMip, Capability::FloatRenderTargets,
+    Capability::FloatBlend,        Capability::TimestampQueries,
+};
+
+struct Limits {
+    uint32_t maxTextureSize2D = 0;
+    uint32_t maxTextureSize3D = 0;
+    uint32_t maxTextureSizeCube = 0;
+    uint32_t maxColorAttachments = 0;
+    uint64_t maxUniformBufferRange = 0;
+    uint64_t maxStorageBufferRange = 0;   // 0 without StorageBuffers
+    std::array<uint32_t, 3> maxComputeWorkGroupCount{};
+    std::array<uint32_t, 3> maxComputeWorkGroupSize{};
+    uint32_t maxComputeWorkGroupInvocations = 0;
+    uint32_t uniformBufferOffsetAlignment = 256;
+    uint32_t storageBufferOffsetAlignment = 256;
+};
+
+// What the native API does, and what the RHI presents (always Vulkan's, see the top of this
+// file). Reported so users and tests can see the translation instead of assuming it.
+struct Conventions {
+    bool nativeClipDepthZeroToOne = true;    // false on GL/GLES: emulated in generated shaders
+    bool nativeFramebufferOriginTopLeft = true;  // false on GL: rows are addressed bottom-up
+};
+
+struct DeviceInfo {
+    Backend backend = Backend::Vulkan;
+    std::string apiVersion;      // "Vulkan 1.3.230", "OpenGL 4.5 (Core Profile) Mesa 22.3.6"
+    std::string deviceName;      // "llvmpipe (LLVM 15.0.6, 256 bits)"
+    std::string driverInfo;      // driver name / version string
+    std::string platform;        // "headless" for Vulkan, "egl" or "osmesa" for GL
+    std::string shadingLanguage; // "SPIR-V 1.5", "GLSL 430", "ESSL 300"
+};
+
+struct Capabilities {
+    bool compute = false;
+    bool storageBuffers = false;
+    bool storageImages = false;
+    bool renderToVolumeSlice = false;
+    bool renderToCubeFaceMip = false;
+    bool floatRenderTargets = false;
+    bool floatBlend = false;
+    bool timestampQueries = false;
+    Limits limits;
+    Conventions conventions;
+
+    bool has(Capability cap) const;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Buffers
+// ---------------------------------------------------------------------------------------------
+
+enum class BufferUsage : uint32_t {
+    None = 0,
+    Vertex = 1u << 0,
+    Index = 1u << 1,
+    Uniform = 1u << 2,
+    Storage = 1u << 3,   // needs Capability::StorageBuffers
+};
+constexpr BufferUsage operator|(BufferUsage a, BufferUsage b) { return BufferUsage(uint32_t(a) | uint32_t(b)); }
+constexpr bool any(BufferUsage a, BufferUsage b) { return (uint32_t(a) & uint32_t(b)) != 0; }
+
+struct BufferDesc {
+    uint64_t size = 0;                        // bytes, > 0
+    BufferUsage usage = BufferUsage::None;    // buffers can always be copied to/from and read back
+    std::string debugName;
+
+    BufferDesc& setSize(uint64_t v) { size = v; return *this; }
+    BufferDesc& setUsage(BufferUsage v) { usage = v; return *this; }
+    BufferDesc& setDebugName(std::string v) { debugName = std::move(v); return *this; }
+};
+
+class IBuffer {
+public:
+    virtual ~IBuffer() = default;
+    virtual const BufferDesc& desc() const = 0;
+};
+using BufferHandle = std::shared_ptr<IBuffer>;
+
+// ---------------------------------------------------------------------------------------------
+// Textures and samplers
+// ---------------------------------------------------------------------------------------------
+
+enum class TextureDimension { Texture2D, Texture3D, TextureCube };
+const char* toString(TextureDimension dim);
+
+enum class TextureUsage : uint32_t {
+    None = 0,
+    Sampled = 1u << 0,
+    RenderTarget = 1u << 1,   // colour or depth attachment (by format)
+    Storage = 1u << 2,        // image load/store; needs Capability::StorageImages
+};
+constexpr TextureUsage operator|(TextureUsage a, TextureUsage b) { return TextureUsage(uint32_t(a) | uint32_t(b)); }
+constexpr bool any(TextureUsage a, TextureUsage b) { return (uint32_t(a) & uint32_t(b)) != 0; }
+
+struct TextureDesc {
+    TextureDimension dimension = TextureDimension::Texture2D;
+    Format format = Format::RGBA8_UNORM;
+    uint32_t width = 1;
+    uint32_t height = 1;          // cube maps: width == height
+    uint32_t depth = 1;           // 3D textures only
+    uint32_t mipLevels = 1;       // 0 = full chain
+    TextureUsage usage = TextureUsage::Sampled;   // copies and readback are always allowed
+    std::string debugName;
+
+    TextureDesc& setDimension(TextureDimension v) { dimension = v; return *this; }
+    TextureDesc& setFormat(Format v) { format = v; return *this; }
+    TextureDesc& setSize(uint32_t w, uint32_t h, uint32_t d = 1) { width = w; height = h; depth = d; return *this; }
+    TextureDesc& setMipLevels(uint32_t v) { mipLevels = v; return *this; }
+    TextureDesc& setUsage(TextureUsage v) { usage = v; return *this; }
+    TextureDesc& setDebugName(std::string v) { debugName = std::move(v); return *this; }
+};
+
+// One 2D image of a texture: mip level plus cube face (0..5) or 3D slice (at that mip's depth).
+struct TextureSubresource {
+    uint32_t mipLevel = 0;
+    uint32_t layer = 0;
+};
+
+class ITexture {
+public:
+    virtual ~ITexture() = default;
+    virtual const TextureDesc& desc() const = 0;   // mipLevels resolved (never 0)
+};
+using TextureHandle = std::shared_ptr<ITexture>;
+
+enum class Filter { Nearest, Linear };
+enum class AddressMode { Repeat, MirroredRepeat, ClampToEdge };
+enum class CompareOp { Never, Less, Equal, LessOrEqual, Greater, NotEqual, GreaterOrEqual, Always };
+
+struct SamplerDesc {
+    Filter minFilter = Filter::Linear;
+    Filter magFilter = Filter::Linear;
+    Filter mipFilter = Filter::Linear;
+    AddressMode addressU = AddressMode::Repeat;
+    AddressMode addressV = AddressMode::Repeat;
+    AddressMode addressW = AddressMode::Repeat;
+    float minLod = 0.0f;
+    float maxLod = 1000.0f;
+    float maxAnisotropy = 1.0f;
+    std::optional<CompareOp> compare;   // depth-comparison sampler (sampler2DShadow)
+
+    SamplerDesc& setFilter(Filter f) { minFilter = magFilter = mipFilter = f; return *this; }
+    SamplerDesc& setAddress(AddressMode m) { addressU = addressV = addressW = m; return *this; }
+    SamplerDesc& setLodRange(float lo, float hi) { minLod = lo; maxLod = hi; return *this; }
+    SamplerDesc& setCompare(CompareOp op) { compare = op; return *this; }
+};
+
+class ISampler {
+public:
+    virtual ~ISampler() = default;
+    virtual const SamplerDesc& desc() const = 0;
+};
+using SamplerHandle = std::shared_ptr<ISampler>;
+
+// ---------------------------------------------------------------------------------------------
+// Shaders
+// ---------------------------------------------------------------------------------------------
+
+enum class ShaderStage : uint32_t { Vertex = 1, Fragment = 2, Compute = 4 };
+const char* toString(ShaderStage stage);
+
+// Every backend takes SPIR-V (compiled by glslang from shaders/). GL backends translate it with
+// SPIRV-Cross to GLSL 430 / ESSL 300 and remap bindings from reflection.
+struct ShaderDesc {
+    ShaderStage stage = ShaderStage::Vertex;
+    std::vector<uint32_t> spirv;
+    std::string entryPoint = "main";
+    std::string debugName;
+
+    ShaderDesc& setStage(ShaderStage v) { stage = v; return *this; }
+    ShaderDesc& setSpirv(std::span<const uint32_t> v) { spirv.assign(v.begin(), v.end()); return *this; }
+    ShaderDesc& setDebugName(std::string v) { debugName = std::move(v); return *this; }
+};
+
+class IShader {
+public:
+    virtual ~IShader() = default;
+    virtual const ShaderDesc& desc() const = 0;
+    // The source the backend actually compiled (GLSL/ESSL on GL, empty on Vulkan). For debugging.
+    virtual std::string translatedSource() const = 0;
+};
+using ShaderHandle = std::shared_ptr<IShader>;
+
+// ---------------------------------------------------------------------------------------------
+// Pipelines
+// ---------------------------------------------------------------------------------------------
+
+enum class VertexFormat { Float1, Float2, Float3, Float4, UByte4Norm, UInt1 };
+uint32_t vertexFormatSize(VertexFormat f);
+
+struct VertexAttribute {
+    uint32_t location = 0;
+    VertexFormat format = VertexFormat::Float3;
+    uint32_t bufferSlot = 0;
+    uint32_t offset = 0;
+};
+
+struct VertexBufferLayout {
+    uint32_t slot = 0;
+    uint32_t stride = 0;
+    bool perInstance = false;
+};
+
+enum class PrimitiveTopology { TriangleList, TriangleStrip, LineList, PointList };
+enum class CullMode { None, Front, Back };
+enum class FrontFace { CounterClockwise, Clockwise };   // as seen in the image, row 0 on top
+
+struct RasterState {
+    CullMode cullMode = CullMode::None;
+    FrontFace frontFace = FrontFace::CounterClockwise;
+    // Polygon offset (depth bias): depth += slopeScale * max slope + constant * r.
+    bool depthBiasEnable = false;
+    float depthBiasConstant = 0.0f;
+    float depthBiasSlope = 0.0f;
+};
+
+struct DepthState {
+    bool testEnable = false;
+    bool writeEnable = false;
+    CompareOp compare = CompareOp::Less;
+};
+
+enum class BlendFactor { Zero, One, SrcColor, OneMinusSrcColor, SrcAlpha, OneMinusSrcAlpha, DstColor, OneMinusDstColor, DstAlpha, OneMinusDstAlpha };
+enum class BlendOp { Add, Subtract, ReverseSubtract, Min, Max };
+
+struct BlendAttachment {
+    bool enable = false;
+    BlendFactor srcColor = BlendFactor::One;
+    BlendFactor dstColor = BlendFactor::Zero;
+    BlendOp colorOp = BlendOp::Add;
+    BlendFactor srcAlpha = BlendFactor::One;
+    BlendFactor dstAlpha = BlendFactor::Zero;
+    BlendOp alphaOp = BlendOp::Add;
+    uint8_t writeMask = 0xF;   // RGBA bits
+
+    static BlendAttachment additive() { return {true, BlendFactor::One, BlendFactor::One, BlendOp::Add, BlendFactor::One, BlendFactor::One, BlendOp::Add, 0xF}; }
+    static BlendAttachment alpha() { return {true, BlendFactor::SrcAlpha, BlendFactor::OneMinusSrcAlpha, BlendOp::Add, BlendFactor::One, BlendFactor::OneMinusSrcAlpha, BlendOp::Add, 0xF}; }
+};
+
+struct GraphicsPipelineDesc {
+    ShaderHandle vertexShader;
+    ShaderHandle fragmentShader;
+    std::vector<VertexBufferLayout> vertexBuffers;
+    std::vector<VertexAttribute> vertexAttributes;
+    PrimitiveTopology topology = PrimitiveTopology::TriangleList;
+    RasterState raster;
+    DepthState depth;
+    std::vector<BlendAttachment> blend;   // one per colour attachment; missing = disabled
+    // Formats of the attachments the pipeline renders into (must match the render pass).
+    std::vector<Format> colorFormats;
+    Format depthFormat = Format::Unknown;
+    std::string debugName;
+
+    GraphicsPipelineDesc& setShaders(ShaderHandle vs, ShaderHandle fs) { vertexShader = std::move(vs); fragmentShader = std::move(fs); return *this; }
+    GraphicsPipelineDesc& addVertexBuffer(VertexBufferLayout v) { vertexBuffers.push_back(v); return *this; }
+    GraphicsPipelineDesc& addVertexAttribute(VertexAttribute v) { vertexAttributes.push_back(v); return *this; }
+    GraphicsPipelineDesc& setTopology(PrimitiveTopology v) { topology = v; return *this; }
+    GraphicsPipelineDesc& setRaster(RasterState v) { raster = v; return *this; }
+    GraphicsPipelineDesc& setDepth(DepthState v) { depth = v; return *this; }
+    GraphicsPipelineDesc& addColorFormat(Format f, BlendAttachment b = {}) { colorFormats.push_back(f); blend.push_back(b); return *this; }
+    GraphicsPipelineDesc& setDepthFormat(Format f) { depthFormat = f; return *this; }
+    GraphicsPipelineDesc& setDebugName(std::string v) { debugName = std::move(v); return *this; }
+};
+
+struct ComputePipelineDesc {
+    ShaderHandle computeShader;
+    std::string debugName;
+
+    ComputePipelineDesc& setShader(ShaderHandle v) { computeShader = std::move(v); return *this; }
+    ComputePipelineDesc& setDebugName(std::string v) { debugName = std::move(v); return *this; }
+};
+
+class IPipeline {
+public:
+    virtual ~IPipeline() = default;
+    virtual bool isCompute() const = 0;
+};
+using PipelineHandle = std::shared_ptr<IPipeline>;
+
+// ---------------------------------------------------------------------------------------------
+// Binding sets: the resources one `set` of a shader sees
+// ---------------------------------------------------------------------------------------------
+
+enum class ResourceType {
+    UniformBuffer,    // layout(std140) uniform Block
+    StorageBuffer,    // layout(std430) buffer Block; needs StorageBuffers
+    SampledTexture,   // sampler2D / sampler3D / samplerCube / sampler2DShadow (texture + sampler)
+    StorageImage,     // image2D / image3D (one mip level; all layers); needs StorageImages
+};
+
+struct BindingItem {
+    uint32_t binding = 0;
+    ResourceType type = ResourceType::UniformBuffer;
+    BufferHandle buffer;
+    uint64_t offset = 0;
+    uint64_t range = 0;               // 0 = to the end of the buffer
+    TextureHandle texture;
+    SamplerHandle sampler;
+    uint32_t mipLevel = 0;            // StorageImage: which level
+
+    static BindingItem uniformBuffer(uint32_t b, BufferHandle buf, uint64_t off = 0, uint64_t rng = 0) { BindingItem i; i.binding = b; i.type = ResourceType::UniformBuffer; i.buffer = std::move(buf); i.offset = off; i.range = rng; return i; }
+    static BindingItem storageBuffer(uint32_t b, BufferHandle buf, uint64_t off = 0, uint64_t rng = 0) { BindingItem i; i.binding = b; i.type = ResourceType::StorageBuffer; i.buffer = std::move(buf); i.offset = off; i.range = rng; return i; }
+    static BindingItem sampledTexture(uint32_t b, TextureHandle tex, SamplerHandle smp) { BindingItem i; i.binding = b; i.type = ResourceType::SampledTexture; i.texture = std::move(tex); i.sampler = std::move(smp); return i; }
+    static BindingItem storageImage(uint32_t b, TextureHandle tex, uint32_t mip = 0) { BindingItem i; i.binding = b; i.type = ResourceType::StorageImage; i.texture = std::move(tex); i.mipLevel = mip; return i; }
+};
+
+struct BindingSetDesc {
+    std::vector<BindingItem> items;
+    BindingSetDesc& add(BindingItem item) { items.push_back(std::move(item)); return *this; }
+};
+
+class IBindingSet {
+public:
+    virtual ~IBindingSet() = default;
+    virtual const BindingSetDesc& desc() const = 0;
+};
+using BindingSetHandle = std::shared_ptr<IBindingSet>;
+
+// ---------------------------------------------------------------------------------------------
+// Timers
+// ---------------------------------------------------------------------------------------------
+
+class ITimerQuery {
+public:
+    virtual ~ITimerQuery() = default;
+};
+using TimerQueryHandle = std::shared_ptr<ITimerQuery>;
+
+// ---------------------------------------------------------------------------------------------
+// Render passes
+// ---------------------------------------------------------------------------------------------
+
+enum class LoadOp { Load, Clear, DontCare };
+enum class StoreOp { Store, DontCare };
+
+// An attachment is any 2D subresource: a 2D mip, a cube face + mip, or a 3D slice at a mip.
+struct Attachment {
+    TextureHandle texture;
+    TextureSubresource subresource;
+    LoadOp loadOp = LoadOp::Clear;
+    StoreOp storeOp = StoreOp::Store;
+    std::array<float, 4> clearColor{0, 0, 0, 0};
+    float clearDepth = 1.0f;
+
+    static Attachment clear(TextureHandle t, std::array<float, 4> c = {0, 0, 0, 0}, TextureSubresource s = {}) { Attachment a; a.texture = std::move(t); a.clearColor = c; a.subresource = s; return a; }
+    static Attachment clearDepthTo(TextureHandle t, float d = 1.0f, TextureSubresource s = {}) { Attachment a; a.texture = std::move(t); a.clearDepth = d; a.subresource = s; return a; }
+    static Attachment load(TextureHandle t, TextureSubresource s = {}) { Attachment a; a.texture = std::move(t); a.loadOp = LoadOp::Load; a.subresource = s; return a; }
+};
+
+struct RenderPassDesc {
+    std::vector<Attachment> colors;
+    std::optional<Attachment> depth;
+
+    RenderPassDesc& addColor(Attachment a) { colors.push_back(std::move(a)); return *this; }
+    RenderPassDesc& setDepth(Attachment a) { depth = std::move(a); return *this; }
+};
+
+struct Viewport {
+    float x = 0, y = 0, width = 0, height = 0;   // y counts rows from row 0 (top)
+    float minDepth = 0, maxDepth = 1;
+};
+
+struct ScissorRect {
+    int32_t x = 0, y = 0;
+    uint32_t width = 0, height = 0;
+};
+
+enum class IndexType { UInt16, UInt32 };
+
+// ---------------------------------------------------------------------------------------------
+// Command lists
+// ---------------------------------------------------------------------------------------------
+
+// Records work; IDevice::execute() runs it. Barriers between passes, dispatches and copies are
+// inserted by the backend. Resources referenced by a command list are kept alive until it has
+// executed.
+class ICommandList {
+public:
+    virtual ~ICommandList() = default;
+
+    virtual void begin() = 0;   // resets and starts recording
+    virtual void end() = 0;
+
+    // Render passes. Viewport and scissor default to the full attachment.
+    virtual void beginRenderPass(const RenderPassDesc& desc) = 0;
+    virtual void endRenderPass() = 0;
+    virtual void setViewport(const Viewport& viewport) = 0;
+    virtual void setScissor(const ScissorRect& scissor) = 0;
+    virtual void setPipeline(const PipelineHandle& pipeline) = 0;
+    virtual void setBindingSet(uint32_t set, const BindingSetHandle& bindings) = 0;
+    virtual void setVertexBuffer(uint32_t slot, const BufferHandle& buffer, uint64_t offset = 0) = 0;
+    virtual void setIndexBuffer(const BufferHandle& buffer, IndexType type, uint64_t offset = 0) = 0;
+    virtual void draw(uint32_t vertexCount, uint32_t instanceCount = 1, uint32_t firstVertex = 0, uint32_t firstInstance = 0) = 0;
+    virtual void drawIndexed(uint32_t indexCount, uint32_t instanceCount = 1, uint32_t firstIndex = 0, int32_t vertexOffset = 0, uint32_t firstInstance = 0) = 0;
+
+    // Compute (outside render passes). Throws UnsupportedCapability without Capability::Compute.
+    virtual void dispatch(uint32_t groupsX, uint32_t groupsY = 1, uint32_t groupsZ = 1) = 0;
+
+    // Transfers (outside render passes). Sizes are whole subresources, rows tightly packed.
+    virtual void writeBuffer(const BufferHandle& dst, const void* data, uint64_t size, uint64_t dstOffset = 0) = 0;
+    virtual void copyBuffer(const BufferHandle& dst, uint64_t dstOffset, const BufferHandle& src, uint64_t srcOffset, uint64_t size) = 0;
+    virtual void copyBufferToTexture(const TextureHandle& dst, TextureSubresource dstSub, const BufferHandle& src, uint64_t srcOffset = 0) = 0;
+    virtual void copyTextureToBuffer(const BufferHandle& dst, uint64_t dstOffset, const TextureHandle& src, TextureSubresource srcSub) = 0;
+    virtual void copyTexture(const TextureHandle& dst, TextureSubresource dstSub, const TextureHandle& src, TextureSubresource srcSub) = 0;
+    virtual void generateMips(const TextureHandle& texture) = 0;   // from mip 0, every face/slice
+
+    // GPU timers: the time between begin and end on the GPU.
+    virtual void beginTimer(const TimerQueryHandle& timer) = 0;
+    virtual void endTimer(const TimerQueryHandle& timer) = 0;
+
+    virtual void pushDebugGroup(std::string_view name) = 0;
+    virtual void popDebugGroup() = 0;
+};
+using CommandListHandle = std::shared_ptr<ICommandList>;
+
+// ---------------------------------------------------------------------------------------------
+// Device
+// ---------------------------------------------------------------------------------------------
+
+class IDevice {
+public:
+    virtual ~IDevice() = default;
+
+    virtual const DeviceInfo& info() const = 0;
+    virtual const Capabilities& capabilities() const = 0;
+    // Throws Error(UnsupportedCapability) naming `cap` and `what` when the device lacks it.
+    void require(Capability cap, std::string_view what) const;
+
+    virtual BufferHandle createBuffer(const BufferDesc& desc) = 0;
+    virtual TextureHandle createTexture(const TextureDesc& desc) = 0;
+    virtual SamplerHandle createSampler(const SamplerDesc& desc) = 0;
+    virtual ShaderHandle createShader(const ShaderDesc& desc) = 0;
+    virtual PipelineHandle createGraphicsPipeline(const GraphicsPipelineDesc& desc) = 0;
+    virtual PipelineHandle createComputePipeline(const ComputePipelineDesc& desc) = 0;
+    virtual BindingSetHandle createBindingSet(const BindingSetDesc& desc) = 0;
+    virtual TimerQueryHandle createTimerQuery() = 0;
+    virtual CommandListHandle createCommandList() = 0;
+
+    // Submits recorded work. Work runs in submission order.
+    virtual void execute(const CommandListHandle& commandList) = 0;
+    virtual void waitIdle() = 0;
+
+    // Immediate transfers: wait for all executed work, then act. Rows tightly packed; row 0 is
+    // the row at v = 0 (see Conventions).
+    virtual void writeBuffer(const BufferHandle& buffer, const void* data, uint64_t size, uint64_t offset = 0) = 0;
+    virtual std::vector<std::byte> readBuffer(const BufferHandle& buffer, uint64_t offset = 0, uint64_t size = 0) = 0;  // size 0 = to the end
+    virtual void writeTexture(const TextureHandle& texture, TextureSubresource sub, const void* data, uint64_t size) = 0;
+    virtual std::vector<std::byte> readTexture(const TextureHandle& texture, TextureSubresource sub) = 0;
+
+    // GPU time in seconds between the timer's begin and end; waits for the result. nullopt when
+    // the timer never ran.
+    virtual std::optional<double> timerSeconds(const TimerQueryHandle& timer) = 0;
+
+    // Validation-layer / GL debug messages of severity Warning or Error collected since the last call.
+    virtual std::vector<DebugMessage> takeDebugMessages() = 0;
+};
+
+// Creates a device for desc.backend. Throws Error(BackendUnavailable) with the reason when the
+// backend cannot start (no driver, no EGL platform, ...).
+std::unique_ptr<IDevice> createDevice(const DeviceDesc& desc);
+
+// Which backends start on this machine, with the reason for those that do not.
+struct BackendProbe {
+    Backend backend;
+    bool available = false;
+    std::string reason;   // empty when available
+};
+std::vector<BackendProbe> probeBackends(GLPlatform glPlatform = GLPlatform::EGL);
+
+}  // namespace janus::rhi

@@ -1,0 +1,33 @@
+// Runtime backend choice.
+#include "janus/rhi/backends.h"
+
+namespace janus::rhi {
+
+std::unique_ptr<IDevice> createDevice(const DeviceDesc& desc) {
+    switch (desc.backend) {
+        case Backend::Vulkan: return vulkan::createDevice(desc);
+        case Backend::GL:
+        case Backend::GLES: return gl::createDevice(desc);
+    }
+    throw Error(ErrorCode::InvalidDescription, "DeviceDesc::backend is not a known backend");
+}
+
+std::vector<BackendProbe> probeBackends(GLPlatform glPlatform) {
+    std::vector<BackendProbe> result;
+    for (Backend b : {Backend::Vulkan, Backend::GL, Backend::GLES}) {
+        BackendProbe probe{b};
+        try {
+            DeviceDesc desc;
+            desc.backend = b;
+            desc.glPlatform = glPlatform;
+            createDevice(desc);
+            probe.available = true;
+        } catch (const std::exception& e) {
+            probe.reason = e.what();
+        }
+        result.push_back(std::move(probe));
+    }
+    return result;
+}
+
+}  // namespace janus::rhi

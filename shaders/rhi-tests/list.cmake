@@ -1,0 +1,1 @@
+# Shaders used by the RHI conformance tests (tests/rhi).
