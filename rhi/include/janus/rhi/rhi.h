@@ -564,6 +564,10 @@ public:
 
     // Validation-layer / GL debug messages of severity Warning or Error collected since the last call.
     virtual std::vector<DebugMessage> takeDebugMessages() = 0;
+
+    // Makes one deliberately invalid raw API call (Vulkan: through the validation layer; GL: one
+    // that raises a GL error) so tests can prove the debug-message hook really catches errors.
+    virtual void provokeValidationErrorForTesting() = 0;
 };
 
 // Creates a device for desc.backend. Throws Error(BackendUnavailable) with the reason when the
