@@ -1,1 +1,14 @@
-# Shaders used by the RHI conformance tests (tests/rhi).
+# Shaders used by the RHI conformance tests (tests/rhi). Names start with rt_ (RHI test).
+set(_rt ${CMAKE_CURRENT_LIST_DIR})
+janus_add_shader(janus_shaders NAME rt_fullscreen_vert SOURCE ${_rt}/fullscreen.vert)
+janus_add_shader(janus_shaders NAME rt_vertex_color_vert SOURCE ${_rt}/vertex_color.vert)
+janus_add_shader(janus_shaders NAME rt_vertex_color_frag SOURCE ${_rt}/vertex_color.frag)
+janus_add_shader(janus_shaders NAME rt_sample_2d_frag SOURCE ${_rt}/sample_2d.frag)
+janus_add_shader(janus_shaders NAME rt_two_textures_frag SOURCE ${_rt}/two_textures.frag)
+janus_add_shader(janus_shaders NAME rt_two_textures_two_sets_frag SOURCE ${_rt}/two_textures.frag DEFINES SEPARATE_SETS)
+janus_add_shader(janus_shaders NAME rt_std140_read_frag SOURCE ${_rt}/std140_read.frag)
+janus_add_shader(janus_shaders NAME rt_layout_std140_comp SOURCE ${_rt}/layout.comp DEFINES LAYOUT=std140)
+janus_add_shader(janus_shaders NAME rt_layout_std430_comp SOURCE ${_rt}/layout.comp DEFINES LAYOUT=std430)
+janus_add_shader(janus_shaders NAME rt_invocation_ids_comp SOURCE ${_rt}/invocation_ids.comp)
+janus_add_shader(janus_shaders NAME rt_fill_volume_comp SOURCE ${_rt}/fill_volume.comp)
+janus_add_shader(janus_shaders NAME rt_fill_image_2d_comp SOURCE ${_rt}/fill_image_2d.comp)
