@@ -1,3 +1,56 @@
-// Placeholder until the CLI lands.
+// janus: inspect backends, render a scene, and check that all configurations agree.
 #include <cstdio>
-int main() { std::puts("janus: not built yet"); return 1; }
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "cli_common.h"
+
+namespace {
+
+using janus::cli::ExitCode;
+
+int usageFailure(const std::string& message, const CLI::App& failedIn) {
+    const std::string helpCommand = failedIn.get_parent() ? fmt::format("janus {} --help", failedIn.get_name()) : "janus --help";
+    janus::cli::printError(fmt::format("{} (see '{}')", message, helpCommand));
+    return static_cast<int>(ExitCode::UsageError);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app("janus: renders glTF scenes through one graphics API abstraction on Vulkan, OpenGL and "
+                 "OpenGL ES, and checks that every configuration produces the same pixels.",
+                 "janus");
+    app.footer(janus::cli::kExitCodeHelp);
+    app.get_formatter()->column_width(34);
+
+    std::vector<janus::cli::Command> commands = {
+        janus::cli::addInfoCommand(app),
+        janus::cli::addRenderCommand(app),
+        janus::cli::addParityCommand(app),
+    };
+    for (auto& command : commands) command.app->footer(janus::cli::kExitCodeHelp);
+    app.require_subcommand(0, 1);
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        // Name the subcommand whose options failed, so the hint points at the right --help.
+        const CLI::App* failedIn = &app;
+        for (const auto& command : commands)
+            if (command.app->parsed()) failedIn = command.app;
+        return usageFailure(e.what(), *failedIn);
+    }
+
+    for (const auto& command : commands)
+        if (command.app->parsed()) return janus::cli::runCommand(command.run);
+
+    std::fputs(app.help().c_str(), stderr);
+    janus::cli::printError("no command given; choose one of info, render, parity");
+    return static_cast<int>(ExitCode::UsageError);
+}

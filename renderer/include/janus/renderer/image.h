@@ -34,6 +34,9 @@ void writePNG(const std::filesystem::path& path, const ImageRGBA8& image);
 void writePFM(const std::filesystem::path& path, const ImageRGBAF& image);   // RGB, little-endian
 void writeEXR(const std::filesystem::path& path, const ImageRGBAF& image);   // RGBA, 32-bit float
 ImageRGBA8 readPNG(const std::filesystem::path& path);
+// Readers for the HDR outputs, so tools and tests can check what was written. Throw ImageIOError.
+ImageRGBAF readPFM(const std::filesystem::path& path);   // alpha reads as 1
+ImageRGBAF readEXR(const std::filesystem::path& path);
 
 // Writes `bytes` to `path` atomically (temporary file + rename). Throws ImageIOError.
 void writeFileAtomically(const std::filesystem::path& path, const std::string& bytes);

@@ -1,0 +1,252 @@
+#include "cli_common.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cstdio>
+#include <new>
+#include <system_error>
+
+#include <unistd.h>
+
+#include <fmt/format.h>
+
+namespace janus::cli {
+namespace {
+
+int exitStatus(ExitCode code) { return static_cast<int>(code); }
+
+// Library messages may span lines (driver logs); the contract is one line per error.
+std::string singleLine(std::string_view text) {
+    std::string line;
+    line.reserve(text.size());
+    for (char c : text) {
+        if (c == '\n') {
+            if (!line.empty() && line.back() != ' ') line += "; ";
+        } else if (c != '\r') {
+            line += c;
+        }
+    }
+    while (!line.empty() && (line.back() == ' ' || line.back() == ';')) line.pop_back();
+    return line;
+}
+
+std::optional<uint32_t> parseSide(std::string_view text, bool& tooLarge) {
+    uint64_t value = 0;
+    const char* begin = text.data();
+    const char* end = text.data() + text.size();
+    const auto [ptr, error] = std::from_chars(begin, end, value);
+    if (error == std::errc::result_out_of_range) {
+        tooLarge = true;
+        return std::nullopt;
+    }
+    if (error != std::errc() || ptr != end || text.empty()) return std::nullopt;
+    if (value > kMaxRenderSide) {
+        tooLarge = true;
+        return std::nullopt;
+    }
+    return uint32_t(value);
+}
+
+}  // namespace
+
+void printError(std::string_view message) {
+    std::fflush(stdout);   // keep stdout's progress lines before the error when both go to a terminal
+    std::fprintf(stderr, "janus: error: %s\n", singleLine(message).c_str());
+}
+
+int runCommand(const std::function<int()>& body) {
+    try {
+        return body();
+    } catch (const UsageError& e) {
+        printError(e.what());
+        return exitStatus(ExitCode::UsageError);
+    } catch (const InputError& e) {
+        printError(e.what());
+        return exitStatus(ExitCode::InputError);
+    } catch (const UnavailableError& e) {
+        printError(e.what());
+        return exitStatus(ExitCode::BackendUnavailable);
+    } catch (const renderer::SceneError& e) {
+        printError(fmt::format("scene: {}", e.what()));
+        return exitStatus(ExitCode::InputError);
+    } catch (const renderer::ImageIOError& e) {
+        printError(e.what());
+        return exitStatus(ExitCode::InputError);
+    } catch (const renderer::RendererError& e) {
+        // The renderer throws this for settings the device cannot honour.
+        printError(e.what());
+        return exitStatus(ExitCode::BackendUnavailable);
+    } catch (const rhi::Error& e) {
+        switch (e.code()) {
+            case rhi::ErrorCode::BackendUnavailable:
+                printError(fmt::format("{} (run 'janus info' to see which backends work on this machine)", e.what()));
+                return exitStatus(ExitCode::BackendUnavailable);
+            case rhi::ErrorCode::UnsupportedCapability:
+                printError(e.what());
+                return exitStatus(ExitCode::BackendUnavailable);
+            case rhi::ErrorCode::OutOfMemory:
+                printError(fmt::format("the device ran out of memory: {} (try a smaller --size)", e.what()));
+                return exitStatus(ExitCode::BackendUnavailable);
+            default:
+                printError(fmt::format("internal error ({}): {} (please report this)", rhi::toString(e.code()), e.what()));
+                return exitStatus(ExitCode::InternalError);
+        }
+    } catch (const std::bad_alloc&) {
+        printError("internal error: out of host memory (try a smaller --size)");
+        return exitStatus(ExitCode::InternalError);
+    } catch (const std::exception& e) {
+        printError(fmt::format("internal error: {} (please report this)", e.what()));
+        return exitStatus(ExitCode::InternalError);
+    } catch (...) {
+        printError("internal error: unknown exception (please report this)");
+        return exitStatus(ExitCode::InternalError);
+    }
+}
+
+ImageSize parseSize(std::string_view text) {
+    const size_t separator = text.find_first_of("xX");
+    bool tooLarge = false;
+    std::optional<uint32_t> width, height;
+    if (separator != std::string_view::npos) {
+        width = parseSide(text.substr(0, separator), tooLarge);
+        height = parseSide(text.substr(separator + 1), tooLarge);
+    }
+    if (tooLarge)
+        throw UsageError(fmt::format("--size '{}' is too large: each side must be at most {}; use a smaller size such as 256x256",
+                                     text, kMaxRenderSide));
+    if (!width || !height)
+        throw UsageError(fmt::format("--size '{}' is not WIDTHxHEIGHT; give two whole numbers such as 256x256", text));
+    if (*width == 0 || *height == 0)
+        throw UsageError(fmt::format("--size '{}' is empty: width and height must be at least 1 (for example 256x256)", text));
+    return {*width, *height};
+}
+
+rhi::Backend parseBackendOption(std::string_view text) {
+    if (auto backend = rhi::parseBackend(text)) return *backend;
+    throw UsageError(fmt::format("unknown backend '{}'; choose one of vulkan, gl, gles", text));
+}
+
+renderer::FeaturePath parsePathOption(std::string_view text) {
+    if (auto path = renderer::parseFeaturePath(text)) return *path;
+    throw UsageError(fmt::format("unknown --path '{}'; choose compute or fallback", text));
+}
+
+rhi::GLPlatform parseGLPlatformOption(std::string_view text) {
+    if (auto platform = rhi::parseGLPlatform(text)) return *platform;
+    throw UsageError(fmt::format("unknown --gl-platform '{}'; choose egl or osmesa", text));
+}
+
+void checkOutputFile(const std::filesystem::path& file, std::string_view optionName) {
+    namespace fs = std::filesystem;
+    if (file.empty()) throw UsageError(fmt::format("{} needs a file name", optionName));
+    std::error_code ec;
+    if (fs::is_directory(file, ec))
+        throw InputError(fmt::format("{} '{}' is a directory; give a file name inside it", optionName, file.string()));
+    const fs::path directory = file.has_parent_path() ? file.parent_path() : fs::path(".");
+    if (!fs::exists(directory, ec))
+        throw InputError(fmt::format("cannot write {} '{}': directory '{}' does not exist; create it or choose another path",
+                                     optionName, file.string(), directory.string()));
+    if (!fs::is_directory(directory, ec))
+        throw InputError(fmt::format("cannot write {} '{}': '{}' is not a directory; choose another path",
+                                     optionName, file.string(), directory.string()));
+    if (::access(directory.c_str(), W_OK) != 0)
+        throw InputError(fmt::format("cannot write {} '{}': directory '{}' is not writable; choose another path",
+                                     optionName, file.string(), directory.string()));
+}
+
+renderer::Scene loadSceneOrDefault(const std::optional<std::filesystem::path>& scenePath) {
+    if (!scenePath) return renderer::defaultScene();
+    std::error_code ec;
+    if (!std::filesystem::exists(*scenePath, ec))
+        throw InputError(fmt::format("scene file '{}' does not exist; give a .gltf, .glb or .json scene, "
+                                     "or leave it out to use the built-in scene", scenePath->string()));
+    if (std::filesystem::is_directory(*scenePath, ec))
+        throw InputError(fmt::format("scene '{}' is a directory; give the .gltf, .glb or .json file inside it",
+                                     scenePath->string()));
+    return renderer::loadScene(*scenePath);
+}
+
+std::string sceneLabel(const std::optional<std::filesystem::path>& scenePath) {
+    return scenePath ? scenePath->string() : std::string("built-in default scene");
+}
+
+std::string configurationLabel(rhi::Backend backend, renderer::FeaturePath path) {
+    return fmt::format("{}/{}", rhi::toString(backend), renderer::toString(path));
+}
+
+std::string configurationFileStem(rhi::Backend backend, renderer::FeaturePath path) {
+    return fmt::format("{}-{}", rhi::toString(backend), renderer::toString(path));
+}
+
+RenderOutcome renderConfiguration(const renderer::Scene& scene, const RenderRequest& request) {
+    rhi::DeviceDesc desc;
+    desc.setBackend(request.backend).setGLPlatform(request.glPlatform).setEnableValidation(request.validation);
+    std::unique_ptr<rhi::IDevice> device = rhi::createDevice(desc);
+
+    const rhi::Capabilities& caps = device->capabilities();
+    if (request.path == renderer::FeaturePath::Compute && !caps.has(rhi::Capability::Compute))
+        throw UnavailableError(fmt::format("the {} backend lacks the '{}' capability that --path compute needs; "
+                                           "use --path fallback",
+                                           rhi::toString(request.backend), rhi::toString(rhi::Capability::Compute)));
+    const uint32_t maxSide = caps.limits.maxTextureSize2D;
+    if (maxSide != 0 && (request.size.width > maxSide || request.size.height > maxSide))
+        throw UnavailableError(fmt::format("--size {}x{} exceeds the {} backend's largest texture side ({}); use a smaller --size",
+                                           request.size.width, request.size.height, rhi::toString(request.backend), maxSide));
+
+    renderer::RenderSettings settings;
+    settings.width = request.size.width;
+    settings.height = request.size.height;
+    settings.path = request.path;
+
+    RenderOutcome outcome;
+    outcome.device = device->info();
+    {
+        // The renderer owns device resources, so it must go before the device does.
+        renderer::Renderer frameRenderer(*device, scene, settings);
+        outcome.report = frameRenderer.renderFrame();
+        outcome.display = frameRenderer.readDisplayImage();
+        if (request.wantHdr) outcome.hdr = frameRenderer.readHdrImage();
+    }
+    outcome.debugMessages = device->takeDebugMessages();
+    return outcome;
+}
+
+std::string formatTable(const std::vector<std::vector<std::string>>& rows, size_t indent) {
+    std::vector<size_t> widths;
+    for (const auto& row : rows) {
+        if (widths.size() < row.size()) widths.resize(row.size(), 0);
+        for (size_t c = 0; c < row.size(); ++c) widths[c] = std::max(widths[c], row[c].size());
+    }
+    std::string out;
+    for (const auto& row : rows) {
+        std::string line(indent, ' ');
+        for (size_t c = 0; c < row.size(); ++c) {
+            line += row[c];
+            if (c + 1 < row.size()) line += std::string(widths[c] - row[c].size() + 2, ' ');
+        }
+        while (!line.empty() && line.back() == ' ') line.pop_back();
+        out += line;
+        out += '\n';
+    }
+    return out;
+}
+
+void printPassSummary(const renderer::FrameReport& report) {
+    std::vector<std::vector<std::string>> rows{{"pass", "GPU ms", "CPU ms", "draws", "dispatches"}};
+    double totalCpu = 0.0, totalGpu = 0.0;
+    bool allTimed = true;
+    uint32_t totalDraws = 0, totalDispatches = 0;
+    for (const renderer::PassReport& pass : report.passes) {
+        rows.push_back({pass.name, pass.gpuMs ? fmt::format("{:.3f}", *pass.gpuMs) : "-", fmt::format("{:.3f}", pass.cpuMs),
+                        std::to_string(pass.draws), std::to_string(pass.dispatches)});
+        totalCpu += pass.cpuMs;
+        if (pass.gpuMs) totalGpu += *pass.gpuMs; else allTimed = false;
+        totalDraws += pass.draws;
+        totalDispatches += pass.dispatches;
+    }
+    rows.push_back({"total", allTimed && !report.passes.empty() ? fmt::format("{:.3f}", totalGpu) : "-",
+                    fmt::format("{:.3f}", totalCpu), std::to_string(totalDraws), std::to_string(totalDispatches)});
+    std::fputs(formatTable(rows).c_str(), stdout);
+}
+
+}  // namespace janus::cli

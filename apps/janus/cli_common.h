@@ -1,0 +1,133 @@
+// Pieces every `janus` subcommand shares: exit codes, the errors commands raise, option parsing,
+// and rendering one configuration. Adding a subcommand = one cmd_<name>.cpp with an
+// add<Name>Command() declared here and registered in main.cpp.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "janus/renderer/image.h"
+#include "janus/renderer/renderer.h"
+#include "janus/renderer/scene.h"
+#include "janus/rhi/rhi.h"
+
+namespace janus::cli {
+
+// The process exit status; documented in --help and docs/CLI.md, so never renumber.
+enum class ExitCode : int {
+    Ok = 0,
+    ComparisonFailed = 1,      // parity: a pair exceeded the tolerance or a configuration did not run
+    UsageError = 2,            // unknown command/option/backend, malformed or absurd value
+    InputError = 3,            // missing/malformed scene, unreadable input, unwritable output
+    BackendUnavailable = 4,    // backend cannot start or lacks a capability the request needs
+    InternalError = 5,         // a bug in janus (or the driver): please report it
+};
+
+inline constexpr const char* kExitCodeHelp =
+    "Exit codes:\n"
+    "  0  success\n"
+    "  1  parity failed (a pair differs beyond --tolerance, or a configuration could not run)\n"
+    "  2  usage error (unknown command, option or backend; bad --size; bad value)\n"
+    "  3  input/output error (missing or malformed scene, unwritable output path)\n"
+    "  4  backend or capability unavailable on this machine\n"
+    "  5  internal error (a bug; please report it)\n";
+
+// Errors the commands raise themselves. Library errors (rhi::Error, SceneError, RendererError,
+// ImageIOError) are mapped to exit codes in runCommand().
+class UsageError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+class InputError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+class UnavailableError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+// Runs a command body, turning every exception into one `janus: error: ...` line on stderr and
+// the matching exit code.
+int runCommand(const std::function<int()>& body);
+
+// Prints `janus: error: <message>` to stderr.
+void printError(std::string_view message);
+
+// ---- option values ------------------------------------------------------------------------
+
+struct ImageSize {
+    uint32_t width = 256;
+    uint32_t height = 256;
+};
+// Largest side accepted before a device is even opened; devices may allow less (checked later).
+inline constexpr uint32_t kMaxRenderSide = 16384;
+
+ImageSize parseSize(std::string_view text);                        // "WxH"; throws UsageError
+rhi::Backend parseBackendOption(std::string_view text);            // throws UsageError
+renderer::FeaturePath parsePathOption(std::string_view text);      // throws UsageError
+rhi::GLPlatform parseGLPlatformOption(std::string_view text);      // throws UsageError
+
+// Fails early (InputError) when `file` could not be created: its directory is missing or is
+// not a directory, or `file` itself is a directory. Saves a render that could not be saved.
+void checkOutputFile(const std::filesystem::path& file, std::string_view optionName);
+
+// The scene file given on the command line, or the built-in default scene.
+renderer::Scene loadSceneOrDefault(const std::optional<std::filesystem::path>& scenePath);
+std::string sceneLabel(const std::optional<std::filesystem::path>& scenePath);
+
+// ---- rendering one configuration ----------------------------------------------------------
+
+struct RenderRequest {
+    rhi::Backend backend = rhi::Backend::Vulkan;
+    renderer::FeaturePath path = renderer::FeaturePath::Compute;
+    rhi::GLPlatform glPlatform = rhi::GLPlatform::EGL;
+    ImageSize size;
+    bool validation = false;
+    bool wantHdr = false;
+};
+
+struct RenderOutcome {
+    rhi::DeviceInfo device;
+    renderer::FrameReport report;
+    renderer::ImageRGBA8 display;
+    std::optional<renderer::ImageRGBAF> hdr;
+    std::vector<rhi::DebugMessage> debugMessages;   // with validation: warnings and errors
+};
+
+// Opens the device, checks it can honour the request (UnavailableError naming the capability or
+// limit otherwise), renders one frame and reads the images back.
+RenderOutcome renderConfiguration(const renderer::Scene& scene, const RenderRequest& request);
+
+// "vulkan/compute"-style label, and "vulkan-compute" for file names.
+std::string configurationLabel(rhi::Backend backend, renderer::FeaturePath path);
+std::string configurationFileStem(rhi::Backend backend, renderer::FeaturePath path);
+
+// Prints the per-pass table (name, GPU ms, CPU ms, draws, dispatches).
+void printPassSummary(const renderer::FrameReport& report);
+
+// A left-aligned text table: every column as wide as its widest cell.
+std::string formatTable(const std::vector<std::vector<std::string>>& rows, size_t indent = 2);
+
+// ---- subcommands --------------------------------------------------------------------------
+
+// A registered subcommand: its CLI11 app (options bound) and what to run when it was chosen.
+struct Command {
+    CLI::App* app = nullptr;
+    std::function<int()> run;
+};
+
+Command addInfoCommand(CLI::App& parent);
+Command addRenderCommand(CLI::App& parent);
+Command addParityCommand(CLI::App& parent);
+
+}  // namespace janus::cli

@@ -1,0 +1,183 @@
+// `janus info`: which backends start here, what they are, and what they can do.
+#include <array>
+#include <cstdio>
+#include <memory>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "cli_common.h"
+
+namespace janus::cli {
+namespace {
+
+struct InfoOptions {
+    std::string glPlatform = "egl";
+    bool json = false;
+};
+
+struct BackendReport {
+    rhi::Backend backend;
+    bool available = false;
+    std::string reason;   // why it is unavailable
+    rhi::DeviceInfo info;
+    rhi::Capabilities caps;
+};
+
+constexpr std::array kBackends = {rhi::Backend::Vulkan, rhi::Backend::GL, rhi::Backend::GLES};
+
+std::vector<BackendReport> probe(rhi::GLPlatform platform) {
+    std::vector<BackendReport> reports;
+    for (rhi::Backend backend : kBackends) {
+        BackendReport report{backend};
+        try {
+            rhi::DeviceDesc desc;
+            desc.setBackend(backend).setGLPlatform(platform);
+            std::unique_ptr<rhi::IDevice> device = rhi::createDevice(desc);
+            report.info = device->info();
+            report.caps = device->capabilities();
+            report.available = true;
+        } catch (const std::exception& e) {
+            // An unavailable backend is information here, not a failure of the command.
+            report.reason = e.what();
+        }
+        reports.push_back(std::move(report));
+    }
+    return reports;
+}
+
+std::string workGroupTriple(const std::array<uint32_t, 3>& v) { return fmt::format("{}x{}x{}", v[0], v[1], v[2]); }
+
+// Limits as (label, value) rows; shared by the table and the JSON so both list the same ones.
+std::vector<std::pair<std::string, std::string>> limitRows(const rhi::Limits& l) {
+    return {
+        {"max texture 2D", std::to_string(l.maxTextureSize2D)},
+        {"max texture 3D", std::to_string(l.maxTextureSize3D)},
+        {"max texture cube", std::to_string(l.maxTextureSizeCube)},
+        {"max colour attachments", std::to_string(l.maxColorAttachments)},
+        {"max uniform buffer range", std::to_string(l.maxUniformBufferRange)},
+        {"max storage buffer range", std::to_string(l.maxStorageBufferRange)},
+        {"max compute work groups", workGroupTriple(l.maxComputeWorkGroupCount)},
+        {"max compute group size", workGroupTriple(l.maxComputeWorkGroupSize)},
+        {"max compute invocations", std::to_string(l.maxComputeWorkGroupInvocations)},
+        {"uniform offset alignment", std::to_string(l.uniformBufferOffsetAlignment)},
+        {"storage offset alignment", std::to_string(l.storageBufferOffsetAlignment)},
+    };
+}
+
+nlohmann::json toJson(const std::vector<BackendReport>& reports, rhi::GLPlatform platform) {
+    nlohmann::json backends = nlohmann::json::array();
+    for (const BackendReport& r : reports) {
+        nlohmann::json entry{{"name", rhi::toString(r.backend)}, {"available", r.available}};
+        if (!r.available) {
+            entry["reason"] = r.reason;
+            backends.push_back(std::move(entry));
+            continue;
+        }
+        entry["apiVersion"] = r.info.apiVersion;
+        entry["device"] = r.info.deviceName;
+        entry["driver"] = r.info.driverInfo;
+        entry["platform"] = r.info.platform;
+        entry["shadingLanguage"] = r.info.shadingLanguage;
+        nlohmann::json caps = nlohmann::json::object();
+        for (rhi::Capability cap : rhi::kAllCapabilities) caps[rhi::toString(cap)] = r.caps.has(cap);
+        entry["capabilities"] = caps;
+        const rhi::Limits& l = r.caps.limits;
+        entry["limits"] = {
+            {"maxTextureSize2D", l.maxTextureSize2D},
+            {"maxTextureSize3D", l.maxTextureSize3D},
+            {"maxTextureSizeCube", l.maxTextureSizeCube},
+            {"maxColorAttachments", l.maxColorAttachments},
+            {"maxUniformBufferRange", l.maxUniformBufferRange},
+            {"maxStorageBufferRange", l.maxStorageBufferRange},
+            {"maxComputeWorkGroupCount", l.maxComputeWorkGroupCount},
+            {"maxComputeWorkGroupSize", l.maxComputeWorkGroupSize},
+            {"maxComputeWorkGroupInvocations", l.maxComputeWorkGroupInvocations},
+            {"uniformBufferOffsetAlignment", l.uniformBufferOffsetAlignment},
+            {"storageBufferOffsetAlignment", l.storageBufferOffsetAlignment},
+        };
+        entry["conventions"] = {
+            {"nativeClipDepthZeroToOne", r.caps.conventions.nativeClipDepthZeroToOne},
+            {"nativeFramebufferOriginTopLeft", r.caps.conventions.nativeFramebufferOriginTopLeft},
+            {"presentedClipDepth", "[0, 1]"},
+            {"presentedRow0", "top (v = 0)"},
+        };
+        backends.push_back(std::move(entry));
+    }
+    return {{"glPlatform", rhi::toString(platform)}, {"backends", backends}};
+}
+
+void printText(const std::vector<BackendReport>& reports, rhi::GLPlatform platform) {
+    std::string out = fmt::format("Backends (GL platform: {})\n", rhi::toString(platform));
+    for (const BackendReport& r : reports) {
+        out += fmt::format("\n  {}: {}\n", rhi::toString(r.backend), r.available ? "available" : "unavailable");
+        if (!r.available) {
+            out += fmt::format("    reason: {}\n", r.reason);
+            continue;
+        }
+        out += formatTable({{"API version", r.info.apiVersion},
+                            {"device", r.info.deviceName},
+                            {"driver", r.info.driverInfo},
+                            {"platform", r.info.platform},
+                            {"shading language", r.info.shadingLanguage}},
+                           4);
+    }
+
+    // One column per backend; "-" where the backend did not start.
+    std::vector<std::string> header{""};
+    for (const BackendReport& r : reports) header.push_back(rhi::toString(r.backend));
+    auto cell = [](const BackendReport& r, const std::string& value) { return r.available ? value : std::string("-"); };
+
+    std::vector<std::vector<std::string>> caps{header};
+    for (rhi::Capability cap : rhi::kAllCapabilities) {
+        std::vector<std::string> row{rhi::toString(cap)};
+        for (const BackendReport& r : reports) row.push_back(cell(r, r.caps.has(cap) ? "yes" : "no"));
+        caps.push_back(std::move(row));
+    }
+    out += "\nCapabilities\n" + formatTable(caps);
+
+    std::vector<std::vector<std::string>> limits{header};
+    const auto labels = limitRows(rhi::Limits{});
+    for (size_t i = 0; i < labels.size(); ++i) {
+        std::vector<std::string> row{labels[i].first};
+        for (const BackendReport& r : reports) row.push_back(cell(r, limitRows(r.caps.limits)[i].second));
+        limits.push_back(std::move(row));
+    }
+    out += "\nLimits\n" + formatTable(limits);
+
+    // What the RHI presents is the same everywhere; what differs is how much is translated.
+    std::vector<std::vector<std::string>> conventions{header};
+    std::vector<std::string> depthRow{"clip depth [0, 1]"}, originRow{"row 0 = top (v = 0)"};
+    for (const BackendReport& r : reports) {
+        depthRow.push_back(cell(r, r.caps.conventions.nativeClipDepthZeroToOne ? "native" : "emulated"));
+        originRow.push_back(cell(r, r.caps.conventions.nativeFramebufferOriginTopLeft ? "native" : "translated"));
+    }
+    conventions.push_back(depthRow);
+    conventions.push_back(originRow);
+    out += "\nConventions (presented identically by every backend; native = no translation needed)\n" +
+           formatTable(conventions);
+    std::fputs(out.c_str(), stdout);
+}
+
+}  // namespace
+
+Command addInfoCommand(CLI::App& parent) {
+    auto options = std::make_shared<InfoOptions>();
+    CLI::App* app = parent.add_subcommand("info", "List the backends (vulkan, gl, gles): availability or the reason, "
+                                                  "API/device/driver, capabilities, limits and conventions.");
+    app->add_option("--gl-platform", options->glPlatform, "How the GL backends get a context: egl or osmesa")
+        ->default_str("egl")
+        ->type_name("PLATFORM");
+    app->add_flag("--json", options->json, "Print JSON instead of a table");
+    return {app, [options] {
+                const rhi::GLPlatform platform = parseGLPlatformOption(options->glPlatform);
+                const std::vector<BackendReport> reports = probe(platform);
+                if (options->json)
+                    std::fputs((toJson(reports, platform).dump(2) + "\n").c_str(), stdout);
+                else
+                    printText(reports, platform);
+                return 0;
+            }};
+}
+
+}  // namespace janus::cli

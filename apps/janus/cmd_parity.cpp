@@ -1,0 +1,213 @@
+// `janus parity`: render every configuration and compare every pair pixel by pixel.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "cli_common.h"
+
+namespace janus::cli {
+namespace {
+
+struct ParityOptions {
+    std::string scene;
+    std::string size = "256x256";
+    std::string out;
+    int tolerance = 1;
+    std::string glPlatform = "egl";
+    bool validation = false;
+};
+
+struct Configuration {
+    rhi::Backend backend;
+    renderer::FeaturePath path;
+};
+
+// Every configuration the project promises to keep in agreement. gles has no compute path.
+constexpr std::array kConfigurations = {
+    Configuration{rhi::Backend::Vulkan, renderer::FeaturePath::Compute},
+    Configuration{rhi::Backend::Vulkan, renderer::FeaturePath::Fallback},
+    Configuration{rhi::Backend::GL, renderer::FeaturePath::Compute},
+    Configuration{rhi::Backend::GL, renderer::FeaturePath::Fallback},
+    Configuration{rhi::Backend::GLES, renderer::FeaturePath::Fallback},
+};
+
+// Pixel differences beyond this many steps show as full red in the heat maps: small enough that
+// a one-step disagreement is clearly visible, large enough to tell 2 from 8.
+constexpr uint32_t kHeatmapFullScaleSteps = 8;
+
+struct ConfigurationResult {
+    Configuration config;
+    std::string stem;                  // "vulkan-compute"
+    std::optional<RenderOutcome> outcome;
+    std::string failure;               // why it did not run
+    std::filesystem::path image;
+};
+
+// Runs one configuration. Failures that belong to this configuration alone (backend missing,
+// capability missing, driver trouble) are recorded so the others still run and get compared.
+ConfigurationResult runConfiguration(const renderer::Scene& scene, const Configuration& config, const RenderRequest& base) {
+    ConfigurationResult result{config, configurationFileStem(config.backend, config.path)};
+    RenderRequest request = base;
+    request.backend = config.backend;
+    request.path = config.path;
+    try {
+        result.outcome = renderConfiguration(scene, request);
+        const bool validationErrors = std::any_of(result.outcome->debugMessages.begin(), result.outcome->debugMessages.end(),
+                                                  [](const rhi::DebugMessage& m) { return m.severity == rhi::MessageSeverity::Error; });
+        for (const rhi::DebugMessage& message : result.outcome->debugMessages)
+            std::fprintf(stderr, "janus: %s: validation: %s\n", result.stem.c_str(), message.text.c_str());
+        if (validationErrors) result.failure = "validation reported errors (see stderr)";
+    } catch (const renderer::SceneError&) {
+        throw;   // the scene is shared by all configurations: an input error, not a parity result
+    } catch (const std::bad_alloc&) {
+        result.failure = "out of host memory";
+    } catch (const std::exception& e) {
+        result.failure = e.what();
+    }
+    return result;
+}
+
+std::string psnrText(double psnr) { return std::isinf(psnr) ? "inf" : fmt::format("{:.2f}", psnr); }
+
+int run(const ParityOptions& options) {
+    RenderRequest base;
+    base.size = parseSize(options.size);
+    base.glPlatform = parseGLPlatformOption(options.glPlatform);
+    base.validation = options.validation;
+    if (options.tolerance < 0 || options.tolerance > 255)
+        throw UsageError(fmt::format("--tolerance {} is out of range; give 0..255 steps of 1/255", options.tolerance));
+    const uint32_t tolerance = uint32_t(options.tolerance);
+
+    const std::filesystem::path outDir = options.out;
+    std::error_code ec;
+    if (std::filesystem::exists(outDir, ec) && !std::filesystem::is_directory(outDir, ec))
+        throw InputError(fmt::format("--out '{}' is a file; give a directory for the images", options.out));
+    std::filesystem::create_directories(outDir, ec);
+    if (ec)
+        throw InputError(fmt::format("cannot create --out directory '{}': {}; choose another path", options.out, ec.message()));
+    checkOutputFile(outDir / "parity.json", "--out");
+
+    std::optional<std::filesystem::path> scenePath;
+    if (!options.scene.empty()) scenePath = options.scene;
+    const renderer::Scene scene = loadSceneOrDefault(scenePath);
+
+    std::printf("parity: %s at %ux%u, tolerance %u step(s)\n\n", sceneLabel(scenePath).c_str(), base.size.width,
+                base.size.height, tolerance);
+
+    std::vector<ConfigurationResult> results;
+    std::vector<std::vector<std::string>> configRows{{"configuration", "result", "image"}};
+    for (const Configuration& config : kConfigurations) {
+        ConfigurationResult result = runConfiguration(scene, config, base);
+        if (result.outcome && result.failure.empty()) {
+            result.image = outDir / (result.stem + ".png");
+            renderer::writePNG(result.image, result.outcome->display);
+            configRows.push_back({configurationLabel(config.backend, config.path), "rendered", result.image.string()});
+        } else {
+            configRows.push_back({configurationLabel(config.backend, config.path), "DID NOT RUN: " + result.failure, "-"});
+        }
+        results.push_back(std::move(result));
+    }
+    std::fputs(formatTable(configRows).c_str(), stdout);
+
+    bool passed = true;
+    nlohmann::json pairsJson = nlohmann::json::array();
+    std::vector<std::vector<std::string>> pairRows{{"pair", "max diff", "PSNR dB", "differing px", "result"}};
+    for (size_t i = 0; i < results.size(); ++i) {
+        for (size_t j = i + 1; j < results.size(); ++j) {
+            const ConfigurationResult& a = results[i];
+            const ConfigurationResult& b = results[j];
+            const std::string pairName = fmt::format("{} vs {}", a.stem, b.stem);
+            nlohmann::json pair{{"a", a.stem}, {"b", b.stem}};
+            if (!a.image.empty() && !b.image.empty()) {
+                const renderer::ImageDifference diff = renderer::compareImages(a.outcome->display, b.outcome->display, tolerance);
+                const bool pairPassed = diff.maxChannelDifference <= tolerance;
+                const std::filesystem::path heatmap = outDir / fmt::format("diff-{}-vs-{}.png", a.stem, b.stem);
+                renderer::writePNG(heatmap, renderer::differenceHeatmap(a.outcome->display, b.outcome->display, kHeatmapFullScaleSteps));
+                pairRows.push_back({pairName, std::to_string(diff.maxChannelDifference), psnrText(diff.psnr),
+                                    fmt::format("{} / {}", diff.differingPixels, diff.totalPixels), pairPassed ? "ok" : "FAIL"});
+                pair["compared"] = true;
+                pair["maxChannelDifference"] = diff.maxChannelDifference;
+                // JSON has no infinity: identical images say so explicitly and carry a null PSNR.
+                pair["identical"] = std::isinf(diff.psnr);
+                pair["psnr"] = std::isinf(diff.psnr) ? nlohmann::json(nullptr) : nlohmann::json(diff.psnr);
+                pair["differingPixels"] = diff.differingPixels;
+                pair["totalPixels"] = diff.totalPixels;
+                pair["heatmap"] = heatmap.filename().string();
+                pair["passed"] = pairPassed;
+                passed = passed && pairPassed;
+            } else {
+                pairRows.push_back({pairName, "-", "-", "-", "FAIL (not compared: a configuration did not run)"});
+                pair["compared"] = false;
+                pair["passed"] = false;
+                passed = false;
+            }
+            pairsJson.push_back(std::move(pair));
+        }
+    }
+    std::printf("\n");
+    std::fputs(formatTable(pairRows).c_str(), stdout);
+
+    nlohmann::json configsJson = nlohmann::json::array();
+    for (const ConfigurationResult& r : results) {
+        nlohmann::json entry{{"backend", rhi::toString(r.config.backend)},
+                             {"path", renderer::toString(r.config.path)},
+                             {"ran", !r.image.empty()}};
+        if (r.image.empty()) entry["error"] = r.failure;
+        if (!r.image.empty()) entry["image"] = r.image.filename().string();
+        if (r.outcome) {
+            entry["device"] = r.outcome->device.deviceName;
+            entry["apiVersion"] = r.outcome->device.apiVersion;
+            entry["report"] = r.outcome->report.toJson();
+        }
+        configsJson.push_back(std::move(entry));
+    }
+    const nlohmann::json summary{{"scene", sceneLabel(scenePath)},
+                                 {"width", base.size.width},
+                                 {"height", base.size.height},
+                                 {"tolerance", tolerance},
+                                 {"heatmapFullScaleSteps", kHeatmapFullScaleSteps},
+                                 {"passed", passed},
+                                 {"configurations", configsJson},
+                                 {"pairs", pairsJson}};
+    const std::filesystem::path summaryPath = outDir / "parity.json";
+    renderer::writeFileAtomically(summaryPath, summary.dump(2) + "\n");
+
+    std::printf("\nparity %s; details in %s\n", passed ? "PASSED" : "FAILED", summaryPath.c_str());
+    return passed ? 0 : static_cast<int>(ExitCode::ComparisonFailed);
+}
+
+}  // namespace
+
+Command addParityCommand(CLI::App& parent) {
+    auto options = std::make_shared<ParityOptions>();
+    CLI::App* app = parent.add_subcommand(
+        "parity",
+        "Render vulkan/compute, vulkan/fallback, gl/compute, gl/fallback and gles/fallback, write each image and a "
+        "difference heat map for every pair, and fail (exit 1) when any pair differs by more than --tolerance.");
+    app->add_option("scene", options->scene, ".gltf, .glb or .json scene file (default: the built-in scene)")
+        ->type_name("SCENE");
+    app->add_option("--size,-s", options->size, "Image size WIDTHxHEIGHT, each side 1..16384")
+        ->default_str("256x256")
+        ->type_name("WxH");
+    app->add_option("--out,-o", options->out,
+                    "Directory for <backend>-<path>.png, diff-<a>-vs-<b>.png and parity.json (created if missing)")
+        ->required()
+        ->type_name("DIR");
+    app->add_option("--tolerance,-t", options->tolerance,
+                    "Largest allowed channel difference, in steps of 1/255, for a pair to agree")
+        ->default_str("1")
+        ->type_name("STEPS");
+    app->add_option("--gl-platform", options->glPlatform, "How gl/gles get a context: egl or osmesa")
+        ->default_str("egl")
+        ->type_name("PLATFORM");
+    app->add_flag("--validation", options->validation,
+                  "Enable Vulkan validation layers / GL debug output; a configuration with errors fails");
+    return {app, [options] { return run(*options); }};
+}
+
+}  // namespace janus::cli

@@ -1,0 +1,120 @@
+// `janus render`: one scene, one configuration, PNG (+ optional HDR and JSON report).
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <memory>
+
+#include <fmt/format.h>
+
+#include "cli_common.h"
+
+namespace janus::cli {
+namespace {
+
+struct RenderOptions {
+    std::string scene;
+    std::string backend = "vulkan";
+    std::string path = "compute";
+    std::string size = "256x256";
+    std::string out;
+    std::string hdr;
+    std::string report;
+    std::string glPlatform = "egl";
+    bool validation = false;
+};
+
+bool hasExtension(const std::filesystem::path& file, std::string_view extension) {
+    std::string actual = file.extension().string();
+    for (char& c : actual) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return actual == extension;
+}
+
+int run(const RenderOptions& options) {
+    // Everything that can be checked without a GPU is checked first, so a typo never costs a render.
+    RenderRequest request;
+    request.backend = parseBackendOption(options.backend);
+    request.path = parsePathOption(options.path);
+    request.glPlatform = parseGLPlatformOption(options.glPlatform);
+    request.size = parseSize(options.size);
+    request.validation = options.validation;
+
+    const std::filesystem::path outPath = options.out;
+    if (!hasExtension(outPath, ".png"))
+        throw UsageError(fmt::format("--out '{}' must name a .png file", options.out));
+    checkOutputFile(outPath, "--out");
+    std::optional<std::filesystem::path> hdrPath;
+    if (!options.hdr.empty()) {
+        hdrPath = options.hdr;
+        if (!hasExtension(*hdrPath, ".exr") && !hasExtension(*hdrPath, ".pfm"))
+            throw UsageError(fmt::format("--hdr '{}' must name a .exr or .pfm file", options.hdr));
+        checkOutputFile(*hdrPath, "--hdr");
+        request.wantHdr = true;
+    }
+    std::optional<std::filesystem::path> reportPath;
+    if (!options.report.empty()) {
+        reportPath = options.report;
+        checkOutputFile(*reportPath, "--report");
+    }
+    std::optional<std::filesystem::path> scenePath;
+    if (!options.scene.empty()) scenePath = options.scene;
+
+    const renderer::Scene scene = loadSceneOrDefault(scenePath);
+    const RenderOutcome outcome = renderConfiguration(scene, request);
+
+    for (const rhi::DebugMessage& message : outcome.debugMessages)
+        std::fprintf(stderr, "janus: %s: %s\n", message.severity == rhi::MessageSeverity::Error ? "validation error" : "validation warning",
+                     message.text.c_str());
+
+    renderer::writePNG(outPath, outcome.display);
+    if (hdrPath) {
+        if (hasExtension(*hdrPath, ".exr"))
+            renderer::writeEXR(*hdrPath, *outcome.hdr);
+        else
+            renderer::writePFM(*hdrPath, *outcome.hdr);
+    }
+    if (reportPath) renderer::writeFileAtomically(*reportPath, outcome.report.toJson().dump(2) + "\n");
+
+    std::printf("rendered %s with %s at %ux%u on %s\n", sceneLabel(scenePath).c_str(),
+                configurationLabel(request.backend, request.path).c_str(), request.size.width, request.size.height,
+                outcome.device.deviceName.c_str());
+    std::printf("  image:  %s\n", outPath.c_str());
+    if (hdrPath) std::printf("  hdr:    %s\n", hdrPath->c_str());
+    if (reportPath) std::printf("  report: %s\n", reportPath->c_str());
+    std::printf("\n");
+    printPassSummary(outcome.report);
+
+    const bool validationFailed = std::any_of(outcome.debugMessages.begin(), outcome.debugMessages.end(),
+                                              [](const rhi::DebugMessage& m) { return m.severity == rhi::MessageSeverity::Error; });
+    if (validationFailed)
+        throw std::runtime_error("the validation layer / GL debug output reported errors (listed above); "
+                                 "the image was written but may be wrong");
+    return 0;
+}
+
+}  // namespace
+
+Command addRenderCommand(CLI::App& parent) {
+    auto options = std::make_shared<RenderOptions>();
+    CLI::App* app = parent.add_subcommand("render", "Render a scene with one backend and feature path; write a PNG, "
+                                                    "optionally the HDR image and a JSON frame report.");
+    app->add_option("scene", options->scene, ".gltf, .glb or .json scene file (default: the built-in scene)")
+        ->type_name("SCENE");
+    app->add_option("--backend,-b", options->backend, "vulkan, gl or gles")->default_str("vulkan")->type_name("BACKEND");
+    app->add_option("--path,-p", options->path, "compute or fallback (compute needs the 'compute' capability)")
+        ->default_str("compute")
+        ->type_name("PATH");
+    app->add_option("--size,-s", options->size, "Image size WIDTHxHEIGHT, each side 1..16384")
+        ->default_str("256x256")
+        ->type_name("WxH");
+    app->add_option("--out,-o", options->out, "PNG file to write (display image, sRGB)")->required()->type_name("FILE.png");
+    app->add_option("--hdr", options->hdr, "Also write the linear HDR image (.exr or .pfm)")->type_name("FILE.exr|FILE.pfm");
+    app->add_option("--report", options->report, "Also write the frame report as JSON")->type_name("FILE.json");
+    app->add_option("--gl-platform", options->glPlatform, "How gl/gles get a context: egl or osmesa")
+        ->default_str("egl")
+        ->type_name("PLATFORM");
+    app->add_flag("--validation", options->validation,
+                  "Enable Vulkan validation layers / GL debug output; errors make the command fail (exit 5)");
+    return {app, [options] { return run(*options); }};
+}
+
+}  // namespace janus::cli

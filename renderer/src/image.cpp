@@ -1,0 +1,392 @@
+// Image files (PNG, PFM, EXR), atomic writes, and image comparison for parity checks.
+#include "janus/renderer/image.h"
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <memory>
+#include <sstream>
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <fmt/format.h>
+#include <stb/stb_image.h>
+#include <stb/stb_image_write.h>
+#include <tinyexr.h>
+
+// The stb implementations come from Debian's libstb (linked by renderer/CMakeLists.txt), and
+// tinyexr's from libtinyexr, so neither *_IMPLEMENTATION macro is defined here.
+
+namespace janus::renderer {
+namespace {
+
+// Largest side we accept for any image file: far beyond any render target, small enough that
+// width * height * 4 channels * sizeof(float) cannot overflow and that stb's int sizes hold.
+constexpr uint32_t kMaxImageSide = 1u << 15;
+
+std::string describeErrno(int error) { return std::strerror(error); }
+
+template <typename Image>
+void checkImageShape(const std::filesystem::path& path, const Image& image, const char* what) {
+    if (image.width == 0 || image.height == 0)
+        throw ImageIOError(fmt::format("cannot write {} '{}': the image is empty ({}x{}); render something first",
+                                       what, path.string(), image.width, image.height));
+    if (image.width > kMaxImageSide || image.height > kMaxImageSide)
+        throw ImageIOError(fmt::format("cannot write {} '{}': {}x{} exceeds the largest supported side of {}",
+                                       what, path.string(), image.width, image.height, kMaxImageSide));
+    const size_t expected = size_t(image.width) * image.height * 4;
+    if (image.pixels.size() != expected)
+        throw ImageIOError(fmt::format("cannot write {} '{}': the pixel buffer holds {} values but {}x{} RGBA needs {}",
+                                       what, path.string(), image.pixels.size(), image.width, image.height, expected));
+}
+
+// Closes the descriptor and unlinks the temporary file unless release() was called, so every
+// early exit (exception included) leaves nothing behind.
+class TemporaryFile {
+public:
+    explicit TemporaryFile(const std::filesystem::path& target) {
+        const std::filesystem::path directory = target.has_parent_path() ? target.parent_path() : ".";
+        // A dot-prefixed name beside the target: same filesystem (so rename is atomic) and
+        // hidden from casual listings while it exists.
+        std::string pattern = (directory / ("." + target.filename().string() + ".tmp-XXXXXX")).string();
+        m_fd = ::mkstemp(pattern.data());
+        if (m_fd < 0) {
+            const int error = errno;
+            throw ImageIOError(fmt::format("cannot write '{}': cannot create a file in '{}' ({}); "
+                                           "check that the directory exists and is writable",
+                                           target.string(), directory.string(), describeErrno(error)));
+        }
+        m_path = pattern;
+        // mkstemp creates the file 0600; outputs are ordinary files others may read.
+        ::fchmod(m_fd, 0644);
+    }
+    ~TemporaryFile() {
+        if (m_fd >= 0) ::close(m_fd);
+        if (!m_path.empty()) ::unlink(m_path.c_str());
+    }
+    TemporaryFile(const TemporaryFile&) = delete;
+    TemporaryFile& operator=(const TemporaryFile&) = delete;
+
+    int fd() const { return m_fd; }
+    const std::string& path() const { return m_path; }
+
+    // Closes the descriptor, reporting errors (a deferred write error can surface here).
+    int close() {
+        const int result = ::close(m_fd);
+        m_fd = -1;
+        return result;
+    }
+    void release() { m_path.clear(); }
+
+private:
+    int m_fd = -1;
+    std::string m_path;
+};
+
+void writeAll(const std::filesystem::path& target, TemporaryFile& file, const std::string& bytes) {
+    const char* data = bytes.data();
+    size_t left = bytes.size();
+    while (left > 0) {
+        const ssize_t written = ::write(file.fd(), data, left);
+        if (written < 0) {
+            if (errno == EINTR) continue;
+            const int error = errno;
+            throw ImageIOError(fmt::format("cannot write '{}': {} after {} of {} bytes; free some space or choose another location",
+                                           target.string(), describeErrno(error), bytes.size() - left, bytes.size()));
+        }
+        data += written;
+        left -= size_t(written);
+    }
+}
+
+std::string readWholeFile(const std::filesystem::path& path, const char* what) {
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec))
+        throw ImageIOError(fmt::format("cannot read {} '{}': no such file", what, path.string()));
+    if (std::filesystem::is_directory(path, ec))
+        throw ImageIOError(fmt::format("cannot read {} '{}': it is a directory", what, path.string()));
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw ImageIOError(fmt::format("cannot read {} '{}': {}", what, path.string(), describeErrno(errno)));
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (in.bad()) throw ImageIOError(fmt::format("cannot read {} '{}': read error", what, path.string()));
+    return bytes;
+}
+
+void appendLittleEndian(std::string& out, float value) {
+    const uint32_t bits = std::bit_cast<uint32_t>(value);
+    for (int shift = 0; shift < 32; shift += 8) out.push_back(char((bits >> shift) & 0xFF));
+}
+
+float readLittleEndianFloat(const unsigned char* bytes) {
+    const uint32_t bits = uint32_t(bytes[0]) | uint32_t(bytes[1]) << 8 | uint32_t(bytes[2]) << 16 | uint32_t(bytes[3]) << 24;
+    return std::bit_cast<float>(bits);
+}
+
+float readBigEndianFloat(const unsigned char* bytes) {
+    const uint32_t bits = uint32_t(bytes[3]) | uint32_t(bytes[2]) << 8 | uint32_t(bytes[1]) << 16 | uint32_t(bytes[0]) << 24;
+    return std::bit_cast<float>(bits);
+}
+
+void appendToString(void* context, void* data, int size) {
+    static_cast<std::string*>(context)->append(static_cast<const char*>(data), size_t(size));
+}
+
+void checkSameSize(const ImageRGBA8& a, const ImageRGBA8& b, const char* what) {
+    if (a.width != b.width || a.height != b.height)
+        throw std::invalid_argument(fmt::format("{}: images differ in size ({}x{} vs {}x{}); render both at the same --size",
+                                                what, a.width, a.height, b.width, b.height));
+    const size_t expected = size_t(a.width) * a.height * 4;
+    if (a.pixels.size() != expected || b.pixels.size() != expected)
+        throw std::invalid_argument(fmt::format("{}: pixel buffers hold {} and {} values but {}x{} RGBA needs {}",
+                                                what, a.pixels.size(), b.pixels.size(), a.width, a.height, expected));
+}
+
+uint32_t maxChannelDifferenceAt(const ImageRGBA8& a, const ImageRGBA8& b, size_t pixel) {
+    uint32_t largest = 0;
+    for (size_t c = 0; c < 4; ++c) {
+        const int diff = std::abs(int(a.pixels[pixel * 4 + c]) - int(b.pixels[pixel * 4 + c]));
+        largest = std::max(largest, uint32_t(diff));
+    }
+    return largest;
+}
+
+}  // namespace
+
+void writeFileAtomically(const std::filesystem::path& path, const std::string& bytes) {
+    if (path.empty() || !path.has_filename())
+        throw ImageIOError(fmt::format("cannot write '{}': the path names no file", path.string()));
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec))
+        throw ImageIOError(fmt::format("cannot write '{}': it is a directory; give a file name", path.string()));
+
+    TemporaryFile file(path);
+    writeAll(path, file, bytes);
+    // fsync before rename: otherwise a crash could leave the new name pointing at empty data.
+    if (::fsync(file.fd()) != 0) {
+        const int error = errno;
+        throw ImageIOError(fmt::format("cannot write '{}': flushing to disk failed ({})", path.string(), describeErrno(error)));
+    }
+    if (file.close() != 0) {
+        const int error = errno;
+        throw ImageIOError(fmt::format("cannot write '{}': closing failed ({})", path.string(), describeErrno(error)));
+    }
+    if (::rename(file.path().c_str(), path.c_str()) != 0) {
+        const int error = errno;
+        throw ImageIOError(fmt::format("cannot write '{}': cannot move the finished file into place ({}); "
+                                       "check that the path is not a directory and is writable",
+                                       path.string(), describeErrno(error)));
+    }
+    file.release();
+}
+
+void writePNG(const std::filesystem::path& path, const ImageRGBA8& image) {
+    checkImageShape(path, image, "PNG");
+    std::string encoded;
+    const int ok = stbi_write_png_to_func(appendToString, &encoded, int(image.width), int(image.height), 4,
+                                          image.pixels.data(), int(image.width * 4));
+    if (!ok || encoded.empty())
+        throw ImageIOError(fmt::format("cannot write PNG '{}': the PNG encoder failed (out of memory?)", path.string()));
+    writeFileAtomically(path, encoded);
+}
+
+ImageRGBA8 readPNG(const std::filesystem::path& path) {
+    const std::string bytes = readWholeFile(path, "PNG");
+    if (bytes.size() > size_t(std::numeric_limits<int>::max()))
+        throw ImageIOError(fmt::format("cannot read PNG '{}': the file is too large", path.string()));
+    int width = 0, height = 0, channelsInFile = 0;
+    std::unique_ptr<stbi_uc, void (*)(void*)> decoded(
+        stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(bytes.data()), int(bytes.size()), &width, &height,
+                              &channelsInFile, 4),
+        stbi_image_free);
+    if (!decoded)
+        throw ImageIOError(fmt::format("cannot read PNG '{}': {}", path.string(), stbi_failure_reason()));
+    ImageRGBA8 image;
+    image.width = uint32_t(width);
+    image.height = uint32_t(height);
+    image.pixels.assign(decoded.get(), decoded.get() + size_t(width) * size_t(height) * 4);
+    return image;
+}
+
+void writePFM(const std::filesystem::path& path, const ImageRGBAF& image) {
+    checkImageShape(path, image, "PFM");
+    // "PF" = 3 channels; a negative scale declares little-endian samples.
+    std::string out = fmt::format("PF\n{} {}\n-1.0\n", image.width, image.height);
+    out.reserve(out.size() + size_t(image.width) * image.height * 3 * sizeof(float));
+    // PFM stores the bottom row first, so walk our rows (row 0 on top) in reverse.
+    for (uint32_t row = image.height; row-- > 0;) {
+        const float* source = image.pixels.data() + size_t(row) * image.width * 4;
+        for (uint32_t x = 0; x < image.width; ++x)
+            for (int c = 0; c < 3; ++c) appendLittleEndian(out, source[x * 4 + c]);
+    }
+    writeFileAtomically(path, out);
+}
+
+ImageRGBAF readPFM(const std::filesystem::path& path) {
+    const std::string bytes = readWholeFile(path, "PFM");
+    std::istringstream header(bytes);
+    std::string magic;
+    long long width = 0, height = 0;
+    double scale = 0.0;
+    header >> magic >> width >> height >> scale;
+    if (!header || (magic != "PF" && magic != "Pf"))
+        throw ImageIOError(fmt::format("cannot read PFM '{}': not a PFM file (bad header)", path.string()));
+    if (width <= 0 || height <= 0 || width > kMaxImageSide || height > kMaxImageSide || scale == 0.0)
+        throw ImageIOError(fmt::format("cannot read PFM '{}': bad size {}x{} or scale {}", path.string(), width, height, scale));
+    header.get();   // exactly one whitespace character separates the header from the samples
+    const size_t offset = size_t(header.tellg());
+    const int channels = magic == "PF" ? 3 : 1;
+    const size_t needed = size_t(width) * size_t(height) * size_t(channels) * sizeof(float);
+    if (bytes.size() < offset + needed)
+        throw ImageIOError(fmt::format("cannot read PFM '{}': truncated ({} bytes of samples, {} needed)",
+                                       path.string(), bytes.size() - offset, needed));
+
+    ImageRGBAF image;
+    image.width = uint32_t(width);
+    image.height = uint32_t(height);
+    image.pixels.assign(size_t(width) * size_t(height) * 4, 1.0f);
+    const auto* samples = reinterpret_cast<const unsigned char*>(bytes.data() + offset);
+    const bool littleEndian = scale < 0.0;
+    for (uint32_t fileRow = 0; fileRow < image.height; ++fileRow) {
+        const uint32_t row = image.height - 1 - fileRow;
+        for (uint32_t x = 0; x < image.width; ++x) {
+            for (int c = 0; c < 3; ++c) {
+                const int sourceChannel = channels == 3 ? c : 0;
+                const unsigned char* at = samples + ((size_t(fileRow) * image.width + x) * channels + sourceChannel) * 4;
+                image.pixels[(size_t(row) * image.width + x) * 4 + c] =
+                    littleEndian ? readLittleEndianFloat(at) : readBigEndianFloat(at);
+            }
+        }
+    }
+    return image;
+}
+
+void writeEXR(const std::filesystem::path& path, const ImageRGBAF& image) {
+    checkImageShape(path, image, "EXR");
+    const size_t pixelCount = size_t(image.width) * image.height;
+    // EXR readers expect channels sorted by name; A, B, G, R is that order.
+    constexpr std::array<const char*, 4> kChannelNames = {"A", "B", "G", "R"};
+    constexpr std::array<int, 4> kSourceChannel = {3, 2, 1, 0};
+    std::array<std::vector<float>, 4> planes;
+    for (size_t i = 0; i < 4; ++i) {
+        planes[i].resize(pixelCount);
+        for (size_t p = 0; p < pixelCount; ++p) planes[i][p] = image.pixels[p * 4 + size_t(kSourceChannel[i])];
+    }
+    std::array<unsigned char*, 4> planePointers{};
+    for (size_t i = 0; i < 4; ++i) planePointers[i] = reinterpret_cast<unsigned char*>(planes[i].data());
+
+    EXRImage exrImage;
+    InitEXRImage(&exrImage);
+    exrImage.num_channels = 4;
+    exrImage.images = planePointers.data();
+    exrImage.width = int(image.width);
+    exrImage.height = int(image.height);
+
+    EXRHeader header;
+    InitEXRHeader(&header);
+    std::array<EXRChannelInfo, 4> channels{};
+    std::array<int, 4> pixelTypes{};
+    for (size_t i = 0; i < 4; ++i) {
+        std::strncpy(channels[i].name, kChannelNames[i], sizeof(channels[i].name) - 1);
+        pixelTypes[i] = TINYEXR_PIXELTYPE_FLOAT;
+    }
+    header.num_channels = 4;
+    header.channels = channels.data();
+    header.pixel_types = pixelTypes.data();
+    header.requested_pixel_types = pixelTypes.data();
+    header.compression_type = TINYEXR_COMPRESSIONTYPE_ZIP;
+
+    unsigned char* memory = nullptr;
+    const char* error = nullptr;
+    const size_t size = SaveEXRImageToMemory(&exrImage, &header, &memory, &error);
+    std::unique_ptr<unsigned char, void (*)(void*)> owned(memory, std::free);
+    if (size == 0 || !memory) {
+        const std::string reason = error ? error : "unknown encoder error";
+        if (error) FreeEXRErrorMessage(error);
+        throw ImageIOError(fmt::format("cannot write EXR '{}': {}", path.string(), reason));
+    }
+    writeFileAtomically(path, std::string(reinterpret_cast<const char*>(memory), size));
+}
+
+ImageRGBAF readEXR(const std::filesystem::path& path) {
+    const std::string bytes = readWholeFile(path, "EXR");
+    float* rgba = nullptr;
+    int width = 0, height = 0;
+    const char* error = nullptr;
+    const int result = LoadEXRFromMemory(&rgba, &width, &height, reinterpret_cast<const unsigned char*>(bytes.data()),
+                                         bytes.size(), &error);
+    std::unique_ptr<float, void (*)(void*)> owned(rgba, std::free);
+    if (result != TINYEXR_SUCCESS || !rgba) {
+        const std::string reason = error ? error : fmt::format("tinyexr error {}", result);
+        if (error) FreeEXRErrorMessage(error);
+        throw ImageIOError(fmt::format("cannot read EXR '{}': {}", path.string(), reason));
+    }
+    ImageRGBAF image;
+    image.width = uint32_t(width);
+    image.height = uint32_t(height);
+    image.pixels.assign(rgba, rgba + size_t(width) * size_t(height) * 4);
+    return image;
+}
+
+ImageDifference compareImages(const ImageRGBA8& a, const ImageRGBA8& b, uint32_t threshold) {
+    checkSameSize(a, b, "compareImages");
+    ImageDifference result;
+    result.totalPixels = uint64_t(a.width) * a.height;
+    uint64_t sumOfSquares = 0;
+    for (size_t pixel = 0; pixel < result.totalPixels; ++pixel) {
+        uint32_t largest = 0;
+        for (size_t c = 0; c < 4; ++c) {
+            const int diff = std::abs(int(a.pixels[pixel * 4 + c]) - int(b.pixels[pixel * 4 + c]));
+            sumOfSquares += uint64_t(diff * diff);
+            largest = std::max(largest, uint32_t(diff));
+        }
+        result.maxChannelDifference = std::max(result.maxChannelDifference, largest);
+        if (largest > threshold) ++result.differingPixels;
+    }
+    if (sumOfSquares == 0) {
+        result.psnr = std::numeric_limits<double>::infinity();
+    } else {
+        const double meanSquaredError = double(sumOfSquares) / double(result.totalPixels * 4);
+        result.psnr = 10.0 * std::log10(255.0 * 255.0 / meanSquaredError);
+    }
+    return result;
+}
+
+ImageRGBA8 differenceHeatmap(const ImageRGBA8& a, const ImageRGBA8& b, uint32_t fullScaleSteps) {
+    checkSameSize(a, b, "differenceHeatmap");
+    // A zero scale would divide by zero; treat it as "any difference is full scale".
+    const double fullScale = double(std::max(fullScaleSteps, 1u));
+    // Ramp stops at t = 0, 1/3, 2/3, 1.
+    constexpr std::array<std::array<double, 3>, 4> kRamp = {{{0, 0, 255}, {0, 255, 0}, {255, 255, 0}, {255, 0, 0}}};
+
+    ImageRGBA8 heatmap;
+    heatmap.width = a.width;
+    heatmap.height = a.height;
+    heatmap.pixels.assign(a.pixels.size(), 0);
+    const size_t pixelCount = size_t(a.width) * a.height;
+    for (size_t pixel = 0; pixel < pixelCount; ++pixel) {
+        uint8_t* out = &heatmap.pixels[pixel * 4];
+        out[3] = 255;
+        const uint32_t diff = maxChannelDifferenceAt(a, b, pixel);
+        if (diff == 0) continue;   // black
+        const double t = std::min(double(diff) / fullScale, 1.0);
+        const double position = t * 3.0;
+        const size_t segment = std::min(size_t(position), size_t(2));
+        const double blend = position - double(segment);
+        for (size_t c = 0; c < 3; ++c) {
+            const double value = kRamp[segment][c] + (kRamp[segment + 1][c] - kRamp[segment][c]) * blend;
+            out[c] = uint8_t(std::lround(value));
+        }
+    }
+    return heatmap;
+}
+
+}  // namespace janus::renderer
