@@ -11,6 +11,7 @@
 #include <vector>
 
 #include <glm/glm.hpp>
+#include <nlohmann/json.hpp>
 
 namespace janus::renderer {
 
@@ -104,6 +105,9 @@ struct Scene {
     std::vector<Marker> markers;
     Camera camera;
     Environment environment;
+    // Free-form settings from the scene file's "quality" object, kept for features that read
+    // them (probe counts, light-grid sizes...); the skeleton renderer reads none.
+    nlohmann::json quality = nlohmann::json::object();
 };
 
 // Loads a .gltf / .glb file or a .json scene file. Throws SceneError naming the file and the

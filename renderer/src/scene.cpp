@@ -1,0 +1,280 @@
+// loadScene (glTF or JSON scene file), validateScene and the geometry helpers they share.
+// The scene-file format is documented in docs/SCENES.md.
+#include <cmath>
+#include <fstream>
+#include <limits>
+
+#include <fmt/format.h>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <nlohmann/json.hpp>
+
+#include "scene_internal.h"
+
+namespace janus::renderer {
+namespace detail {
+
+void generateNormals(Mesh& mesh) {
+    for (Vertex& v : mesh.vertices) v.normal = glm::vec3(0.0f);
+    for (size_t i = 0; i + 2 < mesh.indices.size(); i += 3) {
+        Vertex& a = mesh.vertices[mesh.indices[i]];
+        Vertex& b = mesh.vertices[mesh.indices[i + 1]];
+        Vertex& c = mesh.vertices[mesh.indices[i + 2]];
+        // Not normalised: the cross product's length weights each face by its area.
+        const glm::vec3 face = glm::cross(b.position - a.position, c.position - a.position);
+        a.normal += face;
+        b.normal += face;
+        c.normal += face;
+    }
+    for (Vertex& v : mesh.vertices) {
+        const float length = glm::length(v.normal);
+        v.normal = length > 0.0f && std::isfinite(length) ? v.normal / length : glm::vec3(0.0f, 1.0f, 0.0f);
+    }
+}
+
+void frameSceneBounds(Scene& scene) {
+    glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+    for (const Instance& instance : scene.instances) {
+        if (instance.mesh >= scene.meshes.size()) continue;
+        for (const Vertex& v : scene.meshes[instance.mesh].vertices) {
+            const glm::vec3 p = glm::vec3(instance.world * glm::vec4(v.position, 1.0f));
+            lo = glm::min(lo, p);
+            hi = glm::max(hi, p);
+        }
+    }
+    if (lo.x > hi.x) return;   // nothing to frame: keep the default camera
+    const glm::vec3 center = (lo + hi) * 0.5f;
+    const float radius = std::max(glm::length(hi - lo) * 0.5f, 1e-3f);
+    Camera& camera = scene.camera;
+    const float distance = radius / std::sin(camera.fovYRadians * 0.5f);
+    // A little above the centre so floors and tops read as such.
+    const glm::vec3 direction = glm::normalize(glm::vec3(0.0f, 0.25f, 1.0f));
+    camera.target = center;
+    camera.position = center + direction * distance;
+    camera.up = glm::vec3(0.0f, 1.0f, 0.0f);
+    camera.nearPlane = std::max(distance - radius, distance * 0.01f) * 0.5f;
+    camera.farPlane = (distance + radius) * 2.0f;
+}
+
+Light defaultKeyLight() {
+    Light light;
+    light.type = LightType::Directional;
+    light.color = glm::vec3(1.0f, 0.97f, 0.92f);
+    light.intensity = 3.0f;
+    light.direction = glm::normalize(glm::vec3(-0.4f, -1.0f, -0.6f));
+    return light;
+}
+
+}  // namespace detail
+
+namespace {
+
+using nlohmann::json;
+
+[[noreturn]] void fail(const std::filesystem::path& file, const std::string& what) {
+    throw SceneError(fmt::format("{}: {}", file.string(), what));
+}
+
+float number(const std::filesystem::path& file, const json& object, const char* key, float fallback) {
+    if (!object.contains(key)) return fallback;
+    const json& value = object.at(key);
+    if (!value.is_number()) fail(file, fmt::format("\"{}\" must be a number, got {}", key, value.dump()));
+    return value.get<float>();
+}
+
+glm::vec3 vec3(const std::filesystem::path& file, const json& object, const char* key, glm::vec3 fallback) {
+    if (!object.contains(key)) return fallback;
+    const json& value = object.at(key);
+    if (!value.is_array() || value.size() != 3 || !value[0].is_number() || !value[1].is_number() || !value[2].is_number())
+        fail(file, fmt::format("\"{}\" must be an array of 3 numbers, got {}", key, value.dump()));
+    return glm::vec3(value[0].get<float>(), value[1].get<float>(), value[2].get<float>());
+}
+
+const json& objectAt(const std::filesystem::path& file, const json& parent, const char* key) {
+    const json& value = parent.at(key);
+    if (!value.is_object()) fail(file, fmt::format("\"{}\" must be an object", key));
+    return value;
+}
+
+Light parseLight(const std::filesystem::path& file, const json& j, size_t index) {
+    if (!j.is_object()) fail(file, fmt::format("lights[{}] must be an object", index));
+    Light light;
+    const std::string type = j.value("type", "directional");
+    if (type == "directional") light.type = LightType::Directional;
+    else if (type == "point") light.type = LightType::Point;
+    else if (type == "spot") light.type = LightType::Spot;
+    else fail(file, fmt::format("lights[{}].type is '{}'; use directional, point or spot", index, type));
+    light.color = vec3(file, j, "color", light.color);
+    light.intensity = number(file, j, "intensity", light.intensity);
+    light.position = vec3(file, j, "position", light.position);
+    const glm::vec3 direction = vec3(file, j, "direction", light.direction);
+    if (glm::length(direction) <= 0.0f) fail(file, fmt::format("lights[{}].direction must not be zero", index));
+    light.direction = glm::normalize(direction);
+    if (j.contains("range")) light.range = number(file, j, "range", 0.0f);
+    light.innerConeAngle = glm::radians(number(file, j, "innerConeDegrees", glm::degrees(light.innerConeAngle)));
+    light.outerConeAngle = glm::radians(number(file, j, "outerConeDegrees", glm::degrees(light.outerConeAngle)));
+    return light;
+}
+
+Scene loadSceneFile(const std::filesystem::path& path) {
+    std::ifstream in(path);
+    if (!in) fail(path, "no such file or not readable");
+    json root;
+    try {
+        root = json::parse(in);
+    } catch (const json::parse_error& e) {
+        fail(path, fmt::format("malformed JSON: {}", e.what()));
+    }
+    try {
+        if (!root.is_object()) fail(path, "a scene file must be a JSON object (see docs/SCENES.md)");
+        if (!root.contains("gltf") || !root["gltf"].is_string())
+            fail(path, "missing \"gltf\": the path of the glTF/GLB to load, relative to the scene file");
+        const std::filesystem::path gltfPath = path.parent_path() / root["gltf"].get<std::string>();
+        bool hasCamera = false;
+        Scene scene = detail::loadGltf(gltfPath, hasCamera);
+        scene.name = root.value("name", path.stem().string());
+
+        if (root.contains("camera")) {
+            const json& c = objectAt(path, root, "camera");
+            Camera& camera = scene.camera;
+            camera.position = vec3(path, c, "position", camera.position);
+            camera.target = vec3(path, c, "target", camera.target);
+            camera.up = vec3(path, c, "up", camera.up);
+            camera.fovYRadians = glm::radians(number(path, c, "fovYDegrees", glm::degrees(camera.fovYRadians)));
+            camera.nearPlane = number(path, c, "near", camera.nearPlane);
+            camera.farPlane = number(path, c, "far", camera.farPlane);
+            hasCamera = true;
+        }
+        if (!hasCamera) detail::frameSceneBounds(scene);
+        if (root.contains("environment")) {
+            const json& e = objectAt(path, root, "environment");
+            scene.environment.ambientColor = vec3(path, e, "ambientColor", scene.environment.ambientColor);
+            scene.environment.exposure = number(path, e, "exposure", scene.environment.exposure);
+        }
+        if (root.contains("lights")) {
+            if (!root["lights"].is_array()) fail(path, "\"lights\" must be an array");
+            for (size_t i = 0; i < root["lights"].size(); ++i) scene.lights.push_back(parseLight(path, root["lights"][i], i));
+        }
+        if (scene.lights.empty() && root.value("defaultLight", true)) scene.lights.push_back(detail::defaultKeyLight());
+        if (root.contains("markers")) {
+            if (!root["markers"].is_array()) fail(path, "\"markers\" must be an array");
+            for (const json& m : root["markers"]) {
+                if (!m.is_object() || !m.contains("name") || !m["name"].is_string())
+                    fail(path, "every marker needs a \"name\" string and a \"position\"");
+                scene.markers.push_back(Marker{m["name"].get<std::string>(),
+                                               glm::translate(glm::mat4(1.0f), vec3(path, m, "position", glm::vec3(0.0f)))});
+            }
+        }
+        if (root.contains("quality")) scene.quality = objectAt(path, root, "quality");
+        return scene;
+    } catch (const json::exception& e) {
+        fail(path, fmt::format("invalid scene file: {}", e.what()));
+    }
+}
+
+template <typename... Values>
+bool allFinite(const Values&... values) {
+    auto finiteVector = [](const auto& v) {
+        if constexpr (std::is_arithmetic_v<std::decay_t<decltype(v)>>) {
+            return std::isfinite(v);
+        } else {
+            const float* p = glm::value_ptr(v);
+            for (size_t i = 0; i < sizeof(v) / sizeof(float); ++i)
+                if (!std::isfinite(p[i])) return false;
+            return true;
+        }
+    };
+    return (finiteVector(values) && ...);
+}
+
+std::string label(const std::string& name, size_t index) { return name.empty() ? fmt::format("#{}", index) : fmt::format("'{}'", name); }
+
+}  // namespace
+
+Scene loadScene(const std::filesystem::path& path) {
+    Scene scene;
+    if (path.extension() == ".json") {
+        scene = loadSceneFile(path);
+    } else if (path.extension() == ".gltf" || path.extension() == ".glb") {
+        bool hasCamera = false;
+        scene = detail::loadGltf(path, hasCamera);
+        if (!hasCamera) detail::frameSceneBounds(scene);
+        if (scene.lights.empty()) scene.lights.push_back(detail::defaultKeyLight());
+    } else {
+        std::error_code ec;
+        if (!std::filesystem::exists(path, ec)) fail(path, "no such file");
+        fail(path, "unknown scene type; use a .gltf, .glb or .json scene file (see docs/SCENES.md)");
+    }
+    try {
+        validateScene(scene);
+    } catch (const SceneError& e) {
+        fail(path, e.what());
+    }
+    return scene;
+}
+
+void validateScene(const Scene& scene) {
+    for (size_t m = 0; m < scene.meshes.size(); ++m) {
+        const Mesh& mesh = scene.meshes[m];
+        if (mesh.indices.size() % 3 != 0) throw SceneError(fmt::format("mesh {} has {} indices, not whole triangles", m, mesh.indices.size()));
+        for (uint32_t index : mesh.indices)
+            if (index >= mesh.vertices.size())
+                throw SceneError(fmt::format("mesh {} has bad indices: {} is out of range ({} vertices)", m, index, mesh.vertices.size()));
+        for (const Vertex& v : mesh.vertices)
+            if (!allFinite(v.position, v.normal, v.uv, v.tangent))
+                throw SceneError(fmt::format("mesh {} has a NaN or infinite vertex attribute", m));
+        if (mesh.material >= int32_t(scene.materials.size()))
+            throw SceneError(fmt::format("mesh {} uses material {} but the scene has {}", m, mesh.material, scene.materials.size()));
+    }
+    for (size_t i = 0; i < scene.materials.size(); ++i) {
+        const Material& material = scene.materials[i];
+        const std::string name = label(material.name, i);
+        if (!allFinite(material.baseColorFactor, material.emissiveFactor, material.metallicFactor, material.roughnessFactor))
+            throw SceneError(fmt::format("material {} has a NaN or infinite colour or factor", name));
+        if (material.metallicFactor < 0 || material.metallicFactor > 1 || material.roughnessFactor < 0 || material.roughnessFactor > 1)
+            throw SceneError(fmt::format("material {} has metallic/roughness outside [0, 1]", name));
+        for (int32_t texture : {material.baseColorTexture, material.metallicRoughnessTexture, material.normalTexture,
+                                material.occlusionTexture, material.emissiveTexture})
+            if (texture >= int32_t(scene.textures.size()))
+                throw SceneError(fmt::format("material {} uses texture {} but the scene has {}", name, texture, scene.textures.size()));
+    }
+    for (size_t t = 0; t < scene.textures.size(); ++t) {
+        const TextureImage& texture = scene.textures[t];
+        if (texture.width == 0 || texture.height == 0 || texture.rgba.size() != size_t(texture.width) * texture.height * 4)
+            throw SceneError(fmt::format("texture {} has {} bytes for {}x{} RGBA8", label(texture.name, t), texture.rgba.size(),
+                                         texture.width, texture.height));
+    }
+    for (size_t i = 0; i < scene.instances.size(); ++i) {
+        if (scene.instances[i].mesh >= scene.meshes.size())
+            throw SceneError(fmt::format("instance {} uses mesh {} but the scene has {}", i, scene.instances[i].mesh, scene.meshes.size()));
+        if (!allFinite(scene.instances[i].world))
+            throw SceneError(fmt::format("instance {} (mesh {}) has a NaN or infinite transform", i, scene.instances[i].mesh));
+    }
+    for (size_t i = 0; i < scene.lights.size(); ++i) {
+        const Light& light = scene.lights[i];
+        if (!allFinite(light.color, light.intensity, light.position, light.direction, light.innerConeAngle, light.outerConeAngle) ||
+            (light.range && !std::isfinite(*light.range)))
+            throw SceneError(fmt::format("light {} has a NaN or infinite colour, intensity, position or direction", i));
+        if (light.intensity < 0 || light.color.r < 0 || light.color.g < 0 || light.color.b < 0)
+            throw SceneError(fmt::format("light {} has a negative colour or intensity", i));
+        if (light.range && *light.range <= 0) throw SceneError(fmt::format("light {} has range {} (must be > 0)", i, *light.range));
+        if (glm::length(light.direction) < 1e-6f) throw SceneError(fmt::format("light {} has a zero direction", i));
+    }
+    for (size_t i = 0; i < scene.markers.size(); ++i)
+        if (!allFinite(scene.markers[i].world))
+            throw SceneError(fmt::format("marker {} has a NaN or infinite transform", label(scene.markers[i].name, i)));
+    const Camera& camera = scene.camera;
+    if (!allFinite(camera.position, camera.target, camera.up, camera.fovYRadians, camera.nearPlane, camera.farPlane))
+        throw SceneError("camera has a NaN or infinite value");
+    if (camera.fovYRadians <= 0 || camera.fovYRadians >= 3.14159f)
+        throw SceneError(fmt::format("camera field of view {} degrees must be in (0, 180)", glm::degrees(camera.fovYRadians)));
+    if (camera.nearPlane <= 0 || camera.farPlane <= camera.nearPlane)
+        throw SceneError(fmt::format("camera planes near={} far={} need 0 < near < far", camera.nearPlane, camera.farPlane));
+    if (glm::length(camera.target - camera.position) <= 0 || glm::length(glm::cross(camera.target - camera.position, camera.up)) <= 0)
+        throw SceneError("camera target must differ from its position and not be along its up vector");
+    if (!allFinite(scene.environment.ambientColor, scene.environment.exposure))
+        throw SceneError("environment has a NaN or infinite ambient colour or exposure");
+    if (scene.environment.exposure <= 0) throw SceneError(fmt::format("environment exposure {} must be > 0", scene.environment.exposure));
+}
+
+}  // namespace janus::renderer

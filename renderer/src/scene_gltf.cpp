@@ -1,0 +1,388 @@
+// glTF 2.0 (.gltf / .glb) -> Scene, through Debian's libtinygltf (the .so carries the
+// implementation and stb_image, so we only include the header).
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <set>
+
+#include <fmt/format.h>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <tiny_gltf.h>
+
+#include "scene_internal.h"
+
+namespace janus::renderer::detail {
+namespace {
+
+// Everything the loader throws names the file, so errors from a scene file that references a
+// glTF still point at the file that is wrong.
+class GltfReader {
+public:
+    GltfReader(const std::filesystem::path& path, tinygltf::Model& model) : m_path(path), m_model(model) {}
+
+    [[noreturn]] void fail(const std::string& what) const {
+        throw SceneError(fmt::format("{}: {}", m_path.string(), what));
+    }
+
+    Scene read(bool& hasCamera) {
+        Scene scene;
+        scene.name = m_path.stem().string();
+        checkImages();
+        readMaterials(scene);
+        readMeshes(scene);
+        readNodes(scene);
+        hasCamera = m_cameraFound;
+        if (m_cameraFound) scene.camera = m_camera;
+        return scene;
+    }
+
+private:
+    // tinygltf only warns about an image it could not read; a missing texture is an error here.
+    void checkImages() const {
+        for (size_t i = 0; i < m_model.images.size(); ++i) {
+            const tinygltf::Image& image = m_model.images[i];
+            if (image.image.empty() || image.width <= 0 || image.height <= 0) {
+                fail(fmt::format("texture image {} ('{}') could not be read; check that the file exists next to the glTF "
+                                 "and is a PNG or JPEG",
+                                 i, image.uri.empty() ? image.name : image.uri));
+            }
+        }
+    }
+
+    int32_t textureFor(int gltfTexture, bool srgb, Scene& scene, const std::string& materialName) {
+        if (gltfTexture < 0) return -1;
+        if (size_t(gltfTexture) >= m_model.textures.size())
+            fail(fmt::format("material '{}' references texture {} but the file has {}", materialName, gltfTexture,
+                             m_model.textures.size()));
+        int source = m_model.textures[size_t(gltfTexture)].source;
+        if (source < 0 || size_t(source) >= m_model.images.size())
+            fail(fmt::format("texture {} has no valid image source ({})", gltfTexture, source));
+        auto key = std::make_pair(source, srgb);
+        if (auto it = m_textureCache.find(key); it != m_textureCache.end()) return it->second;
+
+        const tinygltf::Image& image = m_model.images[size_t(source)];
+        TextureImage texture;
+        texture.width = uint32_t(image.width);
+        texture.height = uint32_t(image.height);
+        texture.srgb = srgb;
+        texture.name = image.uri.empty() ? image.name : image.uri;
+        const size_t pixels = size_t(image.width) * size_t(image.height);
+        const int channels = image.component;
+        const int bytesPerChannel = image.bits / 8;
+        if (channels < 1 || channels > 4 || (bytesPerChannel != 1 && bytesPerChannel != 2) ||
+            image.image.size() != pixels * size_t(channels) * size_t(bytesPerChannel))
+            fail(fmt::format("texture image '{}' has an unsupported layout ({} channels, {} bits)", texture.name,
+                             channels, image.bits));
+        texture.rgba.resize(pixels * 4);
+        for (size_t p = 0; p < pixels; ++p) {
+            uint8_t rgba[4] = {0, 0, 0, 255};
+            for (int c = 0; c < channels; ++c) {
+                // 16-bit images keep their high byte: textures are uploaded as RGBA8.
+                const size_t at = (p * size_t(channels) + size_t(c)) * size_t(bytesPerChannel);
+                rgba[c] = bytesPerChannel == 2 ? image.image[at + 1] : image.image[at];
+            }
+            if (channels == 1) rgba[1] = rgba[2] = rgba[0];
+            if (channels == 2) { rgba[3] = rgba[1]; rgba[1] = rgba[2] = rgba[0]; }
+            std::memcpy(&texture.rgba[p * 4], rgba, 4);
+        }
+        scene.textures.push_back(std::move(texture));
+        const int32_t index = int32_t(scene.textures.size() - 1);
+        m_textureCache[key] = index;
+        return index;
+    }
+
+    void readMaterials(Scene& scene) {
+        for (const tinygltf::Material& m : m_model.materials) {
+            Material material;
+            material.name = m.name;
+            const auto& pbr = m.pbrMetallicRoughness;
+            if (pbr.baseColorFactor.size() == 4)
+                material.baseColorFactor = glm::vec4(pbr.baseColorFactor[0], pbr.baseColorFactor[1],
+                                                     pbr.baseColorFactor[2], pbr.baseColorFactor[3]);
+            material.metallicFactor = float(pbr.metallicFactor);
+            material.roughnessFactor = float(pbr.roughnessFactor);
+            if (m.emissiveFactor.size() == 3)
+                material.emissiveFactor = glm::vec3(m.emissiveFactor[0], m.emissiveFactor[1], m.emissiveFactor[2]);
+            material.doubleSided = m.doubleSided;
+            material.baseColorTexture = textureFor(pbr.baseColorTexture.index, true, scene, m.name);
+            material.metallicRoughnessTexture = textureFor(pbr.metallicRoughnessTexture.index, false, scene, m.name);
+            material.normalTexture = textureFor(m.normalTexture.index, false, scene, m.name);
+            material.occlusionTexture = textureFor(m.occlusionTexture.index, false, scene, m.name);
+            material.emissiveTexture = textureFor(m.emissiveTexture.index, true, scene, m.name);
+            scene.materials.push_back(std::move(material));
+        }
+    }
+
+    // Reads accessor `index` as `width` floats per element (normalised integers are mapped to
+    // [0, 1] as glTF specifies). Every offset is bounds-checked: a bad file must not crash us.
+    std::vector<float> readFloats(int index, int width, const std::string& what) const {
+        const tinygltf::Accessor& accessor = accessorAt(index, what);
+        if (tinygltf::GetNumComponentsInType(uint32_t(accessor.type)) != width)
+            fail(fmt::format("{} accessor {} has {} components per element, expected {}", what, index,
+                             tinygltf::GetNumComponentsInType(uint32_t(accessor.type)), width));
+        const int componentSize = tinygltf::GetComponentSizeInBytes(uint32_t(accessor.componentType));
+        if (componentSize <= 0) fail(fmt::format("{} accessor {} has an invalid component type", what, index));
+        std::vector<float> out(accessor.count * size_t(width));
+        forEachElement(accessor, index, what, size_t(componentSize) * size_t(width), [&](const uint8_t* src, size_t e) {
+            for (int c = 0; c < width; ++c) {
+                const uint8_t* p = src + size_t(c) * size_t(componentSize);
+                float value = 0.0f;
+                switch (accessor.componentType) {
+                    case TINYGLTF_COMPONENT_TYPE_FLOAT: std::memcpy(&value, p, 4); break;
+                    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: value = float(*p) / 255.0f; break;
+                    case TINYGLTF_COMPONENT_TYPE_BYTE: value = std::max(float(int8_t(*p)) / 127.0f, -1.0f); break;
+                    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { uint16_t v; std::memcpy(&v, p, 2); value = float(v) / 65535.0f; break; }
+                    case TINYGLTF_COMPONENT_TYPE_SHORT: { int16_t v; std::memcpy(&v, p, 2); value = std::max(float(v) / 32767.0f, -1.0f); break; }
+                    default: fail(fmt::format("{} accessor {} has component type {}, which glTF does not allow here", what, index, accessor.componentType));
+                }
+                out[e * size_t(width) + size_t(c)] = value;
+            }
+        });
+        return out;
+    }
+
+    std::vector<uint32_t> readIndices(int index) const {
+        const tinygltf::Accessor& accessor = accessorAt(index, "index");
+        if (accessor.type != TINYGLTF_TYPE_SCALAR) fail(fmt::format("index accessor {} is not scalar", index));
+        const int componentSize = tinygltf::GetComponentSizeInBytes(uint32_t(accessor.componentType));
+        if (componentSize != 1 && componentSize != 2 && componentSize != 4)
+            fail(fmt::format("index accessor {} has component type {}; indices must be unsigned byte, short or int", index,
+                             accessor.componentType));
+        std::vector<uint32_t> out(accessor.count);
+        forEachElement(accessor, index, "index", size_t(componentSize), [&](const uint8_t* src, size_t e) {
+            uint32_t value = 0;
+            if (componentSize == 1) value = *src;
+            else if (componentSize == 2) { uint16_t v; std::memcpy(&v, src, 2); value = v; }
+            else std::memcpy(&value, src, 4);
+            out[e] = value;
+        });
+        return out;
+    }
+
+    const tinygltf::Accessor& accessorAt(int index, const std::string& what) const {
+        if (index < 0 || size_t(index) >= m_model.accessors.size())
+            fail(fmt::format("{} accessor {} does not exist (the file has {})", what, index, m_model.accessors.size()));
+        const tinygltf::Accessor& accessor = m_model.accessors[size_t(index)];
+        if (accessor.sparse.isSparse) fail(fmt::format("{} accessor {} is sparse, which Janus does not support", what, index));
+        return accessor;
+    }
+
+    template <typename Visit>
+    void forEachElement(const tinygltf::Accessor& accessor, int index, const std::string& what, size_t elementSize,
+                        Visit&& visit) const {
+        if (accessor.count == 0) return;
+        if (accessor.bufferView < 0 || size_t(accessor.bufferView) >= m_model.bufferViews.size())
+            fail(fmt::format("{} accessor {} has no valid buffer view", what, index));
+        const tinygltf::BufferView& view = m_model.bufferViews[size_t(accessor.bufferView)];
+        if (view.buffer < 0 || size_t(view.buffer) >= m_model.buffers.size())
+            fail(fmt::format("buffer view {} references missing buffer {}", accessor.bufferView, view.buffer));
+        const std::vector<unsigned char>& data = m_model.buffers[size_t(view.buffer)].data;
+        const size_t stride = view.byteStride ? view.byteStride : elementSize;
+        const size_t start = view.byteOffset + accessor.byteOffset;
+        const size_t lastEnd = accessor.byteOffset + stride * (accessor.count - 1) + elementSize;
+        if (stride < elementSize || lastEnd > view.byteLength || view.byteOffset + view.byteLength > data.size())
+            fail(fmt::format("{} accessor {} reads past the end of its buffer (the .bin file is too short or the "
+                             "accessor's count/offset is wrong)",
+                             what, index));
+        for (size_t e = 0; e < accessor.count; ++e) visit(data.data() + start + e * stride, e);
+    }
+
+    void readMeshes(Scene& scene) {
+        for (size_t meshIndex = 0; meshIndex < m_model.meshes.size(); ++meshIndex) {
+            const tinygltf::Mesh& gltfMesh = m_model.meshes[meshIndex];
+            std::vector<uint32_t>& sceneMeshes = m_meshPrimitives[int(meshIndex)];
+            for (size_t p = 0; p < gltfMesh.primitives.size(); ++p) {
+                const tinygltf::Primitive& primitive = gltfMesh.primitives[p];
+                const std::string where = fmt::format("mesh '{}' primitive {}", gltfMesh.name, p);
+                if (primitive.mode != -1 && primitive.mode != TINYGLTF_MODE_TRIANGLES)
+                    fail(fmt::format("{} has mode {}; Janus renders triangle lists only (mode 4)", where, primitive.mode));
+                auto attribute = [&](const char* name) {
+                    auto it = primitive.attributes.find(name);
+                    return it == primitive.attributes.end() ? -1 : it->second;
+                };
+                if (attribute("POSITION") < 0) fail(fmt::format("{} has no POSITION attribute", where));
+                Mesh mesh;
+                const std::vector<float> positions = readFloats(attribute("POSITION"), 3, where + " POSITION");
+                const size_t vertexCount = positions.size() / 3;
+                mesh.vertices.resize(vertexCount);
+                for (size_t v = 0; v < vertexCount; ++v) {
+                    Vertex& vertex = mesh.vertices[v];
+                    vertex.position = glm::vec3(positions[v * 3], positions[v * 3 + 1], positions[v * 3 + 2]);
+                    vertex.normal = glm::vec3(0.0f);
+                    vertex.uv = glm::vec2(0.0f);
+                    vertex.tangent = glm::vec4(0.0f);
+                }
+                auto readInto = [&](const char* name, int width, auto&& store) {
+                    if (attribute(name) < 0) return false;
+                    const std::vector<float> values = readFloats(attribute(name), width, where + " " + name);
+                    if (values.size() / size_t(width) != vertexCount)
+                        fail(fmt::format("{} {} has {} elements but POSITION has {}", where, name,
+                                         values.size() / size_t(width), vertexCount));
+                    for (size_t v = 0; v < vertexCount; ++v) store(mesh.vertices[v], &values[v * size_t(width)]);
+                    return true;
+                };
+                const bool hasNormals = readInto("NORMAL", 3, [](Vertex& v, const float* f) { v.normal = glm::vec3(f[0], f[1], f[2]); });
+                readInto("TEXCOORD_0", 2, [](Vertex& v, const float* f) { v.uv = glm::vec2(f[0], f[1]); });
+                readInto("TANGENT", 4, [](Vertex& v, const float* f) { v.tangent = glm::vec4(f[0], f[1], f[2], f[3]); });
+
+                if (primitive.indices >= 0) {
+                    mesh.indices = readIndices(primitive.indices);
+                    for (size_t i = 0; i < mesh.indices.size(); ++i)
+                        if (mesh.indices[i] >= vertexCount)
+                            fail(fmt::format("{} has bad indices: index {} at position {} is out of range (the mesh has "
+                                             "{} vertices)",
+                                             where, mesh.indices[i], i, vertexCount));
+                } else {
+                    mesh.indices.resize(vertexCount);
+                    for (size_t i = 0; i < vertexCount; ++i) mesh.indices[i] = uint32_t(i);
+                }
+                if (mesh.indices.size() % 3 != 0)
+                    fail(fmt::format("{} has {} indices, which is not a whole number of triangles", where, mesh.indices.size()));
+                if (primitive.material >= 0 && size_t(primitive.material) >= m_model.materials.size())
+                    fail(fmt::format("{} references material {} but the file has {}", where, primitive.material,
+                                     m_model.materials.size()));
+                mesh.material = primitive.material;
+                if (!hasNormals) generateNormals(mesh);
+                scene.meshes.push_back(std::move(mesh));
+                sceneMeshes.push_back(uint32_t(scene.meshes.size() - 1));
+            }
+        }
+    }
+
+    static glm::mat4 localMatrix(const tinygltf::Node& node) {
+        if (node.matrix.size() == 16) {
+            glm::mat4 m;
+            for (int i = 0; i < 16; ++i) glm::value_ptr(m)[i] = float(node.matrix[size_t(i)]);   // column-major in both
+            return m;
+        }
+        glm::mat4 m(1.0f);
+        if (node.translation.size() == 3)
+            m = glm::translate(m, glm::vec3(node.translation[0], node.translation[1], node.translation[2]));
+        if (node.rotation.size() == 4)
+            m *= glm::mat4_cast(glm::quat(float(node.rotation[3]), float(node.rotation[0]), float(node.rotation[1]),
+                                          float(node.rotation[2])));
+        if (node.scale.size() == 3) m = glm::scale(m, glm::vec3(node.scale[0], node.scale[1], node.scale[2]));
+        return m;
+    }
+
+    static bool finite(const glm::mat4& m) {
+        for (int i = 0; i < 16; ++i)
+            if (!std::isfinite(glm::value_ptr(m)[i])) return false;
+        return true;
+    }
+
+    void visitNode(int index, const glm::mat4& parent, Scene& scene, std::set<int>& path) {
+        if (index < 0 || size_t(index) >= m_model.nodes.size())
+            fail(fmt::format("node {} does not exist (the file has {})", index, m_model.nodes.size()));
+        if (!path.insert(index).second) fail(fmt::format("node {} is its own ancestor (cycle in 'children')", index));
+        const tinygltf::Node& node = m_model.nodes[size_t(index)];
+        const std::string name = node.name.empty() ? fmt::format("#{}", index) : node.name;
+        const glm::mat4 world = parent * localMatrix(node);
+        if (!finite(world)) fail(fmt::format("node '{}' has a NaN or infinite transform", name));
+
+        if (node.mesh >= 0) {
+            auto it = m_meshPrimitives.find(node.mesh);
+            if (it == m_meshPrimitives.end()) fail(fmt::format("node '{}' references missing mesh {}", name, node.mesh));
+            for (uint32_t mesh : it->second) scene.instances.push_back(Instance{mesh, world});
+        }
+        if (node.camera >= 0 && !m_cameraFound) readCamera(node, world, name);
+        bool hasLight = false;
+        if (auto ext = node.extensions.find("KHR_lights_punctual"); ext != node.extensions.end() && ext->second.Has("light")) {
+            hasLight = true;
+            readLight(ext->second.Get("light").GetNumberAsInt(), world, name, scene);
+        }
+        // Empty leaf nodes are placement markers (probe volumes, cubemap centres...).
+        if (node.mesh < 0 && node.camera < 0 && !hasLight && node.children.empty())
+            scene.markers.push_back(Marker{node.name, world});
+        for (int child : node.children) visitNode(child, world, scene, path);
+        path.erase(index);
+    }
+
+    void readCamera(const tinygltf::Node& node, const glm::mat4& world, const std::string& name) {
+        if (size_t(node.camera) >= m_model.cameras.size()) fail(fmt::format("node '{}' references missing camera {}", name, node.camera));
+        const tinygltf::Camera& camera = m_model.cameras[size_t(node.camera)];
+        if (camera.type != "perspective") return;   // orthographic cameras are not supported; keep looking
+        m_camera.position = glm::vec3(world[3]);
+        m_camera.target = m_camera.position - glm::normalize(glm::vec3(world[2]));   // glTF cameras look down -Z
+        m_camera.up = glm::normalize(glm::vec3(world[1]));
+        m_camera.fovYRadians = float(camera.perspective.yfov);
+        m_camera.nearPlane = float(camera.perspective.znear);
+        // zfar 0 means an infinite projection in glTF; a large finite far plane keeps ours simple.
+        m_camera.farPlane = camera.perspective.zfar > 0.0 ? float(camera.perspective.zfar) : m_camera.nearPlane * 1.0e5f;
+        m_cameraFound = true;
+    }
+
+    void readLight(int index, const glm::mat4& world, const std::string& nodeName, Scene& scene) {
+        if (index < 0 || size_t(index) >= m_model.lights.size())
+            fail(fmt::format("node '{}' references KHR_lights_punctual light {} but the file has {}", nodeName, index,
+                             m_model.lights.size()));
+        const tinygltf::Light& gltfLight = m_model.lights[size_t(index)];
+        Light light;
+        if (gltfLight.type == "directional") light.type = LightType::Directional;
+        else if (gltfLight.type == "point") light.type = LightType::Point;
+        else if (gltfLight.type == "spot") light.type = LightType::Spot;
+        else fail(fmt::format("light '{}' has unknown type '{}'", gltfLight.name, gltfLight.type));
+        if (gltfLight.color.size() == 3) light.color = glm::vec3(gltfLight.color[0], gltfLight.color[1], gltfLight.color[2]);
+        light.intensity = float(gltfLight.intensity);
+        light.position = glm::vec3(world[3]);
+        const glm::vec3 forward = -glm::vec3(world[2]);   // lights shine down their local -Z
+        light.direction = glm::length(forward) > 0.0f ? glm::normalize(forward) : glm::vec3(0, 0, -1);
+        if (gltfLight.range > 0.0) light.range = float(gltfLight.range);
+        light.innerConeAngle = float(gltfLight.spot.innerConeAngle);
+        light.outerConeAngle = float(gltfLight.spot.outerConeAngle);
+        scene.lights.push_back(light);
+    }
+
+    void readNodes(Scene& scene) {
+        std::vector<int> roots;
+        if (!m_model.scenes.empty()) {
+            const int sceneIndex = m_model.defaultScene >= 0 ? m_model.defaultScene : 0;
+            if (size_t(sceneIndex) >= m_model.scenes.size()) fail(fmt::format("default scene {} does not exist", sceneIndex));
+            roots = m_model.scenes[size_t(sceneIndex)].nodes;
+        } else {
+            // No scene list: every node that is nobody's child is a root.
+            std::vector<bool> isChild(m_model.nodes.size(), false);
+            for (const tinygltf::Node& node : m_model.nodes)
+                for (int c : node.children)
+                    if (c >= 0 && size_t(c) < isChild.size()) isChild[size_t(c)] = true;
+            for (size_t n = 0; n < m_model.nodes.size(); ++n)
+                if (!isChild[n]) roots.push_back(int(n));
+        }
+        std::set<int> path;
+        for (int root : roots) visitNode(root, glm::mat4(1.0f), scene, path);
+    }
+
+    std::filesystem::path m_path;
+    tinygltf::Model& m_model;
+    std::map<std::pair<int, bool>, int32_t> m_textureCache;
+    std::map<int, std::vector<uint32_t>> m_meshPrimitives;
+    Camera m_camera;
+    bool m_cameraFound = false;
+};
+
+}  // namespace
+
+Scene loadGltf(const std::filesystem::path& path, bool& hasCamera) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec))
+        throw SceneError(fmt::format("{}: no such file (check the path; scene files resolve 'gltf' relative to themselves)",
+                                     path.string()));
+    tinygltf::Model model;
+    tinygltf::TinyGLTF loader;
+    std::string error, warning;
+    const std::string extension = path.extension().string();
+    bool ok = false;
+    if (extension == ".glb" || extension == ".GLB") ok = loader.LoadBinaryFromFile(&model, &error, &warning, path.string());
+    else ok = loader.LoadASCIIFromFile(&model, &error, &warning, path.string());
+    if (!ok) {
+        std::string reason = error.empty() ? warning : error;
+        while (!reason.empty() && (reason.back() == '\n' || reason.back() == ' ')) reason.pop_back();
+        throw SceneError(fmt::format("{}: malformed glTF: {}", path.string(), reason.empty() ? "tinygltf gave no reason" : reason));
+    }
+    return GltfReader(path, model).read(hasCamera);
+}
+
+}  // namespace janus::renderer::detail

@@ -1,0 +1,24 @@
+// Helpers shared by the scene sources (glTF loading, scene files, the built-in scene).
+#pragma once
+
+#include <string>
+
+#include "janus/renderer/scene.h"
+
+namespace janus::renderer::detail {
+
+// Fills Vertex::normal from the triangles: area-weighted average of the faces that share a
+// vertex. Indexed meshes get smooth normals; unindexed ones (no shared vertices) get flat ones.
+void generateNormals(Mesh& mesh);
+
+// Places the camera so the bounding box of every instance fills the view, looking down -Z
+// from slightly above. Used when neither the glTF nor the scene file has a camera.
+void frameSceneBounds(Scene& scene);
+
+// Loads the glTF part of a scene (.gltf / .glb). `hasCamera` tells whether it had a camera.
+Scene loadGltf(const std::filesystem::path& path, bool& hasCamera);
+
+// Lighting added to scenes that bring none, so glTF sample models are not black.
+Light defaultKeyLight();
+
+}  // namespace janus::renderer::detail

@@ -1,0 +1,427 @@
+// Scene loading: every shared scene, the JSON scene-file format, the built-in scene, and bad
+// input (each must throw SceneError naming the file and the problem, never crash).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+
+#include <fmt/format.h>
+#include <glm/gtc/type_ptr.hpp>
+#include <nlohmann/json.hpp>
+
+#include "janus/renderer/scene.h"
+
+namespace janus::renderer {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+const fs::path kSharedScenes = JANUS_SHARED_SCENES_DIR;
+// This suite's own data sits next to it (tests/renderer/data), not in JANUS_TEST_DATA_DIR.
+const fs::path kTestData = fs::path(__FILE__).parent_path() / "data";
+
+// Runs `load` and returns the SceneError message; fails the test if nothing (or something
+// else) was thrown.
+template <typename Load>
+std::string sceneErrorOf(Load&& load) {
+    try {
+        load();
+    } catch (const SceneError& e) {
+        return e.what();
+    } catch (const std::exception& e) {
+        ADD_FAILURE() << "expected SceneError, got another exception: " << e.what();
+        return {};
+    }
+    ADD_FAILURE() << "expected SceneError, nothing was thrown";
+    return {};
+}
+
+const Marker* findMarker(const Scene& scene, const std::string& name) {
+    for (const Marker& m : scene.markers)
+        if (m.name == name) return &m;
+    return nullptr;
+}
+
+// A one-triangle glTF written to a fresh directory, with hooks to break it in specific ways.
+class TinyGltf {
+public:
+    TinyGltf() {
+        m_dir = fs::temp_directory_path() / fmt::format("janus-scene-test-{}-{}", ::getpid(), s_counter++);
+        fs::create_directories(m_dir);
+        // Three positions (36 bytes) then three uint16 indices (6 bytes, padded to 8).
+        const float positions[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+        const uint16_t indices[4] = {0, 1, 2, 0};
+        m_bin.resize(44);
+        std::memcpy(m_bin.data(), positions, 36);
+        std::memcpy(m_bin.data() + 36, indices, 8);
+        gltf = {
+            {"asset", {{"version", "2.0"}}},
+            {"scene", 0},
+            {"scenes", json::array({{{"nodes", {0}}}})},
+            {"nodes", json::array({{{"name", "triangle node"}, {"mesh", 0}}})},
+            {"meshes", json::array({{{"name", "triangle"}, {"primitives", json::array({{{"attributes", {{"POSITION", 0}}}, {"indices", 1}, {"material", 0}}})}}})},
+            {"materials", json::array({{{"name", "plain"}, {"pbrMetallicRoughness", {{"baseColorFactor", {1, 1, 1, 1}}}}}})},
+            {"buffers", json::array({{{"uri", "tri.bin"}, {"byteLength", 44}}})},
+            {"bufferViews", json::array({{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 36}},
+                                         {{"buffer", 0}, {"byteOffset", 36}, {"byteLength", 6}}})},
+            {"accessors", json::array({{{"bufferView", 0}, {"componentType", 5126}, {"count", 3}, {"type", "VEC3"},
+                                        {"min", {0, 0, 0}}, {"max", {1, 1, 0}}},
+                                       {{"bufferView", 1}, {"componentType", 5123}, {"count", 3}, {"type", "SCALAR"}}})},
+        };
+    }
+    ~TinyGltf() {
+        std::error_code ec;
+        fs::remove_all(m_dir, ec);
+    }
+
+    void setIndex(size_t which, uint16_t value) { std::memcpy(m_bin.data() + 36 + which * 2, &value, 2); }
+    const fs::path& dir() const { return m_dir; }
+
+    fs::path write(const std::string& name = "tri.gltf") const {
+        std::ofstream(m_dir / "tri.bin", std::ios::binary).write(reinterpret_cast<const char*>(m_bin.data()), std::streamsize(m_bin.size()));
+        std::ofstream(m_dir / name) << gltf.dump(2);
+        return m_dir / name;
+    }
+    fs::path writeText(const std::string& name, const std::string& text) const {
+        std::ofstream(m_dir / name) << text;
+        return m_dir / name;
+    }
+
+    json gltf;
+
+private:
+    fs::path m_dir;
+    std::vector<uint8_t> m_bin;
+    static inline int s_counter = 0;
+};
+
+// --- shared scenes -----------------------------------------------------------------------------
+
+TEST(SceneLoading, CornellBoxHasMeshesTexturesAndProbeMarkers) {
+    const Scene scene = loadScene(kSharedScenes / "cornell-box" / "cornellBox.gltf");
+    EXPECT_EQ(scene.name, "cornellBox");
+    EXPECT_GE(scene.instances.size(), 10u);
+    EXPECT_EQ(scene.materials.size(), 13u);
+    // Two PNGs, both used as base colour (sRGB).
+    ASSERT_EQ(scene.textures.size(), 2u);
+    for (const TextureImage& t : scene.textures) {
+        EXPECT_TRUE(t.srgb) << t.name;
+        EXPECT_EQ(t.rgba.size(), size_t(t.width) * t.height * 4) << t.name;
+    }
+    const Marker* volume = findMarker(scene, "IrradianceVolume");
+    const Marker* cubemap = findMarker(scene, "ReflectionCubemap");
+    ASSERT_NE(volume, nullptr);
+    ASSERT_NE(cubemap, nullptr);
+    // The glTF has no lights: the loader adds its key light so the box is not black.
+    ASSERT_EQ(scene.lights.size(), 1u);
+    EXPECT_EQ(scene.lights[0].type, LightType::Directional);
+    // Red wall material keeps its factor exactly as the file gives it.
+    EXPECT_FLOAT_EQ(scene.materials[5].baseColorFactor.r, 0.9551045298576355f);
+    EXPECT_EQ(scene.materials[5].name, "cornellBox.red.000");
+}
+
+TEST(SceneLoading, DamagedHelmetHasAllFiveTextureKinds) {
+    const Scene scene = loadScene(kSharedScenes / "DamagedHelmet" / "glTF" / "DamagedHelmet.gltf");
+    ASSERT_EQ(scene.materials.size(), 1u);
+    const Material& m = scene.materials[0];
+    for (int32_t t : {m.baseColorTexture, m.metallicRoughnessTexture, m.normalTexture, m.occlusionTexture, m.emissiveTexture})
+        ASSERT_GE(t, 0);
+    EXPECT_TRUE(scene.textures[size_t(m.baseColorTexture)].srgb);
+    EXPECT_TRUE(scene.textures[size_t(m.emissiveTexture)].srgb);
+    EXPECT_FALSE(scene.textures[size_t(m.normalTexture)].srgb);
+    EXPECT_FALSE(scene.textures[size_t(m.metallicRoughnessTexture)].srgb);
+    ASSERT_EQ(scene.meshes.size(), 1u);
+    const Mesh& mesh = scene.meshes[0];
+    EXPECT_GT(mesh.indices.size(), 0u);
+    EXPECT_EQ(mesh.indices.size() % 3, 0u);
+    // The file has normals: they must come through unit length.
+    EXPECT_NEAR(glm::length(mesh.vertices[0].normal), 1.0f, 1e-3f);   // stored as float32 in the file, rounded there
+}
+
+TEST(SceneLoading, MetalRoughSpheresCoverTheMaterialGrid) {
+    const Scene scene = loadScene(kSharedScenes / "MetalRoughSpheresNoTextures" / "glTF" / "MetalRoughSpheresNoTextures.gltf");
+    EXPECT_TRUE(scene.textures.empty());
+    EXPECT_GE(scene.instances.size(), 25u);
+    float minRoughness = 1, maxRoughness = 0, minMetal = 1, maxMetal = 0;
+    for (const Material& m : scene.materials) {
+        minRoughness = std::min(minRoughness, m.roughnessFactor);
+        maxRoughness = std::max(maxRoughness, m.roughnessFactor);
+        minMetal = std::min(minMetal, m.metallicFactor);
+        maxMetal = std::max(maxMetal, m.metallicFactor);
+    }
+    EXPECT_LT(minRoughness, 0.2f);
+    EXPECT_GT(maxRoughness, 0.8f);
+    EXPECT_LT(minMetal, 0.2f);
+    EXPECT_GT(maxMetal, 0.8f);
+    // No camera in the file: the loader frames the bounding box, looking at its centre.
+    EXPECT_GT(glm::length(scene.camera.position - scene.camera.target), 0.0f);
+}
+
+TEST(SceneLoading, BoxTexturedDecodesItsPngToRgba8) {
+    const Scene scene = loadScene(kSharedScenes / "BoxTextured" / "glTF" / "BoxTextured.gltf");
+    ASSERT_EQ(scene.textures.size(), 1u);
+    const TextureImage& texture = scene.textures[0];
+    EXPECT_EQ(texture.name, "CesiumLogoFlat.png");
+    EXPECT_TRUE(texture.srgb);
+    EXPECT_GT(texture.width, 0u);
+    EXPECT_EQ(texture.rgba.size(), size_t(texture.width) * texture.height * 4);
+    ASSERT_EQ(scene.meshes.size(), 1u);
+    EXPECT_EQ(scene.meshes[0].indices.size(), 36u);
+    EXPECT_EQ(scene.meshes[0].vertices.size(), 24u);
+}
+
+TEST(SceneLoading, ExampleSceneFileAddsCameraEnvironmentLightsMarkersAndQuality) {
+    const Scene scene = loadScene(kTestData / "cornell.json");
+    EXPECT_EQ(scene.name, "cornell-box, front view");
+    EXPECT_EQ(scene.camera.position, glm::vec3(0.0f, 1.5f, 5.2f));
+    EXPECT_EQ(scene.camera.target, glm::vec3(0.0f, 1.5f, 0.0f));
+    EXPECT_FLOAT_EQ(scene.camera.fovYRadians, glm::radians(45.0f));
+    EXPECT_EQ(scene.environment.ambientColor, glm::vec3(0.04f, 0.04f, 0.05f));
+    EXPECT_FLOAT_EQ(scene.environment.exposure, 1.5f);
+    ASSERT_EQ(scene.lights.size(), 2u);   // the file's lights replace the default key light
+    EXPECT_EQ(scene.lights[0].type, LightType::Directional);
+    EXPECT_EQ(scene.lights[1].type, LightType::Point);
+    EXPECT_FLOAT_EQ(*scene.lights[1].range, 5.0f);
+    EXPECT_NE(findMarker(scene, "IrradianceVolume"), nullptr);   // from the glTF
+    const Marker* extra = findMarker(scene, "ExtraProbe");        // from the scene file
+    ASSERT_NE(extra, nullptr);
+    EXPECT_EQ(glm::vec3(extra->world[3]), glm::vec3(0.5f, 1.0f, 0.0f));
+    EXPECT_EQ(scene.quality.value("probeGridResolution", 0), 8);
+}
+
+// --- generated data ----------------------------------------------------------------------------
+
+TEST(SceneLoading, MissingNormalsAreGenerated) {
+    TinyGltf file;
+    const Scene scene = loadScene(file.write());
+    ASSERT_EQ(scene.meshes.size(), 1u);
+    // The triangle lies in z = 0, counter-clockwise seen from +Z.
+    for (const Vertex& v : scene.meshes[0].vertices) EXPECT_EQ(v.normal, glm::vec3(0.0f, 0.0f, 1.0f));
+    EXPECT_EQ(scene.meshes[0].indices, (std::vector<uint32_t>{0, 1, 2}));
+}
+
+TEST(SceneLoading, NodeHierarchyIsFlattened) {
+    TinyGltf file;
+    file.gltf["nodes"] = json::array({{{"name", "parent"}, {"translation", {1, 2, 3}}, {"children", {1}}},
+                                      {{"name", "child"}, {"scale", {2, 2, 2}}, {"mesh", 0}}});
+    const Scene scene = loadScene(file.write());
+    ASSERT_EQ(scene.instances.size(), 1u);
+    EXPECT_EQ(glm::vec3(scene.instances[0].world * glm::vec4(1, 0, 0, 1)), glm::vec3(3, 2, 3));
+}
+
+TEST(SceneLoading, PunctualLightsAndCamerasAreRead) {
+    TinyGltf file;
+    file.gltf["extensionsUsed"] = {"KHR_lights_punctual"};
+    file.gltf["extensions"] = {{"KHR_lights_punctual",
+                                {{"lights", json::array({{{"type", "spot"}, {"color", {1, 0.5, 0.25}}, {"intensity", 20}, {"range", 4},
+                                                          {"spot", {{"innerConeAngle", 0.2}, {"outerConeAngle", 0.5}}}}})}}}};
+    file.gltf["cameras"] = json::array({{{"type", "perspective"}, {"perspective", {{"yfov", 0.6}, {"znear", 0.1}, {"zfar", 50}}}}});
+    file.gltf["nodes"].push_back({{"name", "lamp"}, {"translation", {0, 3, 0}}, {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+    file.gltf["nodes"].push_back({{"name", "eye"}, {"translation", {0, 0, 5}}, {"camera", 0}});
+    file.gltf["scenes"][0]["nodes"] = {0, 1, 2};
+    const Scene scene = loadScene(file.write());
+    ASSERT_EQ(scene.lights.size(), 1u);
+    const Light& light = scene.lights[0];
+    EXPECT_EQ(light.type, LightType::Spot);
+    EXPECT_EQ(light.position, glm::vec3(0, 3, 0));
+    EXPECT_EQ(light.direction, glm::vec3(0, 0, -1));   // an untransformed light shines down -Z
+    EXPECT_FLOAT_EQ(light.intensity, 20.0f);
+    EXPECT_FLOAT_EQ(*light.range, 4.0f);
+    EXPECT_FLOAT_EQ(light.outerConeAngle, 0.5f);
+    EXPECT_EQ(scene.camera.position, glm::vec3(0, 0, 5));
+    EXPECT_EQ(scene.camera.target, glm::vec3(0, 0, 4));
+    EXPECT_FLOAT_EQ(scene.camera.fovYRadians, 0.6f);
+    EXPECT_FLOAT_EQ(scene.camera.farPlane, 50.0f);
+}
+
+// --- bad input ---------------------------------------------------------------------------------
+
+TEST(SceneErrors, MissingFileNamesThePath) {
+    const fs::path missing = kTestData / "does-not-exist.gltf";
+    const std::string message = sceneErrorOf([&] { loadScene(missing); });
+    EXPECT_NE(message.find(missing.string()), std::string::npos) << message;
+    EXPECT_NE(message.find("no such file"), std::string::npos) << message;
+    const std::string jsonMessage = sceneErrorOf([&] { loadScene(kTestData / "nope.json"); });
+    EXPECT_NE(jsonMessage.find("nope.json"), std::string::npos) << jsonMessage;
+}
+
+TEST(SceneErrors, UnknownExtensionIsRejected) {
+    TinyGltf file;
+    const std::string message = sceneErrorOf([&] { loadScene(file.writeText("scene.obj", "v 0 0 0")); });
+    EXPECT_NE(message.find("unknown scene type"), std::string::npos) << message;
+}
+
+TEST(SceneErrors, MalformedGltf) {
+    TinyGltf file;
+    const fs::path path = file.writeText("broken.gltf", R"({"asset": {"version": "2.0"}, "nodes": [ {"mesh": )");
+    const std::string message = sceneErrorOf([&] { loadScene(path); });
+    EXPECT_NE(message.find("broken.gltf"), std::string::npos) << message;
+    EXPECT_NE(message.find("malformed glTF"), std::string::npos) << message;
+}
+
+TEST(SceneErrors, MalformedSceneJson) {
+    TinyGltf file;
+    const fs::path path = file.writeText("broken.json", R"({"gltf": "tri.gltf", "camera": {"position": [0, 1,)");
+    const std::string message = sceneErrorOf([&] { loadScene(path); });
+    EXPECT_NE(message.find("broken.json"), std::string::npos) << message;
+    EXPECT_NE(message.find("malformed JSON"), std::string::npos) << message;
+}
+
+TEST(SceneErrors, SceneJsonWithWrongTypesNamesTheField) {
+    TinyGltf file;
+    file.write();
+    const fs::path path = file.writeText("typed.json", R"({"gltf": "tri.gltf", "camera": {"position": "here"}})");
+    const std::string message = sceneErrorOf([&] { loadScene(path); });
+    EXPECT_NE(message.find("\"position\" must be an array of 3 numbers"), std::string::npos) << message;
+    const fs::path noGltf = file.writeText("nogltf.json", R"({"camera": {}})");
+    EXPECT_NE(sceneErrorOf([&] { loadScene(noGltf); }).find("missing \"gltf\""), std::string::npos);
+}
+
+TEST(SceneErrors, MissingTextureImageNamesTheImage) {
+    TinyGltf file;
+    file.gltf["images"] = json::array({{{"uri", "missing-albedo.png"}}});
+    file.gltf["textures"] = json::array({{{"source", 0}}});
+    file.gltf["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+    const std::string message = sceneErrorOf([&] { loadScene(file.write()); });
+    EXPECT_NE(message.find("tri.gltf"), std::string::npos) << message;
+    EXPECT_NE(message.find("missing-albedo.png"), std::string::npos) << message;
+}
+
+TEST(SceneErrors, BadIndicesAreCaught) {
+    TinyGltf file;
+    file.setIndex(2, 7);   // the mesh has 3 vertices
+    const std::string message = sceneErrorOf([&] { loadScene(file.write()); });
+    EXPECT_NE(message.find("bad indices"), std::string::npos) << message;
+    EXPECT_NE(message.find("index 7"), std::string::npos) << message;
+}
+
+TEST(SceneErrors, AccessorPastTheEndOfItsBufferIsCaught) {
+    TinyGltf file;
+    file.gltf["accessors"][0]["count"] = 300;
+    const std::string message = sceneErrorOf([&] { loadScene(file.write()); });
+    EXPECT_NE(message.find("reads past the end"), std::string::npos) << message;
+}
+
+TEST(SceneErrors, NonTriangleModesAreRejected) {
+    TinyGltf file;
+    file.gltf["meshes"][0]["primitives"][0]["mode"] = 1;   // LINES
+    const std::string message = sceneErrorOf([&] { loadScene(file.write()); });
+    EXPECT_NE(message.find("triangle lists only"), std::string::npos) << message;
+    EXPECT_NE(message.find("mesh 'triangle'"), std::string::npos) << message;
+}
+
+TEST(SceneErrors, InfiniteTransformNamesTheNode) {
+    // JSON has no NaN or Inf literal, but two finite float-sized translations add up to Inf.
+    TinyGltf file;
+    file.gltf["nodes"] = json::array({{{"name", "far parent"}, {"translation", {3e38, 0, 0}}, {"children", {1}}},
+                                      {{"name", "farther child"}, {"translation", {3e38, 0, 0}}, {"mesh", 0}}});
+    const std::string message = sceneErrorOf([&] { loadScene(file.write()); });
+    EXPECT_NE(message.find("'farther child'"), std::string::npos) << message;
+    EXPECT_NE(message.find("NaN or infinite transform"), std::string::npos) << message;
+}
+
+TEST(SceneErrors, InfiniteColourNamesTheMaterial) {
+    // 1e300 is a valid JSON double that becomes +Inf as a float.
+    TinyGltf file;
+    file.gltf["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"] = {1e300, 1, 1, 1};
+    const std::string message = sceneErrorOf([&] { loadScene(file.write()); });
+    EXPECT_NE(message.find("material 'plain'"), std::string::npos) << message;
+    EXPECT_NE(message.find("colour"), std::string::npos) << message;
+}
+
+TEST(SceneErrors, ValidateSceneCatchesNaNInScenesBuiltInCode) {
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    {
+        Scene scene = defaultScene();
+        scene.lights[1].color.g = nan;
+        EXPECT_NE(sceneErrorOf([&] { validateScene(scene); }).find("light 1"), std::string::npos);
+    }
+    {
+        Scene scene = defaultScene();
+        scene.lights[0].intensity = std::numeric_limits<float>::infinity();
+        EXPECT_NE(sceneErrorOf([&] { validateScene(scene); }).find("light 0"), std::string::npos);
+    }
+    {
+        Scene scene = defaultScene();
+        scene.materials[2].baseColorFactor.b = nan;
+        const std::string message = sceneErrorOf([&] { validateScene(scene); });
+        EXPECT_NE(message.find("material 'green wall'"), std::string::npos) << message;
+    }
+    {
+        Scene scene = defaultScene();
+        scene.instances[3].world[3][1] = nan;
+        EXPECT_NE(sceneErrorOf([&] { validateScene(scene); }).find("instance 3"), std::string::npos);
+    }
+    {
+        Scene scene = defaultScene();
+        scene.meshes[0].indices.push_back(99999);
+        scene.meshes[0].indices.push_back(0);
+        scene.meshes[0].indices.push_back(1);
+        EXPECT_NE(sceneErrorOf([&] { validateScene(scene); }).find("bad indices"), std::string::npos);
+    }
+    {
+        Scene scene = defaultScene();
+        scene.environment.exposure = nan;
+        EXPECT_NE(sceneErrorOf([&] { validateScene(scene); }).find("environment"), std::string::npos);
+    }
+}
+
+// --- the built-in scene ------------------------------------------------------------------------
+
+TEST(DefaultScene, ValidatesAndHasTheRoomItPromises) {
+    const Scene scene = defaultScene();
+    EXPECT_NO_THROW(validateScene(scene));
+    auto findMaterial = [&](const std::string& name) -> const Material* {
+        for (const Material& m : scene.materials)
+            if (m.name == name) return &m;
+        return nullptr;
+    };
+    const Material* red = findMaterial("red wall");
+    const Material* green = findMaterial("green wall");
+    ASSERT_NE(red, nullptr);
+    ASSERT_NE(green, nullptr);
+    EXPECT_GT(red->baseColorFactor.r, red->baseColorFactor.g * 4);
+    EXPECT_GT(green->baseColorFactor.g, green->baseColorFactor.r * 2);
+    // Rows of spheres with rising roughness: one dielectric, one metallic row.
+    std::vector<float> plastic, gold;
+    for (const Material& m : scene.materials) {
+        if (m.name.rfind("plastic", 0) == 0) plastic.push_back(m.roughnessFactor);
+        if (m.name.rfind("gold", 0) == 0) {
+            gold.push_back(m.roughnessFactor);
+            EXPECT_EQ(m.metallicFactor, 1.0f);
+        }
+    }
+    EXPECT_EQ(plastic.size(), 5u);
+    EXPECT_EQ(gold.size(), 5u);
+    EXPECT_TRUE(std::is_sorted(plastic.begin(), plastic.end()));
+    EXPECT_LT(plastic.front(), 0.1f);
+    EXPECT_EQ(plastic.back(), 1.0f);
+    ASSERT_FALSE(scene.lights.empty());
+    EXPECT_EQ(scene.lights[0].type, LightType::Directional);
+    EXPECT_GT(scene.environment.ambientColor.r, 0.0f);
+    // The camera is inside the room (x, z in [-2, 2], y in [0, 3]).
+    const glm::vec3 eye = scene.camera.position;
+    EXPECT_TRUE(std::abs(eye.x) < 2 && std::abs(eye.z) < 2 && eye.y > 0 && eye.y < 3);
+}
+
+TEST(DefaultScene, SpheresAreClosedAndWoundOutwards) {
+    const Scene scene = defaultScene();
+    // Every triangle's geometric normal must agree with its vertex normals (counter-clockwise
+    // from outside), or back-face culling would remove the visible side.
+    for (size_t m = 0; m < scene.meshes.size(); ++m) {
+        const Mesh& mesh = scene.meshes[m];
+        for (size_t i = 0; i < mesh.indices.size(); i += 3) {
+            const Vertex& a = mesh.vertices[mesh.indices[i]];
+            const Vertex& b = mesh.vertices[mesh.indices[i + 1]];
+            const Vertex& c = mesh.vertices[mesh.indices[i + 2]];
+            const glm::vec3 face = glm::cross(b.position - a.position, c.position - a.position);
+            ASSERT_GT(glm::dot(face, a.normal + b.normal + c.normal), 0.0f) << "mesh " << m << " triangle " << i / 3;
+        }
+    }
+}
+
+}  // namespace
+}  // namespace janus::renderer
