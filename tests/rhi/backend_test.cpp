@@ -172,6 +172,109 @@ Rgba8 toRgba8(std::array<float, 4> c) {
     return {unorm(c[0]), unorm(c[1]), unorm(c[2]), unorm(c[3])};
 }
 
+std::vector<Color> readColors(IDevice& device, const TextureHandle& texture, TextureSubresource sub) {
+    const Format format = texture->desc().format;
+    std::vector<std::byte> bytes = device.readTexture(texture, sub);
+    const uint32_t bpp = formatInfo(format).bytesPerPixel;
+    std::vector<Color> colors(bytes.size() / bpp, Color{0, 0, 0, 1});
+    for (size_t i = 0; i < colors.size(); ++i) {
+        const std::byte* texel = bytes.data() + i * bpp;
+        Color& c = colors[i];
+        switch (format) {
+            case Format::RGBA8_UNORM:
+            case Format::RGBA8_SRGB:
+                for (int k = 0; k < 4; ++k) c[k] = float(uint8_t(texel[k])) / 255.0f;
+                break;
+            case Format::RGBA16_FLOAT:
+                for (int k = 0; k < 4; ++k) {
+                    uint16_t h;
+                    std::memcpy(&h, texel + 2 * k, 2);
+                    c[k] = fromHalf(h);
+                }
+                break;
+            case Format::RGBA32_FLOAT: std::memcpy(c.data(), texel, 16); break;
+            case Format::R32_FLOAT: std::memcpy(c.data(), texel, 4); break;
+            case Format::R11G11B10_FLOAT: {
+                uint32_t packed;
+                std::memcpy(&packed, texel, 4);
+                glm::vec3 v = glm::unpackF2x11_1x10(packed);
+                c = {v.x, v.y, v.z, 1.0f};
+                break;
+            }
+            default:
+                ADD_FAILURE() << "readColors: " << toString(format) << " is not a colour format with float channels";
+                return {};
+        }
+    }
+    return colors;
+}
+
+Color quantize(Format format, Color c) {
+    switch (format) {
+        case Format::RGBA8_UNORM:
+        case Format::RGBA8_SRGB: {
+            Rgba8 q = toRgba8(c);
+            return {q.r / 255.0f, q.g / 255.0f, q.b / 255.0f, q.a / 255.0f};
+        }
+        case Format::RGBA16_FLOAT: return {fromHalf(toHalf(c[0])), fromHalf(toHalf(c[1])), fromHalf(toHalf(c[2])), fromHalf(toHalf(c[3]))};
+        case Format::R32_FLOAT: return {c[0], 0, 0, 1};
+        case Format::R11G11B10_FLOAT: {
+            glm::vec3 v = glm::unpackF2x11_1x10(glm::packF2x11_1x10(glm::vec3(c[0], c[1], c[2])));
+            return {v.x, v.y, v.z, 1.0f};
+        }
+        default: return c;
+    }
+}
+
+std::vector<Color> rasterize(const std::vector<ColorVertex>& vertices, uint32_t width, uint32_t height, Color background) {
+    enum Coverage : uint8_t { Outside, Inside, OnEdge };
+    const size_t triangles = vertices.size() / 3, pixels = size_t(width) * height;
+    std::vector<Coverage> coverage(triangles * pixels, Outside);
+    for (size_t t = 0; t < triangles; ++t) {
+        // Pixel-space corners; row 0 is NDC y = -1.
+        std::array<std::array<double, 2>, 3> p;
+        for (int k = 0; k < 3; ++k)
+            p[k] = {(vertices[3 * t + k].x + 1.0) * 0.5 * width, (vertices[3 * t + k].y + 1.0) * 0.5 * height};
+        auto edge = [&](int a, int b, double x, double y) {
+            return (p[b][0] - p[a][0]) * (y - p[a][1]) - (p[b][1] - p[a][1]) * (x - p[a][0]);
+        };
+        for (size_t i = 0; i < pixels; ++i) {
+            double cx = double(i % width) + 0.5, cy = double(i / width) + 0.5;
+            std::array<double, 3> e = {edge(0, 1, cx, cy), edge(1, 2, cx, cy), edge(2, 0, cx, cy)};
+            bool allNonNegative = e[0] >= 0 && e[1] >= 0 && e[2] >= 0;
+            bool allNonPositive = e[0] <= 0 && e[1] <= 0 && e[2] <= 0;
+            if (!allNonNegative && !allNonPositive) continue;
+            coverage[t * pixels + i] = (e[0] == 0 || e[1] == 0 || e[2] == 0) ? OnEdge : Inside;
+        }
+    }
+    auto colorOf = [&](size_t t) { const ColorVertex& v = vertices[3 * t]; return Color{v.r, v.g, v.b, v.a}; };
+    std::vector<Color> image(pixels, background);
+    for (size_t i = 0; i < pixels; ++i)
+        for (size_t t = 0; t < triangles; ++t) {
+            if (coverage[t * pixels + i] == Outside) continue;
+            image[i] = colorOf(t);
+            if (coverage[t * pixels + i] != OnEdge) continue;
+            // A centre on an edge shared with a same-coloured triangle (a rectangle's diagonal)
+            // is covered whatever the tie-breaking rule; on any other edge the test is at fault.
+            bool shared = false;
+            for (size_t u = 0; u < triangles; ++u)
+                shared |= u != t && coverage[u * pixels + i] != Outside && colorOf(u) == colorOf(t);
+            if (!shared)
+                ADD_FAILURE() << "test bug: pixel centre (" << i % width << ".5, " << i / width
+                              << ".5) lies on an edge of triangle " << t << "; move the triangle";
+        }
+    return image;
+}
+
+std::vector<ColorVertex> orientationPattern() {
+    // Edges lie on pixel boundaries or, for the hypotenuse (slope 3/4), avoid pixel centres for
+    // target sizes that are multiples of 2.
+    std::vector<ColorVertex> v = triangle({-1, -1, 0, -1, -1, -0.25f}, {1, 0, 0, 1});
+    for (const auto& r : {rectangle(0.5f, -1, 1, -0.5f, {0, 1, 0, 1}), rectangle(-1, 0.5f, -0.5f, 1, {0, 0, 1, 1})})
+        v.insert(v.end(), r.begin(), r.end());
+    return v;
+}
+
 uint16_t toHalf(float value) { return glm::packHalf1x16(value); }
 float fromHalf(uint16_t value) { return glm::unpackHalf1x16(value); }
 

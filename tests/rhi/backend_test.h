@@ -7,8 +7,12 @@
 // See docs/TESTING.md for selecting backends (--gtest_filter, JANUS_TEST_BACKENDS).
 #pragma once
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <functional>
@@ -140,6 +144,26 @@ testing::AssertionResult imagesEqual(const std::vector<T>& actual, const std::ve
            << ", y " << first / width << "): got " << testing::PrintToString(actual[first])
            << ", expected " << testing::PrintToString(expected[first]);
 }
+
+using Color = std::array<float, 4>;
+
+// Reads a colour subresource of any colour format as RGBA floats (missing channels: 0, alpha 1;
+// sRGB values are returned encoded, as stored).
+std::vector<Color> readColors(IDevice& device, const TextureHandle& texture, TextureSubresource sub = {});
+// What storing `color` in `format` gives back through readColors (CPU reference conversion).
+Color quantize(Format format, Color color);
+
+// CPU reference rasteriser: paints `vertices` (a triangle list, one colour per triangle) over
+// `background` in a width x height image, row 0 = NDC y -1, covering pixels whose centre lies
+// inside. Tests choose vertices so no pixel centre lies on an edge (that would leave the result
+// to the tie-breaking rule); such a centre is reported as a test failure.
+std::vector<Color> rasterize(const std::vector<ColorVertex>& vertices, uint32_t width, uint32_t height,
+                             Color background);
+
+// The asymmetric orientation pattern for a square target: a red triangle in the top-left
+// quadrant (right angle at the top-left corner), a green square at the top-right corner and a
+// blue square at the bottom-left corner. Any flip or transpose moves something.
+std::vector<ColorVertex> orientationPattern();
 
 // IEEE half <-> float (glm's packing functions).
 uint16_t toHalf(float value);

@@ -1,0 +1,196 @@
+// Binding model and buffer layouts: two textures plus a UBO each read their own resource, in one
+// set or two; UBO ranges at offsets; std140 read in a fragment shader; std140 and std430 read
+// and written by a compute shader, compared with C++ structs.
+#include "backend_test.h"
+
+namespace janus::rhi::test {
+namespace {
+
+class BindingTest : public BackendTest {
+public:
+    using BackendTest::device;
+    using BackendTest::shader;
+    using BackendTest::submit;
+
+protected:
+    // Draws rt_two_textures*: output = (texA.r, texB.g, params.value.b, 1).
+    void expectEachResourceReadsItsOwn(const char* fragmentShader, bool separateSets) {
+        // Texture A is red-ish, B green-ish: sampling the same one twice changes a channel.
+        Rgba8 a{204, 26, 0, 255}, b{51, 153, 0, 255};
+        TextureHandle texA = createTexture2D(Format::RGBA8_UNORM, 1, 1), texB = createTexture2D(Format::RGBA8_UNORM, 1, 1);
+        device().writeTexture(texA, {}, &a, sizeof a);
+        device().writeTexture(texB, {}, &b, sizeof b);
+        std::array<float, 4> params{0.9f, 0.9f, 102.0f / 255.0f, 0.9f};
+        BufferHandle ubo = createBuffer(BufferUsage::Uniform, std::as_bytes(std::span(params)));
+        SamplerHandle sampler = nearestClampSampler();
+        std::vector<BindingSetHandle> sets;
+        BindingSetDesc set0;
+        set0.add(BindingItem::uniformBuffer(0, ubo)).add(BindingItem::sampledTexture(1, texA, sampler));
+        BindingSetDesc set1;
+        (separateSets ? set1 : set0).add(BindingItem::sampledTexture(2, texB, sampler));
+        sets.push_back(device().createBindingSet(set0));
+        if (separateSets) sets.push_back(device().createBindingSet(set1));
+        TextureHandle target = createTexture2D(Format::RGBA8_UNORM, 4, 4, TextureUsage::RenderTarget);
+        drawFullscreen(RenderPassDesc().addColor(Attachment::clear(target)), fullscreenPipeline(fragmentShader, Format::RGBA8_UNORM),
+                       sets);
+        EXPECT_EQ(readTextureAs<Rgba8>(target), std::vector<Rgba8>(16, Rgba8{204, 153, 102, 255}))
+            << "expected (texA.r, texB.g, ubo.b) = (204, 153, 102): 51 or 26 means a texture read the other's unit";
+    }
+};
+JANUS_INSTANTIATE_BACKEND_TESTS(BindingTest);
+
+TEST_P(BindingTest, TwoTexturesAndUniformBufferInOneSet) { expectEachResourceReadsItsOwn("rt_two_textures_frag", false); }
+
+TEST_P(BindingTest, TwoTexturesAndUniformBufferInTwoSets) { expectEachResourceReadsItsOwn("rt_two_textures_two_sets_frag", true); }
+
+TEST_P(BindingTest, BindingSetsCanBeSwitchedBetweenDraws) {
+    TextureHandle target = createTexture2D(Format::RGBA8_UNORM, 4, 4, TextureUsage::RenderTarget);
+    PipelineHandle pipeline = fullscreenPipeline("rt_sample_2d_frag", Format::RGBA8_UNORM);
+    SamplerHandle sampler = nearestClampSampler();
+    std::vector<BindingSetHandle> sets;
+    for (Rgba8 c : {Rgba8{255, 0, 0, 255}, Rgba8{0, 0, 255, 255}}) {
+        TextureHandle texture = createTexture2D(Format::RGBA8_UNORM, 1, 1);
+        device().writeTexture(texture, {}, &c, sizeof c);
+        sets.push_back(device().createBindingSet(BindingSetDesc().add(BindingItem::sampledTexture(0, texture, sampler))));
+    }
+    submit([&](ICommandList& cmd) {
+        cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(target)));
+        cmd.setPipeline(pipeline);
+        cmd.setBindingSet(0, sets[0]);
+        cmd.setScissor({0, 0, 2, 4});
+        cmd.draw(3);
+        cmd.setBindingSet(0, sets[1]);
+        cmd.setScissor({2, 0, 2, 4});
+        cmd.draw(3);
+        cmd.endRenderPass();
+    });
+    std::vector<Rgba8> expected(16);
+    for (size_t i = 0; i < 16; ++i) expected[i] = i % 4 < 2 ? Rgba8{255, 0, 0, 255} : Rgba8{0, 0, 255, 255};
+    EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(target), expected, 4));
+}
+
+// The block of std140_read.frag / layout.comp as C++ sees it in std140: vec3 at 0 with the
+// float packed into its fourth slot, array elements on 16-byte strides, mat4 as four columns.
+struct Std140Block {
+    float v[3];
+    float f;
+    struct { float value; float pad[3]; } arr[3];
+    float m[16];   // column major
+    float tail[2];
+    float tailPad[2];
+};
+static_assert(offsetof(Std140Block, f) == 12 && offsetof(Std140Block, arr) == 16 && offsetof(Std140Block, m) == 64 &&
+              offsetof(Std140Block, tail) == 128 && sizeof(Std140Block) == 144);
+
+// The same block in std430: float arrays tightly packed, vec3 still 16-byte aligned.
+struct Std430Block {
+    float v[3];
+    float f;
+    float arr[3];
+    float pad0;    // mat4 aligns to 16
+    float m[16];
+    float tail[2];
+    float tailPad[2];
+};
+static_assert(offsetof(Std430Block, arr) == 16 && offsetof(Std430Block, m) == 32 && offsetof(Std430Block, tail) == 96 &&
+              sizeof(Std430Block) == 112);
+
+constexpr size_t kScalars = 25;   // v(3) f(1) arr(3) m(16) tail(2), declaration order
+
+template <class Block>
+std::vector<float> scalarsOf(const Block& b) {
+    std::vector<float> s(b.v, b.v + 3);
+    s.push_back(b.f);
+    for (int i = 0; i < 3; ++i) {
+        if constexpr (std::is_same_v<Block, Std140Block>) s.push_back(b.arr[i].value);
+        else s.push_back(b.arr[i]);
+    }
+    s.insert(s.end(), b.m, b.m + 16);
+    s.insert(s.end(), b.tail, b.tail + 2);
+    return s;
+}
+
+// Fills every member with a distinct value (scalar i = 100 + 3 i) and every padding slot with
+// a value the shader must never return.
+template <class Block>
+Block makeBlock() {
+    Block b;
+    std::fill_n(reinterpret_cast<float*>(&b), sizeof(Block) / sizeof(float), -999.0f);
+    float i = 0;
+    auto next = [&] { return 100.0f + 3.0f * i++; };
+    for (float& x : b.v) x = next();
+    b.f = next();
+    for (auto& a : b.arr) {
+        if constexpr (std::is_same_v<Block, Std140Block>) a.value = next();
+        else a = next();
+    }
+    for (float& x : b.m) x = next();
+    for (float& x : b.tail) x = next();
+    return b;
+}
+
+TEST_P(BindingTest, FragmentShaderReadsStd140UniformBlock) {
+    Std140Block block = makeBlock<Std140Block>();
+    // At an aligned, non-zero offset, to check the binding's offset too.
+    const uint64_t offset = std::max<uint64_t>(caps().limits.uniformBufferOffsetAlignment, 16);
+    BufferHandle ubo = createBuffer(BufferUsage::Uniform, offset + sizeof block);
+    device().writeBuffer(ubo, &block, sizeof block, offset);
+    BindingSetHandle bindings =
+        device().createBindingSet(BindingSetDesc().add(BindingItem::uniformBuffer(0, ubo, offset, sizeof block)));
+    TextureHandle target = createTexture2D(Format::R32_UINT, 32, 1, TextureUsage::RenderTarget);
+    drawFullscreen(RenderPassDesc().addColor(Attachment::clear(target)), fullscreenPipeline("rt_std140_read_frag", Format::R32_UINT),
+                   {bindings});
+    std::vector<float> seen = readTextureAs<float>(target);   // the shader wrote float bits
+    ASSERT_EQ(seen.size(), 32u);
+    std::vector<float> expected = scalarsOf(block);
+    expected.resize(32, -1.0f);   // pixels past the block get -1
+    EXPECT_TRUE(imagesEqual(seen, expected, 32)) << "pixel x = scalar x of the block in declaration order";
+}
+
+// Runs layout.comp for `Block`'s layout: it copies the block's scalars to a flat array (what
+// it read) and writes scalar i = i + 0.5 into a second block (what it wrote).
+template <class Block>
+void expectComputeLayout(BindingTest& test, const char* shaderName) {
+    IDevice& device = test.device();
+    Block input = makeBlock<Block>();
+    BufferHandle src = device.createBuffer(BufferDesc().setSize(sizeof(Block)).setUsage(BufferUsage::Storage));
+    BufferHandle flat = device.createBuffer(BufferDesc().setSize(kScalars * 4).setUsage(BufferUsage::Storage));
+    BufferHandle dst = device.createBuffer(BufferDesc().setSize(sizeof(Block)).setUsage(BufferUsage::Storage));
+    device.writeBuffer(src, &input, sizeof input);
+    std::vector<float> sentinel(sizeof(Block) / 4, -999.0f);
+    device.writeBuffer(dst, sentinel.data(), sizeof(Block));
+    PipelineHandle pipeline = device.createComputePipeline(ComputePipelineDesc().setShader(test.shader(shaderName)));
+    BindingSetHandle bindings = device.createBindingSet(BindingSetDesc()
+                                                            .add(BindingItem::storageBuffer(0, src))
+                                                            .add(BindingItem::storageBuffer(1, flat))
+                                                            .add(BindingItem::storageBuffer(2, dst)));
+    test.submit([&](ICommandList& cmd) {
+        cmd.setPipeline(pipeline);
+        cmd.setBindingSet(0, bindings);
+        cmd.dispatch(1);
+    });
+    EXPECT_EQ(BackendTest::bytesAs<float>(device.readBuffer(flat)), scalarsOf(input)) << "what the shader read";
+    Block written;
+    std::vector<std::byte> bytes = device.readBuffer(dst);
+    ASSERT_EQ(bytes.size(), sizeof written);
+    std::memcpy(&written, bytes.data(), sizeof written);
+    std::vector<float> expected(kScalars);
+    for (size_t i = 0; i < kScalars; ++i) expected[i] = float(i) + 0.5f;
+    EXPECT_EQ(scalarsOf(written), expected) << "what the shader wrote, at the C++ offsets";
+    EXPECT_EQ(written.tailPad[0], -999.0f) << "the tail padding must be untouched";
+}
+
+TEST_P(BindingTest, ComputeReadsAndWritesStd140) {
+    JANUS_REQUIRE_CAPABILITY(Capability::Compute);
+    JANUS_REQUIRE_CAPABILITY(Capability::StorageBuffers);
+    expectComputeLayout<Std140Block>(*this, "rt_layout_std140_comp");
+}
+
+TEST_P(BindingTest, ComputeReadsAndWritesStd430) {
+    JANUS_REQUIRE_CAPABILITY(Capability::Compute);
+    JANUS_REQUIRE_CAPABILITY(Capability::StorageBuffers);
+    expectComputeLayout<Std430Block>(*this, "rt_layout_std430_comp");
+}
+
+}  // namespace
+}  // namespace janus::rhi::test

@@ -1,0 +1,85 @@
+// Orientation: row 0 is NDC y = -1 and texture v = 0 on every backend, for rendering,
+// sampling and readback (no backend flips), and the conventions each backend reports.
+#include "backend_test.h"
+
+namespace janus::rhi::test {
+namespace {
+
+class OrientationTest : public BackendTest {};
+JANUS_INSTANTIATE_BACKEND_TESTS(OrientationTest);
+
+// The pattern, spelled out for 8x8 so a reader can see the expected layout: R red triangle at
+// the top-left, G green square top-right, B blue square bottom-left, . cleared black.
+constexpr const char* kExpectedPattern8x8[] = {
+    "RRR...GG",
+    "RR....GG",
+    "R.......",
+    "........",
+    "........",
+    "........",
+    "BB......",
+    "BB......",
+};
+
+TEST_P(OrientationTest, PatternLandsAtTheExpectedRows) {
+    TextureHandle target = createTexture2D(Format::RGBA8_UNORM, 8, 8, TextureUsage::RenderTarget);
+    drawVertices(RenderPassDesc().addColor(Attachment::clear(target, {0, 0, 0, 1})), colorPipeline(Format::RGBA8_UNORM),
+                 orientationPattern());
+    std::vector<Rgba8> expected;
+    for (const char* row : kExpectedPattern8x8)
+        for (const char* c = row; *c; ++c)
+            expected.push_back(*c == 'R' ? Rgba8{255, 0, 0, 255} : *c == 'G' ? Rgba8{0, 255, 0, 255}
+                               : *c == 'B' ? Rgba8{0, 0, 255, 255} : Rgba8{0, 0, 0, 255});
+    EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(target), expected, 8)) << "row 0 must be NDC y = -1 (top)";
+    // The CPU reference rasteriser agrees with the picture above (it checks the other sizes).
+    std::vector<Rgba8> reference;
+    for (const Color& c : rasterize(orientationPattern(), 8, 8, {0, 0, 0, 1})) reference.push_back(toRgba8(c));
+    EXPECT_TRUE(imagesEqual(reference, expected, 8)) << "test bug: the reference rasteriser disagrees";
+}
+
+// A texture uploaded with texel (0, 0) distinct must show it at row 0, column 0 of a target
+// that samples it: a Y flip on upload, in sampling or in readback shows up here.
+TEST_P(OrientationTest, SampledTexelZeroReachesRowZero) {
+    const uint32_t width = 4, height = 8;   // not square: a transpose shows up too
+    std::vector<Rgba8> texels;
+    for (uint32_t y = 0; y < height; ++y)
+        for (uint32_t x = 0; x < width; ++x) texels.push_back({uint8_t(60 * x), uint8_t(30 * y), uint8_t(x == 0 && y == 0 ? 255 : 0), 255});
+    TextureHandle texture = createTexture2D(Format::RGBA8_UNORM, width, height);
+    device().writeTexture(texture, {}, texels.data(), texels.size() * sizeof(Rgba8));
+    TextureHandle target = createTexture2D(Format::RGBA8_UNORM, width, height, TextureUsage::RenderTarget);
+    BindingSetHandle bindings =
+        device().createBindingSet(BindingSetDesc().add(BindingItem::sampledTexture(0, texture, nearestClampSampler())));
+    drawFullscreen(RenderPassDesc().addColor(Attachment::clear(target)), fullscreenPipeline("rt_sample_2d_frag", Format::RGBA8_UNORM),
+                   {bindings});
+    std::vector<Rgba8> result = readTextureAs<Rgba8>(target);
+    ASSERT_FALSE(result.empty());
+    EXPECT_EQ(result[0], (Rgba8{0, 0, 255, 255})) << "texel (0, 0) must reach row 0, column 0";
+    EXPECT_TRUE(imagesEqual(result, texels, width));
+}
+
+// Rendering into a texture and sampling it back through a second pass: both passes use the
+// same convention, so the pattern comes out unchanged (a flip in either pass would show).
+TEST_P(OrientationTest, RenderThenSamplePreservesPattern) {
+    TextureHandle first = createTexture2D(Format::RGBA8_UNORM, 8, 8, TextureUsage::RenderTarget | TextureUsage::Sampled);
+    TextureHandle second = createTexture2D(Format::RGBA8_UNORM, 8, 8, TextureUsage::RenderTarget);
+    drawVertices(RenderPassDesc().addColor(Attachment::clear(first, {0, 0, 0, 1})), colorPipeline(Format::RGBA8_UNORM),
+                 orientationPattern());
+    BindingSetHandle bindings =
+        device().createBindingSet(BindingSetDesc().add(BindingItem::sampledTexture(0, first, nearestClampSampler())));
+    drawFullscreen(RenderPassDesc().addColor(Attachment::clear(second)), fullscreenPipeline("rt_sample_2d_frag", Format::RGBA8_UNORM),
+                   {bindings});
+    EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(second), readTextureAs<Rgba8>(first), 8));
+}
+
+TEST_P(OrientationTest, ReportsNativeConventions) {
+    const Conventions& c = caps().conventions;
+    bool vulkan = backend() == Backend::Vulkan;
+    EXPECT_EQ(c.nativeClipDepthZeroToOne, vulkan) << "GL and GLES clip depth is natively [-1, 1]";
+    EXPECT_EQ(c.nativeFramebufferOriginTopLeft, vulkan) << "GL and GLES address rows bottom-up natively";
+    EXPECT_EQ(device().info().backend, backend());
+    EXPECT_FALSE(device().info().apiVersion.empty());
+    EXPECT_FALSE(device().info().deviceName.empty());
+}
+
+}  // namespace
+}  // namespace janus::rhi::test
