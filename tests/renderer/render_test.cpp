@@ -1,0 +1,234 @@
+// GPU tests of the Renderer: the same scene in all five configurations (backend x feature path)
+// with validation on, compared pixel by pixel against vulkan/compute.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <memory>
+
+#include <fmt/format.h>
+
+#include "janus/renderer/image.h"
+#include "janus/renderer/renderer.h"
+#include "janus/renderer/scene.h"
+#include "janus/rhi/rhi.h"
+
+namespace janus::renderer {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr uint32_t kSize = 128;   // small: llvmpipe/lavapipe render on two CPU cores
+
+struct Config {
+    rhi::Backend backend;
+    FeaturePath path;
+    std::string name() const { return fmt::format("{}_{}", rhi::toString(backend), toString(path)); }
+};
+
+const std::vector<Config> kConfigs = {
+    {rhi::Backend::Vulkan, FeaturePath::Compute}, {rhi::Backend::Vulkan, FeaturePath::Fallback},
+    {rhi::Backend::GL, FeaturePath::Compute},     {rhi::Backend::GL, FeaturePath::Fallback},
+    {rhi::Backend::GLES, FeaturePath::Fallback},
+};
+
+// Devices are expensive to start; each test process keeps one per backend.
+rhi::IDevice& deviceFor(rhi::Backend backend) {
+    static std::map<rhi::Backend, std::unique_ptr<rhi::IDevice>> devices;
+    std::unique_ptr<rhi::IDevice>& device = devices[backend];
+    if (!device) device = rhi::createDevice(rhi::DeviceDesc{}.setBackend(backend).setEnableValidation(true));
+    return *device;
+}
+
+std::string joinMessages(const std::vector<rhi::DebugMessage>& messages) {
+    std::string text;
+    for (const rhi::DebugMessage& m : messages) text += "\n  " + m.text;
+    return text;
+}
+
+struct Render {
+    FrameReport report;
+    ImageRGBA8 display;
+    ImageRGBAF hdr;
+};
+
+Render render(const Config& config, const Scene& scene) {
+    rhi::IDevice& device = deviceFor(config.backend);
+    device.takeDebugMessages();
+    Render result;
+    {
+        Renderer renderer(device, scene, RenderSettings{kSize, kSize, config.path});
+        result.report = renderer.renderFrame();
+        result.display = renderer.readDisplayImage();
+        result.hdr = renderer.readHdrImage();
+    }
+    const std::vector<rhi::DebugMessage> messages = device.takeDebugMessages();
+    EXPECT_TRUE(messages.empty()) << config.name() << " produced validation / debug messages:" << joinMessages(messages);
+    return result;
+}
+
+struct SceneCase {
+    const char* name;
+    Scene (*make)();
+};
+
+Scene sharedScene(const char* relative) { return loadScene(fs::path(JANUS_SHARED_SCENES_DIR) / relative); }
+
+const SceneCase kScenes[] = {
+    {"default", [] { return defaultScene(); }},
+    {"MetalRoughSpheres", [] { return sharedScene("MetalRoughSpheresNoTextures/glTF/MetalRoughSpheresNoTextures.gltf"); }},
+    {"BoxTextured", [] { return sharedScene("BoxTextured/glTF/BoxTextured.gltf"); }},
+};
+
+// The reference (vulkan/compute) render of each scene, made once per process.
+const Render& reference(const SceneCase& sceneCase) {
+    static std::map<std::string, Render> cache;
+    auto it = cache.find(sceneCase.name);
+    if (it == cache.end()) it = cache.emplace(sceneCase.name, render(kConfigs[0], sceneCase.make())).first;
+    return it->second;
+}
+
+// Failing comparisons leave the images and a heat map here for a look.
+fs::path outputDir() {
+    const fs::path dir = fs::temp_directory_path() / "janus-renderer-tests";
+    fs::create_directories(dir);
+    return dir;
+}
+
+double averageChannel(const ImageRGBA8& image, uint32_t x0, uint32_t x1, uint32_t channel) {
+    double sum = 0;
+    for (uint32_t y = 0; y < image.height; ++y)
+        for (uint32_t x = x0; x < x1; ++x) sum += image.pixels[(size_t(y) * image.width + x) * 4 + channel];
+    return sum / (double(x1 - x0) * image.height);
+}
+
+using RenderParam = std::tuple<SceneCase, Config>;
+
+class RenderTest : public testing::TestWithParam<RenderParam> {
+protected:
+    const SceneCase& sceneCase() const { return std::get<0>(GetParam()); }
+    const Config& config() const { return std::get<1>(GetParam()); }
+};
+
+TEST_P(RenderTest, MatchesVulkanComputeAndReportsItsPasses) {
+    const Scene scene = sceneCase().make();
+    const Render& ref = reference(sceneCase());
+    const Render result = render(config(), scene);
+
+    // Pixel parity: the goal is at most one 8-bit step anywhere (rounding of the last bit of
+    // shading math may differ between lavapipe's and llvmpipe's compiled shaders).
+    const ImageDifference diff = compareImages(ref.display, result.display);
+    if (diff.maxChannelDifference > 1) {
+        const fs::path dir = outputDir();
+        const std::string stem = fmt::format("{}-{}", sceneCase().name, config().name());
+        writePNG(dir / (stem + ".png"), result.display);
+        writePNG(dir / fmt::format("{}-vulkan_compute.png", sceneCase().name), ref.display);
+        writePNG(dir / (stem + "-diff.png"), differenceHeatmap(ref.display, result.display));
+        ADD_FAILURE() << config().name() << " differs from vulkan/compute by up to " << diff.maxChannelDifference << " steps in "
+                      << diff.differingPixels << " pixels; images in " << dir;
+    }
+
+    // Frame report: exactly the passes this scene needs, in order, with their work counts.
+    const FrameReport& report = result.report;
+    EXPECT_EQ(report.backend, rhi::toString(config().backend));
+    EXPECT_EQ(report.path, toString(config().path));
+    EXPECT_EQ(report.width, kSize);
+    EXPECT_EQ(report.height, kSize);
+    ASSERT_EQ(report.passes.size(), 2u) << report.toJson().dump();
+    EXPECT_EQ(report.passes[0].name, "forward");
+    EXPECT_EQ(report.passes[0].draws, scene.instances.size());
+    EXPECT_EQ(report.passes[0].dispatches, 0u);
+    const bool compute = config().path == FeaturePath::Compute;
+    EXPECT_EQ(report.passes[1].name, compute ? "tonemap-compute" : "tonemap-fallback");
+    EXPECT_EQ(report.passes[1].dispatches, compute ? 1u : 0u);
+    EXPECT_EQ(report.passes[1].draws, compute ? 0u : 1u);
+    const bool timers = deviceFor(config().backend).capabilities().timestampQueries;
+    for (const PassReport& pass : report.passes) {
+        EXPECT_EQ(pass.gpuMs.has_value(), timers) << pass.name;
+        if (pass.gpuMs) {
+            EXPECT_GE(*pass.gpuMs, 0.0) << pass.name;
+        }
+        EXPECT_GE(pass.cpuMs, 0.0) << pass.name;
+    }
+}
+
+TEST_P(RenderTest, ImageIsNotBlankAndHdrIsFinite) {
+    const Render result = render(config(), sceneCase().make());
+    uint32_t distinct = 0;
+    std::map<uint32_t, bool> seen;
+    for (size_t i = 0; i < result.display.pixels.size(); i += 4) {
+        const uint32_t rgb = uint32_t(result.display.pixels[i]) << 16 | uint32_t(result.display.pixels[i + 1]) << 8 | result.display.pixels[i + 2];
+        if (!seen[rgb]) {
+            seen[rgb] = true;
+            ++distinct;
+        }
+        EXPECT_EQ(result.display.pixels[i + 3], 255u);
+    }
+    EXPECT_GT(distinct, 50u) << "a lit scene has many shades";
+    for (float v : result.hdr.pixels) {
+        ASSERT_TRUE(std::isfinite(v));
+        ASSERT_GE(v, 0.0f);
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Configs, RenderTest, testing::Combine(testing::ValuesIn(kScenes), testing::ValuesIn(kConfigs)),
+                         [](const testing::TestParamInfo<RenderParam>& info) {
+                             return fmt::format("{}_{}", std::get<0>(info.param).name, std::get<1>(info.param).name());
+                         });
+
+TEST(RenderDefaultScene, RedWallOnTheLeftGreenWallOnTheRight) {
+    const Render result = render(kConfigs[0], defaultScene());
+    const ImageRGBA8& image = result.display;
+    const uint32_t quarter = image.width / 4;
+    const double leftRed = averageChannel(image, 0, quarter, 0), leftGreen = averageChannel(image, 0, quarter, 1);
+    const double rightRed = averageChannel(image, image.width - quarter, image.width, 0);
+    const double rightGreen = averageChannel(image, image.width - quarter, image.width, 1);
+    EXPECT_GT(leftRed, leftGreen * 1.5) << "left quarter should be the red wall";
+    EXPECT_GT(rightGreen, rightRed * 1.2) << "right quarter should be the green wall";
+    EXPECT_GT(leftRed, rightRed);
+}
+
+TEST(RenderDefaultScene, RenderingTwiceGivesTheSameImage) {
+    rhi::IDevice& device = deviceFor(rhi::Backend::Vulkan);
+    Renderer renderer(device, defaultScene(), RenderSettings{kSize, kSize, FeaturePath::Compute});
+    renderer.renderFrame();
+    const ImageRGBA8 first = renderer.readDisplayImage();
+    renderer.renderFrame();
+    EXPECT_EQ(compareImages(first, renderer.readDisplayImage()).maxChannelDifference, 0u);
+}
+
+TEST(RendererErrors, ComputePathOnGlesNamesTheCapability) {
+    rhi::IDevice& device = deviceFor(rhi::Backend::GLES);
+    try {
+        Renderer renderer(device, defaultScene(), RenderSettings{kSize, kSize, FeaturePath::Compute});
+        FAIL() << "the compute path must be refused on gles";
+    } catch (const RendererError& e) {
+        EXPECT_NE(std::string(e.what()).find("compute"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("fallback"), std::string::npos) << "should say what to use instead: " << e.what();
+    }
+}
+
+TEST(RendererErrors, AbsurdSizesAreRefused) {
+    rhi::IDevice& device = deviceFor(rhi::Backend::Vulkan);
+    const uint32_t tooBig = device.capabilities().limits.maxTextureSize2D + 1;
+    for (auto [w, h] : {std::pair{0u, 128u}, {128u, 0u}, {tooBig, 16u}, {16u, tooBig}}) {
+        try {
+            Renderer renderer(device, defaultScene(), RenderSettings{w, h, FeaturePath::Fallback});
+            ADD_FAILURE() << w << "x" << h << " was accepted";
+        } catch (const RendererError& e) {
+            EXPECT_NE(std::string(e.what()).find(fmt::format("{}x{}", w, h)), std::string::npos) << e.what();
+        }
+    }
+    EXPECT_TRUE(device.takeDebugMessages().empty());
+}
+
+TEST(RendererErrors, InvalidSceneIsRefusedBeforeTouchingTheDevice) {
+    rhi::IDevice& device = deviceFor(rhi::Backend::Vulkan);
+    Scene scene = defaultScene();
+    scene.camera.fovYRadians = std::nanf("");
+    EXPECT_THROW(Renderer(device, scene, RenderSettings{kSize, kSize, FeaturePath::Fallback}), SceneError);
+}
+
+}  // namespace
+}  // namespace janus::renderer
