@@ -1,0 +1,356 @@
+// Internal classes of the Vulkan backend. Nothing here is visible to RHI users.
+//
+// Ownership: every object holds a shared_ptr to the Context (instance + device), so handles that
+// outlive the IDevice stay valid and the VkDevice is destroyed after the last of them.
+// Synchronisation (see docs/ARCHITECTURE.md): images live in VK_IMAGE_LAYOUT_GENERAL from
+// creation on, and a full memory barrier precedes every render pass, dispatch and copy.
+#pragma once
+
+#include <vulkan/vulkan.h>
+
+#include <array>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <string_view>
+#include <tuple>
+#include <vector>
+
+#include "janus/rhi/backends.h"
+
+namespace janus::rhi::vulkan {
+
+// Throws rhi::Error unless `result` is VK_SUCCESS. Out-of-memory and device-lost results keep
+// their own codes; everything else gets `code`.
+void check(VkResult result, ErrorCode code, std::string_view what);
+const char* resultName(VkResult result);
+
+VkFormat toVkFormat(Format format);
+VkCompareOp toVkCompareOp(CompareOp op);
+VkImageAspectFlags aspectOf(Format format);
+
+// One binding of one descriptor set as the pipeline's shaders declare it (from SPIR-V reflection).
+struct ReflectedBinding {
+    uint32_t set = 0;
+    uint32_t binding = 0;
+    VkDescriptorType type = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    uint32_t count = 1;
+    VkShaderStageFlags stages = 0;
+    VkImageViewType viewType = VK_IMAGE_VIEW_TYPE_2D;   // images only: the view the shader expects
+    std::string name;
+};
+
+// A descriptor set layout plus what each binding needs, so binding sets can be written for it.
+struct DescriptorSetLayoutInfo {
+    VkDescriptorSetLayout layout = VK_NULL_HANDLE;
+    std::vector<ReflectedBinding> bindings;
+};
+
+// The instance, device and queue, shared by every object of one IDevice.
+class Context {
+public:
+    Context() = default;
+    Context(const Context&) = delete;
+    Context& operator=(const Context&) = delete;
+    ~Context();
+
+    VkInstance instance = VK_NULL_HANDLE;
+    VkDebugUtilsMessengerEXT messenger = VK_NULL_HANDLE;
+    VkPhysicalDevice physicalDevice = VK_NULL_HANDLE;
+    VkDevice device = VK_NULL_HANDLE;
+    VkQueue queue = VK_NULL_HANDLE;
+    uint32_t queueFamily = 0;
+    uint32_t apiVersion = 0;
+    VkPhysicalDeviceProperties properties{};
+    VkPhysicalDeviceMemoryProperties memoryProperties{};
+    VkPhysicalDeviceFeatures enabledFeatures{};
+    uint64_t maxMemoryAllocationSize = 0;
+    uint32_t timestampValidBits = 0;
+    bool debugUtils = false;
+
+    PFN_vkCmdBeginRendering cmdBeginRendering = nullptr;
+    PFN_vkCmdEndRendering cmdEndRendering = nullptr;
+    PFN_vkCmdBeginDebugUtilsLabelEXT cmdBeginDebugLabel = nullptr;
+    PFN_vkCmdEndDebugUtilsLabelEXT cmdEndDebugLabel = nullptr;
+    PFN_vkSetDebugUtilsObjectNameEXT setDebugObjectName = nullptr;
+    PFN_vkCreateDebugUtilsMessengerEXT createMessenger = nullptr;
+    PFN_vkDestroyDebugUtilsMessengerEXT destroyMessenger = nullptr;
+
+    std::function<void(const DebugMessage&)> messageCallback;
+    std::mutex messageMutex;
+    std::vector<DebugMessage> messages;
+    void addMessage(DebugMessage message);
+
+    // Serialises vkQueueSubmit / vkQueueWaitIdle and the immediate command buffer.
+    std::recursive_mutex queueMutex;
+    VkCommandPool immediatePool = VK_NULL_HANDLE;
+    VkCommandBuffer immediateCommands = VK_NULL_HANDLE;
+    VkFence immediateFence = VK_NULL_HANDLE;
+
+    // Records with `record`, submits after all earlier work and waits for completion. The
+    // recorded commands are wrapped in full barriers (including host visibility).
+    void submitAndWait(const std::function<void(VkCommandBuffer)>& record);
+    void waitIdle();
+
+    VkDeviceMemory allocate(const VkMemoryRequirements& requirements, VkMemoryPropertyFlags required,
+                            VkMemoryPropertyFlags preferred, std::string_view what);
+    void setObjectName(VkObjectType type, uint64_t handle, const std::string& name);
+    VkFormatProperties formatProperties(Format format) const;
+
+    // Layouts are cached for the context's lifetime: pipelines with equal sets share one.
+    const DescriptorSetLayoutInfo& descriptorSetLayout(const std::vector<ReflectedBinding>& bindings);
+
+private:
+    std::mutex m_layoutMutex;
+    std::map<std::string, std::unique_ptr<DescriptorSetLayoutInfo>> m_layouts;
+};
+using ContextPtr = std::shared_ptr<Context>;
+
+// A full memory barrier: all earlier commands finish and their writes are visible to all later ones.
+void fullBarrier(VkCommandBuffer cmd);
+// Makes all device writes visible to the host once the submission's fence has signalled.
+void hostBarrier(VkCommandBuffer cmd);
+
+// Casts an RHI handle to this backend's class; throws InvalidUsage for null or foreign objects.
+template <class Native, class Interface>
+Native* native(const std::shared_ptr<Interface>& handle, std::string_view what) {
+    auto* result = dynamic_cast<Native*>(handle.get());
+    if (!result)
+        throw Error(ErrorCode::InvalidUsage,
+                    std::string(what) + (handle ? " was not created by this Vulkan device" : " is null"));
+    return result;
+}
+
+// ---------------------------------------------------------------------------------------------
+
+class Buffer final : public IBuffer {
+public:
+    Buffer(ContextPtr context, const BufferDesc& desc);
+    ~Buffer() override;
+    const BufferDesc& desc() const override { return m_desc; }
+
+    VkBuffer buffer = VK_NULL_HANDLE;
+
+private:
+    ContextPtr m_context;
+    BufferDesc m_desc;
+    VkDeviceMemory m_memory = VK_NULL_HANDLE;
+};
+
+// Host-visible scratch memory for uploads and readbacks, mapped for its whole life.
+class StagingBuffer {
+public:
+    StagingBuffer(ContextPtr context, uint64_t size);
+    ~StagingBuffer();
+    StagingBuffer(const StagingBuffer&) = delete;
+    StagingBuffer& operator=(const StagingBuffer&) = delete;
+
+    VkBuffer buffer = VK_NULL_HANDLE;
+    std::byte* mapped = nullptr;
+    uint64_t size = 0;
+
+private:
+    ContextPtr m_context;
+    VkDeviceMemory m_memory = VK_NULL_HANDLE;
+};
+
+class Texture final : public ITexture {
+public:
+    Texture(ContextPtr context, const TextureDesc& desc);
+    ~Texture() override;
+    const TextureDesc& desc() const override { return m_desc; }
+
+    uint32_t arrayLayers() const { return m_desc.dimension == TextureDimension::TextureCube ? 6 : 1; }
+    VkExtent3D extent(uint32_t mip) const;
+    // Bytes of one subresource (one face / slice of one mip), rows tightly packed.
+    uint64_t subresourceSize(uint32_t mip) const;
+    // Throws InvalidUsage unless `sub` names an existing 2D subresource.
+    void checkSubresource(TextureSubresource sub, std::string_view what) const;
+    // Image subresource + offset addressing one face / slice for copies.
+    VkImageSubresourceLayers copyLayers(TextureSubresource sub) const;
+    VkOffset3D copyOffset(TextureSubresource sub) const;
+    VkExtent3D copyExtent(TextureSubresource sub) const;
+
+    // Cached views; `usage` restricts what the view may be used for.
+    VkImageView view(VkImageViewType type, uint32_t baseMip, uint32_t mipCount, uint32_t baseLayer,
+                     uint32_t layerCount, VkImageUsageFlags usage);
+    // A 2D view of one face / slice at one mip, for use as an attachment.
+    VkImageView attachmentView(TextureSubresource sub);
+
+    VkImage image = VK_NULL_HANDLE;
+    VkFormat format = VK_FORMAT_UNDEFINED;
+    VkImageAspectFlags aspect = 0;
+
+private:
+    ContextPtr m_context;
+    TextureDesc m_desc;
+    VkDeviceMemory m_memory = VK_NULL_HANDLE;
+    std::mutex m_viewMutex;
+    std::map<std::tuple<int, uint32_t, uint32_t, uint32_t, uint32_t, uint32_t>, VkImageView> m_views;
+};
+
+class Sampler final : public ISampler {
+public:
+    Sampler(ContextPtr context, const SamplerDesc& desc);
+    ~Sampler() override;
+    const SamplerDesc& desc() const override { return m_desc; }
+
+    VkSampler sampler = VK_NULL_HANDLE;
+
+private:
+    ContextPtr m_context;
+    SamplerDesc m_desc;
+};
+
+class Shader final : public IShader {
+public:
+    Shader(ContextPtr context, const ShaderDesc& desc);
+    ~Shader() override;
+    const ShaderDesc& desc() const override { return m_desc; }
+    std::string translatedSource() const override { return {}; }
+
+    VkShaderModule module = VK_NULL_HANDLE;
+    VkShaderStageFlagBits stage = VK_SHADER_STAGE_VERTEX_BIT;
+    std::vector<ReflectedBinding> bindings;
+    std::vector<uint32_t> inputLocations;   // vertex shaders: attribute locations it reads
+
+private:
+    ContextPtr m_context;
+    ShaderDesc m_desc;
+};
+
+class Pipeline final : public IPipeline {
+public:
+    Pipeline(ContextPtr context, const GraphicsPipelineDesc& desc);
+    Pipeline(ContextPtr context, const ComputePipelineDesc& desc);
+    ~Pipeline() override;
+    bool isCompute() const override { return m_compute; }
+
+    VkPipeline pipeline = VK_NULL_HANDLE;
+    VkPipelineLayout layout = VK_NULL_HANDLE;
+    static constexpr uint32_t kMaxSets = 4;
+    std::array<const DescriptorSetLayoutInfo*, kMaxSets> sets{};
+    GraphicsPipelineDesc graphicsDesc;   // graphics only: formats and vertex slots for draw checks
+    std::string debugName;
+
+private:
+    void createLayout(const std::vector<const Shader*>& shaders);
+    ContextPtr m_context;
+    bool m_compute = false;
+    std::vector<ShaderHandle> m_shaders;
+};
+
+class BindingSet final : public IBindingSet {
+public:
+    BindingSet(ContextPtr context, const BindingSetDesc& desc);
+    ~BindingSet() override;
+    const BindingSetDesc& desc() const override { return m_desc; }
+
+    // The descriptor set holding these resources for `layout`, written on first use.
+    VkDescriptorSet descriptorSetFor(const DescriptorSetLayoutInfo& layout, uint32_t set);
+
+private:
+    ContextPtr m_context;
+    BindingSetDesc m_desc;
+    struct Allocation {
+        VkDescriptorPool pool = VK_NULL_HANDLE;
+        VkDescriptorSet set = VK_NULL_HANDLE;
+    };
+    std::mutex m_mutex;
+    std::map<VkDescriptorSetLayout, Allocation> m_sets;
+};
+
+class TimerQuery final : public ITimerQuery {
+public:
+    explicit TimerQuery(ContextPtr context);
+    ~TimerQuery() override;
+
+    VkQueryPool pool = VK_NULL_HANDLE;
+    bool submitted = false;   // both timestamps were in a command list that was executed
+
+private:
+    ContextPtr m_context;
+};
+
+class CommandList final : public ICommandList {
+public:
+    explicit CommandList(ContextPtr context);
+    ~CommandList() override;
+
+    void begin() override;
+    void end() override;
+    void beginRenderPass(const RenderPassDesc& desc) override;
+    void endRenderPass() override;
+    void setViewport(const Viewport& viewport) override;
+    void setScissor(const ScissorRect& scissor) override;
+    void setPipeline(const PipelineHandle& pipeline) override;
+    void setBindingSet(uint32_t set, const BindingSetHandle& bindings) override;
+    void setVertexBuffer(uint32_t slot, const BufferHandle& buffer, uint64_t offset) override;
+    void setIndexBuffer(const BufferHandle& buffer, IndexType type, uint64_t offset) override;
+    void draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance) override;
+    void drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex, int32_t vertexOffset,
+                     uint32_t firstInstance) override;
+    void dispatch(uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ) override;
+    void writeBuffer(const BufferHandle& dst, const void* data, uint64_t size, uint64_t dstOffset) override;
+    void copyBuffer(const BufferHandle& dst, uint64_t dstOffset, const BufferHandle& src, uint64_t srcOffset,
+                    uint64_t size) override;
+    void copyBufferToTexture(const TextureHandle& dst, TextureSubresource dstSub, const BufferHandle& src,
+                             uint64_t srcOffset) override;
+    void copyTextureToBuffer(const BufferHandle& dst, uint64_t dstOffset, const TextureHandle& src,
+                             TextureSubresource srcSub) override;
+    void copyTexture(const TextureHandle& dst, TextureSubresource dstSub, const TextureHandle& src,
+                     TextureSubresource srcSub) override;
+    void generateMips(const TextureHandle& texture) override;
+    void beginTimer(const TimerQueryHandle& timer) override;
+    void endTimer(const TimerQueryHandle& timer) override;
+    void pushDebugGroup(std::string_view name) override;
+    void popDebugGroup() override;
+
+    // Called by the device: submits the recorded work with this list's fence.
+    void submit();
+    // Waits until the last submission finished, then drops the resources it kept alive.
+    void waitUntilDone();
+
+private:
+    enum class State { Initial, Recording, Executable };
+    void requireRecording(std::string_view call) const;
+    void requireOutsideRenderPass(std::string_view call) const;
+    void bindDescriptorSets(Pipeline& pipeline, VkPipelineBindPoint bindPoint, uint32_t& dirtyMask);
+    void prepareDraw(std::string_view call);
+    void keep(std::shared_ptr<void> object) { m_keepAlive.push_back(std::move(object)); }
+
+    ContextPtr m_context;
+    VkCommandPool m_pool = VK_NULL_HANDLE;
+    VkCommandBuffer m_prologue = VK_NULL_HANDLE;   // query resets, which must precede the work
+    VkCommandBuffer m_commands = VK_NULL_HANDLE;
+    VkFence m_fence = VK_NULL_HANDLE;
+    bool m_pending = false;
+    State m_state = State::Initial;
+
+    std::vector<std::shared_ptr<void>> m_keepAlive;
+    std::vector<std::shared_ptr<StagingBuffer>> m_staging;
+    struct TimerUse {
+        std::shared_ptr<TimerQuery> timer;
+        bool began = false;
+        bool ended = false;
+    };
+    std::vector<TimerUse> m_timers;
+    TimerUse& timerUse(const TimerQueryHandle& timer);
+
+    bool m_inRenderPass = false;
+    std::vector<Format> m_passColorFormats;
+    Format m_passDepthFormat = Format::Unknown;
+    VkExtent2D m_passExtent{};
+    std::shared_ptr<Pipeline> m_graphicsPipeline;
+    std::shared_ptr<Pipeline> m_computePipeline;
+    std::array<std::shared_ptr<BindingSet>, Pipeline::kMaxSets> m_bindingSets;
+    uint32_t m_dirtyGraphicsSets = 0;
+    uint32_t m_dirtyComputeSets = 0;
+    std::vector<bool> m_vertexSlotBound;
+    bool m_indexBufferBound = false;
+    int m_debugGroupDepth = 0;
+};
+
+}  // namespace janus::rhi::vulkan

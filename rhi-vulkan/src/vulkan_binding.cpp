@@ -1,0 +1,208 @@
+// Binding sets: descriptor pools and sets, written lazily for each layout they are used with.
+#include <fmt/format.h>
+
+#include <algorithm>
+
+#include "vulkan_backend.h"
+
+namespace janus::rhi::vulkan {
+namespace {
+
+const char* typeName(VkDescriptorType type) {
+    switch (type) {
+        case VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER: return "UniformBuffer";
+        case VK_DESCRIPTOR_TYPE_STORAGE_BUFFER: return "StorageBuffer";
+        case VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER: return "SampledTexture";
+        case VK_DESCRIPTOR_TYPE_STORAGE_IMAGE: return "StorageImage";
+        default: return "unsupported descriptor";
+    }
+}
+
+VkDescriptorType toVkDescriptorType(ResourceType type) {
+    switch (type) {
+        case ResourceType::UniformBuffer: return VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+        case ResourceType::StorageBuffer: return VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+        case ResourceType::SampledTexture: return VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+        case ResourceType::StorageImage: return VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+    }
+    return VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+}
+
+const char* viewTypeName(VkImageViewType type) {
+    switch (type) {
+        case VK_IMAGE_VIEW_TYPE_2D: return "2D";
+        case VK_IMAGE_VIEW_TYPE_3D: return "3D";
+        case VK_IMAGE_VIEW_TYPE_CUBE: return "cube";
+        case VK_IMAGE_VIEW_TYPE_2D_ARRAY: return "2D array";
+        case VK_IMAGE_VIEW_TYPE_CUBE_ARRAY: return "cube array";
+        default: return "other";
+    }
+}
+
+bool viewFits(TextureDimension dim, VkImageViewType type) {
+    switch (dim) {
+        case TextureDimension::Texture2D: return type == VK_IMAGE_VIEW_TYPE_2D || type == VK_IMAGE_VIEW_TYPE_2D_ARRAY;
+        case TextureDimension::TextureCube:
+            return type == VK_IMAGE_VIEW_TYPE_CUBE || type == VK_IMAGE_VIEW_TYPE_2D_ARRAY ||
+                   type == VK_IMAGE_VIEW_TYPE_CUBE_ARRAY;
+        case TextureDimension::Texture3D: return type == VK_IMAGE_VIEW_TYPE_3D;
+    }
+    return false;
+}
+
+}  // namespace
+
+BindingSet::BindingSet(ContextPtr context, const BindingSetDesc& desc) : m_context(std::move(context)), m_desc(desc) {
+    const auto& limits = m_context->properties.limits;
+    for (size_t i = 0; i < desc.items.size(); ++i) {
+        const BindingItem& item = desc.items[i];
+        auto fail = [&](const std::string& problem) {
+            return Error(ErrorCode::InvalidDescription,
+                         fmt::format("BindingSetDesc item {} (binding {}): {}", i, item.binding, problem));
+        };
+        for (size_t j = 0; j < i; ++j)
+            if (desc.items[j].binding == item.binding) throw fail("the binding number appears twice in the set");
+        switch (item.type) {
+            case ResourceType::UniformBuffer:
+            case ResourceType::StorageBuffer: {
+                const bool uniform = item.type == ResourceType::UniformBuffer;
+                auto* buffer = native<Buffer>(item.buffer, fmt::format("binding {}: the buffer", item.binding));
+                const BufferUsage needed = uniform ? BufferUsage::Uniform : BufferUsage::Storage;
+                if (!any(buffer->desc().usage, needed))
+                    throw fail(fmt::format("buffer '{}' lacks BufferUsage::{}", buffer->desc().debugName,
+                                           uniform ? "Uniform" : "Storage"));
+                const uint64_t size = buffer->desc().size;
+                const uint64_t range = item.range ? item.range : (item.offset < size ? size - item.offset : 0);
+                if (item.offset >= size || range > size - item.offset)
+                    throw fail(fmt::format("offset {} + range {} is outside the {}-byte buffer '{}'", item.offset,
+                                           item.range, size, buffer->desc().debugName));
+                const uint64_t alignment =
+                    uniform ? limits.minUniformBufferOffsetAlignment : limits.minStorageBufferOffsetAlignment;
+                if (item.offset % alignment)
+                    throw fail(fmt::format("offset {} is not a multiple of the device's {} offset alignment ({})",
+                                           item.offset, uniform ? "uniform" : "storage", alignment));
+                const uint64_t maxRange = uniform ? limits.maxUniformBufferRange : limits.maxStorageBufferRange;
+                if (range > maxRange)
+                    throw fail(fmt::format("range {} is above the device's max {} buffer range ({}); pass a smaller "
+                                           "range", range, uniform ? "uniform" : "storage", maxRange));
+                break;
+            }
+            case ResourceType::SampledTexture: {
+                auto* texture = native<Texture>(item.texture, fmt::format("binding {}: the texture", item.binding));
+                native<Sampler>(item.sampler, fmt::format("binding {}: the sampler", item.binding));
+                if (!any(texture->desc().usage, TextureUsage::Sampled))
+                    throw fail(fmt::format("texture '{}' lacks TextureUsage::Sampled", texture->desc().debugName));
+                break;
+            }
+            case ResourceType::StorageImage: {
+                auto* texture = native<Texture>(item.texture, fmt::format("binding {}: the texture", item.binding));
+                if (!any(texture->desc().usage, TextureUsage::Storage))
+                    throw fail(fmt::format("texture '{}' lacks TextureUsage::Storage", texture->desc().debugName));
+                if (item.mipLevel >= texture->desc().mipLevels)
+                    throw fail(fmt::format("mip level {} does not exist; '{}' has {}", item.mipLevel,
+                                           texture->desc().debugName, texture->desc().mipLevels));
+                break;
+            }
+        }
+    }
+}
+
+BindingSet::~BindingSet() {
+    for (auto& [layout, allocation] : m_sets) vkDestroyDescriptorPool(m_context->device, allocation.pool, nullptr);
+}
+
+VkDescriptorSet BindingSet::descriptorSetFor(const DescriptorSetLayoutInfo& layout, uint32_t set) {
+    std::lock_guard lock(m_mutex);
+    if (auto it = m_sets.find(layout.layout); it != m_sets.end()) return it->second.set;
+
+    // Check everything before creating anything, so a failure leaves no half-written set.
+    std::vector<const BindingItem*> items;
+    for (const ReflectedBinding& b : layout.bindings) {
+        auto item = std::find_if(m_desc.items.begin(), m_desc.items.end(),
+                                 [&](const BindingItem& i) { return i.binding == b.binding; });
+        if (item == m_desc.items.end())
+            throw Error(ErrorCode::InvalidUsage,
+                        fmt::format("the pipeline's shaders read set {} binding {} ('{}', {}), but the binding set "
+                                    "bound to set {} has no item for binding {}",
+                                    set, b.binding, b.name, typeName(b.type), set, b.binding));
+        if (toVkDescriptorType(item->type) != b.type)
+            throw Error(ErrorCode::InvalidUsage,
+                        fmt::format("set {} binding {} ('{}') is a {} in the shader but the binding set gives a {}", set,
+                                    b.binding, b.name, typeName(b.type), typeName(toVkDescriptorType(item->type))));
+        if (item->texture && !viewFits(item->texture->desc().dimension, b.viewType))
+            throw Error(ErrorCode::InvalidUsage,
+                        fmt::format("set {} binding {} ('{}') is a {} image in the shader but texture '{}' is {}", set,
+                                    b.binding, b.name, viewTypeName(b.viewType), item->texture->desc().debugName,
+                                    toString(item->texture->desc().dimension)));
+        items.push_back(&*item);
+    }
+
+    std::vector<VkDescriptorPoolSize> sizes;
+    for (const ReflectedBinding& b : layout.bindings) {
+        auto it = std::find_if(sizes.begin(), sizes.end(), [&](const auto& s) { return s.type == b.type; });
+        if (it == sizes.end())
+            sizes.push_back({b.type, b.count});
+        else
+            it->descriptorCount += b.count;
+    }
+    Allocation allocation;
+    VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+    poolInfo.maxSets = 1;
+    poolInfo.poolSizeCount = uint32_t(sizes.size());
+    poolInfo.pPoolSizes = sizes.data();
+    check(vkCreateDescriptorPool(m_context->device, &poolInfo, nullptr, &allocation.pool), ErrorCode::OutOfMemory,
+          "vkCreateDescriptorPool");
+    VkDescriptorSetAllocateInfo allocInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+    allocInfo.descriptorPool = allocation.pool;
+    allocInfo.descriptorSetCount = 1;
+    allocInfo.pSetLayouts = &layout.layout;
+    VkResult result = vkAllocateDescriptorSets(m_context->device, &allocInfo, &allocation.set);
+    if (result != VK_SUCCESS) {
+        vkDestroyDescriptorPool(m_context->device, allocation.pool, nullptr);
+        check(result, ErrorCode::OutOfMemory, "vkAllocateDescriptorSets");
+    }
+
+    // Stable storage for the infos the writes point at.
+    std::vector<VkDescriptorBufferInfo> bufferInfos(items.size());
+    std::vector<VkDescriptorImageInfo> imageInfos(items.size());
+    std::vector<VkWriteDescriptorSet> writes;
+    try {
+        for (size_t i = 0; i < items.size(); ++i) {
+            const BindingItem& item = *items[i];
+            const ReflectedBinding& b = layout.bindings[i];
+            VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+            write.dstSet = allocation.set;
+            write.dstBinding = b.binding;
+            write.descriptorCount = 1;
+            write.descriptorType = b.type;
+            if (item.buffer) {
+                bufferInfos[i] = {static_cast<Buffer*>(item.buffer.get())->buffer, item.offset,
+                                  item.range ? item.range : VK_WHOLE_SIZE};
+                write.pBufferInfo = &bufferInfos[i];
+            } else {
+                auto* texture = static_cast<Texture*>(item.texture.get());
+                const uint32_t layers = b.viewType == VK_IMAGE_VIEW_TYPE_3D ? 1 : texture->arrayLayers();
+                if (b.type == VK_DESCRIPTOR_TYPE_STORAGE_IMAGE) {
+                    imageInfos[i] = {VK_NULL_HANDLE,
+                                     texture->view(b.viewType, item.mipLevel, 1, 0, layers, VK_IMAGE_USAGE_STORAGE_BIT),
+                                     VK_IMAGE_LAYOUT_GENERAL};
+                } else {
+                    imageInfos[i] = {static_cast<Sampler*>(item.sampler.get())->sampler,
+                                     texture->view(b.viewType, 0, texture->desc().mipLevels, 0, layers,
+                                                   VK_IMAGE_USAGE_SAMPLED_BIT),
+                                     VK_IMAGE_LAYOUT_GENERAL};
+                }
+                write.pImageInfo = &imageInfos[i];
+            }
+            writes.push_back(write);
+        }
+    } catch (...) {
+        vkDestroyDescriptorPool(m_context->device, allocation.pool, nullptr);
+        throw;
+    }
+    vkUpdateDescriptorSets(m_context->device, uint32_t(writes.size()), writes.data(), 0, nullptr);
+    m_sets.emplace(layout.layout, allocation);
+    return allocation.set;
+}
+
+}  // namespace janus::rhi::vulkan

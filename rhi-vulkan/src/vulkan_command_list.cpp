@@ -1,0 +1,539 @@
+// Command lists: recording with state checks, conservative barriers, submission with a fence.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cstring>
+
+#include "vulkan_backend.h"
+
+namespace janus::rhi::vulkan {
+namespace {
+
+std::string formatList(const std::vector<Format>& colors, Format depth) {
+    std::string text = "[";
+    for (size_t i = 0; i < colors.size(); ++i) text += (i ? ", " : "") + std::string(toString(colors[i]));
+    return text + "] depth " + (depth == Format::Unknown ? std::string("none") : toString(depth));
+}
+
+void checkBufferRange(const Buffer& buffer, uint64_t offset, uint64_t size, std::string_view call) {
+    const uint64_t total = buffer.desc().size;
+    if (size == 0 || offset > total || size > total - offset)
+        throw Error(ErrorCode::InvalidUsage,
+                    fmt::format("{}: bytes [{}, {}) are not a non-empty range inside the {}-byte buffer '{}'", call,
+                                offset, offset + size, total, buffer.desc().debugName));
+}
+
+}  // namespace
+
+CommandList::CommandList(ContextPtr context) : m_context(std::move(context)) {
+    VkDevice device = m_context->device;
+    VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+    poolInfo.queueFamilyIndex = m_context->queueFamily;
+    check(vkCreateCommandPool(device, &poolInfo, nullptr, &m_pool), ErrorCode::OutOfMemory, "vkCreateCommandPool");
+    VkCommandBufferAllocateInfo allocInfo{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+    allocInfo.commandPool = m_pool;
+    allocInfo.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+    allocInfo.commandBufferCount = 2;
+    VkCommandBuffer buffers[2] = {};
+    VkFenceCreateInfo fenceInfo{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+    VkResult result = vkAllocateCommandBuffers(device, &allocInfo, buffers);
+    if (result == VK_SUCCESS) result = vkCreateFence(device, &fenceInfo, nullptr, &m_fence);
+    if (result != VK_SUCCESS) {
+        vkDestroyCommandPool(device, m_pool, nullptr);
+        check(result, ErrorCode::OutOfMemory, "creating a command list");
+    }
+    m_prologue = buffers[0];
+    m_commands = buffers[1];
+}
+
+CommandList::~CommandList() {
+    if (m_pending) vkWaitForFences(m_context->device, 1, &m_fence, VK_TRUE, UINT64_MAX);
+    vkDestroyFence(m_context->device, m_fence, nullptr);
+    vkDestroyCommandPool(m_context->device, m_pool, nullptr);
+}
+
+void CommandList::waitUntilDone() {
+    if (!m_pending) return;
+    check(vkWaitForFences(m_context->device, 1, &m_fence, VK_TRUE, UINT64_MAX), ErrorCode::DeviceLost,
+          "vkWaitForFences");
+    m_pending = false;
+}
+
+void CommandList::requireRecording(std::string_view call) const {
+    if (m_state != State::Recording)
+        throw Error(ErrorCode::InvalidUsage,
+                    fmt::format("{}: the command list is not recording; call begin() first", call));
+}
+
+void CommandList::requireOutsideRenderPass(std::string_view call) const {
+    requireRecording(call);
+    if (m_inRenderPass)
+        throw Error(ErrorCode::InvalidUsage,
+                    fmt::format("{}: not allowed inside a render pass; call endRenderPass() first", call));
+}
+
+void CommandList::begin() {
+    waitUntilDone();
+    m_keepAlive.clear();
+    m_staging.clear();
+    m_timers.clear();
+    check(vkResetCommandPool(m_context->device, m_pool, 0), ErrorCode::DeviceLost, "vkResetCommandPool");
+    VkCommandBufferBeginInfo info{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    check(vkBeginCommandBuffer(m_commands, &info), ErrorCode::DeviceLost, "vkBeginCommandBuffer");
+    m_state = State::Recording;
+    m_inRenderPass = false;
+    m_graphicsPipeline.reset();
+    m_computePipeline.reset();
+    m_bindingSets = {};
+    m_dirtyGraphicsSets = m_dirtyComputeSets = 0;
+    m_vertexSlotBound.clear();
+    m_indexBufferBound = false;
+    m_debugGroupDepth = 0;
+}
+
+void CommandList::end() {
+    requireOutsideRenderPass("end()");
+    if (m_debugGroupDepth != 0)
+        throw Error(ErrorCode::InvalidUsage,
+                    fmt::format("end(): {} debug group(s) are still open; call popDebugGroup()", m_debugGroupDepth));
+    // Later device-level reads map memory on the host; make this list's writes visible to it.
+    hostBarrier(m_commands);
+    check(vkEndCommandBuffer(m_commands), ErrorCode::DeviceLost, "vkEndCommandBuffer");
+
+    VkCommandBufferBeginInfo info{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    check(vkBeginCommandBuffer(m_prologue, &info), ErrorCode::DeviceLost, "vkBeginCommandBuffer");
+    for (const TimerUse& use : m_timers) vkCmdResetQueryPool(m_prologue, use.timer->pool, 0, 2);
+    check(vkEndCommandBuffer(m_prologue), ErrorCode::DeviceLost, "vkEndCommandBuffer");
+    m_state = State::Executable;
+}
+
+void CommandList::submit() {
+    if (m_state != State::Executable)
+        throw Error(ErrorCode::InvalidUsage,
+                    m_state == State::Recording ? "execute(): the command list is still recording; call end() first"
+                                                : "execute(): the command list is empty; call begin() and end() first");
+    waitUntilDone();   // executing the same list again: its previous run must have finished
+    std::lock_guard lock(m_context->queueMutex);
+    check(vkResetFences(m_context->device, 1, &m_fence), ErrorCode::DeviceLost, "vkResetFences");
+    VkCommandBuffer buffers[] = {m_prologue, m_commands};
+    VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+    submit.commandBufferCount = 2;
+    submit.pCommandBuffers = buffers;
+    check(vkQueueSubmit(m_context->queue, 1, &submit, m_fence), ErrorCode::DeviceLost, "vkQueueSubmit");
+    m_pending = true;
+    for (TimerUse& use : m_timers) use.timer->submitted = use.began && use.ended;
+}
+
+void CommandList::beginRenderPass(const RenderPassDesc& desc) {
+    requireOutsideRenderPass("beginRenderPass()");
+    if (desc.colors.empty() && !desc.depth)
+        throw Error(ErrorCode::InvalidUsage, "beginRenderPass(): the RenderPassDesc has no colour and no depth attachment");
+    if (desc.colors.size() > m_context->properties.limits.maxColorAttachments)
+        throw Error(ErrorCode::InvalidUsage,
+                    fmt::format("beginRenderPass(): {} colour attachments, above maxColorAttachments ({})",
+                                desc.colors.size(), m_context->properties.limits.maxColorAttachments));
+
+    std::optional<VkExtent2D> extent;
+    std::vector<Format> colorFormats;
+    auto attach = [&](const Attachment& a, bool depth, const std::string& what) {
+        auto* texture = native<Texture>(a.texture, what);
+        const TextureDesc& tdesc = texture->desc();
+        if (!any(tdesc.usage, TextureUsage::RenderTarget))
+            throw Error(ErrorCode::InvalidUsage,
+                        fmt::format("beginRenderPass(): {} '{}' lacks TextureUsage::RenderTarget", what, tdesc.debugName));
+        if (isDepthFormat(tdesc.format) != depth)
+            throw Error(ErrorCode::InvalidUsage,
+                        fmt::format("beginRenderPass(): {} '{}' has format {}, which is {} a depth format", what,
+                                    tdesc.debugName, toString(tdesc.format), depth ? "not" : ""));
+        texture->checkSubresource(a.subresource, fmt::format("beginRenderPass(): {}", what));
+        const VkExtent3D e = texture->extent(a.subresource.mipLevel);
+        if (extent && (extent->width != e.width || extent->height != e.height))
+            throw Error(ErrorCode::InvalidUsage,
+                        fmt::format("beginRenderPass(): {} '{}' is {}x{} but the first attachment is {}x{}; all "
+                                    "attachments must have the same size", what, tdesc.debugName, e.width, e.height,
+                                    extent->width, extent->height));
+        extent = VkExtent2D{e.width, e.height};
+        keep(a.texture);
+
+        VkRenderingAttachmentInfo info{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+        info.imageView = texture->attachmentView(a.subresource);
+        info.imageLayout = VK_IMAGE_LAYOUT_GENERAL;
+        info.loadOp = a.loadOp == LoadOp::Load    ? VK_ATTACHMENT_LOAD_OP_LOAD
+                      : a.loadOp == LoadOp::Clear ? VK_ATTACHMENT_LOAD_OP_CLEAR
+                                                  : VK_ATTACHMENT_LOAD_OP_DONT_CARE;
+        info.storeOp = a.storeOp == StoreOp::Store ? VK_ATTACHMENT_STORE_OP_STORE : VK_ATTACHMENT_STORE_OP_DONT_CARE;
+        if (depth) {
+            info.clearValue.depthStencil = {a.clearDepth, 0};
+        } else if (formatInfo(tdesc.format).kind == FormatKind::UInt) {
+            for (int i = 0; i < 4; ++i) info.clearValue.color.uint32[i] = uint32_t(std::max(0.0f, a.clearColor[i]));
+        } else {
+            for (int i = 0; i < 4; ++i) info.clearValue.color.float32[i] = a.clearColor[i];
+        }
+        return info;
+    };
+
+    std::vector<VkRenderingAttachmentInfo> colors;
+    for (size_t i = 0; i < desc.colors.size(); ++i) {
+        colors.push_back(attach(desc.colors[i], false, fmt::format("colour attachment {}", i)));
+        colorFormats.push_back(desc.colors[i].texture->desc().format);
+    }
+    VkRenderingAttachmentInfo depthInfo{};
+    if (desc.depth) depthInfo = attach(*desc.depth, true, "depth attachment");
+
+    fullBarrier(m_commands);
+    VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
+    info.renderArea = {{0, 0}, *extent};
+    info.layerCount = 1;
+    info.colorAttachmentCount = uint32_t(colors.size());
+    info.pColorAttachments = colors.data();
+    info.pDepthAttachment = desc.depth ? &depthInfo : nullptr;
+    m_context->cmdBeginRendering(m_commands, &info);
+
+    m_inRenderPass = true;
+    m_passColorFormats = std::move(colorFormats);
+    m_passDepthFormat = desc.depth ? desc.depth->texture->desc().format : Format::Unknown;
+    m_passExtent = *extent;
+    setViewport({0, 0, float(extent->width), float(extent->height), 0, 1});
+    setScissor({0, 0, extent->width, extent->height});
+}
+
+void CommandList::endRenderPass() {
+    requireRecording("endRenderPass()");
+    if (!m_inRenderPass) throw Error(ErrorCode::InvalidUsage, "endRenderPass(): no render pass is open");
+    m_context->cmdEndRendering(m_commands);
+    m_inRenderPass = false;
+}
+
+void CommandList::setViewport(const Viewport& v) {
+    requireRecording("setViewport()");
+    if (!(v.width > 0) || !(v.height > 0))
+        throw Error(ErrorCode::InvalidUsage,
+                    fmt::format("setViewport(): width and height must be > 0 (got {}x{})", v.width, v.height));
+    if (v.minDepth < 0 || v.minDepth > 1 || v.maxDepth < 0 || v.maxDepth > 1)
+        throw Error(ErrorCode::InvalidUsage, fmt::format("setViewport(): minDepth {} / maxDepth {} must be in [0, 1]",
+                                                         v.minDepth, v.maxDepth));
+    // Positive height: row 0 is at the top and NDC y = -1 maps to it (no flip, see rhi.h).
+    VkViewport viewport{v.x, v.y, v.width, v.height, v.minDepth, v.maxDepth};
+    vkCmdSetViewport(m_commands, 0, 1, &viewport);
+}
+
+void CommandList::setScissor(const ScissorRect& s) {
+    requireRecording("setScissor()");
+    if (s.x < 0 || s.y < 0)
+        throw Error(ErrorCode::InvalidUsage, fmt::format("setScissor(): x and y must be >= 0 (got {}, {})", s.x, s.y));
+    VkRect2D rect{{s.x, s.y}, {s.width, s.height}};
+    vkCmdSetScissor(m_commands, 0, 1, &rect);
+}
+
+void CommandList::setPipeline(const PipelineHandle& handle) {
+    requireRecording("setPipeline()");
+    auto* pipeline = native<Pipeline>(handle, "setPipeline(): the pipeline");
+    keep(handle);
+    auto shared = std::shared_ptr<Pipeline>(handle, pipeline);
+    if (pipeline->isCompute()) {
+        m_computePipeline = shared;
+        m_dirtyComputeSets = ~0u;
+        vkCmdBindPipeline(m_commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline->pipeline);
+    } else {
+        m_graphicsPipeline = shared;
+        m_dirtyGraphicsSets = ~0u;
+        vkCmdBindPipeline(m_commands, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline->pipeline);
+    }
+}
+
+void CommandList::setBindingSet(uint32_t set, const BindingSetHandle& bindings) {
+    requireRecording("setBindingSet()");
+    if (set >= Pipeline::kMaxSets)
+        throw Error(ErrorCode::InvalidUsage,
+                    fmt::format("setBindingSet(): set {} does not exist; sets 0..{} are available", set,
+                                Pipeline::kMaxSets - 1));
+    auto* bindingSet = native<BindingSet>(bindings, "setBindingSet(): the binding set");
+    keep(bindings);
+    m_bindingSets[set] = std::shared_ptr<BindingSet>(bindings, bindingSet);
+    m_dirtyGraphicsSets |= 1u << set;
+    m_dirtyComputeSets |= 1u << set;
+}
+
+void CommandList::bindDescriptorSets(Pipeline& pipeline, VkPipelineBindPoint bindPoint, uint32_t& dirtyMask) {
+    for (uint32_t s = 0; s < Pipeline::kMaxSets; ++s) {
+        if (!(dirtyMask & (1u << s))) continue;
+        const DescriptorSetLayoutInfo& layout = *pipeline.sets[s];
+        if (layout.bindings.empty()) continue;
+        if (!m_bindingSets[s])
+            throw Error(ErrorCode::InvalidUsage,
+                        fmt::format("pipeline '{}' reads set {} (binding {} '{}') but no binding set is bound to set "
+                                    "{}; call setBindingSet({}, ...)", pipeline.debugName, s, layout.bindings[0].binding,
+                                    layout.bindings[0].name, s, s));
+        VkDescriptorSet descriptorSet = m_bindingSets[s]->descriptorSetFor(layout, s);
+        vkCmdBindDescriptorSets(m_commands, bindPoint, pipeline.layout, s, 1, &descriptorSet, 0, nullptr);
+    }
+    dirtyMask = 0;
+}
+
+void CommandList::setVertexBuffer(uint32_t slot, const BufferHandle& handle, uint64_t offset) {
+    requireRecording("setVertexBuffer()");
+    auto* buffer = native<Buffer>(handle, "setVertexBuffer(): the buffer");
+    if (!any(buffer->desc().usage, BufferUsage::Vertex))
+        throw Error(ErrorCode::InvalidUsage,
+                    fmt::format("setVertexBuffer(): buffer '{}' lacks BufferUsage::Vertex", buffer->desc().debugName));
+    if (offset >= buffer->desc().size)
+        throw Error(ErrorCode::InvalidUsage, fmt::format("setVertexBuffer(): offset {} is past the end of the {}-byte "
+                                                         "buffer", offset, buffer->desc().size));
+    if (slot >= m_context->properties.limits.maxVertexInputBindings)
+        throw Error(ErrorCode::InvalidUsage, fmt::format("setVertexBuffer(): slot {} is above the device's {} slots",
+                                                         slot, m_context->properties.limits.maxVertexInputBindings));
+    keep(handle);
+    vkCmdBindVertexBuffers(m_commands, slot, 1, &buffer->buffer, &offset);
+    if (m_vertexSlotBound.size() <= slot) m_vertexSlotBound.resize(slot + 1, false);
+    m_vertexSlotBound[slot] = true;
+}
+
+void CommandList::setIndexBuffer(const BufferHandle& handle, IndexType type, uint64_t offset) {
+    requireRecording("setIndexBuffer()");
+    auto* buffer = native<Buffer>(handle, "setIndexBuffer(): the buffer");
+    if (!any(buffer->desc().usage, BufferUsage::Index))
+        throw Error(ErrorCode::InvalidUsage,
+                    fmt::format("setIndexBuffer(): buffer '{}' lacks BufferUsage::Index", buffer->desc().debugName));
+    const uint64_t indexSize = type == IndexType::UInt16 ? 2 : 4;
+    if (offset % indexSize || offset >= buffer->desc().size)
+        throw Error(ErrorCode::InvalidUsage,
+                    fmt::format("setIndexBuffer(): offset {} must be a multiple of {} inside the {}-byte buffer", offset,
+                                indexSize, buffer->desc().size));
+    keep(handle);
+    vkCmdBindIndexBuffer(m_commands, buffer->buffer, offset,
+                         type == IndexType::UInt16 ? VK_INDEX_TYPE_UINT16 : VK_INDEX_TYPE_UINT32);
+    m_indexBufferBound = true;
+}
+
+void CommandList::prepareDraw(std::string_view call) {
+    requireRecording(call);
+    if (!m_inRenderPass)
+        throw Error(ErrorCode::InvalidUsage, fmt::format("{}: draws need a render pass; call beginRenderPass() first", call));
+    if (!m_graphicsPipeline)
+        throw Error(ErrorCode::InvalidUsage, fmt::format("{}: no graphics pipeline is set; call setPipeline()", call));
+    const GraphicsPipelineDesc& desc = m_graphicsPipeline->graphicsDesc;
+    if (desc.colorFormats != m_passColorFormats || desc.depthFormat != m_passDepthFormat)
+        throw Error(ErrorCode::InvalidUsage,
+                    fmt::format("{}: pipeline '{}' renders to {} but the render pass has {}", call,
+                                m_graphicsPipeline->debugName, formatList(desc.colorFormats, desc.depthFormat),
+                                formatList(m_passColorFormats, m_passDepthFormat)));
+    for (const VertexBufferLayout& layout : desc.vertexBuffers)
+        if (layout.slot >= m_vertexSlotBound.size() || !m_vertexSlotBound[layout.slot])
+            throw Error(ErrorCode::InvalidUsage,
+                        fmt::format("{}: pipeline '{}' reads vertex buffer slot {}, but none is bound; call "
+                                    "setVertexBuffer({}, ...)", call, m_graphicsPipeline->debugName, layout.slot,
+                                    layout.slot));
+    bindDescriptorSets(*m_graphicsPipeline, VK_PIPELINE_BIND_POINT_GRAPHICS, m_dirtyGraphicsSets);
+}
+
+void CommandList::draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance) {
+    prepareDraw("draw()");
+    vkCmdDraw(m_commands, vertexCount, instanceCount, firstVertex, firstInstance);
+}
+
+void CommandList::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex, int32_t vertexOffset,
+                              uint32_t firstInstance) {
+    prepareDraw("drawIndexed()");
+    if (!m_indexBufferBound)
+        throw Error(ErrorCode::InvalidUsage, "drawIndexed(): no index buffer is bound; call setIndexBuffer()");
+    vkCmdDrawIndexed(m_commands, indexCount, instanceCount, firstIndex, vertexOffset, firstInstance);
+}
+
+void CommandList::dispatch(uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ) {
+    requireOutsideRenderPass("dispatch()");
+    if (!m_computePipeline)
+        throw Error(ErrorCode::InvalidUsage, "dispatch(): no compute pipeline is set; call setPipeline()");
+    const uint32_t groups[3] = {groupsX, groupsY, groupsZ};
+    const auto& limit = m_context->properties.limits.maxComputeWorkGroupCount;
+    for (int i = 0; i < 3; ++i)
+        if (groups[i] > limit[i])
+            throw Error(ErrorCode::InvalidUsage,
+                        fmt::format("dispatch(): {} groups in dimension {} is above the device limit {}", groups[i],
+                                    "xyz"[i], limit[i]));
+    bindDescriptorSets(*m_computePipeline, VK_PIPELINE_BIND_POINT_COMPUTE, m_dirtyComputeSets);
+    fullBarrier(m_commands);
+    vkCmdDispatch(m_commands, groupsX, groupsY, groupsZ);
+}
+
+void CommandList::writeBuffer(const BufferHandle& dst, const void* data, uint64_t size, uint64_t dstOffset) {
+    requireOutsideRenderPass("writeBuffer()");
+    auto* buffer = native<Buffer>(dst, "writeBuffer(): the buffer");
+    checkBufferRange(*buffer, dstOffset, size, "writeBuffer()");
+    if (!data) throw Error(ErrorCode::InvalidUsage, "writeBuffer(): data is null");
+    auto staging = std::make_shared<StagingBuffer>(m_context, size);
+    std::memcpy(staging->mapped, data, size);
+    keep(dst);
+    fullBarrier(m_commands);
+    VkBufferCopy region{0, dstOffset, size};
+    vkCmdCopyBuffer(m_commands, staging->buffer, buffer->buffer, 1, &region);
+    m_staging.push_back(std::move(staging));
+}
+
+void CommandList::copyBuffer(const BufferHandle& dst, uint64_t dstOffset, const BufferHandle& src, uint64_t srcOffset,
+                             uint64_t size) {
+    requireOutsideRenderPass("copyBuffer()");
+    auto* to = native<Buffer>(dst, "copyBuffer(): the destination");
+    auto* from = native<Buffer>(src, "copyBuffer(): the source");
+    checkBufferRange(*to, dstOffset, size, "copyBuffer() destination");
+    checkBufferRange(*from, srcOffset, size, "copyBuffer() source");
+    if (to == from && srcOffset < dstOffset + size && dstOffset < srcOffset + size)
+        throw Error(ErrorCode::InvalidUsage, "copyBuffer(): source and destination ranges overlap in the same buffer");
+    keep(dst);
+    keep(src);
+    fullBarrier(m_commands);
+    VkBufferCopy region{srcOffset, dstOffset, size};
+    vkCmdCopyBuffer(m_commands, from->buffer, to->buffer, 1, &region);
+}
+
+void CommandList::copyBufferToTexture(const TextureHandle& dst, TextureSubresource dstSub, const BufferHandle& src,
+                                      uint64_t srcOffset) {
+    requireOutsideRenderPass("copyBufferToTexture()");
+    auto* texture = native<Texture>(dst, "copyBufferToTexture(): the texture");
+    auto* buffer = native<Buffer>(src, "copyBufferToTexture(): the buffer");
+    texture->checkSubresource(dstSub, "copyBufferToTexture()");
+    checkBufferRange(*buffer, srcOffset, texture->subresourceSize(dstSub.mipLevel), "copyBufferToTexture() source");
+    const uint32_t texel = formatInfo(texture->desc().format).bytesPerPixel;
+    if (srcOffset % texel)
+        throw Error(ErrorCode::InvalidUsage,
+                    fmt::format("copyBufferToTexture(): srcOffset {} must be a multiple of the texel size {}", srcOffset,
+                                texel));
+    keep(dst);
+    keep(src);
+    fullBarrier(m_commands);
+    VkBufferImageCopy region{};
+    region.bufferOffset = srcOffset;
+    region.imageSubresource = texture->copyLayers(dstSub);
+    region.imageOffset = texture->copyOffset(dstSub);
+    region.imageExtent = texture->copyExtent(dstSub);
+    vkCmdCopyBufferToImage(m_commands, buffer->buffer, texture->image, VK_IMAGE_LAYOUT_GENERAL, 1, &region);
+}
+
+void CommandList::copyTextureToBuffer(const BufferHandle& dst, uint64_t dstOffset, const TextureHandle& src,
+                                      TextureSubresource srcSub) {
+    requireOutsideRenderPass("copyTextureToBuffer()");
+    auto* buffer = native<Buffer>(dst, "copyTextureToBuffer(): the buffer");
+    auto* texture = native<Texture>(src, "copyTextureToBuffer(): the texture");
+    texture->checkSubresource(srcSub, "copyTextureToBuffer()");
+    checkBufferRange(*buffer, dstOffset, texture->subresourceSize(srcSub.mipLevel), "copyTextureToBuffer() destination");
+    const uint32_t texel = formatInfo(texture->desc().format).bytesPerPixel;
+    if (dstOffset % texel)
+        throw Error(ErrorCode::InvalidUsage,
+                    fmt::format("copyTextureToBuffer(): dstOffset {} must be a multiple of the texel size {}", dstOffset,
+                                texel));
+    keep(dst);
+    keep(src);
+    fullBarrier(m_commands);
+    VkBufferImageCopy region{};
+    region.bufferOffset = dstOffset;
+    region.imageSubresource = texture->copyLayers(srcSub);
+    region.imageOffset = texture->copyOffset(srcSub);
+    region.imageExtent = texture->copyExtent(srcSub);
+    vkCmdCopyImageToBuffer(m_commands, texture->image, VK_IMAGE_LAYOUT_GENERAL, buffer->buffer, 1, &region);
+}
+
+void CommandList::copyTexture(const TextureHandle& dst, TextureSubresource dstSub, const TextureHandle& src,
+                              TextureSubresource srcSub) {
+    requireOutsideRenderPass("copyTexture()");
+    auto* to = native<Texture>(dst, "copyTexture(): the destination");
+    auto* from = native<Texture>(src, "copyTexture(): the source");
+    to->checkSubresource(dstSub, "copyTexture() destination");
+    from->checkSubresource(srcSub, "copyTexture() source");
+    const Format dstFormat = to->desc().format, srcFormat = from->desc().format;
+    const bool compatible = dstFormat == srcFormat ||
+                            (!isDepthFormat(dstFormat) && !isDepthFormat(srcFormat) &&
+                             formatInfo(dstFormat).bytesPerPixel == formatInfo(srcFormat).bytesPerPixel);
+    if (!compatible)
+        throw Error(ErrorCode::InvalidUsage,
+                    fmt::format("copyTexture(): cannot copy {} into {}; formats must match or be colour formats of the "
+                                "same texel size", toString(srcFormat), toString(dstFormat)));
+    const VkExtent3D dstExtent = to->copyExtent(dstSub), srcExtent = from->copyExtent(srcSub);
+    if (dstExtent.width != srcExtent.width || dstExtent.height != srcExtent.height)
+        throw Error(ErrorCode::InvalidUsage,
+                    fmt::format("copyTexture(): source subresource is {}x{} but the destination is {}x{}",
+                                srcExtent.width, srcExtent.height, dstExtent.width, dstExtent.height));
+    if (to == from && dstSub.mipLevel == srcSub.mipLevel && dstSub.layer == srcSub.layer)
+        throw Error(ErrorCode::InvalidUsage, "copyTexture(): source and destination are the same subresource");
+    keep(dst);
+    keep(src);
+    fullBarrier(m_commands);
+    VkImageCopy region{};
+    region.srcSubresource = from->copyLayers(srcSub);
+    region.srcOffset = from->copyOffset(srcSub);
+    region.dstSubresource = to->copyLayers(dstSub);
+    region.dstOffset = to->copyOffset(dstSub);
+    region.extent = srcExtent;
+    vkCmdCopyImage(m_commands, from->image, VK_IMAGE_LAYOUT_GENERAL, to->image, VK_IMAGE_LAYOUT_GENERAL, 1, &region);
+}
+
+void CommandList::generateMips(const TextureHandle& handle) {
+    requireOutsideRenderPass("generateMips()");
+    auto* texture = native<Texture>(handle, "generateMips(): the texture");
+    const TextureDesc& desc = texture->desc();
+    constexpr VkFormatFeatureFlags kNeeded = VK_FORMAT_FEATURE_BLIT_SRC_BIT | VK_FORMAT_FEATURE_BLIT_DST_BIT |
+                                             VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT;
+    if ((m_context->formatProperties(desc.format).optimalTilingFeatures & kNeeded) != kNeeded)
+        throw Error(ErrorCode::InvalidUsage,
+                    fmt::format("generateMips(): texture '{}' has format {}, which this device cannot filter linearly; "
+                                "write each mip level yourself or use a filterable format",
+                                desc.debugName, toString(desc.format)));
+    keep(handle);
+    for (uint32_t level = 1; level < desc.mipLevels; ++level) {
+        const VkExtent3D from = texture->extent(level - 1), to = texture->extent(level);
+        VkImageBlit blit{};
+        blit.srcSubresource = {texture->aspect, level - 1, 0, texture->arrayLayers()};
+        blit.srcOffsets[1] = {int32_t(from.width), int32_t(from.height), int32_t(from.depth)};
+        blit.dstSubresource = {texture->aspect, level, 0, texture->arrayLayers()};
+        blit.dstOffsets[1] = {int32_t(to.width), int32_t(to.height), int32_t(to.depth)};
+        fullBarrier(m_commands);
+        vkCmdBlitImage(m_commands, texture->image, VK_IMAGE_LAYOUT_GENERAL, texture->image, VK_IMAGE_LAYOUT_GENERAL, 1,
+                       &blit, VK_FILTER_LINEAR);
+    }
+}
+
+CommandList::TimerUse& CommandList::timerUse(const TimerQueryHandle& handle) {
+    auto* timer = native<TimerQuery>(handle, "the timer");
+    for (TimerUse& use : m_timers)
+        if (use.timer.get() == timer) return use;
+    m_timers.push_back({std::shared_ptr<TimerQuery>(handle, timer)});
+    return m_timers.back();
+}
+
+void CommandList::beginTimer(const TimerQueryHandle& timer) {
+    requireRecording("beginTimer()");
+    TimerUse& use = timerUse(timer);
+    if (use.began)
+        throw Error(ErrorCode::InvalidUsage,
+                    "beginTimer(): this timer was already begun in this command list; use one timer per measurement");
+    use.began = true;
+    vkCmdWriteTimestamp(m_commands, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, use.timer->pool, 0);
+}
+
+void CommandList::endTimer(const TimerQueryHandle& timer) {
+    requireRecording("endTimer()");
+    TimerUse& use = timerUse(timer);
+    if (!use.began || use.ended)
+        throw Error(ErrorCode::InvalidUsage, use.ended ? "endTimer(): this timer was already ended in this command list"
+                                                       : "endTimer(): call beginTimer() on this timer first");
+    use.ended = true;
+    vkCmdWriteTimestamp(m_commands, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, use.timer->pool, 1);
+}
+
+void CommandList::pushDebugGroup(std::string_view name) {
+    requireRecording("pushDebugGroup()");
+    ++m_debugGroupDepth;
+    if (!m_context->cmdBeginDebugLabel) return;
+    const std::string label(name);
+    VkDebugUtilsLabelEXT info{VK_STRUCTURE_TYPE_DEBUG_UTILS_LABEL_EXT};
+    info.pLabelName = label.c_str();
+    m_context->cmdBeginDebugLabel(m_commands, &info);
+}
+
+void CommandList::popDebugGroup() {
+    requireRecording("popDebugGroup()");
+    if (m_debugGroupDepth == 0)
+        throw Error(ErrorCode::InvalidUsage, "popDebugGroup(): no debug group is open; call pushDebugGroup() first");
+    --m_debugGroupDepth;
+    if (m_context->cmdEndDebugLabel) m_context->cmdEndDebugLabel(m_commands);
+}
+
+}  // namespace janus::rhi::vulkan
