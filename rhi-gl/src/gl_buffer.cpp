@@ -1,0 +1,40 @@
+// Buffers: one GL buffer object each, usable for every role its usage names.
+#include <fmt/format.h>
+
+#include "gl_device.h"
+
+namespace janus::rhi::gl {
+
+namespace {
+// Far beyond any buffer a test or scene needs, and below where GL sizes (GLsizeiptr) or llvmpipe
+// allocations get questionable; larger requests are almost certainly a size computed wrong.
+constexpr uint64_t kMaxBufferSize = uint64_t(1) << 31;
+}  // namespace
+
+GLBuffer::GLBuffer(ContextPtr context, const BufferDesc& desc) : m_context(std::move(context)), m_desc(desc) {
+    if (desc.size == 0)
+        throw Error(ErrorCode::InvalidDescription,
+                    fmt::format("buffer '{}': BufferDesc::size is 0; give the size in bytes", desc.debugName));
+    if (desc.size > kMaxBufferSize)
+        throw Error(ErrorCode::InvalidDescription,
+                    fmt::format("buffer '{}': BufferDesc::size {} exceeds the GL backend's limit of {} bytes",
+                                desc.debugName, desc.size, kMaxBufferSize));
+    const GLFunctions& gl = m_context->gl;
+    gl.glGenBuffers(1, &m_name);
+    gl.glBindBuffer(GL_COPY_WRITE_BUFFER, m_name);
+    gl.glBufferData(GL_COPY_WRITE_BUFFER, GLsizeiptr(desc.size), nullptr, GL_DYNAMIC_DRAW);
+    if (gl.glGetError() == GL_OUT_OF_MEMORY) {
+        gl.glDeleteBuffers(1, &m_name);
+        throw Error(ErrorCode::OutOfMemory,
+                    fmt::format("buffer '{}': the driver could not allocate {} bytes", desc.debugName, desc.size));
+    }
+    if (!desc.debugName.empty() && gl.glObjectLabel && !m_context->isES())
+        gl.glObjectLabel(GL_BUFFER, m_name, GLsizei(desc.debugName.size()), desc.debugName.data());
+}
+
+GLBuffer::~GLBuffer() {
+    m_context->makeCurrent();
+    m_context->gl.glDeleteBuffers(1, &m_name);
+}
+
+}  // namespace janus::rhi::gl

@@ -1,0 +1,547 @@
+// Command lists record closures (validated as they are recorded, so errors point at the call
+// that caused them) and replay them on execute(). Each closure holds the handles it uses, which
+// keeps those resources alive until the list is reset or destroyed.
+#include <fmt/format.h>
+
+#include <algorithm>
+
+#include "gl_device.h"
+
+namespace janus::rhi::gl {
+
+namespace {
+template <typename T, typename Handle>
+std::shared_ptr<T> cast(const Handle& handle, const char* what, const char* kind) {
+    auto result = std::dynamic_pointer_cast<T>(handle);
+    if (!result)
+        throw Error(ErrorCode::InvalidUsage, fmt::format("{}: the {} is null or comes from another backend", what, kind));
+    return result;
+}
+
+GLenum primitiveMode(PrimitiveTopology topology) {
+    switch (topology) {
+        case PrimitiveTopology::TriangleList: return GL_TRIANGLES;
+        case PrimitiveTopology::TriangleStrip: return GL_TRIANGLE_STRIP;
+        case PrimitiveTopology::LineList: return GL_LINES;
+        case PrimitiveTopology::PointList: return GL_POINTS;
+    }
+    return GL_TRIANGLES;
+}
+
+void checkRange(const IBuffer& buffer, uint64_t offset, uint64_t size, const char* what) {
+    if (size == 0 || offset > buffer.desc().size || size > buffer.desc().size - offset)
+        throw Error(ErrorCode::InvalidUsage,
+                    fmt::format("{}: bytes [{}, {}) are outside buffer '{}' of {} bytes (or the size is 0)", what,
+                                offset, offset + size, buffer.desc().debugName, buffer.desc().size));
+}
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// Recording
+
+void GLCommandList::requireRecording(const char* what) const {
+    if (!m_recording)
+        throw Error(ErrorCode::InvalidUsage, fmt::format("{} was called outside begin()/end() of the command list", what));
+}
+
+void GLCommandList::requireOutsideRenderPass(const char* what) const {
+    requireRecording(what);
+    if (m_inRenderPass)
+        throw Error(ErrorCode::InvalidUsage,
+                    fmt::format("{} is not allowed inside a render pass; call endRenderPass() first", what));
+}
+
+void GLCommandList::requireInsideRenderPass(const char* what) const {
+    requireRecording(what);
+    if (!m_inRenderPass)
+        throw Error(ErrorCode::InvalidUsage, fmt::format("{} needs an active render pass; call beginRenderPass() first", what));
+}
+
+void GLCommandList::begin() {
+    m_commands.clear();
+    m_recording = true;
+    m_recorded = false;
+    m_inRenderPass = false;
+    m_pipeline.reset();
+    m_indexBufferSet = false;
+    m_vertexSlots.clear();
+    m_debugGroupDepth = 0;
+}
+
+void GLCommandList::requireVertexBuffers(const char* what) const {
+    for (const VertexAttribute& attribute : m_pipeline->graphics().vertexAttributes) {
+        if (std::find(m_vertexSlots.begin(), m_vertexSlots.end(), attribute.bufferSlot) == m_vertexSlots.end())
+            throw Error(ErrorCode::InvalidUsage,
+                        fmt::format("{}: the pipeline reads vertex buffer slot {}, but no buffer was set there; call "
+                                    "setVertexBuffer({}, ...) first",
+                                    what, attribute.bufferSlot, attribute.bufferSlot));
+    }
+}
+
+void GLCommandList::end() {
+    requireRecording("end()");
+    if (m_inRenderPass) throw Error(ErrorCode::InvalidUsage, "end() was called inside a render pass; call endRenderPass() first");
+    if (m_debugGroupDepth != 0)
+        throw Error(ErrorCode::InvalidUsage,
+                    fmt::format("end() was called with {} debug group(s) still open; pop them first", m_debugGroupDepth));
+    m_recording = false;
+    m_recorded = true;
+}
+
+void GLCommandList::replay() {
+    if (m_recording || !m_recorded)
+        throw Error(ErrorCode::InvalidUsage, "execute() needs a command list that was recorded with begin() ... end()");
+    for (auto& command : m_commands) command(m_device);
+}
+
+void GLCommandList::beginRenderPass(const RenderPassDesc& desc) {
+    requireOutsideRenderPass("beginRenderPass");
+    const Capabilities& caps = m_device.capabilities();
+    if (desc.colors.empty() && !desc.depth)
+        throw Error(ErrorCode::InvalidDescription, "RenderPassDesc has no attachments; add a colour or depth attachment");
+    if (desc.colors.size() > caps.limits.maxColorAttachments)
+        throw Error(ErrorCode::InvalidDescription,
+                    fmt::format("RenderPassDesc has {} colour attachments; the limit is {}", desc.colors.size(),
+                                caps.limits.maxColorAttachments));
+    uint32_t width = 0, height = 0;
+    auto check = [&](const Attachment& a, const std::string& which, bool wantDepth) {
+        auto texture = cast<GLTexture>(a.texture, "beginRenderPass", "attachment texture");
+        texture->validateSubresource(a.subresource, "beginRenderPass");
+        if (!any(texture->desc().usage, TextureUsage::RenderTarget))
+            throw Error(ErrorCode::InvalidDescription,
+                        fmt::format("beginRenderPass: {} texture '{}' lacks TextureUsage::RenderTarget", which,
+                                    texture->desc().debugName));
+        if (isDepthFormat(texture->desc().format) != wantDepth)
+            throw Error(ErrorCode::InvalidDescription,
+                        fmt::format("beginRenderPass: the {} attachment has format {}, which is {} depth format", which,
+                                    toString(texture->desc().format), wantDepth ? "not a" : "a"));
+        const uint32_t w = texture->width(a.subresource.mipLevel), h = texture->height(a.subresource.mipLevel);
+        if (width == 0) {
+            width = w;
+            height = h;
+        } else if (w != width || h != height) {
+            throw Error(ErrorCode::InvalidDescription,
+                        fmt::format("beginRenderPass: the {} attachment is {}x{} but the others are {}x{}; all "
+                                    "attachments must have the same size",
+                                    which, w, h, width, height));
+        }
+    };
+    for (size_t i = 0; i < desc.colors.size(); ++i) check(desc.colors[i], fmt::format("colour {}", i), false);
+    if (desc.depth) check(*desc.depth, "depth", true);
+    m_inRenderPass = true;
+    record([desc](GLDevice& device) { device.beginRenderPass(desc); });
+}
+
+void GLCommandList::endRenderPass() {
+    requireInsideRenderPass("endRenderPass");
+    m_inRenderPass = false;
+}
+
+void GLCommandList::setViewport(const Viewport& viewport) {
+    requireInsideRenderPass("setViewport");
+    if (!(viewport.width > 0 && viewport.height > 0))
+        throw Error(ErrorCode::InvalidUsage,
+                    fmt::format("setViewport: width {} and height {} must be > 0", viewport.width, viewport.height));
+    record([viewport](GLDevice& device) {
+        const GLFunctions& gl = device.gl();
+        // GL's window origin is row 0 as well, so y needs no flip.
+        gl.glViewport(GLint(viewport.x), GLint(viewport.y), GLsizei(viewport.width), GLsizei(viewport.height));
+        gl.glDepthRangef(viewport.minDepth, viewport.maxDepth);
+    });
+}
+
+void GLCommandList::setScissor(const ScissorRect& scissor) {
+    requireInsideRenderPass("setScissor");
+    record([scissor](GLDevice& device) {
+        device.gl().glScissor(scissor.x, scissor.y, GLsizei(scissor.width), GLsizei(scissor.height));
+    });
+}
+
+void GLCommandList::setPipeline(const PipelineHandle& handle) {
+    requireRecording("setPipeline");
+    auto pipeline = cast<GLPipeline>(handle, "setPipeline", "pipeline");
+    if (pipeline->isCompute() && m_inRenderPass)
+        throw Error(ErrorCode::InvalidUsage, "setPipeline: a compute pipeline cannot be set inside a render pass");
+    m_pipeline = pipeline;
+    record([pipeline](GLDevice& device) { device.bindPipeline(*pipeline); });
+}
+
+void GLCommandList::setBindingSet(uint32_t set, const BindingSetHandle& handle) {
+    requireRecording("setBindingSet");
+    auto bindings = cast<GLBindingSet>(handle, "setBindingSet", "binding set");
+    record([bindings](GLDevice& device) { device.bindBindingSet(bindings->desc()); });
+}
+
+void GLCommandList::setVertexBuffer(uint32_t slot, const BufferHandle& handle, uint64_t offset) {
+    requireRecording("setVertexBuffer");
+    auto buffer = cast<GLBuffer>(handle, "setVertexBuffer", "buffer");
+    if (!any(buffer->desc().usage, BufferUsage::Vertex))
+        throw Error(ErrorCode::InvalidUsage,
+                    fmt::format("setVertexBuffer: buffer '{}' lacks BufferUsage::Vertex", buffer->desc().debugName));
+    if (offset >= buffer->desc().size)
+        throw Error(ErrorCode::InvalidUsage, fmt::format("setVertexBuffer: offset {} is past the end of buffer '{}' ({} bytes)",
+                                                         offset, buffer->desc().debugName, buffer->desc().size));
+    if (std::find(m_vertexSlots.begin(), m_vertexSlots.end(), slot) == m_vertexSlots.end()) m_vertexSlots.push_back(slot);
+    record([buffer, slot, offset](GLDevice& device) { device.setVertexBuffer(slot, buffer->name(), offset); });
+}
+
+void GLCommandList::setIndexBuffer(const BufferHandle& handle, IndexType type, uint64_t offset) {
+    requireRecording("setIndexBuffer");
+    auto buffer = cast<GLBuffer>(handle, "setIndexBuffer", "buffer");
+    if (!any(buffer->desc().usage, BufferUsage::Index))
+        throw Error(ErrorCode::InvalidUsage,
+                    fmt::format("setIndexBuffer: buffer '{}' lacks BufferUsage::Index", buffer->desc().debugName));
+    const uint64_t indexSize = type == IndexType::UInt16 ? 2 : 4;
+    if (offset % indexSize != 0 || offset >= buffer->desc().size)
+        throw Error(ErrorCode::InvalidUsage,
+                    fmt::format("setIndexBuffer: offset {} must be a multiple of {} inside the buffer ({} bytes)",
+                                offset, indexSize, buffer->desc().size));
+    m_indexBufferSet = true;
+    record([buffer, type, offset](GLDevice& device) { device.setIndexBuffer(buffer->name(), type, offset); });
+}
+
+void GLCommandList::draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance) {
+    requireInsideRenderPass("draw");
+    if (!m_pipeline || m_pipeline->isCompute())
+        throw Error(ErrorCode::InvalidUsage, "draw: no graphics pipeline is set; call setPipeline() first");
+    requireVertexBuffers("draw");
+    if (firstInstance != 0 && m_device.isES())
+        throw Error(ErrorCode::InvalidUsage,
+                    "draw: firstInstance must be 0 on OpenGL ES 3.0, which has no base-instance draws");
+    record([=](GLDevice& device) { device.draw(vertexCount, instanceCount, firstVertex, firstInstance); });
+}
+
+void GLCommandList::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex, int32_t vertexOffset,
+                                uint32_t firstInstance) {
+    requireInsideRenderPass("drawIndexed");
+    if (!m_pipeline || m_pipeline->isCompute())
+        throw Error(ErrorCode::InvalidUsage, "drawIndexed: no graphics pipeline is set; call setPipeline() first");
+    requireVertexBuffers("drawIndexed");
+    if (!m_indexBufferSet)
+        throw Error(ErrorCode::InvalidUsage, "drawIndexed: no index buffer is set; call setIndexBuffer() first");
+    if (firstInstance != 0 && m_device.isES())
+        throw Error(ErrorCode::InvalidUsage,
+                    "drawIndexed: firstInstance must be 0 on OpenGL ES 3.0, which has no base-instance draws");
+    record([=](GLDevice& device) { device.drawIndexed(indexCount, instanceCount, firstIndex, vertexOffset, firstInstance); });
+}
+
+void GLCommandList::dispatch(uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ) {
+    m_device.require(Capability::Compute, "dispatch");
+    requireOutsideRenderPass("dispatch");
+    if (!m_pipeline || !m_pipeline->isCompute())
+        throw Error(ErrorCode::InvalidUsage, "dispatch: no compute pipeline is set; call setPipeline() first");
+    const auto& maxCount = m_device.capabilities().limits.maxComputeWorkGroupCount;
+    if (groupsX > maxCount[0] || groupsY > maxCount[1] || groupsZ > maxCount[2])
+        throw Error(ErrorCode::InvalidUsage,
+                    fmt::format("dispatch: {}x{}x{} groups exceed the limit {}x{}x{}", groupsX, groupsY, groupsZ,
+                                maxCount[0], maxCount[1], maxCount[2]));
+    record([=](GLDevice& device) { device.dispatch(groupsX, groupsY, groupsZ); });
+}
+
+void GLCommandList::writeBuffer(const BufferHandle& handle, const void* data, uint64_t size, uint64_t dstOffset) {
+    requireOutsideRenderPass("writeBuffer");
+    auto buffer = cast<GLBuffer>(handle, "writeBuffer", "buffer");
+    checkRange(*buffer, dstOffset, size, "writeBuffer");
+    if (!data) throw Error(ErrorCode::InvalidUsage, "writeBuffer: data is null");
+    // The data is copied now: the caller's memory need not outlive the call.
+    auto bytes = std::make_shared<std::vector<std::byte>>(static_cast<const std::byte*>(data),
+                                                          static_cast<const std::byte*>(data) + size);
+    record([buffer, bytes, dstOffset](GLDevice& device) {
+        device.bufferSubData(*buffer, bytes->data(), bytes->size(), dstOffset);
+    });
+}
+
+void GLCommandList::copyBuffer(const BufferHandle& dstHandle, uint64_t dstOffset, const BufferHandle& srcHandle,
+                               uint64_t srcOffset, uint64_t size) {
+    requireOutsideRenderPass("copyBuffer");
+    auto dst = cast<GLBuffer>(dstHandle, "copyBuffer", "destination buffer");
+    auto src = cast<GLBuffer>(srcHandle, "copyBuffer", "source buffer");
+    checkRange(*dst, dstOffset, size, "copyBuffer (destination)");
+    checkRange(*src, srcOffset, size, "copyBuffer (source)");
+    if (dst == src && dstOffset < srcOffset + size && srcOffset < dstOffset + size)
+        throw Error(ErrorCode::InvalidUsage, "copyBuffer: source and destination ranges overlap in the same buffer");
+    record([=](GLDevice& device) {
+        const GLFunctions& gl = device.gl();
+        gl.glBindBuffer(GL_COPY_READ_BUFFER, src->name());
+        gl.glBindBuffer(GL_COPY_WRITE_BUFFER, dst->name());
+        gl.glCopyBufferSubData(GL_COPY_READ_BUFFER, GL_COPY_WRITE_BUFFER, GLintptr(srcOffset), GLintptr(dstOffset),
+                               GLsizeiptr(size));
+    });
+}
+
+void GLCommandList::copyBufferToTexture(const TextureHandle& dstHandle, TextureSubresource dstSub,
+                                        const BufferHandle& srcHandle, uint64_t srcOffset) {
+    requireOutsideRenderPass("copyBufferToTexture");
+    auto dst = cast<GLTexture>(dstHandle, "copyBufferToTexture", "texture");
+    auto src = cast<GLBuffer>(srcHandle, "copyBufferToTexture", "buffer");
+    dst->validateSubresource(dstSub, "copyBufferToTexture");
+    checkRange(*src, srcOffset, dst->subresourceSize(dstSub.mipLevel), "copyBufferToTexture");
+    record([=](GLDevice& device) {
+        // Unpacking from a bound pixel buffer: the "pointer" is an offset into it.
+        device.gl().glBindBuffer(GL_PIXEL_UNPACK_BUFFER, src->name());
+        device.uploadTexture(*dst, dstSub, reinterpret_cast<const void*>(uintptr_t(srcOffset)));
+        device.gl().glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
+    });
+}
+
+void GLCommandList::copyTextureToBuffer(const BufferHandle& dstHandle, uint64_t dstOffset, const TextureHandle& srcHandle,
+                                        TextureSubresource srcSub) {
+    requireOutsideRenderPass("copyTextureToBuffer");
+    auto dst = cast<GLBuffer>(dstHandle, "copyTextureToBuffer", "buffer");
+    auto src = cast<GLTexture>(srcHandle, "copyTextureToBuffer", "texture");
+    src->validateSubresource(srcSub, "copyTextureToBuffer");
+    checkRange(*dst, dstOffset, src->subresourceSize(srcSub.mipLevel), "copyTextureToBuffer");
+    record([=](GLDevice& device) {
+        // Through the CPU: ES 3.0 can read some formats only in a wider form that needs repacking.
+        const std::vector<std::byte> pixels = device.downloadTexture(*src, srcSub);
+        device.bufferSubData(*dst, pixels.data(), pixels.size(), dstOffset);
+    });
+}
+
+void GLCommandList::copyTexture(const TextureHandle& dstHandle, TextureSubresource dstSub, const TextureHandle& srcHandle,
+                                TextureSubresource srcSub) {
+    requireOutsideRenderPass("copyTexture");
+    auto dst = cast<GLTexture>(dstHandle, "copyTexture", "destination texture");
+    auto src = cast<GLTexture>(srcHandle, "copyTexture", "source texture");
+    dst->validateSubresource(dstSub, "copyTexture");
+    src->validateSubresource(srcSub, "copyTexture");
+    if (dst->desc().format != src->desc().format)
+        throw Error(ErrorCode::InvalidUsage,
+                    fmt::format("copyTexture: formats differ ({} -> {}); copies need the same format",
+                                toString(src->desc().format), toString(dst->desc().format)));
+    if (dst->width(dstSub.mipLevel) != src->width(srcSub.mipLevel) ||
+        dst->height(dstSub.mipLevel) != src->height(srcSub.mipLevel))
+        throw Error(ErrorCode::InvalidUsage,
+                    fmt::format("copyTexture: the source is {}x{} but the destination is {}x{}; sizes must match",
+                                src->width(srcSub.mipLevel), src->height(srcSub.mipLevel), dst->width(dstSub.mipLevel),
+                                dst->height(dstSub.mipLevel)));
+    if (dst == src && dstSub.mipLevel == srcSub.mipLevel && dstSub.layer == srcSub.layer)
+        throw Error(ErrorCode::InvalidUsage, "copyTexture: source and destination are the same subresource");
+    record([=](GLDevice& device) { device.copyTextureImage(*dst, dstSub, *src, srcSub); });
+}
+
+void GLCommandList::generateMips(const TextureHandle& handle) {
+    requireOutsideRenderPass("generateMips");
+    auto texture = cast<GLTexture>(handle, "generateMips", "texture");
+    const Format format = texture->desc().format;
+    if (isDepthFormat(format) || formatInfo(format).kind == FormatKind::UInt)
+        throw Error(ErrorCode::InvalidUsage,
+                    fmt::format("generateMips: {} textures cannot be filtered into mips", toString(format)));
+    const bool float32 = format == Format::RGBA32_FLOAT || format == Format::R32_FLOAT;
+    const bool floatUnrenderable = !m_device.capabilities().floatRenderTargets && formatInfo(format).kind == FormatKind::Float;
+    if (m_device.isES() && (float32 || floatUnrenderable))
+        throw Error(ErrorCode::UnsupportedCapability,
+                    fmt::format("generateMips: OpenGL ES 3.0 cannot generate mips for {} (it must be colour-renderable "
+                                "and filterable); generate them with render passes instead",
+                                toString(format)));
+    record([texture](GLDevice& device) {
+        const GLFunctions& gl = device.gl();
+        gl.glActiveTexture(GL_TEXTURE0 + 31);
+        gl.glBindTexture(texture->target(), texture->name());
+        gl.glGenerateMipmap(texture->target());
+    });
+}
+
+void GLCommandList::beginTimer(const TimerQueryHandle& handle) {
+    requireRecording("beginTimer");
+    auto timer = cast<GLTimerQuery>(handle, "beginTimer", "timer");
+    record([timer](GLDevice& device) {
+        device.timestamp(timer->beginQuery());
+        timer->begun = true;
+        timer->ended = false;
+    });
+}
+
+void GLCommandList::endTimer(const TimerQueryHandle& handle) {
+    requireRecording("endTimer");
+    auto timer = cast<GLTimerQuery>(handle, "endTimer", "timer");
+    record([timer](GLDevice& device) {
+        device.timestamp(timer->endQuery());
+        timer->ended = true;
+    });
+}
+
+void GLCommandList::pushDebugGroup(std::string_view name) {
+    requireRecording("pushDebugGroup");
+    ++m_debugGroupDepth;
+    record([label = std::string(name)](GLDevice& device) {
+        if (device.gl().glPushDebugGroup)
+            device.gl().glPushDebugGroup(GL_DEBUG_SOURCE_APPLICATION, 0, GLsizei(label.size()), label.c_str());
+    });
+}
+
+void GLCommandList::popDebugGroup() {
+    requireRecording("popDebugGroup");
+    if (m_debugGroupDepth == 0) throw Error(ErrorCode::InvalidUsage, "popDebugGroup: no debug group is open");
+    --m_debugGroupDepth;
+    record([](GLDevice& device) {
+        if (device.gl().glPopDebugGroup) device.gl().glPopDebugGroup();
+    });
+}
+
+// ---------------------------------------------------------------------------------------------
+// Replay (GLDevice)
+
+void GLDevice::beginRenderPass(const RenderPassDesc& desc) {
+    const GLFunctions& f = gl();
+    FramebufferKey key;
+    std::vector<const GLTexture*> colors;
+    const GLTexture* depth = nullptr;
+    for (const Attachment& a : desc.colors) {
+        auto* texture = static_cast<const GLTexture*>(a.texture.get());
+        colors.push_back(texture);
+        key.colors.push_back({texture->name(), a.subresource.mipLevel, a.subresource.layer});
+    }
+    if (desc.depth) {
+        depth = static_cast<const GLTexture*>(desc.depth->texture.get());
+        key.depth = {depth->name(), desc.depth->subresource.mipLevel, desc.depth->subresource.layer};
+    }
+    const GLuint fbo = m_context->framebuffer(key, colors, depth);
+    f.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo);
+
+    const GLTexture* any = colors.empty() ? depth : colors[0];
+    const uint32_t mip = colors.empty() ? desc.depth->subresource.mipLevel : desc.colors[0].subresource.mipLevel;
+    m_renderWidth = any->width(mip);
+    m_renderHeight = any->height(mip);
+    f.glViewport(0, 0, GLsizei(m_renderWidth), GLsizei(m_renderHeight));
+    f.glScissor(0, 0, GLsizei(m_renderWidth), GLsizei(m_renderHeight));
+    f.glDepthRangef(0.0f, 1.0f);
+
+    // Clears obey the write masks, which the previous pipeline may have narrowed.
+    f.glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    f.glDepthMask(GL_TRUE);
+    for (size_t i = 0; i < desc.colors.size(); ++i) {
+        const Attachment& a = desc.colors[i];
+        if (a.loadOp != LoadOp::Clear) continue;
+        if (formatInfo(colors[i]->desc().format).kind == FormatKind::UInt) {
+            const GLuint value[4] = {GLuint(a.clearColor[0]), GLuint(a.clearColor[1]), GLuint(a.clearColor[2]),
+                                     GLuint(a.clearColor[3])};
+            f.glClearBufferuiv(GL_COLOR, GLint(i), value);
+        } else {
+            f.glClearBufferfv(GL_COLOR, GLint(i), a.clearColor.data());
+        }
+    }
+    if (desc.depth && desc.depth->loadOp == LoadOp::Clear) f.glClearBufferfv(GL_DEPTH, 0, &desc.depth->clearDepth);
+    if (m_pipeline) m_pipeline->applyState();
+}
+
+void GLDevice::bindPipeline(const GLPipeline& pipeline) {
+    m_pipeline = &pipeline;
+    pipeline.applyState();
+}
+
+void GLDevice::bindBindingSet(const BindingSetDesc& desc) {
+    const GLFunctions& f = gl();
+    for (const BindingItem& item : desc.items) {
+        switch (item.type) {
+            case ResourceType::UniformBuffer:
+            case ResourceType::StorageBuffer: {
+                auto* buffer = static_cast<const GLBuffer*>(item.buffer.get());
+                const uint64_t range = item.range ? item.range : buffer->desc().size - item.offset;
+                f.glBindBufferRange(item.type == ResourceType::UniformBuffer ? GL_UNIFORM_BUFFER : GL_SHADER_STORAGE_BUFFER,
+                                    item.binding, buffer->name(), GLintptr(item.offset), GLsizeiptr(range));
+                break;
+            }
+            case ResourceType::SampledTexture: {
+                auto* texture = static_cast<const GLTexture*>(item.texture.get());
+                auto* sampler = static_cast<const GLSampler*>(item.sampler.get());
+                f.glActiveTexture(GL_TEXTURE0 + item.binding);
+                f.glBindTexture(texture->target(), texture->name());
+                f.glBindSampler(item.binding, sampler->nameFor(*texture, m_floatLinearFilterable));
+                break;
+            }
+            case ResourceType::StorageImage: {
+                auto* texture = static_cast<const GLTexture*>(item.texture.get());
+                // Layered, so a compute shader can write every slice of a 3D texture.
+                f.glBindImageTexture(item.binding, texture->name(), GLint(item.mipLevel), GL_TRUE, 0, GL_READ_WRITE,
+                                     texture->format().internalFormat);
+                break;
+            }
+        }
+    }
+}
+
+void GLDevice::setVertexBuffer(uint32_t slot, GLuint buffer, uint64_t offset) { m_vertexBuffers[slot] = {buffer, offset}; }
+
+void GLDevice::setIndexBuffer(GLuint buffer, IndexType type, uint64_t offset) {
+    m_indexBuffer = buffer;
+    m_indexType = type;
+    m_indexOffset = offset;
+}
+
+void GLDevice::bindVertexAttributes(int64_t baseVertexOffset) {
+    const GLFunctions& f = gl();
+    const GraphicsPipelineDesc& desc = m_pipeline->graphics();
+    uint32_t wanted = 0;
+    for (const VertexAttribute& attribute : desc.vertexAttributes) {
+        const VertexBufferLayout& layout = *std::find_if(desc.vertexBuffers.begin(), desc.vertexBuffers.end(),
+                                                         [&](const VertexBufferLayout& l) { return l.slot == attribute.bufferSlot; });
+        const auto binding = m_vertexBuffers.find(attribute.bufferSlot);   // present: checked at record time
+        const int64_t stepOffset = layout.perInstance ? 0 : baseVertexOffset * int64_t(layout.stride);
+        const auto pointer = reinterpret_cast<const void*>(
+            uintptr_t(int64_t(binding->second.offset) + int64_t(attribute.offset) + stepOffset));
+        f.glBindBuffer(GL_ARRAY_BUFFER, binding->second.buffer);
+        const GLuint location = attribute.location;
+        const auto stride = GLsizei(layout.stride);
+        switch (attribute.format) {
+            case VertexFormat::Float1: f.glVertexAttribPointer(location, 1, GL_FLOAT, GL_FALSE, stride, pointer); break;
+            case VertexFormat::Float2: f.glVertexAttribPointer(location, 2, GL_FLOAT, GL_FALSE, stride, pointer); break;
+            case VertexFormat::Float3: f.glVertexAttribPointer(location, 3, GL_FLOAT, GL_FALSE, stride, pointer); break;
+            case VertexFormat::Float4: f.glVertexAttribPointer(location, 4, GL_FLOAT, GL_FALSE, stride, pointer); break;
+            case VertexFormat::UByte4Norm:
+                f.glVertexAttribPointer(location, 4, GL_UNSIGNED_BYTE, GL_TRUE, stride, pointer);
+                break;
+            case VertexFormat::UInt1: f.glVertexAttribIPointer(location, 1, GL_UNSIGNED_INT, stride, pointer); break;
+        }
+        f.glVertexAttribDivisor(location, layout.perInstance ? 1 : 0);
+        wanted |= 1u << location;
+    }
+    for (GLuint location = 0; location < 16; ++location) {
+        const uint32_t bit = 1u << location;
+        if ((wanted & bit) && !(m_enabledAttributes & bit)) f.glEnableVertexAttribArray(location);
+        if (!(wanted & bit) && (m_enabledAttributes & bit)) f.glDisableVertexAttribArray(location);
+    }
+    m_enabledAttributes = wanted;
+}
+
+void GLDevice::draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance) {
+    const GLFunctions& f = gl();
+    bindVertexAttributes(0);
+    const GLenum mode = primitiveMode(m_pipeline->graphics().topology);
+    // SPIRV-Cross emulates gl_InstanceIndex as gl_InstanceID + this uniform.
+    if (m_pipeline->baseInstanceLocation() >= 0) f.glUniform1i(m_pipeline->baseInstanceLocation(), GLint(firstInstance));
+    if (firstInstance != 0)
+        f.glDrawArraysInstancedBaseInstance(mode, GLint(firstVertex), GLsizei(vertexCount), GLsizei(instanceCount),
+                                            firstInstance);
+    else
+        f.glDrawArraysInstanced(mode, GLint(firstVertex), GLsizei(vertexCount), GLsizei(instanceCount));
+}
+
+void GLDevice::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex, int32_t vertexOffset,
+                           uint32_t firstInstance) {
+    const GLFunctions& f = gl();
+    const GLenum mode = primitiveMode(m_pipeline->graphics().topology);
+    const GLenum type = m_indexType == IndexType::UInt16 ? GL_UNSIGNED_SHORT : GL_UNSIGNED_INT;
+    const uint64_t indexSize = m_indexType == IndexType::UInt16 ? 2 : 4;
+    const auto indices = reinterpret_cast<const void*>(uintptr_t(m_indexOffset + uint64_t(firstIndex) * indexSize));
+    if (m_pipeline->baseInstanceLocation() >= 0) f.glUniform1i(m_pipeline->baseInstanceLocation(), GLint(firstInstance));
+    f.glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, m_indexBuffer);
+    if (!isES()) {
+        bindVertexAttributes(0);
+        f.glDrawElementsInstancedBaseVertexBaseInstance(mode, GLsizei(indexCount), type, indices, GLsizei(instanceCount),
+                                                        vertexOffset, firstInstance);
+        return;
+    }
+    // ES 3.0 has no base vertex: shift the per-vertex attribute pointers instead.
+    bindVertexAttributes(vertexOffset);
+    f.glDrawElementsInstanced(mode, GLsizei(indexCount), type, indices, GLsizei(instanceCount));
+}
+
+void GLDevice::dispatch(uint32_t x, uint32_t y, uint32_t z) {
+    const GLFunctions& f = gl();
+    f.glDispatchCompute(x, y, z);
+    // Conservative: whatever reads the results next (draws, copies, mapping) sees them.
+    f.glMemoryBarrier(GL_ALL_BARRIER_BITS);
+}
+
+}  // namespace janus::rhi::gl

@@ -1,0 +1,349 @@
+// Internal types of the GL backend (OpenGL 4.3 core and OpenGL ES 3.0 share all of them; the
+// differences are flags on GLContext and on the device's capabilities).
+#pragma once
+
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "gl_functions.h"
+#include "gl_platform.h"
+#include "janus/rhi/rhi.h"
+
+namespace janus::rhi::gl {
+
+// How a Janus format is stored and transferred in GL.
+struct GLFormat {
+    GLenum internalFormat = 0;
+    GLenum uploadFormat = 0;   // pixel format of tightly packed Janus data
+    GLenum uploadType = 0;
+};
+const GLFormat& glFormat(Format format);
+GLenum compareFunction(CompareOp op);
+
+// One attachment of a framebuffer object: which texture image it shows.
+struct AttachmentKey {
+    GLuint texture = 0;
+    uint32_t mipLevel = 0;
+    uint32_t layer = 0;
+    auto operator<=>(const AttachmentKey&) const = default;
+};
+
+struct FramebufferKey {
+    std::vector<AttachmentKey> colors;
+    AttachmentKey depth;   // texture 0 = none
+    auto operator<=>(const FramebufferKey&) const = default;
+};
+
+class GLTexture;
+
+// The context and everything tied to it. Shared by the device and every resource, so GL objects
+// can be deleted (with their context current) in whatever order handles are released.
+class GLContext {
+public:
+    GLContext(std::unique_ptr<Platform> platform, bool es);
+    ~GLContext();
+    GLContext(const GLContext&) = delete;
+    GLContext& operator=(const GLContext&) = delete;
+
+    // Makes this context current on the calling thread unless it already is.
+    void makeCurrent();
+
+    bool isES() const { return m_es; }
+    const std::string& platformName() const { return m_platformName; }
+
+    // Framebuffer objects are cached by attachments; a texture's deletion drops those naming it
+    // (GL reuses texture names, so a stale entry would render into a deleted texture).
+    GLuint framebuffer(const FramebufferKey& key, const std::vector<const GLTexture*>& colorTextures,
+                       const GLTexture* depthTexture);
+    void forgetTexture(GLuint texture);
+
+    // Debug output, filled by the KHR_debug callback.
+    void collectDebugMessage(DebugMessage message);
+    std::vector<DebugMessage> takeDebugMessages();
+    std::function<void(const DebugMessage&)> messageCallback;
+
+    GLFunctions gl;
+    GLuint vertexArray = 0;
+
+private:
+    std::unique_ptr<Platform> m_platform;
+    bool m_es;
+    std::string m_platformName;
+    std::map<FramebufferKey, GLuint> m_framebuffers;
+    std::vector<DebugMessage> m_debugMessages;
+};
+using ContextPtr = std::shared_ptr<GLContext>;
+
+// ---------------------------------------------------------------------------------------------
+
+class GLBuffer final : public IBuffer {
+public:
+    GLBuffer(ContextPtr context, const BufferDesc& desc);
+    ~GLBuffer() override;
+    const BufferDesc& desc() const override { return m_desc; }
+    GLuint name() const { return m_name; }
+
+private:
+    ContextPtr m_context;
+    BufferDesc m_desc;
+    GLuint m_name = 0;
+};
+
+class GLTexture final : public ITexture {
+public:
+    GLTexture(ContextPtr context, const TextureDesc& resolvedDesc);
+    ~GLTexture() override;
+    const TextureDesc& desc() const override { return m_desc; }
+    GLuint name() const { return m_name; }
+    GLenum target() const { return m_target; }
+    const GLFormat& format() const { return glFormat(m_desc.format); }
+    // Width/height/depth-or-layers of a mip level.
+    uint32_t width(uint32_t mip) const { return mipExtent(m_desc.width, mip); }
+    uint32_t height(uint32_t mip) const { return mipExtent(m_desc.height, mip); }
+    uint32_t layers(uint32_t mip) const;
+    uint64_t subresourceSize(uint32_t mip) const;
+    // Throws InvalidUsage when `sub` does not exist in this texture.
+    void validateSubresource(TextureSubresource sub, const char* what) const;
+    // Attaches one image to the bound framebuffer object at `attachmentPoint`.
+    void attach(GLenum framebufferTarget, GLenum attachmentPoint, uint32_t mip, uint32_t layer) const;
+
+private:
+    ContextPtr m_context;
+    TextureDesc m_desc;
+    GLuint m_name = 0;
+    GLenum m_target = 0;
+};
+
+class GLSampler final : public ISampler {
+public:
+    GLSampler(ContextPtr context, const SamplerDesc& desc, bool anisotropySupported);
+    ~GLSampler() override;
+    const SamplerDesc& desc() const override { return m_desc; }
+    // The sampler for `texture`: integer textures (and, where GL says so, unfilterable ones) are
+    // incomplete under linear filtering, so they get a nearest-filtering twin of this sampler.
+    GLuint nameFor(const GLTexture& texture, bool floatLinearFilterable) const;
+
+private:
+    ContextPtr m_context;
+    SamplerDesc m_desc;
+    GLuint m_name = 0;
+    GLuint m_nearestName = 0;
+};
+
+// What one shader uses at which binding point (from SPIRV-Cross reflection).
+struct ShaderBinding {
+    ResourceType type;
+    uint32_t binding;
+    std::string glName;   // block name (buffers) or uniform name (textures, images)
+};
+
+class GLShader final : public IShader {
+public:
+    GLShader(ContextPtr context, const ShaderDesc& desc);
+    ~GLShader() override;
+    const ShaderDesc& desc() const override { return m_desc; }
+    std::string translatedSource() const override { return m_source; }
+    GLuint name() const { return m_name; }
+    const std::vector<ShaderBinding>& bindings() const { return m_bindings; }
+
+private:
+    ContextPtr m_context;
+    ShaderDesc m_desc;
+    std::string m_source;
+    GLuint m_name = 0;
+    std::vector<ShaderBinding> m_bindings;
+};
+
+class GLPipeline final : public IPipeline {
+public:
+    GLPipeline(ContextPtr context, const GraphicsPipelineDesc& desc);
+    GLPipeline(ContextPtr context, const ComputePipelineDesc& desc);
+    ~GLPipeline() override;
+    bool isCompute() const override { return m_compute; }
+    GLuint program() const { return m_program; }
+    const GraphicsPipelineDesc& graphics() const { return m_graphics; }
+    // Location of SPIRV-Cross's emulated gl_InstanceIndex base, or -1.
+    GLint baseInstanceLocation() const { return m_baseInstanceLocation; }
+    const std::vector<ShaderBinding>& bindings() const { return m_bindings; }
+    // Applies rasterizer, depth and blend state.
+    void applyState() const;
+
+private:
+    void link(const std::vector<const GLShader*>& shaders, const std::string& debugName);
+
+    ContextPtr m_context;
+    bool m_compute = false;
+    GraphicsPipelineDesc m_graphics;
+    GLuint m_program = 0;
+    GLint m_baseInstanceLocation = -1;
+    std::vector<ShaderBinding> m_bindings;
+};
+
+class GLBindingSet final : public IBindingSet {
+public:
+    explicit GLBindingSet(const BindingSetDesc& desc) : m_desc(desc) {}
+    const BindingSetDesc& desc() const override { return m_desc; }
+
+private:
+    BindingSetDesc m_desc;
+};
+
+class GLTimerQuery final : public ITimerQuery {
+public:
+    explicit GLTimerQuery(ContextPtr context);
+    ~GLTimerQuery() override;
+    GLuint beginQuery() const { return m_queries[0]; }
+    GLuint endQuery() const { return m_queries[1]; }
+    bool begun = false;
+    bool ended = false;
+
+private:
+    ContextPtr m_context;
+    GLuint m_queries[2] = {0, 0};
+};
+
+// ---------------------------------------------------------------------------------------------
+
+class GLDevice;
+
+class GLCommandList final : public ICommandList {
+public:
+    explicit GLCommandList(GLDevice& device) : m_device(device) {}
+
+    void begin() override;
+    void end() override;
+    void beginRenderPass(const RenderPassDesc& desc) override;
+    void endRenderPass() override;
+    void setViewport(const Viewport& viewport) override;
+    void setScissor(const ScissorRect& scissor) override;
+    void setPipeline(const PipelineHandle& pipeline) override;
+    void setBindingSet(uint32_t set, const BindingSetHandle& bindings) override;
+    void setVertexBuffer(uint32_t slot, const BufferHandle& buffer, uint64_t offset) override;
+    void setIndexBuffer(const BufferHandle& buffer, IndexType type, uint64_t offset) override;
+    void draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance) override;
+    void drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex, int32_t vertexOffset,
+                     uint32_t firstInstance) override;
+    void dispatch(uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ) override;
+    void writeBuffer(const BufferHandle& dst, const void* data, uint64_t size, uint64_t dstOffset) override;
+    void copyBuffer(const BufferHandle& dst, uint64_t dstOffset, const BufferHandle& src, uint64_t srcOffset,
+                    uint64_t size) override;
+    void copyBufferToTexture(const TextureHandle& dst, TextureSubresource dstSub, const BufferHandle& src,
+                             uint64_t srcOffset) override;
+    void copyTextureToBuffer(const BufferHandle& dst, uint64_t dstOffset, const TextureHandle& src,
+                             TextureSubresource srcSub) override;
+    void copyTexture(const TextureHandle& dst, TextureSubresource dstSub, const TextureHandle& src,
+                     TextureSubresource srcSub) override;
+    void generateMips(const TextureHandle& texture) override;
+    void beginTimer(const TimerQueryHandle& timer) override;
+    void endTimer(const TimerQueryHandle& timer) override;
+    void pushDebugGroup(std::string_view name) override;
+    void popDebugGroup() override;
+
+    // Called by GLDevice::execute.
+    void replay();
+
+private:
+    void record(std::function<void(GLDevice&)> command) { m_commands.push_back(std::move(command)); }
+    void requireRecording(const char* what) const;
+    void requireOutsideRenderPass(const char* what) const;
+    void requireInsideRenderPass(const char* what) const;
+
+    GLDevice& m_device;
+    std::vector<std::function<void(GLDevice&)>> m_commands;
+    bool m_recording = false;
+    bool m_recorded = false;
+    bool m_inRenderPass = false;
+    std::shared_ptr<GLPipeline> m_pipeline;   // last pipeline set (validation at record time)
+    bool m_indexBufferSet = false;
+    std::vector<uint32_t> m_vertexSlots;   // slots given a buffer since begin()
+    int m_debugGroupDepth = 0;
+    void requireVertexBuffers(const char* what) const;
+};
+
+// ---------------------------------------------------------------------------------------------
+
+class GLDevice final : public IDevice {
+public:
+    explicit GLDevice(const DeviceDesc& desc);
+    ~GLDevice() override;
+
+    const DeviceInfo& info() const override { return m_info; }
+    const Capabilities& capabilities() const override { return m_caps; }
+
+    BufferHandle createBuffer(const BufferDesc& desc) override;
+    TextureHandle createTexture(const TextureDesc& desc) override;
+    SamplerHandle createSampler(const SamplerDesc& desc) override;
+    ShaderHandle createShader(const ShaderDesc& desc) override;
+    PipelineHandle createGraphicsPipeline(const GraphicsPipelineDesc& desc) override;
+    PipelineHandle createComputePipeline(const ComputePipelineDesc& desc) override;
+    BindingSetHandle createBindingSet(const BindingSetDesc& desc) override;
+    TimerQueryHandle createTimerQuery() override;
+    CommandListHandle createCommandList() override;
+
+    void execute(const CommandListHandle& commandList) override;
+    void waitIdle() override;
+
+    void writeBuffer(const BufferHandle& buffer, const void* data, uint64_t size, uint64_t offset) override;
+    std::vector<std::byte> readBuffer(const BufferHandle& buffer, uint64_t offset, uint64_t size) override;
+    void writeTexture(const TextureHandle& texture, TextureSubresource sub, const void* data, uint64_t size) override;
+    std::vector<std::byte> readTexture(const TextureHandle& texture, TextureSubresource sub) override;
+    std::optional<double> timerSeconds(const TimerQueryHandle& timer) override;
+    std::vector<DebugMessage> takeDebugMessages() override;
+    void provokeValidationErrorForTesting() override;
+
+    // --- used while replaying command lists (context current) ---
+    GLContext& context() { return *m_context; }
+    const GLFunctions& gl() const { return m_context->gl; }
+    bool isES() const { return m_context->isES(); }
+    void bufferSubData(const GLBuffer& buffer, const void* data, uint64_t size, uint64_t offset);
+    void uploadTexture(const GLTexture& texture, TextureSubresource sub, const void* pixels);
+    std::vector<std::byte> downloadTexture(const GLTexture& texture, TextureSubresource sub);
+    void copyTextureImage(const GLTexture& dst, TextureSubresource dstSub, const GLTexture& src,
+                          TextureSubresource srcSub);
+    void beginRenderPass(const RenderPassDesc& desc);
+    void bindPipeline(const GLPipeline& pipeline);
+    void bindBindingSet(const BindingSetDesc& desc);
+    void setVertexBuffer(uint32_t slot, GLuint buffer, uint64_t offset);
+    void setIndexBuffer(GLuint buffer, IndexType type, uint64_t offset);
+    void draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance);
+    void drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex, int32_t vertexOffset,
+                     uint32_t firstInstance);
+    void dispatch(uint32_t x, uint32_t y, uint32_t z);
+    void timestamp(GLuint query);
+    uint32_t renderWidth() const { return m_renderWidth; }
+    uint32_t renderHeight() const { return m_renderHeight; }
+
+private:
+    void detectCapabilities();
+    void setupDebugOutput();
+    void setupDefaultState();
+    void bindVertexAttributes(int64_t baseVertexOffset);
+    bool hasExtension(std::string_view name) const;
+
+    ContextPtr m_context;
+    DeviceInfo m_info;
+    Capabilities m_caps;
+    std::vector<std::string> m_extensions;
+    bool m_floatLinearFilterable = true;
+    bool m_anisotropy = false;
+    bool m_readDepthNV = false;
+
+    // Replay state.
+    const GLPipeline* m_pipeline = nullptr;
+    struct VertexBinding { GLuint buffer = 0; uint64_t offset = 0; };
+    std::map<uint32_t, VertexBinding> m_vertexBuffers;
+    GLuint m_indexBuffer = 0;
+    IndexType m_indexType = IndexType::UInt32;
+    uint64_t m_indexOffset = 0;
+    uint32_t m_enabledAttributes = 0;   // bit per location
+    uint32_t m_renderWidth = 0, m_renderHeight = 0;
+};
+
+// Turns the info log and source of a failed compile into an error message that quotes the
+// offending line of the translated source.
+std::string describeCompileFailure(const std::string& log, const std::string& source);
+
+}  // namespace janus::rhi::gl

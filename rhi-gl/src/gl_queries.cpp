@@ -1,0 +1,17 @@
+// GPU timers: a pair of GL_TIMESTAMP queries (64-bit results; 32-bit ones wrap within seconds).
+#include "gl_device.h"
+
+namespace janus::rhi::gl {
+
+GLTimerQuery::GLTimerQuery(ContextPtr context) : m_context(std::move(context)) {
+    m_context->gl.glGenQueries(2, m_queries);
+}
+
+GLTimerQuery::~GLTimerQuery() {
+    m_context->makeCurrent();
+    m_context->gl.glDeleteQueries(2, m_queries);
+}
+
+void GLDevice::timestamp(GLuint query) { gl().glQueryCounter(query, GL_TIMESTAMP); }
+
+}  // namespace janus::rhi::gl

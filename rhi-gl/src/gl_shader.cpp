@@ -1,0 +1,352 @@
+// Shaders (SPIR-V -> GLSL 430 / ESSL 300 with SPIRV-Cross) and pipelines (linked programs plus
+// the fixed-function state they apply).
+#include <spirv_cross/spirv_glsl.hpp>
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cstring>
+#include <regex>
+#include <sstream>
+
+#include "gl_device.h"
+
+namespace janus::rhi::gl {
+
+namespace {
+
+constexpr uint32_t kSpirvMagic = 0x07230203;
+
+spv::ExecutionModel executionModel(ShaderStage stage) {
+    switch (stage) {
+        case ShaderStage::Vertex: return spv::ExecutionModelVertex;
+        case ShaderStage::Fragment: return spv::ExecutionModelFragment;
+        case ShaderStage::Compute: return spv::ExecutionModelGLCompute;
+    }
+    return spv::ExecutionModelVertex;
+}
+
+GLenum shaderType(ShaderStage stage) {
+    switch (stage) {
+        case ShaderStage::Vertex: return GL_VERTEX_SHADER;
+        case ShaderStage::Fragment: return GL_FRAGMENT_SHADER;
+        case ShaderStage::Compute: return GL_COMPUTE_SHADER;
+    }
+    return GL_VERTEX_SHADER;
+}
+
+std::string shaderLabel(const ShaderDesc& desc) {
+    return desc.debugName.empty() ? fmt::format("{} shader", toString(desc.stage))
+                                  : fmt::format("{} shader '{}'", toString(desc.stage), desc.debugName);
+}
+
+struct Translation {
+    std::string source;
+    std::vector<ShaderBinding> bindings;
+};
+
+// Names every resource after its binding and every stage variable after its location, so that
+// (a) the program's resources can be found by name to assign binding points on ES 3.0, which has
+// no `binding` layout, and (b) vertex outputs match fragment inputs whatever the sources called them.
+Translation translate(const ShaderDesc& desc, bool es) {
+    spirv_cross::CompilerGLSL compiler(desc.spirv);
+    compiler.set_entry_point(desc.entryPoint, executionModel(desc.stage));
+    const spirv_cross::ShaderResources resources = compiler.get_shader_resources();
+    const std::string label = shaderLabel(desc);
+
+    if (!resources.separate_images.empty() || !resources.separate_samplers.empty())
+        throw Error(ErrorCode::ShaderTranslation,
+                    fmt::format("{} uses separate textures/samplers; the Janus binding model takes combined image "
+                                "samplers (sampler2D, ...), so declare those instead",
+                                label));
+    if (!resources.push_constant_buffers.empty())
+        throw Error(ErrorCode::ShaderTranslation,
+                    fmt::format("{} uses push constants, which the Janus RHI does not have; use a uniform buffer",
+                                label));
+
+    Translation result;
+    auto flatten = [&](const spirv_cross::Resource& resource, ResourceType type) {
+        const uint32_t binding = compiler.get_decoration(resource.id, spv::DecorationBinding);
+        // Sets are flattened: the binding number alone is the GL binding point.
+        compiler.unset_decoration(resource.id, spv::DecorationDescriptorSet);
+        std::string glName;
+        switch (type) {
+            case ResourceType::UniformBuffer:
+                glName = fmt::format("JanusUniforms{}", binding);
+                compiler.set_name(resource.base_type_id, glName);
+                break;
+            case ResourceType::StorageBuffer:
+                glName = fmt::format("JanusStorage{}", binding);
+                compiler.set_name(resource.base_type_id, glName);
+                break;
+            case ResourceType::SampledTexture:
+                glName = fmt::format("janus_texture{}", binding);
+                compiler.set_name(resource.id, glName);
+                break;
+            case ResourceType::StorageImage:
+                glName = fmt::format("janus_image{}", binding);
+                compiler.set_name(resource.id, glName);
+                break;
+        }
+        result.bindings.push_back({type, binding, glName});
+    };
+    for (const auto& r : resources.uniform_buffers) flatten(r, ResourceType::UniformBuffer);
+    for (const auto& r : resources.storage_buffers) flatten(r, ResourceType::StorageBuffer);
+    for (const auto& r : resources.sampled_images) flatten(r, ResourceType::SampledTexture);
+    for (const auto& r : resources.storage_images) flatten(r, ResourceType::StorageImage);
+
+    auto renameByLocation = [&](const spirv_cross::SmallVector<spirv_cross::Resource>& variables, const char* prefix) {
+        for (const auto& r : variables) {
+            if (!compiler.has_decoration(r.id, spv::DecorationLocation)) continue;
+            compiler.set_name(r.id, fmt::format("{}{}", prefix, compiler.get_decoration(r.id, spv::DecorationLocation)));
+        }
+    };
+    if (desc.stage == ShaderStage::Vertex) {
+        renameByLocation(resources.stage_inputs, "janus_attribute");
+        renameByLocation(resources.stage_outputs, "janus_varying");
+    } else if (desc.stage == ShaderStage::Fragment) {
+        renameByLocation(resources.stage_inputs, "janus_varying");
+        renameByLocation(resources.stage_outputs, "janus_color");
+    }
+
+    spirv_cross::CompilerGLSL::Options options = compiler.get_common_options();
+    options.version = es ? 300 : 430;
+    options.es = es;
+    options.vulkan_semantics = false;
+    // Our clip depth is [0, 1] (Vulkan's); GL's is [-1, 1]. Rows need no flip (see Conventions).
+    options.vertex.fixup_clipspace = true;
+    options.vertex.flip_vert_y = false;
+    // ES defaults fragment floats to mediump; every backend must compute in full precision to agree.
+    options.fragment.default_float_precision = spirv_cross::CompilerGLSL::Options::Highp;
+    options.fragment.default_int_precision = spirv_cross::CompilerGLSL::Options::Highp;
+    compiler.set_common_options(options);
+    result.source = compiler.compile();
+    return result;
+}
+
+}  // namespace
+
+std::string describeCompileFailure(const std::string& log, const std::string& source) {
+    std::string message = log;
+    // Mesa reports "0:LINE(COLUMN): error: ..."; quote that line of the translated source.
+    std::smatch match;
+    static const std::regex kLocation(R"((\d+):(\d+)\((\d+)\))");
+    if (std::regex_search(log, match, kLocation)) {
+        const int lineNumber = std::stoi(match[2].str());
+        std::istringstream lines(source);
+        std::string line;
+        for (int i = 1; std::getline(lines, line); ++i) {
+            if (i == lineNumber) {
+                message += fmt::format("\nat line {} of the translated source: {}", lineNumber, line);
+                break;
+            }
+        }
+    }
+    return message;
+}
+
+GLShader::GLShader(ContextPtr context, const ShaderDesc& desc) : m_context(std::move(context)), m_desc(desc) {
+    const std::string label = shaderLabel(desc);
+    if (desc.spirv.empty() || desc.spirv[0] != kSpirvMagic)
+        throw Error(ErrorCode::ShaderTranslation,
+                    fmt::format("{}: ShaderDesc::spirv is {}; pass SPIR-V words (e.g. janus::shaders::get(name))",
+                                label, desc.spirv.empty() ? "empty" : "not SPIR-V (wrong magic number)"));
+    Translation translation;
+    try {
+        translation = translate(desc, m_context->isES());
+    } catch (const spirv_cross::CompilerError& e) {
+        throw Error(ErrorCode::ShaderTranslation,
+                    fmt::format("SPIRV-Cross cannot express {} in {}: {}", label,
+                                m_context->isES() ? "ESSL 300" : "GLSL 430", e.what()));
+    }
+    m_source = std::move(translation.source);
+    m_bindings = std::move(translation.bindings);
+
+    const GLFunctions& gl = m_context->gl;
+    m_name = gl.glCreateShader(shaderType(desc.stage));
+    const char* text = m_source.c_str();
+    gl.glShaderSource(m_name, 1, &text, nullptr);
+    gl.glCompileShader(m_name);
+    GLint compiled = GL_FALSE;
+    gl.glGetShaderiv(m_name, GL_COMPILE_STATUS, &compiled);
+    if (!compiled) {
+        GLint length = 0;
+        gl.glGetShaderiv(m_name, GL_INFO_LOG_LENGTH, &length);
+        std::string log(size_t(std::max(length, 1)), '\0');
+        gl.glGetShaderInfoLog(m_name, GLsizei(log.size()), nullptr, log.data());
+        log.resize(std::strlen(log.c_str()));
+        gl.glDeleteShader(m_name);
+        throw Error(ErrorCode::ShaderCompilation,
+                    fmt::format("the driver rejected the translated {}: {}", label, describeCompileFailure(log, m_source)));
+    }
+}
+
+GLShader::~GLShader() {
+    m_context->makeCurrent();
+    m_context->gl.glDeleteShader(m_name);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Pipelines
+
+GLPipeline::GLPipeline(ContextPtr context, const GraphicsPipelineDesc& desc)
+    : m_context(std::move(context)), m_graphics(desc) {
+    auto* vs = dynamic_cast<const GLShader*>(desc.vertexShader.get());
+    auto* fs = dynamic_cast<const GLShader*>(desc.fragmentShader.get());
+    if (!vs || !fs) throw Error(ErrorCode::InvalidDescription, "the pipeline's shaders come from another backend");
+    link({vs, fs}, desc.debugName);
+}
+
+GLPipeline::GLPipeline(ContextPtr context, const ComputePipelineDesc& desc)
+    : m_context(std::move(context)), m_compute(true) {
+    auto* cs = dynamic_cast<const GLShader*>(desc.computeShader.get());
+    if (!cs) throw Error(ErrorCode::InvalidDescription, "the pipeline's compute shader comes from another backend");
+    link({cs}, desc.debugName);
+}
+
+GLPipeline::~GLPipeline() {
+    m_context->makeCurrent();
+    m_context->gl.glDeleteProgram(m_program);
+}
+
+void GLPipeline::link(const std::vector<const GLShader*>& shaders, const std::string& debugName) {
+    const GLFunctions& gl = m_context->gl;
+    m_program = gl.glCreateProgram();
+    for (const GLShader* shader : shaders) gl.glAttachShader(m_program, shader->name());
+    gl.glLinkProgram(m_program);
+    for (const GLShader* shader : shaders) gl.glDetachShader(m_program, shader->name());
+    GLint linked = GL_FALSE;
+    gl.glGetProgramiv(m_program, GL_LINK_STATUS, &linked);
+    if (!linked) {
+        GLint length = 0;
+        gl.glGetProgramiv(m_program, GL_INFO_LOG_LENGTH, &length);
+        std::string log(size_t(std::max(length, 1)), '\0');
+        gl.glGetProgramInfoLog(m_program, GLsizei(log.size()), nullptr, log.data());
+        log.resize(std::strlen(log.c_str()));
+        gl.glDeleteProgram(m_program);
+        throw Error(ErrorCode::ShaderCompilation,
+                    fmt::format("linking pipeline '{}' failed (do the vertex outputs match the fragment inputs by "
+                                "location and type?): {}",
+                                debugName, log));
+    }
+
+    // Binding points from reflection: the SPIR-V binding number is the GL binding point.
+    gl.glUseProgram(m_program);
+    for (const GLShader* shader : shaders) {
+        for (const ShaderBinding& binding : shader->bindings()) {
+            switch (binding.type) {
+                case ResourceType::UniformBuffer: {
+                    const GLuint index = gl.glGetUniformBlockIndex(m_program, binding.glName.c_str());
+                    if (index != GL_INVALID_INDEX) gl.glUniformBlockBinding(m_program, index, binding.binding);
+                    break;
+                }
+                case ResourceType::StorageBuffer: {
+                    const GLuint index =
+                        gl.glGetProgramResourceIndex(m_program, GL_SHADER_STORAGE_BLOCK, binding.glName.c_str());
+                    if (index != GL_INVALID_INDEX) gl.glShaderStorageBlockBinding(m_program, index, binding.binding);
+                    break;
+                }
+                case ResourceType::SampledTexture:
+                case ResourceType::StorageImage: {
+                    const GLint location = gl.glGetUniformLocation(m_program, binding.glName.c_str());
+                    if (location >= 0) gl.glUniform1i(location, GLint(binding.binding));
+                    break;
+                }
+            }
+            m_bindings.push_back(binding);
+        }
+    }
+    m_baseInstanceLocation = gl.glGetUniformLocation(m_program, "SPIRV_Cross_BaseInstance");
+    gl.glUseProgram(0);
+    if (!debugName.empty() && gl.glObjectLabel && !m_context->isES())
+        gl.glObjectLabel(GL_PROGRAM, m_program, GLsizei(debugName.size()), debugName.data());
+}
+
+namespace {
+GLenum toGL(BlendFactor factor) {
+    switch (factor) {
+        case BlendFactor::Zero: return GL_ZERO;
+        case BlendFactor::One: return GL_ONE;
+        case BlendFactor::SrcColor: return GL_SRC_COLOR;
+        case BlendFactor::OneMinusSrcColor: return GL_ONE_MINUS_SRC_COLOR;
+        case BlendFactor::SrcAlpha: return GL_SRC_ALPHA;
+        case BlendFactor::OneMinusSrcAlpha: return GL_ONE_MINUS_SRC_ALPHA;
+        case BlendFactor::DstColor: return GL_DST_COLOR;
+        case BlendFactor::OneMinusDstColor: return GL_ONE_MINUS_DST_COLOR;
+        case BlendFactor::DstAlpha: return GL_DST_ALPHA;
+        case BlendFactor::OneMinusDstAlpha: return GL_ONE_MINUS_DST_ALPHA;
+    }
+    return GL_ONE;
+}
+
+GLenum toGL(BlendOp op) {
+    switch (op) {
+        case BlendOp::Add: return GL_FUNC_ADD;
+        case BlendOp::Subtract: return GL_FUNC_SUBTRACT;
+        case BlendOp::ReverseSubtract: return GL_FUNC_REVERSE_SUBTRACT;
+        case BlendOp::Min: return GL_MIN;
+        case BlendOp::Max: return GL_MAX;
+    }
+    return GL_FUNC_ADD;
+}
+}  // namespace
+
+void GLPipeline::applyState() const {
+    const GLFunctions& gl = m_context->gl;
+    gl.glUseProgram(m_program);
+    if (m_compute) return;
+    const RasterState& raster = m_graphics.raster;
+    if (raster.cullMode == CullMode::None) {
+        gl.glDisable(GL_CULL_FACE);
+    } else {
+        gl.glEnable(GL_CULL_FACE);
+        gl.glCullFace(raster.cullMode == CullMode::Front ? GL_FRONT : GL_BACK);
+    }
+    // GL decides facing with y up; our images have row 0 on top, which mirrors the winding.
+    gl.glFrontFace(raster.frontFace == FrontFace::CounterClockwise ? GL_CW : GL_CCW);
+    if (raster.depthBiasEnable) {
+        gl.glEnable(GL_POLYGON_OFFSET_FILL);
+        gl.glPolygonOffset(raster.depthBiasSlope, raster.depthBiasConstant);
+    } else {
+        gl.glDisable(GL_POLYGON_OFFSET_FILL);
+    }
+
+    const DepthState& depth = m_graphics.depth;
+    if (depth.testEnable) {
+        gl.glEnable(GL_DEPTH_TEST);
+        gl.glDepthFunc(compareFunction(depth.compare));
+    } else {
+        gl.glDisable(GL_DEPTH_TEST);
+    }
+    gl.glDepthMask(depth.writeEnable ? GL_TRUE : GL_FALSE);
+
+    auto blendOf = [&](size_t i) { return i < m_graphics.blend.size() ? m_graphics.blend[i] : BlendAttachment{}; };
+    auto mask = [](const BlendAttachment& b, uint8_t bit) { return (b.writeMask & bit) ? GL_TRUE : GL_FALSE; };
+    if (m_context->isES()) {
+        // One state for all attachments (checked equal at creation).
+        const BlendAttachment b = blendOf(0);
+        if (b.enable) {
+            gl.glEnable(GL_BLEND);
+            gl.glBlendFuncSeparate(toGL(b.srcColor), toGL(b.dstColor), toGL(b.srcAlpha), toGL(b.dstAlpha));
+            gl.glBlendEquationSeparate(toGL(b.colorOp), toGL(b.alphaOp));
+        } else {
+            gl.glDisable(GL_BLEND);
+        }
+        gl.glColorMask(mask(b, 1), mask(b, 2), mask(b, 4), mask(b, 8));
+        return;
+    }
+    for (size_t i = 0; i < std::max<size_t>(m_graphics.colorFormats.size(), 1); ++i) {
+        const BlendAttachment b = blendOf(i);
+        const auto index = GLuint(i);
+        if (b.enable) {
+            gl.glEnablei(GL_BLEND, index);
+            gl.glBlendFuncSeparatei(index, toGL(b.srcColor), toGL(b.dstColor), toGL(b.srcAlpha), toGL(b.dstAlpha));
+            gl.glBlendEquationSeparatei(index, toGL(b.colorOp), toGL(b.alphaOp));
+        } else {
+            gl.glDisablei(GL_BLEND, index);
+        }
+        gl.glColorMaski(index, mask(b, 1), mask(b, 2), mask(b, 4), mask(b, 8));
+    }
+}
+
+}  // namespace janus::rhi::gl

@@ -1,0 +1,254 @@
+// Textures (immutable storage) and samplers.
+#include <fmt/format.h>
+
+#include "gl_device.h"
+
+namespace janus::rhi::gl {
+
+namespace {
+// EXT_texture_filter_anisotropic (core in GL 4.6); glcorearb.h for 4.3 may lack the token.
+constexpr GLenum kTextureMaxAnisotropy = 0x84FE;
+
+// A texture unit nobody binds resources to (bindings are < 16 by convention), so creating or
+// updating a texture never disturbs a bound binding set.
+constexpr GLuint kScratchTextureUnit = 31;
+
+void bindForEdit(const GLFunctions& gl, GLenum target, GLuint texture) {
+    gl.glActiveTexture(GL_TEXTURE0 + kScratchTextureUnit);
+    gl.glBindTexture(target, texture);
+}
+
+GLenum toGL(Filter filter) { return filter == Filter::Nearest ? GL_NEAREST : GL_LINEAR; }
+
+GLenum minFilter(Filter min, Filter mip) {
+    if (min == Filter::Nearest) return mip == Filter::Nearest ? GL_NEAREST_MIPMAP_NEAREST : GL_NEAREST_MIPMAP_LINEAR;
+    return mip == Filter::Nearest ? GL_LINEAR_MIPMAP_NEAREST : GL_LINEAR_MIPMAP_LINEAR;
+}
+
+GLenum toGL(AddressMode mode) {
+    switch (mode) {
+        case AddressMode::Repeat: return GL_REPEAT;
+        case AddressMode::MirroredRepeat: return GL_MIRRORED_REPEAT;
+        case AddressMode::ClampToEdge: return GL_CLAMP_TO_EDGE;
+    }
+    return GL_REPEAT;
+}
+}  // namespace
+
+GLenum compareFunction(CompareOp op) {
+    switch (op) {
+        case CompareOp::Never: return GL_NEVER;
+        case CompareOp::Less: return GL_LESS;
+        case CompareOp::Equal: return GL_EQUAL;
+        case CompareOp::LessOrEqual: return GL_LEQUAL;
+        case CompareOp::Greater: return GL_GREATER;
+        case CompareOp::NotEqual: return GL_NOTEQUAL;
+        case CompareOp::GreaterOrEqual: return GL_GEQUAL;
+        case CompareOp::Always: return GL_ALWAYS;
+    }
+    return GL_ALWAYS;
+}
+
+const GLFormat& glFormat(Format format) {
+    static const GLFormat kUnknown{};
+    static const GLFormat kRGBA8{GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE};
+    static const GLFormat kSRGBA8{GL_SRGB8_ALPHA8, GL_RGBA, GL_UNSIGNED_BYTE};
+    static const GLFormat kRGBA16F{GL_RGBA16F, GL_RGBA, GL_HALF_FLOAT};
+    static const GLFormat kRGBA32F{GL_RGBA32F, GL_RGBA, GL_FLOAT};
+    static const GLFormat kR11G11B10F{GL_R11F_G11F_B10F, GL_RGB, GL_UNSIGNED_INT_10F_11F_11F_REV};
+    static const GLFormat kR32UI{GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT};
+    static const GLFormat kR32F{GL_R32F, GL_RED, GL_FLOAT};
+    static const GLFormat kD32F{GL_DEPTH_COMPONENT32F, GL_DEPTH_COMPONENT, GL_FLOAT};
+    switch (format) {
+        case Format::Unknown: return kUnknown;
+        case Format::RGBA8_UNORM: return kRGBA8;
+        case Format::RGBA8_SRGB: return kSRGBA8;
+        case Format::RGBA16_FLOAT: return kRGBA16F;
+        case Format::RGBA32_FLOAT: return kRGBA32F;
+        case Format::R11G11B10_FLOAT: return kR11G11B10F;
+        case Format::R32_UINT: return kR32UI;
+        case Format::R32_FLOAT: return kR32F;
+        case Format::D32_FLOAT: return kD32F;
+    }
+    return kUnknown;
+}
+
+// ---------------------------------------------------------------------------------------------
+
+GLTexture::GLTexture(ContextPtr context, const TextureDesc& resolvedDesc)
+    : m_context(std::move(context)), m_desc(resolvedDesc) {
+    const GLFunctions& gl = m_context->gl;
+    switch (m_desc.dimension) {
+        case TextureDimension::Texture2D: m_target = GL_TEXTURE_2D; break;
+        case TextureDimension::TextureCube: m_target = GL_TEXTURE_CUBE_MAP; break;
+        case TextureDimension::Texture3D: m_target = GL_TEXTURE_3D; break;
+    }
+    gl.glGenTextures(1, &m_name);
+    bindForEdit(gl, m_target, m_name);
+    const GLenum internalFormat = format().internalFormat;
+    if (m_target == GL_TEXTURE_3D)
+        gl.glTexStorage3D(m_target, GLsizei(m_desc.mipLevels), internalFormat, GLsizei(m_desc.width),
+                          GLsizei(m_desc.height), GLsizei(m_desc.depth));
+    else
+        gl.glTexStorage2D(m_target, GLsizei(m_desc.mipLevels), internalFormat, GLsizei(m_desc.width),
+                          GLsizei(m_desc.height));
+    if (gl.glGetError() == GL_OUT_OF_MEMORY) {
+        gl.glDeleteTextures(1, &m_name);
+        throw Error(ErrorCode::OutOfMemory, fmt::format("texture '{}': the driver could not allocate {}x{}x{} {}",
+                                                        m_desc.debugName, m_desc.width, m_desc.height, m_desc.depth,
+                                                        toString(m_desc.format)));
+    }
+    if (!m_desc.debugName.empty() && gl.glObjectLabel && !m_context->isES())
+        gl.glObjectLabel(GL_TEXTURE, m_name, GLsizei(m_desc.debugName.size()), m_desc.debugName.data());
+}
+
+GLTexture::~GLTexture() {
+    m_context->forgetTexture(m_name);
+    m_context->gl.glDeleteTextures(1, &m_name);
+}
+
+uint32_t GLTexture::layers(uint32_t mip) const {
+    switch (m_desc.dimension) {
+        case TextureDimension::Texture2D: return 1;
+        case TextureDimension::TextureCube: return 6;
+        case TextureDimension::Texture3D: return mipExtent(m_desc.depth, mip);
+    }
+    return 1;
+}
+
+uint64_t GLTexture::subresourceSize(uint32_t mip) const {
+    return uint64_t(width(mip)) * height(mip) * formatInfo(m_desc.format).bytesPerPixel;
+}
+
+void GLTexture::validateSubresource(TextureSubresource sub, const char* what) const {
+    if (sub.mipLevel >= m_desc.mipLevels)
+        throw Error(ErrorCode::InvalidUsage,
+                    fmt::format("{}: mip level {} does not exist in texture '{}', which has {} levels", what,
+                                sub.mipLevel, m_desc.debugName, m_desc.mipLevels));
+    if (sub.layer >= layers(sub.mipLevel))
+        throw Error(ErrorCode::InvalidUsage,
+                    fmt::format("{}: layer {} does not exist at mip {} of {} texture '{}', which has {} there", what,
+                                sub.layer, sub.mipLevel, toString(m_desc.dimension), m_desc.debugName,
+                                layers(sub.mipLevel)));
+}
+
+void GLTexture::attach(GLenum framebufferTarget, GLenum attachmentPoint, uint32_t mip, uint32_t layer) const {
+    const GLFunctions& gl = m_context->gl;
+    switch (m_desc.dimension) {
+        case TextureDimension::Texture2D:
+            gl.glFramebufferTexture2D(framebufferTarget, attachmentPoint, GL_TEXTURE_2D, m_name, GLint(mip));
+            break;
+        case TextureDimension::TextureCube:
+            // Face targets work on GL 4.3 and ES 3.0 alike (layered attach of a cube needs 4.5).
+            gl.glFramebufferTexture2D(framebufferTarget, attachmentPoint, GL_TEXTURE_CUBE_MAP_POSITIVE_X + layer,
+                                      m_name, GLint(mip));
+            break;
+        case TextureDimension::Texture3D:
+            gl.glFramebufferTextureLayer(framebufferTarget, attachmentPoint, m_name, GLint(mip), GLint(layer));
+            break;
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Texture transfers (the device's, since they use its framebuffer cache)
+
+void GLDevice::uploadTexture(const GLTexture& texture, TextureSubresource sub, const void* pixels) {
+    const GLFunctions& f = gl();
+    const GLFormat& format = texture.format();
+    const auto width = GLsizei(texture.width(sub.mipLevel)), height = GLsizei(texture.height(sub.mipLevel));
+    bindForEdit(f, texture.target(), texture.name());
+    switch (texture.desc().dimension) {
+        case TextureDimension::Texture2D:
+            f.glTexSubImage2D(GL_TEXTURE_2D, GLint(sub.mipLevel), 0, 0, width, height, format.uploadFormat,
+                              format.uploadType, pixels);
+            break;
+        case TextureDimension::TextureCube:
+            f.glTexSubImage2D(GL_TEXTURE_CUBE_MAP_POSITIVE_X + sub.layer, GLint(sub.mipLevel), 0, 0, width, height,
+                              format.uploadFormat, format.uploadType, pixels);
+            break;
+        case TextureDimension::Texture3D:
+            f.glTexSubImage3D(GL_TEXTURE_3D, GLint(sub.mipLevel), 0, 0, GLint(sub.layer), width, height, 1,
+                              format.uploadFormat, format.uploadType, pixels);
+            break;
+    }
+}
+
+void GLDevice::copyTextureImage(const GLTexture& dst, TextureSubresource dstSub, const GLTexture& src,
+                                TextureSubresource srcSub) {
+    const GLFunctions& f = gl();
+    const auto width = GLsizei(src.width(srcSub.mipLevel)), height = GLsizei(src.height(srcSub.mipLevel));
+    if (!isES()) {
+        // A raw copy: no filtering, no sRGB conversion, depth included.
+        f.glCopyImageSubData(src.name(), src.target(), GLint(srcSub.mipLevel), 0, 0, GLint(srcSub.layer), dst.name(),
+                             dst.target(), GLint(dstSub.mipLevel), 0, 0, GLint(dstSub.layer), width, height, 1);
+        return;
+    }
+    // ES 3.0 has no glCopyImageSubData: blit between two single-attachment framebuffers.
+    const bool depth = isDepthFormat(src.desc().format);
+    auto framebufferFor = [&](const GLTexture& texture, TextureSubresource sub) {
+        FramebufferKey key;
+        const AttachmentKey attachment{texture.name(), sub.mipLevel, sub.layer};
+        if (depth) {
+            key.depth = attachment;
+            return m_context->framebuffer(key, {}, &texture);
+        }
+        key.colors.push_back(attachment);
+        return m_context->framebuffer(key, {&texture}, nullptr);
+    };
+    const GLuint readFbo = framebufferFor(src, srcSub);
+    const GLuint drawFbo = framebufferFor(dst, dstSub);
+    f.glBindFramebuffer(GL_READ_FRAMEBUFFER, readFbo);
+    f.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, drawFbo);
+    f.glDisable(GL_SCISSOR_TEST);
+    f.glBlitFramebuffer(0, 0, width, height, 0, 0, width, height, depth ? GL_DEPTH_BUFFER_BIT : GL_COLOR_BUFFER_BIT,
+                        GL_NEAREST);
+    f.glEnable(GL_SCISSOR_TEST);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Samplers
+
+GLSampler::GLSampler(ContextPtr context, const SamplerDesc& desc, bool anisotropySupported)
+    : m_context(std::move(context)), m_desc(desc) {
+    const GLFunctions& gl = m_context->gl;
+    auto configure = [&](GLuint sampler, bool nearest) {
+        const Filter min = nearest ? Filter::Nearest : desc.minFilter;
+        const Filter mag = nearest ? Filter::Nearest : desc.magFilter;
+        const Filter mip = nearest ? Filter::Nearest : desc.mipFilter;
+        gl.glSamplerParameteri(sampler, GL_TEXTURE_MIN_FILTER, GLint(minFilter(min, mip)));
+        gl.glSamplerParameteri(sampler, GL_TEXTURE_MAG_FILTER, GLint(toGL(mag)));
+        gl.glSamplerParameteri(sampler, GL_TEXTURE_WRAP_S, GLint(toGL(desc.addressU)));
+        gl.glSamplerParameteri(sampler, GL_TEXTURE_WRAP_T, GLint(toGL(desc.addressV)));
+        gl.glSamplerParameteri(sampler, GL_TEXTURE_WRAP_R, GLint(toGL(desc.addressW)));
+        gl.glSamplerParameterf(sampler, GL_TEXTURE_MIN_LOD, desc.minLod);
+        gl.glSamplerParameterf(sampler, GL_TEXTURE_MAX_LOD, desc.maxLod);
+        if (desc.compare) {
+            gl.glSamplerParameteri(sampler, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+            gl.glSamplerParameteri(sampler, GL_TEXTURE_COMPARE_FUNC, GLint(compareFunction(*desc.compare)));
+        }
+        if (anisotropySupported && desc.maxAnisotropy > 1.0f && !nearest)
+            gl.glSamplerParameterf(sampler, kTextureMaxAnisotropy, desc.maxAnisotropy);
+    };
+    gl.glGenSamplers(1, &m_name);
+    configure(m_name, false);
+    gl.glGenSamplers(1, &m_nearestName);
+    configure(m_nearestName, true);
+}
+
+GLSampler::~GLSampler() {
+    m_context->makeCurrent();
+    m_context->gl.glDeleteSamplers(1, &m_name);
+    m_context->gl.glDeleteSamplers(1, &m_nearestName);
+}
+
+GLuint GLSampler::nameFor(const GLTexture& texture, bool floatLinearFilterable) const {
+    const Format format = texture.desc().format;
+    const bool integer = formatInfo(format).kind == FormatKind::UInt;
+    // ES 3.0 cannot filter 32-bit floats without OES_texture_float_linear, nor depth without
+    // comparison; GL would treat the texture as incomplete and sample zeros.
+    const bool unfilterableFloat = !floatLinearFilterable && (format == Format::RGBA32_FLOAT || format == Format::R32_FLOAT);
+    const bool unfilterableDepth = m_context->isES() && isDepthFormat(format) && !m_desc.compare;
+    return integer || unfilterableFloat || unfilterableDepth ? m_nearestName : m_name;
+}
+
+}  // namespace janus::rhi::gl
