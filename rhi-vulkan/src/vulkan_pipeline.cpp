@@ -90,8 +90,9 @@ void reflect(const ShaderDesc& desc, VkShaderStageFlagBits stage, std::vector<Re
             for (const auto& r : resources.stage_inputs)
                 inputLocations.push_back(compiler.get_decoration(r.id, spv::DecorationLocation));
     } catch (const spirv_cross::CompilerError& e) {
-        throw Error(ErrorCode::InvalidDescription,
-                    fmt::format("SPIRV-Cross cannot reflect shader '{}': {}", desc.debugName, e.what()));
+        throw Error(ErrorCode::ShaderCompilation,
+                    fmt::format("shader '{}' is malformed SPIR-V (SPIRV-Cross cannot parse it: {}); recompile it "
+                                "with glslang", desc.debugName, e.what()));
     }
 }
 
@@ -166,10 +167,15 @@ const Shader& shaderOf(const ShaderHandle& handle, ShaderStage expected, std::st
 }  // namespace
 
 Shader::Shader(ContextPtr context, const ShaderDesc& desc) : m_context(std::move(context)), m_desc(desc) {
-    if (desc.spirv.empty() || desc.spirv[0] != 0x07230203u)
+    if (desc.spirv.empty())
         throw Error(ErrorCode::InvalidDescription,
-                    fmt::format("ShaderDesc::spirv of '{}' is {}; pass SPIR-V words (janus::shaders::get)",
-                                desc.debugName, desc.spirv.empty() ? "empty" : "not SPIR-V (bad magic number)"));
+                    fmt::format("ShaderDesc::spirv of '{}' is empty; pass SPIR-V words (janus::shaders::get)",
+                                desc.debugName));
+    // A malformed module is what a driver would reject, so it reports as ShaderCompilation.
+    if (desc.spirv[0] != 0x07230203u)
+        throw Error(ErrorCode::ShaderCompilation,
+                    fmt::format("ShaderDesc::spirv of '{}' is not SPIR-V (bad magic number 0x{:08x}); pass SPIR-V "
+                                "words (janus::shaders::get)", desc.debugName, desc.spirv[0]));
     stage = toVkStage(desc.stage);
     reflect(m_desc, stage, bindings, inputLocations);
 
