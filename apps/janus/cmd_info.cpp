@@ -1,4 +1,5 @@
 // `janus info`: which backends start here, what they are, and what they can do.
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <memory>
@@ -123,6 +124,12 @@ void printText(const std::vector<BackendReport>& reports, rhi::GLPlatform platfo
                            4);
     }
 
+    if (std::none_of(reports.begin(), reports.end(), [](const BackendReport& r) { return r.available; })) {
+        out += "\nNo backend started, so there are no capabilities to show.\n";
+        std::fputs(out.c_str(), stdout);
+        return;
+    }
+
     // One column per backend; "-" where the backend did not start.
     std::vector<std::string> header{""};
     for (const BackendReport& r : reports) header.push_back(rhi::toString(r.backend));
@@ -163,12 +170,13 @@ void printText(const std::vector<BackendReport>& reports, rhi::GLPlatform platfo
 
 Command addInfoCommand(CLI::App& parent) {
     auto options = std::make_shared<InfoOptions>();
-    CLI::App* app = parent.add_subcommand("info", "List the backends (vulkan, gl, gles): availability or the reason, "
-                                                  "API/device/driver, capabilities, limits and conventions.");
+    CLI::App* app = parent.add_subcommand("info", "Show each backend (vulkan, gl, gles): availability, device, "
+                                                  "capabilities, limits, conventions");
     app->add_option("--gl-platform", options->glPlatform, "How the GL backends get a context: egl or osmesa")
         ->default_str("egl")
         ->type_name("PLATFORM");
     app->add_flag("--json", options->json, "Print JSON instead of a table");
+    app->footer(kExitCodeHelp);
     return {app, [options] {
                 const rhi::GLPlatform platform = parseGLPlatformOption(options->glPlatform);
                 const std::vector<BackendReport> reports = probe(platform);

@@ -1,6 +1,7 @@
 // `janus parity`: render every configuration and compare every pair pixel by pixel.
 #include <algorithm>
 #include <array>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -17,7 +18,7 @@ struct ParityOptions {
     std::string scene;
     std::string size = "256x256";
     std::string out;
-    int tolerance = 1;
+    std::string tolerance = "1";
     std::string glPlatform = "egl";
     bool validation = false;
 };
@@ -72,6 +73,14 @@ ConfigurationResult runConfiguration(const renderer::Scene& scene, const Configu
     return result;
 }
 
+uint32_t parseTolerance(std::string_view text) {
+    uint32_t steps = 0;
+    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), steps);
+    if (error != std::errc() || end != text.data() + text.size() || text.empty() || steps > 255)
+        throw UsageError(fmt::format("--tolerance '{}' is not a whole number of 1/255 steps in 0..255 (default 1)", text));
+    return steps;
+}
+
 std::string psnrText(double psnr) { return std::isinf(psnr) ? "inf" : fmt::format("{:.2f}", psnr); }
 
 int run(const ParityOptions& options) {
@@ -79,9 +88,8 @@ int run(const ParityOptions& options) {
     base.size = parseSize(options.size);
     base.glPlatform = parseGLPlatformOption(options.glPlatform);
     base.validation = options.validation;
-    if (options.tolerance < 0 || options.tolerance > 255)
-        throw UsageError(fmt::format("--tolerance {} is out of range; give 0..255 steps of 1/255", options.tolerance));
-    const uint32_t tolerance = uint32_t(options.tolerance);
+    const uint32_t tolerance = parseTolerance(options.tolerance);
+    if (options.out.empty()) throw UsageError("--out DIR is required: where to write the images and parity.json");
 
     const std::filesystem::path outDir = options.out;
     std::error_code ec;
@@ -141,7 +149,8 @@ int run(const ParityOptions& options) {
                 pair["passed"] = pairPassed;
                 passed = passed && pairPassed;
             } else {
-                pairRows.push_back({pairName, "-", "-", "-", "FAIL (not compared: a configuration did not run)"});
+                const std::string missing = a.image.empty() ? a.stem : b.stem;
+                pairRows.push_back({pairName, "-", "-", "-", fmt::format("FAIL (not compared: {} did not run)", missing)});
                 pair["compared"] = false;
                 pair["passed"] = false;
                 passed = false;
@@ -187,16 +196,17 @@ Command addParityCommand(CLI::App& parent) {
     auto options = std::make_shared<ParityOptions>();
     CLI::App* app = parent.add_subcommand(
         "parity",
-        "Render vulkan/compute, vulkan/fallback, gl/compute, gl/fallback and gles/fallback, write each image and a "
-        "difference heat map for every pair, and fail (exit 1) when any pair differs by more than --tolerance.");
+        "Render all five configurations, compare every pair, write images, heat maps and parity.json; "
+        "exit 1 if any pair differs beyond --tolerance");
+    app->footer(std::string("Configurations: vulkan/compute, vulkan/fallback, gl/compute, gl/fallback, gles/fallback.\n\n") +
+                kExitCodeHelp);
     app->add_option("scene", options->scene, ".gltf, .glb or .json scene file (default: the built-in scene)")
         ->type_name("SCENE");
     app->add_option("--size,-s", options->size, "Image size WIDTHxHEIGHT, each side 1..16384")
         ->default_str("256x256")
         ->type_name("WxH");
     app->add_option("--out,-o", options->out,
-                    "Directory for <backend>-<path>.png, diff-<a>-vs-<b>.png and parity.json (created if missing)")
-        ->required()
+                    "Directory for <backend>-<path>.png, diff-<a>-vs-<b>.png and parity.json (created if missing); required")
         ->type_name("DIR");
     app->add_option("--tolerance,-t", options->tolerance,
                     "Largest allowed channel difference, in steps of 1/255, for a pair to agree")

@@ -38,6 +38,7 @@ int run(const RenderOptions& options) {
     request.size = parseSize(options.size);
     request.validation = options.validation;
 
+    if (options.out.empty()) throw UsageError("--out FILE.png is required: where to write the rendered image");
     const std::filesystem::path outPath = options.out;
     if (!hasExtension(outPath, ".png"))
         throw UsageError(fmt::format("--out '{}' must name a .png file", options.out));
@@ -95,8 +96,8 @@ int run(const RenderOptions& options) {
 
 Command addRenderCommand(CLI::App& parent) {
     auto options = std::make_shared<RenderOptions>();
-    CLI::App* app = parent.add_subcommand("render", "Render a scene with one backend and feature path; write a PNG, "
-                                                    "optionally the HDR image and a JSON frame report.");
+    CLI::App* app = parent.add_subcommand("render", "Render a scene with one backend and feature path to a PNG "
+                                                    "(+ optional HDR image and JSON frame report)");
     app->add_option("scene", options->scene, ".gltf, .glb or .json scene file (default: the built-in scene)")
         ->type_name("SCENE");
     app->add_option("--backend,-b", options->backend, "vulkan, gl or gles")->default_str("vulkan")->type_name("BACKEND");
@@ -106,7 +107,7 @@ Command addRenderCommand(CLI::App& parent) {
     app->add_option("--size,-s", options->size, "Image size WIDTHxHEIGHT, each side 1..16384")
         ->default_str("256x256")
         ->type_name("WxH");
-    app->add_option("--out,-o", options->out, "PNG file to write (display image, sRGB)")->required()->type_name("FILE.png");
+    app->add_option("--out,-o", options->out, "PNG file to write (display image, sRGB); required")->type_name("FILE.png");
     app->add_option("--hdr", options->hdr, "Also write the linear HDR image (.exr or .pfm)")->type_name("FILE.exr|FILE.pfm");
     app->add_option("--report", options->report, "Also write the frame report as JSON")->type_name("FILE.json");
     app->add_option("--gl-platform", options->glPlatform, "How gl/gles get a context: egl or osmesa")
@@ -114,6 +115,7 @@ Command addRenderCommand(CLI::App& parent) {
         ->type_name("PLATFORM");
     app->add_flag("--validation", options->validation,
                   "Enable Vulkan validation layers / GL debug output; errors make the command fail (exit 5)");
+    app->footer(kExitCodeHelp);
     return {app, [options] { return run(*options); }};
 }
 

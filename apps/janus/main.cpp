@@ -1,5 +1,4 @@
 // janus: inspect backends, render a scene, and check that all configurations agree.
-#include <cstdio>
 #include <vector>
 
 #include <fmt/format.h>
@@ -30,7 +29,6 @@ int main(int argc, char** argv) {
         janus::cli::addRenderCommand(app),
         janus::cli::addParityCommand(app),
     };
-    for (auto& command : commands) command.app->footer(janus::cli::kExitCodeHelp);
     app.require_subcommand(0, 1);
 
     try {
@@ -44,13 +42,14 @@ int main(int argc, char** argv) {
         const CLI::App* failedIn = &app;
         for (const auto& command : commands)
             if (command.app->parsed()) failedIn = command.app;
+        // CLI11 calls a mistyped command an unexpected argument; say what it is.
+        if (failedIn == &app && argc > 1 && argv[1][0] != '-')
+            return usageFailure(fmt::format("unknown command '{}'; choose one of info, render, parity", argv[1]), app);
         return usageFailure(e.what(), *failedIn);
     }
 
     for (const auto& command : commands)
         if (command.app->parsed()) return janus::cli::runCommand(command.run);
 
-    std::fputs(app.help().c_str(), stderr);
-    janus::cli::printError("no command given; choose one of info, render, parity");
-    return static_cast<int>(ExitCode::UsageError);
+    return usageFailure("no command given; choose one of info, render, parity", app);
 }

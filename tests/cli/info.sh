@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# `janus info`: lists all three backends (available or with the reason), as a table and as JSON.
+source "$(dirname "$0")/common.bash" "$@"
+
+expect_success info
+for backend in vulkan gl gles; do
+  grep -Eq "^  $backend: (available|unavailable)$" "$TMP/stdout" || fail "janus info does not list backend $backend"
+done
+# An unavailable backend must say why.
+if grep -q ': unavailable$' "$TMP/stdout" && ! grep -q '^    reason: .' "$TMP/stdout"; then
+  fail "janus info lists an unavailable backend without a reason"
+fi
+
+expect_success info --json
+cp "$TMP/stdout" "$TMP/info.json"
+json_check "$TMP/info.json" '[b["name"] for b in j["backends"]] == ["vulkan", "gl", "gles"]' "backends are not vulkan, gl, gles"
+json_check "$TMP/info.json" 'j["glPlatform"] == "egl"' "glPlatform is not egl by default"
+json_check "$TMP/info.json" 'all(isinstance(b["available"], bool) for b in j["backends"])' "'available' is not a bool"
+json_check "$TMP/info.json" 'all(b["available"] or b["reason"] for b in j["backends"])' "an unavailable backend has no reason"
+capabilities='["compute", "storage-buffers", "storage-images", "render-to-3d-slice", "render-to-cube-face-mip", "float-render-targets", "float32-blend", "timestamp-queries"]'
+json_check "$TMP/info.json" "all(sorted(b['capabilities']) == sorted($capabilities) for b in j['backends'] if b['available'])" \
+  "an available backend does not report every capability"
+json_check "$TMP/info.json" 'all(b["apiVersion"] and b["device"] and b["shadingLanguage"] and b["limits"]["maxTextureSize2D"] > 0 for b in j["backends"] if b["available"])' \
+  "an available backend lacks API version, device, shading language or limits"
+
+# With the table: when any backend starts, the capability table lists every capability.
+run_janus info
+if grep -q ': available$' "$TMP/stdout"; then
+  for capability in compute storage-buffers storage-images render-to-3d-slice render-to-cube-face-mip float-render-targets float32-blend timestamp-queries; do
+    grep -Eq "^  $capability +" "$TMP/stdout" || fail "janus info capability table lacks $capability"
+  done
+fi
+
+expect_success info --gl-platform osmesa --json
+cp "$TMP/stdout" "$TMP/info-osmesa.json"
+json_check "$TMP/info-osmesa.json" 'j["glPlatform"] == "osmesa" and len(j["backends"]) == 3' "--gl-platform osmesa is not reported"
+
+finish

@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# `janus render` on the built-in scene: PNG, HDR (EXR and PFM) and JSON report on every backend,
+# and the compute path on gles refused with the capability named. Needs the backends.
+source "$(dirname "$0")/common.bash" "$@"
+
+# Default configuration (vulkan/compute) with every output, under validation.
+expect_success render --size 64x48 --out "$TMP/vulkan.png" --hdr "$TMP/vulkan.exr" --report "$TMP/vulkan.json" --validation
+check_png "$TMP/vulkan.png" 64 48
+grep -q "vulkan.png" "$TMP/stdout" || fail "render does not say where the PNG went"
+grep -Eq "^  pass +GPU ms +CPU ms +draws +dispatches$" "$TMP/stdout" || fail "render prints no per-pass summary"
+json_check "$TMP/vulkan.json" 'j["backend"] == "vulkan" and j["path"] == "compute" and j["width"] == 64 and j["height"] == 48' \
+  "report does not describe vulkan/compute at 64x48"
+json_check "$TMP/vulkan.json" 'len(j["passes"]) > 0 and all(p["name"] and p["cpuMs"] >= 0 for p in j["passes"])' "report has no passes"
+json_check "$TMP/vulkan.json" 'sum(p["dispatches"] for p in j["passes"]) > 0' "the compute path ran no dispatch"
+if [[ ! -f $TMP/vulkan.exr ]] || [[ $(head -c 4 "$TMP/vulkan.exr" | od -An -tx1 | tr -d ' ') != 762f3101 ]]; then
+  fail "--hdr did not write an OpenEXR file"
+fi
+
+# Every other configuration the project supports renders too.
+for config in vulkan:fallback gl:compute gl:fallback gles:fallback; do
+  backend=${config%%:*}
+  path=${config##*:}
+  expect_success render --backend "$backend" --path "$path" --size 32x32 --out "$TMP/$backend-$path.png" --report "$TMP/$backend-$path.json"
+  check_png "$TMP/$backend-$path.png" 32 32
+  json_check "$TMP/$backend-$path.json" "j['backend'] == '$backend' and j['path'] == '$path'" "report names the wrong configuration"
+done
+
+# PFM: "PF", the size, a negative (little-endian) scale, then 3 floats per pixel.
+expect_success render --backend gl --path fallback --size 16x8 --out "$TMP/pfm.png" --hdr "$TMP/hdr.pfm"
+problem=$(python3 - "$TMP/hdr.pfm" <<'PY'
+import os, sys
+data = open(sys.argv[1], "rb").read() if os.path.exists(sys.argv[1]) else b""
+header = b"PF\n16 8\n-1.0\n"
+if not data.startswith(header):
+    print("bad header", data[:16])
+elif len(data) != len(header) + 16 * 8 * 3 * 4:
+    print("wrong length", len(data))
+PY
+)
+[[ -z $problem ]] || fail "PFM: $problem"
+
+# The compute path on gles: exit 4, naming the capability and the way out.
+expect_error 4 "gles.*'compute'.*--path fallback" render --backend gles --path compute --size 16x16 --out "$TMP/gles-compute.png"
+[[ ! -e $TMP/gles-compute.png ]] || fail "a refused render wrote its PNG"
+
+finish

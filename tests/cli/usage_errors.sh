@@ -1,0 +1,60 @@
+#!/usr/bin/env bash
+# Help texts and usage errors (exit 2). Needs no backend: every case fails before a device opens.
+source "$(dirname "$0")/common.bash" "$@"
+
+# --help for janus and every command: exit 0, a usage line, and the exit-code table.
+for command in "" info render parity; do
+  # shellcheck disable=SC2086  # the empty command must vanish
+  run_janus $command --help
+  if [[ $rc != 0 ]]; then fail "janus $command --help: exit $rc"; fi
+  grep -q '^Usage: ' "$TMP/stdout" || fail "janus $command --help: no 'Usage:' line"
+  for code in 0 1 2 3 4 5; do
+    grep -Eq "^  $code  " "$TMP/stdout" || fail "janus $command --help: exit code $code not documented"
+  done
+done
+run_janus render --help
+for option in --backend --path --size --out --hdr --report --gl-platform --validation; do
+  grep -q -- "$option" "$TMP/stdout" || fail "janus render --help does not mention $option"
+done
+run_janus parity --help
+for option in --size --out --tolerance --gl-platform; do
+  grep -q -- "$option" "$TMP/stdout" || fail "janus parity --help does not mention $option"
+done
+
+out="$TMP/out.png"
+expect_error 2 "no command given"            # no command at all
+expect_error 2 "unknown command 'frobnicate'" frobnicate
+expect_error 2 "--bogus"                     render --bogus --out "$out"
+expect_error 2 "--bogus"                     parity --bogus --out "$TMP/parity"
+expect_error 2 "--bogus"                     info --bogus
+expect_error 2 "unknown backend 'metal'.*vulkan, gl, gles" render --backend metal --out "$out"
+expect_error 2 "unknown --path 'fast'.*compute or fallback" render --path fast --out "$out"
+expect_error 2 "unknown --gl-platform 'wayland'.*egl or osmesa" render --gl-platform wayland --out "$out"
+expect_error 2 "unknown --gl-platform 'wayland'"  info --gl-platform wayland
+expect_error 2 "unknown --gl-platform 'wayland'"  parity --gl-platform wayland --out "$TMP/parity"
+
+# Sizes: empty, absurd, malformed, half-given, negative.
+expect_error 2 "--size '0x0'.*at least 1"          render --size 0x0 --out "$out"
+expect_error 2 "--size '64x0'.*at least 1"         render --size 64x0 --out "$out"
+expect_error 2 "--size '100000x100000'.*too large" render --size 100000x100000 --out "$out"
+expect_error 2 "--size '99999999999999999999x1'.*too large" render --size 99999999999999999999x1 --out "$out"
+expect_error 2 "--size 'abc'.*WIDTHxHEIGHT"        render --size abc --out "$out"
+expect_error 2 "--size '64x'.*WIDTHxHEIGHT"        render --size 64x --out "$out"
+expect_error 2 "--size '-5x5'.*WIDTHxHEIGHT"       render --size=-5x5 --out "$out"
+expect_error 2 "--size '1.5x2'.*WIDTHxHEIGHT"      render --size 1.5x2 --out "$out"
+expect_error 2 "--size '0x0'"                      parity --size 0x0 --out "$TMP/parity"
+expect_error 2 "--size '100000x100000'"            parity --size 100000x100000 --out "$TMP/parity"
+
+# Required and typed outputs.
+expect_error 2 "--out FILE.png is required" render
+expect_error 2 "--out DIR is required"      parity
+expect_error 2 "--out '.*out.jpg' must name a .png file" render --out "$TMP/out.jpg"
+expect_error 2 "--hdr '.*out.hdr' must name a .exr or .pfm file" render --out "$out" --hdr "$TMP/out.hdr"
+expect_error 2 "--tolerance 'abc'"  parity --tolerance abc --out "$TMP/parity"
+expect_error 2 "--tolerance '256'"  parity --tolerance 256 --out "$TMP/parity"
+expect_error 2 "--tolerance '-1'"   parity --tolerance=-1 --out "$TMP/parity"
+
+# Nothing may have been written by any of the failures above.
+if [[ -e $out || -e $TMP/parity ]]; then fail "a failed command left output behind"; fi
+
+finish
