@@ -501,7 +501,13 @@ void GLDevice::execute(const CommandListHandle& commandList) {
     auto* list = dynamic_cast<GLCommandList*>(commandList.get());
     if (!list) throw Error(ErrorCode::InvalidUsage, "execute() was given a command list from another backend or none");
     m_context->makeCurrent();
+    // Replay state never carries over between lists: what it points at is only kept alive by the
+    // list that set it (and each list must set its own pipeline and buffers anyway).
+    m_pipeline = nullptr;
+    m_vertexBuffers.clear();
+    m_indexBuffer = 0;
     list->replay();
+    m_pipeline = nullptr;
 }
 
 void GLDevice::waitIdle() {
