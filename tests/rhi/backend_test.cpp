@@ -280,12 +280,19 @@ float fromHalf(uint16_t value) { return glm::unpackHalf1x16(value); }
 
 testing::AssertionResult throwsRhiError(const std::function<void()>& body, ErrorCode code,
                                         std::vector<std::string> mentions) {
+    return throwsRhiError(body, std::vector<ErrorCode>{code}, std::move(mentions));
+}
+
+testing::AssertionResult throwsRhiError(const std::function<void()>& body, std::vector<ErrorCode> codes,
+                                        std::vector<std::string> mentions) {
+    std::string expected;
+    for (ErrorCode c : codes) expected += (expected.empty() ? "" : " or ") + std::string(toString(c));
     try {
         body();
     } catch (const Error& e) {
-        if (e.code() != code)
+        if (std::find(codes.begin(), codes.end(), e.code()) == codes.end())
             return testing::AssertionFailure() << "threw " << toString(e.code()) << " instead of "
-                                               << toString(code) << ": " << e.what();
+                                               << expected << ": " << e.what();
         std::string message = e.what();
         for (const std::string& word : mentions)
             if (message.find(word) == std::string::npos)
@@ -294,7 +301,7 @@ testing::AssertionResult throwsRhiError(const std::function<void()>& body, Error
     } catch (const std::exception& e) {
         return testing::AssertionFailure() << "threw a non-rhi::Error exception: " << e.what();
     }
-    return testing::AssertionFailure() << "did not throw (expected rhi::Error " << toString(code) << ")";
+    return testing::AssertionFailure() << "did not throw (expected rhi::Error " << expected << ")";
 }
 
 }  // namespace janus::rhi::test

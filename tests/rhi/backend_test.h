@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "janus/rhi/rhi.h"
+#include "janus/shaders/shaders.h"
 
 namespace janus::rhi::test {
 
@@ -171,6 +172,9 @@ float fromHalf(uint16_t value);
 
 // Throws unless `body` throws rhi::Error with `code` whose message contains every `mentions`.
 testing::AssertionResult throwsRhiError(const std::function<void()>& body, ErrorCode code,
+                                        std::vector<std::string> mentions = {});
+// The same, where the interface allows any one of `codes`.
+testing::AssertionResult throwsRhiError(const std::function<void()>& body, std::vector<ErrorCode> codes,
                                         std::vector<std::string> mentions = {});
 
 }  // namespace janus::rhi::test

@@ -1,0 +1,143 @@
+// Compute (capability-gated): dispatch group counts and ids, storage buffers at offsets, every
+// slice of a 3D storage image, and compute output consumed by a draw in the same command list.
+#include "backend_test.h"
+
+namespace janus::rhi::test {
+namespace {
+
+class ComputeTest : public BackendTest {
+protected:
+    void SetUp() override {
+        BackendTest::SetUp();
+        if (IsSkipped() || HasFatalFailure()) return;
+        JANUS_REQUIRE_CAPABILITY(Capability::Compute);
+    }
+
+    void dispatch(const PipelineHandle& pipeline, const BindingSetHandle& bindings, uint32_t x, uint32_t y = 1, uint32_t z = 1) {
+        submit([&](ICommandList& cmd) {
+            cmd.setPipeline(pipeline);
+            cmd.setBindingSet(0, bindings);
+            cmd.dispatch(x, y, z);
+        });
+    }
+    PipelineHandle computePipeline(const char* name) {
+        return device().createComputePipeline(ComputePipelineDesc().setShader(shader(name)).setDebugName(name));
+    }
+};
+JANUS_INSTANTIATE_BACKEND_TESTS(ComputeTest);
+
+using Slot = std::array<uint32_t, 4>;   // invocation_ids.comp: (workgroup id xyz, 1 + index)
+constexpr uint32_t kUnwritten = 0xFFFFFFFFu;
+
+// Expected slots of invocation_ids.comp (local size 2x1x1) for dispatch(gx, gy, gz).
+std::vector<Slot> expectedSlots(uint32_t gx, uint32_t gy, uint32_t gz, size_t total) {
+    std::vector<Slot> slots(total, Slot{kUnwritten, kUnwritten, kUnwritten, kUnwritten});
+    const uint32_t sizeX = gx * 2;
+    for (uint32_t i = 0; i < sizeX * gy * gz; ++i) {
+        uint32_t x = i % sizeX, y = (i / sizeX) % gy, z = i / (sizeX * gy);
+        slots[i] = {x / 2, y, z, 1 + i};
+    }
+    return slots;
+}
+
+TEST_P(ComputeTest, DispatchRunsEveryInvocationOnceWithItsIds) {
+    JANUS_REQUIRE_CAPABILITY(Capability::StorageBuffers);
+    const size_t total = 64;   // 48 invocations + 16 slots that must stay untouched
+    std::vector<Slot> initial(total, Slot{kUnwritten, kUnwritten, kUnwritten, kUnwritten});
+    BufferHandle buffer = createBufferFrom(BufferUsage::Storage, initial);
+    dispatch(computePipeline("rt_invocation_ids_comp"),
+             device().createBindingSet(BindingSetDesc().add(BindingItem::storageBuffer(0, buffer))), 3, 2, 4);
+    EXPECT_TRUE(imagesEqual(readBufferAs<Slot>(buffer), expectedSlots(3, 2, 4, total), 6 * 2));
+}
+
+TEST_P(ComputeTest, StorageBufferBindingHonoursOffsetAndRange) {
+    JANUS_REQUIRE_CAPABILITY(Capability::StorageBuffers);
+    const uint64_t offset = std::max<uint64_t>(caps().limits.storageBufferOffsetAlignment, 16);
+    const size_t slotsBefore = offset / sizeof(Slot), total = slotsBefore + 8;
+    std::vector<Slot> initial(total, Slot{kUnwritten, kUnwritten, kUnwritten, kUnwritten});
+    BufferHandle buffer = createBufferFrom(BufferUsage::Storage, initial);
+    dispatch(computePipeline("rt_invocation_ids_comp"),
+             device().createBindingSet(BindingSetDesc().add(BindingItem::storageBuffer(0, buffer, offset, 4 * sizeof(Slot)))), 2);
+    std::vector<Slot> expected = initial;
+    std::vector<Slot> written = expectedSlots(2, 1, 1, 4);
+    std::copy(written.begin(), written.end(), expected.begin() + slotsBefore);
+    EXPECT_TRUE(imagesEqual(readBufferAs<Slot>(buffer), expected, 4));
+}
+
+// The layered-binding pitfall: a 3D image bound for load/store must expose every slice.
+TEST_P(ComputeTest, WritesEverySliceOf3DStorageImage) {
+    JANUS_REQUIRE_CAPABILITY(Capability::StorageImages);
+    TextureHandle volume = device().createTexture(TextureDesc().setDimension(TextureDimension::Texture3D)
+                                                      .setFormat(Format::R32_UINT).setSize(8, 4, 4).setMipLevels(2)
+                                                      .setUsage(TextureUsage::Storage | TextureUsage::Sampled));
+    PipelineHandle pipeline = computePipeline("rt_fill_volume_comp");
+    for (uint32_t mip : {0u, 1u}) {
+        uint32_t w = mipExtent(8, mip), h = mipExtent(4, mip), d = mipExtent(4, mip);
+        dispatch(pipeline, device().createBindingSet(BindingSetDesc().add(BindingItem::storageImage(0, volume, mip))), w, h, d);
+        for (uint32_t z = 0; z < d; ++z) {
+            SCOPED_TRACE(fmt::format("mip {} slice {}", mip, z));
+            std::vector<uint32_t> expected;
+            for (uint32_t y = 0; y < h; ++y)
+                for (uint32_t x = 0; x < w; ++x) expected.push_back(1 + x + 16 * y + 256 * z);
+            EXPECT_TRUE(imagesEqual(readTextureAs<uint32_t>(volume, {mip, z}), expected, w));
+        }
+    }
+}
+
+std::vector<Rgba8> fillImagePattern(uint32_t size) {
+    std::vector<Rgba8> texels;
+    for (uint32_t y = 0; y < size; ++y)
+        for (uint32_t x = 0; x < size; ++x) texels.push_back({uint8_t(17 * x), uint8_t(17 * y), uint8_t(255 - 17 * x), 255});
+    return texels;
+}
+
+TEST_P(ComputeTest, Writes2DStorageImage) {
+    JANUS_REQUIRE_CAPABILITY(Capability::StorageImages);
+    TextureHandle image = createTexture2D(Format::RGBA8_UNORM, 16, 16, TextureUsage::Storage);
+    dispatch(computePipeline("rt_fill_image_2d_comp"),
+             device().createBindingSet(BindingSetDesc().add(BindingItem::storageImage(0, image))), 16, 16);
+    EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(image), fillImagePattern(16), 16)) << "row 0 = invocation y 0";
+}
+
+// The missing-barrier pitfall: a draw sampling what a dispatch just wrote, in one command list.
+TEST_P(ComputeTest, DrawSamplesWhatADispatchWroteInTheSameCommandList) {
+    JANUS_REQUIRE_CAPABILITY(Capability::StorageImages);
+    TextureHandle image = createTexture2D(Format::RGBA8_UNORM, 16, 16, TextureUsage::Storage | TextureUsage::Sampled);
+    TextureHandle target = createTexture2D(Format::RGBA8_UNORM, 16, 16, TextureUsage::RenderTarget);
+    PipelineHandle fill = computePipeline("rt_fill_image_2d_comp");
+    PipelineHandle draw = fullscreenPipeline("rt_sample_2d_frag", Format::RGBA8_UNORM);
+    BindingSetHandle storage = device().createBindingSet(BindingSetDesc().add(BindingItem::storageImage(0, image)));
+    BindingSetHandle sampled = device().createBindingSet(BindingSetDesc().add(BindingItem::sampledTexture(0, image, nearestClampSampler())));
+    submit([&](ICommandList& cmd) {
+        cmd.setPipeline(fill);
+        cmd.setBindingSet(0, storage);
+        cmd.dispatch(16, 16);
+        cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(target)));
+        cmd.setPipeline(draw);
+        cmd.setBindingSet(0, sampled);
+        cmd.draw(3);
+        cmd.endRenderPass();
+    });
+    EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(target), fillImagePattern(16), 16));
+}
+
+TEST_P(ComputeTest, DispatchSeesBufferWrittenEarlierInTheCommandList) {
+    JANUS_REQUIRE_CAPABILITY(Capability::StorageBuffers);
+    std::vector<Slot> initial(8, Slot{1, 2, 3, 4});
+    BufferHandle buffer = createBufferFrom(BufferUsage::Storage, initial);
+    BufferHandle copy = createBuffer(BufferUsage::None, 8 * sizeof(Slot));
+    PipelineHandle pipeline = computePipeline("rt_invocation_ids_comp");
+    BindingSetHandle bindings = device().createBindingSet(BindingSetDesc().add(BindingItem::storageBuffer(0, buffer)));
+    std::vector<Slot> unwritten(8, Slot{kUnwritten, kUnwritten, kUnwritten, kUnwritten});
+    submit([&](ICommandList& cmd) {
+        cmd.writeBuffer(buffer, unwritten.data(), unwritten.size() * sizeof(Slot));   // before the dispatch
+        cmd.setPipeline(pipeline);
+        cmd.setBindingSet(0, bindings);
+        cmd.dispatch(1);
+        cmd.copyBuffer(copy, 0, buffer, 0, 8 * sizeof(Slot));   // after it
+    });
+    EXPECT_TRUE(imagesEqual(readBufferAs<Slot>(copy), expectedSlots(1, 1, 1, 8), 2));
+}
+
+}  // namespace
+}  // namespace janus::rhi::test

@@ -1,0 +1,168 @@
+// Errors and capabilities: bad descriptions and shaders throw rhi::Error with the right code,
+// the capability table is honest, a missing capability throws UnsupportedCapability naming
+// it, and the validation hook really reports errors.
+#include "backend_test.h"
+
+namespace janus::rhi::test {
+namespace {
+
+class ErrorTest : public BackendTest {};
+JANUS_INSTANTIATE_BACKEND_TESTS(ErrorTest);
+
+TEST_P(ErrorTest, ValidationHookReportsAnError) {
+    device().provokeValidationErrorForTesting();
+    std::vector<DebugMessage> messages = device().takeDebugMessages();
+    size_t errors = std::count_if(messages.begin(), messages.end(), [](const DebugMessage& m) { return m.severity == MessageSeverity::Error; });
+    EXPECT_GE(errors, 1u) << "the deliberately invalid call produced " << messages.size() << " messages, none an error";
+    for (const DebugMessage& m : messages) EXPECT_FALSE(m.text.empty());
+    discardDebugMessages();   // expected ones; TearDown fails on anything left
+}
+
+TEST_P(ErrorTest, DeviceInfoMatchesTheConfiguration) {
+    const DeviceInfo& info = device().info();
+    EXPECT_EQ(info.backend, backend());
+    if (backend() == Backend::Vulkan) {
+        EXPECT_EQ(info.platform, "headless");
+        EXPECT_NE(info.shadingLanguage.find("SPIR-V"), std::string::npos) << info.shadingLanguage;
+    } else {
+        EXPECT_EQ(info.platform, toString(GetParam().glPlatform));
+        EXPECT_NE(info.shadingLanguage.find(isGLES() ? "ESSL 300" : "GLSL 430"), std::string::npos) << info.shadingLanguage;
+    }
+}
+
+TEST_P(ErrorTest, BufferSizeZeroIsInvalid) {
+    EXPECT_TRUE(throwsRhiError([&] { createBuffer(BufferUsage::Vertex, 0); }, ErrorCode::InvalidDescription, {"size"}));
+}
+
+TEST_P(ErrorTest, BadTextureDescriptionsAreInvalid) {
+    struct Case { const char* what; TextureDesc desc; };
+    const Case cases[] = {
+        {"zero width", TextureDesc().setSize(0, 4)},
+        {"zero height", TextureDesc().setSize(4, 0)},
+        {"zero depth of a 3D texture", TextureDesc().setDimension(TextureDimension::Texture3D).setSize(4, 4, 0)},
+        {"100000x100000", TextureDesc().setSize(100000, 100000)},
+        {"3D 100000 deep", TextureDesc().setDimension(TextureDimension::Texture3D).setSize(4, 4, 100000)},
+        {"cube with width != height", TextureDesc().setDimension(TextureDimension::TextureCube).setSize(8, 4)},
+        {"more mips than the chain has", TextureDesc().setSize(4, 4).setMipLevels(10)},
+        {"unknown format", TextureDesc().setFormat(Format::Unknown).setSize(4, 4)},
+    };
+    for (const Case& c : cases)
+        EXPECT_TRUE(throwsRhiError([&] { device().createTexture(c.desc); }, ErrorCode::InvalidDescription)) << c.what;
+}
+
+TEST_P(ErrorTest, GarbageSpirvIsRejected) {
+    const std::vector<ErrorCode> shaderErrors = {ErrorCode::ShaderTranslation, ErrorCode::ShaderCompilation};
+    std::vector<uint32_t> garbage = {0xDEADBEEF, 1, 2, 3, 4, 5, 6, 7};
+    EXPECT_TRUE(throwsRhiError([&] { device().createShader(ShaderDesc().setStage(ShaderStage::Fragment).setSpirv(garbage)); },
+                               shaderErrors)) << "wrong magic number";
+    // A real shader cut in half: valid header, broken body.
+    std::span<const uint32_t> real = janus::shaders::get("rt_vertex_color_frag");
+    std::vector<uint32_t> truncated(real.begin(), real.begin() + real.size() / 2);
+    EXPECT_TRUE(throwsRhiError([&] { device().createShader(ShaderDesc().setStage(ShaderStage::Fragment).setSpirv(truncated)); },
+                               shaderErrors)) << "truncated module";
+    EXPECT_TRUE(throwsRhiError([&] { device().createShader(ShaderDesc().setStage(ShaderStage::Fragment)); },
+                               {ErrorCode::InvalidDescription, ErrorCode::ShaderTranslation})) << "empty SPIR-V";
+}
+
+TEST_P(ErrorTest, DrawOutsideARenderPassIsInvalidUsage) {
+    PipelineHandle pipeline = colorPipeline(Format::RGBA8_UNORM);
+    EXPECT_TRUE(throwsRhiError([&] {
+        submit([&](ICommandList& cmd) {
+            cmd.setPipeline(pipeline);
+            cmd.draw(3);
+        });
+    }, ErrorCode::InvalidUsage));
+}
+
+TEST_P(ErrorTest, OutOfRangeTransfersThrow) {
+    const std::vector<ErrorCode> misuse = {ErrorCode::InvalidUsage, ErrorCode::InvalidDescription};
+    BufferHandle buffer = createBuffer(BufferUsage::Uniform, 64);
+    std::vector<std::byte> bytes(128);
+    EXPECT_TRUE(throwsRhiError([&] { device().writeBuffer(buffer, bytes.data(), 128); }, misuse)) << "write past the end";
+    EXPECT_TRUE(throwsRhiError([&] { device().readBuffer(buffer, 60, 8); }, misuse)) << "read past the end";
+    TextureHandle texture = createTexture2D(Format::RGBA8_UNORM, 4, 4);
+    EXPECT_TRUE(throwsRhiError([&] { device().writeTexture(texture, {}, bytes.data(), 32); }, misuse)) << "wrong upload size";
+    EXPECT_TRUE(throwsRhiError([&] { device().readTexture(texture, {3, 0}); }, misuse)) << "mip that does not exist";
+    EXPECT_TRUE(throwsRhiError([&] { device().readTexture(texture, {0, 1}); }, misuse)) << "layer that does not exist";
+}
+
+// gles stands in for compute-less devices (docs/ARCHITECTURE.md); vulkan and gl have it all.
+TEST_P(ErrorTest, CapabilityTableIsHonest) {
+    const Capabilities& c = caps();
+    const bool full = !isGLES();
+    EXPECT_EQ(c.compute, full);
+    EXPECT_EQ(c.storageBuffers, full);
+    EXPECT_EQ(c.storageImages, full);
+    for (Capability cap : kAllCapabilities) {
+        bool flag = false;
+        switch (cap) {
+            case Capability::Compute: flag = c.compute; break;
+            case Capability::StorageBuffers: flag = c.storageBuffers; break;
+            case Capability::StorageImages: flag = c.storageImages; break;
+            case Capability::RenderToVolumeSlice: flag = c.renderToVolumeSlice; break;
+            case Capability::RenderToCubeFaceMip: flag = c.renderToCubeFaceMip; break;
+            case Capability::FloatRenderTargets: flag = c.floatRenderTargets; break;
+            case Capability::FloatBlend: flag = c.floatBlend; break;
+            case Capability::TimestampQueries: flag = c.timestampQueries; break;
+        }
+        EXPECT_EQ(c.has(cap), flag) << toString(cap);
+    }
+    const Limits& l = c.limits;
+    EXPECT_GE(l.maxTextureSize2D, 2048u);
+    EXPECT_GE(l.maxTextureSize3D, 256u);
+    EXPECT_GE(l.maxTextureSizeCube, 2048u);
+    EXPECT_GE(l.maxColorAttachments, 4u);
+    EXPECT_GE(l.maxUniformBufferRange, 16384u);
+    EXPECT_GT(l.uniformBufferOffsetAlignment, 0u);
+    if (c.storageBuffers) {
+        EXPECT_GE(l.maxStorageBufferRange, 1u << 24);
+        EXPECT_GT(l.storageBufferOffsetAlignment, 0u);
+    } else {
+        EXPECT_EQ(l.maxStorageBufferRange, 0u) << "0 without StorageBuffers (rhi.h)";
+    }
+    if (c.compute) {
+        EXPECT_GE(l.maxComputeWorkGroupInvocations, 128u);
+        for (uint32_t n : l.maxComputeWorkGroupCount) EXPECT_GE(n, 65535u);
+    }
+}
+
+// For every capability the device lacks, one use of it must throw UnsupportedCapability whose
+// message names the capability (instead of crashing or failing later in the driver).
+TEST_P(ErrorTest, MissingCapabilitiesThrowUnsupportedCapability) {
+    auto passInto = [&](const TextureHandle& texture, TextureSubresource sub) {
+        submit([&](ICommandList& cmd) {
+            cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(texture, {0, 0, 0, 0}, sub)));
+            cmd.endRenderPass();
+        });
+    };
+    std::vector<std::pair<Capability, std::function<void()>>> uses = {
+        {Capability::Compute, [&] { device().createComputePipeline(ComputePipelineDesc().setShader(shader("rt_invocation_ids_comp"))); }},
+        {Capability::Compute, [&] { submit([](ICommandList& cmd) { cmd.dispatch(1); }); }},
+        {Capability::StorageBuffers, [&] { createBuffer(BufferUsage::Storage, 64); }},
+        {Capability::StorageImages, [&] { createTexture2D(Format::RGBA8_UNORM, 4, 4, TextureUsage::Storage); }},
+        {Capability::RenderToVolumeSlice, [&] {
+             passInto(device().createTexture(TextureDesc().setDimension(TextureDimension::Texture3D).setSize(4, 4, 4)
+                                                 .setUsage(TextureUsage::RenderTarget)), {0, 1});
+         }},
+        {Capability::RenderToCubeFaceMip, [&] {
+             passInto(device().createTexture(TextureDesc().setDimension(TextureDimension::TextureCube).setSize(8, 8)
+                                                 .setMipLevels(2).setUsage(TextureUsage::RenderTarget)), {1, 1});
+         }},
+        {Capability::FloatRenderTargets, [&] { passInto(createTexture2D(Format::RGBA16_FLOAT, 4, 4, TextureUsage::RenderTarget), {}); }},
+        {Capability::FloatBlend, [&] { colorPipeline(Format::RGBA32_FLOAT, Format::Unknown, {}, {}, BlendAttachment::additive()); }},
+        {Capability::TimestampQueries, [&] {
+             TimerQueryHandle timer = device().createTimerQuery();
+             submit([&](ICommandList& cmd) { cmd.beginTimer(timer); cmd.endTimer(timer); });
+         }},
+    };
+    size_t checked = 0;
+    for (auto& [cap, use] : uses) {
+        if (caps().has(cap)) continue;
+        ++checked;
+        EXPECT_TRUE(throwsRhiError(use, ErrorCode::UnsupportedCapability, {toString(cap)})) << "using " << toString(cap);
+    }
+    if (checked == 0) GTEST_SKIP() << "the device has every capability";
+}
+
+}  // namespace
+}  // namespace janus::rhi::test
