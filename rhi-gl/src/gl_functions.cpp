@@ -2,9 +2,6 @@
 
 #include <fmt/format.h>
 
-#include <array>
-#include <string>
-
 #include "gl_platform.h"
 #include "janus/rhi/rhi.h"
 
@@ -20,14 +17,9 @@ void GLFunctions::load(const Platform& platform, bool es) {
     JANUS_GL_REQUIRED_FUNCTIONS(JANUS_GL_LOAD_REQUIRED)
 #undef JANUS_GL_LOAD_REQUIRED
 
-    auto loadOptional = [&](const char* base) -> void* {
-        const auto suffixes = es ? std::array{"KHR", "EXT", ""} : std::array{"", "KHR", "EXT"};
-        for (const char* suffix : suffixes) {
-            if (void* p = platform.getProcAddress((std::string(base) + suffix).c_str())) return p;
-        }
-        return nullptr;
-    };
-#define JANUS_GL_LOAD_OPTIONAL(type, name) name = reinterpret_cast<type>(loadOptional(#name));
+#define JANUS_GL_LOAD_OPTIONAL(type, name, esName)                                               \
+    name = reinterpret_cast<type>(es ? (esName ? platform.getProcAddress(esName) : nullptr)         \
+                                      : platform.getProcAddress(#name));
     JANUS_GL_OPTIONAL_FUNCTIONS(JANUS_GL_LOAD_OPTIONAL)
 #undef JANUS_GL_LOAD_OPTIONAL
 }

@@ -11,130 +11,131 @@ class Platform;
 
 // Entry points every context we accept has (GL 4.3 core and GLES 3.0 alike).
 #define JANUS_GL_REQUIRED_FUNCTIONS(X)                                                          \
-    X(PFNGLGETERRORPROC, glGetError)                                                            \
-    X(PFNGLGETSTRINGPROC, glGetString)                                                          \
-    X(PFNGLGETSTRINGIPROC, glGetStringi)                                                        \
-    X(PFNGLGETINTEGERVPROC, glGetIntegerv)                                                      \
-    X(PFNGLGETINTEGER64VPROC, glGetInteger64v)                                                  \
-    X(PFNGLGETINTEGERI_VPROC, glGetIntegeri_v)                                                  \
-    X(PFNGLENABLEPROC, glEnable)                                                                \
-    X(PFNGLDISABLEPROC, glDisable)                                                              \
-    X(PFNGLVIEWPORTPROC, glViewport)                                                            \
-    X(PFNGLSCISSORPROC, glScissor)                                                              \
-    X(PFNGLDEPTHRANGEFPROC, glDepthRangef)                                                      \
-    X(PFNGLDEPTHFUNCPROC, glDepthFunc)                                                          \
-    X(PFNGLDEPTHMASKPROC, glDepthMask)                                                          \
-    X(PFNGLCOLORMASKPROC, glColorMask)                                                          \
-    X(PFNGLCULLFACEPROC, glCullFace)                                                            \
-    X(PFNGLFRONTFACEPROC, glFrontFace)                                                          \
-    X(PFNGLPOLYGONOFFSETPROC, glPolygonOffset)                                                  \
-    X(PFNGLBLENDFUNCSEPARATEPROC, glBlendFuncSeparate)                                          \
-    X(PFNGLBLENDEQUATIONSEPARATEPROC, glBlendEquationSeparate)                                  \
-    X(PFNGLPIXELSTOREIPROC, glPixelStorei)                                                      \
-    X(PFNGLFINISHPROC, glFinish)                                                                \
-    X(PFNGLGENBUFFERSPROC, glGenBuffers)                                                        \
-    X(PFNGLDELETEBUFFERSPROC, glDeleteBuffers)                                                  \
-    X(PFNGLBINDBUFFERPROC, glBindBuffer)                                                        \
-    X(PFNGLBUFFERDATAPROC, glBufferData)                                                        \
-    X(PFNGLBUFFERSUBDATAPROC, glBufferSubData)                                                  \
-    X(PFNGLMAPBUFFERRANGEPROC, glMapBufferRange)                                                \
-    X(PFNGLUNMAPBUFFERPROC, glUnmapBuffer)                                                      \
-    X(PFNGLCOPYBUFFERSUBDATAPROC, glCopyBufferSubData)                                          \
-    X(PFNGLBINDBUFFERRANGEPROC, glBindBufferRange)                                              \
-    X(PFNGLGENTEXTURESPROC, glGenTextures)                                                      \
-    X(PFNGLDELETETEXTURESPROC, glDeleteTextures)                                                \
-    X(PFNGLBINDTEXTUREPROC, glBindTexture)                                                      \
-    X(PFNGLACTIVETEXTUREPROC, glActiveTexture)                                                  \
-    X(PFNGLTEXSTORAGE2DPROC, glTexStorage2D)                                                    \
-    X(PFNGLTEXSTORAGE3DPROC, glTexStorage3D)                                                    \
-    X(PFNGLTEXSUBIMAGE2DPROC, glTexSubImage2D)                                                  \
-    X(PFNGLTEXSUBIMAGE3DPROC, glTexSubImage3D)                                                  \
-    X(PFNGLTEXPARAMETERIPROC, glTexParameteri)                                                  \
-    X(PFNGLGENERATEMIPMAPPROC, glGenerateMipmap)                                                \
-    X(PFNGLGENSAMPLERSPROC, glGenSamplers)                                                      \
-    X(PFNGLDELETESAMPLERSPROC, glDeleteSamplers)                                                \
-    X(PFNGLBINDSAMPLERPROC, glBindSampler)                                                      \
-    X(PFNGLSAMPLERPARAMETERIPROC, glSamplerParameteri)                                          \
-    X(PFNGLSAMPLERPARAMETERFPROC, glSamplerParameterf)                                          \
-    X(PFNGLGENFRAMEBUFFERSPROC, glGenFramebuffers)                                              \
-    X(PFNGLDELETEFRAMEBUFFERSPROC, glDeleteFramebuffers)                                        \
-    X(PFNGLBINDFRAMEBUFFERPROC, glBindFramebuffer)                                              \
-    X(PFNGLFRAMEBUFFERTEXTURE2DPROC, glFramebufferTexture2D)                                    \
-    X(PFNGLFRAMEBUFFERTEXTURELAYERPROC, glFramebufferTextureLayer)                              \
-    X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, glCheckFramebufferStatus)                                \
-    X(PFNGLDRAWBUFFERSPROC, glDrawBuffers)                                                      \
-    X(PFNGLREADBUFFERPROC, glReadBuffer)                                                        \
-    X(PFNGLREADPIXELSPROC, glReadPixels)                                                        \
-    X(PFNGLCLEARBUFFERFVPROC, glClearBufferfv)                                                  \
-    X(PFNGLCLEARBUFFERUIVPROC, glClearBufferuiv)                                                \
-    X(PFNGLBLITFRAMEBUFFERPROC, glBlitFramebuffer)                                              \
-    X(PFNGLCREATESHADERPROC, glCreateShader)                                                    \
-    X(PFNGLDELETESHADERPROC, glDeleteShader)                                                    \
-    X(PFNGLSHADERSOURCEPROC, glShaderSource)                                                    \
-    X(PFNGLCOMPILESHADERPROC, glCompileShader)                                                  \
-    X(PFNGLGETSHADERIVPROC, glGetShaderiv)                                                      \
-    X(PFNGLGETSHADERINFOLOGPROC, glGetShaderInfoLog)                                            \
-    X(PFNGLCREATEPROGRAMPROC, glCreateProgram)                                                  \
-    X(PFNGLDELETEPROGRAMPROC, glDeleteProgram)                                                  \
-    X(PFNGLATTACHSHADERPROC, glAttachShader)                                                    \
-    X(PFNGLDETACHSHADERPROC, glDetachShader)                                                    \
-    X(PFNGLLINKPROGRAMPROC, glLinkProgram)                                                      \
-    X(PFNGLGETPROGRAMIVPROC, glGetProgramiv)                                                    \
-    X(PFNGLGETPROGRAMINFOLOGPROC, glGetProgramInfoLog)                                          \
-    X(PFNGLUSEPROGRAMPROC, glUseProgram)                                                        \
-    X(PFNGLGETUNIFORMLOCATIONPROC, glGetUniformLocation)                                        \
-    X(PFNGLUNIFORM1IPROC, glUniform1i)                                                          \
-    X(PFNGLUNIFORM1UIPROC, glUniform1ui)                                                        \
-    X(PFNGLGETUNIFORMBLOCKINDEXPROC, glGetUniformBlockIndex)                                    \
-    X(PFNGLUNIFORMBLOCKBINDINGPROC, glUniformBlockBinding)                                      \
-    X(PFNGLGENVERTEXARRAYSPROC, glGenVertexArrays)                                              \
-    X(PFNGLDELETEVERTEXARRAYSPROC, glDeleteVertexArrays)                                        \
-    X(PFNGLBINDVERTEXARRAYPROC, glBindVertexArray)                                              \
-    X(PFNGLVERTEXATTRIBPOINTERPROC, glVertexAttribPointer)                                      \
-    X(PFNGLVERTEXATTRIBIPOINTERPROC, glVertexAttribIPointer)                                    \
-    X(PFNGLVERTEXATTRIBDIVISORPROC, glVertexAttribDivisor)                                      \
-    X(PFNGLENABLEVERTEXATTRIBARRAYPROC, glEnableVertexAttribArray)                              \
-    X(PFNGLDISABLEVERTEXATTRIBARRAYPROC, glDisableVertexAttribArray)                            \
-    X(PFNGLDRAWARRAYSINSTANCEDPROC, glDrawArraysInstanced)                                      \
-    X(PFNGLDRAWELEMENTSINSTANCEDPROC, glDrawElementsInstanced)                                  \
-    X(PFNGLGENQUERIESPROC, glGenQueries)                                                        \
+    X(PFNGLGETERRORPROC, glGetError)                                                                          \
+    X(PFNGLGETSTRINGPROC, glGetString)                                                                        \
+    X(PFNGLGETSTRINGIPROC, glGetStringi)                                                                      \
+    X(PFNGLGETINTEGERVPROC, glGetIntegerv)                                                                    \
+    X(PFNGLGETINTEGER64VPROC, glGetInteger64v)                                                                \
+    X(PFNGLGETINTEGERI_VPROC, glGetIntegeri_v)                                                                \
+    X(PFNGLENABLEPROC, glEnable)                                                                              \
+    X(PFNGLDISABLEPROC, glDisable)                                                                            \
+    X(PFNGLVIEWPORTPROC, glViewport)                                                                          \
+    X(PFNGLSCISSORPROC, glScissor)                                                                            \
+    X(PFNGLDEPTHRANGEFPROC, glDepthRangef)                                                                    \
+    X(PFNGLDEPTHFUNCPROC, glDepthFunc)                                                                        \
+    X(PFNGLDEPTHMASKPROC, glDepthMask)                                                                        \
+    X(PFNGLCOLORMASKPROC, glColorMask)                                                                        \
+    X(PFNGLCULLFACEPROC, glCullFace)                                                                          \
+    X(PFNGLFRONTFACEPROC, glFrontFace)                                                                        \
+    X(PFNGLPOLYGONOFFSETPROC, glPolygonOffset)                                                                \
+    X(PFNGLBLENDFUNCSEPARATEPROC, glBlendFuncSeparate)                                                        \
+    X(PFNGLBLENDEQUATIONSEPARATEPROC, glBlendEquationSeparate)                                                \
+    X(PFNGLPIXELSTOREIPROC, glPixelStorei)                                                                    \
+    X(PFNGLFINISHPROC, glFinish)                                                                              \
+    X(PFNGLGENBUFFERSPROC, glGenBuffers)                                                                      \
+    X(PFNGLDELETEBUFFERSPROC, glDeleteBuffers)                                                                \
+    X(PFNGLBINDBUFFERPROC, glBindBuffer)                                                                      \
+    X(PFNGLBUFFERDATAPROC, glBufferData)                                                                      \
+    X(PFNGLBUFFERSUBDATAPROC, glBufferSubData)                                                                \
+    X(PFNGLMAPBUFFERRANGEPROC, glMapBufferRange)                                                              \
+    X(PFNGLUNMAPBUFFERPROC, glUnmapBuffer)                                                                    \
+    X(PFNGLCOPYBUFFERSUBDATAPROC, glCopyBufferSubData)                                                        \
+    X(PFNGLBINDBUFFERRANGEPROC, glBindBufferRange)                                                            \
+    X(PFNGLGENTEXTURESPROC, glGenTextures)                                                                    \
+    X(PFNGLDELETETEXTURESPROC, glDeleteTextures)                                                              \
+    X(PFNGLBINDTEXTUREPROC, glBindTexture)                                                                    \
+    X(PFNGLACTIVETEXTUREPROC, glActiveTexture)                                                                \
+    X(PFNGLTEXSTORAGE2DPROC, glTexStorage2D)                                                                  \
+    X(PFNGLTEXSTORAGE3DPROC, glTexStorage3D)                                                                  \
+    X(PFNGLTEXSUBIMAGE2DPROC, glTexSubImage2D)                                                                \
+    X(PFNGLTEXSUBIMAGE3DPROC, glTexSubImage3D)                                                                \
+    X(PFNGLTEXPARAMETERIPROC, glTexParameteri)                                                                \
+    X(PFNGLGENERATEMIPMAPPROC, glGenerateMipmap)                                                              \
+    X(PFNGLGENSAMPLERSPROC, glGenSamplers)                                                                    \
+    X(PFNGLDELETESAMPLERSPROC, glDeleteSamplers)                                                              \
+    X(PFNGLBINDSAMPLERPROC, glBindSampler)                                                                    \
+    X(PFNGLSAMPLERPARAMETERIPROC, glSamplerParameteri)                                                        \
+    X(PFNGLSAMPLERPARAMETERFPROC, glSamplerParameterf)                                                        \
+    X(PFNGLGENFRAMEBUFFERSPROC, glGenFramebuffers)                                                            \
+    X(PFNGLDELETEFRAMEBUFFERSPROC, glDeleteFramebuffers)                                                      \
+    X(PFNGLBINDFRAMEBUFFERPROC, glBindFramebuffer)                                                            \
+    X(PFNGLFRAMEBUFFERTEXTURE2DPROC, glFramebufferTexture2D)                                                  \
+    X(PFNGLFRAMEBUFFERTEXTURELAYERPROC, glFramebufferTextureLayer)                                            \
+    X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, glCheckFramebufferStatus)                                              \
+    X(PFNGLDRAWBUFFERSPROC, glDrawBuffers)                                                                    \
+    X(PFNGLREADBUFFERPROC, glReadBuffer)                                                                      \
+    X(PFNGLREADPIXELSPROC, glReadPixels)                                                                      \
+    X(PFNGLCLEARBUFFERFVPROC, glClearBufferfv)                                                                \
+    X(PFNGLCLEARBUFFERUIVPROC, glClearBufferuiv)                                                              \
+    X(PFNGLBLITFRAMEBUFFERPROC, glBlitFramebuffer)                                                            \
+    X(PFNGLCREATESHADERPROC, glCreateShader)                                                                  \
+    X(PFNGLDELETESHADERPROC, glDeleteShader)                                                                  \
+    X(PFNGLSHADERSOURCEPROC, glShaderSource)                                                                  \
+    X(PFNGLCOMPILESHADERPROC, glCompileShader)                                                                \
+    X(PFNGLGETSHADERIVPROC, glGetShaderiv)                                                                    \
+    X(PFNGLGETSHADERINFOLOGPROC, glGetShaderInfoLog)                                                          \
+    X(PFNGLCREATEPROGRAMPROC, glCreateProgram)                                                                \
+    X(PFNGLDELETEPROGRAMPROC, glDeleteProgram)                                                                \
+    X(PFNGLATTACHSHADERPROC, glAttachShader)                                                                  \
+    X(PFNGLDETACHSHADERPROC, glDetachShader)                                                                  \
+    X(PFNGLLINKPROGRAMPROC, glLinkProgram)                                                                    \
+    X(PFNGLGETPROGRAMIVPROC, glGetProgramiv)                                                                  \
+    X(PFNGLGETPROGRAMINFOLOGPROC, glGetProgramInfoLog)                                                        \
+    X(PFNGLUSEPROGRAMPROC, glUseProgram)                                                                      \
+    X(PFNGLGETUNIFORMLOCATIONPROC, glGetUniformLocation)                                                      \
+    X(PFNGLUNIFORM1IPROC, glUniform1i)                                                                        \
+    X(PFNGLUNIFORM1UIPROC, glUniform1ui)                                                                      \
+    X(PFNGLGETUNIFORMBLOCKINDEXPROC, glGetUniformBlockIndex)                                                  \
+    X(PFNGLUNIFORMBLOCKBINDINGPROC, glUniformBlockBinding)                                                    \
+    X(PFNGLGENVERTEXARRAYSPROC, glGenVertexArrays)                                                            \
+    X(PFNGLDELETEVERTEXARRAYSPROC, glDeleteVertexArrays)                                                      \
+    X(PFNGLBINDVERTEXARRAYPROC, glBindVertexArray)                                                            \
+    X(PFNGLVERTEXATTRIBPOINTERPROC, glVertexAttribPointer)                                                    \
+    X(PFNGLVERTEXATTRIBIPOINTERPROC, glVertexAttribIPointer)                                                  \
+    X(PFNGLVERTEXATTRIBDIVISORPROC, glVertexAttribDivisor)                                                    \
+    X(PFNGLENABLEVERTEXATTRIBARRAYPROC, glEnableVertexAttribArray)                                            \
+    X(PFNGLDISABLEVERTEXATTRIBARRAYPROC, glDisableVertexAttribArray)                                          \
+    X(PFNGLDRAWARRAYSINSTANCEDPROC, glDrawArraysInstanced)                                                    \
+    X(PFNGLDRAWELEMENTSINSTANCEDPROC, glDrawElementsInstanced)                                                \
+    X(PFNGLGENQUERIESPROC, glGenQueries)                                                                      \
     X(PFNGLDELETEQUERIESPROC, glDeleteQueries)
 
-// Desktop-only (or ES-extension) entry points; may be null. A non-null pointer does NOT prove the
-// context supports the call (glvnd hands out stubs for any name): capabilities decide, from the
-// version and extension strings, which of these are ever called.
+// Desktop-only entry points, with the name of the ES extension function that stands in for them
+// (nullptr: not loaded on ES). Names are never probed: glvnd's eglGetProcAddress returns a stub
+// for ANY gl* name, so a non-null pointer proves nothing. Capabilities decide, from the version
+// and extension strings, which of these are ever called.
 #define JANUS_GL_OPTIONAL_FUNCTIONS(X)                                                          \
-    X(PFNGLSHADERSTORAGEBLOCKBINDINGPROC, glShaderStorageBlockBinding)                          \
-    X(PFNGLGETPROGRAMRESOURCEINDEXPROC, glGetProgramResourceIndex)                              \
-    X(PFNGLDISPATCHCOMPUTEPROC, glDispatchCompute)                                              \
-    X(PFNGLMEMORYBARRIERPROC, glMemoryBarrier)                                                  \
-    X(PFNGLBINDIMAGETEXTUREPROC, glBindImageTexture)                                            \
-    X(PFNGLCOPYIMAGESUBDATAPROC, glCopyImageSubData)                                            \
-    X(PFNGLDRAWARRAYSINSTANCEDBASEINSTANCEPROC, glDrawArraysInstancedBaseInstance)              \
-    X(PFNGLDRAWELEMENTSINSTANCEDBASEVERTEXBASEINSTANCEPROC,                                     \
-      glDrawElementsInstancedBaseVertexBaseInstance)                                            \
-    X(PFNGLQUERYCOUNTERPROC, glQueryCounter)                                                    \
-    X(PFNGLGETQUERYOBJECTUI64VPROC, glGetQueryObjectui64v)                                      \
-    X(PFNGLDEBUGMESSAGECALLBACKPROC, glDebugMessageCallback)                                    \
-    X(PFNGLDEBUGMESSAGECONTROLPROC, glDebugMessageControl)                                      \
-    X(PFNGLPUSHDEBUGGROUPPROC, glPushDebugGroup)                                                \
-    X(PFNGLPOPDEBUGGROUPPROC, glPopDebugGroup)                                                  \
-    X(PFNGLOBJECTLABELPROC, glObjectLabel)                                                      \
-    X(PFNGLENABLEIPROC, glEnablei)                                                              \
-    X(PFNGLDISABLEIPROC, glDisablei)                                                            \
-    X(PFNGLBLENDFUNCSEPARATEIPROC, glBlendFuncSeparatei)                                        \
-    X(PFNGLBLENDEQUATIONSEPARATEIPROC, glBlendEquationSeparatei)                                \
-    X(PFNGLCOLORMASKIPROC, glColorMaski)
+    X(PFNGLSHADERSTORAGEBLOCKBINDINGPROC, glShaderStorageBlockBinding, nullptr)                               \
+    X(PFNGLGETPROGRAMRESOURCEINDEXPROC, glGetProgramResourceIndex, nullptr)                                   \
+    X(PFNGLDISPATCHCOMPUTEPROC, glDispatchCompute, nullptr)                                                   \
+    X(PFNGLMEMORYBARRIERPROC, glMemoryBarrier, nullptr)                                                       \
+    X(PFNGLBINDIMAGETEXTUREPROC, glBindImageTexture, nullptr)                                                 \
+    X(PFNGLCOPYIMAGESUBDATAPROC, glCopyImageSubData, nullptr)                                                 \
+    X(PFNGLDRAWARRAYSINSTANCEDBASEINSTANCEPROC, glDrawArraysInstancedBaseInstance, nullptr)                   \
+    X(PFNGLDRAWELEMENTSINSTANCEDBASEVERTEXBASEINSTANCEPROC, glDrawElementsInstancedBaseVertexBaseInstance, nullptr) \
+    X(PFNGLQUERYCOUNTERPROC, glQueryCounter, "glQueryCounterEXT")                                             \
+    X(PFNGLGETQUERYOBJECTUI64VPROC, glGetQueryObjectui64v, "glGetQueryObjectui64vEXT")                        \
+    X(PFNGLDEBUGMESSAGECALLBACKPROC, glDebugMessageCallback, "glDebugMessageCallbackKHR")                     \
+    X(PFNGLDEBUGMESSAGECONTROLPROC, glDebugMessageControl, "glDebugMessageControlKHR")                        \
+    X(PFNGLPUSHDEBUGGROUPPROC, glPushDebugGroup, "glPushDebugGroupKHR")                                       \
+    X(PFNGLPOPDEBUGGROUPPROC, glPopDebugGroup, "glPopDebugGroupKHR")                                          \
+    X(PFNGLOBJECTLABELPROC, glObjectLabel, "glObjectLabelKHR")                                                \
+    X(PFNGLENABLEIPROC, glEnablei, nullptr)                                                                   \
+    X(PFNGLDISABLEIPROC, glDisablei, nullptr)                                                                 \
+    X(PFNGLBLENDFUNCSEPARATEIPROC, glBlendFuncSeparatei, nullptr)                                             \
+    X(PFNGLBLENDEQUATIONSEPARATEIPROC, glBlendEquationSeparatei, nullptr)                                     \
+    X(PFNGLCOLORMASKIPROC, glColorMaski, nullptr)
 
 struct GLFunctions {
 #define JANUS_GL_DECLARE(type, name) type name = nullptr;
+#define JANUS_GL_DECLARE_OPTIONAL(type, name, esName) type name = nullptr;
     JANUS_GL_REQUIRED_FUNCTIONS(JANUS_GL_DECLARE)
-    JANUS_GL_OPTIONAL_FUNCTIONS(JANUS_GL_DECLARE)
+    JANUS_GL_OPTIONAL_FUNCTIONS(JANUS_GL_DECLARE_OPTIONAL)
+#undef JANUS_GL_DECLARE_OPTIONAL
 #undef JANUS_GL_DECLARE
 
     // Throws Error(BackendUnavailable) naming the first required entry point that is missing.
-    // `es`: prefer the KHR/EXT-suffixed optional names, because an ES context's unsuffixed
-    // desktop names are stubs that only raise GL errors.
+    // `es`: load the optional entry points by their ES extension names.
     void load(const Platform& platform, bool es);
 };
 
