@@ -116,15 +116,15 @@ Scene defaultScene() {
     // Two rows of five spheres: dielectric (front) and gold metal (back), roughness rising left
     // to right, so specular highlights go from sharp to broad.
     const uint32_t sphereCount = 5;
-    constexpr float radius = 0.3f;
+    constexpr float radius = 0.24f;
     for (uint32_t i = 0; i < sphereCount; ++i) {
         const float roughness = 0.05f + 0.95f * float(i) / float(sphereCount - 1);
-        const float x = -1.4f + 0.7f * float(i);
+        const float x = -1.2f + 0.6f * float(i);
         const int32_t plastic = addMaterial(scene, "plastic " + std::to_string(i), glm::vec3(0.1f, 0.25f, 0.8f), 0.0f, roughness);
         const int32_t gold = addMaterial(scene, "gold " + std::to_string(i), glm::vec3(1.0f, 0.78f, 0.34f), 1.0f, roughness);
         const glm::mat4 scale = glm::scale(I, glm::vec3(radius));
-        scene.instances.push_back(Instance{addMesh(scene, makeSphere(plastic)), glm::translate(I, {x, radius, 0.1f}) * scale});
-        scene.instances.push_back(Instance{addMesh(scene, makeSphere(gold)), glm::translate(I, {x, radius, -0.8f}) * scale});
+        scene.instances.push_back(Instance{addMesh(scene, makeSphere(plastic)), glm::translate(I, {x, radius, -0.4f}) * scale});
+        scene.instances.push_back(Instance{addMesh(scene, makeSphere(gold)), glm::translate(I, {x, radius, -1.1f}) * scale});
     }
 
     // A tall box in the back-right corner, turned so two faces catch different light.
@@ -138,7 +138,7 @@ Scene defaultScene() {
     Light key;
     key.type = LightType::Directional;
     key.color = glm::vec3(1.0f, 0.95f, 0.85f);
-    key.intensity = 2.5f;
+    key.intensity = 2.0f;
     key.direction = glm::normalize(glm::vec3(-0.55f, -1.0f, -0.45f));
     scene.lights.push_back(key);
     Light fill = key;
@@ -150,9 +150,9 @@ Scene defaultScene() {
     scene.environment.ambientColor = glm::vec3(0.05f);
     scene.environment.exposure = 1.0f;
 
-    scene.camera.position = glm::vec3(0.0f, 1.5f, 1.95f);
-    scene.camera.target = glm::vec3(0.0f, 0.9f, -1.0f);
-    scene.camera.fovYRadians = glm::radians(60.0f);
+    scene.camera.position = glm::vec3(0.0f, 1.7f, 1.9f);
+    scene.camera.target = glm::vec3(0.0f, 0.8f, -1.2f);
+    scene.camera.fovYRadians = glm::radians(72.0f);
     scene.camera.nearPlane = 0.02f;
     scene.camera.farPlane = 20.0f;
 
