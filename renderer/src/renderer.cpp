@@ -5,6 +5,7 @@
 #include "janus/renderer/renderer.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstddef>
@@ -66,8 +67,15 @@ double millisecondsSince(std::chrono::steady_clock::time_point start) {
 }
 
 float srgbToLinear(uint8_t value) {
-    const float c = float(value) / 255.0f;
-    return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+    static const std::array<float, 256> table = [] {
+        std::array<float, 256> t{};
+        for (size_t i = 0; i < t.size(); ++i) {
+            const float c = float(i) / 255.0f;
+            t[i] = c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+        }
+        return t;
+    }();
+    return table[value];
 }
 
 uint8_t linearToSrgb(float c) {

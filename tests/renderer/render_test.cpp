@@ -79,6 +79,10 @@ const SceneCase kScenes[] = {
     {"default", [] { return defaultScene(); }},
     {"MetalRoughSpheres", [] { return sharedScene("MetalRoughSpheresNoTextures/glTF/MetalRoughSpheresNoTextures.gltf"); }},
     {"BoxTextured", [] { return sharedScene("BoxTextured/glTF/BoxTextured.gltf"); }},
+    // Normal, occlusion, emissive and metallic-roughness textures, tangents, a rotated root node.
+    {"DamagedHelmet", [] { return sharedScene("DamagedHelmet/glTF/DamagedHelmet.gltf"); }},
+    // A scene file: its camera, a point light, emissive lamp, textured walls.
+    {"CornellSceneFile", [] { return loadScene(fs::path(__FILE__).parent_path() / "data" / "cornell.json"); }},
 };
 
 // The reference (vulkan/compute) render of each scene, made once per process.
