@@ -12,3 +12,7 @@ janus_add_shader(janus_shaders NAME rt_layout_std430_comp SOURCE ${_rt}/layout.c
 janus_add_shader(janus_shaders NAME rt_invocation_ids_comp SOURCE ${_rt}/invocation_ids.comp)
 janus_add_shader(janus_shaders NAME rt_fill_volume_comp SOURCE ${_rt}/fill_volume.comp)
 janus_add_shader(janus_shaders NAME rt_fill_image_2d_comp SOURCE ${_rt}/fill_image_2d.comp)
+janus_add_shader(janus_shaders NAME rt_sample_at_2d_frag SOURCE ${_rt}/sample_at.frag)
+janus_add_shader(janus_shaders NAME rt_sample_at_cube_frag SOURCE ${_rt}/sample_at.frag DEFINES CUBE)
+janus_add_shader(janus_shaders NAME rt_sample_at_3d_frag SOURCE ${_rt}/sample_at.frag DEFINES VOLUME)
+janus_add_shader(janus_shaders NAME rt_sample_at_shadow_frag SOURCE ${_rt}/sample_at.frag DEFINES SHADOW)

@@ -1,0 +1,152 @@
+// Sampling: cube face order and orientation, 3D slices, explicit mip levels, depth-compare
+// samplers and sRGB decoding, each through exact texel-centre lookups (rt_sample_at_*).
+#include "backend_test.h"
+
+namespace janus::rhi::test {
+namespace {
+
+using Lookup = std::array<float, 4>;
+
+class SamplingTest : public BackendTest {
+protected:
+    // Renders one pixel per lookup with `shaderName` sampling `texture` and returns the pixels.
+    std::vector<Rgba8> sampleAt(const char* shaderName, const TextureHandle& texture, const SamplerHandle& sampler,
+                                const std::vector<Lookup>& lookups) {
+        std::array<Lookup, 32> block{};   // the shader's std140 vec4[32]
+        std::copy(lookups.begin(), lookups.end(), block.begin());
+        BufferHandle ubo = createBuffer(BufferUsage::Uniform, std::as_bytes(std::span(block)));
+        BindingSetHandle bindings = device().createBindingSet(
+            BindingSetDesc().add(BindingItem::uniformBuffer(0, ubo)).add(BindingItem::sampledTexture(1, texture, sampler)));
+        TextureHandle target = createTexture2D(Format::RGBA8_UNORM, uint32_t(lookups.size()), 1, TextureUsage::RenderTarget);
+        drawFullscreen(RenderPassDesc().addColor(Attachment::clear(target)), fullscreenPipeline(shaderName, Format::RGBA8_UNORM),
+                       {bindings});
+        return readTextureAs<Rgba8>(target);
+    }
+};
+JANUS_INSTANTIATE_BACKEND_TESTS(SamplingTest);
+
+Rgba8 cubeTexel(uint32_t face, uint32_t x, uint32_t y) { return {uint8_t(10 + 40 * face), uint8_t(100 + 50 * x), uint8_t(100 + 50 * y), 255}; }
+
+// Direction that hits texel (s, t) of `face`: the inverse of the face-selection table of the
+// Vulkan and GL specs (sc, tc, ma per major axis), with |ma| = 1.
+Lookup cubeDirection(uint32_t face, float s, float t) {
+    float sc = 2 * s - 1, tc = 2 * t - 1;
+    switch (face) {
+        case 0: return {1, -tc, -sc, 0};    // +X: sc = -rz, tc = -ry
+        case 1: return {-1, -tc, sc, 0};    // -X: sc = +rz, tc = -ry
+        case 2: return {sc, 1, tc, 0};      // +Y: sc = +rx, tc = +rz
+        case 3: return {sc, -1, -tc, 0};    // -Y: sc = +rx, tc = -rz
+        case 4: return {sc, -tc, 1, 0};     // +Z: sc = +rx, tc = -ry
+        default: return {-sc, -tc, -1, 0};  // -Z: sc = -rx, tc = -ry
+    }
+}
+
+TEST_P(SamplingTest, CubeFacesAreOrderedAndOrientedAsInTheSpecs) {
+    TextureHandle cube = device().createTexture(TextureDesc().setDimension(TextureDimension::TextureCube).setSize(2, 2));
+    std::vector<Lookup> lookups;
+    std::vector<Rgba8> expected;
+    for (uint32_t face = 0; face < 6; ++face) {
+        std::vector<Rgba8> texels;
+        for (uint32_t y = 0; y < 2; ++y)
+            for (uint32_t x = 0; x < 2; ++x) {
+                texels.push_back(cubeTexel(face, x, y));
+                lookups.push_back(cubeDirection(face, (x + 0.5f) / 2, (y + 0.5f) / 2));
+                expected.push_back(cubeTexel(face, x, y));
+            }
+        device().writeTexture(cube, {0, face}, texels.data(), texels.size() * sizeof(Rgba8));
+    }
+    std::vector<Rgba8> seen = sampleAt("rt_sample_at_cube_frag", cube, nearestClampSampler(), lookups);
+    EXPECT_TRUE(imagesEqual(seen, expected, 4)) << "pixel x = face x / 4, texel (x % 2, x / 2 % 2); red = 10 + 40 face";
+}
+
+TEST_P(SamplingTest, VolumeSlicesAndMipsAreWhereTheyWereWritten) {
+    TextureHandle volume = device().createTexture(
+        TextureDesc().setDimension(TextureDimension::Texture3D).setSize(2, 2, 4).setMipLevels(2));
+    auto texel = [](uint32_t mip, uint32_t x, uint32_t y, uint32_t z) {
+        return Rgba8{uint8_t(10 + 60 * x), uint8_t(10 + 60 * y), uint8_t(10 + 50 * z), uint8_t(255 - 100 * mip)};
+    };
+    std::vector<Lookup> lookups;
+    std::vector<Rgba8> expected;
+    for (uint32_t mip = 0; mip < 2; ++mip) {
+        uint32_t w = mipExtent(2, mip), h = mipExtent(2, mip), d = mipExtent(4, mip);
+        for (uint32_t z = 0; z < d; ++z) {
+            std::vector<Rgba8> slice;
+            for (uint32_t y = 0; y < h; ++y)
+                for (uint32_t x = 0; x < w; ++x) {
+                    slice.push_back(texel(mip, x, y, z));
+                    lookups.push_back({(x + 0.5f) / w, (y + 0.5f) / h, (z + 0.5f) / d, float(mip)});
+                    expected.push_back(texel(mip, x, y, z));
+                }
+            device().writeTexture(volume, {mip, z}, slice.data(), slice.size() * sizeof(Rgba8));
+        }
+    }
+    std::vector<Rgba8> seen = sampleAt("rt_sample_at_3d_frag", volume, nearestClampSampler(), lookups);
+    EXPECT_TRUE(imagesEqual(seen, expected, uint32_t(expected.size())));
+}
+
+TEST_P(SamplingTest, ExplicitLodSelectsEachMipLevel) {
+    TextureHandle texture = createTexture2D(Format::RGBA8_UNORM, 4, 4, TextureUsage::Sampled, 3);
+    std::vector<Lookup> lookups;
+    std::vector<Rgba8> expected;
+    for (uint32_t mip = 0; mip < 3; ++mip) {
+        uint32_t size = mipExtent(4, mip);
+        std::vector<Rgba8> texels;
+        for (uint32_t y = 0; y < size; ++y)
+            for (uint32_t x = 0; x < size; ++x) {
+                texels.push_back({uint8_t(80 * mip + 10), uint8_t(40 * x), uint8_t(40 * y), 255});
+                lookups.push_back({(x + 0.5f) / size, (y + 0.5f) / size, 0, float(mip)});
+            }
+        expected.insert(expected.end(), texels.begin(), texels.end());
+        device().writeTexture(texture, {mip, 0}, texels.data(), texels.size() * sizeof(Rgba8));
+    }
+    std::vector<Rgba8> seen = sampleAt("rt_sample_at_2d_frag", texture, nearestClampSampler(), lookups);
+    EXPECT_TRUE(imagesEqual(seen, expected, uint32_t(expected.size())));
+}
+
+TEST_P(SamplingTest, SamplerLodRangeClampsTheLevel) {
+    TextureHandle texture = createTexture2D(Format::RGBA8_UNORM, 2, 2, TextureUsage::Sampled, 2);
+    std::vector<Rgba8> level0(4, Rgba8{255, 0, 0, 255});
+    Rgba8 level1{0, 255, 0, 255};
+    device().writeTexture(texture, {0, 0}, level0.data(), 16);
+    device().writeTexture(texture, {1, 0}, &level1, 4);
+    SamplerHandle onlyLevel1 = device().createSampler(
+        SamplerDesc().setFilter(Filter::Nearest).setAddress(AddressMode::ClampToEdge).setLodRange(1, 1));
+    std::vector<Rgba8> seen = sampleAt("rt_sample_at_2d_frag", texture, onlyLevel1, {{0.25f, 0.25f, 0, 0}});
+    EXPECT_EQ(seen, std::vector<Rgba8>{level1}) << "lod 0 clamped to minLod 1";
+}
+
+TEST_P(SamplingTest, DepthCompareSamplerCompares) {
+    TextureHandle depth = createTexture2D(Format::D32_FLOAT, 4, 1, TextureUsage::Sampled | TextureUsage::RenderTarget);
+    std::array<float, 4> values = {0.1f, 0.3f, 0.6f, 0.9f};
+    device().writeTexture(depth, {}, values.data(), sizeof values);
+    std::vector<Lookup> lookups;
+    for (uint32_t x = 0; x < 4; ++x) lookups.push_back({(x + 0.5f) / 4, 0.5f, 0.5f, 0});   // reference 0.5
+    for (auto [op, name, pass] : {std::tuple{CompareOp::Less, "less", std::array{false, false, true, true}},
+                                  std::tuple{CompareOp::Greater, "greater", std::array{true, true, false, false}}}) {
+        SCOPED_TRACE(name);
+        // Nearest filtering: linear would be allowed to average neighbouring comparisons.
+        SamplerHandle sampler = device().createSampler(
+            SamplerDesc().setFilter(Filter::Nearest).setAddress(AddressMode::ClampToEdge).setCompare(op));
+        std::vector<Rgba8> expected;
+        for (bool p : pass) expected.push_back(p ? Rgba8{255, 255, 255, 255} : Rgba8{0, 0, 0, 0});
+        EXPECT_TRUE(imagesEqual(sampleAt("rt_sample_at_shadow_frag", depth, sampler, lookups), expected, 4))
+            << "result = reference <op> texel, reference 0.5 against (0.1, 0.3, 0.6, 0.9)";
+    }
+}
+
+TEST_P(SamplingTest, SamplingSrgbTextureDecodes) {
+    TextureHandle texture = createTexture2D(Format::RGBA8_SRGB, 1, 1);
+    Rgba8 stored{188, 0, 255, 128};
+    device().writeTexture(texture, {}, &stored, sizeof stored);
+    std::vector<Rgba8> seen = sampleAt("rt_sample_at_2d_frag", texture, nearestClampSampler(), {{0.5f, 0.5f, 0, 0}});
+    ASSERT_EQ(seen.size(), 1u);
+    // sRGB 188 decodes to linear 0.5029 = 128.2 / 255; the specs allow the decode some error,
+    // hence +-1. 188 back means "not decoded".
+    EXPECT_NEAR(seen[0].r, 128, 1);
+    EXPECT_EQ(seen[0].g, 0);
+    EXPECT_EQ(seen[0].b, 255);
+    EXPECT_EQ(seen[0].a, 128) << "alpha is never sRGB-encoded";
+}
+
+}  // namespace
+}  // namespace janus::rhi::test
