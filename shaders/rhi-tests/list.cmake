@@ -16,3 +16,4 @@ janus_add_shader(janus_shaders NAME rt_sample_at_2d_frag SOURCE ${_rt}/sample_at
 janus_add_shader(janus_shaders NAME rt_sample_at_cube_frag SOURCE ${_rt}/sample_at.frag DEFINES CUBE)
 janus_add_shader(janus_shaders NAME rt_sample_at_3d_frag SOURCE ${_rt}/sample_at.frag DEFINES VOLUME)
 janus_add_shader(janus_shaders NAME rt_sample_at_shadow_frag SOURCE ${_rt}/sample_at.frag DEFINES SHADOW)
+janus_add_shader(janus_shaders NAME rt_instanced_vert SOURCE ${_rt}/instanced.vert)

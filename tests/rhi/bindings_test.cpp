@@ -69,6 +69,37 @@ TEST_P(BindingTest, BindingSetsCanBeSwitchedBetweenDraws) {
     EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(target), expected, 4));
 }
 
+// Uniform data written by the command list between passes must be what each pass sees, not the
+// last value written (a backend that applied writes at record time would show the last one).
+TEST_P(BindingTest, CommandListUniformWritesAreOrderedWithDraws) {
+    Rgba8 white{255, 255, 255, 255};
+    TextureHandle texture = createTexture2D(Format::RGBA8_UNORM, 1, 1);
+    device().writeTexture(texture, {}, &white, sizeof white);
+    BufferHandle ubo = createBuffer(BufferUsage::Uniform, 16);
+    BindingSetHandle bindings = device().createBindingSet(BindingSetDesc()
+                                                              .add(BindingItem::uniformBuffer(0, ubo))
+                                                              .add(BindingItem::sampledTexture(1, texture, nearestClampSampler()))
+                                                              .add(BindingItem::sampledTexture(2, texture, nearestClampSampler())));
+    PipelineHandle pipeline = fullscreenPipeline("rt_two_textures_frag", Format::RGBA8_UNORM);
+    std::array<TextureHandle, 3> targets;
+    for (TextureHandle& t : targets) t = createTexture2D(Format::RGBA8_UNORM, 2, 2, TextureUsage::RenderTarget);
+    const std::array<float, 3> blues = {10.0f / 255, 20.0f / 255, 30.0f / 255};
+    submit([&](ICommandList& cmd) {
+        for (size_t i = 0; i < 3; ++i) {
+            std::array<float, 4> params{0, 0, blues[i], 0};
+            cmd.writeBuffer(ubo, params.data(), sizeof params);
+            cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(targets[i])));
+            cmd.setPipeline(pipeline);
+            cmd.setBindingSet(0, bindings);
+            cmd.draw(3);
+            cmd.endRenderPass();
+        }
+    });
+    for (size_t i = 0; i < 3; ++i)
+        EXPECT_EQ(readTextureAs<Rgba8>(targets[i]), std::vector<Rgba8>(4, Rgba8{255, 255, uint8_t(10 * (i + 1)), 255}))
+            << "pass " << i << " must see the uniform value written just before it";
+}
+
 // The block of std140_read.frag / layout.comp as C++ sees it in std140: vec3 at 0 with the
 // float packed into its fourth slot, array elements on 16-byte strides, mat4 as four columns.
 struct Std140Block {

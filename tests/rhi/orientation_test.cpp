@@ -57,18 +57,36 @@ TEST_P(OrientationTest, SampledTexelZeroReachesRowZero) {
     EXPECT_TRUE(imagesEqual(result, texels, width));
 }
 
-// Rendering into a texture and sampling it back through a second pass: both passes use the
-// same convention, so the pattern comes out unchanged (a flip in either pass would show).
-TEST_P(OrientationTest, RenderThenSamplePreservesPattern) {
+// Rendering into a texture, sampling it in a second pass and copying that to a third texture,
+// all in one command list: both passes use the same convention, so the pattern comes out
+// unchanged (a flip in either pass shows), and each step must see the previous one (barriers).
+TEST_P(OrientationTest, RenderSampleAndCopyInOneCommandListPreservePattern) {
     TextureHandle first = createTexture2D(Format::RGBA8_UNORM, 8, 8, TextureUsage::RenderTarget | TextureUsage::Sampled);
     TextureHandle second = createTexture2D(Format::RGBA8_UNORM, 8, 8, TextureUsage::RenderTarget);
-    drawVertices(RenderPassDesc().addColor(Attachment::clear(first, {0, 0, 0, 1})), colorPipeline(Format::RGBA8_UNORM),
-                 orientationPattern());
+    TextureHandle copy = createTexture2D(Format::RGBA8_UNORM, 8, 8);
+    PipelineHandle drawPattern = colorPipeline(Format::RGBA8_UNORM);
+    PipelineHandle sample = fullscreenPipeline("rt_sample_2d_frag", Format::RGBA8_UNORM);
+    BufferHandle vertices = createBufferFrom(BufferUsage::Vertex, orientationPattern());
     BindingSetHandle bindings =
         device().createBindingSet(BindingSetDesc().add(BindingItem::sampledTexture(0, first, nearestClampSampler())));
-    drawFullscreen(RenderPassDesc().addColor(Attachment::clear(second)), fullscreenPipeline("rt_sample_2d_frag", Format::RGBA8_UNORM),
-                   {bindings});
-    EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(second), readTextureAs<Rgba8>(first), 8));
+    submit([&](ICommandList& cmd) {
+        cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(first, {0, 0, 0, 1})));
+        cmd.setPipeline(drawPattern);
+        cmd.setVertexBuffer(0, vertices);
+        cmd.draw(uint32_t(orientationPattern().size()));
+        cmd.endRenderPass();
+        cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(second)));
+        cmd.setPipeline(sample);
+        cmd.setBindingSet(0, bindings);
+        cmd.draw(3);
+        cmd.endRenderPass();
+        cmd.copyTexture(copy, {}, second, {});
+    });
+    std::vector<Rgba8> expected;
+    for (const Color& c : rasterize(orientationPattern(), 8, 8, {0, 0, 0, 1})) expected.push_back(toRgba8(c));
+    EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(first), expected, 8)) << "rendered";
+    EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(second), expected, 8)) << "sampled";
+    EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(copy), expected, 8)) << "copied";
 }
 
 TEST_P(OrientationTest, ReportsNativeConventions) {

@@ -32,6 +32,18 @@ TEST_P(RasterTest, DepthIsStoredInZeroToOne) {
     EXPECT_TRUE(imagesEqual(values, expected, 8));
 }
 
+// A depth-only pass (shadow-map style): no colour attachment at all.
+TEST_P(RasterTest, DepthOnlyPassWritesDepth) {
+    TextureHandle depth = depth8x8();
+    PipelineHandle pipeline = colorPipeline(Format::Unknown, Format::D32_FLOAT, {}, {true, true, CompareOp::Less});
+    drawVertices(RenderPassDesc().setDepth(Attachment::clearDepthTo(depth, 1.0f)), pipeline,
+                 rectangle(-1, -1, 0, 0, kRed, 0.5f));
+    std::vector<float> expected(64, 1.0f);
+    for (size_t i = 0; i < 64; ++i)
+        if (i % 8 < 4 && i / 8 < 4) expected[i] = 0.5f;
+    EXPECT_TRUE(imagesEqual(readTextureAs<float>(depth), expected, 8)) << "top-left quadrant at 0.5";
+}
+
 TEST_P(RasterTest, DepthClearValueIsStored) {
     TextureHandle color = color8x8(), depth = depth8x8();
     submit([&](ICommandList& cmd) { cmd.beginRenderPass(pass(color, depth, 0.375f)); cmd.endRenderPass(); });
