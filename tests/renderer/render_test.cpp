@@ -189,7 +189,7 @@ INSTANTIATE_TEST_SUITE_P(Configs, RenderTest, testing::Combine(testing::ValuesIn
                              return fmt::format("{}_{}", std::get<0>(info.param).name, std::get<1>(info.param).name());
                          });
 
-TEST(RenderDefaultScene, RedWallOnTheLeftGreenWallOnTheRight) {
+TEST(RenderDefaultScene, RedWallLeftGreenWallRightFloorBelowCeiling) {
     const Render result = render(kConfigs[0], defaultScene());
     const ImageRGBA8& image = result.display;
     writePNG(outputDir() / "default-vulkan_compute.png", image);   // for a human look
@@ -201,6 +201,17 @@ TEST(RenderDefaultScene, RedWallOnTheLeftGreenWallOnTheRight) {
                                 averageChannel(image, image.width - quarter, image.width, 1);
     EXPECT_GT(leftRedness, 20.0) << "left quarter should be dominated by the red wall";
     EXPECT_LT(rightRedness, -20.0) << "right quarter should be dominated by the green wall";
+    // The key light comes from above: the floor (bottom rows) is lit, the ceiling (top) is not.
+    auto rowsAverage = [&](uint32_t y0, uint32_t y1) {
+        double sum = 0;
+        for (uint32_t y = y0; y < y1; ++y)
+            for (uint32_t x = quarter; x < image.width - quarter; ++x)
+                for (uint32_t c = 0; c < 3; ++c) sum += image.pixels[(size_t(y) * image.width + x) * 4 + c];
+        return sum / (double(y1 - y0) * (image.width - 2 * quarter) * 3);
+    };
+    const uint32_t eighth = image.height / 8;
+    EXPECT_GT(rowsAverage(image.height - eighth, image.height), rowsAverage(0, eighth / 2) + 40.0)
+        << "the lit floor must be at the bottom of the image (row 0 is the top)";
 }
 
 TEST(RenderDefaultScene, RenderingTwiceGivesTheSameImage) {
@@ -210,6 +221,22 @@ TEST(RenderDefaultScene, RenderingTwiceGivesTheSameImage) {
     const ImageRGBA8 first = renderer.readDisplayImage();
     renderer.renderFrame();
     EXPECT_EQ(compareImages(first, renderer.readDisplayImage()).maxChannelDifference, 0u);
+}
+
+TEST(RenderEmptyScene, ShowsTheUniformBackgroundOnEveryConfiguration) {
+    Scene scene;   // no meshes: the frame is the environment's radiance only
+    scene.environment.ambientColor = glm::vec3(0.25f, 0.125f, 0.0625f);   // exact in half precision
+    for (const Config& config : kConfigs) {
+        const Render result = render(config, scene);
+        EXPECT_EQ(result.report.passes.at(0).draws, 0u) << config.name();
+        const uint8_t* first = result.display.pixels.data();
+        EXPECT_GT(first[0], first[1]) << config.name();
+        EXPECT_GT(first[1], first[2]) << config.name();
+        for (size_t i = 0; i < result.display.pixels.size(); i += 4)
+            ASSERT_TRUE(std::equal(first, first + 4, result.display.pixels.data() + i)) << config.name() << " pixel " << i / 4;
+        EXPECT_EQ(result.hdr.pixels[0], 0.25f) << config.name();
+        EXPECT_EQ(result.hdr.pixels[2], 0.0625f) << config.name();
+    }
 }
 
 TEST(RendererErrors, ComputePathOnGlesNamesTheCapability) {

@@ -85,6 +85,28 @@ public:
         std::ofstream(m_dir / name) << gltf.dump(2);
         return m_dir / name;
     }
+    // The same content as one binary .glb: header, JSON chunk, BIN chunk (both 4-byte aligned).
+    fs::path writeGlb(const std::string& name = "tri.glb") const {
+        json embedded = gltf;
+        embedded["buffers"] = json::array({{{"byteLength", m_bin.size()}}});
+        std::string text = embedded.dump();
+        while (text.size() % 4) text += ' ';
+        std::vector<uint8_t> bin = m_bin;
+        while (bin.size() % 4) bin.push_back(0);
+        const uint32_t total = uint32_t(12 + 8 + text.size() + 8 + bin.size());
+        std::ofstream out(m_dir / name, std::ios::binary);
+        auto u32 = [&](uint32_t v) { out.write(reinterpret_cast<const char*>(&v), 4); };
+        u32(0x46546C67);   // "glTF"
+        u32(2);
+        u32(total);
+        u32(uint32_t(text.size()));
+        u32(0x4E4F534A);   // "JSON"
+        out.write(text.data(), std::streamsize(text.size()));
+        u32(uint32_t(bin.size()));
+        u32(0x004E4942);   // "BIN\0"
+        out.write(reinterpret_cast<const char*>(bin.data()), std::streamsize(bin.size()));
+        return m_dir / name;
+    }
     fs::path writeText(const std::string& name, const std::string& text) const {
         std::ofstream(m_dir / name) << text;
         return m_dir / name;
@@ -201,6 +223,15 @@ TEST(SceneLoading, MissingNormalsAreGenerated) {
     // The triangle lies in z = 0, counter-clockwise seen from +Z.
     for (const Vertex& v : scene.meshes[0].vertices) EXPECT_EQ(v.normal, glm::vec3(0.0f, 0.0f, 1.0f));
     EXPECT_EQ(scene.meshes[0].indices, (std::vector<uint32_t>{0, 1, 2}));
+}
+
+TEST(SceneLoading, BinaryGlbLoadsLikeTheTextForm) {
+    TinyGltf file;
+    const Scene scene = loadScene(file.writeGlb());
+    ASSERT_EQ(scene.meshes.size(), 1u);
+    EXPECT_EQ(scene.meshes[0].vertices.size(), 3u);
+    EXPECT_EQ(scene.meshes[0].vertices[1].position, glm::vec3(1, 0, 0));
+    EXPECT_EQ(scene.materials.at(0).name, "plain");
 }
 
 TEST(SceneLoading, NodeHierarchyIsFlattened) {
