@@ -124,7 +124,8 @@ int run(const ParityOptions& options) {
 
     bool passed = true;
     nlohmann::json pairsJson = nlohmann::json::array();
-    std::vector<std::vector<std::string>> pairRows{{"pair", "max diff", "PSNR dB", "differing px", "result"}};
+    std::vector<std::vector<std::string>> pairRows{
+        {"pair", "max diff", "PSNR dB", fmt::format("pixels > {} step(s)", tolerance), "result"}};
     for (size_t i = 0; i < results.size(); ++i) {
         for (size_t j = i + 1; j < results.size(); ++j) {
             const ConfigurationResult& a = results[i];

@@ -4,7 +4,7 @@
 source "$(dirname "$0")/common.bash" "$@"
 
 out="$TMP/parity"
-expect_success parity --size 64x64 --out "$out"
+expect_success parity --size 64x64 --out "$out" --validation
 if [[ $rc != 0 ]]; then cat "$TMP/stdout" >&2; fi
 
 configs=(vulkan-compute vulkan-fallback gl-compute gl-fallback gles-fallback)
