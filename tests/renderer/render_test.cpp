@@ -239,6 +239,41 @@ TEST(RenderEmptyScene, ShowsTheUniformBackgroundOnEveryConfiguration) {
     }
 }
 
+// One quad at the origin facing +Z, seen from -Z (its back) or +Z (its front).
+Scene quadScene(bool doubleSided, float cameraZ) {
+    Scene scene;
+    Mesh quad;
+    for (glm::vec2 c : {glm::vec2(-1, -1), glm::vec2(1, -1), glm::vec2(1, 1), glm::vec2(-1, 1)})
+        quad.vertices.push_back(Vertex{glm::vec3(c, 0.0f), glm::vec3(0, 0, 1), glm::vec2(0), glm::vec4(0)});
+    quad.indices = {0, 1, 2, 0, 2, 3};   // counter-clockwise seen from +Z, as glTF front faces are
+    quad.material = 0;
+    Material material;
+    material.metallicFactor = 0.0f;
+    material.doubleSided = doubleSided;
+    scene.materials.push_back(material);
+    scene.meshes.push_back(quad);
+    scene.instances.push_back(Instance{0, glm::mat4(1.0f)});
+    Light light;
+    light.direction = glm::vec3(0, 0, cameraZ > 0 ? -1 : 1);   // shine onto the side the camera sees
+    scene.lights.push_back(light);
+    scene.environment.ambientColor = glm::vec3(0.0f);
+    scene.camera.position = glm::vec3(0, 0, cameraZ);
+    return scene;
+}
+
+TEST(RenderCulling, FrontFacesAreCounterClockwiseAndDoubleSidedMaterialsShowTheirBack) {
+    constexpr size_t centre = (size_t(kSize / 2) * kSize + kSize / 2) * 4;
+    for (const Config& config : kConfigs) {
+        const Render front = render(config, quadScene(false, 3.0f));
+        const Render back = render(config, quadScene(false, -3.0f));
+        const Render backDoubleSided = render(config, quadScene(true, -3.0f));
+        EXPECT_GT(front.display.pixels[centre], 100) << config.name() << ": the lit front face must be drawn";
+        EXPECT_EQ(back.display.pixels[centre], 0) << config.name() << ": a single-sided back face must be culled";
+        // Double-sided: the back is drawn and lit through its flipped normal, like the front.
+        EXPECT_EQ(backDoubleSided.display.pixels[centre], front.display.pixels[centre]) << config.name();
+    }
+}
+
 TEST(RendererErrors, ComputePathOnGlesNamesTheCapability) {
     rhi::IDevice& device = deviceFor(rhi::Backend::GLES);
     try {
