@@ -157,6 +157,7 @@ struct Renderer::Impl {
     std::array<float, 4> backgroundRadiance{};
     rhi::CommandListHandle commandList;
     Pass forwardPass, tonemapPass;
+    bool frameRendered = false;   // the targets hold nothing readable before the first frame
 
     Impl(rhi::IDevice& d, const Scene& scene, const RenderSettings& s) : device(d), settings(s) {
         validateScene(scene);
@@ -454,6 +455,7 @@ struct Renderer::Impl {
         }
         commandList->end();
         device.execute(commandList);
+        frameRendered = true;
 
         const Pass* passes[] = {&forwardPass, &tonemapPass};
         for (size_t i = 0; i < frame.passes.size(); ++i) {
@@ -463,7 +465,12 @@ struct Renderer::Impl {
         return frame;
     }
 
+    void requireFrame(const char* what) const {
+        if (!frameRendered) throw RendererError(fmt::format("{} was called before any frame was rendered; call renderFrame() first", what));
+    }
+
     ImageRGBA8 readDisplayImage() {
+        requireFrame("readDisplayImage()");
         ImageRGBA8 image{settings.width, settings.height, {}};
         const std::vector<std::byte> bytes = device.readTexture(displayImage, {});
         if (bytes.size() != size_t(settings.width) * settings.height * 4)
@@ -475,6 +482,7 @@ struct Renderer::Impl {
     }
 
     ImageRGBAF readHdrImage() {
+        requireFrame("readHdrImage()");
         ImageRGBAF image{settings.width, settings.height, {}};
         const std::vector<std::byte> bytes = device.readTexture(hdrTarget, {});
         const size_t values = size_t(settings.width) * settings.height * 4;

@@ -299,6 +299,12 @@ TEST(RendererErrors, AbsurdSizesAreRefused) {
     EXPECT_TRUE(device.takeDebugMessages().empty());
 }
 
+TEST(RendererErrors, ReadingBeforeTheFirstFrameIsRefused) {
+    Renderer renderer(deviceFor(rhi::Backend::Vulkan), defaultScene(), RenderSettings{16, 16, FeaturePath::Fallback});
+    EXPECT_THROW(renderer.readDisplayImage(), RendererError);
+    EXPECT_THROW(renderer.readHdrImage(), RendererError);
+}
+
 TEST(RendererErrors, InvalidSceneIsRefusedBeforeTouchingTheDevice) {
     rhi::IDevice& device = deviceFor(rhi::Backend::Vulkan);
     Scene scene = defaultScene();
