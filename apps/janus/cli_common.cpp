@@ -154,6 +154,22 @@ void checkOutputFile(const std::filesystem::path& file, std::string_view optionN
                                      optionName, file.string(), directory.string()));
 }
 
+void addSceneArgument(CLI::App& app, std::string& scene) {
+    app.add_option("scene", scene, ".gltf, .glb or .json scene file (default: the built-in scene)")->type_name("SCENE");
+}
+
+void addSizeOption(CLI::App& app, std::string& size) {
+    app.add_option("--size,-s", size, fmt::format("Image size WIDTHxHEIGHT, each side 1..{}", kMaxRenderSide))
+        ->default_str("256x256")
+        ->type_name("WxH");
+}
+
+void addGLPlatformOption(CLI::App& app, std::string& glPlatform) {
+    app.add_option("--gl-platform", glPlatform, "How the gl/gles backends get a context: egl or osmesa")
+        ->default_str("egl")
+        ->type_name("PLATFORM");
+}
+
 renderer::Scene loadSceneOrDefault(const std::optional<std::filesystem::path>& scenePath) {
     if (!scenePath) return renderer::defaultScene();
     std::error_code ec;
@@ -209,6 +225,17 @@ RenderOutcome renderConfiguration(const renderer::Scene& scene, const RenderRequ
     }
     outcome.debugMessages = device->takeDebugMessages();
     return outcome;
+}
+
+bool reportDebugMessages(std::string_view label, const std::vector<rhi::DebugMessage>& messages) {
+    bool anyError = false;
+    for (const rhi::DebugMessage& message : messages) {
+        const bool isError = message.severity == rhi::MessageSeverity::Error;
+        anyError = anyError || isError;
+        std::fprintf(stderr, "janus: %.*s: validation %s: %s\n", int(label.size()), label.data(), isError ? "error" : "warning",
+                     message.text.c_str());
+    }
+    return anyError;
 }
 
 std::string formatTable(const std::vector<std::vector<std::string>>& rows, size_t indent) {

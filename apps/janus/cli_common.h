@@ -85,6 +85,11 @@ void checkOutputFile(const std::filesystem::path& file, std::string_view optionN
 renderer::Scene loadSceneOrDefault(const std::optional<std::filesystem::path>& scenePath);
 std::string sceneLabel(const std::optional<std::filesystem::path>& scenePath);
 
+// Options several commands share, declared once so their names, defaults and help agree.
+void addSceneArgument(CLI::App& app, std::string& scene);
+void addSizeOption(CLI::App& app, std::string& size);
+void addGLPlatformOption(CLI::App& app, std::string& glPlatform);
+
 // ---- rendering one configuration ----------------------------------------------------------
 
 struct RenderRequest {
@@ -107,6 +112,9 @@ struct RenderOutcome {
 // Opens the device, checks it can honour the request (UnavailableError naming the capability or
 // limit otherwise), renders one frame and reads the images back.
 RenderOutcome renderConfiguration(const renderer::Scene& scene, const RenderRequest& request);
+
+// Prints each validation / debug message to stderr, prefixed with `label`; true when any is an error.
+bool reportDebugMessages(std::string_view label, const std::vector<rhi::DebugMessage>& messages);
 
 // "vulkan/compute"-style label, and "vulkan-compute" for file names.
 std::string configurationLabel(rhi::Backend backend, renderer::FeaturePath path);

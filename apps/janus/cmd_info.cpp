@@ -144,11 +144,10 @@ void printText(const std::vector<BackendReport>& reports, rhi::GLPlatform platfo
     out += "\nCapabilities\n" + formatTable(caps);
 
     std::vector<std::vector<std::string>> limits{header};
-    const auto labels = limitRows(rhi::Limits{});
-    for (size_t i = 0; i < labels.size(); ++i) {
-        std::vector<std::string> row{labels[i].first};
-        for (const BackendReport& r : reports) row.push_back(cell(r, limitRows(r.caps.limits)[i].second));
-        limits.push_back(std::move(row));
+    for (const auto& [label, unused] : limitRows(rhi::Limits{})) limits.push_back({label});
+    for (const BackendReport& r : reports) {
+        const auto values = limitRows(r.caps.limits);
+        for (size_t i = 0; i < values.size(); ++i) limits[i + 1].push_back(cell(r, values[i].second));
     }
     out += "\nLimits\n" + formatTable(limits);
 
@@ -172,9 +171,7 @@ Command addInfoCommand(CLI::App& parent) {
     auto options = std::make_shared<InfoOptions>();
     CLI::App* app = parent.add_subcommand("info", "Show each backend (vulkan, gl, gles): availability, device, "
                                                   "capabilities, limits, conventions");
-    app->add_option("--gl-platform", options->glPlatform, "How the GL backends get a context: egl or osmesa")
-        ->default_str("egl")
-        ->type_name("PLATFORM");
+    addGLPlatformOption(*app, options->glPlatform);
     app->add_flag("--json", options->json, "Print JSON instead of a table");
     app->footer(kExitCodeHelp);
     return {app, [options] {

@@ -58,11 +58,8 @@ ConfigurationResult runConfiguration(const renderer::Scene& scene, const Configu
     request.path = config.path;
     try {
         result.outcome = renderConfiguration(scene, request);
-        const bool validationErrors = std::any_of(result.outcome->debugMessages.begin(), result.outcome->debugMessages.end(),
-                                                  [](const rhi::DebugMessage& m) { return m.severity == rhi::MessageSeverity::Error; });
-        for (const rhi::DebugMessage& message : result.outcome->debugMessages)
-            std::fprintf(stderr, "janus: %s: validation: %s\n", result.stem.c_str(), message.text.c_str());
-        if (validationErrors) result.failure = "validation reported errors (see stderr)";
+        if (reportDebugMessages(configurationLabel(config.backend, config.path), result.outcome->debugMessages))
+            result.failure = "validation reported errors (see stderr)";
     } catch (const renderer::SceneError&) {
         throw;   // the scene is shared by all configurations: an input error, not a parity result
     } catch (const std::bad_alloc&) {
@@ -201,11 +198,8 @@ Command addParityCommand(CLI::App& parent) {
         "exit 1 if any pair differs beyond --tolerance");
     app->footer(std::string("Configurations: vulkan/compute, vulkan/fallback, gl/compute, gl/fallback, gles/fallback.\n\n") +
                 kExitCodeHelp);
-    app->add_option("scene", options->scene, ".gltf, .glb or .json scene file (default: the built-in scene)")
-        ->type_name("SCENE");
-    app->add_option("--size,-s", options->size, "Image size WIDTHxHEIGHT, each side 1..16384")
-        ->default_str("256x256")
-        ->type_name("WxH");
+    addSceneArgument(*app, options->scene);
+    addSizeOption(*app, options->size);
     app->add_option("--out,-o", options->out,
                     "Directory for <backend>-<path>.png, diff-<a>-vs-<b>.png and parity.json (created if missing); required")
         ->type_name("DIR");
@@ -213,9 +207,7 @@ Command addParityCommand(CLI::App& parent) {
                     "Largest allowed channel difference, in steps of 1/255, for a pair to agree")
         ->default_str("1")
         ->type_name("STEPS");
-    app->add_option("--gl-platform", options->glPlatform, "How gl/gles get a context: egl or osmesa")
-        ->default_str("egl")
-        ->type_name("PLATFORM");
+    addGLPlatformOption(*app, options->glPlatform);
     app->add_flag("--validation", options->validation,
                   "Enable Vulkan validation layers / GL debug output; a configuration with errors fails");
     return {app, [options] { return run(*options); }};

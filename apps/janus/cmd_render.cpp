@@ -62,9 +62,8 @@ int run(const RenderOptions& options) {
     const renderer::Scene scene = loadSceneOrDefault(scenePath);
     const RenderOutcome outcome = renderConfiguration(scene, request);
 
-    for (const rhi::DebugMessage& message : outcome.debugMessages)
-        std::fprintf(stderr, "janus: %s: %s\n", message.severity == rhi::MessageSeverity::Error ? "validation error" : "validation warning",
-                     message.text.c_str());
+    const bool validationFailed =
+        reportDebugMessages(configurationLabel(request.backend, request.path), outcome.debugMessages);
 
     renderer::writePNG(outPath, outcome.display);
     if (hdrPath) {
@@ -84,8 +83,6 @@ int run(const RenderOptions& options) {
     std::printf("\n");
     printPassSummary(outcome.report);
 
-    const bool validationFailed = std::any_of(outcome.debugMessages.begin(), outcome.debugMessages.end(),
-                                              [](const rhi::DebugMessage& m) { return m.severity == rhi::MessageSeverity::Error; });
     if (validationFailed)
         throw std::runtime_error("the validation layer / GL debug output reported errors (listed above); "
                                  "the image was written but may be wrong");
@@ -98,21 +95,16 @@ Command addRenderCommand(CLI::App& parent) {
     auto options = std::make_shared<RenderOptions>();
     CLI::App* app = parent.add_subcommand("render", "Render a scene with one backend and feature path to a PNG "
                                                     "(+ optional HDR image and JSON frame report)");
-    app->add_option("scene", options->scene, ".gltf, .glb or .json scene file (default: the built-in scene)")
-        ->type_name("SCENE");
+    addSceneArgument(*app, options->scene);
     app->add_option("--backend,-b", options->backend, "vulkan, gl or gles")->default_str("vulkan")->type_name("BACKEND");
     app->add_option("--path,-p", options->path, "compute or fallback (compute needs the 'compute' capability)")
         ->default_str("compute")
         ->type_name("PATH");
-    app->add_option("--size,-s", options->size, "Image size WIDTHxHEIGHT, each side 1..16384")
-        ->default_str("256x256")
-        ->type_name("WxH");
+    addSizeOption(*app, options->size);
     app->add_option("--out,-o", options->out, "PNG file to write (display image, sRGB); required")->type_name("FILE.png");
     app->add_option("--hdr", options->hdr, "Also write the linear HDR image (.exr or .pfm)")->type_name("FILE.exr|FILE.pfm");
     app->add_option("--report", options->report, "Also write the frame report as JSON")->type_name("FILE.json");
-    app->add_option("--gl-platform", options->glPlatform, "How gl/gles get a context: egl or osmesa")
-        ->default_str("egl")
-        ->type_name("PLATFORM");
+    addGLPlatformOption(*app, options->glPlatform);
     app->add_flag("--validation", options->validation,
                   "Enable Vulkan validation layers / GL debug output; errors make the command fail (exit 5)");
     app->footer(kExitCodeHelp);
