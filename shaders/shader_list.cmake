@@ -1,3 +1,5 @@
 # Every shader Janus embeds. Each folder keeps its own list.
 include(${CMAKE_CURRENT_LIST_DIR}/rhi-tests/list.cmake)
 include(${CMAKE_CURRENT_LIST_DIR}/renderer/list.cmake)
+include(${CMAKE_CURRENT_LIST_DIR}/rhi-gl/list.cmake)
+include(${CMAKE_CURRENT_LIST_DIR}/bench/list.cmake)

@@ -621,19 +621,12 @@ std::vector<std::byte> GLDevice::downloadTexture(const GLTexture& texture, Textu
 
     if (!isES() || format == Format::RGBA8_UNORM || format == Format::RGBA8_SRGB || format == Format::RGBA32_FLOAT) {
         // Desktop GL converts to any format/type; ES reads these formats exactly as stored.
-        if (isDepthFormat(format) && isES() && !m_readDepthNV)
-            throw Error(ErrorCode::UnsupportedCapability,
-                        "reading back a depth texture on this OpenGL ES driver needs GL_NV_read_depth; "
-                        "copy depth to an r32f texture in a shader instead");
         const GLFormat& gf = texture.format();
         f.glReadPixels(0, 0, GLsizei(width), GLsizei(height), gf.uploadFormat, gf.uploadType, result.data());
         return result;
     }
     if (format == Format::D32_FLOAT) {
-        if (!m_readDepthNV)
-            throw Error(ErrorCode::UnsupportedCapability,
-                        "reading back a depth texture on this OpenGL ES driver needs GL_NV_read_depth; "
-                        "copy depth to an r32f texture in a shader instead");
+        if (!m_readDepthNV) return readDepthThroughColor(texture, sub);
         f.glReadPixels(0, 0, GLsizei(width), GLsizei(height), GL_DEPTH_COMPONENT, GL_FLOAT, result.data());
         return result;
     }

@@ -301,6 +301,8 @@ public:
     void bufferSubData(const GLBuffer& buffer, const void* data, uint64_t size, uint64_t offset);
     void uploadTexture(const GLTexture& texture, TextureSubresource sub, const void* pixels);
     std::vector<std::byte> downloadTexture(const GLTexture& texture, TextureSubresource sub);
+    // ES 3.0 without NV_read_depth: draws the depth image into an r32f target and reads that.
+    std::vector<std::byte> readDepthThroughColor(const GLTexture& texture, TextureSubresource sub);
     void copyTextureImage(const GLTexture& dst, TextureSubresource dstSub, const GLTexture& src,
                           TextureSubresource srcSub);
     void beginRenderPass(const RenderPassDesc& desc);
@@ -330,6 +332,7 @@ private:
     bool m_floatLinearFilterable = true;
     bool m_anisotropy = false;
     bool m_readDepthNV = false;
+    std::shared_ptr<GLPipeline> m_depthCopyPipeline;   // created on first use
 
     // Replay state.
     const GLPipeline* m_pipeline = nullptr;

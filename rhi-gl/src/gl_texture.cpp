@@ -2,6 +2,7 @@
 #include <fmt/format.h>
 
 #include "gl_device.h"
+#include "janus/shaders/shaders.h"
 
 namespace janus::rhi::gl {
 
@@ -203,6 +204,48 @@ void GLDevice::copyTextureImage(const GLTexture& dst, TextureSubresource dstSub,
     f.glBlitFramebuffer(0, 0, width, height, 0, 0, width, height, depth ? GL_DEPTH_BUFFER_BIT : GL_COLOR_BUFFER_BIT,
                         GL_NEAREST);
     f.glEnable(GL_SCISSOR_TEST);
+}
+
+std::vector<std::byte> GLDevice::readDepthThroughColor(const GLTexture& texture, TextureSubresource sub) {
+    require(Capability::FloatRenderTargets, "reading back depth on OpenGL ES without GL_NV_read_depth (via r32f)");
+    const GLFunctions& f = gl();
+    if (!m_depthCopyPipeline) {
+        auto load = [&](ShaderStage stage, const char* name) {
+            return std::make_shared<GLShader>(
+                m_context, ShaderDesc().setStage(stage).setSpirv(janus::shaders::get(name)).setDebugName(name));
+        };
+        GraphicsPipelineDesc desc;
+        desc.setShaders(load(ShaderStage::Vertex, "gl_depth_copy_vert"), load(ShaderStage::Fragment, "gl_depth_copy_frag"))
+            .addColorFormat(Format::R32_FLOAT)
+            .setDebugName("GL depth-to-colour copy");
+        m_depthCopyPipeline = std::make_shared<GLPipeline>(m_context, desc);
+    }
+    const uint32_t width = texture.width(sub.mipLevel), height = texture.height(sub.mipLevel);
+    // The image alone as mip 0 of a 2D texture (a depth blit reaches cube faces and mips), so
+    // the shader needs no face or level logic.
+    const GLTexture flat(m_context, TextureDesc().setFormat(Format::D32_FLOAT).setSize(width, height)
+                                        .setUsage(TextureUsage::Sampled | TextureUsage::RenderTarget));
+    copyTextureImage(flat, {}, texture, sub);
+    const GLTexture color(m_context, TextureDesc().setFormat(Format::R32_FLOAT).setSize(width, height)
+                                         .setUsage(TextureUsage::RenderTarget));
+    FramebufferKey key;
+    key.colors.push_back({color.name(), 0, 0});
+    f.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m_context->framebuffer(key, {&color}, nullptr));
+    f.glViewport(0, 0, GLsizei(width), GLsizei(height));
+    f.glScissor(0, 0, GLsizei(width), GLsizei(height));
+    f.glDepthRangef(0.0f, 1.0f);
+    m_depthCopyPipeline->applyState();
+    f.glActiveTexture(GL_TEXTURE0 + 30);
+    f.glBindTexture(GL_TEXTURE_2D, flat.name());
+    f.glBindSampler(30, 0);
+    // ES treats a depth texture under linear filtering as incomplete, even for texelFetch.
+    f.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    f.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    f.glDrawArraysInstanced(GL_TRIANGLES, 0, 3, 1);
+    std::vector<std::byte> depth = downloadTexture(color, {});
+    // A command list may be mid-replay (copyTextureToBuffer): give it its pipeline back.
+    if (m_pipeline) m_pipeline->applyState();
+    return depth;
 }
 
 // ---------------------------------------------------------------------------------------------
