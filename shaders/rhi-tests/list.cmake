@@ -17,3 +17,4 @@ janus_add_shader(janus_shaders NAME rt_sample_at_cube_frag SOURCE ${_rt}/sample_
 janus_add_shader(janus_shaders NAME rt_sample_at_3d_frag SOURCE ${_rt}/sample_at.frag DEFINES VOLUME)
 janus_add_shader(janus_shaders NAME rt_sample_at_shadow_frag SOURCE ${_rt}/sample_at.frag DEFINES SHADOW)
 janus_add_shader(janus_shaders NAME rt_instanced_vert SOURCE ${_rt}/instanced.vert)
+janus_add_shader(janus_shaders NAME rt_two_outputs_frag SOURCE ${_rt}/two_outputs.frag)

@@ -43,6 +43,7 @@ void BackendTest::SetUp() {
         GTEST_SKIP() << config.name << " is not in JANUS_TEST_BACKENDS=" << std::getenv("JANUS_TEST_BACKENDS");
     DeviceDesc desc;
     desc.setBackend(config.backend).setGLPlatform(config.glPlatform).setEnableValidation(true);
+    customizeDeviceDesc(desc);
     try {
         m_device = createDevice(desc);
     } catch (const std::exception& e) {

@@ -58,6 +58,8 @@ class BackendTest : public testing::TestWithParam<BackendConfig> {
 protected:
     void SetUp() override;
     void TearDown() override;
+    // Lets a suite adjust the DeviceDesc before SetUp creates the device.
+    virtual void customizeDeviceDesc(DeviceDesc&) {}
 
     IDevice& device() { return *m_device; }
     const Capabilities& caps() const { return m_device->capabilities(); }

@@ -133,6 +133,53 @@ TEST_P(BufferTest, VertexAndIndexBuffersFeedIndexedDraws) {
     }
 }
 
+// Compact vertex formats: Float2 positions (z, w default to 0, 1) and UByte4Norm colours.
+TEST_P(BufferTest, CompactVertexFormatsAreExpanded) {
+    struct CompactVertex { float x, y; uint8_t rgba[4]; };
+    const uint8_t r = 255, g = 51, b = 0, a = 255;
+    std::vector<CompactVertex> vertices = {{-1, -1, {r, g, b, a}}, {-1, 1, {r, g, b, a}}, {1, -1, {r, g, b, a}},
+                                           {1, -1, {r, g, b, a}}, {-1, 1, {r, g, b, a}}, {1, 1, {r, g, b, a}}};
+    GraphicsPipelineDesc desc;
+    desc.setShaders(shader("rt_vertex_color_vert"), shader("rt_vertex_color_frag"))
+        .addVertexBuffer({0, sizeof(CompactVertex), false})
+        .addVertexAttribute({0, VertexFormat::Float2, 0, offsetof(CompactVertex, x)})
+        .addVertexAttribute({1, VertexFormat::UByte4Norm, 0, offsetof(CompactVertex, rgba)})
+        .addColorFormat(Format::RGBA8_UNORM);
+    PipelineHandle pipeline = device().createGraphicsPipeline(desc);
+    TextureHandle target = createTexture2D(Format::RGBA8_UNORM, 4, 4, TextureUsage::RenderTarget);
+    BufferHandle buffer = createBufferFrom(BufferUsage::Vertex, vertices);
+    submit([&](ICommandList& cmd) {
+        cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(target)));
+        cmd.setPipeline(pipeline);
+        cmd.setVertexBuffer(0, buffer);
+        cmd.draw(6);
+        cmd.endRenderPass();
+    });
+    EXPECT_EQ(readTextureAs<Rgba8>(target), std::vector<Rgba8>(16, Rgba8{r, g, b, a}));
+}
+
+// A recorded command list runs again on every execute (and begin() starts it afresh).
+TEST_P(BufferTest, CommandListsCanBeExecutedAgainAndReRecorded) {
+    std::vector<std::byte> first = pattern(32, 1), second = pattern(32, 2), third = pattern(32, 3);
+    BufferHandle src = createBuffer(BufferUsage::Vertex, first);
+    BufferHandle dst = createBuffer(BufferUsage::Vertex, 32);
+    CommandListHandle cmd = device().createCommandList();
+    cmd->begin();
+    cmd->copyBuffer(dst, 0, src, 0, 32);
+    cmd->end();
+    device().execute(cmd);
+    EXPECT_EQ(device().readBuffer(dst), first);
+    device().writeBuffer(src, second.data(), second.size());
+    device().execute(cmd);
+    EXPECT_EQ(device().readBuffer(dst), second) << "executing again repeats the copy";
+    cmd->begin();
+    cmd->writeBuffer(dst, third.data(), third.size());
+    cmd->end();
+    device().writeBuffer(src, first.data(), first.size());
+    device().execute(cmd);
+    EXPECT_EQ(device().readBuffer(dst), third) << "begin() dropped the old copy";
+}
+
 // Instanced draws: firstInstance must reach both the per-instance attribute fetch and
 // gl_InstanceIndex (which includes it, unlike GL's gl_InstanceID).
 class InstancingTest : public BackendTest {

@@ -18,6 +18,25 @@ TEST_P(ErrorTest, ValidationHookReportsAnError) {
     discardDebugMessages();   // expected ones; TearDown fails on anything left
 }
 
+class MessageCallbackTest : public BackendTest {
+protected:
+    void customizeDeviceDesc(DeviceDesc& desc) override {
+        desc.messageCallback = [this](const DebugMessage& m) { received.push_back(m); };
+    }
+    std::vector<DebugMessage> received;
+};
+JANUS_INSTANTIATE_BACKEND_TESTS(MessageCallbackTest);
+
+TEST_P(MessageCallbackTest, CallbackSeesEachMessageAsItArrives) {
+    EXPECT_TRUE(received.empty()) << "device creation reported: " << received.front().text;
+    device().provokeValidationErrorForTesting();
+    size_t errors = std::count_if(received.begin(), received.end(), [](const DebugMessage& m) { return m.severity == MessageSeverity::Error; });
+    EXPECT_GE(errors, 1u) << "the callback saw no error from the provoked call (before takeDebugMessages)";
+    std::vector<DebugMessage> taken = device().takeDebugMessages();
+    EXPECT_EQ(taken.size(), received.size()) << "the callback and takeDebugMessages see the same messages";
+    discardDebugMessages();
+}
+
 TEST_P(ErrorTest, DeviceInfoMatchesTheConfiguration) {
     const DeviceInfo& info = device().info();
     EXPECT_EQ(info.backend, backend());

@@ -196,6 +196,72 @@ TEST_P(RenderTargetTest, ViewportAndScissorCountRowsFromTheTop) {
     EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(texture), expected, 8));
 }
 
+// Viewport and scissor reset to the full attachment at every render pass (rhi.h), even after a
+// previous pass set them for a smaller target.
+TEST_P(RenderTargetTest, ViewportAndScissorResetAtEachPass) {
+    TextureHandle small = renderTarget(TextureDimension::Texture2D, Format::RGBA8_UNORM, 4, 1, 1);
+    TextureHandle large = renderTarget(TextureDimension::Texture2D, Format::RGBA8_UNORM, 8, 1, 1);
+    PipelineHandle pipeline = colorPipeline(Format::RGBA8_UNORM);
+    BufferHandle full = createBufferFrom(BufferUsage::Vertex, rectangle(-1, -1, 1, 1, {1, 0, 0, 1}));
+    submit([&](ICommandList& cmd) {
+        cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(small)));
+        cmd.setPipeline(pipeline);
+        cmd.setViewport({0, 0, 2, 2});
+        cmd.setScissor({1, 1, 1, 1});
+        cmd.setVertexBuffer(0, full);
+        cmd.draw(6);
+        cmd.endRenderPass();
+        cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(large)));
+        cmd.setPipeline(pipeline);
+        cmd.setVertexBuffer(0, full);
+        cmd.draw(6);
+        cmd.endRenderPass();
+    });
+    EXPECT_EQ(readTextureAs<Rgba8>(large), std::vector<Rgba8>(64, Rgba8{255, 0, 0, 255})) << "the whole target is drawn";
+    std::vector<Rgba8> expectedSmall(16, Rgba8{0, 0, 0, 0});
+    expectedSmall[1 * 4 + 1] = {255, 0, 0, 255};
+    EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(small), expectedSmall, 4)) << "only the scissored pixel (1, 1)";
+}
+
+// The write mask applies to draws only: a later clear writes every channel (GL's glClear obeys
+// glColorMask / glDepthMask, so a backend must reset them before clearing).
+TEST_P(RenderTargetTest, WriteMasksLimitDrawsButNotClears) {
+    TextureHandle color = renderTarget(TextureDimension::Texture2D, Format::RGBA8_UNORM, 4, 1, 1);
+    TextureHandle depth = device().createTexture(TextureDesc().setFormat(Format::D32_FLOAT).setSize(4, 4).setUsage(TextureUsage::RenderTarget));
+    BlendAttachment redAndAlphaOnly;
+    redAndAlphaOnly.writeMask = 0x1 | 0x8;
+    PipelineHandle masked = colorPipeline(Format::RGBA8_UNORM, Format::D32_FLOAT, {}, {true, false, CompareOp::Always}, redAndAlphaOnly);
+    drawVertices(RenderPassDesc().addColor(Attachment::clear(color, {0, 0, 1, 0})).setDepth(Attachment::clearDepthTo(depth, 0.5f)),
+                 masked, rectangle(-1, -1, 1, 1, {1, 1, 0, 1}, 0.25f));
+    EXPECT_EQ(readTextureAs<Rgba8>(color), std::vector<Rgba8>(16, Rgba8{255, 0, 255, 255})) << "only red and alpha written";
+    EXPECT_EQ(readTextureAs<float>(depth), std::vector<float>(16, 0.5f)) << "depth write was off";
+    submit([&](ICommandList& cmd) {
+        cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(color, {0, 1, 0, 1})).setDepth(Attachment::clearDepthTo(depth, 0.75f)));
+        cmd.endRenderPass();
+    });
+    EXPECT_EQ(readTextureAs<Rgba8>(color), std::vector<Rgba8>(16, Rgba8{0, 255, 0, 255})) << "the clear writes every channel";
+    EXPECT_EQ(readTextureAs<float>(depth), std::vector<float>(16, 0.75f)) << "the depth clear writes depth";
+}
+
+TEST_P(RenderTargetTest, TwoColorAttachmentsGetTheirOwnOutputs) {
+    // Different kinds on purpose: a 2D texture and a cube face.
+    TextureHandle flat = renderTarget(TextureDimension::Texture2D, Format::RGBA8_UNORM, 4, 1, 1);
+    TextureHandle cube = renderTarget(TextureDimension::TextureCube, Format::RGBA8_UNORM, 4, 1, 1);
+    GraphicsPipelineDesc desc;
+    desc.setShaders(shader("rt_vertex_color_vert"), shader("rt_two_outputs_frag"))
+        .addVertexBuffer({0, sizeof(ColorVertex), false})
+        .addVertexAttribute({0, VertexFormat::Float4, 0, offsetof(ColorVertex, x)})
+        .addVertexAttribute({1, VertexFormat::Float4, 0, offsetof(ColorVertex, r)})
+        .addColorFormat(Format::RGBA8_UNORM)
+        .addColorFormat(Format::RGBA8_UNORM);
+    PipelineHandle pipeline = device().createGraphicsPipeline(desc);
+    drawVertices(RenderPassDesc().addColor(Attachment::clear(flat)).addColor(Attachment::clear(cube, {0, 0, 0, 0}, {0, 3})),
+                 pipeline, rectangle(-1, -1, 1, 1, {1, 0, 0.2f, 0.6f}));
+    EXPECT_EQ(readTextureAs<Rgba8>(flat), std::vector<Rgba8>(16, Rgba8{255, 0, 51, 153})) << "location 0";
+    EXPECT_EQ(readTextureAs<Rgba8>(cube, {0, 3}), std::vector<Rgba8>(16, Rgba8{153, 51, 0, 255})) << "location 1 (abgr)";
+    EXPECT_EQ(readTextureAs<Rgba8>(cube, {0, 2}), std::vector<Rgba8>(16, Rgba8{0, 0, 0, 0})) << "other faces untouched";
+}
+
 TEST_P(RenderTargetTest, DontCareLoadThenFullDrawIsDefined) {
     TextureHandle texture = renderTarget(TextureDimension::Texture2D, Format::RGBA8_UNORM, 4, 1, 1);
     PipelineHandle pipeline = colorPipeline(Format::RGBA8_UNORM);
