@@ -94,8 +94,10 @@ public:
     void submitAndWait(const std::function<void(VkCommandBuffer)>& record);
     void waitIdle();
 
+    // `chosen`, when given, receives the property flags of the memory type used.
     VkDeviceMemory allocate(const VkMemoryRequirements& requirements, VkMemoryPropertyFlags required,
-                            VkMemoryPropertyFlags preferred, std::string_view what);
+                            VkMemoryPropertyFlags preferred, std::string_view what,
+                            VkMemoryPropertyFlags* chosen = nullptr);
     void setObjectName(VkObjectType type, uint64_t handle, const std::string& name);
     VkFormatProperties formatProperties(Format format) const;
 
@@ -134,6 +136,7 @@ public:
     VkBuffer buffer = VK_NULL_HANDLE;
 
 private:
+    void zeroFill(const VkMemoryRequirements& requirements, VkMemoryPropertyFlags memoryFlags);
     ContextPtr m_context;
     BufferDesc m_desc;
     VkDeviceMemory m_memory = VK_NULL_HANDLE;
@@ -342,7 +345,6 @@ private:
     bool m_inRenderPass = false;
     std::vector<Format> m_passColorFormats;
     Format m_passDepthFormat = Format::Unknown;
-    VkExtent2D m_passExtent{};
     std::shared_ptr<Pipeline> m_graphicsPipeline;
     std::shared_ptr<Pipeline> m_computePipeline;
     std::array<std::shared_ptr<BindingSet>, Pipeline::kMaxSets> m_bindingSets;

@@ -1,6 +1,8 @@
 // Buffers and host-visible staging buffers.
 #include <fmt/format.h>
 
+#include <cstring>
+
 #include "vulkan_backend.h"
 
 namespace janus::rhi::vulkan {
@@ -28,16 +30,33 @@ Buffer::Buffer(ContextPtr context, const BufferDesc& desc) : m_context(std::move
     try {
         VkMemoryRequirements requirements;
         vkGetBufferMemoryRequirements(m_context->device, buffer, &requirements);
+        VkMemoryPropertyFlags memoryFlags = 0;
         m_memory = m_context->allocate(requirements, 0, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT,
-                                       fmt::format("buffer '{}'", desc.debugName));
+                                       fmt::format("buffer '{}'", desc.debugName), &memoryFlags);
         check(vkBindBufferMemory(m_context->device, buffer, m_memory, 0), ErrorCode::OutOfMemory,
               "vkBindBufferMemory");
+        zeroFill(requirements, memoryFlags);
     } catch (...) {
         if (m_memory) vkFreeMemory(m_context->device, m_memory, nullptr);
         vkDestroyBuffer(m_context->device, buffer, nullptr);
         throw;
     }
     m_context->setObjectName(VK_OBJECT_TYPE_BUFFER, uint64_t(buffer), desc.debugName);
+}
+
+// New buffers read as zero, as on GL, so results never depend on stale memory. Host-visible
+// memory is cleared on the CPU (visible to the next submission); otherwise the GPU fills it.
+void Buffer::zeroFill(const VkMemoryRequirements& requirements, VkMemoryPropertyFlags memoryFlags) {
+    const VkMemoryPropertyFlags hostMemory = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+    if ((memoryFlags & hostMemory) == hostMemory) {
+        void* pointer = nullptr;
+        check(vkMapMemory(m_context->device, m_memory, 0, VK_WHOLE_SIZE, 0, &pointer), ErrorCode::OutOfMemory,
+              "vkMapMemory");
+        std::memset(pointer, 0, requirements.size);
+        vkUnmapMemory(m_context->device, m_memory);
+    } else {
+        m_context->submitAndWait([&](VkCommandBuffer cmd) { vkCmdFillBuffer(cmd, buffer, 0, VK_WHOLE_SIZE, 0); });
+    }
 }
 
 Buffer::~Buffer() {

@@ -192,7 +192,6 @@ void CommandList::beginRenderPass(const RenderPassDesc& desc) {
     m_inRenderPass = true;
     m_passColorFormats = std::move(colorFormats);
     m_passDepthFormat = desc.depth ? desc.depth->texture->desc().format : Format::Unknown;
-    m_passExtent = *extent;
     setViewport({0, 0, float(extent->width), float(extent->height), 0, 1});
     setScissor({0, 0, extent->width, extent->height});
 }

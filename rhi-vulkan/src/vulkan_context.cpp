@@ -135,7 +135,8 @@ void Context::waitIdle() {
 }
 
 VkDeviceMemory Context::allocate(const VkMemoryRequirements& requirements, VkMemoryPropertyFlags required,
-                                 VkMemoryPropertyFlags preferred, std::string_view what) {
+                                 VkMemoryPropertyFlags preferred, std::string_view what,
+                                 VkMemoryPropertyFlags* chosen) {
     auto pick = [&](VkMemoryPropertyFlags flags) -> int {
         for (uint32_t i = 0; i < memoryProperties.memoryTypeCount; ++i)
             if ((requirements.memoryTypeBits & (1u << i)) &&
@@ -157,6 +158,7 @@ VkDeviceMemory Context::allocate(const VkMemoryRequirements& requirements, VkMem
         throw Error(ErrorCode::OutOfMemory, fmt::format("{}: vkAllocateMemory of {} bytes failed with {}; "
                                                         "free resources or make it smaller",
                                                         what, requirements.size, resultName(result)));
+    if (chosen) *chosen = memoryProperties.memoryTypes[type].propertyFlags;
     return memory;
 }
 

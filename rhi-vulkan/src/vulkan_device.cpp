@@ -271,7 +271,7 @@ Capabilities queryCapabilities(const Context& ctx) {
     Capabilities caps;
     const VkPhysicalDeviceLimits& l = ctx.properties.limits;
     caps.compute = true;   // the chosen queue family has VK_QUEUE_COMPUTE_BIT
-    caps.storageBuffers = l.maxStorageBufferRange > 0 && ctx.enabledFeatures.fragmentStoresAndAtomics;
+    caps.storageBuffers = true;   // core Vulkan; maxStorageBufferRange is at least 2^27
     caps.storageImages = hasFormatFeatures(ctx, Format::RGBA8_UNORM, VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT) &&
                          hasFormatFeatures(ctx, Format::RGBA16_FLOAT, VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT);
     caps.renderToCubeFaceMip = true;   // a 2D view of any layer and level is core Vulkan

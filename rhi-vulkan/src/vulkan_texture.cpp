@@ -144,6 +144,16 @@ Texture::Texture(ContextPtr context, const TextureDesc& desc) : m_context(std::m
             barrier.subresourceRange = {aspect, 0, VK_REMAINING_MIP_LEVELS, 0, VK_REMAINING_ARRAY_LAYERS};
             vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 0,
                                  nullptr, 0, nullptr, 1, &barrier);
+            // New textures read as zero, as on GL, so results never depend on stale memory.
+            fullBarrier(cmd);
+            const VkImageSubresourceRange everything{aspect, 0, VK_REMAINING_MIP_LEVELS, 0, VK_REMAINING_ARRAY_LAYERS};
+            if (isDepthFormat(m_desc.format)) {
+                VkClearDepthStencilValue zero{0.0f, 0};
+                vkCmdClearDepthStencilImage(cmd, image, VK_IMAGE_LAYOUT_GENERAL, &zero, 1, &everything);
+            } else {
+                VkClearColorValue zero{};
+                vkCmdClearColorImage(cmd, image, VK_IMAGE_LAYOUT_GENERAL, &zero, 1, &everything);
+            }
         });
     } catch (...) {
         if (m_memory) vkFreeMemory(m_context->device, m_memory, nullptr);
