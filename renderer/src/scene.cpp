@@ -32,6 +32,36 @@ void generateNormals(Mesh& mesh) {
     }
 }
 
+void generateTangents(Mesh& mesh) {
+    std::vector<glm::vec3> alongU(mesh.vertices.size(), glm::vec3(0.0f)), alongV(mesh.vertices.size(), glm::vec3(0.0f));
+    for (size_t i = 0; i + 2 < mesh.indices.size(); i += 3) {
+        const uint32_t ia = mesh.indices[i], ib = mesh.indices[i + 1], ic = mesh.indices[i + 2];
+        const Vertex &a = mesh.vertices[ia], &b = mesh.vertices[ib], &c = mesh.vertices[ic];
+        const glm::vec3 e1 = b.position - a.position, e2 = c.position - a.position;
+        const glm::vec2 d1 = b.uv - a.uv, d2 = c.uv - a.uv;
+        const float det = d1.x * d2.y - d2.x * d1.y;
+        if (std::abs(det) < 1e-12f) continue;   // no uv area: says nothing about the tangent
+        const glm::vec3 dPdu = (e1 * d2.y - e2 * d1.y) / det;
+        const glm::vec3 dPdv = (e2 * d1.x - e1 * d2.x) / det;
+        for (uint32_t v : {ia, ib, ic}) {
+            alongU[v] += dPdu;
+            alongV[v] += dPdv;
+        }
+    }
+    for (size_t v = 0; v < mesh.vertices.size(); ++v) {
+        Vertex& vertex = mesh.vertices[v];
+        glm::vec3 t = alongU[v] - vertex.normal * glm::dot(vertex.normal, alongU[v]);
+        if (glm::length(t) < 1e-8f || !std::isfinite(glm::length(t))) {
+            // Any direction perpendicular to the normal keeps the shading frame valid.
+            t = glm::cross(vertex.normal, std::abs(vertex.normal.x) < 0.9f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0));
+        }
+        t = glm::normalize(t);
+        // glTF's v grows downwards in the image, so the bitangent (image up) opposes dP/dv.
+        const float w = glm::dot(glm::cross(vertex.normal, t), alongV[v]) > 0.0f ? -1.0f : 1.0f;
+        vertex.tangent = glm::vec4(t, w);
+    }
+}
+
 void frameSceneBounds(Scene& scene) {
     glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
     for (const Instance& instance : scene.instances) {

@@ -225,8 +225,9 @@ private:
                     return true;
                 };
                 const bool hasNormals = readInto("NORMAL", 3, [](Vertex& v, const float* f) { v.normal = glm::vec3(f[0], f[1], f[2]); });
-                readInto("TEXCOORD_0", 2, [](Vertex& v, const float* f) { v.uv = glm::vec2(f[0], f[1]); });
-                readInto("TANGENT", 4, [](Vertex& v, const float* f) { v.tangent = glm::vec4(f[0], f[1], f[2], f[3]); });
+                const bool hasUvs = readInto("TEXCOORD_0", 2, [](Vertex& v, const float* f) { v.uv = glm::vec2(f[0], f[1]); });
+                const bool hasTangents =
+                    readInto("TANGENT", 4, [](Vertex& v, const float* f) { v.tangent = glm::vec4(f[0], f[1], f[2], f[3]); });
 
                 if (primitive.indices >= 0) {
                     mesh.indices = readIndices(primitive.indices);
@@ -246,6 +247,9 @@ private:
                                      m_model.materials.size()));
                 mesh.material = primitive.material;
                 if (!hasNormals) generateNormals(mesh);
+                // glTF asks clients to compute tangents when a normal-mapped mesh has none.
+                const bool normalMapped = primitive.material >= 0 && m_model.materials[size_t(primitive.material)].normalTexture.index >= 0;
+                if (normalMapped && hasUvs && !hasTangents) generateTangents(mesh);
                 scene.meshes.push_back(std::move(mesh));
                 sceneMeshes.push_back(uint32_t(scene.meshes.size() - 1));
             }

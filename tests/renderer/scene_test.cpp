@@ -11,6 +11,7 @@
 #include <glm/gtc/type_ptr.hpp>
 #include <nlohmann/json.hpp>
 
+#include "janus/renderer/image.h"
 #include "janus/renderer/scene.h"
 
 namespace janus::renderer {
@@ -75,6 +76,22 @@ public:
     ~TinyGltf() {
         std::error_code ec;
         fs::remove_all(m_dir, ec);
+    }
+
+    // Adds TEXCOORD_0 (v grows downwards, as in glTF) and a 1x1 normal-map PNG to the material.
+    void addUvsAndNormalMap() {
+        const float uvs[6] = {0, 1, 1, 1, 0, 0};
+        const size_t offset = m_bin.size();
+        m_bin.resize(offset + sizeof(uvs));
+        std::memcpy(m_bin.data() + offset, uvs, sizeof(uvs));
+        gltf["buffers"][0]["byteLength"] = m_bin.size();
+        gltf["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", offset}, {"byteLength", sizeof(uvs)}});
+        gltf["accessors"].push_back({{"bufferView", 2}, {"componentType", 5126}, {"count", 3}, {"type", "VEC2"}});
+        gltf["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = 2;
+        writePNG(m_dir / "normal.png", ImageRGBA8{1, 1, {128, 128, 255, 255}});
+        gltf["images"] = json::array({{{"uri", "normal.png"}}});
+        gltf["textures"] = json::array({{{"source", 0}}});
+        gltf["materials"][0]["normalTexture"] = {{"index", 0}};
     }
 
     void setIndex(size_t which, uint16_t value) { std::memcpy(m_bin.data() + 36 + which * 2, &value, 2); }
@@ -225,6 +242,23 @@ TEST(SceneLoading, MissingNormalsAreGenerated) {
     EXPECT_EQ(scene.meshes[0].indices, (std::vector<uint32_t>{0, 1, 2}));
 }
 
+TEST(SceneLoading, NormalMappedMeshesWithoutTangentsGetThem) {
+    TinyGltf file;
+    file.addUvsAndNormalMap();
+    const Scene scene = loadScene(file.write());
+    ASSERT_EQ(scene.textures.size(), 1u);
+    EXPECT_FALSE(scene.textures[0].srgb);
+    // u runs along +X; v runs down the image while Y goes up, so the bitangent cross(N, T) * w
+    // (+Y, image up) needs w = +1.
+    for (const Vertex& v : scene.meshes.at(0).vertices) EXPECT_EQ(v.tangent, glm::vec4(1, 0, 0, 1));
+}
+
+TEST(SceneLoading, MeshesWithoutNormalMapsGetNoTangents) {
+    TinyGltf file;
+    const Scene scene = loadScene(file.write());
+    for (const Vertex& v : scene.meshes.at(0).vertices) EXPECT_EQ(v.tangent, glm::vec4(0));
+}
+
 TEST(SceneLoading, BinaryGlbLoadsLikeTheTextForm) {
     TinyGltf file;
     const Scene scene = loadScene(file.writeGlb());
@@ -241,6 +275,18 @@ TEST(SceneLoading, NodeHierarchyIsFlattened) {
     const Scene scene = loadScene(file.write());
     ASSERT_EQ(scene.instances.size(), 1u);
     EXPECT_EQ(glm::vec3(scene.instances[0].world * glm::vec4(1, 0, 0, 1)), glm::vec3(3, 2, 3));
+}
+
+TEST(SceneLoading, NodeRotationsAreXyzwQuaternions) {
+    TinyGltf file;
+    // 90 degrees about +X, as DamagedHelmet's root node: +Y turns into +Z.
+    file.gltf["nodes"][0]["rotation"] = {0.70710678, 0, 0, 0.70710678};
+    const Scene scene = loadScene(file.write());
+    const glm::vec3 turned = glm::vec3(scene.instances.at(0).world * glm::vec4(0, 1, 0, 0));
+    // Tolerance: the quaternion's components are rounded to float.
+    EXPECT_NEAR(turned.x, 0.0f, 1e-6f);
+    EXPECT_NEAR(turned.y, 0.0f, 1e-6f);
+    EXPECT_NEAR(turned.z, 1.0f, 1e-6f);
 }
 
 TEST(SceneLoading, PunctualLightsAndCamerasAreRead) {
