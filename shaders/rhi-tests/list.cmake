@@ -18,3 +18,5 @@ janus_add_shader(janus_shaders NAME rt_sample_at_3d_frag SOURCE ${_rt}/sample_at
 janus_add_shader(janus_shaders NAME rt_sample_at_shadow_frag SOURCE ${_rt}/sample_at.frag DEFINES SHADOW)
 janus_add_shader(janus_shaders NAME rt_instanced_vert SOURCE ${_rt}/instanced.vert)
 janus_add_shader(janus_shaders NAME rt_two_outputs_frag SOURCE ${_rt}/two_outputs.frag)
+janus_add_shader(janus_shaders NAME rt_two_textures_high_bindings_frag SOURCE ${_rt}/two_textures.frag DEFINES HIGH_BINDINGS SEPARATE_SETS)
+janus_add_shader(janus_shaders NAME rt_write_vertices_comp SOURCE ${_rt}/write_vertices.comp)

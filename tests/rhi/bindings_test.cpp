@@ -14,7 +14,8 @@ public:
 
 protected:
     // Draws rt_two_textures*: output = (texA.r, texB.g, params.value.b, 1).
-    void expectEachResourceReadsItsOwn(const char* fragmentShader, bool separateSets) {
+    void expectEachResourceReadsItsOwn(const char* fragmentShader, bool separateSets,
+                                       std::array<uint32_t, 3> bindingNumbers = {0, 1, 2}) {
         // Texture A is red-ish, B green-ish: sampling the same one twice changes a channel.
         Rgba8 a{204, 26, 0, 255}, b{51, 153, 0, 255};
         TextureHandle texA = createTexture2D(Format::RGBA8_UNORM, 1, 1), texB = createTexture2D(Format::RGBA8_UNORM, 1, 1);
@@ -25,9 +26,9 @@ protected:
         SamplerHandle sampler = nearestClampSampler();
         std::vector<BindingSetHandle> sets;
         BindingSetDesc set0;
-        set0.add(BindingItem::uniformBuffer(0, ubo)).add(BindingItem::sampledTexture(1, texA, sampler));
+        set0.add(BindingItem::uniformBuffer(bindingNumbers[0], ubo)).add(BindingItem::sampledTexture(bindingNumbers[1], texA, sampler));
         BindingSetDesc set1;
-        (separateSets ? set1 : set0).add(BindingItem::sampledTexture(2, texB, sampler));
+        (separateSets ? set1 : set0).add(BindingItem::sampledTexture(bindingNumbers[2], texB, sampler));
         sets.push_back(device().createBindingSet(set0));
         if (separateSets) sets.push_back(device().createBindingSet(set1));
         TextureHandle target = createTexture2D(Format::RGBA8_UNORM, 4, 4, TextureUsage::RenderTarget);
@@ -42,6 +43,10 @@ JANUS_INSTANTIATE_BACKEND_TESTS(BindingTest);
 TEST_P(BindingTest, TwoTexturesAndUniformBufferInOneSet) { expectEachResourceReadsItsOwn("rt_two_textures_frag", false); }
 
 TEST_P(BindingTest, TwoTexturesAndUniformBufferInTwoSets) { expectEachResourceReadsItsOwn("rt_two_textures_two_sets_frag", true); }
+
+TEST_P(BindingTest, SparseHighBindingNumbers) {
+    expectEachResourceReadsItsOwn("rt_two_textures_high_bindings_frag", true, {9, 14, 15});
+}
 
 TEST_P(BindingTest, BindingSetsCanBeSwitchedBetweenDraws) {
     TextureHandle target = createTexture2D(Format::RGBA8_UNORM, 4, 4, TextureUsage::RenderTarget);

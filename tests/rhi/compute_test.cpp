@@ -121,6 +121,30 @@ TEST_P(ComputeTest, DrawSamplesWhatADispatchWroteInTheSameCommandList) {
     EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(target), fillImagePattern(16), 16));
 }
 
+// Compute -> vertex fetch needs its own barrier (GL: GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT).
+TEST_P(ComputeTest, DrawReadsVerticesADispatchWrote) {
+    JANUS_REQUIRE_CAPABILITY(Capability::StorageBuffers);
+    BufferHandle vertices = createBuffer(BufferUsage::Storage | BufferUsage::Vertex, 6 * sizeof(ColorVertex));
+    PipelineHandle fill = computePipeline("rt_write_vertices_comp");
+    PipelineHandle draw = colorPipeline(Format::RGBA8_UNORM);
+    BindingSetHandle bindings = device().createBindingSet(BindingSetDesc().add(BindingItem::storageBuffer(0, vertices)));
+    TextureHandle target = createTexture2D(Format::RGBA8_UNORM, 4, 4, TextureUsage::RenderTarget);
+    submit([&](ICommandList& cmd) {
+        cmd.setPipeline(fill);
+        cmd.setBindingSet(0, bindings);
+        cmd.dispatch(1);
+        cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(target, {0, 0, 0, 1})));
+        cmd.setPipeline(draw);
+        cmd.setVertexBuffer(0, vertices);
+        cmd.draw(6);
+        cmd.endRenderPass();
+    });
+    std::vector<Rgba8> expected(16, Rgba8{0, 0, 0, 255});
+    for (size_t i = 0; i < 16; ++i)
+        if (i % 4 < 2) expected[i] = {0, 255, 0, 255};
+    EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(target), expected, 4)) << "left half green";
+}
+
 TEST_P(ComputeTest, DispatchSeesBufferWrittenEarlierInTheCommandList) {
     JANUS_REQUIRE_CAPABILITY(Capability::StorageBuffers);
     std::vector<Slot> initial(8, Slot{1, 2, 3, 4});
