@@ -1,0 +1,83 @@
+// Shared by every benchmark in janus_bench_rhi: the workload both sides issue, the timing loop
+// that splits "record + submit" from "wait", and the registry that owns the devices.
+#pragma once
+
+#include <benchmark/benchmark.h>
+#include <janus/rhi/rhi.h>
+
+#include <array>
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace janus::bench {
+
+// One frame of work. The same numbers drive the raw and the RHI side of every comparison.
+inline constexpr uint32_t kOpsPerFrame = 1000;        // draws or dispatches per command list
+inline constexpr uint32_t kTargetSize = 8;            // 8x8 RGBA8 target: rasterisation is negligible
+// Every draw/dispatch binds its own 256-byte slice: 256 satisfies every device's UBO/SSBO
+// offset alignment, so both sides use identical offsets without querying anything.
+inline constexpr uint64_t kSliceBytes = 256;
+inline constexpr uint64_t kSlicedBufferBytes = kSliceBytes * kOpsPerFrame;
+// The triangle covers the top-left corner (rows 0..3 on every backend), texel (0, 0) included.
+inline constexpr std::array<float, 6> kTriangle = {-1.0f, -1.0f, 0.0f, -1.0f, -1.0f, 0.0f};
+
+// Colour of draw i: exact in RGBA8 (multiples of 1/255), so the last draw's colour can be checked
+// byte for byte in the target.
+std::array<float, 4> drawColor(uint32_t drawIndex);
+std::array<uint8_t, 4> drawColorBytes(uint32_t drawIndex);
+// kOpsPerFrame std140 blocks { vec4 color; }, one per kSliceBytes slice.
+std::vector<std::byte> drawParameterData();
+
+// Thrown when a benchmark finds that the work it timed did not produce the expected result.
+class WrongResult : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+// Runs `submit` (record + submit the frame; timed) then `wait` (until the frame has finished;
+// timed separately) once per benchmark iteration. Reports, per draw/dispatch:
+//   submit_ns_per_op  CPU time to record and submit (the benchmark's manual time)
+//   wait_ns_per_op    time spent waiting for the device to finish (lavapipe/llvmpipe execute on
+//                     CPU threads, so this is mostly the driver running the work)
+void runFrames(benchmark::State& state, const std::function<void()>& submit, const std::function<void()>& wait);
+
+// Devices live until main() tears them down, in reverse order of creation: Google Benchmark calls
+// each benchmark function several times and device start-up must not be timed or repeated.
+class Environment {
+public:
+    virtual ~Environment() = default;
+};
+
+void adoptEnvironment(std::unique_ptr<Environment> environment);
+void destroyEnvironments();
+
+template <typename T, typename... Args>
+T& sharedEnvironment(Args&&... args) {
+    static T* instance = nullptr;
+    if (!instance) {
+        auto created = std::make_unique<T>(std::forward<Args>(args)...);
+        instance = created.get();
+        adoptEnvironment(std::move(created));
+    }
+    return *instance;
+}
+
+// Calls `body` and turns exceptions into a skipped benchmark with the message, so that one
+// unavailable backend does not hide the others' results.
+void runGuarded(benchmark::State& state, const std::function<void()>& body);
+
+// The benchmarks. Each times kOpsPerFrame draws (into the 8x8 target, rebinding the colour
+// uniform block per draw) or dispatches (1x1x1, rebinding the counter per dispatch) per iteration.
+void rhiDraws(benchmark::State& state, rhi::Backend backend);
+void rhiDispatches(benchmark::State& state, rhi::Backend backend);
+void rawVulkanDraws(benchmark::State& state);
+void rawVulkanDispatches(benchmark::State& state);
+void rawGLDraws(benchmark::State& state, rhi::Backend backend);   // GL or GLES
+void rawGLDispatches(benchmark::State& state);
+
+}  // namespace janus::bench

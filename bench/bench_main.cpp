@@ -1,0 +1,111 @@
+// janus_bench_rhi: CPU cost per draw and per dispatch of the Janus RHI against the same work
+// issued with raw Vulkan / raw GL calls, in one run. scripts/bench.sh turns the JSON output into
+// the ratio table of docs/BENCHMARKS.md.
+#include <fmt/format.h>
+
+#include <cstring>
+
+#include "bench_common.h"
+
+namespace janus::bench {
+
+std::array<float, 4> drawColor(uint32_t drawIndex) {
+    const std::array<uint8_t, 4> bytes = drawColorBytes(drawIndex);
+    return {bytes[0] / 255.0f, bytes[1] / 255.0f, bytes[2] / 255.0f, bytes[3] / 255.0f};
+}
+
+std::array<uint8_t, 4> drawColorBytes(uint32_t drawIndex) {
+    return {uint8_t(drawIndex & 0xFF), uint8_t(drawIndex >> 8), 255, 255};
+}
+
+std::vector<std::byte> drawParameterData() {
+    std::vector<std::byte> data(kSlicedBufferBytes);
+    for (uint32_t i = 0; i < kOpsPerFrame; ++i) {
+        const std::array<float, 4> color = drawColor(i);
+        std::memcpy(data.data() + i * kSliceBytes, color.data(), sizeof(color));
+    }
+    return data;
+}
+
+void runFrames(benchmark::State& state, const std::function<void()>& submit, const std::function<void()>& wait) {
+    using Clock = std::chrono::steady_clock;
+    double submitSeconds = 0, waitSeconds = 0;
+    for (auto _ : state) {
+        const auto start = Clock::now();
+        submit();
+        const auto submitted = Clock::now();
+        wait();
+        const auto finished = Clock::now();
+        const double submitTime = std::chrono::duration<double>(submitted - start).count();
+        state.SetIterationTime(submitTime);
+        submitSeconds += submitTime;
+        waitSeconds += std::chrono::duration<double>(finished - submitted).count();
+    }
+    // kAvgIterations divides by the iteration count: the values read as ns per draw/dispatch.
+    state.counters["submit_ns_per_op"] =
+        benchmark::Counter(submitSeconds * 1e9 / kOpsPerFrame, benchmark::Counter::kAvgIterations);
+    state.counters["wait_ns_per_op"] =
+        benchmark::Counter(waitSeconds * 1e9 / kOpsPerFrame, benchmark::Counter::kAvgIterations);
+    state.SetItemsProcessed(int64_t(state.iterations()) * kOpsPerFrame);
+}
+
+namespace {
+std::vector<std::unique_ptr<Environment>>& environments() {
+    static std::vector<std::unique_ptr<Environment>> all;
+    return all;
+}
+}  // namespace
+
+void adoptEnvironment(std::unique_ptr<Environment> environment) { environments().push_back(std::move(environment)); }
+
+void destroyEnvironments() {
+    auto& all = environments();
+    while (!all.empty()) all.pop_back();
+}
+
+void runGuarded(benchmark::State& state, const std::function<void()>& body) {
+    try {
+        body();
+    } catch (const std::exception& error) {
+        // Google Benchmark accepts a run that ends early once it is marked as failed.
+        state.SkipWithError(error.what());
+    }
+}
+
+}  // namespace janus::bench
+
+namespace {
+
+// Raw and RHI of one comparison are registered next to each other; scripts/bench.sh pairs them by
+// name: <work>/<backend>/<raw|rhi>.
+void registerBenchmarks() {
+    using janus::rhi::Backend;
+    using namespace janus::bench;
+    auto add = [](const std::string& name, auto&& function) {
+        benchmark::RegisterBenchmark(name.c_str(), function)->UseManualTime()->Unit(benchmark::kMicrosecond);
+    };
+    add("draw/vulkan/raw", rawVulkanDraws);
+    add("draw/vulkan/rhi", [](benchmark::State& state) { rhiDraws(state, Backend::Vulkan); });
+    add("dispatch/vulkan/raw", rawVulkanDispatches);
+    add("dispatch/vulkan/rhi", [](benchmark::State& state) { rhiDispatches(state, Backend::Vulkan); });
+    add("draw/gl/raw", [](benchmark::State& state) { rawGLDraws(state, Backend::GL); });
+    add("draw/gl/rhi", [](benchmark::State& state) { rhiDraws(state, Backend::GL); });
+    add("dispatch/gl/raw", rawGLDispatches);
+    add("dispatch/gl/rhi", [](benchmark::State& state) { rhiDispatches(state, Backend::GL); });
+    add("draw/gles/raw", [](benchmark::State& state) { rawGLDraws(state, Backend::GLES); });
+    add("draw/gles/rhi", [](benchmark::State& state) { rhiDraws(state, Backend::GLES); });
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    registerBenchmarks();
+    benchmark::Initialize(&argc, argv);
+    if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+    benchmark::AddCustomContext("ops_per_frame", std::to_string(janus::bench::kOpsPerFrame));
+    benchmark::AddCustomContext("target", fmt::format("{0}x{0} RGBA8", janus::bench::kTargetSize));
+    benchmark::RunSpecifiedBenchmarks();
+    benchmark::Shutdown();
+    janus::bench::destroyEnvironments();
+    return 0;
+}

@@ -1,0 +1,358 @@
+// The raw GL side: its own EGL surfaceless context (OpenGL 4.3 core or OpenGL ES 3.0) and the
+// calls a hand-written renderer makes for the same workload: state set once per frame, then
+// glBindBufferRange + glDrawArrays (or glDispatchCompute) per operation.
+//
+// The program is compiled from the GLSL/ESSL the RHI's GL backend produced for the same SPIR-V
+// (IShader::translatedSource()), so both sides run the identical shaders.
+#include <EGL/egl.h>
+#include <EGL/eglext.h>
+#include <GL/glcorearb.h>
+#include <fmt/format.h>
+
+#include <cstring>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "rhi_scene.h"
+
+namespace janus::bench {
+namespace {
+
+// The GL entry points this file uses, loaded through EGL from whichever context is current.
+struct GLCalls {
+#define JANUS_BENCH_GL_CALLS(X)                                                                              \
+    X(PFNGLGETERRORPROC, glGetError)                                                                         \
+    X(PFNGLGENBUFFERSPROC, glGenBuffers)                                                                     \
+    X(PFNGLDELETEBUFFERSPROC, glDeleteBuffers)                                                               \
+    X(PFNGLBINDBUFFERPROC, glBindBuffer)                                                                     \
+    X(PFNGLBUFFERDATAPROC, glBufferData)                                                                     \
+    X(PFNGLMAPBUFFERRANGEPROC, glMapBufferRange)                                                             \
+    X(PFNGLUNMAPBUFFERPROC, glUnmapBuffer)                                                                   \
+    X(PFNGLBINDBUFFERRANGEPROC, glBindBufferRange)                                                           \
+    X(PFNGLGENVERTEXARRAYSPROC, glGenVertexArrays)                                                           \
+    X(PFNGLDELETEVERTEXARRAYSPROC, glDeleteVertexArrays)                                                     \
+    X(PFNGLBINDVERTEXARRAYPROC, glBindVertexArray)                                                           \
+    X(PFNGLVERTEXATTRIBPOINTERPROC, glVertexAttribPointer)                                                   \
+    X(PFNGLENABLEVERTEXATTRIBARRAYPROC, glEnableVertexAttribArray)                                           \
+    X(PFNGLCREATESHADERPROC, glCreateShader)                                                                 \
+    X(PFNGLDELETESHADERPROC, glDeleteShader)                                                                 \
+    X(PFNGLSHADERSOURCEPROC, glShaderSource)                                                                 \
+    X(PFNGLCOMPILESHADERPROC, glCompileShader)                                                               \
+    X(PFNGLGETSHADERIVPROC, glGetShaderiv)                                                                   \
+    X(PFNGLGETSHADERINFOLOGPROC, glGetShaderInfoLog)                                                         \
+    X(PFNGLCREATEPROGRAMPROC, glCreateProgram)                                                               \
+    X(PFNGLDELETEPROGRAMPROC, glDeleteProgram)                                                               \
+    X(PFNGLATTACHSHADERPROC, glAttachShader)                                                                 \
+    X(PFNGLLINKPROGRAMPROC, glLinkProgram)                                                                   \
+    X(PFNGLGETPROGRAMIVPROC, glGetProgramiv)                                                                 \
+    X(PFNGLGETPROGRAMINFOLOGPROC, glGetProgramInfoLog)                                                       \
+    X(PFNGLUSEPROGRAMPROC, glUseProgram)                                                                     \
+    X(PFNGLUNIFORMBLOCKBINDINGPROC, glUniformBlockBinding)                                                   \
+    X(PFNGLGENTEXTURESPROC, glGenTextures)                                                                   \
+    X(PFNGLDELETETEXTURESPROC, glDeleteTextures)                                                             \
+    X(PFNGLBINDTEXTUREPROC, glBindTexture)                                                                   \
+    X(PFNGLTEXSTORAGE2DPROC, glTexStorage2D)                                                                 \
+    X(PFNGLGENFRAMEBUFFERSPROC, glGenFramebuffers)                                                           \
+    X(PFNGLDELETEFRAMEBUFFERSPROC, glDeleteFramebuffers)                                                     \
+    X(PFNGLBINDFRAMEBUFFERPROC, glBindFramebuffer)                                                           \
+    X(PFNGLFRAMEBUFFERTEXTURE2DPROC, glFramebufferTexture2D)                                                 \
+    X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, glCheckFramebufferStatus)                                             \
+    X(PFNGLVIEWPORTPROC, glViewport)                                                                         \
+    X(PFNGLCLEARBUFFERFVPROC, glClearBufferfv)                                                               \
+    X(PFNGLDRAWARRAYSPROC, glDrawArrays)                                                                     \
+    X(PFNGLREADPIXELSPROC, glReadPixels)                                                                     \
+    X(PFNGLFINISHPROC, glFinish)
+#define JANUS_BENCH_GL_COMPUTE_CALLS(X)                                                                      \
+    X(PFNGLDISPATCHCOMPUTEPROC, glDispatchCompute)                                                           \
+    X(PFNGLMEMORYBARRIERPROC, glMemoryBarrier)
+#define JANUS_BENCH_DECLARE(type, name) type name = nullptr;
+    JANUS_BENCH_GL_CALLS(JANUS_BENCH_DECLARE)
+    JANUS_BENCH_GL_COMPUTE_CALLS(JANUS_BENCH_DECLARE)
+#undef JANUS_BENCH_DECLARE
+
+    void load(bool withCompute) {
+        auto resolve = [](auto& pointer, const char* name) {
+            pointer = reinterpret_cast<std::remove_reference_t<decltype(pointer)>>(eglGetProcAddress(name));
+            if (!pointer) throw std::runtime_error(fmt::format("raw GL: eglGetProcAddress({}) returned nothing", name));
+        };
+#define JANUS_BENCH_LOAD(type, name) resolve(name, #name);
+        JANUS_BENCH_GL_CALLS(JANUS_BENCH_LOAD)
+        if (withCompute) {
+            JANUS_BENCH_GL_COMPUTE_CALLS(JANUS_BENCH_LOAD)
+        }
+#undef JANUS_BENCH_LOAD
+    }
+};
+
+// The RHI's GL backend remembers which of its contexts is current and skips eglMakeCurrent when
+// it believes nothing changed, so the raw side must hand back exactly what was current.
+class ContextSwitch {
+public:
+    ContextSwitch(EGLDisplay display, EGLContext context, EGLenum api)
+        : m_api(eglQueryAPI()), m_display(eglGetCurrentDisplay()), m_context(eglGetCurrentContext()) {
+        eglBindAPI(api);
+        if (!eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, context))
+            throw std::runtime_error(fmt::format("raw GL: eglMakeCurrent failed (0x{:x})", eglGetError()));
+    }
+    ~ContextSwitch() {
+        eglBindAPI(m_api);
+        if (m_context != EGL_NO_CONTEXT) eglMakeCurrent(m_display, EGL_NO_SURFACE, EGL_NO_SURFACE, m_context);
+    }
+    ContextSwitch(const ContextSwitch&) = delete;
+    ContextSwitch& operator=(const ContextSwitch&) = delete;
+
+private:
+    EGLenum m_api;
+    EGLDisplay m_display;
+    EGLContext m_context;
+};
+
+class RawGL : public Environment {
+public:
+    explicit RawGL(rhi::Backend backend);
+    ~RawGL() override;
+
+    // The raw context is current while the returned object lives.
+    ContextSwitch makeCurrent() const { return ContextSwitch(m_display, m_context, m_api); }
+
+    void submitDraws();
+    void submitDispatches();
+    void finish() { m_gl.glFinish(); }
+    void checkDraws();
+    void checkDispatches();
+    bool hasCompute() const { return m_computeProgram != 0; }
+
+private:
+    void createContext();
+    GLuint compileProgram(const std::vector<std::pair<GLenum, std::string>>& stages);
+    void checkNoError(const char* when);
+
+    rhi::Backend m_backend;
+    bool m_es;
+    EGLenum m_api;
+    EGLDisplay m_display = EGL_NO_DISPLAY;
+    EGLContext m_context = EGL_NO_CONTEXT;
+    GLCalls m_gl;
+
+    GLuint m_target = 0, m_framebuffer = 0, m_vertices = 0, m_vertexArray = 0, m_drawParameters = 0;
+    GLuint m_drawProgram = 0;
+    GLuint m_counters = 0, m_computeProgram = 0;
+    uint32_t m_dispatchFrames = 0;
+};
+
+RawGL::RawGL(rhi::Backend backend)
+    : m_backend(backend), m_es(backend == rhi::Backend::GLES), m_api(m_es ? EGL_OPENGL_ES_API : EGL_OPENGL_API) {
+    // The RHI scene comes first: its shaders' translated source is what the raw side compiles.
+    RhiScene& scene = rhiScene(backend);
+    createContext();
+    ContextSwitch current = makeCurrent();
+    m_gl.load(!m_es);
+    const GLCalls& gl = m_gl;
+
+    gl.glGenTextures(1, &m_target);
+    gl.glBindTexture(GL_TEXTURE_2D, m_target);
+    gl.glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA8, kTargetSize, kTargetSize);
+    gl.glGenFramebuffers(1, &m_framebuffer);
+    gl.glBindFramebuffer(GL_FRAMEBUFFER, m_framebuffer);
+    gl.glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, m_target, 0);
+    if (gl.glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+        throw std::runtime_error("raw GL: the 8x8 RGBA8 framebuffer is incomplete");
+
+    gl.glGenBuffers(1, &m_vertices);
+    gl.glBindBuffer(GL_ARRAY_BUFFER, m_vertices);
+    gl.glBufferData(GL_ARRAY_BUFFER, sizeof(kTriangle), kTriangle.data(), GL_STATIC_DRAW);
+    gl.glGenVertexArrays(1, &m_vertexArray);
+    gl.glBindVertexArray(m_vertexArray);
+    gl.glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, sizeof(float) * 2, nullptr);
+    gl.glEnableVertexAttribArray(0);
+    gl.glBindVertexArray(0);
+
+    const std::vector<std::byte> parameters = drawParameterData();
+    gl.glGenBuffers(1, &m_drawParameters);
+    gl.glBindBuffer(GL_UNIFORM_BUFFER, m_drawParameters);
+    gl.glBufferData(GL_UNIFORM_BUFFER, GLsizeiptr(parameters.size()), parameters.data(), GL_STATIC_DRAW);
+    m_drawProgram = compileProgram({{GL_VERTEX_SHADER, scene.vertexShader()->translatedSource()},
+                                    {GL_FRAGMENT_SHADER, scene.fragmentShader()->translatedSource()}});
+    // ESSL 300 has no binding layout: the shader's only block goes to binding point 0, as the RHI does.
+    gl.glUniformBlockBinding(m_drawProgram, 0, 0);
+
+    if (!m_es && scene.hasCompute()) {
+        const std::vector<std::byte> zeros(kSlicedBufferBytes);
+        gl.glGenBuffers(1, &m_counters);
+        gl.glBindBuffer(GL_SHADER_STORAGE_BUFFER, m_counters);
+        gl.glBufferData(GL_SHADER_STORAGE_BUFFER, GLsizeiptr(zeros.size()), zeros.data(), GL_DYNAMIC_COPY);
+        m_computeProgram = compileProgram({{GL_COMPUTE_SHADER, scene.computeShader()->translatedSource()}});
+    }
+    checkNoError("setting up");
+
+    // One untimed frame of each kind, checked, as on the RHI side.
+    submitDraws();
+    finish();
+    checkDraws();
+    if (hasCompute()) {
+        submitDispatches();
+        finish();
+        checkDispatches();
+    }
+}
+
+RawGL::~RawGL() {
+    if (m_context == EGL_NO_CONTEXT) return;
+    {
+        ContextSwitch current = makeCurrent();
+        const GLCalls& gl = m_gl;
+        const GLuint buffers[] = {m_vertices, m_drawParameters, m_counters};
+        gl.glDeleteBuffers(3, buffers);
+        gl.glDeleteVertexArrays(1, &m_vertexArray);
+        gl.glDeleteFramebuffers(1, &m_framebuffer);
+        gl.glDeleteTextures(1, &m_target);
+        gl.glDeleteProgram(m_drawProgram);
+        if (m_computeProgram) gl.glDeleteProgram(m_computeProgram);
+    }
+    // No eglTerminate: the surfaceless display is shared with the RHI's devices.
+    eglDestroyContext(m_display, m_context);
+}
+
+void RawGL::createContext() {
+    auto getPlatformDisplay =
+        reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(eglGetProcAddress("eglGetPlatformDisplayEXT"));
+    if (!getPlatformDisplay) throw std::runtime_error("raw GL: EGL lacks eglGetPlatformDisplayEXT");
+    m_display = getPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+    if (m_display == EGL_NO_DISPLAY || !eglInitialize(m_display, nullptr, nullptr))
+        throw std::runtime_error(fmt::format("raw GL: no surfaceless EGL display (0x{:x})", eglGetError()));
+    const EGLenum previousApi = eglQueryAPI();
+    eglBindAPI(m_api);
+    std::vector<EGLint> attributes = {EGL_CONTEXT_MAJOR_VERSION, m_es ? 3 : 4, EGL_CONTEXT_MINOR_VERSION, m_es ? 0 : 3};
+    if (!m_es) attributes.insert(attributes.end(), {EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT});
+    attributes.push_back(EGL_NONE);
+    m_context = eglCreateContext(m_display, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, attributes.data());
+    eglBindAPI(previousApi);
+    if (m_context == EGL_NO_CONTEXT)
+        throw std::runtime_error(fmt::format("raw GL: eglCreateContext for {} failed (0x{:x})",
+                                             m_es ? "OpenGL ES 3.0" : "OpenGL 4.3 core", eglGetError()));
+}
+
+GLuint RawGL::compileProgram(const std::vector<std::pair<GLenum, std::string>>& stages) {
+    const GLCalls& gl = m_gl;
+    const GLuint program = gl.glCreateProgram();
+    for (const auto& [type, source] : stages) {
+        const GLuint shader = gl.glCreateShader(type);
+        const char* text = source.c_str();
+        gl.glShaderSource(shader, 1, &text, nullptr);
+        gl.glCompileShader(shader);
+        GLint compiled = GL_FALSE;
+        gl.glGetShaderiv(shader, GL_COMPILE_STATUS, &compiled);
+        if (!compiled) {
+            char log[2048] = {};
+            gl.glGetShaderInfoLog(shader, sizeof(log), nullptr, log);
+            throw std::runtime_error(fmt::format("raw GL: the RHI's translated shader does not compile here: {}", log));
+        }
+        gl.glAttachShader(program, shader);
+        gl.glDeleteShader(shader);   // freed with the program
+    }
+    gl.glLinkProgram(program);
+    GLint linked = GL_FALSE;
+    gl.glGetProgramiv(program, GL_LINK_STATUS, &linked);
+    if (!linked) {
+        char log[2048] = {};
+        gl.glGetProgramInfoLog(program, sizeof(log), nullptr, log);
+        throw std::runtime_error(fmt::format("raw GL: linking failed: {}", log));
+    }
+    return program;
+}
+
+void RawGL::checkNoError(const char* when) {
+    if (const GLenum error = m_gl.glGetError(); error != GL_NO_ERROR)
+        throw WrongResult(fmt::format("raw {}: GL error 0x{:x} while {}", rhi::toString(m_backend), error, when));
+}
+
+void RawGL::submitDraws() {
+    const GLCalls& gl = m_gl;
+    gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m_framebuffer);
+    gl.glViewport(0, 0, kTargetSize, kTargetSize);
+    const float clear[4] = {0, 0, 0, 0};
+    gl.glClearBufferfv(GL_COLOR, 0, clear);
+    gl.glUseProgram(m_drawProgram);
+    gl.glBindVertexArray(m_vertexArray);
+    for (uint32_t i = 0; i < kOpsPerFrame; ++i) {
+        gl.glBindBufferRange(GL_UNIFORM_BUFFER, 0, m_drawParameters, GLintptr(i * kSliceBytes), GLsizeiptr(kSliceBytes));
+        gl.glDrawArrays(GL_TRIANGLES, 0, 3);
+    }
+}
+
+void RawGL::submitDispatches() {
+    const GLCalls& gl = m_gl;
+    gl.glUseProgram(m_computeProgram);
+    for (uint32_t i = 0; i < kOpsPerFrame; ++i) {
+        gl.glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 0, m_counters, GLintptr(i * kSliceBytes),
+                             GLsizeiptr(kSliceBytes));
+        gl.glDispatchCompute(1, 1, 1);
+    }
+    // Each dispatch writes its own counter: one barrier per frame, for whoever reads them next.
+    gl.glMemoryBarrier(GL_ALL_BARRIER_BITS);
+    ++m_dispatchFrames;
+}
+
+void RawGL::checkDraws() {
+    const GLCalls& gl = m_gl;
+    gl.glBindFramebuffer(GL_READ_FRAMEBUFFER, m_framebuffer);
+    std::array<uint8_t, 4> texel{};
+    gl.glReadPixels(0, 0, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, texel.data());
+    const std::array<uint8_t, 4> expected = drawColorBytes(kOpsPerFrame - 1);
+    if (texel != expected)
+        throw WrongResult(fmt::format("raw {}: texel (0, 0) is ({}), not the colour of the last draw ({})",
+                                      rhi::toString(m_backend), fmt::join(texel, ", "), fmt::join(expected, ", ")));
+    checkNoError("drawing");
+}
+
+void RawGL::checkDispatches() {
+    const GLCalls& gl = m_gl;
+    gl.glBindBuffer(GL_SHADER_STORAGE_BUFFER, m_counters);
+    const auto* bytes = static_cast<const std::byte*>(
+        gl.glMapBufferRange(GL_SHADER_STORAGE_BUFFER, 0, GLsizeiptr(kSlicedBufferBytes), GL_MAP_READ_BIT));
+    if (!bytes) throw WrongResult("raw GL: glMapBufferRange on the counters failed");
+    std::string problem;
+    for (uint32_t i = 0; i < kOpsPerFrame && problem.empty(); ++i) {
+        uint32_t value = 0;
+        std::memcpy(&value, bytes + i * kSliceBytes, sizeof(value));
+        if (value != m_dispatchFrames)
+            problem = fmt::format("raw gl: counter {} is {} after {} dispatch frames", i, value, m_dispatchFrames);
+    }
+    gl.glUnmapBuffer(GL_SHADER_STORAGE_BUFFER);
+    if (!problem.empty()) throw WrongResult(problem);
+    checkNoError("dispatching");
+}
+
+RawGL& rawGL(rhi::Backend backend) {
+    if (backend == rhi::Backend::GLES) {
+        struct RawGLES : RawGL {   // distinct type: one shared context per API
+            RawGLES() : RawGL(rhi::Backend::GLES) {}
+        };
+        return sharedEnvironment<RawGLES>();
+    }
+    return sharedEnvironment<RawGL>(rhi::Backend::GL);
+}
+
+}  // namespace
+
+void rawGLDraws(benchmark::State& state, rhi::Backend backend) {
+    runGuarded(state, [&] {
+        RawGL& raw = rawGL(backend);
+        ContextSwitch current = raw.makeCurrent();
+        runFrames(state, [&] { raw.submitDraws(); }, [&] { raw.finish(); });
+        raw.checkDraws();
+    });
+}
+
+void rawGLDispatches(benchmark::State& state) {
+    runGuarded(state, [&] {
+        RawGL& raw = rawGL(rhi::Backend::GL);
+        if (!raw.hasCompute()) throw std::runtime_error("gl has no compute");
+        ContextSwitch current = raw.makeCurrent();
+        runFrames(state, [&] { raw.submitDispatches(); }, [&] { raw.finish(); });
+        raw.checkDispatches();
+    });
+}
+
+}  // namespace janus::bench

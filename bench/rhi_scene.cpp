@@ -1,0 +1,182 @@
+// The RHI side: the workload of bench_common.h recorded into a command list and executed.
+#include "rhi_scene.h"
+
+#include <fmt/format.h>
+#include <janus/shaders/shaders.h>
+
+#include <cstdlib>
+#include <cstring>
+#include <string_view>
+
+namespace janus::bench {
+
+using namespace janus::rhi;
+
+bool validationRequested() {
+    const char* value = std::getenv("JANUS_BENCH_VALIDATE");
+    return value && std::string_view(value) != "0";
+}
+
+RhiScene::RhiScene(Backend backend) {
+    m_device = createDevice(DeviceDesc().setBackend(backend).setEnableValidation(validationRequested()));
+    IDevice& device = *m_device;
+    m_commands = device.createCommandList();
+
+    m_vertexShader = device.createShader(
+        ShaderDesc().setStage(ShaderStage::Vertex).setSpirv(shaders::get("bench_triangle_vert")).setDebugName("bench triangle"));
+    m_fragmentShader = device.createShader(ShaderDesc()
+                                               .setStage(ShaderStage::Fragment)
+                                               .setSpirv(shaders::get("bench_uniform_color_frag"))
+                                               .setDebugName("bench uniform colour"));
+    m_target = device.createTexture(TextureDesc()
+                                        .setFormat(Format::RGBA8_UNORM)
+                                        .setSize(kTargetSize, kTargetSize)
+                                        .setUsage(TextureUsage::RenderTarget)
+                                        .setDebugName("bench target"));
+    m_vertices = device.createBuffer(
+        BufferDesc().setSize(sizeof(kTriangle)).setUsage(BufferUsage::Vertex).setDebugName("bench triangle"));
+    device.writeBuffer(m_vertices, kTriangle.data(), sizeof(kTriangle));
+    m_drawParameters = device.createBuffer(
+        BufferDesc().setSize(kSlicedBufferBytes).setUsage(BufferUsage::Uniform).setDebugName("bench draw colours"));
+    const std::vector<std::byte> parameters = drawParameterData();
+    device.writeBuffer(m_drawParameters, parameters.data(), parameters.size());
+    m_drawPipeline = device.createGraphicsPipeline(GraphicsPipelineDesc()
+                                                       .setShaders(m_vertexShader, m_fragmentShader)
+                                                       .addVertexBuffer({0, sizeof(float) * 2, false})
+                                                       .addVertexAttribute({0, VertexFormat::Float2, 0, 0})
+                                                       .addColorFormat(Format::RGBA8_UNORM)
+                                                       .setDebugName("bench draw"));
+    for (uint32_t i = 0; i < kOpsPerFrame; ++i)
+        m_drawBindings.push_back(device.createBindingSet(
+            BindingSetDesc().add(BindingItem::uniformBuffer(0, m_drawParameters, i * kSliceBytes, kSliceBytes))));
+
+    if (device.capabilities().has(Capability::Compute) && device.capabilities().has(Capability::StorageBuffers)) {
+        m_computeShader = device.createShader(ShaderDesc()
+                                                  .setStage(ShaderStage::Compute)
+                                                  .setSpirv(shaders::get("bench_increment_comp"))
+                                                  .setDebugName("bench increment"));
+        m_computePipeline = device.createComputePipeline(
+            ComputePipelineDesc().setShader(m_computeShader).setDebugName("bench increment"));
+        m_counters = device.createBuffer(
+            BufferDesc().setSize(kSlicedBufferBytes).setUsage(BufferUsage::Storage).setDebugName("bench counters"));
+        const std::vector<std::byte> zeros(kSlicedBufferBytes);
+        device.writeBuffer(m_counters, zeros.data(), zeros.size());
+        for (uint32_t i = 0; i < kOpsPerFrame; ++i)
+            m_counterBindings.push_back(device.createBindingSet(
+                BindingSetDesc().add(BindingItem::storageBuffer(0, m_counters, i * kSliceBytes, kSliceBytes))));
+    }
+
+    // One untimed frame of each kind: backends create descriptor sets, framebuffers and the like
+    // on first use, and the results prove the work is really done before anything is timed.
+    submitDraws();
+    waitIdle();
+    checkDraws();
+    if (hasCompute()) {
+        submitDispatches();
+        waitIdle();
+        checkDispatches();
+    }
+}
+
+void RhiScene::submitDraws() {
+    ICommandList& commands = *m_commands;
+    commands.begin();
+    commands.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(m_target)));
+    commands.setPipeline(m_drawPipeline);
+    commands.setVertexBuffer(0, m_vertices);
+    for (const BindingSetHandle& bindings : m_drawBindings) {
+        commands.setBindingSet(0, bindings);
+        commands.draw(3);
+    }
+    commands.endRenderPass();
+    commands.end();
+    m_device->execute(m_commands);
+}
+
+void RhiScene::submitDispatches() {
+    ICommandList& commands = *m_commands;
+    commands.begin();
+    commands.setPipeline(m_computePipeline);
+    for (const BindingSetHandle& bindings : m_counterBindings) {
+        commands.setBindingSet(0, bindings);
+        commands.dispatch(1);
+    }
+    commands.end();
+    m_device->execute(m_commands);
+    ++m_dispatchFrames;
+}
+
+void RhiScene::checkDraws() {
+    const std::vector<std::byte> pixels = m_device->readTexture(m_target, {});
+    const std::array<uint8_t, 4> expected = drawColorBytes(kOpsPerFrame - 1);
+    if (pixels.size() < 4 || std::memcmp(pixels.data(), expected.data(), 4) != 0)
+        throw WrongResult(fmt::format("{} RHI: texel (0, 0) is not the colour of the last draw ({})",
+                                      toString(m_device->info().backend), fmt::join(expected, ", ")));
+    checkDebugMessages("drawing");
+}
+
+void RhiScene::checkDispatches() {
+    const std::vector<std::byte> bytes = m_device->readBuffer(m_counters);
+    for (uint32_t i = 0; i < kOpsPerFrame; ++i) {
+        uint32_t value = 0;
+        std::memcpy(&value, bytes.data() + i * kSliceBytes, sizeof(value));
+        if (value != m_dispatchFrames)
+            throw WrongResult(fmt::format("{} RHI: counter {} is {} after {} dispatch frames",
+                                          toString(m_device->info().backend), i, value, m_dispatchFrames));
+    }
+    checkDebugMessages("dispatching");
+}
+
+void RhiScene::checkDebugMessages(const char* when) {
+    const std::vector<DebugMessage> messages = m_device->takeDebugMessages();
+    if (!messages.empty())
+        throw WrongResult(fmt::format("{} RHI: {} debug message(s) while {}, the first: {}",
+                                      toString(m_device->info().backend), messages.size(), when, messages[0].text));
+}
+
+// ---------------------------------------------------------------------------------------------
+
+namespace {
+
+RhiScene& sceneFor(Backend backend) {
+    switch (backend) {
+        case Backend::Vulkan: return sharedEnvironment<RhiScene>(Backend::Vulkan);
+        case Backend::GL: {
+            struct GLScene : RhiScene {   // distinct type: one shared scene per backend
+                GLScene() : RhiScene(Backend::GL) {}
+            };
+            return sharedEnvironment<GLScene>();
+        }
+        case Backend::GLES: {
+            struct GLESScene : RhiScene {
+                GLESScene() : RhiScene(Backend::GLES) {}
+            };
+            return sharedEnvironment<GLESScene>();
+        }
+    }
+    throw std::logic_error("unknown backend");
+}
+
+}  // namespace
+
+RhiScene& rhiScene(Backend backend) { return sceneFor(backend); }
+
+void rhiDraws(benchmark::State& state, Backend backend) {
+    runGuarded(state, [&] {
+        RhiScene& scene = rhiScene(backend);
+        runFrames(state, [&] { scene.submitDraws(); }, [&] { scene.waitIdle(); });
+        scene.checkDraws();
+    });
+}
+
+void rhiDispatches(benchmark::State& state, Backend backend) {
+    runGuarded(state, [&] {
+        RhiScene& scene = rhiScene(backend);
+        if (!scene.hasCompute())
+            throw std::runtime_error(fmt::format("{} has no compute", toString(backend)));
+        runFrames(state, [&] { scene.submitDispatches(); }, [&] { scene.waitIdle(); });
+        scene.checkDispatches();
+    });
+}
+
+}  // namespace janus::bench
