@@ -138,9 +138,11 @@ struct Renderer::Impl {
         bool doubleSided = false;
         rhi::BindingSetHandle bindings;
     };
-    struct Pass {
+    // One entry of the frame plan: a pass the scene needs, how to record it, and its timer.
+    struct PlannedPass {
         std::string name;
-        rhi::TimerQueryHandle timer;
+        void (Impl::*record)(rhi::ICommandList&, PassReport&);
+        rhi::TimerQueryHandle timer;   // null without Capability::TimestampQueries
     };
 
     rhi::IDevice& device;
@@ -156,7 +158,7 @@ struct Renderer::Impl {
     rhi::PipelineHandle forwardCulled, forwardDoubleSided, tonemapPipeline;
     std::array<float, 4> backgroundRadiance{};
     rhi::CommandListHandle commandList;
-    Pass forwardPass, tonemapPass;
+    std::vector<PlannedPass> plan;
     bool frameRendered = false;   // the targets hold nothing readable before the first frame
 
     Impl(rhi::IDevice& d, const Scene& scene, const RenderSettings& s) : device(d), settings(s) {
@@ -168,12 +170,20 @@ struct Renderer::Impl {
         createForward(scene);
         createTonemap(scene);
         commandList = device.createCommandList();
-        forwardPass.name = "forward";
-        tonemapPass.name = settings.path == FeaturePath::Compute ? "tonemap-compute" : "tonemap-fallback";
-        if (device.capabilities().timestampQueries) {
-            forwardPass.timer = device.createTimerQuery();
-            tonemapPass.timer = device.createTimerQuery();
-        }
+        planFrame();
+    }
+
+    // The passes this scene needs, in order. Every frame produces HDR radiance and a display
+    // image, so forward and tonemap are always there; features added later (light culling,
+    // shadows, probes) join the plan only when the scene has what they work on.
+    void planFrame() {
+        plan.push_back({"forward", &Impl::recordForward, nullptr});
+        if (settings.path == FeaturePath::Compute)
+            plan.push_back({"tonemap-compute", &Impl::recordTonemapCompute, nullptr});
+        else
+            plan.push_back({"tonemap-fallback", &Impl::recordTonemapFallback, nullptr});
+        if (device.capabilities().timestampQueries)
+            for (PlannedPass& pass : plan) pass.timer = device.createTimerQuery();
     }
 
     void checkSettings() const {
@@ -383,11 +393,7 @@ struct Renderer::Impl {
         tonemapBindings = device.createBindingSet(bindings);
     }
 
-    PassReport recordForward() {
-        PassReport report{forwardPass.name};
-        rhi::ICommandList& cmd = *commandList;
-        if (forwardPass.timer) cmd.beginTimer(forwardPass.timer);
-        cmd.pushDebugGroup(forwardPass.name);
+    void recordForward(rhi::ICommandList& cmd, PassReport& report) {
         cmd.beginRenderPass(rhi::RenderPassDesc{}
                                 .addColor(rhi::Attachment::clear(hdrTarget, backgroundRadiance))
                                 .setDepth(rhi::Attachment::clearDepthTo(depthTarget, 1.0f)));
@@ -407,36 +413,26 @@ struct Renderer::Impl {
             ++report.draws;
         }
         cmd.endRenderPass();
-        cmd.popDebugGroup();
-        if (forwardPass.timer) cmd.endTimer(forwardPass.timer);
-        return report;
     }
 
-    PassReport recordTonemap() {
-        PassReport report{tonemapPass.name};
-        rhi::ICommandList& cmd = *commandList;
-        if (tonemapPass.timer) cmd.beginTimer(tonemapPass.timer);
-        cmd.pushDebugGroup(tonemapPass.name);
-        if (settings.path == FeaturePath::Compute) {
-            cmd.setPipeline(tonemapPipeline);
-            cmd.setBindingSet(0, tonemapBindings);
-            cmd.dispatch((settings.width + kTonemapGroupSize - 1) / kTonemapGroupSize,
-                         (settings.height + kTonemapGroupSize - 1) / kTonemapGroupSize);
-            ++report.dispatches;
-        } else {
-            // Every pixel is written, so the previous contents do not matter.
-            rhi::Attachment target = rhi::Attachment::clear(displayImage);
-            target.loadOp = rhi::LoadOp::DontCare;
-            cmd.beginRenderPass(rhi::RenderPassDesc{}.addColor(target));
-            cmd.setPipeline(tonemapPipeline);
-            cmd.setBindingSet(0, tonemapBindings);
-            cmd.draw(3);
-            ++report.draws;
-            cmd.endRenderPass();
-        }
-        cmd.popDebugGroup();
-        if (tonemapPass.timer) cmd.endTimer(tonemapPass.timer);
-        return report;
+    void recordTonemapCompute(rhi::ICommandList& cmd, PassReport& report) {
+        cmd.setPipeline(tonemapPipeline);
+        cmd.setBindingSet(0, tonemapBindings);
+        cmd.dispatch((settings.width + kTonemapGroupSize - 1) / kTonemapGroupSize,
+                     (settings.height + kTonemapGroupSize - 1) / kTonemapGroupSize);
+        ++report.dispatches;
+    }
+
+    void recordTonemapFallback(rhi::ICommandList& cmd, PassReport& report) {
+        // Every pixel is written, so the previous contents do not matter.
+        rhi::Attachment target = rhi::Attachment::clear(displayImage);
+        target.loadOp = rhi::LoadOp::DontCare;
+        cmd.beginRenderPass(rhi::RenderPassDesc{}.addColor(target));
+        cmd.setPipeline(tonemapPipeline);
+        cmd.setBindingSet(0, tonemapBindings);
+        cmd.draw(3);
+        ++report.draws;
+        cmd.endRenderPass();
     }
 
     FrameReport renderFrame() {
@@ -446,25 +442,29 @@ struct Renderer::Impl {
         frame.width = settings.width;
         frame.height = settings.height;
 
-        commandList->begin();
-        for (auto record : {&Impl::recordForward, &Impl::recordTonemap}) {
+        rhi::ICommandList& cmd = *commandList;
+        cmd.begin();
+        for (const PlannedPass& pass : plan) {
+            PassReport report{pass.name};
             const auto start = std::chrono::steady_clock::now();
-            PassReport pass = (this->*record)();
-            pass.cpuMs = millisecondsSince(start);
-            frame.passes.push_back(std::move(pass));
+            if (pass.timer) cmd.beginTimer(pass.timer);
+            cmd.pushDebugGroup(pass.name);
+            (this->*pass.record)(cmd, report);
+            cmd.popDebugGroup();
+            if (pass.timer) cmd.endTimer(pass.timer);
+            report.cpuMs = millisecondsSince(start);
+            frame.passes.push_back(std::move(report));
         }
-        commandList->end();
+        cmd.end();
         device.execute(commandList);
         frameRendered = true;
 
-        const Pass* passes[] = {&forwardPass, &tonemapPass};
-        for (size_t i = 0; i < frame.passes.size(); ++i) {
-            if (!passes[i]->timer) continue;
-            if (std::optional<double> seconds = device.timerSeconds(passes[i]->timer)) frame.passes[i].gpuMs = *seconds * 1000.0;
+        for (size_t i = 0; i < plan.size(); ++i) {
+            if (!plan[i].timer) continue;
+            if (std::optional<double> seconds = device.timerSeconds(plan[i].timer)) frame.passes[i].gpuMs = *seconds * 1000.0;
         }
         return frame;
     }
-
     void requireFrame(const char* what) const {
         if (!frameRendered) throw RendererError(fmt::format("{} was called before any frame was rendered; call renderFrame() first", what));
     }
