@@ -99,6 +99,48 @@ TEST_P(ComputeTest, Writes2DStorageImage) {
     EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(image), fillImagePattern(16), 16)) << "row 0 = invocation y 0";
 }
 
+TEST_P(ComputeTest, WritesFloatStorageImages) {
+    JANUS_REQUIRE_CAPABILITY(Capability::StorageImages);
+    for (auto [format, shaderName] : {std::pair{Format::RGBA16_FLOAT, "rt_fill_image_rgba16f_comp"},
+                                      std::pair{Format::RGBA32_FLOAT, "rt_fill_image_rgba32f_comp"},
+                                      std::pair{Format::R32_FLOAT, "rt_fill_image_r32f_comp"}}) {
+        SCOPED_TRACE(toString(format));
+        TextureHandle image = createTexture2D(format, 8, 8, TextureUsage::Storage);
+        dispatch(computePipeline(shaderName), device().createBindingSet(BindingSetDesc().add(BindingItem::storageImage(0, image))), 8, 8);
+        std::vector<Color> expected;
+        for (uint32_t y = 0; y < 8; ++y)
+            for (uint32_t x = 0; x < 8; ++x) expected.push_back(quantize(format, {x / 16.0f, y / 16.0f, 4.0f - x / 4.0f, 1.0f + y}));
+        EXPECT_TRUE(imagesEqual(readColors(device(), image), expected, 8));
+    }
+}
+
+// Render pass output read by a dispatch in the same command list (render -> compute ordering),
+// through a sampler in a compute shader.
+TEST_P(ComputeTest, DispatchReadsWhatARenderPassDrew) {
+    JANUS_REQUIRE_CAPABILITY(Capability::StorageImages);
+    TextureHandle rendered = createTexture2D(Format::RGBA8_UNORM, 8, 8, TextureUsage::RenderTarget | TextureUsage::Sampled);
+    TextureHandle copy = createTexture2D(Format::RGBA8_UNORM, 8, 8, TextureUsage::Storage);
+    PipelineHandle draw = colorPipeline(Format::RGBA8_UNORM);
+    PipelineHandle fetch = computePipeline("rt_fetch_to_image_comp");
+    BufferHandle vertices = createBufferFrom(BufferUsage::Vertex, orientationPattern());
+    BindingSetHandle bindings = device().createBindingSet(BindingSetDesc()
+                                                              .add(BindingItem::sampledTexture(0, rendered, nearestClampSampler()))
+                                                              .add(BindingItem::storageImage(1, copy)));
+    submit([&](ICommandList& cmd) {
+        cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(rendered, {0, 0, 0, 1})));
+        cmd.setPipeline(draw);
+        cmd.setVertexBuffer(0, vertices);
+        cmd.draw(uint32_t(orientationPattern().size()));
+        cmd.endRenderPass();
+        cmd.setPipeline(fetch);
+        cmd.setBindingSet(0, bindings);
+        cmd.dispatch(8, 8);
+    });
+    std::vector<Rgba8> expected;
+    for (const Color& c : rasterize(orientationPattern(), 8, 8, {0, 0, 0, 1})) expected.push_back(toRgba8(c));
+    EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(copy), expected, 8));
+}
+
 // The missing-barrier pitfall: a draw sampling what a dispatch just wrote, in one command list.
 TEST_P(ComputeTest, DrawSamplesWhatADispatchWroteInTheSameCommandList) {
     JANUS_REQUIRE_CAPABILITY(Capability::StorageImages);

@@ -137,5 +137,23 @@ TEST_P(RasterTest, CullingFollowsImageWinding) {
     }
 }
 
+TEST_P(RasterTest, TriangleStripCoversTheRectangle) {
+    TextureHandle color = color8x8();
+    GraphicsPipelineDesc desc;
+    desc.setShaders(shader("rt_vertex_color_vert"), shader("rt_vertex_color_frag"))
+        .addVertexBuffer({0, sizeof(ColorVertex), false})
+        .addVertexAttribute({0, VertexFormat::Float4, 0, offsetof(ColorVertex, x)})
+        .addVertexAttribute({1, VertexFormat::Float4, 0, offsetof(ColorVertex, r)})
+        .setTopology(PrimitiveTopology::TriangleStrip)
+        .addColorFormat(Format::RGBA8_UNORM);
+    // The bottom half of the target as a 4-vertex strip; a list would draw one triangle.
+    std::vector<ColorVertex> strip = {{-1, 0, 0, 1, 1, 0, 0, 1}, {-1, 1, 0, 1, 1, 0, 0, 1},
+                                      {1, 0, 0, 1, 1, 0, 0, 1},  {1, 1, 0, 1, 1, 0, 0, 1}};
+    drawVertices(RenderPassDesc().addColor(Attachment::clear(color, {0, 0, 0, 1})), device().createGraphicsPipeline(desc), strip);
+    std::vector<Rgba8> expected(64, Rgba8{0, 0, 0, 255});
+    for (size_t i = 32; i < 64; ++i) expected[i] = {255, 0, 0, 255};
+    EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(color), expected, 8)) << "rows 4-7 red";
+}
+
 }  // namespace
 }  // namespace janus::rhi::test
