@@ -88,7 +88,7 @@ int runCommand(const std::function<int()>& body) {
                 printError(fmt::format("the device ran out of memory: {} (try a smaller --size)", e.what()));
                 return exitStatus(ExitCode::BackendUnavailable);
             default:
-                printError(fmt::format("internal error ({}): {} (please report this)", rhi::toString(e.code()), e.what()));
+                printError(fmt::format("internal error: {} (please report this)", e.what()));
                 return exitStatus(ExitCode::InternalError);
         }
     } catch (const std::bad_alloc&) {

@@ -39,6 +39,11 @@ PY
 )
 [[ -z $problem ]] || fail "PFM: $problem"
 
+# The other GL platform: desktop GL renders through OSMesa; OSMesa has no GLES, which is exit 4.
+expect_success render --backend gl --path fallback --gl-platform osmesa --size 24x16 --out "$TMP/osmesa.png"
+check_png "$TMP/osmesa.png" 24 16
+expect_error 4 "OpenGL ES|gles" render --backend gles --path fallback --gl-platform osmesa --size 16x16 --out "$TMP/gles-osmesa.png"
+
 # The compute path on gles: exit 4, naming the capability and the way out.
 expect_error 4 "gles.*'compute'.*--path fallback" render --backend gles --path compute --size 16x16 --out "$TMP/gles-compute.png"
 [[ ! -e $TMP/gles-compute.png ]] || fail "a refused render wrote its PNG"
