@@ -161,7 +161,12 @@ Scene loadSceneFile(const std::filesystem::path& path) {
             fail(path, "missing \"gltf\": the path of the glTF/GLB to load, relative to the scene file");
         const std::filesystem::path gltfPath = path.parent_path() / root["gltf"].get<std::string>();
         bool hasCamera = false;
-        Scene scene = detail::loadGltf(gltfPath, hasCamera);
+        Scene scene;
+        try {
+            scene = detail::loadGltf(gltfPath, hasCamera);
+        } catch (const SceneError& e) {
+            fail(path, fmt::format("its \"gltf\" could not be loaded: {}", e.what()));   // name both files
+        }
         scene.name = root.value("name", path.stem().string());
 
         if (root.contains("camera")) {

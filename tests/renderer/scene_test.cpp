@@ -357,6 +357,23 @@ TEST(SceneErrors, SceneJsonWithWrongTypesNamesTheField) {
     EXPECT_NE(sceneErrorOf([&] { loadScene(noGltf); }).find("missing \"gltf\""), std::string::npos);
 }
 
+TEST(SceneErrors, SceneFileWithAMissingGltfNamesBothFiles) {
+    TinyGltf file;
+    const fs::path path = file.writeText("scene.json", R"({"gltf": "elsewhere/missing.gltf"})");
+    const std::string message = sceneErrorOf([&] { loadScene(path); });
+    EXPECT_NE(message.find("scene.json"), std::string::npos) << message;
+    EXPECT_NE(message.find("missing.gltf: no such file"), std::string::npos) << message;
+}
+
+TEST(SceneLoading, SceneFileCanTurnTheDefaultLightOff) {
+    TinyGltf file;
+    file.write();
+    const Scene lit = loadScene(file.writeText("lit.json", R"({"gltf": "tri.gltf"})"));
+    EXPECT_EQ(lit.lights.size(), 1u);
+    const Scene dark = loadScene(file.writeText("dark.json", R"({"gltf": "tri.gltf", "defaultLight": false})"));
+    EXPECT_TRUE(dark.lights.empty());
+}
+
 TEST(SceneErrors, MissingTextureImageNamesTheImage) {
     TinyGltf file;
     file.gltf["images"] = json::array({{{"uri", "missing-albedo.png"}}});
