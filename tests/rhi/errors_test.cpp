@@ -49,6 +49,20 @@ TEST_P(ErrorTest, DeviceInfoMatchesTheConfiguration) {
     }
 }
 
+// probeBackends() starts (and ends) devices of its own; the device already in use must keep
+// working afterwards (GL: its context must be made current again).
+TEST_P(ErrorTest, ProbingBackendsLeavesTheDeviceWorking) {
+    std::vector<BackendProbe> probes = probeBackends(GetParam().glPlatform);
+    auto mine = std::find_if(probes.begin(), probes.end(), [&](const BackendProbe& p) { return p.backend == backend(); });
+    ASSERT_NE(mine, probes.end());
+    EXPECT_TRUE(mine->available) << "probe says " << toString(backend()) << " is unavailable: " << mine->reason;
+    EXPECT_TRUE(mine->reason.empty());
+    TextureHandle target = createTexture2D(Format::RGBA8_UNORM, 4, 4, TextureUsage::RenderTarget);
+    drawVertices(RenderPassDesc().addColor(Attachment::clear(target)), colorPipeline(Format::RGBA8_UNORM),
+                 rectangle(-1, -1, 1, 1, {0, 1, 0, 1}));
+    EXPECT_EQ(readTextureAs<Rgba8>(target), std::vector<Rgba8>(16, Rgba8{0, 255, 0, 255}));
+}
+
 TEST_P(ErrorTest, BufferSizeZeroIsInvalid) {
     EXPECT_TRUE(throwsRhiError([&] { createBuffer(BufferUsage::Vertex, 0); }, ErrorCode::InvalidDescription, {"size"}));
 }

@@ -107,6 +107,17 @@ TEST_P(TextureTest, RoundTripsCubeWithMipChainEveryFace) {
     }
 }
 
+// Odd, non-power-of-two extents: mip extents round down (5x3 -> 2x1 -> 1x1) and rows are not
+// multiples of 16 bytes.
+TEST_P(TextureTest, RoundTripsOddSizes) {
+    for (Format format : kColorFormats) {
+        SCOPED_TRACE(toString(format));
+        expectRoundTrip(device(), TextureDesc().setFormat(format).setSize(5, 3).setMipLevels(0));
+        expectRoundTrip(device(), TextureDesc().setDimension(TextureDimension::Texture3D).setFormat(format).setSize(3, 5, 3).setMipLevels(0));
+        expectRoundTrip(device(), TextureDesc().setDimension(TextureDimension::TextureCube).setFormat(format).setSize(3, 3).setMipLevels(0));
+    }
+}
+
 TEST_P(TextureTest, RoundTripsDepth) {
     expectRoundTrip(device(), TextureDesc().setFormat(Format::D32_FLOAT).setSize(8, 4)
                                   .setUsage(TextureUsage::Sampled | TextureUsage::RenderTarget).setMipLevels(1));
