@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
         janus::cli::addRenderCommand(app),
         janus::cli::addParityCommand(app),
     };
+    app.set_version_flag("--version", "janus " JANUS_VERSION);
     app.require_subcommand(0, 1);
 
     try {
@@ -36,6 +37,8 @@ int main(int argc, char** argv) {
     } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
     } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
         // Name the subcommand whose options failed, so the hint points at the right --help.

@@ -21,6 +21,9 @@ for option in --size --out --tolerance --gl-platform; do
   grep -q -- "$option" "$TMP/stdout" || fail "janus parity --help does not mention $option"
 done
 
+expect_success --version
+grep -Eq '^janus [0-9]+\.[0-9]+\.[0-9]+$' "$TMP/stdout" || fail "janus --version printed: $(cat "$TMP/stdout")"
+
 out="$TMP/out.png"
 expect_error 2 "no command given"            # no command at all
 expect_error 2 "unknown command 'frobnicate'" frobnicate
