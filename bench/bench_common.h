@@ -41,9 +41,10 @@ public:
 
 // Runs `submit` (record + submit the frame; timed) then `wait` (until the frame has finished;
 // timed separately) once per benchmark iteration. Reports, per draw/dispatch:
-//   submit_ns_per_op  CPU time to record and submit (the benchmark's manual time)
-//   wait_ns_per_op    time spent waiting for the device to finish (lavapipe/llvmpipe execute on
-//                     CPU threads, so this is mostly the driver running the work)
+//   submit_cpu_ns_per_op  CPU time of the benchmark thread to record and submit (the compared figure)
+//   submit_ns_per_op      wall time of the same (the benchmark's manual time)
+//   wait_ns_per_op        wall time waiting for the device to finish (lavapipe/llvmpipe execute on
+//                         CPU threads, so this is mostly the driver running the work)
 void runFrames(benchmark::State& state, const std::function<void()>& submit, const std::function<void()>& wait);
 
 // Devices live until main() tears them down, in reverse order of creation: Google Benchmark calls

@@ -59,6 +59,8 @@ struct GLCalls {
     X(PFNGLFRAMEBUFFERTEXTURE2DPROC, glFramebufferTexture2D)                                                 \
     X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, glCheckFramebufferStatus)                                             \
     X(PFNGLVIEWPORTPROC, glViewport)                                                                         \
+    X(PFNGLENABLEPROC, glEnable)                                                                             \
+    X(PFNGLSCISSORPROC, glScissor)                                                                           \
     X(PFNGLCLEARBUFFERFVPROC, glClearBufferfv)                                                               \
     X(PFNGLDRAWARRAYSPROC, glDrawArrays)                                                                     \
     X(PFNGLREADPIXELSPROC, glReadPixels)                                                                     \
@@ -271,6 +273,10 @@ void RawGL::submitDraws() {
     const GLCalls& gl = m_gl;
     gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m_framebuffer);
     gl.glViewport(0, 0, kTargetSize, kTargetSize);
+    // The RHI's GL backend always scissors (to the pass by default); do the same so llvmpipe runs
+    // the same fragment-shader variant on both sides.
+    gl.glEnable(GL_SCISSOR_TEST);
+    gl.glScissor(0, 0, kTargetSize, kTargetSize);
     const float clear[4] = {0, 0, 0, 0};
     gl.glClearBufferfv(GL_COLOR, 0, clear);
     gl.glUseProgram(m_drawProgram);
