@@ -65,7 +65,56 @@ void GLCommandList::begin() {
     m_pipeline.reset();
     m_indexBufferSet = false;
     m_vertexSlots.clear();
+    m_bindingSets.clear();
+    m_passColorFormats.clear();
+    m_passDepthFormat = Format::Unknown;
     m_debugGroupDepth = 0;
+}
+
+void GLCommandList::requireCompatiblePipeline(const char* what) const {
+    const GraphicsPipelineDesc& desc = m_pipeline->graphics();
+    auto list = [](const std::vector<Format>& formats) {
+        std::string text;
+        for (Format f : formats) text += fmt::format("{}{}", text.empty() ? "" : ", ", toString(f));
+        return "[" + text + "]";
+    };
+    if (desc.colorFormats != m_passColorFormats)
+        throw Error(ErrorCode::InvalidUsage,
+                    fmt::format("{}: the pipeline's colour formats {} do not match the render pass attachments {}; "
+                                "create the pipeline with the pass's formats",
+                                what, list(desc.colorFormats), list(m_passColorFormats)));
+    if (desc.depthFormat != Format::Unknown && desc.depthFormat != m_passDepthFormat)
+        throw Error(ErrorCode::InvalidUsage,
+                    fmt::format("{}: the pipeline's depth format {} does not match the render pass depth attachment ({})",
+                                what, toString(desc.depthFormat),
+                                m_passDepthFormat == Format::Unknown ? "none" : toString(m_passDepthFormat)));
+}
+
+void GLCommandList::requireBindings(const char* what) const {
+    // GL would silently read whatever is bound at a unit; Vulkan's validation would flag the
+    // same mistake, so catch it here with the binding named.
+    for (const ShaderBinding& binding : m_pipeline->bindings()) {
+        const BindingItem* found = nullptr;
+        if (auto set = m_bindingSets.find(binding.set); set != m_bindingSets.end()) {
+            for (const BindingItem& item : set->second->desc().items)
+                if (item.binding == binding.binding) found = &item;
+        }
+        if (!found)
+            throw Error(ErrorCode::InvalidUsage,
+                        fmt::format("{}: the pipeline's shaders use set {} binding {} ({}), but the binding set "
+                                    "given to setBindingSet({}, ...) has no item for it (or none was set)",
+                                    what, binding.set, binding.binding, binding.glName, binding.set));
+        if (found->type != binding.type)
+            throw Error(ErrorCode::InvalidUsage,
+                        fmt::format("{}: binding {} is a different resource type in the binding set than in the "
+                                    "shader ({})",
+                                    what, binding.binding, binding.glName));
+        if (binding.dimension && found->texture && found->texture->desc().dimension != *binding.dimension)
+            throw Error(ErrorCode::InvalidUsage,
+                        fmt::format("{}: binding {} holds a {} texture but the shader declares a {} one", what,
+                                    binding.binding, toString(found->texture->desc().dimension),
+                                    toString(*binding.dimension)));
+    }
 }
 
 void GLCommandList::requireVertexBuffers(const char* what) const {
@@ -129,6 +178,9 @@ void GLCommandList::beginRenderPass(const RenderPassDesc& desc) {
     for (size_t i = 0; i < desc.colors.size(); ++i) check(desc.colors[i], fmt::format("colour {}", i), false);
     if (desc.depth) check(*desc.depth, "depth", true);
     m_inRenderPass = true;
+    m_passColorFormats.clear();
+    for (const Attachment& a : desc.colors) m_passColorFormats.push_back(a.texture->desc().format);
+    m_passDepthFormat = desc.depth ? desc.depth->texture->desc().format : Format::Unknown;
     record([desc](GLDevice& device) { device.beginRenderPass(desc); });
 }
 
@@ -169,6 +221,7 @@ void GLCommandList::setPipeline(const PipelineHandle& handle) {
 void GLCommandList::setBindingSet(uint32_t set, const BindingSetHandle& handle) {
     requireRecording("setBindingSet");
     auto bindings = cast<GLBindingSet>(handle, "setBindingSet", "binding set");
+    m_bindingSets[set] = bindings;
     record([bindings](GLDevice& device) { device.bindBindingSet(bindings->desc()); });
 }
 
@@ -205,6 +258,8 @@ void GLCommandList::draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t 
     if (!m_pipeline || m_pipeline->isCompute())
         throw Error(ErrorCode::InvalidUsage, "draw: no graphics pipeline is set; call setPipeline() first");
     requireVertexBuffers("draw");
+    requireCompatiblePipeline("draw");
+    requireBindings("draw");
     if (firstInstance != 0 && m_device.isES())
         throw Error(ErrorCode::InvalidUsage,
                     "draw: firstInstance must be 0 on OpenGL ES 3.0, which has no base-instance draws");
@@ -217,6 +272,8 @@ void GLCommandList::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uin
     if (!m_pipeline || m_pipeline->isCompute())
         throw Error(ErrorCode::InvalidUsage, "drawIndexed: no graphics pipeline is set; call setPipeline() first");
     requireVertexBuffers("drawIndexed");
+    requireCompatiblePipeline("drawIndexed");
+    requireBindings("drawIndexed");
     if (!m_indexBufferSet)
         throw Error(ErrorCode::InvalidUsage, "drawIndexed: no index buffer is set; call setIndexBuffer() first");
     if (firstInstance != 0 && m_device.isES())
@@ -230,6 +287,7 @@ void GLCommandList::dispatch(uint32_t groupsX, uint32_t groupsY, uint32_t groups
     requireOutsideRenderPass("dispatch");
     if (!m_pipeline || !m_pipeline->isCompute())
         throw Error(ErrorCode::InvalidUsage, "dispatch: no compute pipeline is set; call setPipeline() first");
+    requireBindings("dispatch");
     const auto& maxCount = m_device.capabilities().limits.maxComputeWorkGroupCount;
     if (groupsX > maxCount[0] || groupsY > maxCount[1] || groupsZ > maxCount[2])
         throw Error(ErrorCode::InvalidUsage,
@@ -336,7 +394,7 @@ void GLCommandList::generateMips(const TextureHandle& handle) {
                                 toString(format)));
     record([texture](GLDevice& device) {
         const GLFunctions& gl = device.gl();
-        gl.glActiveTexture(GL_TEXTURE0 + 31);
+        gl.glActiveTexture(GL_TEXTURE0 + kScratchTextureUnit);
         gl.glBindTexture(texture->target(), texture->name());
         gl.glGenerateMipmap(texture->target());
     });
@@ -493,7 +551,10 @@ void GLDevice::bindVertexAttributes(int64_t baseVertexOffset) {
                 break;
             case VertexFormat::UInt1: f.glVertexAttribIPointer(location, 1, GL_UNSIGNED_INT, stride, pointer); break;
         }
-        f.glVertexAttribDivisor(location, layout.perInstance ? 1 : 0);
+        // Stride 0 means "every vertex reads the same element" (Vulkan); GL reads it as "tightly
+        // packed", so hold the element with a divisor no instance count reaches instead.
+        const GLuint divisor = layout.stride == 0 ? 0xFFFFFFFFu : layout.perInstance ? 1 : 0;
+        f.glVertexAttribDivisor(location, divisor);
         wanted |= 1u << location;
     }
     for (GLuint location = 0; location < 16; ++location) {

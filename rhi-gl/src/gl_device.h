@@ -136,9 +136,17 @@ private:
 // What one shader uses at which binding point (from SPIRV-Cross reflection).
 struct ShaderBinding {
     ResourceType type;
+    uint32_t set;
     uint32_t binding;
     std::string glName;   // block name (buffers) or uniform name (textures, images)
+    std::optional<TextureDimension> dimension;   // textures and images
 };
+
+// A texture unit nobody binds resources to (bindings are < 16 by convention), so creating or
+// updating a texture never disturbs a bound binding set.
+inline constexpr GLuint kScratchTextureUnit = 31;
+// The unit of the internal depth-to-colour copy's source (binding 30 in shaders/rhi-gl).
+inline constexpr GLuint kDepthCopyTextureUnit = 30;
 
 class GLShader final : public IShader {
 public:
@@ -257,6 +265,11 @@ private:
     bool m_recorded = false;
     bool m_inRenderPass = false;
     std::shared_ptr<GLPipeline> m_pipeline;   // last pipeline set (validation at record time)
+    std::vector<Format> m_passColorFormats;   // formats of the open render pass
+    Format m_passDepthFormat = Format::Unknown;
+    std::map<uint32_t, std::shared_ptr<GLBindingSet>> m_bindingSets;   // by set index
+    void requireCompatiblePipeline(const char* what) const;
+    void requireBindings(const char* what) const;
     bool m_indexBufferSet = false;
     std::vector<uint32_t> m_vertexSlots;   // slots given a buffer since begin()
     int m_debugGroupDepth = 0;

@@ -67,6 +67,7 @@ Translation translate(const ShaderDesc& desc, bool es) {
     Translation result;
     auto flatten = [&](const spirv_cross::Resource& resource, ResourceType type) {
         const uint32_t binding = compiler.get_decoration(resource.id, spv::DecorationBinding);
+        const uint32_t set = compiler.get_decoration(resource.id, spv::DecorationDescriptorSet);
         // Sets are flattened: the binding number alone is the GL binding point.
         compiler.unset_decoration(resource.id, spv::DecorationDescriptorSet);
         std::string glName;
@@ -88,7 +89,15 @@ Translation translate(const ShaderDesc& desc, bool es) {
                 compiler.set_name(resource.id, glName);
                 break;
         }
-        result.bindings.push_back({type, binding, glName});
+        std::optional<TextureDimension> dimension;
+        if (type == ResourceType::SampledTexture || type == ResourceType::StorageImage) {
+            switch (compiler.get_type(resource.type_id).image.dim) {
+                case spv::Dim3D: dimension = TextureDimension::Texture3D; break;
+                case spv::DimCube: dimension = TextureDimension::TextureCube; break;
+                default: dimension = TextureDimension::Texture2D; break;
+            }
+        }
+        result.bindings.push_back({type, set, binding, glName, dimension});
     };
     for (const auto& r : resources.uniform_buffers) flatten(r, ResourceType::UniformBuffer);
     for (const auto& r : resources.storage_buffers) flatten(r, ResourceType::StorageBuffer);

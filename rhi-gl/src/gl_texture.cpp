@@ -10,10 +10,6 @@ namespace {
 // EXT_texture_filter_anisotropic (core in GL 4.6); glcorearb.h for 4.3 may lack the token.
 constexpr GLenum kTextureMaxAnisotropy = 0x84FE;
 
-// A texture unit nobody binds resources to (bindings are < 16 by convention), so creating or
-// updating a texture never disturbs a bound binding set.
-constexpr GLuint kScratchTextureUnit = 31;
-
 void bindForEdit(const GLFunctions& gl, GLenum target, GLuint texture) {
     gl.glActiveTexture(GL_TEXTURE0 + kScratchTextureUnit);
     gl.glBindTexture(target, texture);
@@ -235,9 +231,9 @@ std::vector<std::byte> GLDevice::readDepthThroughColor(const GLTexture& texture,
     f.glScissor(0, 0, GLsizei(width), GLsizei(height));
     f.glDepthRangef(0.0f, 1.0f);
     m_depthCopyPipeline->applyState();
-    f.glActiveTexture(GL_TEXTURE0 + 30);
+    f.glActiveTexture(GL_TEXTURE0 + kDepthCopyTextureUnit);
     f.glBindTexture(GL_TEXTURE_2D, flat.name());
-    f.glBindSampler(30, 0);
+    f.glBindSampler(kDepthCopyTextureUnit, 0);
     // ES treats a depth texture under linear filtering as incomplete, even for texelFetch.
     f.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     f.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
