@@ -274,6 +274,25 @@ TEST(RenderCulling, FrontFacesAreCounterClockwiseAndDoubleSidedMaterialsShowThei
     }
 }
 
+TEST(RenderLights, SpotLightLightsItsConeOnly) {
+    Scene scene = quadScene(false, 3.0f);
+    Light spot;
+    spot.type = LightType::Spot;
+    spot.position = glm::vec3(0, 0, 2);
+    spot.direction = glm::vec3(0, 0, -1);
+    spot.intensity = 8.0f;
+    spot.innerConeAngle = glm::radians(5.0f);
+    spot.outerConeAngle = glm::radians(10.0f);   // lit radius on the quad: 2 * tan(10 deg) = 0.35
+    scene.lights = {spot};
+    const Render result = render(kConfigs[0], scene);
+    auto red = [&](uint32_t x, uint32_t y) { return result.display.pixels[(size_t(y) * kSize + x) * 4]; };
+    EXPECT_GT(red(kSize / 2, kSize / 2), 100) << "the cone's centre is lit";
+    // 0.8 units off-centre (about 37 pixels at this camera) is outside the cone: nothing but
+    // the (zero) ambient reaches it.
+    EXPECT_EQ(red(kSize / 2 + 37, kSize / 2), 0);
+    EXPECT_EQ(red(kSize / 2, kSize / 2 - 37), 0);
+}
+
 TEST(RendererErrors, ComputePathOnGlesNamesTheCapability) {
     rhi::IDevice& device = deviceFor(rhi::Backend::GLES);
     try {
