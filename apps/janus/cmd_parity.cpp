@@ -92,14 +92,16 @@ int run(const ParityOptions& options) {
     std::error_code ec;
     if (std::filesystem::exists(outDir, ec) && !std::filesystem::is_directory(outDir, ec))
         throw InputError(fmt::format("--out '{}' is a file; give a directory for the images", options.out));
+
+    // The scene is loaded before the directory is created, so a bad scene leaves nothing behind.
+    std::optional<std::filesystem::path> scenePath;
+    if (!options.scene.empty()) scenePath = options.scene;
+    const renderer::Scene scene = loadSceneOrDefault(scenePath);
+
     std::filesystem::create_directories(outDir, ec);
     if (ec)
         throw InputError(fmt::format("cannot create --out directory '{}': {}; choose another path", options.out, ec.message()));
     checkOutputFile(outDir / "parity.json", "--out");
-
-    std::optional<std::filesystem::path> scenePath;
-    if (!options.scene.empty()) scenePath = options.scene;
-    const renderer::Scene scene = loadSceneOrDefault(scenePath);
 
     std::printf("parity: %s at %ux%u, tolerance %u step(s)\n\n", sceneLabel(scenePath).c_str(), base.size.width,
                 base.size.height, tolerance);

@@ -29,4 +29,5 @@ expect_error 3 "--out '.*a-file' is a file"         parity --out "$TMP/a-file"
 expect_error 3 "cannot create --out directory"      parity --out "$TMP/a-file/sub"
 
 if [[ -e $out ]]; then fail "a failed render left $out behind"; fi
+if [[ -e $TMP/parity ]]; then fail "a parity with a bad scene created its --out directory"; fi
 finish
