@@ -11,10 +11,16 @@ namespace janus::rhi::gl {
 
 namespace {
 template <typename T, typename Handle>
-std::shared_ptr<T> cast(const Handle& handle, const char* what, const char* kind) {
+std::shared_ptr<T> cast(GLDevice& device, const Handle& handle, const char* what, const char* kind) {
     auto result = std::dynamic_pointer_cast<T>(handle);
     if (!result)
         throw Error(ErrorCode::InvalidUsage, fmt::format("{}: the {} is null or comes from another backend", what, kind));
+    if constexpr (requires { result->owner(); }) {
+        // GL names mean nothing in another context.
+        if (result->owner() != &device.context())
+            throw Error(ErrorCode::InvalidUsage,
+                        fmt::format("{}: the {} was created by another device; use resources of this device", what, kind));
+    }
     return result;
 }
 
@@ -154,7 +160,7 @@ void GLCommandList::beginRenderPass(const RenderPassDesc& desc) {
                                 caps.limits.maxColorAttachments));
     uint32_t width = 0, height = 0;
     auto check = [&](const Attachment& a, const std::string& which, bool wantDepth) {
-        auto texture = cast<GLTexture>(a.texture, "beginRenderPass", "attachment texture");
+        auto texture = cast<GLTexture>(m_device, a.texture, "beginRenderPass", "attachment texture");
         texture->validateSubresource(a.subresource, "beginRenderPass");
         if (!any(texture->desc().usage, TextureUsage::RenderTarget))
             throw Error(ErrorCode::InvalidDescription,
@@ -211,7 +217,7 @@ void GLCommandList::setScissor(const ScissorRect& scissor) {
 
 void GLCommandList::setPipeline(const PipelineHandle& handle) {
     requireRecording("setPipeline");
-    auto pipeline = cast<GLPipeline>(handle, "setPipeline", "pipeline");
+    auto pipeline = cast<GLPipeline>(m_device, handle, "setPipeline", "pipeline");
     if (pipeline->isCompute() && m_inRenderPass)
         throw Error(ErrorCode::InvalidUsage, "setPipeline: a compute pipeline cannot be set inside a render pass");
     m_pipeline = pipeline;
@@ -220,14 +226,14 @@ void GLCommandList::setPipeline(const PipelineHandle& handle) {
 
 void GLCommandList::setBindingSet(uint32_t set, const BindingSetHandle& handle) {
     requireRecording("setBindingSet");
-    auto bindings = cast<GLBindingSet>(handle, "setBindingSet", "binding set");
+    auto bindings = cast<GLBindingSet>(m_device, handle, "setBindingSet", "binding set");
     m_bindingSets[set] = bindings;
     record([bindings](GLDevice& device) { device.bindBindingSet(bindings->desc()); });
 }
 
 void GLCommandList::setVertexBuffer(uint32_t slot, const BufferHandle& handle, uint64_t offset) {
     requireRecording("setVertexBuffer");
-    auto buffer = cast<GLBuffer>(handle, "setVertexBuffer", "buffer");
+    auto buffer = cast<GLBuffer>(m_device, handle, "setVertexBuffer", "buffer");
     if (!any(buffer->desc().usage, BufferUsage::Vertex))
         throw Error(ErrorCode::InvalidUsage,
                     fmt::format("setVertexBuffer: buffer '{}' lacks BufferUsage::Vertex", buffer->desc().debugName));
@@ -240,7 +246,7 @@ void GLCommandList::setVertexBuffer(uint32_t slot, const BufferHandle& handle, u
 
 void GLCommandList::setIndexBuffer(const BufferHandle& handle, IndexType type, uint64_t offset) {
     requireRecording("setIndexBuffer");
-    auto buffer = cast<GLBuffer>(handle, "setIndexBuffer", "buffer");
+    auto buffer = cast<GLBuffer>(m_device, handle, "setIndexBuffer", "buffer");
     if (!any(buffer->desc().usage, BufferUsage::Index))
         throw Error(ErrorCode::InvalidUsage,
                     fmt::format("setIndexBuffer: buffer '{}' lacks BufferUsage::Index", buffer->desc().debugName));
@@ -298,7 +304,7 @@ void GLCommandList::dispatch(uint32_t groupsX, uint32_t groupsY, uint32_t groups
 
 void GLCommandList::writeBuffer(const BufferHandle& handle, const void* data, uint64_t size, uint64_t dstOffset) {
     requireOutsideRenderPass("writeBuffer");
-    auto buffer = cast<GLBuffer>(handle, "writeBuffer", "buffer");
+    auto buffer = cast<GLBuffer>(m_device, handle, "writeBuffer", "buffer");
     checkRange(*buffer, dstOffset, size, "writeBuffer");
     if (!data) throw Error(ErrorCode::InvalidUsage, "writeBuffer: data is null");
     // The data is copied now: the caller's memory need not outlive the call.
@@ -312,8 +318,8 @@ void GLCommandList::writeBuffer(const BufferHandle& handle, const void* data, ui
 void GLCommandList::copyBuffer(const BufferHandle& dstHandle, uint64_t dstOffset, const BufferHandle& srcHandle,
                                uint64_t srcOffset, uint64_t size) {
     requireOutsideRenderPass("copyBuffer");
-    auto dst = cast<GLBuffer>(dstHandle, "copyBuffer", "destination buffer");
-    auto src = cast<GLBuffer>(srcHandle, "copyBuffer", "source buffer");
+    auto dst = cast<GLBuffer>(m_device, dstHandle, "copyBuffer", "destination buffer");
+    auto src = cast<GLBuffer>(m_device, srcHandle, "copyBuffer", "source buffer");
     checkRange(*dst, dstOffset, size, "copyBuffer (destination)");
     checkRange(*src, srcOffset, size, "copyBuffer (source)");
     if (dst == src && dstOffset < srcOffset + size && srcOffset < dstOffset + size)
@@ -330,8 +336,8 @@ void GLCommandList::copyBuffer(const BufferHandle& dstHandle, uint64_t dstOffset
 void GLCommandList::copyBufferToTexture(const TextureHandle& dstHandle, TextureSubresource dstSub,
                                         const BufferHandle& srcHandle, uint64_t srcOffset) {
     requireOutsideRenderPass("copyBufferToTexture");
-    auto dst = cast<GLTexture>(dstHandle, "copyBufferToTexture", "texture");
-    auto src = cast<GLBuffer>(srcHandle, "copyBufferToTexture", "buffer");
+    auto dst = cast<GLTexture>(m_device, dstHandle, "copyBufferToTexture", "texture");
+    auto src = cast<GLBuffer>(m_device, srcHandle, "copyBufferToTexture", "buffer");
     dst->validateSubresource(dstSub, "copyBufferToTexture");
     checkRange(*src, srcOffset, dst->subresourceSize(dstSub.mipLevel), "copyBufferToTexture");
     record([=](GLDevice& device) {
@@ -345,8 +351,8 @@ void GLCommandList::copyBufferToTexture(const TextureHandle& dstHandle, TextureS
 void GLCommandList::copyTextureToBuffer(const BufferHandle& dstHandle, uint64_t dstOffset, const TextureHandle& srcHandle,
                                         TextureSubresource srcSub) {
     requireOutsideRenderPass("copyTextureToBuffer");
-    auto dst = cast<GLBuffer>(dstHandle, "copyTextureToBuffer", "buffer");
-    auto src = cast<GLTexture>(srcHandle, "copyTextureToBuffer", "texture");
+    auto dst = cast<GLBuffer>(m_device, dstHandle, "copyTextureToBuffer", "buffer");
+    auto src = cast<GLTexture>(m_device, srcHandle, "copyTextureToBuffer", "texture");
     src->validateSubresource(srcSub, "copyTextureToBuffer");
     checkRange(*dst, dstOffset, src->subresourceSize(srcSub.mipLevel), "copyTextureToBuffer");
     record([=](GLDevice& device) {
@@ -359,8 +365,8 @@ void GLCommandList::copyTextureToBuffer(const BufferHandle& dstHandle, uint64_t 
 void GLCommandList::copyTexture(const TextureHandle& dstHandle, TextureSubresource dstSub, const TextureHandle& srcHandle,
                                 TextureSubresource srcSub) {
     requireOutsideRenderPass("copyTexture");
-    auto dst = cast<GLTexture>(dstHandle, "copyTexture", "destination texture");
-    auto src = cast<GLTexture>(srcHandle, "copyTexture", "source texture");
+    auto dst = cast<GLTexture>(m_device, dstHandle, "copyTexture", "destination texture");
+    auto src = cast<GLTexture>(m_device, srcHandle, "copyTexture", "source texture");
     dst->validateSubresource(dstSub, "copyTexture");
     src->validateSubresource(srcSub, "copyTexture");
     if (dst->desc().format != src->desc().format)
@@ -380,7 +386,7 @@ void GLCommandList::copyTexture(const TextureHandle& dstHandle, TextureSubresour
 
 void GLCommandList::generateMips(const TextureHandle& handle) {
     requireOutsideRenderPass("generateMips");
-    auto texture = cast<GLTexture>(handle, "generateMips", "texture");
+    auto texture = cast<GLTexture>(m_device, handle, "generateMips", "texture");
     const Format format = texture->desc().format;
     if (isDepthFormat(format) || formatInfo(format).kind == FormatKind::UInt)
         throw Error(ErrorCode::InvalidUsage,
@@ -402,7 +408,7 @@ void GLCommandList::generateMips(const TextureHandle& handle) {
 
 void GLCommandList::beginTimer(const TimerQueryHandle& handle) {
     requireRecording("beginTimer");
-    auto timer = cast<GLTimerQuery>(handle, "beginTimer", "timer");
+    auto timer = cast<GLTimerQuery>(m_device, handle, "beginTimer", "timer");
     record([timer](GLDevice& device) {
         device.timestamp(timer->beginQuery());
         timer->begun = true;
@@ -412,7 +418,7 @@ void GLCommandList::beginTimer(const TimerQueryHandle& handle) {
 
 void GLCommandList::endTimer(const TimerQueryHandle& handle) {
     requireRecording("endTimer");
-    auto timer = cast<GLTimerQuery>(handle, "endTimer", "timer");
+    auto timer = cast<GLTimerQuery>(m_device, handle, "endTimer", "timer");
     record([timer](GLDevice& device) {
         device.timestamp(timer->endQuery());
         timer->ended = true;

@@ -43,6 +43,19 @@ void APIENTRY onDebugMessage(GLenum /*source*/, GLenum type, GLuint id, GLenum s
     context->collectDebugMessage({ours, fmt::format("GL debug (id {}): {}", id, message)});
 }
 
+
+template <typename T, typename Interface>
+const T& ownResource(const std::shared_ptr<Interface>& handle, const GLContext& context, const char* what,
+                     const char* kind) {
+    auto* resource = dynamic_cast<const T*>(handle.get());
+    if (!resource)
+        throw Error(ErrorCode::InvalidUsage, fmt::format("{}: the {} is null or from another backend", what, kind));
+    // GL names mean nothing in another context.
+    if (resource->owner() != &context)
+        throw Error(ErrorCode::InvalidUsage,
+                    fmt::format("{}: the {} was created by another device; use resources of this device", what, kind));
+    return *resource;
+}
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
@@ -50,8 +63,10 @@ void APIENTRY onDebugMessage(GLenum /*source*/, GLenum type, GLuint id, GLenum s
 
 GLContext::GLContext(std::unique_ptr<Platform> platform, bool es)
     : m_platform(std::move(platform)), m_es(es), m_platformName(m_platform->describe()) {
-    t_currentContext = this;   // the platform made it current on creation
+    // Creating the platform made its context current, replacing whichever was.
+    t_currentContext = nullptr;
     gl.load(*m_platform, es);
+    t_currentContext = this;
 }
 
 GLContext::~GLContext() {
@@ -369,6 +384,8 @@ PipelineHandle GLDevice::createGraphicsPipeline(const GraphicsPipelineDesc& desc
     if (!desc.vertexShader || !desc.fragmentShader)
         throw Error(ErrorCode::InvalidDescription,
                     fmt::format("{}: GraphicsPipelineDesc needs both a vertex and a fragment shader", name));
+    ownResource<GLShader>(desc.vertexShader, *m_context, name.c_str(), "vertex shader");
+    ownResource<GLShader>(desc.fragmentShader, *m_context, name.c_str(), "fragment shader");
     if (desc.vertexShader->desc().stage != ShaderStage::Vertex || desc.fragmentShader->desc().stage != ShaderStage::Fragment)
         throw Error(ErrorCode::InvalidDescription,
                     fmt::format("{}: vertexShader must be a vertex shader and fragmentShader a fragment shader", name));
@@ -423,12 +440,16 @@ PipelineHandle GLDevice::createComputePipeline(const ComputePipelineDesc& desc) 
     require(Capability::Compute, "a compute pipeline");
     if (!desc.computeShader || desc.computeShader->desc().stage != ShaderStage::Compute)
         throw Error(ErrorCode::InvalidDescription, "ComputePipelineDesc::computeShader must be a compute shader");
+    ownResource<GLShader>(desc.computeShader, *m_context, "compute pipeline", "compute shader");
     return std::make_shared<GLPipeline>(m_context, desc);
 }
 
 BindingSetHandle GLDevice::createBindingSet(const BindingSetDesc& desc) {
     for (const BindingItem& item : desc.items) {
         const auto where = fmt::format("binding {}", item.binding);
+        if (item.buffer) ownResource<GLBuffer>(item.buffer, *m_context, where.c_str(), "buffer");
+        if (item.texture) ownResource<GLTexture>(item.texture, *m_context, where.c_str(), "texture");
+        if (item.sampler) ownResource<GLSampler>(item.sampler, *m_context, where.c_str(), "sampler");
         switch (item.type) {
             case ResourceType::UniformBuffer:
             case ResourceType::StorageBuffer: {
@@ -528,16 +549,6 @@ void GLDevice::provokeValidationErrorForTesting() {
 // Immediate transfers
 
 namespace {
-const GLBuffer& asBuffer(const BufferHandle& handle, const char* what) {
-    auto* buffer = dynamic_cast<const GLBuffer*>(handle.get());
-    if (!buffer) throw Error(ErrorCode::InvalidUsage, fmt::format("{}: the buffer is null or from another backend", what));
-    return *buffer;
-}
-const GLTexture& asTexture(const TextureHandle& handle, const char* what) {
-    auto* texture = dynamic_cast<const GLTexture*>(handle.get());
-    if (!texture) throw Error(ErrorCode::InvalidUsage, fmt::format("{}: the texture is null or from another backend", what));
-    return *texture;
-}
 void checkBufferRange(const GLBuffer& buffer, uint64_t offset, uint64_t size, const char* what) {
     if (size == 0 || offset > buffer.desc().size || size > buffer.desc().size - offset)
         throw Error(ErrorCode::InvalidUsage,
@@ -552,7 +563,7 @@ void GLDevice::bufferSubData(const GLBuffer& buffer, const void* data, uint64_t 
 }
 
 void GLDevice::writeBuffer(const BufferHandle& handle, const void* data, uint64_t size, uint64_t offset) {
-    const GLBuffer& buffer = asBuffer(handle, "writeBuffer");
+    const GLBuffer& buffer = ownResource<GLBuffer>(handle, *m_context, "writeBuffer", "buffer");
     checkBufferRange(buffer, offset, size, "writeBuffer");
     if (!data) throw Error(ErrorCode::InvalidUsage, "writeBuffer: data is null");
     m_context->makeCurrent();
@@ -560,7 +571,7 @@ void GLDevice::writeBuffer(const BufferHandle& handle, const void* data, uint64_
 }
 
 std::vector<std::byte> GLDevice::readBuffer(const BufferHandle& handle, uint64_t offset, uint64_t size) {
-    const GLBuffer& buffer = asBuffer(handle, "readBuffer");
+    const GLBuffer& buffer = ownResource<GLBuffer>(handle, *m_context, "readBuffer", "buffer");
     if (size == 0 && offset < buffer.desc().size) size = buffer.desc().size - offset;
     checkBufferRange(buffer, offset, size, "readBuffer");
     m_context->makeCurrent();
@@ -577,7 +588,7 @@ std::vector<std::byte> GLDevice::readBuffer(const BufferHandle& handle, uint64_t
 }
 
 void GLDevice::writeTexture(const TextureHandle& handle, TextureSubresource sub, const void* data, uint64_t size) {
-    const GLTexture& texture = asTexture(handle, "writeTexture");
+    const GLTexture& texture = ownResource<GLTexture>(handle, *m_context, "writeTexture", "texture");
     texture.validateSubresource(sub, "writeTexture");
     const uint64_t expected = texture.subresourceSize(sub.mipLevel);
     if (size != expected)
@@ -593,7 +604,7 @@ void GLDevice::writeTexture(const TextureHandle& handle, TextureSubresource sub,
 }
 
 std::vector<std::byte> GLDevice::readTexture(const TextureHandle& handle, TextureSubresource sub) {
-    const GLTexture& texture = asTexture(handle, "readTexture");
+    const GLTexture& texture = ownResource<GLTexture>(handle, *m_context, "readTexture", "texture");
     texture.validateSubresource(sub, "readTexture");
     m_context->makeCurrent();
     return downloadTexture(texture, sub);
@@ -662,8 +673,7 @@ std::vector<std::byte> GLDevice::downloadTexture(const GLTexture& texture, Textu
 }
 
 std::optional<double> GLDevice::timerSeconds(const TimerQueryHandle& handle) {
-    auto* timer = dynamic_cast<GLTimerQuery*>(handle.get());
-    if (!timer) throw Error(ErrorCode::InvalidUsage, "timerSeconds: the timer is null or from another backend");
+    const auto* timer = &ownResource<GLTimerQuery>(handle, *m_context, "timerSeconds", "timer");
     if (!timer->begun || !timer->ended) return std::nullopt;
     m_context->makeCurrent();
     const GLFunctions& f = gl();

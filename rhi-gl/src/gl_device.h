@@ -81,6 +81,7 @@ using ContextPtr = std::shared_ptr<GLContext>;
 
 class GLBuffer final : public IBuffer {
 public:
+    const GLContext* owner() const { return m_context.get(); }
     GLBuffer(ContextPtr context, const BufferDesc& desc);
     ~GLBuffer() override;
     const BufferDesc& desc() const override { return m_desc; }
@@ -94,6 +95,7 @@ private:
 
 class GLTexture final : public ITexture {
 public:
+    const GLContext* owner() const { return m_context.get(); }
     GLTexture(ContextPtr context, const TextureDesc& resolvedDesc);
     ~GLTexture() override;
     const TextureDesc& desc() const override { return m_desc; }
@@ -119,6 +121,7 @@ private:
 
 class GLSampler final : public ISampler {
 public:
+    const GLContext* owner() const { return m_context.get(); }
     GLSampler(ContextPtr context, const SamplerDesc& desc, bool anisotropySupported);
     ~GLSampler() override;
     const SamplerDesc& desc() const override { return m_desc; }
@@ -150,6 +153,7 @@ inline constexpr GLuint kDepthCopyTextureUnit = 30;
 
 class GLShader final : public IShader {
 public:
+    const GLContext* owner() const { return m_context.get(); }
     GLShader(ContextPtr context, const ShaderDesc& desc);
     ~GLShader() override;
     const ShaderDesc& desc() const override { return m_desc; }
@@ -167,6 +171,7 @@ private:
 
 class GLPipeline final : public IPipeline {
 public:
+    const GLContext* owner() const { return m_context.get(); }
     GLPipeline(ContextPtr context, const GraphicsPipelineDesc& desc);
     GLPipeline(ContextPtr context, const ComputePipelineDesc& desc);
     ~GLPipeline() override;
@@ -201,6 +206,7 @@ private:
 
 class GLTimerQuery final : public ITimerQuery {
 public:
+    const GLContext* owner() const { return m_context.get(); }
     explicit GLTimerQuery(ContextPtr context);
     ~GLTimerQuery() override;
     GLuint beginQuery() const { return m_queries[0]; }

@@ -5,8 +5,8 @@
 
 #include <fmt/format.h>
 
-#include <cstring>
 #include <string_view>
+#include <vector>
 
 #include "gl_platform.h"
 #include "janus/rhi/rhi.h"
