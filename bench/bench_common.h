@@ -42,7 +42,7 @@ public:
 // Runs `submit` (record + submit the frame; timed) then `wait` (until the frame has finished;
 // timed separately) once per benchmark iteration. Reports, per draw/dispatch:
 //   submit_cpu_ns_per_op  CPU time of the benchmark thread to record and submit (the compared figure)
-//   submit_ns_per_op      wall time of the same (the benchmark's manual time)
+//   submit_ns_per_op      wall time of the same
 //   wait_ns_per_op        wall time waiting for the device to finish (lavapipe/llvmpipe execute on
 //                         CPU threads, so this is mostly the driver running the work)
 void runFrames(benchmark::State& state, const std::function<void()>& submit, const std::function<void()>& wait);

@@ -1,0 +1,100 @@
+#!/usr/bin/env bash
+# Runs the RHI overhead benchmark (bench/, target janus_bench_rhi) and prints a Markdown table:
+# per draw / per dispatch CPU cost of the Janus RHI against the same work issued with raw Vulkan /
+# raw GL in the same run, and the ratio RHI/raw (target: <= 1.2x).
+#
+# Usage: scripts/bench.sh [--build-dir DIR] [--repetitions N] [--min-time SECONDS] [--json FILE]
+#   --build-dir    CMake build directory (default: build-bench); the target is built if missing
+#   --repetitions  runs of each benchmark; the table uses the median (default: 5)
+#   --min-time     minimum timed seconds per run (default: 0.1)
+#   --json         also keep Google Benchmark's JSON output in FILE
+set -euo pipefail
+
+repo_root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+build_dir="$repo_root/build-bench"
+repetitions=5
+min_time=0.1
+json_out=""
+
+while [[ $# -gt 0 ]]; do
+  case "$1" in
+    --build-dir) build_dir="$(realpath -m "$2")"; shift 2 ;;
+    --repetitions) repetitions="$2"; shift 2 ;;
+    --min-time) min_time="$2"; shift 2 ;;
+    --json) json_out="$2"; shift 2 ;;
+    -h|--help) sed -n '2,10p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    *) echo "bench.sh: unknown argument '$1' (try --help)" >&2; exit 2 ;;
+  esac
+done
+if ! [[ "$repetitions" =~ ^[1-9][0-9]*$ ]]; then
+  echo "bench.sh: --repetitions must be a positive integer, got '$repetitions'" >&2; exit 2
+fi
+
+binary="$build_dir/bench/janus_bench_rhi"
+if [[ ! -x "$binary" ]]; then
+  if [[ ! -f "$build_dir/build.ninja" ]]; then
+    cmake -S "$repo_root" -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
+  fi
+  ninja -C "$build_dir" janus_bench_rhi >&2
+fi
+
+json_file="$(mktemp --suffix=.json)"
+trap 'rm -f "$json_file"' EXIT
+# Random interleaving runs raw and RHI repetitions in shuffled order, so a burst of load from
+# other processes does not land on one side only.
+"$binary" --benchmark_format=json --benchmark_out_format=json --benchmark_out="$json_file" \
+  --benchmark_repetitions="$repetitions" --benchmark_min_time="$min_time" \
+  --benchmark_enable_random_interleaving=true >/dev/null
+[[ -n "$json_out" ]] && cp "$json_file" "$json_out"
+
+
+python3 - "$json_file" <<'EOF'
+import json
+import statistics
+import sys
+
+TARGET = 1.2
+with open(sys.argv[1]) as f:
+    report = json.load(f)
+
+# run_name is "<work>/<backend>/<raw|rhi>/real_time". The medians are taken here over the
+# repetitions, so one repetition works too (Google Benchmark writes no aggregates then).
+runs, errors = {}, {}
+for run in report["benchmarks"]:
+    key = tuple(run["run_name"].split("/")[:3])
+    if run.get("error_occurred"):
+        errors[key] = run.get("error_message", "failed")
+    elif run.get("run_type") == "iteration":
+        runs.setdefault(key, []).append(run)
+
+def median(key, counter):
+    return statistics.median(run[counter] for run in runs[key])
+
+context = report["context"]
+repetitions = max((len(r) for r in runs.values()), default=0)
+print(f"Run {context['date']} on {context['host_name']} ({context['num_cpus']} CPUs); "
+      f"{context.get('ops_per_frame', '?')} ops per frame into a {context.get('target', '?')} target; "
+      f"median of {repetitions} repetition(s).")
+print()
+print("| backend | work | raw ns/op | RHI ns/op | ratio RHI/raw | target <= 1.2x | wait raw ns/op | wait RHI ns/op |")
+print("|---|---|---:|---:|---:|---|---:|---:|")
+missed = 0
+for backend, work in [("vulkan", "draw"), ("vulkan", "dispatch"), ("gl", "draw"), ("gl", "dispatch"), ("gles", "draw")]:
+    raw_key, rhi_key = (work, backend, "raw"), (work, backend, "rhi")
+    if raw_key not in runs or rhi_key not in runs:
+        why = errors.get(raw_key) or errors.get(rhi_key) or "not run"
+        print(f"| {backend} | {work} | - | - | - | skipped: {why} | - | - |")
+        continue
+    raw_ns, rhi_ns = median(raw_key, "submit_cpu_ns_per_op"), median(rhi_key, "submit_cpu_ns_per_op")
+    ratio = rhi_ns / raw_ns
+    met = ratio <= TARGET
+    missed += not met
+    print(f"| {backend} | {work} | {raw_ns:.0f} | {rhi_ns:.0f} | {ratio:.2f}x | {'met' if met else 'MISSED'} | "
+          f"{median(raw_key, 'wait_ns_per_op'):.0f} | {median(rhi_key, 'wait_ns_per_op'):.0f} |")
+print()
+print("ns/op: CPU time of the benchmark thread to record + submit one frame, divided by the draws or "
+      "dispatches in it (median over repetitions). wait: wall time until the frame had finished "
+      "(fence wait / waitIdle / glFinish), reported apart and not part of the ratio.")
+if missed:
+    print(f"\n{missed} comparison(s) above the {TARGET}x target: see docs/BENCHMARKS.md for where the time goes.")
+EOF
