@@ -77,7 +77,8 @@ void runGuarded(benchmark::State& state, const std::function<void()>& body);
 void rhiDraws(benchmark::State& state, rhi::Backend backend);
 void rhiDispatches(benchmark::State& state, rhi::Backend backend);
 void rawVulkanDraws(benchmark::State& state);
-void rawVulkanDispatches(benchmark::State& state);
+// barrierPerDispatch adds the RHI's full barrier before each dispatch (an explanatory extra run).
+void rawVulkanDispatches(benchmark::State& state, bool barrierPerDispatch);
 void rawGLDraws(benchmark::State& state, rhi::Backend backend);   // GL or GLES
 void rawGLDispatches(benchmark::State& state);
 

@@ -31,7 +31,9 @@ public:
     ~RawVulkan() override;
 
     void submitDraws();
-    void submitDispatches();
+    // barrierPerDispatch: also put the RHI's conservative full barrier before every dispatch, to
+    // show how much of the RHI's dispatch cost that rule is.
+    void submitDispatches(bool barrierPerDispatch = false);
     void wait() { check(vkWaitForFences(m_device, 1, &m_fence, VK_TRUE, UINT64_MAX), "vkWaitForFences"); }
     void checkDraws();
     void checkDispatches();
@@ -447,7 +449,7 @@ void RawVulkan::submitDraws() {
     submitFrame();
 }
 
-void RawVulkan::submitDispatches() {
+void RawVulkan::submitDispatches(bool barrierPerDispatch) {
     beginFrame();
     // Each dispatch writes its own counter, so dispatches within a frame need no barrier; this one
     // orders the frame after the previous frame's host reads.
@@ -456,6 +458,9 @@ void RawVulkan::submitDispatches() {
     vkCmdBindPipeline(m_commands, VK_PIPELINE_BIND_POINT_COMPUTE, m_computePipeline);
     for (VkDescriptorSet set : m_counterSets) {
         vkCmdBindDescriptorSets(m_commands, VK_PIPELINE_BIND_POINT_COMPUTE, m_computeLayout, 0, 1, &set, 0, nullptr);
+        if (barrierPerDispatch)
+            memoryBarrier(m_commands, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT,
+                          VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT);
         vkCmdDispatch(m_commands, 1, 1, 1);
     }
     submitFrame();
@@ -504,10 +509,10 @@ void rawVulkanDraws(benchmark::State& state) {
     });
 }
 
-void rawVulkanDispatches(benchmark::State& state) {
+void rawVulkanDispatches(benchmark::State& state, bool barrierPerDispatch) {
     runGuarded(state, [&] {
         RawVulkan& raw = rawVulkan();
-        runFrames(state, [&] { raw.submitDispatches(); }, [&] { raw.wait(); });
+        runFrames(state, [&] { raw.submitDispatches(barrierPerDispatch); }, [&] { raw.wait(); });
         raw.checkDispatches();
     });
 }
