@@ -321,10 +321,11 @@ struct Renderer::Impl {
             uniforms.world = instance.world;
             uniforms.normalMatrix = glm::inverseTranspose(instance.world);
             uniforms.baseColorFactor = material.baseColorFactor;
-            uniforms.emissiveFactor = glm::vec4(material.emissiveFactor, 0.0f);
+            uniforms.emissiveFactor = glm::vec4(material.emissiveFactor, material.alphaCutoff);
             uniforms.materialParams = glm::vec4(material.metallicFactor, material.roughnessFactor, 1.0f, 1.0f);
             // Normal maps need tangents; meshes without them shade with their vertex normals.
-            uniforms.flags = glm::ivec4(material.doubleSided ? 1 : 0, hasTangents && material.normalTexture >= 0 ? 1 : 0, 0, 0);
+            uniforms.flags = glm::ivec4(material.doubleSided ? 1 : 0, hasTangents && material.normalTexture >= 0 ? 1 : 0,
+                                        material.alphaMode == AlphaMode::Mask ? 1 : 0, 0);
             std::memcpy(drawData.data() + i * stride, &uniforms, sizeof(uniforms));
 
             auto textureOr = [&](int32_t index, const rhi::TextureHandle& fallback) {

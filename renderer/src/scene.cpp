@@ -264,7 +264,8 @@ void validateScene(const Scene& scene) {
     for (size_t i = 0; i < scene.materials.size(); ++i) {
         const Material& material = scene.materials[i];
         const std::string name = label(material.name, i);
-        if (!allFinite(material.baseColorFactor, material.emissiveFactor, material.metallicFactor, material.roughnessFactor))
+        if (!allFinite(material.baseColorFactor, material.emissiveFactor, material.metallicFactor, material.roughnessFactor,
+                       material.alphaCutoff))
             throw SceneError(fmt::format("material {} has a NaN or infinite colour or factor", name));
         if (material.metallicFactor < 0 || material.metallicFactor > 1 || material.roughnessFactor < 0 || material.roughnessFactor > 1)
             throw SceneError(fmt::format("material {} has metallic/roughness outside [0, 1]", name));

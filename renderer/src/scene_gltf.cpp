@@ -107,6 +107,9 @@ private:
             if (m.emissiveFactor.size() == 3)
                 material.emissiveFactor = glm::vec3(m.emissiveFactor[0], m.emissiveFactor[1], m.emissiveFactor[2]);
             material.doubleSided = m.doubleSided;
+            if (m.alphaMode == "MASK") material.alphaMode = AlphaMode::Mask;
+            else if (m.alphaMode == "BLEND") material.alphaMode = AlphaMode::Blend;
+            material.alphaCutoff = float(m.alphaCutoff);
             material.baseColorTexture = textureFor(pbr.baseColorTexture.index, true, scene, m.name);
             material.metallicRoughnessTexture = textureFor(pbr.metallicRoughnessTexture.index, false, scene, m.name);
             material.normalTexture = textureFor(m.normalTexture.index, false, scene, m.name);

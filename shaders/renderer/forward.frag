@@ -71,6 +71,7 @@ float rangeAttenuation(float distance, float range) {
 
 void main() {
     vec4 baseColor = draw.baseColorFactor * texture(baseColorTexture, vUv);
+    if (draw.flags.z != 0 && baseColor.a < draw.emissiveFactor.w) discard;
     vec4 metallicRoughness = texture(metallicRoughnessTexture, vUv);
     float metallic = clamp(draw.materialParams.x * metallicRoughness.b, 0.0, 1.0);
     float perceptualRoughness = clamp(draw.materialParams.y * metallicRoughness.g, 0.045, 1.0);

@@ -24,7 +24,7 @@ layout(set = 1, binding = 1, std140) uniform DrawUniforms {
     mat4 world;
     mat4 normalMatrix;     // inverse transpose of world (upper 3x3 used)
     vec4 baseColorFactor;
-    vec4 emissiveFactor;
+    vec4 emissiveFactor;   // rgb emissive, w alpha cutoff
     vec4 materialParams;   // x metallic, y roughness, z normal scale, w occlusion strength
-    ivec4 flags;           // x double-sided, y has tangents
+    ivec4 flags;           // x double-sided, y has tangents, z alpha mask
 } draw;

@@ -275,6 +275,23 @@ TEST(RenderCulling, FrontFacesAreCounterClockwiseAndDoubleSidedMaterialsShowThei
     }
 }
 
+TEST(RenderMaterials, AlphaMaskDiscardsBelowTheCutoff) {
+    constexpr size_t centre = (size_t(kSize / 2) * kSize + kSize / 2) * 4;
+    for (float alpha : {0.3f, 0.7f}) {
+        Scene scene = quadScene(false, 3.0f);
+        scene.materials[0].alphaMode = AlphaMode::Mask;
+        scene.materials[0].alphaCutoff = 0.5f;
+        scene.materials[0].baseColorFactor.a = alpha;
+        for (const Config& config : kConfigs) {
+            const Render result = render(config, scene);
+            if (alpha < 0.5f)
+                EXPECT_EQ(result.display.pixels[centre], 0) << config.name() << ": alpha " << alpha << " must be cut out";
+            else
+                EXPECT_GT(result.display.pixels[centre], 100) << config.name() << ": alpha " << alpha << " must be drawn";
+        }
+    }
+}
+
 TEST(RenderLights, SpotLightLightsItsConeOnly) {
     Scene scene = quadScene(false, 3.0f);
     Light spot;

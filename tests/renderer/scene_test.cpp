@@ -259,6 +259,17 @@ TEST(SceneLoading, MeshesWithoutNormalMapsGetNoTangents) {
     for (const Vertex& v : scene.meshes.at(0).vertices) EXPECT_EQ(v.tangent, glm::vec4(0));
 }
 
+TEST(SceneLoading, AlphaModesAreRead) {
+    TinyGltf file;
+    file.gltf["materials"][0]["alphaMode"] = "MASK";
+    file.gltf["materials"][0]["alphaCutoff"] = 0.25;
+    const Scene scene = loadScene(file.write());
+    EXPECT_EQ(scene.materials.at(0).alphaMode, AlphaMode::Mask);
+    EXPECT_EQ(scene.materials.at(0).alphaCutoff, 0.25f);
+    file.gltf["materials"][0]["alphaMode"] = "BLEND";
+    EXPECT_EQ(loadScene(file.write()).materials.at(0).alphaMode, AlphaMode::Blend);
+}
+
 TEST(SceneLoading, BinaryGlbLoadsLikeTheTextForm) {
     TinyGltf file;
     const Scene scene = loadScene(file.writeGlb());

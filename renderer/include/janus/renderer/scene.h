@@ -41,6 +41,9 @@ struct TextureImage {
     std::string name;
 };
 
+// glTF alphaMode. Blend is drawn like Opaque until a transparent pass exists.
+enum class AlphaMode { Opaque, Mask, Blend };
+
 struct Material {
     glm::vec4 baseColorFactor{1.0f};
     float metallicFactor = 1.0f;
@@ -52,6 +55,8 @@ struct Material {
     int32_t occlusionTexture = -1;
     int32_t emissiveTexture = -1;
     bool doubleSided = false;
+    AlphaMode alphaMode = AlphaMode::Opaque;
+    float alphaCutoff = 0.5f;               // Mask: fragments with alpha below it are discarded
     std::string name;
 };
 
