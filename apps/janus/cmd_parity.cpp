@@ -1,5 +1,4 @@
 // `janus parity`: render every configuration and compare every pair pixel by pixel.
-#include <algorithm>
 #include <array>
 #include <charconv>
 #include <cmath>

@@ -1,5 +1,4 @@
 // `janus render`: one scene, one configuration, PNG (+ optional HDR and JSON report).
-#include <algorithm>
 #include <cctype>
 #include <cstdio>
 #include <memory>
