@@ -79,7 +79,8 @@ void rhiDispatches(benchmark::State& state, rhi::Backend backend);
 void rawVulkanDraws(benchmark::State& state);
 // barrierPerDispatch adds the RHI's full barrier before each dispatch (an explanatory extra run).
 void rawVulkanDispatches(benchmark::State& state, bool barrierPerDispatch);
-void rawGLDraws(benchmark::State& state, rhi::Backend backend);   // GL or GLES
+// GL or GLES; respecifyVertices adds the RHI's per-draw vertex attribute setup (explanatory run).
+void rawGLDraws(benchmark::State& state, rhi::Backend backend, bool respecifyVertices);
 void rawGLDispatches(benchmark::State& state);
 
 }  // namespace janus::bench

@@ -109,11 +109,13 @@ void registerBenchmarks() {
     add("dispatch/vulkan/rhi", [](benchmark::State& state) { rhiDispatches(state, Backend::Vulkan); });
     // Not part of the ratio table: raw Vulkan with the RHI's barrier rule, to split the gap.
     add("dispatch/vulkan/raw_full_barriers", [](benchmark::State& state) { rawVulkanDispatches(state, true); });
-    add("draw/gl/raw", [](benchmark::State& state) { rawGLDraws(state, Backend::GL); });
+    add("draw/gl/raw", [](benchmark::State& state) { rawGLDraws(state, Backend::GL, false); });
     add("draw/gl/rhi", [](benchmark::State& state) { rhiDraws(state, Backend::GL); });
+    // Not part of the ratio table: raw GL with the RHI's per-draw vertex setup.
+    add("draw/gl/raw_respecified_vertices", [](benchmark::State& state) { rawGLDraws(state, Backend::GL, true); });
     add("dispatch/gl/raw", rawGLDispatches);
     add("dispatch/gl/rhi", [](benchmark::State& state) { rhiDispatches(state, Backend::GL); });
-    add("draw/gles/raw", [](benchmark::State& state) { rawGLDraws(state, Backend::GLES); });
+    add("draw/gles/raw", [](benchmark::State& state) { rawGLDraws(state, Backend::GLES, false); });
     add("draw/gles/rhi", [](benchmark::State& state) { rhiDraws(state, Backend::GLES); });
 }
 

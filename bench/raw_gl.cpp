@@ -35,6 +35,7 @@ struct GLCalls {
     X(PFNGLBINDVERTEXARRAYPROC, glBindVertexArray)                                                           \
     X(PFNGLVERTEXATTRIBPOINTERPROC, glVertexAttribPointer)                                                   \
     X(PFNGLENABLEVERTEXATTRIBARRAYPROC, glEnableVertexAttribArray)                                           \
+    X(PFNGLVERTEXATTRIBDIVISORPROC, glVertexAttribDivisor)                                                   \
     X(PFNGLCREATESHADERPROC, glCreateShader)                                                                 \
     X(PFNGLDELETESHADERPROC, glDeleteShader)                                                                 \
     X(PFNGLSHADERSOURCEPROC, glShaderSource)                                                                 \
@@ -118,7 +119,9 @@ public:
     // The raw context is current while the returned object lives.
     ContextSwitch makeCurrent() const { return ContextSwitch(m_display, m_context, m_api); }
 
-    void submitDraws();
+    // respecifyVertices: also re-specify the vertex attribute before every draw, as the RHI's GL
+    // backend does, to show how much of the RHI's draw cost that is.
+    void submitDraws(bool respecifyVertices = false);
     void submitDispatches();
     void finish() { m_gl.glFinish(); }
     void checkDraws();
@@ -269,7 +272,7 @@ void RawGL::checkNoError(const char* when) {
         throw WrongResult(fmt::format("raw {}: GL error 0x{:x} while {}", rhi::toString(m_backend), error, when));
 }
 
-void RawGL::submitDraws() {
+void RawGL::submitDraws(bool respecifyVertices) {
     const GLCalls& gl = m_gl;
     gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m_framebuffer);
     gl.glViewport(0, 0, kTargetSize, kTargetSize);
@@ -283,6 +286,11 @@ void RawGL::submitDraws() {
     gl.glBindVertexArray(m_vertexArray);
     for (uint32_t i = 0; i < kOpsPerFrame; ++i) {
         gl.glBindBufferRange(GL_UNIFORM_BUFFER, 0, m_drawParameters, GLintptr(i * kSliceBytes), GLsizeiptr(kSliceBytes));
+        if (respecifyVertices) {
+            gl.glBindBuffer(GL_ARRAY_BUFFER, m_vertices);
+            gl.glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, sizeof(float) * 2, nullptr);
+            gl.glVertexAttribDivisor(0, 0);
+        }
         gl.glDrawArrays(GL_TRIANGLES, 0, 3);
     }
 }
@@ -342,11 +350,11 @@ RawGL& rawGL(rhi::Backend backend) {
 
 }  // namespace
 
-void rawGLDraws(benchmark::State& state, rhi::Backend backend) {
+void rawGLDraws(benchmark::State& state, rhi::Backend backend, bool respecifyVertices) {
     runGuarded(state, [&] {
         RawGL& raw = rawGL(backend);
         ContextSwitch current = raw.makeCurrent();
-        runFrames(state, [&] { raw.submitDraws(); }, [&] { raw.finish(); });
+        runFrames(state, [&] { raw.submitDraws(respecifyVertices); }, [&] { raw.finish(); });
         raw.checkDraws();
     });
 }
