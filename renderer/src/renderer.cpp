@@ -150,6 +150,7 @@ struct Renderer::Impl {
     std::vector<GpuMesh> meshes;
     std::vector<Draw> draws;
     std::vector<rhi::TextureHandle> textures;
+    std::vector<rhi::SamplerHandle> textureSamplers;   // per scene texture, shared between equal samplings
     rhi::TextureHandle whiteTexture, flatNormalTexture;
     rhi::SamplerHandle materialSampler, pointSampler;
     rhi::BufferHandle frameUniforms, drawUniforms, tonemapUniforms;
@@ -240,12 +241,35 @@ struct Renderer::Impl {
         return texture;
     }
 
+    rhi::SamplerHandle createSampler(const TextureSampling& sampling) {
+        auto address = [](TextureWrap wrap) {
+            switch (wrap) {
+                case TextureWrap::ClampToEdge: return rhi::AddressMode::ClampToEdge;
+                case TextureWrap::MirroredRepeat: return rhi::AddressMode::MirroredRepeat;
+                default: return rhi::AddressMode::Repeat;
+            }
+        };
+        rhi::SamplerDesc desc;
+        desc.magFilter = sampling.nearestMagnification ? rhi::Filter::Nearest : rhi::Filter::Linear;
+        desc.minFilter = sampling.nearestMinification ? rhi::Filter::Nearest : rhi::Filter::Linear;
+        desc.mipFilter = sampling.nearestMip ? rhi::Filter::Nearest : rhi::Filter::Linear;
+        desc.addressU = address(sampling.wrapU);
+        desc.addressV = address(sampling.wrapV);
+        if (!sampling.mipmapped) desc.setLodRange(0.0f, 0.0f);   // glTF NEAREST / LINEAR minification: mip 0 only
+        return device.createSampler(desc);
+    }
+
     void uploadTextures(const Scene& scene) {
         whiteTexture = createTexture("default white", 1, 1, {255, 255, 255, 255}, false);
         flatNormalTexture = createTexture("default normal", 1, 1, {128, 128, 255, 255}, false);
-        for (const TextureImage& image : scene.textures)
-            textures.push_back(createTexture(image.name, image.width, image.height, image.rgba, image.srgb));
         materialSampler = device.createSampler(rhi::SamplerDesc{});
+        std::vector<std::pair<TextureSampling, rhi::SamplerHandle>> samplers{{TextureSampling{}, materialSampler}};
+        for (const TextureImage& image : scene.textures) {
+            textures.push_back(createTexture(image.name, image.width, image.height, image.rgba, image.srgb));
+            auto it = std::find_if(samplers.begin(), samplers.end(), [&](const auto& s) { return s.first == image.sampling; });
+            if (it == samplers.end()) it = samplers.insert(samplers.end(), {image.sampling, createSampler(image.sampling)});
+            textureSamplers.push_back(it->second);
+        }
         pointSampler = device.createSampler(rhi::SamplerDesc{}.setFilter(rhi::Filter::Nearest).setAddress(rhi::AddressMode::ClampToEdge));
     }
 
@@ -328,8 +352,9 @@ struct Renderer::Impl {
                                         material.alphaMode == AlphaMode::Mask ? 1 : 0, 0);
             std::memcpy(drawData.data() + i * stride, &uniforms, sizeof(uniforms));
 
-            auto textureOr = [&](int32_t index, const rhi::TextureHandle& fallback) {
-                return index >= 0 ? textures[size_t(index)] : fallback;
+            auto texture = [&](uint32_t binding, int32_t index, const rhi::TextureHandle& fallback) {
+                return index >= 0 ? rhi::BindingItem::sampledTexture(binding, textures[size_t(index)], textureSamplers[size_t(index)])
+                                  : rhi::BindingItem::sampledTexture(binding, fallback, materialSampler);
             };
             Draw draw;
             draw.mesh = instance.mesh;
@@ -337,11 +362,11 @@ struct Renderer::Impl {
             draw.bindings = device.createBindingSet(
                 rhi::BindingSetDesc{}
                     .add(rhi::BindingItem::uniformBuffer(1, drawUniforms, i * stride, sizeof(DrawUniforms)))
-                    .add(rhi::BindingItem::sampledTexture(2, textureOr(material.baseColorTexture, whiteTexture), materialSampler))
-                    .add(rhi::BindingItem::sampledTexture(3, textureOr(material.metallicRoughnessTexture, whiteTexture), materialSampler))
-                    .add(rhi::BindingItem::sampledTexture(4, textureOr(material.normalTexture, flatNormalTexture), materialSampler))
-                    .add(rhi::BindingItem::sampledTexture(5, textureOr(material.occlusionTexture, whiteTexture), materialSampler))
-                    .add(rhi::BindingItem::sampledTexture(6, textureOr(material.emissiveTexture, whiteTexture), materialSampler)));
+                    .add(texture(2, material.baseColorTexture, whiteTexture))
+                    .add(texture(3, material.metallicRoughnessTexture, whiteTexture))
+                    .add(texture(4, material.normalTexture, flatNormalTexture))
+                    .add(texture(5, material.occlusionTexture, whiteTexture))
+                    .add(texture(6, material.emissiveTexture, whiteTexture)));
             draws.push_back(std::move(draw));
         }
         device.writeBuffer(drawUniforms, drawData.data(), drawData.size());

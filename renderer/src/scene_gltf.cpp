@@ -5,6 +5,7 @@
 #include <cstring>
 #include <map>
 #include <set>
+#include <tuple>
 
 #include <fmt/format.h>
 #include <glm/gtc/matrix_transform.hpp>
@@ -57,10 +58,14 @@ private:
         if (size_t(gltfTexture) >= m_model.textures.size())
             fail(fmt::format("material '{}' references texture {} but the file has {}", materialName, gltfTexture,
                              m_model.textures.size()));
-        int source = m_model.textures[size_t(gltfTexture)].source;
+        const tinygltf::Texture& gltfTextureInfo = m_model.textures[size_t(gltfTexture)];
+        const int source = gltfTextureInfo.source;
         if (source < 0 || size_t(source) >= m_model.images.size())
             fail(fmt::format("texture {} has no valid image source ({})", gltfTexture, source));
-        auto key = std::make_pair(source, srgb);
+        const int sampler = gltfTextureInfo.sampler;
+        if (sampler >= 0 && size_t(sampler) >= m_model.samplers.size())
+            fail(fmt::format("texture {} references sampler {} but the file has {}", gltfTexture, sampler, m_model.samplers.size()));
+        auto key = std::make_tuple(source, sampler, srgb);
         if (auto it = m_textureCache.find(key); it != m_textureCache.end()) return it->second;
 
         const tinygltf::Image& image = m_model.images[size_t(source)];
@@ -68,6 +73,7 @@ private:
         texture.width = uint32_t(image.width);
         texture.height = uint32_t(image.height);
         texture.srgb = srgb;
+        if (sampler >= 0) texture.sampling = samplingOf(m_model.samplers[size_t(sampler)]);
         texture.name = image.uri.empty() ? image.name : image.uri;
         const size_t pixels = size_t(image.width) * size_t(image.height);
         const int channels = image.component;
@@ -92,6 +98,27 @@ private:
         const int32_t index = int32_t(scene.textures.size() - 1);
         m_textureCache[key] = index;
         return index;
+    }
+
+    static TextureSampling samplingOf(const tinygltf::Sampler& sampler) {
+        auto wrap = [](int mode) {
+            if (mode == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE) return TextureWrap::ClampToEdge;
+            if (mode == TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT) return TextureWrap::MirroredRepeat;
+            return TextureWrap::Repeat;
+        };
+        TextureSampling sampling;
+        sampling.wrapU = wrap(sampler.wrapS);
+        sampling.wrapV = wrap(sampler.wrapT);
+        sampling.nearestMagnification = sampler.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST;
+        switch (sampler.minFilter) {   // undefined (-1) keeps trilinear
+            case TINYGLTF_TEXTURE_FILTER_NEAREST: sampling.nearestMinification = true; sampling.mipmapped = false; break;
+            case TINYGLTF_TEXTURE_FILTER_LINEAR: sampling.mipmapped = false; break;
+            case TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_NEAREST: sampling.nearestMinification = sampling.nearestMip = true; break;
+            case TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_NEAREST: sampling.nearestMip = true; break;
+            case TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_LINEAR: sampling.nearestMinification = true; break;
+            default: break;
+        }
+        return sampling;
     }
 
     void readMaterials(Scene& scene) {
@@ -364,7 +391,7 @@ private:
 
     std::filesystem::path m_path;
     tinygltf::Model& m_model;
-    std::map<std::pair<int, bool>, int32_t> m_textureCache;
+    std::map<std::tuple<int, int, bool>, int32_t> m_textureCache;   // (image, sampler, sRGB)
     std::map<int, std::vector<uint32_t>> m_meshPrimitives;
     Camera m_camera;
     bool m_cameraFound = false;

@@ -253,6 +253,23 @@ TEST(SceneLoading, NormalMappedMeshesWithoutTangentsGetThem) {
     for (const Vertex& v : scene.meshes.at(0).vertices) EXPECT_EQ(v.tangent, glm::vec4(1, 0, 0, 1));
 }
 
+TEST(SceneLoading, GltfSamplersAreKeptPerTexture) {
+    TinyGltf file;
+    file.addUvsAndNormalMap();
+    file.gltf["samplers"] = json::array({{{"magFilter", 9728}, {"minFilter", 9729}, {"wrapS", 33071}, {"wrapT", 33648}}});
+    file.gltf["textures"][0]["sampler"] = 0;
+    const Scene scene = loadScene(file.write());
+    ASSERT_EQ(scene.textures.size(), 1u);
+    const TextureSampling& sampling = scene.textures[0].sampling;
+    EXPECT_EQ(sampling.wrapU, TextureWrap::ClampToEdge);
+    EXPECT_EQ(sampling.wrapV, TextureWrap::MirroredRepeat);
+    EXPECT_TRUE(sampling.nearestMagnification);
+    EXPECT_FALSE(sampling.nearestMinification);
+    EXPECT_FALSE(sampling.mipmapped);   // LINEAR minification has no mip filter
+    file.gltf["textures"][0]["sampler"] = 3;
+    EXPECT_NE(sceneErrorOf([&] { loadScene(file.write()); }).find("sampler 3"), std::string::npos);
+}
+
 TEST(SceneLoading, MeshesWithoutNormalMapsGetNoTangents) {
     TinyGltf file;
     const Scene scene = loadScene(file.write());

@@ -33,11 +33,26 @@ struct Mesh {
     int32_t material = -1;           // index into Scene::materials; -1 = default material
 };
 
+// How a texture is sampled (the glTF sampler of the texture that uses the image).
+enum class TextureWrap { Repeat, MirroredRepeat, ClampToEdge };
+
+struct TextureSampling {
+    TextureWrap wrapU = TextureWrap::Repeat;
+    TextureWrap wrapV = TextureWrap::Repeat;
+    bool nearestMagnification = false;
+    bool nearestMinification = false;
+    bool nearestMip = false;
+    bool mipmapped = true;     // false: minification reads mip 0 only (glTF NEAREST / LINEAR)
+
+    bool operator==(const TextureSampling&) const = default;
+};
+
 // Decoded 8-bit RGBA texture (images from glTF, row 0 on top).
 struct TextureImage {
     uint32_t width = 0, height = 0;
     std::vector<uint8_t> rgba;
     bool srgb = false;               // base colour and emissive are sRGB; data textures are not
+    TextureSampling sampling;
     std::string name;
 };
 
