@@ -152,7 +152,8 @@ struct Renderer::Impl {
     std::vector<rhi::TextureHandle> textures;
     std::vector<rhi::SamplerHandle> textureSamplers;   // per scene texture, shared between equal samplings
     rhi::TextureHandle whiteTexture, flatNormalTexture;
-    rhi::SamplerHandle materialSampler, pointSampler;
+    rhi::SamplerHandle materialSampler;
+    rhi::SamplerHandle targetSampler;   // reads the HDR target with texelFetch: filtering never applies
     rhi::BufferHandle frameUniforms, drawUniforms, tonemapUniforms;
     rhi::BindingSetHandle frameBindings, tonemapBindings;
     rhi::TextureHandle hdrTarget, depthTarget, displayImage;
@@ -270,7 +271,7 @@ struct Renderer::Impl {
             if (it == samplers.end()) it = samplers.insert(samplers.end(), {image.sampling, createSampler(image.sampling)});
             textureSamplers.push_back(it->second);
         }
-        pointSampler = device.createSampler(rhi::SamplerDesc{}.setFilter(rhi::Filter::Nearest).setAddress(rhi::AddressMode::ClampToEdge));
+        targetSampler = device.createSampler(rhi::SamplerDesc{}.setFilter(rhi::Filter::Nearest).setAddress(rhi::AddressMode::ClampToEdge));
     }
 
     void uploadMeshes(const Scene& scene) {
@@ -403,7 +404,7 @@ struct Renderer::Impl {
             rhi::BufferDesc{}.setSize(sizeof(uniforms)).setUsage(rhi::BufferUsage::Uniform).setDebugName("tonemap uniforms"));
         device.writeBuffer(tonemapUniforms, &uniforms, sizeof(uniforms));
         rhi::BindingSetDesc bindings;
-        bindings.add(rhi::BindingItem::uniformBuffer(0, tonemapUniforms)).add(rhi::BindingItem::sampledTexture(1, hdrTarget, pointSampler));
+        bindings.add(rhi::BindingItem::uniformBuffer(0, tonemapUniforms)).add(rhi::BindingItem::sampledTexture(1, hdrTarget, targetSampler));
         if (settings.path == FeaturePath::Compute) {
             bindings.add(rhi::BindingItem::storageImage(2, displayImage));
             tonemapPipeline = device.createComputePipeline(
