@@ -210,6 +210,9 @@ void GLCommandList::setViewport(const Viewport& viewport) {
 
 void GLCommandList::setScissor(const ScissorRect& scissor) {
     requireInsideRenderPass("setScissor");
+    if (scissor.x < 0 || scissor.y < 0)
+        throw Error(ErrorCode::InvalidUsage,
+                    fmt::format("setScissor: offset ({}, {}) is negative; scissor offsets must be >= 0", scissor.x, scissor.y));
     record([scissor](GLDevice& device) {
         device.gl().glScissor(scissor.x, scissor.y, GLsizei(scissor.width), GLsizei(scissor.height));
     });

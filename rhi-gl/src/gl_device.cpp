@@ -405,6 +405,23 @@ PipelineHandle GLDevice::createGraphicsPipeline(const GraphicsPipelineDesc& desc
             throw Error(ErrorCode::InvalidDescription,
                         fmt::format("{}: vertex attribute location {} is above the limit of 15", name, attribute.location));
     }
+    // GL would feed a missing attribute as (0, 0, 0, 1) and reinterpret a float attribute read as
+    // an integer; Vulkan's validation rejects both, so reject them here too.
+    for (const ShaderInput& input : static_cast<const GLShader&>(*desc.vertexShader).inputs()) {
+        auto attribute = std::find_if(desc.vertexAttributes.begin(), desc.vertexAttributes.end(),
+                                      [&](const VertexAttribute& a) { return a.location == input.location; });
+        if (attribute == desc.vertexAttributes.end())
+            throw Error(ErrorCode::InvalidDescription,
+                        fmt::format("{}: the vertex shader reads location {}, but no vertex attribute feeds it; add "
+                                    "one with addVertexAttribute",
+                                    name, input.location));
+        const bool integerFormat = attribute->format == VertexFormat::UInt1;
+        if (integerFormat != input.integer)
+            throw Error(ErrorCode::InvalidDescription,
+                        fmt::format("{}: vertex attribute at location {} is {} but the shader reads it as {}", name,
+                                    input.location, integerFormat ? "an integer format (UInt1)" : "a float format",
+                                    input.integer ? "an integer" : "a float"));
+    }
     for (size_t i = 0; i < desc.colorFormats.size(); ++i) {
         const Format format = desc.colorFormats[i];
         const bool blends = i < desc.blend.size() && desc.blend[i].enable;

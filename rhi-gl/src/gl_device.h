@@ -145,6 +145,12 @@ struct ShaderBinding {
     std::optional<TextureDimension> dimension;   // textures and images
 };
 
+// A vertex shader input (from reflection), to check the pipeline's vertex attributes against.
+struct ShaderInput {
+    uint32_t location;
+    bool integer;   // int/uint: needs an integer attribute format (and vice versa)
+};
+
 // A texture unit nobody binds resources to (bindings are < 16 by convention), so creating or
 // updating a texture never disturbs a bound binding set.
 inline constexpr GLuint kScratchTextureUnit = 31;
@@ -160,6 +166,7 @@ public:
     std::string translatedSource() const override { return m_source; }
     GLuint name() const { return m_name; }
     const std::vector<ShaderBinding>& bindings() const { return m_bindings; }
+    const std::vector<ShaderInput>& inputs() const { return m_inputs; }
 
 private:
     ContextPtr m_context;
@@ -167,6 +174,7 @@ private:
     std::string m_source;
     GLuint m_name = 0;
     std::vector<ShaderBinding> m_bindings;
+    std::vector<ShaderInput> m_inputs;
 };
 
 class GLPipeline final : public IPipeline {

@@ -43,6 +43,7 @@ std::string shaderLabel(const ShaderDesc& desc) {
 struct Translation {
     std::string source;
     std::vector<ShaderBinding> bindings;
+    std::vector<ShaderInput> inputs;
 };
 
 // Names every resource after its binding and every stage variable after its location, so that
@@ -50,9 +51,18 @@ struct Translation {
 // no `binding` layout, and (b) vertex outputs match fragment inputs whatever the sources called them.
 Translation translate(const ShaderDesc& desc, bool es) {
     spirv_cross::CompilerGLSL compiler(desc.spirv);
+    const std::string label = shaderLabel(desc);
+    const auto entryPoints = compiler.get_entry_points_and_stages();
+    const bool hasEntry = std::any_of(entryPoints.begin(), entryPoints.end(), [&](const spirv_cross::EntryPoint& e) {
+        return e.name == desc.entryPoint && e.execution_model == executionModel(desc.stage);
+    });
+    if (!hasEntry)
+        throw Error(ErrorCode::ShaderTranslation,
+                    fmt::format("{}: the SPIR-V has no {} entry point named '{}'; check ShaderDesc::stage and "
+                                "entryPoint against the shader",
+                                label, toString(desc.stage), desc.entryPoint));
     compiler.set_entry_point(desc.entryPoint, executionModel(desc.stage));
     const spirv_cross::ShaderResources resources = compiler.get_shader_resources();
-    const std::string label = shaderLabel(desc);
 
     if (!resources.separate_images.empty() || !resources.separate_samplers.empty())
         throw Error(ErrorCode::ShaderTranslation,
@@ -111,6 +121,11 @@ Translation translate(const ShaderDesc& desc, bool es) {
         }
     };
     if (desc.stage == ShaderStage::Vertex) {
+        for (const auto& r : resources.stage_inputs) {
+            const auto baseType = compiler.get_type(r.base_type_id).basetype;
+            const bool integer = baseType == spirv_cross::SPIRType::Int || baseType == spirv_cross::SPIRType::UInt;
+            result.inputs.push_back({compiler.get_decoration(r.id, spv::DecorationLocation), integer});
+        }
         renameByLocation(resources.stage_inputs, "janus_attribute");
         renameByLocation(resources.stage_outputs, "janus_varying");
     } else if (desc.stage == ShaderStage::Fragment) {
@@ -170,6 +185,7 @@ GLShader::GLShader(ContextPtr context, const ShaderDesc& desc) : m_context(std::
     }
     m_source = std::move(translation.source);
     m_bindings = std::move(translation.bindings);
+    m_inputs = std::move(translation.inputs);
 
     const GLFunctions& gl = m_context->gl;
     m_name = gl.glCreateShader(shaderType(desc.stage));
