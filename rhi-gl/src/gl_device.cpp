@@ -345,12 +345,12 @@ TextureHandle GLDevice::createTexture(const TextureDesc& desc) {
     const FormatInfo& info = formatInfo(desc.format);
     if (any(desc.usage, TextureUsage::Storage)) {
         require(Capability::StorageImages, "TextureUsage::Storage");
-        if (info.srgb || info.kind == FormatKind::Depth || desc.format == Format::R11G11B10_FLOAT ||
-            desc.dimension == TextureDimension::TextureCube)
+        // GL has no sRGB or depth image formats for load/store (and neither do most Vulkan drivers).
+        if (info.srgb || info.kind == FormatKind::Depth)
             throw Error(ErrorCode::InvalidDescription,
-                        fmt::format("{}: TextureUsage::Storage is not available for {} {} textures; use a linear "
-                                    "colour format (rgba8, rgba16f, rgba32f, r32f, r32ui) on a 2D or 3D texture",
-                                    name, toString(desc.format), toString(desc.dimension)));
+                        fmt::format("{}: TextureUsage::Storage is not available for {} textures; use a linear "
+                                    "colour format (rgba8, rgba16f, rgba32f, r11g11b10f, r32f, r32ui)",
+                                    name, toString(desc.format)));
     }
     if (any(desc.usage, TextureUsage::RenderTarget) && info.kind == FormatKind::Float)
         require(Capability::FloatRenderTargets, fmt::format("rendering to a {} texture", toString(desc.format)));
