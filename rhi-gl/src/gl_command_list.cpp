@@ -494,6 +494,7 @@ void GLDevice::beginRenderPass(const RenderPassDesc& desc) {
 
 void GLDevice::bindPipeline(const GLPipeline& pipeline) {
     m_pipeline = &pipeline;
+    m_vertexStateDirty = true;
     pipeline.applyState();
 }
 
@@ -528,7 +529,10 @@ void GLDevice::bindBindingSet(const BindingSetDesc& desc) {
     }
 }
 
-void GLDevice::setVertexBuffer(uint32_t slot, GLuint buffer, uint64_t offset) { m_vertexBuffers[slot] = {buffer, offset}; }
+void GLDevice::setVertexBuffer(uint32_t slot, GLuint buffer, uint64_t offset) {
+    m_vertexBuffers[slot] = {buffer, offset};
+    m_vertexStateDirty = true;
+}
 
 void GLDevice::setIndexBuffer(GLuint buffer, IndexType type, uint64_t offset) {
     m_indexBuffer = buffer;
@@ -537,6 +541,9 @@ void GLDevice::setIndexBuffer(GLuint buffer, IndexType type, uint64_t offset) {
 }
 
 void GLDevice::bindVertexAttributes(int64_t baseVertexOffset) {
+    if (!m_vertexStateDirty && baseVertexOffset == m_vertexStateBase) return;
+    m_vertexStateDirty = false;
+    m_vertexStateBase = baseVertexOffset;
     const GLFunctions& f = gl();
     const GraphicsPipelineDesc& desc = m_pipeline->graphics();
     uint32_t wanted = 0;
@@ -574,12 +581,19 @@ void GLDevice::bindVertexAttributes(int64_t baseVertexOffset) {
     m_enabledAttributes = wanted;
 }
 
+void GLDevice::setBaseInstance(uint32_t firstInstance) {
+    // SPIRV-Cross emulates gl_InstanceIndex as gl_InstanceID + this uniform (0 after linking).
+    const GLint location = m_pipeline->baseInstanceLocation();
+    if (location < 0 || GLint(firstInstance) == m_pipeline->baseInstanceValue) return;
+    gl().glUniform1i(location, GLint(firstInstance));
+    m_pipeline->baseInstanceValue = GLint(firstInstance);
+}
+
 void GLDevice::draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance) {
     const GLFunctions& f = gl();
     bindVertexAttributes(0);
     const GLenum mode = primitiveMode(m_pipeline->graphics().topology);
-    // SPIRV-Cross emulates gl_InstanceIndex as gl_InstanceID + this uniform.
-    if (m_pipeline->baseInstanceLocation() >= 0) f.glUniform1i(m_pipeline->baseInstanceLocation(), GLint(firstInstance));
+    setBaseInstance(firstInstance);
     if (firstInstance != 0)
         f.glDrawArraysInstancedBaseInstance(mode, GLint(firstVertex), GLsizei(vertexCount), GLsizei(instanceCount),
                                             firstInstance);
@@ -594,8 +608,11 @@ void GLDevice::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t
     const GLenum type = m_indexType == IndexType::UInt16 ? GL_UNSIGNED_SHORT : GL_UNSIGNED_INT;
     const uint64_t indexSize = m_indexType == IndexType::UInt16 ? 2 : 4;
     const auto indices = reinterpret_cast<const void*>(uintptr_t(m_indexOffset + uint64_t(firstIndex) * indexSize));
-    if (m_pipeline->baseInstanceLocation() >= 0) f.glUniform1i(m_pipeline->baseInstanceLocation(), GLint(firstInstance));
-    f.glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, m_indexBuffer);
+    setBaseInstance(firstInstance);
+    if (m_boundIndexBuffer != m_indexBuffer) {
+        f.glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, m_indexBuffer);
+        m_boundIndexBuffer = m_indexBuffer;
+    }
     if (!isES()) {
         bindVertexAttributes(0);
         f.glDrawElementsInstancedBaseVertexBaseInstance(mode, GLsizei(indexCount), type, indices, GLsizei(instanceCount),

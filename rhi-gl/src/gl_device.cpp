@@ -544,6 +544,8 @@ void GLDevice::execute(const CommandListHandle& commandList) {
     m_pipeline = nullptr;
     m_vertexBuffers.clear();
     m_indexBuffer = 0;
+    m_vertexStateDirty = true;
+    m_boundIndexBuffer = 0;
     list->replay();
     m_pipeline = nullptr;
 }

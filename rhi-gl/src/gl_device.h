@@ -188,6 +188,8 @@ public:
     const GraphicsPipelineDesc& graphics() const { return m_graphics; }
     // Location of SPIRV-Cross's emulated gl_InstanceIndex base, or -1.
     GLint baseInstanceLocation() const { return m_baseInstanceLocation; }
+    // The value that uniform holds (program state, so it survives switching programs).
+    mutable GLint baseInstanceValue = 0;
     const std::vector<ShaderBinding>& bindings() const { return m_bindings; }
     // Applies rasterizer, depth and blend state.
     void applyState() const;
@@ -350,6 +352,7 @@ private:
     void setupDebugOutput();
     void setupDefaultState();
     void bindVertexAttributes(int64_t baseVertexOffset);
+    void setBaseInstance(uint32_t firstInstance);
     bool hasExtension(std::string_view name) const;
 
     ContextPtr m_context;
@@ -369,6 +372,11 @@ private:
     IndexType m_indexType = IndexType::UInt32;
     uint64_t m_indexOffset = 0;
     uint32_t m_enabledAttributes = 0;   // bit per location
+    // Draw-to-draw redundancy: attribute pointers, index buffer and base-instance uniform are only
+    // respecified when something they depend on changed.
+    bool m_vertexStateDirty = true;
+    int64_t m_vertexStateBase = 0;
+    GLuint m_boundIndexBuffer = 0;
     uint32_t m_renderWidth = 0, m_renderHeight = 0;
 };
 
