@@ -3,19 +3,24 @@
 // Ownership: every object holds a shared_ptr to the Context (instance + device), so handles that
 // outlive the IDevice stay valid and the VkDevice is destroyed after the last of them.
 // Synchronisation (see docs/ARCHITECTURE.md): images live in VK_IMAGE_LAYOUT_GENERAL from
-// creation on, and a full memory barrier precedes every render pass, dispatch and copy.
+// creation on; a command list tracks what its commands read and write since its last barrier
+// (HazardTracker) and emits a memory barrier only before a command with a real hazard.
 #pragma once
 
 #include <vulkan/vulkan.h>
 
 #include <array>
+#include <atomic>
+#include <typeinfo>
 #include <functional>
+#include <initializer_list>
 #include <map>
 #include <memory>
 #include <mutex>
 #include <string>
 #include <string_view>
 #include <tuple>
+#include <type_traits>
 #include <vector>
 
 #include "janus/rhi/backends.h"
@@ -39,6 +44,9 @@ struct ReflectedBinding {
     uint32_t count = 1;
     VkShaderStageFlags stages = 0;
     VkImageViewType viewType = VK_IMAGE_VIEW_TYPE_2D;   // images only: the view the shader expects
+    // Storage buffers / images: whether some stage may write it (no NonWritable decoration).
+    // Uniform buffers and sampled textures are never written.
+    bool written = false;
     std::string name;
 };
 
@@ -116,14 +124,75 @@ void fullBarrier(VkCommandBuffer cmd);
 void hostBarrier(VkCommandBuffer cmd);
 
 // Casts an RHI handle to this backend's class; throws InvalidUsage for null or foreign objects.
+// The backend classes are final, so comparing the dynamic type is exact and cheaper than
+// dynamic_cast (this runs on every bind and draw).
 template <class Native, class Interface>
 Native* native(const std::shared_ptr<Interface>& handle, std::string_view what) {
-    auto* result = dynamic_cast<Native*>(handle.get());
-    if (!result)
+    static_assert(std::is_final_v<Native>);
+    if (!handle || typeid(*handle) != typeid(Native))
         throw Error(ErrorCode::InvalidUsage,
                     std::string(what) + (handle ? " was not created by this Vulkan device" : " is null"));
-    return result;
+    return static_cast<Native*>(handle.get());
 }
+
+// The recording that last kept an object alive (CommandList::keep), so each object is kept once
+// per recording instead of once per use. Relaxed atomics: two lists recording at once at worst
+// keep an object twice, which is harmless.
+struct KeepMark {
+    std::atomic<uint64_t> recording{0};
+};
+
+// What one command does to one resource, for hazard tracking. Buffers are tracked by byte
+// range; textures by subresource key (mip << 32 | layer, see subresourceKeys).
+struct KeyRange {
+    uint64_t begin = 0;
+    uint64_t end = 0;   // exclusive
+};
+struct ResourceAccess {
+    const void* resource = nullptr;   // the Buffer or Texture
+    KeyRange range;
+    VkPipelineStageFlags stages = 0;
+    VkAccessFlags access = 0;
+    bool write = false;               // read-write accesses count as writes
+};
+inline KeyRange subresourceKeys(uint32_t mip, uint32_t layer) {
+    const uint64_t key = uint64_t(mip) << 32 | layer;
+    return {key, key + 1};
+}
+inline KeyRange mipKeys(uint32_t mip) { return {uint64_t(mip) << 32, uint64_t(mip + 1) << 32}; }
+inline constexpr KeyRange kAllSubresources{0, UINT64_MAX};
+
+// The accesses of one command list since its last barrier. A command whose accesses conflict
+// with them (read or write after a write, write after a read) needs a barrier first; barrier()
+// emits one that orders everything tracked before all later commands and starts afresh.
+class HazardTracker {
+public:
+    // Start of a command list: earlier submissions may have written anything.
+    void reset();
+    bool conflicts(const ResourceAccess& access) const;
+    void record(const ResourceAccess& access);
+    bool hasWrites() const { return m_unknownWrites || m_srcAccess != 0; }
+    void barrier(VkCommandBuffer cmd);
+
+private:
+    // Sorted, disjoint, non-adjacent ranges (adjacent ones merge, so a run of neighbouring
+    // slices stays one range).
+    struct RangeSet {
+        std::vector<KeyRange> ranges;
+        bool overlaps(KeyRange range) const;
+        void add(KeyRange range);
+    };
+    struct Tracked {
+        const void* resource;
+        RangeSet reads;
+        RangeSet writes;
+    };
+    const Tracked* find(const void* resource) const;
+    std::vector<Tracked> m_tracked;   // few resources between two barriers: a linear search wins
+    bool m_unknownWrites = true;
+    VkPipelineStageFlags m_srcStages = 0;
+    VkAccessFlags m_srcAccess = 0;
+};
 
 // ---------------------------------------------------------------------------------------------
 
@@ -134,6 +203,7 @@ public:
     const BufferDesc& desc() const override { return m_desc; }
 
     VkBuffer buffer = VK_NULL_HANDLE;
+    KeepMark keepMark;
 
 private:
     void zeroFill(const VkMemoryRequirements& requirements, VkMemoryPropertyFlags memoryFlags);
@@ -185,6 +255,7 @@ public:
     VkImage image = VK_NULL_HANDLE;
     VkFormat format = VK_FORMAT_UNDEFINED;
     VkImageAspectFlags aspect = 0;
+    KeepMark keepMark;
 
 private:
     ContextPtr m_context;
@@ -237,6 +308,8 @@ public:
     std::array<const DescriptorSetLayoutInfo*, kMaxSets> sets{};
     GraphicsPipelineDesc graphicsDesc;   // graphics only: formats and vertex slots for draw checks
     std::string debugName;
+    uint32_t usedSets = 0;               // bit s: set s has bindings
+    KeepMark keepMark;
 
 private:
     void createLayout(const std::vector<const Shader*>& shaders);
@@ -251,18 +324,30 @@ public:
     ~BindingSet() override;
     const BindingSetDesc& desc() const override { return m_desc; }
 
-    // The descriptor set holding these resources for `layout`, written on first use.
-    VkDescriptorSet descriptorSetFor(const DescriptorSetLayoutInfo& layout, uint32_t set);
-
-private:
-    ContextPtr m_context;
-    BindingSetDesc m_desc;
-    struct Allocation {
+    // The descriptor set holding these resources for one set layout, and what a command using
+    // it reads and writes.
+    struct LayoutUse {
+        VkDescriptorSetLayout layout = VK_NULL_HANDLE;
         VkDescriptorPool pool = VK_NULL_HANDLE;
         VkDescriptorSet set = VK_NULL_HANDLE;
+        std::vector<ResourceAccess> accesses;
     };
+    // Written on first use; the last one used is found without a lock (binds are hot).
+    const LayoutUse& useWith(const DescriptorSetLayoutInfo& layout, uint32_t set) {
+        const LayoutUse* last = m_last.load(std::memory_order_acquire);
+        if (last && last->layout == layout.layout) return *last;
+        return createOrFind(layout, set);
+    }
+
+    KeepMark keepMark;
+
+private:
+    const LayoutUse& createOrFind(const DescriptorSetLayoutInfo& layout, uint32_t set);
+    ContextPtr m_context;
+    BindingSetDesc m_desc;
     std::mutex m_mutex;
-    std::map<VkDescriptorSetLayout, Allocation> m_sets;
+    std::map<VkDescriptorSetLayout, std::unique_ptr<LayoutUse>> m_sets;   // nodes never move
+    std::atomic<const LayoutUse*> m_last{nullptr};
 };
 
 class TimerQuery final : public ITimerQuery {
@@ -320,9 +405,19 @@ private:
     enum class State { Initial, Recording, Executable };
     void requireRecording(std::string_view call) const;
     void requireOutsideRenderPass(std::string_view call) const;
-    void bindDescriptorSets(Pipeline& pipeline, VkPipelineBindPoint bindPoint, uint32_t& dirtyMask);
+    void bindDescriptorSets(Pipeline& pipeline, VkPipelineBindPoint bindPoint, uint32_t& dirtyMask,
+                            std::array<const BindingSet::LayoutUse*, Pipeline::kMaxSets>& uses);
+    void checkDrawState(std::string_view call);
     void prepareDraw(std::string_view call);
-    void keep(std::shared_ptr<void> object) { m_keepAlive.push_back(std::move(object)); }
+    // Barrier first if any of `accesses` conflicts with what was tracked, then tracks them.
+    void access(std::initializer_list<ResourceAccess> accesses);
+    // Keeps `handle` alive until this list is re-begun or destroyed, once per recording.
+    template <class Interface>
+    void keep(const std::shared_ptr<Interface>& handle, KeepMark& mark) {
+        if (mark.recording.load(std::memory_order_relaxed) == m_recordingId) return;
+        mark.recording.store(m_recordingId, std::memory_order_relaxed);
+        m_keepAlive.push_back(handle);
+    }
 
     ContextPtr m_context;
     VkCommandPool m_pool = VK_NULL_HANDLE;
@@ -331,6 +426,8 @@ private:
     VkFence m_fence = VK_NULL_HANDLE;
     bool m_pending = false;
     State m_state = State::Initial;
+    uint64_t m_recordingId = 0;   // unique across all lists, for KeepMark
+    HazardTracker m_hazards;
 
     std::vector<std::shared_ptr<void>> m_keepAlive;
     std::vector<std::shared_ptr<StagingBuffer>> m_staging;
@@ -345,13 +442,29 @@ private:
     bool m_inRenderPass = false;
     std::vector<Format> m_passColorFormats;
     Format m_passDepthFormat = Format::Unknown;
-    std::shared_ptr<Pipeline> m_graphicsPipeline;
-    std::shared_ptr<Pipeline> m_computePipeline;
-    std::array<std::shared_ptr<BindingSet>, Pipeline::kMaxSets> m_bindingSets;
+    // Bound objects; m_keepAlive owns them.
+    Pipeline* m_graphicsPipeline = nullptr;
+    Pipeline* m_computePipeline = nullptr;
+    std::array<BindingSet*, Pipeline::kMaxSets> m_bindingSets{};
+    // What is bound to each set for each bind point (updated when the sets are bound).
+    std::array<const BindingSet::LayoutUse*, Pipeline::kMaxSets> m_graphicsSetUses{};
+    std::array<const BindingSet::LayoutUse*, Pipeline::kMaxSets> m_computeSetUses{};
     uint32_t m_dirtyGraphicsSets = 0;
     uint32_t m_dirtyComputeSets = 0;
-    std::vector<bool> m_vertexSlotBound;
-    bool m_indexBufferBound = false;
+    struct VertexBinding {
+        Buffer* buffer = nullptr;
+        uint64_t offset = 0;
+    };
+    std::vector<VertexBinding> m_vertexBindings;
+    Buffer* m_indexBuffer = nullptr;
+    uint64_t m_indexOffset = 0;
+    VkIndexType m_indexType = VK_INDEX_TYPE_UINT16;
+    // Draw-time work done once per render pass / state change rather than per draw: the state
+    // checks, and tracking what the draws read (no barrier is possible inside a pass anyway).
+    bool m_drawStateChecked = false;
+    uint32_t m_passTrackedSets = 0;   // bit s: set s's accesses are tracked for this pass
+    bool m_passTrackedVertices = false;
+    bool m_passTrackedIndices = false;
     int m_debugGroupDepth = 0;
 };
 

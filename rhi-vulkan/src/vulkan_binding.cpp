@@ -39,6 +39,44 @@ const char* viewTypeName(VkImageViewType type) {
     }
 }
 
+VkPipelineStageFlags pipelineStagesOf(VkShaderStageFlags shaderStages) {
+    VkPipelineStageFlags stages = 0;
+    if (shaderStages & VK_SHADER_STAGE_VERTEX_BIT) stages |= VK_PIPELINE_STAGE_VERTEX_SHADER_BIT;
+    if (shaderStages & VK_SHADER_STAGE_FRAGMENT_BIT) stages |= VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT;
+    if (shaderStages & VK_SHADER_STAGE_COMPUTE_BIT) stages |= VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
+    return stages;
+}
+
+// What a command using `item` through binding `b` reads or writes.
+ResourceAccess accessOf(const BindingItem& item, const ReflectedBinding& b) {
+    ResourceAccess access;
+    access.stages = pipelineStagesOf(b.stages);
+    access.write = b.written;
+    switch (b.type) {
+        case VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER:
+        case VK_DESCRIPTOR_TYPE_STORAGE_BUFFER: {
+            const uint64_t size = item.buffer->desc().size;
+            access.resource = item.buffer.get();
+            access.range = {item.offset, item.range ? item.offset + item.range : size};
+            access.access = b.type == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER ? VK_ACCESS_UNIFORM_READ_BIT
+                            : b.written ? VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT
+                                        : VK_ACCESS_SHADER_READ_BIT;
+            break;
+        }
+        case VK_DESCRIPTOR_TYPE_STORAGE_IMAGE:
+            access.resource = item.texture.get();
+            access.range = mipKeys(item.mipLevel);
+            access.access = b.written ? VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT : VK_ACCESS_SHADER_READ_BIT;
+            break;
+        default:   // sampled texture: every mip may be read
+            access.resource = item.texture.get();
+            access.range = kAllSubresources;
+            access.access = VK_ACCESS_SHADER_READ_BIT;
+            break;
+    }
+    return access;
+}
+
 bool viewFits(TextureDimension dim, VkImageViewType type) {
     switch (dim) {
         case TextureDimension::Texture2D: return type == VK_IMAGE_VIEW_TYPE_2D || type == VK_IMAGE_VIEW_TYPE_2D_ARRAY;
@@ -108,12 +146,15 @@ BindingSet::BindingSet(ContextPtr context, const BindingSetDesc& desc) : m_conte
 }
 
 BindingSet::~BindingSet() {
-    for (auto& [layout, allocation] : m_sets) vkDestroyDescriptorPool(m_context->device, allocation.pool, nullptr);
+    for (auto& [layout, use] : m_sets) vkDestroyDescriptorPool(m_context->device, use->pool, nullptr);
 }
 
-VkDescriptorSet BindingSet::descriptorSetFor(const DescriptorSetLayoutInfo& layout, uint32_t set) {
+const BindingSet::LayoutUse& BindingSet::createOrFind(const DescriptorSetLayoutInfo& layout, uint32_t set) {
     std::lock_guard lock(m_mutex);
-    if (auto it = m_sets.find(layout.layout); it != m_sets.end()) return it->second.set;
+    if (auto it = m_sets.find(layout.layout); it != m_sets.end()) {
+        m_last.store(it->second.get(), std::memory_order_release);
+        return *it->second;
+    }
 
     // Check everything before creating anything, so a failure leaves no half-written set.
     std::vector<const BindingItem*> items;
@@ -145,7 +186,9 @@ VkDescriptorSet BindingSet::descriptorSetFor(const DescriptorSetLayoutInfo& layo
         else
             it->descriptorCount += b.count;
     }
-    Allocation allocation;
+    auto use = std::make_unique<LayoutUse>();
+    LayoutUse& allocation = *use;
+    allocation.layout = layout.layout;
     VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     poolInfo.maxSets = 1;
     poolInfo.poolSizeCount = uint32_t(sizes.size());
@@ -201,8 +244,10 @@ VkDescriptorSet BindingSet::descriptorSetFor(const DescriptorSetLayoutInfo& layo
         throw;
     }
     vkUpdateDescriptorSets(m_context->device, uint32_t(writes.size()), writes.data(), 0, nullptr);
-    m_sets.emplace(layout.layout, allocation);
-    return allocation.set;
+    for (size_t i = 0; i < items.size(); ++i) allocation.accesses.push_back(accessOf(*items[i], layout.bindings[i]));
+    const LayoutUse* created = m_sets.emplace(layout.layout, std::move(use)).first->second.get();
+    m_last.store(created, std::memory_order_release);
+    return *created;
 }
 
 }  // namespace janus::rhi::vulkan

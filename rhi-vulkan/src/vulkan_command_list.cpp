@@ -1,7 +1,8 @@
-// Command lists: recording with state checks, conservative barriers, submission with a fence.
+// Command lists: recording with state checks, barriers from hazard tracking, submission with a fence.
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cstring>
 
 #include "vulkan_backend.h"
@@ -23,7 +24,44 @@ void checkBufferRange(const Buffer& buffer, uint64_t offset, uint64_t size, std:
                                 offset, offset + size, total, buffer.desc().debugName));
 }
 
+// Recording ids are unique across all command lists of all devices (see KeepMark).
+std::atomic<uint64_t> g_nextRecordingId{1};
+
+ResourceAccess bufferAccess(const Buffer& buffer, uint64_t offset, uint64_t size, VkPipelineStageFlags stages,
+                            VkAccessFlags access, bool write) {
+    return {&buffer, {offset, offset + size}, stages, access, write};
+}
+
+ResourceAccess textureAccess(const Texture& texture, KeyRange range, VkPipelineStageFlags stages,
+                             VkAccessFlags access, bool write) {
+    return {&texture, range, stages, access, write};
+}
+
+ResourceAccess transferRead(const Buffer& buffer, uint64_t offset, uint64_t size) {
+    return bufferAccess(buffer, offset, size, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT, false);
+}
+ResourceAccess transferWrite(const Buffer& buffer, uint64_t offset, uint64_t size) {
+    return bufferAccess(buffer, offset, size, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, true);
+}
+ResourceAccess transferRead(const Texture& texture, KeyRange range) {
+    return textureAccess(texture, range, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT, false);
+}
+ResourceAccess transferWrite(const Texture& texture, KeyRange range) {
+    return textureAccess(texture, range, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, true);
+}
+
+KeyRange keysOf(TextureSubresource sub) { return subresourceKeys(sub.mipLevel, sub.layer); }
+
 }  // namespace
+
+void CommandList::access(std::initializer_list<ResourceAccess> accesses) {
+    for (const ResourceAccess& a : accesses)
+        if (m_hazards.conflicts(a)) {
+            m_hazards.barrier(m_commands);
+            break;
+        }
+    for (const ResourceAccess& a : accesses) m_hazards.record(a);
+}
 
 CommandList::CommandList(ContextPtr context) : m_context(std::move(context)) {
     VkDevice device = m_context->device;
@@ -81,13 +119,18 @@ void CommandList::begin() {
     VkCommandBufferBeginInfo info{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
     check(vkBeginCommandBuffer(m_commands, &info), ErrorCode::DeviceLost, "vkBeginCommandBuffer");
     m_state = State::Recording;
+    m_recordingId = g_nextRecordingId.fetch_add(1, std::memory_order_relaxed);
+    m_hazards.reset();
     m_inRenderPass = false;
-    m_graphicsPipeline.reset();
-    m_computePipeline.reset();
+    m_graphicsPipeline = nullptr;
+    m_computePipeline = nullptr;
     m_bindingSets = {};
+    m_graphicsSetUses = {};
+    m_computeSetUses = {};
     m_dirtyGraphicsSets = m_dirtyComputeSets = 0;
-    m_vertexSlotBound.clear();
-    m_indexBufferBound = false;
+    m_vertexBindings.clear();
+    m_indexBuffer = nullptr;
+    m_drawStateChecked = false;
     m_debugGroupDepth = 0;
 }
 
@@ -135,6 +178,7 @@ void CommandList::beginRenderPass(const RenderPassDesc& desc) {
 
     std::optional<VkExtent2D> extent;
     std::vector<Format> colorFormats;
+    std::vector<ResourceAccess> attachmentAccesses;
     auto attach = [&](const Attachment& a, bool depth, const std::string& what) {
         auto* texture = native<Texture>(a.texture, what);
         const TextureDesc& tdesc = texture->desc();
@@ -153,7 +197,17 @@ void CommandList::beginRenderPass(const RenderPassDesc& desc) {
                                     "attachments must have the same size", what, tdesc.debugName, e.width, e.height,
                                     extent->width, extent->height));
         extent = VkExtent2D{e.width, e.height};
-        keep(a.texture);
+        keep(a.texture, texture->keepMark);
+        // Load and store ops read and write the attachment; counting it as written covers both.
+        attachmentAccesses.push_back(
+            depth ? textureAccess(*texture, keysOf(a.subresource),
+                                  VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT,
+                                  VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT |
+                                      VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
+                                  true)
+                  : textureAccess(*texture, keysOf(a.subresource),
+                                  VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
+                                  VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, true));
 
         VkRenderingAttachmentInfo info{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
         info.imageView = texture->attachmentView(a.subresource);
@@ -180,7 +234,14 @@ void CommandList::beginRenderPass(const RenderPassDesc& desc) {
     VkRenderingAttachmentInfo depthInfo{};
     if (desc.depth) depthInfo = attach(*desc.depth, true, "depth attachment");
 
-    fullBarrier(m_commands);
+    // No barrier is possible between the draws of a pass, and what they will read is not known
+    // yet: anything written since the last barrier is made visible now (one barrier per pass at
+    // most), as is a read of an attachment (write after read).
+    bool hazard = m_hazards.hasWrites();
+    for (const ResourceAccess& a : attachmentAccesses) hazard = hazard || m_hazards.conflicts(a);
+    if (hazard) m_hazards.barrier(m_commands);
+    for (const ResourceAccess& a : attachmentAccesses) m_hazards.record(a);
+
     VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
     info.renderArea = {{0, 0}, *extent};
     info.layerCount = 1;
@@ -190,6 +251,10 @@ void CommandList::beginRenderPass(const RenderPassDesc& desc) {
     m_context->cmdBeginRendering(m_commands, &info);
 
     m_inRenderPass = true;
+    m_drawStateChecked = false;
+    m_passTrackedSets = 0;
+    m_passTrackedVertices = false;
+    m_passTrackedIndices = false;
     m_passColorFormats = std::move(colorFormats);
     m_passDepthFormat = desc.depth ? desc.depth->texture->desc().format : Format::Unknown;
     setViewport({0, 0, float(extent->width), float(extent->height), 0, 1});
@@ -227,15 +292,18 @@ void CommandList::setScissor(const ScissorRect& s) {
 void CommandList::setPipeline(const PipelineHandle& handle) {
     requireRecording("setPipeline()");
     auto* pipeline = native<Pipeline>(handle, "setPipeline(): the pipeline");
-    keep(handle);
-    auto shared = std::shared_ptr<Pipeline>(handle, pipeline);
+    if (pipeline == m_computePipeline || pipeline == m_graphicsPipeline) return;   // already bound
+    keep(handle, pipeline->keepMark);
     if (pipeline->isCompute()) {
-        m_computePipeline = shared;
+        m_computePipeline = pipeline;
         m_dirtyComputeSets = ~0u;
         vkCmdBindPipeline(m_commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline->pipeline);
     } else {
-        m_graphicsPipeline = shared;
+        m_graphicsPipeline = pipeline;
         m_dirtyGraphicsSets = ~0u;
+        m_drawStateChecked = false;
+        m_passTrackedSets = 0;   // another pipeline may use the sets differently
+        m_passTrackedVertices = false;
         vkCmdBindPipeline(m_commands, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline->pipeline);
     }
 }
@@ -247,26 +315,30 @@ void CommandList::setBindingSet(uint32_t set, const BindingSetHandle& bindings) 
                     fmt::format("setBindingSet(): set {} does not exist; sets 0..{} are available", set,
                                 Pipeline::kMaxSets - 1));
     auto* bindingSet = native<BindingSet>(bindings, "setBindingSet(): the binding set");
-    keep(bindings);
-    m_bindingSets[set] = std::shared_ptr<BindingSet>(bindings, bindingSet);
+    if (m_bindingSets[set] == bindingSet) return;   // already bound
+    keep(bindings, bindingSet->keepMark);
+    m_bindingSets[set] = bindingSet;
     m_dirtyGraphicsSets |= 1u << set;
     m_dirtyComputeSets |= 1u << set;
+    m_passTrackedSets &= ~(1u << set);
 }
 
-void CommandList::bindDescriptorSets(Pipeline& pipeline, VkPipelineBindPoint bindPoint, uint32_t& dirtyMask) {
+void CommandList::bindDescriptorSets(Pipeline& pipeline, VkPipelineBindPoint bindPoint, uint32_t& dirtyMask,
+                                     std::array<const BindingSet::LayoutUse*, Pipeline::kMaxSets>& uses) {
+    const uint32_t toBind = dirtyMask & pipeline.usedSets;
     for (uint32_t s = 0; s < Pipeline::kMaxSets; ++s) {
-        if (!(dirtyMask & (1u << s))) continue;
+        if (!(toBind & (1u << s))) continue;
         const DescriptorSetLayoutInfo& layout = *pipeline.sets[s];
-        if (layout.bindings.empty()) continue;
         if (!m_bindingSets[s])
             throw Error(ErrorCode::InvalidUsage,
                         fmt::format("pipeline '{}' reads set {} (binding {} '{}') but no binding set is bound to set "
                                     "{}; call setBindingSet({}, ...)", pipeline.debugName, s, layout.bindings[0].binding,
                                     layout.bindings[0].name, s, s));
-        VkDescriptorSet descriptorSet = m_bindingSets[s]->descriptorSetFor(layout, s);
-        vkCmdBindDescriptorSets(m_commands, bindPoint, pipeline.layout, s, 1, &descriptorSet, 0, nullptr);
+        const BindingSet::LayoutUse& use = m_bindingSets[s]->useWith(layout, s);
+        uses[s] = &use;
+        vkCmdBindDescriptorSets(m_commands, bindPoint, pipeline.layout, s, 1, &use.set, 0, nullptr);
     }
-    dirtyMask = 0;
+    dirtyMask = 0;   // only now: a failed bind above is reported again on the next draw
 }
 
 void CommandList::setVertexBuffer(uint32_t slot, const BufferHandle& handle, uint64_t offset) {
@@ -281,10 +353,14 @@ void CommandList::setVertexBuffer(uint32_t slot, const BufferHandle& handle, uin
     if (slot >= m_context->properties.limits.maxVertexInputBindings)
         throw Error(ErrorCode::InvalidUsage, fmt::format("setVertexBuffer(): slot {} is above the device's {} slots",
                                                          slot, m_context->properties.limits.maxVertexInputBindings));
-    keep(handle);
+    if (m_vertexBindings.size() <= slot) m_vertexBindings.resize(slot + 1);
+    VertexBinding& binding = m_vertexBindings[slot];
+    if (binding.buffer == buffer && binding.offset == offset) return;   // already bound
+    keep(handle, buffer->keepMark);
     vkCmdBindVertexBuffers(m_commands, slot, 1, &buffer->buffer, &offset);
-    if (m_vertexSlotBound.size() <= slot) m_vertexSlotBound.resize(slot + 1, false);
-    m_vertexSlotBound[slot] = true;
+    binding = {buffer, offset};
+    m_drawStateChecked = false;
+    m_passTrackedVertices = false;
 }
 
 void CommandList::setIndexBuffer(const BufferHandle& handle, IndexType type, uint64_t offset) {
@@ -298,16 +374,17 @@ void CommandList::setIndexBuffer(const BufferHandle& handle, IndexType type, uin
         throw Error(ErrorCode::InvalidUsage,
                     fmt::format("setIndexBuffer(): offset {} must be a multiple of {} inside the {}-byte buffer", offset,
                                 indexSize, buffer->desc().size));
-    keep(handle);
-    vkCmdBindIndexBuffer(m_commands, buffer->buffer, offset,
-                         type == IndexType::UInt16 ? VK_INDEX_TYPE_UINT16 : VK_INDEX_TYPE_UINT32);
-    m_indexBufferBound = true;
+    const VkIndexType indexType = type == IndexType::UInt16 ? VK_INDEX_TYPE_UINT16 : VK_INDEX_TYPE_UINT32;
+    if (m_indexBuffer == buffer && m_indexOffset == offset && m_indexType == indexType) return;   // already bound
+    keep(handle, buffer->keepMark);
+    vkCmdBindIndexBuffer(m_commands, buffer->buffer, offset, indexType);
+    m_indexBuffer = buffer;
+    m_indexOffset = offset;
+    m_indexType = indexType;
+    m_passTrackedIndices = false;
 }
 
-void CommandList::prepareDraw(std::string_view call) {
-    requireRecording(call);
-    if (!m_inRenderPass)
-        throw Error(ErrorCode::InvalidUsage, fmt::format("{}: draws need a render pass; call beginRenderPass() first", call));
+void CommandList::checkDrawState(std::string_view call) {
     if (!m_graphicsPipeline)
         throw Error(ErrorCode::InvalidUsage, fmt::format("{}: no graphics pipeline is set; call setPipeline()", call));
     const GraphicsPipelineDesc& desc = m_graphicsPipeline->graphicsDesc;
@@ -317,12 +394,38 @@ void CommandList::prepareDraw(std::string_view call) {
                                 m_graphicsPipeline->debugName, formatList(desc.colorFormats, desc.depthFormat),
                                 formatList(m_passColorFormats, m_passDepthFormat)));
     for (const VertexBufferLayout& layout : desc.vertexBuffers)
-        if (layout.slot >= m_vertexSlotBound.size() || !m_vertexSlotBound[layout.slot])
+        if (layout.slot >= m_vertexBindings.size() || !m_vertexBindings[layout.slot].buffer)
             throw Error(ErrorCode::InvalidUsage,
                         fmt::format("{}: pipeline '{}' reads vertex buffer slot {}, but none is bound; call "
                                     "setVertexBuffer({}, ...)", call, m_graphicsPipeline->debugName, layout.slot,
                                     layout.slot));
-    bindDescriptorSets(*m_graphicsPipeline, VK_PIPELINE_BIND_POINT_GRAPHICS, m_dirtyGraphicsSets);
+    m_drawStateChecked = true;
+}
+
+// Draws cannot be preceded by barriers (beginRenderPass made earlier writes visible), so their
+// accesses are only tracked, for later commands; each binding once per pass.
+void CommandList::prepareDraw(std::string_view call) {
+    requireRecording(call);
+    if (!m_inRenderPass)
+        throw Error(ErrorCode::InvalidUsage, fmt::format("{}: draws need a render pass; call beginRenderPass() first", call));
+    if (!m_drawStateChecked) checkDrawState(call);
+    Pipeline& pipeline = *m_graphicsPipeline;
+    bindDescriptorSets(pipeline, VK_PIPELINE_BIND_POINT_GRAPHICS, m_dirtyGraphicsSets, m_graphicsSetUses);
+    if (const uint32_t untracked = pipeline.usedSets & ~m_passTrackedSets) {
+        for (uint32_t s = 0; s < Pipeline::kMaxSets; ++s)
+            if (untracked & (1u << s))
+                for (const ResourceAccess& a : m_graphicsSetUses[s]->accesses) m_hazards.record(a);
+        m_passTrackedSets |= untracked;
+    }
+    if (!m_passTrackedVertices) {
+        for (const VertexBufferLayout& layout : pipeline.graphicsDesc.vertexBuffers) {
+            const VertexBinding& binding = m_vertexBindings[layout.slot];
+            m_hazards.record(bufferAccess(*binding.buffer, binding.offset, binding.buffer->desc().size - binding.offset,
+                                          VK_PIPELINE_STAGE_VERTEX_INPUT_BIT, VK_ACCESS_VERTEX_ATTRIBUTE_READ_BIT,
+                                          false));
+        }
+        m_passTrackedVertices = true;
+    }
 }
 
 void CommandList::draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance) {
@@ -333,8 +436,13 @@ void CommandList::draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t fi
 void CommandList::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex, int32_t vertexOffset,
                               uint32_t firstInstance) {
     prepareDraw("drawIndexed()");
-    if (!m_indexBufferBound)
+    if (!m_indexBuffer)
         throw Error(ErrorCode::InvalidUsage, "drawIndexed(): no index buffer is bound; call setIndexBuffer()");
+    if (!m_passTrackedIndices) {
+        m_hazards.record(bufferAccess(*m_indexBuffer, m_indexOffset, m_indexBuffer->desc().size - m_indexOffset,
+                                      VK_PIPELINE_STAGE_VERTEX_INPUT_BIT, VK_ACCESS_INDEX_READ_BIT, false));
+        m_passTrackedIndices = true;
+    }
     vkCmdDrawIndexed(m_commands, indexCount, instanceCount, firstIndex, vertexOffset, firstInstance);
 }
 
@@ -349,8 +457,18 @@ void CommandList::dispatch(uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ)
             throw Error(ErrorCode::InvalidUsage,
                         fmt::format("dispatch(): {} groups in dimension {} is above the device limit {}", groups[i],
                                     "xyz"[i], limit[i]));
-    bindDescriptorSets(*m_computePipeline, VK_PIPELINE_BIND_POINT_COMPUTE, m_dirtyComputeSets);
-    fullBarrier(m_commands);
+    Pipeline& pipeline = *m_computePipeline;
+    bindDescriptorSets(pipeline, VK_PIPELINE_BIND_POINT_COMPUTE, m_dirtyComputeSets, m_computeSetUses);
+    // Check every access before tracking any: a dispatch may read one range of a buffer and write
+    // another without a hazard against itself.
+    bool hazard = false;
+    for (uint32_t s = 0; s < Pipeline::kMaxSets && !hazard; ++s)
+        if (pipeline.usedSets & (1u << s))
+            for (const ResourceAccess& a : m_computeSetUses[s]->accesses) hazard = hazard || m_hazards.conflicts(a);
+    if (hazard) m_hazards.barrier(m_commands);
+    for (uint32_t s = 0; s < Pipeline::kMaxSets; ++s)
+        if (pipeline.usedSets & (1u << s))
+            for (const ResourceAccess& a : m_computeSetUses[s]->accesses) m_hazards.record(a);
     vkCmdDispatch(m_commands, groupsX, groupsY, groupsZ);
 }
 
@@ -361,8 +479,9 @@ void CommandList::writeBuffer(const BufferHandle& dst, const void* data, uint64_
     if (!data) throw Error(ErrorCode::InvalidUsage, "writeBuffer(): data is null");
     auto staging = std::make_shared<StagingBuffer>(m_context, size);
     std::memcpy(staging->mapped, data, size);
-    keep(dst);
-    fullBarrier(m_commands);
+    keep(dst, buffer->keepMark);
+    // The staging buffer was written by the host before submission: no device hazard.
+    access({transferWrite(*buffer, dstOffset, size)});
     VkBufferCopy region{0, dstOffset, size};
     vkCmdCopyBuffer(m_commands, staging->buffer, buffer->buffer, 1, &region);
     m_staging.push_back(std::move(staging));
@@ -377,9 +496,9 @@ void CommandList::copyBuffer(const BufferHandle& dst, uint64_t dstOffset, const 
     checkBufferRange(*from, srcOffset, size, "copyBuffer() source");
     if (to == from && srcOffset < dstOffset + size && dstOffset < srcOffset + size)
         throw Error(ErrorCode::InvalidUsage, "copyBuffer(): source and destination ranges overlap in the same buffer");
-    keep(dst);
-    keep(src);
-    fullBarrier(m_commands);
+    keep(dst, to->keepMark);
+    keep(src, from->keepMark);
+    access({transferRead(*from, srcOffset, size), transferWrite(*to, dstOffset, size)});
     VkBufferCopy region{srcOffset, dstOffset, size};
     vkCmdCopyBuffer(m_commands, from->buffer, to->buffer, 1, &region);
 }
@@ -396,9 +515,10 @@ void CommandList::copyBufferToTexture(const TextureHandle& dst, TextureSubresour
         throw Error(ErrorCode::InvalidUsage,
                     fmt::format("copyBufferToTexture(): srcOffset {} must be a multiple of the texel size {}", srcOffset,
                                 texel));
-    keep(dst);
-    keep(src);
-    fullBarrier(m_commands);
+    keep(dst, texture->keepMark);
+    keep(src, buffer->keepMark);
+    access({transferRead(*buffer, srcOffset, texture->subresourceSize(dstSub.mipLevel)),
+            transferWrite(*texture, keysOf(dstSub))});
     VkBufferImageCopy region{};
     region.bufferOffset = srcOffset;
     region.imageSubresource = texture->copyLayers(dstSub);
@@ -419,9 +539,10 @@ void CommandList::copyTextureToBuffer(const BufferHandle& dst, uint64_t dstOffse
         throw Error(ErrorCode::InvalidUsage,
                     fmt::format("copyTextureToBuffer(): dstOffset {} must be a multiple of the texel size {}", dstOffset,
                                 texel));
-    keep(dst);
-    keep(src);
-    fullBarrier(m_commands);
+    keep(dst, buffer->keepMark);
+    keep(src, texture->keepMark);
+    access({transferRead(*texture, keysOf(srcSub)),
+            transferWrite(*buffer, dstOffset, texture->subresourceSize(srcSub.mipLevel))});
     VkBufferImageCopy region{};
     region.bufferOffset = dstOffset;
     region.imageSubresource = texture->copyLayers(srcSub);
@@ -452,9 +573,9 @@ void CommandList::copyTexture(const TextureHandle& dst, TextureSubresource dstSu
                                 srcExtent.width, srcExtent.height, dstExtent.width, dstExtent.height));
     if (to == from && dstSub.mipLevel == srcSub.mipLevel && dstSub.layer == srcSub.layer)
         throw Error(ErrorCode::InvalidUsage, "copyTexture(): source and destination are the same subresource");
-    keep(dst);
-    keep(src);
-    fullBarrier(m_commands);
+    keep(dst, to->keepMark);
+    keep(src, from->keepMark);
+    access({transferRead(*from, keysOf(srcSub)), transferWrite(*to, keysOf(dstSub))});
     VkImageCopy region{};
     region.srcSubresource = from->copyLayers(srcSub);
     region.srcOffset = from->copyOffset(srcSub);
@@ -475,7 +596,7 @@ void CommandList::generateMips(const TextureHandle& handle) {
                     fmt::format("generateMips(): texture '{}' has format {}, which this device cannot filter linearly; "
                                 "write each mip level yourself or use a filterable format",
                                 desc.debugName, toString(desc.format)));
-    keep(handle);
+    keep(handle, texture->keepMark);
     for (uint32_t level = 1; level < desc.mipLevels; ++level) {
         const VkExtent3D from = texture->extent(level - 1), to = texture->extent(level);
         VkImageBlit blit{};
@@ -483,7 +604,8 @@ void CommandList::generateMips(const TextureHandle& handle) {
         blit.srcOffsets[1] = {int32_t(from.width), int32_t(from.height), int32_t(from.depth)};
         blit.dstSubresource = {texture->aspect, level, 0, texture->arrayLayers()};
         blit.dstOffsets[1] = {int32_t(to.width), int32_t(to.height), int32_t(to.depth)};
-        fullBarrier(m_commands);
+        // Each level reads the one written just before: a barrier per level.
+        access({transferRead(*texture, mipKeys(level - 1)), transferWrite(*texture, mipKeys(level))});
         vkCmdBlitImage(m_commands, texture->image, VK_IMAGE_LAYOUT_GENERAL, texture->image, VK_IMAGE_LAYOUT_GENERAL, 1,
                        &blit, VK_FILTER_LINEAR);
     }

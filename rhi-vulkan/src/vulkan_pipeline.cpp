@@ -75,6 +75,11 @@ void reflect(const ShaderDesc& desc, VkShaderStageFlagBits stage, std::vector<Re
                                         "resource per binding", desc.debugName, r.name, b.count));
             b.stages = stage;
             b.viewType = viewTypeOf(spirType);
+            // Hazard tracking treats a storage resource as written unless the shader says readonly.
+            if (type == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER)
+                b.written = !compiler.get_buffer_block_flags(r.id).get(spv::DecorationNonWritable);
+            else if (type == VK_DESCRIPTOR_TYPE_STORAGE_IMAGE)
+                b.written = !compiler.has_decoration(r.id, spv::DecorationNonWritable);
             b.name = r.name;
             if (b.set >= Pipeline::kMaxSets)
                 throw Error(ErrorCode::InvalidDescription,
@@ -210,6 +215,7 @@ void Pipeline::createLayout(const std::vector<const Shader*>& shaders) {
                                                 "stages ('{}' and '{}')", debugName, b.set, b.binding, existing.name,
                                                 b.name));
                     existing.stages |= b.stages;
+                    existing.written = existing.written || b.written;
                     merged = true;
                 }
             }
@@ -222,6 +228,7 @@ void Pipeline::createLayout(const std::vector<const Shader*>& shaders) {
                   [](const ReflectedBinding& a, const ReflectedBinding& b) { return a.binding < b.binding; });
         sets[s] = &m_context->descriptorSetLayout(perSet[s]);
         layouts[s] = sets[s]->layout;
+        if (!perSet[s].empty()) usedSets |= 1u << s;
     }
     VkPipelineLayoutCreateInfo info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
     info.setLayoutCount = kMaxSets;

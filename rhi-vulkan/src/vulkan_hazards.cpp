@@ -1,0 +1,92 @@
+// Hazard tracking inside a command list: barriers only where a command reads or writes what an
+// earlier command since the last barrier wrote, or writes what one read.
+#include <algorithm>
+
+#include "vulkan_backend.h"
+
+namespace janus::rhi::vulkan {
+namespace {
+
+constexpr VkAccessFlags kWriteAccess = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT |
+                                       VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT |
+                                       VK_ACCESS_HOST_WRITE_BIT | VK_ACCESS_MEMORY_WRITE_BIT;
+
+}  // namespace
+
+bool HazardTracker::RangeSet::overlaps(KeyRange range) const {
+    // The first range ending after range.begin is the only candidate.
+    auto it = std::upper_bound(ranges.begin(), ranges.end(), range.begin,
+                               [](uint64_t begin, const KeyRange& r) { return begin < r.end; });
+    return it != ranges.end() && it->begin < range.end;
+}
+
+void HazardTracker::RangeSet::add(KeyRange range) {
+    if (ranges.empty() || ranges.back().end < range.begin) {
+        ranges.push_back(range);   // the common case: past everything tracked
+        return;
+    }
+    auto first = std::lower_bound(ranges.begin(), ranges.end(), range.begin,
+                                  [](const KeyRange& r, uint64_t begin) { return r.end < begin; });
+    auto last = first;
+    while (last != ranges.end() && last->begin <= range.end) {
+        range.begin = std::min(range.begin, last->begin);
+        range.end = std::max(range.end, last->end);
+        ++last;
+    }
+    if (first == last) {
+        ranges.insert(first, range);
+    } else {
+        *first = range;
+        ranges.erase(first + 1, last);
+    }
+}
+
+void HazardTracker::reset() {
+    m_tracked.clear();
+    m_unknownWrites = true;
+    m_srcStages = 0;
+    m_srcAccess = 0;
+}
+
+const HazardTracker::Tracked* HazardTracker::find(const void* resource) const {
+    for (const Tracked& tracked : m_tracked)
+        if (tracked.resource == resource) return &tracked;
+    return nullptr;
+}
+
+bool HazardTracker::conflicts(const ResourceAccess& access) const {
+    if (m_unknownWrites) return true;
+    const Tracked* tracked = find(access.resource);
+    if (!tracked) return false;
+    if (tracked->writes.overlaps(access.range)) return true;   // read or write after write
+    return access.write && tracked->reads.overlaps(access.range);   // write after read
+}
+
+void HazardTracker::record(const ResourceAccess& access) {
+    auto* tracked = const_cast<Tracked*>(find(access.resource));
+    if (!tracked) tracked = &m_tracked.emplace_back(Tracked{access.resource, {}, {}});
+    (access.write ? tracked->writes : tracked->reads).add(access.range);
+    m_srcStages |= access.stages;
+    if (access.write) m_srcAccess |= access.access & kWriteAccess;
+}
+
+void HazardTracker::barrier(VkCommandBuffer cmd) {
+    // The second scope is every later command, so everything tracked can be forgotten after it.
+    // (A narrower second scope would need to remember which accesses it did not cover.)
+    if (!m_unknownWrites && m_srcStages == 0) return;   // nothing to order
+    VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+    VkPipelineStageFlags srcStages = m_srcStages;
+    barrier.srcAccessMask = m_srcAccess;
+    if (m_unknownWrites) {
+        srcStages = VK_PIPELINE_STAGE_ALL_COMMANDS_BIT;
+        barrier.srcAccessMask = VK_ACCESS_MEMORY_WRITE_BIT;
+    }
+    barrier.dstAccessMask = VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT;
+    vkCmdPipelineBarrier(cmd, srcStages, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 1, &barrier, 0, nullptr, 0, nullptr);
+    m_tracked.clear();
+    m_unknownWrites = false;
+    m_srcStages = 0;
+    m_srcAccess = 0;
+}
+
+}  // namespace janus::rhi::vulkan

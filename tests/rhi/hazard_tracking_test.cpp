@@ -1,0 +1,194 @@
+// Hazards inside one command list: each test records dependent commands into a single list, so a
+// backend that synchronises only where it sees a hazard (the Vulkan backend tracks accesses
+// since its last barrier) must find every one. Wrong results, or any validation message (run
+// also with Vulkan's synchronisation validation), fail.
+#include "backend_test.h"
+
+namespace janus::rhi::test {
+namespace {
+
+class HazardTrackingTest : public BackendTest {
+protected:
+    PipelineHandle computePipeline(const char* name) {
+        return device().createComputePipeline(ComputePipelineDesc().setShader(shader(name)).setDebugName(name));
+    }
+    // A storage-buffer slice offset every backend accepts, at least `bytes` past the previous one.
+    uint64_t sliceStride(uint64_t bytes) const {
+        const uint64_t alignment = std::max<uint64_t>(caps().limits.storageBufferOffsetAlignment, 4);
+        return (bytes + alignment - 1) / alignment * alignment;
+    }
+    BindingSetHandle storageSlice(const BufferHandle& buffer, uint64_t offset, uint64_t range) {
+        return device().createBindingSet(BindingSetDesc().add(BindingItem::storageBuffer(0, buffer, offset, range)));
+    }
+};
+JANUS_INSTANTIATE_BACKEND_TESTS(HazardTrackingTest);
+
+// bench_increment_comp adds 1 to the uint it is bound to: read-modify-write of the same range.
+TEST_P(HazardTrackingTest, DispatchesIncrementingTheSameCounterSeeEachOther) {
+    JANUS_REQUIRE_CAPABILITY(Capability::Compute);
+    JANUS_REQUIRE_CAPABILITY(Capability::StorageBuffers);
+    BufferHandle counter = createBufferFrom(BufferUsage::Storage, std::vector<uint32_t>{10});
+    PipelineHandle increment = computePipeline("bench_increment_comp");
+    BindingSetHandle bindings = storageSlice(counter, 0, sizeof(uint32_t));
+    submit([&](ICommandList& cmd) {
+        cmd.setPipeline(increment);
+        cmd.setBindingSet(0, bindings);
+        for (int i = 0; i < 5; ++i) cmd.dispatch(1);
+    });
+    EXPECT_EQ(readBufferAs<uint32_t>(counter), std::vector<uint32_t>{15});
+}
+
+// Dispatches on disjoint slices need no barrier between them; the copy reading all of them does.
+TEST_P(HazardTrackingTest, DisjointDispatchesThenCopyOfAllSlices) {
+    JANUS_REQUIRE_CAPABILITY(Capability::Compute);
+    JANUS_REQUIRE_CAPABILITY(Capability::StorageBuffers);
+    const uint64_t stride = sliceStride(sizeof(uint32_t));
+    const uint32_t slices = 4;
+    BufferHandle counters =
+        createBufferFrom(BufferUsage::Storage, std::vector<std::byte>(stride * slices));
+    BufferHandle copy = createBuffer(BufferUsage::Storage, stride * slices);
+    PipelineHandle increment = computePipeline("bench_increment_comp");
+    std::vector<BindingSetHandle> sets;
+    for (uint32_t i = 0; i < slices; ++i) sets.push_back(storageSlice(counters, i * stride, sizeof(uint32_t)));
+    submit([&](ICommandList& cmd) {
+        cmd.setPipeline(increment);
+        // Slice i is incremented i + 1 times, interleaved so neighbours alternate.
+        for (uint32_t round = 0; round < slices; ++round)
+            for (uint32_t i = round; i < slices; ++i) {
+                cmd.setBindingSet(0, sets[i]);
+                cmd.dispatch(1);
+            }
+        cmd.copyBuffer(copy, 0, counters, 0, stride * slices);
+    });
+    const std::vector<std::byte> bytes = device().readBuffer(copy);
+    for (uint32_t i = 0; i < slices; ++i) {
+        uint32_t value = 0;
+        std::memcpy(&value, bytes.data() + i * stride, sizeof(value));
+        EXPECT_EQ(value, i + 1) << "slice " << i;
+    }
+}
+
+// Two dispatches write the two halves of a vertex buffer (disjoint ranges); one draw reads each.
+TEST_P(HazardTrackingTest, DisjointComputeWritesThenDrawsReadingBoth) {
+    JANUS_REQUIRE_CAPABILITY(Capability::Compute);
+    JANUS_REQUIRE_CAPABILITY(Capability::StorageBuffers);
+    const uint64_t rectangleBytes = 6 * sizeof(ColorVertex);   // what write_vertices.comp writes
+    const uint64_t second = sliceStride(rectangleBytes);
+    BufferHandle vertices = createBuffer(BufferUsage::Storage | BufferUsage::Vertex, second + rectangleBytes);
+    PipelineHandle writeVertices = computePipeline("rt_write_vertices_comp");
+    BindingSetHandle first = storageSlice(vertices, 0, rectangleBytes);
+    BindingSetHandle last = storageSlice(vertices, second, rectangleBytes);
+    TextureHandle target = createTexture2D(Format::RGBA8_UNORM, 8, 8, TextureUsage::RenderTarget);
+    PipelineHandle draw = colorPipeline(Format::RGBA8_UNORM);
+    TextureHandle second8 = createTexture2D(Format::RGBA8_UNORM, 8, 8, TextureUsage::RenderTarget);
+    submit([&](ICommandList& cmd) {
+        cmd.setPipeline(writeVertices);
+        cmd.setBindingSet(0, first);
+        cmd.dispatch(1);
+        cmd.setBindingSet(0, last);
+        cmd.dispatch(1);
+        cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(target, {1, 0, 0, 1})));
+        cmd.setPipeline(draw);
+        cmd.setVertexBuffer(0, vertices, 0);
+        cmd.draw(6);
+        cmd.endRenderPass();
+        cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(second8, {1, 0, 0, 1})));
+        cmd.setPipeline(draw);
+        cmd.setVertexBuffer(0, vertices, second);
+        cmd.draw(6);
+        cmd.endRenderPass();
+    });
+    // The rectangle covers the left half (x < 4) in green over the red clear.
+    std::vector<Rgba8> expected(64);
+    for (uint32_t i = 0; i < 64; ++i) expected[i] = i % 8 < 4 ? Rgba8{0, 255, 0, 255} : Rgba8{255, 0, 0, 255};
+    EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(target), expected, 8)) << "first half of the buffer";
+    EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(second8), expected, 8)) << "second half of the buffer";
+}
+
+// Render into a texture, sample it into a second one, then render over the first again (write
+// after read) and sample again: each sampling pass must see the pass recorded just before it.
+TEST_P(HazardTrackingTest, RenderThenSampleThenRenderAgain) {
+    TextureHandle canvas = createTexture2D(Format::RGBA8_UNORM, 4, 4, TextureUsage::RenderTarget | TextureUsage::Sampled);
+    TextureHandle firstCopy = createTexture2D(Format::RGBA8_UNORM, 4, 4, TextureUsage::RenderTarget);
+    TextureHandle secondCopy = createTexture2D(Format::RGBA8_UNORM, 4, 4, TextureUsage::RenderTarget);
+    PipelineHandle sample = fullscreenPipeline("rt_sample_2d_frag", Format::RGBA8_UNORM);
+    BindingSetHandle canvasSet = device().createBindingSet(
+        BindingSetDesc().add(BindingItem::sampledTexture(0, canvas, nearestClampSampler())));
+    auto sampleInto = [&](ICommandList& cmd, const TextureHandle& target) {
+        cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(target)));
+        cmd.setPipeline(sample);
+        cmd.setBindingSet(0, canvasSet);
+        cmd.draw(3);
+        cmd.endRenderPass();
+    };
+    submit([&](ICommandList& cmd) {
+        cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(canvas, {0, 0, 1, 1})));
+        cmd.endRenderPass();
+        sampleInto(cmd, firstCopy);
+        cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(canvas, {1, 1, 0, 1})));
+        cmd.endRenderPass();
+        sampleInto(cmd, secondCopy);
+    });
+    EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(firstCopy), std::vector<Rgba8>(16, {0, 0, 255, 255}), 4));
+    EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(secondCopy), std::vector<Rgba8>(16, {255, 255, 0, 255}), 4));
+}
+
+// Copy into a counter, increment it, copy it out, then overwrite the source of the first copy
+// (write after read) and repeat: every step depends on the one before.
+TEST_P(HazardTrackingTest, CopyThenDispatchThenCopy) {
+    JANUS_REQUIRE_CAPABILITY(Capability::Compute);
+    JANUS_REQUIRE_CAPABILITY(Capability::StorageBuffers);
+    BufferHandle source = createBufferFrom(BufferUsage::Storage, std::vector<uint32_t>{100});
+    BufferHandle counter = createBuffer(BufferUsage::Storage, sizeof(uint32_t));
+    BufferHandle results = createBuffer(BufferUsage::Storage, 2 * sizeof(uint32_t));
+    PipelineHandle increment = computePipeline("bench_increment_comp");
+    BindingSetHandle bindings = storageSlice(counter, 0, sizeof(uint32_t));
+    const uint32_t twoHundred = 200;
+    submit([&](ICommandList& cmd) {
+        cmd.setPipeline(increment);
+        cmd.setBindingSet(0, bindings);
+        cmd.copyBuffer(counter, 0, source, 0, sizeof(uint32_t));
+        cmd.dispatch(1);
+        cmd.copyBuffer(results, 0, counter, 0, sizeof(uint32_t));
+        cmd.writeBuffer(source, &twoHundred, sizeof(twoHundred), 0);
+        cmd.copyBuffer(counter, 0, source, 0, sizeof(uint32_t));
+        cmd.dispatch(1);
+        cmd.dispatch(1);
+        cmd.copyBuffer(results, sizeof(uint32_t), counter, 0, sizeof(uint32_t));
+    });
+    EXPECT_EQ(readBufferAs<uint32_t>(results), (std::vector<uint32_t>{101, 202}));
+}
+
+// A storage image written by compute, copied to a texture that a pass samples, in one list.
+TEST_P(HazardTrackingTest, StorageImageWriteThenCopyThenSample) {
+    JANUS_REQUIRE_CAPABILITY(Capability::Compute);
+    JANUS_REQUIRE_CAPABILITY(Capability::StorageImages);
+    const std::vector<Rgba8> pattern = {{10, 20, 30, 255}, {40, 50, 60, 255}, {70, 80, 90, 255}, {100, 110, 120, 255}};
+    TextureHandle source = createTexture2D(Format::RGBA8_UNORM, 2, 2, TextureUsage::Sampled);
+    device().writeTexture(source, {}, pattern.data(), pattern.size() * sizeof(Rgba8));
+    TextureHandle image = createTexture2D(Format::RGBA8_UNORM, 2, 2, TextureUsage::Storage);
+    TextureHandle copy = createTexture2D(Format::RGBA8_UNORM, 2, 2, TextureUsage::Sampled);
+    TextureHandle target = createTexture2D(Format::RGBA8_UNORM, 2, 2, TextureUsage::RenderTarget);
+    PipelineHandle fetch = computePipeline("rt_fetch_to_image_comp");
+    BindingSetHandle fetchSet = device().createBindingSet(BindingSetDesc()
+                                                              .add(BindingItem::sampledTexture(0, source, nearestClampSampler()))
+                                                              .add(BindingItem::storageImage(1, image)));
+    PipelineHandle sample = fullscreenPipeline("rt_sample_2d_frag", Format::RGBA8_UNORM);
+    BindingSetHandle sampleSet =
+        device().createBindingSet(BindingSetDesc().add(BindingItem::sampledTexture(0, copy, nearestClampSampler())));
+    submit([&](ICommandList& cmd) {
+        cmd.setPipeline(fetch);
+        cmd.setBindingSet(0, fetchSet);
+        cmd.dispatch(2, 2);
+        cmd.copyTexture(copy, {}, image, {});
+        cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(target)));
+        cmd.setPipeline(sample);
+        cmd.setBindingSet(0, sampleSet);
+        cmd.draw(3);
+        cmd.endRenderPass();
+    });
+    EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(target), pattern, 2));
+}
+
+}  // namespace
+}  // namespace janus::rhi::test
