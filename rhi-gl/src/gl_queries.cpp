@@ -12,12 +12,6 @@ GLTimerQuery::~GLTimerQuery() {
     m_context->gl.glDeleteQueries(2, m_queries);
 }
 
-void GLDevice::timestamp(GLuint query) {
-    // Software rasterizers (llvmpipe) defer drawing until a flush and stamp time when the stamp
-    // is reached in their queue; finishing first makes the stamp mean "all earlier work done"
-    // there too. It serialises the GPU around timers, which is what a timer measures anyway.
-    gl().glFinish();
-    gl().glQueryCounter(query, GL_TIMESTAMP);
-}
+void GLDevice::timestamp(GLuint query) { gl().glQueryCounter(query, GL_TIMESTAMP); }
 
 }  // namespace janus::rhi::gl
