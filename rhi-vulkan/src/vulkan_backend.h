@@ -17,6 +17,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <span>
 #include <string>
 #include <string_view>
 #include <tuple>
@@ -136,8 +137,9 @@ Native* native(const std::shared_ptr<Interface>& handle, std::string_view what) 
 }
 
 // The recording that last kept an object alive (CommandList::keep), so each object is kept once
-// per recording instead of once per use. Relaxed atomics: two lists recording at once at worst
-// keep an object twice, which is harmless.
+// per recording instead of once per use, and the objects a list used in its previous recording
+// too are not released and re-kept. Relaxed atomics: two lists recording at once at worst keep
+// an object twice, which is harmless.
 struct KeepMark {
     std::atomic<uint64_t> recording{0};
 };
@@ -325,12 +327,14 @@ public:
     const BindingSetDesc& desc() const override { return m_desc; }
 
     // The descriptor set holding these resources for one set layout, and what a command using
-    // it reads and writes.
+    // it reads and writes. Never moves once created (`accesses` may point into it).
     struct LayoutUse {
         VkDescriptorSetLayout layout = VK_NULL_HANDLE;
-        VkDescriptorPool pool = VK_NULL_HANDLE;
         VkDescriptorSet set = VK_NULL_HANDLE;
-        std::vector<ResourceAccess> accesses;
+        std::span<const ResourceAccess> accesses;
+        std::array<ResourceAccess, 2> fewAccesses{};   // most sets: no second allocation to visit
+        std::vector<ResourceAccess> manyAccesses;
+        VkDescriptorPool pool = VK_NULL_HANDLE;
     };
     // Written on first use; the last one used is found without a lock (binds are hot).
     const LayoutUse& useWith(const DescriptorSetLayoutInfo& layout, uint32_t set) {
@@ -339,15 +343,19 @@ public:
         return createOrFind(layout, set);
     }
 
+    // The members a bind touches come first, next to the object's header: binding sets are
+    // many, and each bind of a different one may miss the cache.
     KeepMark keepMark;
 
 private:
+    std::atomic<const LayoutUse*> m_last{nullptr};
+    LayoutUse m_firstUse;   // the first layout used (usually the only one), inline
+
     const LayoutUse& createOrFind(const DescriptorSetLayoutInfo& layout, uint32_t set);
     ContextPtr m_context;
     BindingSetDesc m_desc;
     std::mutex m_mutex;
-    std::map<VkDescriptorSetLayout, std::unique_ptr<LayoutUse>> m_sets;   // nodes never move
-    std::atomic<const LayoutUse*> m_last{nullptr};
+    std::map<VkDescriptorSetLayout, std::unique_ptr<LayoutUse>> m_otherUses;
 };
 
 class TimerQuery final : public ITimerQuery {
@@ -414,10 +422,14 @@ private:
     // Keeps `handle` alive until this list is re-begun or destroyed, once per recording.
     template <class Interface>
     void keep(const std::shared_ptr<Interface>& handle, KeepMark& mark) {
-        if (mark.recording.load(std::memory_order_relaxed) == m_recordingId) return;
+        const uint64_t last = mark.recording.load(std::memory_order_relaxed);
+        if (last == m_recordingId) return;
         mark.recording.store(m_recordingId, std::memory_order_relaxed);
-        m_keepAlive.push_back(handle);
+        if (last == m_retainedId) return;   // still held since this list's previous recording
+        m_keepAlive.push_back({handle, &mark});
     }
+    // end(): releases what this recording did not use, marks the rest as retained.
+    void releaseUnused();
 
     ContextPtr m_context;
     VkCommandPool m_pool = VK_NULL_HANDLE;
@@ -429,7 +441,12 @@ private:
     uint64_t m_recordingId = 0;   // unique across all lists, for KeepMark
     HazardTracker m_hazards;
 
-    std::vector<std::shared_ptr<void>> m_keepAlive;
+    struct Kept {
+        std::shared_ptr<void> object;
+        KeepMark* mark;   // inside `object`
+    };
+    std::vector<Kept> m_keepAlive;
+    uint64_t m_retainedId = 0;   // the mark of the objects kept from the previous recording
     std::vector<std::shared_ptr<StagingBuffer>> m_staging;
     struct TimerUse {
         std::shared_ptr<TimerQuery> timer;

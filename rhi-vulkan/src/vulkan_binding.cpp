@@ -146,12 +146,17 @@ BindingSet::BindingSet(ContextPtr context, const BindingSetDesc& desc) : m_conte
 }
 
 BindingSet::~BindingSet() {
-    for (auto& [layout, use] : m_sets) vkDestroyDescriptorPool(m_context->device, use->pool, nullptr);
+    if (m_firstUse.pool) vkDestroyDescriptorPool(m_context->device, m_firstUse.pool, nullptr);
+    for (auto& [layout, use] : m_otherUses) vkDestroyDescriptorPool(m_context->device, use->pool, nullptr);
 }
 
 const BindingSet::LayoutUse& BindingSet::createOrFind(const DescriptorSetLayoutInfo& layout, uint32_t set) {
     std::lock_guard lock(m_mutex);
-    if (auto it = m_sets.find(layout.layout); it != m_sets.end()) {
+    if (m_firstUse.layout == layout.layout) {
+        m_last.store(&m_firstUse, std::memory_order_release);
+        return m_firstUse;
+    }
+    if (auto it = m_otherUses.find(layout.layout); it != m_otherUses.end()) {
         m_last.store(it->second.get(), std::memory_order_release);
         return *it->second;
     }
@@ -186,9 +191,8 @@ const BindingSet::LayoutUse& BindingSet::createOrFind(const DescriptorSetLayoutI
         else
             it->descriptorCount += b.count;
     }
-    auto use = std::make_unique<LayoutUse>();
-    LayoutUse& allocation = *use;
-    allocation.layout = layout.layout;
+    // Filled in completely before it is published (m_firstUse.layout / the map / m_last).
+    LayoutUse allocation;
     VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     poolInfo.maxSets = 1;
     poolInfo.poolSizeCount = uint32_t(sizes.size());
@@ -244,10 +248,21 @@ const BindingSet::LayoutUse& BindingSet::createOrFind(const DescriptorSetLayoutI
         throw;
     }
     vkUpdateDescriptorSets(m_context->device, uint32_t(writes.size()), writes.data(), 0, nullptr);
-    for (size_t i = 0; i < items.size(); ++i) allocation.accesses.push_back(accessOf(*items[i], layout.bindings[i]));
-    const LayoutUse* created = m_sets.emplace(layout.layout, std::move(use)).first->second.get();
-    m_last.store(created, std::memory_order_release);
-    return *created;
+    LayoutUse* use = &m_firstUse;
+    if (m_firstUse.layout)
+        use = m_otherUses.emplace(layout.layout, std::make_unique<LayoutUse>()).first->second.get();
+    use->set = allocation.set;
+    use->pool = allocation.pool;
+    if (items.size() <= use->fewAccesses.size()) {
+        for (size_t i = 0; i < items.size(); ++i) use->fewAccesses[i] = accessOf(*items[i], layout.bindings[i]);
+        use->accesses = std::span(use->fewAccesses.data(), items.size());
+    } else {
+        for (size_t i = 0; i < items.size(); ++i) use->manyAccesses.push_back(accessOf(*items[i], layout.bindings[i]));
+        use->accesses = use->manyAccesses;
+    }
+    use->layout = layout.layout;   // last: readers under the lock match on it
+    m_last.store(use, std::memory_order_release);
+    return *use;
 }
 
 }  // namespace janus::rhi::vulkan

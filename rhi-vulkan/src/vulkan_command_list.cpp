@@ -25,7 +25,8 @@ void checkBufferRange(const Buffer& buffer, uint64_t offset, uint64_t size, std:
 }
 
 // Recording ids are unique across all command lists of all devices (see KeepMark).
-std::atomic<uint64_t> g_nextRecordingId{1};
+// Each takes two ids: N while recording, N + 1 for what it retains afterwards.
+std::atomic<uint64_t> g_nextRecordingId{2};
 
 ResourceAccess bufferAccess(const Buffer& buffer, uint64_t offset, uint64_t size, VkPipelineStageFlags stages,
                             VkAccessFlags access, bool write) {
@@ -110,16 +111,37 @@ void CommandList::requireOutsideRenderPass(std::string_view call) const {
                     fmt::format("{}: not allowed inside a render pass; call endRenderPass() first", call));
 }
 
+void CommandList::releaseUnused() {
+    const uint64_t retained = m_recordingId + 1;
+    size_t kept = 0;
+    for (size_t i = 0; i < m_keepAlive.size(); ++i) {
+        Kept& entry = m_keepAlive[i];
+        // Not used in this recording, or a duplicate of an entry already retained.
+        if (entry.mark->recording.load(std::memory_order_relaxed) != m_recordingId) continue;
+        entry.mark->recording.store(retained, std::memory_order_relaxed);
+        if (kept != i) m_keepAlive[kept] = std::move(entry);
+        ++kept;
+    }
+    m_keepAlive.resize(kept);
+    m_retainedId = retained;
+}
+
 void CommandList::begin() {
     waitUntilDone();
-    m_keepAlive.clear();
+    // Objects kept by the previous recording stay held (re-keeping them is then free) until
+    // end() finds which ones this recording no longer uses. A recording that never ended
+    // retains nothing.
+    if (m_state == State::Recording) {
+        m_keepAlive.clear();
+        m_retainedId = 0;
+    }
     m_staging.clear();
     m_timers.clear();
     check(vkResetCommandPool(m_context->device, m_pool, 0), ErrorCode::DeviceLost, "vkResetCommandPool");
     VkCommandBufferBeginInfo info{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
     check(vkBeginCommandBuffer(m_commands, &info), ErrorCode::DeviceLost, "vkBeginCommandBuffer");
     m_state = State::Recording;
-    m_recordingId = g_nextRecordingId.fetch_add(1, std::memory_order_relaxed);
+    m_recordingId = g_nextRecordingId.fetch_add(2, std::memory_order_relaxed);
     m_hazards.reset();
     m_inRenderPass = false;
     m_graphicsPipeline = nullptr;
@@ -141,6 +163,7 @@ void CommandList::end() {
                     fmt::format("end(): {} debug group(s) are still open; call popDebugGroup()", m_debugGroupDepth));
     // Later device-level reads map memory on the host; make this list's writes visible to it.
     hostBarrier(m_commands);
+    releaseUnused();
     check(vkEndCommandBuffer(m_commands), ErrorCode::DeviceLost, "vkEndCommandBuffer");
 
     VkCommandBufferBeginInfo info{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};

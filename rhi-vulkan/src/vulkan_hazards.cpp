@@ -22,7 +22,11 @@ bool HazardTracker::RangeSet::overlaps(KeyRange range) const {
 
 void HazardTracker::RangeSet::add(KeyRange range) {
     if (ranges.empty() || ranges.back().end < range.begin) {
-        ranges.push_back(range);   // the common case: past everything tracked
+        ranges.push_back(range);   // past everything tracked
+        return;
+    }
+    if (ranges.back().begin <= range.begin) {   // touches only the last range: a run of slices
+        ranges.back().end = std::max(ranges.back().end, range.end);
         return;
     }
     auto first = std::lower_bound(ranges.begin(), ranges.end(), range.begin,
