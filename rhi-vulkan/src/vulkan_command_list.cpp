@@ -339,6 +339,7 @@ void CommandList::setBindingSet(uint32_t set, const BindingSetHandle& bindings) 
                                 Pipeline::kMaxSets - 1));
     auto* bindingSet = native<BindingSet>(bindings, "setBindingSet(): the binding set");
     if (m_bindingSets[set] == bindingSet) return;   // already bound
+    bindingSet->prefetchFirstUse();
     keep(bindings, bindingSet->keepMark);
     m_bindingSets[set] = bindingSet;
     m_dirtyGraphicsSets |= 1u << set;
