@@ -173,6 +173,9 @@ public:
     void reset();
     bool conflicts(const ResourceAccess& access) const;
     void record(const ResourceAccess& access);
+    // The accesses of one command: a barrier first if any conflicts, then tracks them all (all
+    // are checked before any is tracked: a command does not conflict with itself).
+    void access(VkCommandBuffer cmd, std::span<const ResourceAccess> accesses);
     bool hasWrites() const { return m_unknownWrites || m_srcAccess != 0; }
     void barrier(VkCommandBuffer cmd);
 
@@ -189,8 +192,12 @@ private:
         RangeSet reads;
         RangeSet writes;
     };
-    const Tracked* find(const void* resource) const;
+    Tracked* find(const void* resource);
+    const Tracked* find(const void* resource) const { return const_cast<HazardTracker*>(this)->find(resource); }
+    static bool conflicts(const Tracked& tracked, const ResourceAccess& access);
+    void record(Tracked& tracked, const ResourceAccess& access);
     std::vector<Tracked> m_tracked;   // few resources between two barriers: a linear search wins
+    size_t m_lastFound = 0;           // consecutive commands mostly touch the same resource
     bool m_unknownWrites = true;
     VkPipelineStageFlags m_srcStages = 0;
     VkAccessFlags m_srcAccess = 0;

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <cstring>
 
 #include "vulkan_backend.h"
@@ -56,12 +57,7 @@ KeyRange keysOf(TextureSubresource sub) { return subresourceKeys(sub.mipLevel, s
 }  // namespace
 
 void CommandList::access(std::initializer_list<ResourceAccess> accesses) {
-    for (const ResourceAccess& a : accesses)
-        if (m_hazards.conflicts(a)) {
-            m_hazards.barrier(m_commands);
-            break;
-        }
-    for (const ResourceAccess& a : accesses) m_hazards.record(a);
+    m_hazards.access(m_commands, std::span(accesses.begin(), accesses.size()));
 }
 
 CommandList::CommandList(ContextPtr context) : m_context(std::move(context)) {
@@ -349,9 +345,8 @@ void CommandList::setBindingSet(uint32_t set, const BindingSetHandle& bindings) 
 
 void CommandList::bindDescriptorSets(Pipeline& pipeline, VkPipelineBindPoint bindPoint, uint32_t& dirtyMask,
                                      std::array<const BindingSet::LayoutUse*, Pipeline::kMaxSets>& uses) {
-    const uint32_t toBind = dirtyMask & pipeline.usedSets;
-    for (uint32_t s = 0; s < Pipeline::kMaxSets; ++s) {
-        if (!(toBind & (1u << s))) continue;
+    for (uint32_t toBind = dirtyMask & pipeline.usedSets; toBind; toBind &= toBind - 1) {
+        const uint32_t s = uint32_t(std::countr_zero(toBind));
         const DescriptorSetLayoutInfo& layout = *pipeline.sets[s];
         if (!m_bindingSets[s])
             throw Error(ErrorCode::InvalidUsage,
@@ -436,9 +431,8 @@ void CommandList::prepareDraw(std::string_view call) {
     Pipeline& pipeline = *m_graphicsPipeline;
     bindDescriptorSets(pipeline, VK_PIPELINE_BIND_POINT_GRAPHICS, m_dirtyGraphicsSets, m_graphicsSetUses);
     if (const uint32_t untracked = pipeline.usedSets & ~m_passTrackedSets) {
-        for (uint32_t s = 0; s < Pipeline::kMaxSets; ++s)
-            if (untracked & (1u << s))
-                for (const ResourceAccess& a : m_graphicsSetUses[s]->accesses) m_hazards.record(a);
+        for (uint32_t sets = untracked; sets; sets &= sets - 1)
+            for (const ResourceAccess& a : m_graphicsSetUses[std::countr_zero(sets)]->accesses) m_hazards.record(a);
         m_passTrackedSets |= untracked;
     }
     if (!m_passTrackedVertices) {
@@ -474,25 +468,30 @@ void CommandList::dispatch(uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ)
     requireOutsideRenderPass("dispatch()");
     if (!m_computePipeline)
         throw Error(ErrorCode::InvalidUsage, "dispatch(): no compute pipeline is set; call setPipeline()");
-    const uint32_t groups[3] = {groupsX, groupsY, groupsZ};
     const auto& limit = m_context->properties.limits.maxComputeWorkGroupCount;
-    for (int i = 0; i < 3; ++i)
-        if (groups[i] > limit[i])
-            throw Error(ErrorCode::InvalidUsage,
-                        fmt::format("dispatch(): {} groups in dimension {} is above the device limit {}", groups[i],
-                                    "xyz"[i], limit[i]));
+    if (groupsX > limit[0] || groupsY > limit[1] || groupsZ > limit[2]) {
+        const uint32_t groups[3] = {groupsX, groupsY, groupsZ};
+        for (int i = 0; i < 3; ++i)
+            if (groups[i] > limit[i])
+                throw Error(ErrorCode::InvalidUsage,
+                            fmt::format("dispatch(): {} groups in dimension {} is above the device limit {}", groups[i],
+                                        "xyz"[i], limit[i]));
+    }
     Pipeline& pipeline = *m_computePipeline;
     bindDescriptorSets(pipeline, VK_PIPELINE_BIND_POINT_COMPUTE, m_dirtyComputeSets, m_computeSetUses);
-    // Check every access before tracking any: a dispatch may read one range of a buffer and write
-    // another without a hazard against itself.
-    bool hazard = false;
-    for (uint32_t s = 0; s < Pipeline::kMaxSets && !hazard; ++s)
-        if (pipeline.usedSets & (1u << s))
-            for (const ResourceAccess& a : m_computeSetUses[s]->accesses) hazard = hazard || m_hazards.conflicts(a);
-    if (hazard) m_hazards.barrier(m_commands);
-    for (uint32_t s = 0; s < Pipeline::kMaxSets; ++s)
-        if (pipeline.usedSets & (1u << s))
-            for (const ResourceAccess& a : m_computeSetUses[s]->accesses) m_hazards.record(a);
+    if (std::has_single_bit(pipeline.usedSets)) {   // the common case: one set
+        m_hazards.access(m_commands, m_computeSetUses[std::countr_zero(pipeline.usedSets)]->accesses);
+    } else if (pipeline.usedSets) {
+        // Check every access before tracking any: a dispatch may read one range of a buffer and
+        // write another (through two sets) without a hazard against itself.
+        bool hazard = false;
+        for (uint32_t sets = pipeline.usedSets; sets && !hazard; sets &= sets - 1)
+            for (const ResourceAccess& a : m_computeSetUses[std::countr_zero(sets)]->accesses)
+                hazard = hazard || m_hazards.conflicts(a);
+        if (hazard) m_hazards.barrier(m_commands);
+        for (uint32_t sets = pipeline.usedSets; sets; sets &= sets - 1)
+            for (const ResourceAccess& a : m_computeSetUses[std::countr_zero(sets)]->accesses) m_hazards.record(a);
+    }
     vkCmdDispatch(m_commands, groupsX, groupsY, groupsZ);
 }
 

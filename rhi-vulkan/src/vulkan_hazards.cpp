@@ -14,6 +14,7 @@ constexpr VkAccessFlags kWriteAccess = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_CO
 }  // namespace
 
 bool HazardTracker::RangeSet::overlaps(KeyRange range) const {
+    if (ranges.size() <= 1) return !ranges.empty() && ranges[0].begin < range.end && range.begin < ranges[0].end;
     // The first range ending after range.begin is the only candidate.
     auto it = std::upper_bound(ranges.begin(), ranges.end(), range.begin,
                                [](uint64_t begin, const KeyRange& r) { return begin < r.end; });
@@ -52,26 +53,62 @@ void HazardTracker::reset() {
     m_srcAccess = 0;
 }
 
-const HazardTracker::Tracked* HazardTracker::find(const void* resource) const {
-    for (const Tracked& tracked : m_tracked)
-        if (tracked.resource == resource) return &tracked;
+HazardTracker::Tracked* HazardTracker::find(const void* resource) {
+    if (m_lastFound < m_tracked.size() && m_tracked[m_lastFound].resource == resource) return &m_tracked[m_lastFound];
+    for (size_t i = 0; i < m_tracked.size(); ++i)
+        if (m_tracked[i].resource == resource) {
+            m_lastFound = i;
+            return &m_tracked[i];
+        }
     return nullptr;
+}
+
+bool HazardTracker::conflicts(const Tracked& tracked, const ResourceAccess& access) {
+    if (tracked.writes.overlaps(access.range)) return true;   // read or write after write
+    return access.write && tracked.reads.overlaps(access.range);   // write after read
 }
 
 bool HazardTracker::conflicts(const ResourceAccess& access) const {
     if (m_unknownWrites) return true;
     const Tracked* tracked = find(access.resource);
-    if (!tracked) return false;
-    if (tracked->writes.overlaps(access.range)) return true;   // read or write after write
-    return access.write && tracked->reads.overlaps(access.range);   // write after read
+    return tracked && conflicts(*tracked, access);
+}
+
+void HazardTracker::record(Tracked& tracked, const ResourceAccess& access) {
+    (access.write ? tracked.writes : tracked.reads).add(access.range);
+    m_srcStages |= access.stages;
+    if (access.write) m_srcAccess |= access.access & kWriteAccess;
 }
 
 void HazardTracker::record(const ResourceAccess& access) {
-    auto* tracked = const_cast<Tracked*>(find(access.resource));
-    if (!tracked) tracked = &m_tracked.emplace_back(Tracked{access.resource, {}, {}});
-    (access.write ? tracked->writes : tracked->reads).add(access.range);
-    m_srcStages |= access.stages;
-    if (access.write) m_srcAccess |= access.access & kWriteAccess;
+    Tracked* tracked = find(access.resource);
+    if (!tracked) {
+        m_lastFound = m_tracked.size();
+        tracked = &m_tracked.emplace_back(Tracked{access.resource, {}, {}});
+    }
+    record(*tracked, access);
+}
+
+void HazardTracker::access(VkCommandBuffer cmd, std::span<const ResourceAccess> accesses) {
+    if (accesses.size() == 1) {   // one lookup instead of two
+        const ResourceAccess& only = accesses[0];
+        Tracked* tracked = m_unknownWrites ? nullptr : find(only.resource);
+        if (m_unknownWrites || (tracked && conflicts(*tracked, only))) {
+            barrier(cmd);
+            tracked = nullptr;
+        }
+        if (tracked)
+            record(*tracked, only);
+        else
+            record(only);
+        return;
+    }
+    for (const ResourceAccess& a : accesses)
+        if (conflicts(a)) {
+            barrier(cmd);
+            break;
+        }
+    for (const ResourceAccess& a : accesses) record(a);
 }
 
 void HazardTracker::barrier(VkCommandBuffer cmd) {
