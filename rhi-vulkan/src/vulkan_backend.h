@@ -422,8 +422,15 @@ public:
 
 private:
     enum class State { Initial, Recording, Executable };
-    void requireRecording(std::string_view call) const;
-    void requireOutsideRenderPass(std::string_view call) const;
+    // Inline checks (every call makes them); the throwing parts are out of line.
+    void requireRecording(std::string_view call) const {
+        if (m_state != State::Recording) [[unlikely]] throwNotRecording(call);
+    }
+    void requireOutsideRenderPass(std::string_view call) const {
+        if (m_state != State::Recording || m_inRenderPass) [[unlikely]] throwNotRecordingOrInPass(call);
+    }
+    [[noreturn]] void throwNotRecording(std::string_view call) const;
+    [[noreturn]] void throwNotRecordingOrInPass(std::string_view call) const;
     void bindDescriptorSets(Pipeline& pipeline, VkPipelineBindPoint bindPoint, uint32_t& dirtyMask,
                             std::array<const BindingSet::LayoutUse*, Pipeline::kMaxSets>& uses);
     void checkDrawState(std::string_view call);

@@ -94,17 +94,14 @@ void CommandList::waitUntilDone() {
     m_pending = false;
 }
 
-void CommandList::requireRecording(std::string_view call) const {
-    if (m_state != State::Recording)
-        throw Error(ErrorCode::InvalidUsage,
-                    fmt::format("{}: the command list is not recording; call begin() first", call));
+void CommandList::throwNotRecording(std::string_view call) const {
+    throw Error(ErrorCode::InvalidUsage, fmt::format("{}: the command list is not recording; call begin() first", call));
 }
 
-void CommandList::requireOutsideRenderPass(std::string_view call) const {
+void CommandList::throwNotRecordingOrInPass(std::string_view call) const {
     requireRecording(call);
-    if (m_inRenderPass)
-        throw Error(ErrorCode::InvalidUsage,
-                    fmt::format("{}: not allowed inside a render pass; call endRenderPass() first", call));
+    throw Error(ErrorCode::InvalidUsage,
+                fmt::format("{}: not allowed inside a render pass; call endRenderPass() first", call));
 }
 
 void CommandList::releaseUnused() {
@@ -479,18 +476,19 @@ void CommandList::dispatch(uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ)
     }
     Pipeline& pipeline = *m_computePipeline;
     bindDescriptorSets(pipeline, VK_PIPELINE_BIND_POINT_COMPUTE, m_dirtyComputeSets, m_computeSetUses);
-    if (std::has_single_bit(pipeline.usedSets)) {   // the common case: one set
-        m_hazards.access(m_commands, m_computeSetUses[std::countr_zero(pipeline.usedSets)]->accesses);
+    const uint32_t sets = pipeline.usedSets;
+    if (sets && (sets & (sets - 1)) == 0) {   // the common case: one set (no popcount call)
+        m_hazards.access(m_commands, m_computeSetUses[std::countr_zero(sets)]->accesses);
     } else if (pipeline.usedSets) {
         // Check every access before tracking any: a dispatch may read one range of a buffer and
         // write another (through two sets) without a hazard against itself.
         bool hazard = false;
-        for (uint32_t sets = pipeline.usedSets; sets && !hazard; sets &= sets - 1)
-            for (const ResourceAccess& a : m_computeSetUses[std::countr_zero(sets)]->accesses)
+        for (uint32_t left = sets; left && !hazard; left &= left - 1)
+            for (const ResourceAccess& a : m_computeSetUses[std::countr_zero(left)]->accesses)
                 hazard = hazard || m_hazards.conflicts(a);
         if (hazard) m_hazards.barrier(m_commands);
-        for (uint32_t sets = pipeline.usedSets; sets; sets &= sets - 1)
-            for (const ResourceAccess& a : m_computeSetUses[std::countr_zero(sets)]->accesses) m_hazards.record(a);
+        for (uint32_t left = sets; left; left &= left - 1)
+            for (const ResourceAccess& a : m_computeSetUses[std::countr_zero(left)]->accesses) m_hazards.record(a);
     }
     vkCmdDispatch(m_commands, groupsX, groupsY, groupsZ);
 }
