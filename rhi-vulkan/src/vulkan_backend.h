@@ -9,6 +9,7 @@
 
 #include <vulkan/vulkan.h>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <typeinfo>
@@ -182,10 +183,22 @@ public:
 private:
     // Sorted, disjoint, non-adjacent ranges (adjacent ones merge, so a run of neighbouring
     // slices stays one range).
+    // The fast paths are inline: they are the per-draw / per-dispatch cost.
     struct RangeSet {
         std::vector<KeyRange> ranges;
-        bool overlaps(KeyRange range) const;
-        void add(KeyRange range);
+        bool overlaps(KeyRange range) const {
+            if (ranges.size() > 1) return overlapsAny(range);
+            return !ranges.empty() && ranges[0].begin < range.end && range.begin < ranges[0].end;
+        }
+        void add(KeyRange range) {
+            if (!ranges.empty() && ranges.back().begin <= range.begin && range.begin <= ranges.back().end) {
+                ranges.back().end = std::max(ranges.back().end, range.end);   // extends the last range
+                return;
+            }
+            insert(range);
+        }
+        bool overlapsAny(KeyRange range) const;
+        void insert(KeyRange range);
     };
     struct Tracked {
         const void* resource;
@@ -194,8 +207,18 @@ private:
     };
     Tracked* find(const void* resource);
     const Tracked* find(const void* resource) const { return const_cast<HazardTracker*>(this)->find(resource); }
-    static bool conflicts(const Tracked& tracked, const ResourceAccess& access);
-    void record(Tracked& tracked, const ResourceAccess& access);
+    static bool conflicts(const Tracked& tracked, const ResourceAccess& access) {
+        if (tracked.writes.overlaps(access.range)) return true;           // read or write after write
+        return access.write && tracked.reads.overlaps(access.range);      // write after read
+    }
+    void record(Tracked& tracked, const ResourceAccess& access) {
+        (access.write ? tracked.writes : tracked.reads).add(access.range);
+        m_srcStages |= access.stages;
+        if (access.write) m_srcAccess |= access.access & kWriteAccess;
+    }
+    static constexpr VkAccessFlags kWriteAccess =
+        VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT |
+        VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_HOST_WRITE_BIT | VK_ACCESS_MEMORY_WRITE_BIT;
     std::vector<Tracked> m_tracked;   // few resources between two barriers: a linear search wins
     size_t m_lastFound = 0;           // consecutive commands mostly touch the same resource
     bool m_unknownWrites = true;

@@ -5,29 +5,17 @@
 #include "vulkan_backend.h"
 
 namespace janus::rhi::vulkan {
-namespace {
 
-constexpr VkAccessFlags kWriteAccess = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT |
-                                       VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT |
-                                       VK_ACCESS_HOST_WRITE_BIT | VK_ACCESS_MEMORY_WRITE_BIT;
-
-}  // namespace
-
-bool HazardTracker::RangeSet::overlaps(KeyRange range) const {
-    if (ranges.size() <= 1) return !ranges.empty() && ranges[0].begin < range.end && range.begin < ranges[0].end;
+bool HazardTracker::RangeSet::overlapsAny(KeyRange range) const {
     // The first range ending after range.begin is the only candidate.
     auto it = std::upper_bound(ranges.begin(), ranges.end(), range.begin,
                                [](uint64_t begin, const KeyRange& r) { return begin < r.end; });
     return it != ranges.end() && it->begin < range.end;
 }
 
-void HazardTracker::RangeSet::add(KeyRange range) {
+void HazardTracker::RangeSet::insert(KeyRange range) {
     if (ranges.empty() || ranges.back().end < range.begin) {
         ranges.push_back(range);   // past everything tracked
-        return;
-    }
-    if (ranges.back().begin <= range.begin) {   // touches only the last range: a run of slices
-        ranges.back().end = std::max(ranges.back().end, range.end);
         return;
     }
     auto first = std::lower_bound(ranges.begin(), ranges.end(), range.begin,
@@ -63,21 +51,10 @@ HazardTracker::Tracked* HazardTracker::find(const void* resource) {
     return nullptr;
 }
 
-bool HazardTracker::conflicts(const Tracked& tracked, const ResourceAccess& access) {
-    if (tracked.writes.overlaps(access.range)) return true;   // read or write after write
-    return access.write && tracked.reads.overlaps(access.range);   // write after read
-}
-
 bool HazardTracker::conflicts(const ResourceAccess& access) const {
     if (m_unknownWrites) return true;
     const Tracked* tracked = find(access.resource);
     return tracked && conflicts(*tracked, access);
-}
-
-void HazardTracker::record(Tracked& tracked, const ResourceAccess& access) {
-    (access.write ? tracked.writes : tracked.reads).add(access.range);
-    m_srcStages |= access.stages;
-    if (access.write) m_srcAccess |= access.access & kWriteAccess;
 }
 
 void HazardTracker::record(const ResourceAccess& access) {
