@@ -1,6 +1,9 @@
 // Buffers: one GL buffer object each, usable for every role its usage names.
 #include <fmt/format.h>
 
+#include <cstddef>
+#include <vector>
+
 #include "gl_device.h"
 
 namespace janus::rhi::gl {
@@ -22,7 +25,16 @@ GLBuffer::GLBuffer(ContextPtr context, const BufferDesc& desc) : m_context(std::
     const GLFunctions& gl = m_context->gl;
     gl.glGenBuffers(1, &m_name);
     gl.glBindBuffer(GL_COPY_WRITE_BUFFER, m_name);
-    gl.glBufferData(GL_COPY_WRITE_BUFFER, GLsizeiptr(desc.size), nullptr, GL_DYNAMIC_DRAW);
+    // New buffers read as zero (rhi.h); GL leaves their contents undefined. Desktop GL 4.3 zeroes
+    // on the device (glClearBufferData with no data); ES 3.0 can only upload zeros.
+    if (gl.glClearBufferData) {
+        gl.glBufferData(GL_COPY_WRITE_BUFFER, GLsizeiptr(desc.size), nullptr, GL_DYNAMIC_DRAW);
+        if (gl.glGetError() != GL_OUT_OF_MEMORY)
+            gl.glClearBufferData(GL_COPY_WRITE_BUFFER, GL_R8, GL_RED, GL_UNSIGNED_BYTE, nullptr);
+    } else {
+        const std::vector<std::byte> zeros(desc.size);
+        gl.glBufferData(GL_COPY_WRITE_BUFFER, GLsizeiptr(desc.size), zeros.data(), GL_DYNAMIC_DRAW);
+    }
     if (gl.glGetError() == GL_OUT_OF_MEMORY) {
         gl.glDeleteBuffers(1, &m_name);
         throw Error(ErrorCode::OutOfMemory,

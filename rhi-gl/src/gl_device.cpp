@@ -213,7 +213,19 @@ void GLDevice::detectCapabilities() {
 
     m_caps.renderToVolumeSlice = true;   // glFramebufferTextureLayer on 3D textures: GL 3.0 / ES 3.0
     m_caps.renderToCubeFaceMip = true;   // immutable storage keeps every face and mip complete
-    m_caps.conventions.nativeClipDepthZeroToOne = false;
+    GLint major = 0, minor = 0;
+    f.glGetIntegerv(GL_MAJOR_VERSION, &major);
+    f.glGetIntegerv(GL_MINOR_VERSION, &minor);
+    auto desktopAtLeast = [&](GLint wantMajor, GLint wantMinor) {
+        return !isES() && (major > wantMajor || (major == wantMajor && minor >= wantMinor));
+    };
+    // With clip control the driver takes [0, 1] clip depth natively (no z' = 2z - w rounding).
+    const bool clipControl = desktopAtLeast(4, 5) || hasExtension(isES() ? "GL_EXT_clip_control" : "GL_ARB_clip_control");
+    m_context->zeroToOneClipDepth = clipControl && f.glClipControl;
+    m_context->clearTexImage = (desktopAtLeast(4, 4) || hasExtension(isES() ? "GL_EXT_clear_texture" : "GL_ARB_clear_texture")) &&
+                               f.glClearTexImage;
+    m_caps.conventions.nativeClipDepthZeroToOne = m_context->zeroToOneClipDepth;
+    // Even with an upper-left clip origin, GL addresses rows (viewport, scissor, readback) bottom-up.
     m_caps.conventions.nativeFramebufferOriginTopLeft = false;
 
     if (!isES()) {
@@ -268,6 +280,9 @@ void GLDevice::setupDefaultState() {
     f.glGenVertexArrays(1, &m_context->vertexArray);
     f.glBindVertexArray(m_context->vertexArray);
     f.glEnable(GL_SCISSOR_TEST);
+    // The origin stays lower-left: GL's bottom row is our row 0 in memory, and Mesa rasterises
+    // framebuffer objects with Vulkan's tie-break only then (GL_UPPER_LEFT flips its edge rule).
+    if (m_context->zeroToOneClipDepth) f.glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
     if (!isES()) {
         // ES always filters cube maps seamlessly and encodes to sRGB attachments; desktop GL does
         // both only when asked (global state, so once).

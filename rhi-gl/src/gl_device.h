@@ -67,6 +67,11 @@ public:
 
     GLFunctions gl;
     GLuint vertexArray = 0;
+    // glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE) is in effect: shaders are translated without
+    // SPIRV-Cross's clip depth fix-up.
+    bool zeroToOneClipDepth = false;
+    // glClearTexImage exists (GL 4.4, ARB/EXT_clear_texture): new textures are zeroed with it.
+    bool clearTexImage = false;
 
 private:
     std::unique_ptr<Platform> m_platform;
@@ -113,6 +118,8 @@ public:
     void attach(GLenum framebufferTarget, GLenum attachmentPoint, uint32_t mip, uint32_t layer) const;
 
 private:
+    void zeroContents() const;
+
     ContextPtr m_context;
     TextureDesc m_desc;
     GLuint m_name = 0;

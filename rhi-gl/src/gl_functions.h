@@ -124,7 +124,10 @@ class Platform;
     X(PFNGLDISABLEIPROC, glDisablei, nullptr)                                                                 \
     X(PFNGLBLENDFUNCSEPARATEIPROC, glBlendFuncSeparatei, nullptr)                                             \
     X(PFNGLBLENDEQUATIONSEPARATEIPROC, glBlendEquationSeparatei, nullptr)                                     \
-    X(PFNGLCOLORMASKIPROC, glColorMaski, nullptr)
+    X(PFNGLCOLORMASKIPROC, glColorMaski, nullptr) \
+    X(PFNGLCLIPCONTROLPROC, glClipControl, "glClipControlEXT")                                                \
+    X(PFNGLCLEARTEXIMAGEPROC, glClearTexImage, "glClearTexImageEXT")                                          \
+    X(PFNGLCLEARBUFFERDATAPROC, glClearBufferData, nullptr)
 
 struct GLFunctions {
 #define JANUS_GL_DECLARE(type, name) type name = nullptr;

@@ -49,7 +49,8 @@ struct Translation {
 // Names every resource after its binding and every stage variable after its location, so that
 // (a) the program's resources can be found by name to assign binding points on ES 3.0, which has
 // no `binding` layout, and (b) vertex outputs match fragment inputs whatever the sources called them.
-Translation translate(const ShaderDesc& desc, bool es) {
+Translation translate(const ShaderDesc& desc, const GLContext& context) {
+    const bool es = context.isES();
     spirv_cross::CompilerGLSL compiler(desc.spirv);
     const std::string label = shaderLabel(desc);
     const auto entryPoints = compiler.get_entry_points_and_stages();
@@ -137,8 +138,10 @@ Translation translate(const ShaderDesc& desc, bool es) {
     options.version = es ? 300 : 430;
     options.es = es;
     options.vulkan_semantics = false;
-    // Our clip depth is [0, 1] (Vulkan's); GL's is [-1, 1]. Rows need no flip (see Conventions).
-    options.vertex.fixup_clipspace = true;
+    // Our clip depth is [0, 1] (Vulkan's): with clip control GL takes it as it is, without it GL's
+    // is [-1, 1] and z is rewritten here. Rows need no flip (see Conventions); the lower-left
+    // origin is also what gives Vulkan's fill rule on Mesa (see rhi-gl/README.md).
+    options.vertex.fixup_clipspace = !context.zeroToOneClipDepth;
     options.vertex.flip_vert_y = false;
     // ES defaults fragment floats to mediump; every backend must compute in full precision to agree.
     options.fragment.default_float_precision = spirv_cross::CompilerGLSL::Options::Highp;
@@ -177,7 +180,7 @@ GLShader::GLShader(ContextPtr context, const ShaderDesc& desc) : m_context(std::
                                 label, desc.spirv.empty() ? "empty" : "not SPIR-V (wrong magic number)"));
     Translation translation;
     try {
-        translation = translate(desc, m_context->isES());
+        translation = translate(desc, *m_context);
     } catch (const spirv_cross::CompilerError& e) {
         throw Error(ErrorCode::ShaderTranslation,
                     fmt::format("SPIRV-Cross cannot express {} in {}: {}", label,

@@ -1,6 +1,9 @@
 // Textures (immutable storage) and samplers.
 #include <fmt/format.h>
 
+#include <cstddef>
+#include <vector>
+
 #include "gl_device.h"
 #include "janus/shaders/shaders.h"
 
@@ -95,8 +98,41 @@ GLTexture::GLTexture(ContextPtr context, const TextureDesc& resolvedDesc)
                                                         m_desc.debugName, m_desc.width, m_desc.height, m_desc.depth,
                                                         toString(m_desc.format)));
     }
+    zeroContents();
     if (!m_desc.debugName.empty() && gl.glObjectLabel && !m_context->isES())
         gl.glObjectLabel(GL_TEXTURE, m_name, GLsizei(m_desc.debugName.size()), m_desc.debugName.data());
+}
+
+void GLTexture::zeroContents() const {
+    // New textures read as zero (rhi.h); GL leaves immutable storage undefined.
+    const GLFunctions& gl = m_context->gl;
+    const GLFormat& glf = format();
+    if (m_context->clearTexImage) {
+        for (uint32_t mip = 0; mip < m_desc.mipLevels; ++mip)
+            gl.glClearTexImage(m_name, GLint(mip), glf.uploadFormat, glf.uploadType, nullptr);
+        return;
+    }
+    // Without glClearTexImage: upload zeros, one whole level (a cube: one face) at a time. The
+    // texture is still bound to the scratch unit from its creation.
+    gl.glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
+    const std::vector<std::byte> zeros(subresourceSize(0) * (m_target == GL_TEXTURE_3D ? m_desc.depth : 1));
+    for (uint32_t mip = 0; mip < m_desc.mipLevels; ++mip) {
+        const auto w = GLsizei(width(mip)), h = GLsizei(height(mip));
+        switch (m_desc.dimension) {
+            case TextureDimension::Texture2D:
+                gl.glTexSubImage2D(GL_TEXTURE_2D, GLint(mip), 0, 0, w, h, glf.uploadFormat, glf.uploadType, zeros.data());
+                break;
+            case TextureDimension::TextureCube:
+                for (GLenum face = 0; face < 6; ++face)
+                    gl.glTexSubImage2D(GL_TEXTURE_CUBE_MAP_POSITIVE_X + face, GLint(mip), 0, 0, w, h, glf.uploadFormat,
+                                       glf.uploadType, zeros.data());
+                break;
+            case TextureDimension::Texture3D:
+                gl.glTexSubImage3D(GL_TEXTURE_3D, GLint(mip), 0, 0, 0, w, h, GLsizei(layers(mip)), glf.uploadFormat,
+                                   glf.uploadType, zeros.data());
+                break;
+        }
+    }
 }
 
 GLTexture::~GLTexture() {

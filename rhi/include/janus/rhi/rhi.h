@@ -159,6 +159,7 @@ struct Capabilities {
 // ---------------------------------------------------------------------------------------------
 // Buffers
 // ---------------------------------------------------------------------------------------------
+// New resources read as zero until written (every backend guarantees it).
 
 enum class BufferUsage : uint32_t {
     None = 0,
@@ -190,6 +191,7 @@ using BufferHandle = std::shared_ptr<IBuffer>;
 // ---------------------------------------------------------------------------------------------
 // Textures and samplers
 // ---------------------------------------------------------------------------------------------
+// New resources read as zero until written (every backend guarantees it).
 
 enum class TextureDimension { Texture2D, Texture3D, TextureCube };
 const char* toString(TextureDimension dim);
