@@ -269,9 +269,6 @@ void GLCommandList::draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t 
     requireVertexBuffers("draw");
     requireCompatiblePipeline("draw");
     requireBindings("draw");
-    if (firstInstance != 0 && m_device.isES())
-        throw Error(ErrorCode::InvalidUsage,
-                    "draw: firstInstance must be 0 on OpenGL ES 3.0, which has no base-instance draws");
     record([=](GLDevice& device) { device.draw(vertexCount, instanceCount, firstVertex, firstInstance); });
 }
 
@@ -285,9 +282,6 @@ void GLCommandList::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uin
     requireBindings("drawIndexed");
     if (!m_indexBufferSet)
         throw Error(ErrorCode::InvalidUsage, "drawIndexed: no index buffer is set; call setIndexBuffer() first");
-    if (firstInstance != 0 && m_device.isES())
-        throw Error(ErrorCode::InvalidUsage,
-                    "drawIndexed: firstInstance must be 0 on OpenGL ES 3.0, which has no base-instance draws");
     record([=](GLDevice& device) { device.drawIndexed(indexCount, instanceCount, firstIndex, vertexOffset, firstInstance); });
 }
 
@@ -449,6 +443,21 @@ void GLCommandList::popDebugGroup() {
 // ---------------------------------------------------------------------------------------------
 // Replay (GLDevice)
 
+namespace {
+bool sameVertexLayout(const GraphicsPipelineDesc& a, const GraphicsPipelineDesc& b) {
+    auto sameAttribute = [](const VertexAttribute& x, const VertexAttribute& y) {
+        return x.location == y.location && x.format == y.format && x.bufferSlot == y.bufferSlot && x.offset == y.offset;
+    };
+    auto sameBuffer = [](const VertexBufferLayout& x, const VertexBufferLayout& y) {
+        return x.slot == y.slot && x.stride == y.stride && x.perInstance == y.perInstance;
+    };
+    return std::equal(a.vertexAttributes.begin(), a.vertexAttributes.end(), b.vertexAttributes.begin(),
+                      b.vertexAttributes.end(), sameAttribute) &&
+           std::equal(a.vertexBuffers.begin(), a.vertexBuffers.end(), b.vertexBuffers.begin(), b.vertexBuffers.end(),
+                      sameBuffer);
+}
+}  // namespace
+
 void GLDevice::beginRenderPass(const RenderPassDesc& desc) {
     const GLFunctions& f = gl();
     FramebufferKey key;
@@ -493,8 +502,9 @@ void GLDevice::beginRenderPass(const RenderPassDesc& desc) {
 }
 
 void GLDevice::bindPipeline(const GLPipeline& pipeline) {
+    // Attribute pointers depend on the vertex layout only, which many pipelines share.
+    if (!m_pipeline || !sameVertexLayout(m_pipeline->graphics(), pipeline.graphics())) m_vertexStateDirty = true;
     m_pipeline = &pipeline;
-    m_vertexStateDirty = true;
     pipeline.applyState();
 }
 
@@ -530,7 +540,9 @@ void GLDevice::bindBindingSet(const BindingSetDesc& desc) {
 }
 
 void GLDevice::setVertexBuffer(uint32_t slot, GLuint buffer, uint64_t offset) {
-    m_vertexBuffers[slot] = {buffer, offset};
+    VertexBinding& binding = m_vertexBuffers[slot];
+    if (binding.buffer == buffer && binding.offset == offset) return;
+    binding = {buffer, offset};
     m_vertexStateDirty = true;
 }
 
@@ -540,10 +552,12 @@ void GLDevice::setIndexBuffer(GLuint buffer, IndexType type, uint64_t offset) {
     m_indexOffset = offset;
 }
 
-void GLDevice::bindVertexAttributes(int64_t baseVertexOffset) {
-    if (!m_vertexStateDirty && baseVertexOffset == m_vertexStateBase) return;
+void GLDevice::bindVertexAttributes(int64_t baseVertexOffset, uint32_t baseInstanceOffset) {
+    if (!m_vertexStateDirty && baseVertexOffset == m_vertexStateBase && baseInstanceOffset == m_vertexStateInstanceBase)
+        return;
     m_vertexStateDirty = false;
     m_vertexStateBase = baseVertexOffset;
+    m_vertexStateInstanceBase = baseInstanceOffset;
     const GLFunctions& f = gl();
     const GraphicsPipelineDesc& desc = m_pipeline->graphics();
     uint32_t wanted = 0;
@@ -551,7 +565,7 @@ void GLDevice::bindVertexAttributes(int64_t baseVertexOffset) {
         const VertexBufferLayout& layout = *std::find_if(desc.vertexBuffers.begin(), desc.vertexBuffers.end(),
                                                          [&](const VertexBufferLayout& l) { return l.slot == attribute.bufferSlot; });
         const auto binding = m_vertexBuffers.find(attribute.bufferSlot);   // present: checked at record time
-        const int64_t stepOffset = layout.perInstance ? 0 : baseVertexOffset * int64_t(layout.stride);
+        const int64_t stepOffset = (layout.perInstance ? int64_t(baseInstanceOffset) : baseVertexOffset) * int64_t(layout.stride);
         const auto pointer = reinterpret_cast<const void*>(
             uintptr_t(int64_t(binding->second.offset) + int64_t(attribute.offset) + stepOffset));
         f.glBindBuffer(GL_ARRAY_BUFFER, binding->second.buffer);
@@ -591,14 +605,18 @@ void GLDevice::setBaseInstance(uint32_t firstInstance) {
 
 void GLDevice::draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance) {
     const GLFunctions& f = gl();
-    bindVertexAttributes(0);
     const GLenum mode = primitiveMode(m_pipeline->graphics().topology);
     setBaseInstance(firstInstance);
-    if (firstInstance != 0)
+    if (firstInstance != 0 && !isES()) {
+        bindVertexAttributes(0, 0);
         f.glDrawArraysInstancedBaseInstance(mode, GLint(firstVertex), GLsizei(vertexCount), GLsizei(instanceCount),
                                             firstInstance);
-    else
-        f.glDrawArraysInstanced(mode, GLint(firstVertex), GLsizei(vertexCount), GLsizei(instanceCount));
+        return;
+    }
+    // ES 3.0 has no base instance: the per-instance attribute pointers start at firstInstance
+    // instead (gl_InstanceIndex gets it from the base-instance uniform above).
+    bindVertexAttributes(0, isES() ? firstInstance : 0);
+    f.glDrawArraysInstanced(mode, GLint(firstVertex), GLsizei(vertexCount), GLsizei(instanceCount));
 }
 
 void GLDevice::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex, int32_t vertexOffset,
@@ -614,13 +632,13 @@ void GLDevice::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t
         m_boundIndexBuffer = m_indexBuffer;
     }
     if (!isES()) {
-        bindVertexAttributes(0);
+        bindVertexAttributes(0, 0);
         f.glDrawElementsInstancedBaseVertexBaseInstance(mode, GLsizei(indexCount), type, indices, GLsizei(instanceCount),
                                                         vertexOffset, firstInstance);
         return;
     }
-    // ES 3.0 has no base vertex: shift the per-vertex attribute pointers instead.
-    bindVertexAttributes(vertexOffset);
+    // ES 3.0 has no base vertex or base instance: shift the attribute pointers instead.
+    bindVertexAttributes(vertexOffset, firstInstance);
     f.glDrawElementsInstanced(mode, GLsizei(indexCount), type, indices, GLsizei(instanceCount));
 }
 

@@ -358,7 +358,9 @@ private:
     void detectCapabilities();
     void setupDebugOutput();
     void setupDefaultState();
-    void bindVertexAttributes(int64_t baseVertexOffset);
+    // Offsets (in elements) of the per-vertex and per-instance attributes: ES 3.0's stand-in for
+    // base vertex and base instance.
+    void bindVertexAttributes(int64_t baseVertexOffset, uint32_t baseInstanceOffset);
     void setBaseInstance(uint32_t firstInstance);
     bool hasExtension(std::string_view name) const;
 
@@ -383,6 +385,7 @@ private:
     // respecified when something they depend on changed.
     bool m_vertexStateDirty = true;
     int64_t m_vertexStateBase = 0;
+    uint32_t m_vertexStateInstanceBase = 0;
     GLuint m_boundIndexBuffer = 0;
     uint32_t m_renderWidth = 0, m_renderHeight = 0;
 };
