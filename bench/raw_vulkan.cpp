@@ -31,8 +31,8 @@ public:
     ~RawVulkan() override;
 
     void submitDraws();
-    // barrierPerDispatch: also put the RHI's conservative full barrier before every dispatch, to
-    // show how much of the RHI's dispatch cost that rule is.
+    // barrierPerDispatch: also put a full barrier before every dispatch (the RHI's policy before
+    // hazard tracking), to show what that rule costs.
     void submitDispatches(bool barrierPerDispatch = false);
     void wait() { check(vkWaitForFences(m_device, 1, &m_fence, VK_TRUE, UINT64_MAX), "vkWaitForFences"); }
     void checkDraws();

@@ -94,7 +94,9 @@ TEST_P(OrientationTest, ReportsNativeConventions) {
     bool vulkan = backend() == Backend::Vulkan;
     // GL and GLES report [0, 1] clip depth as native where clip control exists
     // (ConventionsTest.NativeClipDepthKeepsTinyDepths checks that claim).
-    if (vulkan) EXPECT_TRUE(c.nativeClipDepthZeroToOne);
+    if (vulkan) {
+        EXPECT_TRUE(c.nativeClipDepthZeroToOne);
+    }
     EXPECT_EQ(c.nativeFramebufferOriginTopLeft, vulkan) << "GL and GLES address rows bottom-up natively";
     EXPECT_EQ(device().info().backend, backend());
     EXPECT_FALSE(device().info().apiVersion.empty());
