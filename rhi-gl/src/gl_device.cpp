@@ -442,10 +442,10 @@ PipelineHandle GLDevice::createGraphicsPipeline(const GraphicsPipelineDesc& desc
         const bool blends = i < desc.blend.size() && desc.blend[i].enable;
         if (blends && (format == Format::RGBA32_FLOAT || format == Format::R32_FLOAT))
             require(Capability::FloatBlend, fmt::format("blending into a {} attachment", toString(format)));
-        if (blends && format == Format::R32_UINT)
+        if (blends && formatInfo(format).kind == FormatKind::UInt)
             throw Error(ErrorCode::InvalidDescription,
-                        fmt::format("{}: colour attachment {} is r32ui, which cannot blend; disable blending for it",
-                                    name, i));
+                        fmt::format("{}: colour attachment {} is {}, an integer format, which cannot blend; disable blending for it",
+                                    name, i, toString(format)));
     }
     if (isES()) {
         // ES 3.0 has one blend state and one colour mask for all attachments.
@@ -664,7 +664,8 @@ std::vector<std::byte> GLDevice::downloadTexture(const GLTexture& texture, Textu
     f.glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo);
     f.glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
 
-    if (!isES() || format == Format::RGBA8_UNORM || format == Format::RGBA8_SRGB || format == Format::RGBA32_FLOAT) {
+    if (!isES() || format == Format::RGBA8_UNORM || format == Format::RGBA8_SRGB || format == Format::RGBA32_FLOAT ||
+        format == Format::RGBA32_UINT) {
         // Desktop GL converts to any format/type; ES reads these formats exactly as stored.
         const GLFormat& gf = texture.format();
         f.glReadPixels(0, 0, GLsizei(width), GLsizei(height), gf.uploadFormat, gf.uploadType, result.data());

@@ -57,6 +57,7 @@ const GLFormat& glFormat(Format format) {
     static const GLFormat kRGBA32F{GL_RGBA32F, GL_RGBA, GL_FLOAT};
     static const GLFormat kR11G11B10F{GL_R11F_G11F_B10F, GL_RGB, GL_UNSIGNED_INT_10F_11F_11F_REV};
     static const GLFormat kR32UI{GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT};
+    static const GLFormat kRGBA32UI{GL_RGBA32UI, GL_RGBA_INTEGER, GL_UNSIGNED_INT};
     static const GLFormat kR32F{GL_R32F, GL_RED, GL_FLOAT};
     static const GLFormat kD32F{GL_DEPTH_COMPONENT32F, GL_DEPTH_COMPONENT, GL_FLOAT};
     switch (format) {
@@ -67,6 +68,7 @@ const GLFormat& glFormat(Format format) {
         case Format::RGBA32_FLOAT: return kRGBA32F;
         case Format::R11G11B10_FLOAT: return kR11G11B10F;
         case Format::R32_UINT: return kR32UI;
+        case Format::RGBA32_UINT: return kRGBA32UI;
         case Format::R32_FLOAT: return kR32F;
         case Format::D32_FLOAT: return kD32F;
     }

@@ -45,6 +45,7 @@ VkFormat toVkFormat(Format format) {
         case Format::RGBA32_FLOAT: return VK_FORMAT_R32G32B32A32_SFLOAT;
         case Format::R11G11B10_FLOAT: return VK_FORMAT_B10G11R11_UFLOAT_PACK32;
         case Format::R32_UINT: return VK_FORMAT_R32_UINT;
+        case Format::RGBA32_UINT: return VK_FORMAT_R32G32B32A32_UINT;
         case Format::R32_FLOAT: return VK_FORMAT_R32_SFLOAT;
         case Format::D32_FLOAT: return VK_FORMAT_D32_SFLOAT;
         case Format::Unknown: break;

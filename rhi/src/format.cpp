@@ -14,6 +14,7 @@ constexpr std::array kFormats = {
     FormatInfo{Format::RGBA32_FLOAT, "rgba32f", 16, 4, FormatKind::Float, false},
     FormatInfo{Format::R11G11B10_FLOAT, "r11g11b10f", 4, 3, FormatKind::Float, false},
     FormatInfo{Format::R32_UINT, "r32ui", 4, 1, FormatKind::UInt, false},
+    FormatInfo{Format::RGBA32_UINT, "rgba32ui", 16, 4, FormatKind::UInt, false},
     FormatInfo{Format::R32_FLOAT, "r32f", 4, 1, FormatKind::Float, false},
     FormatInfo{Format::D32_FLOAT, "d32f", 4, 1, FormatKind::Depth, false},
 };

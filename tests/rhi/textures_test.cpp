@@ -12,7 +12,7 @@ JANUS_INSTANTIATE_BACKEND_TESTS(TextureTest);
 
 const Format kColorFormats[] = {Format::RGBA8_UNORM, Format::RGBA8_SRGB,     Format::RGBA16_FLOAT,
                                 Format::RGBA32_FLOAT, Format::R11G11B10_FLOAT, Format::R32_UINT,
-                                Format::R32_FLOAT};
+                                Format::RGBA32_UINT, Format::R32_FLOAT};
 
 // Contents for one subresource: every texel different, values exactly representable in
 // `format` (so a round trip must be bit exact), and different for every `seed`.
@@ -29,7 +29,8 @@ std::vector<std::byte> texelData(Format format, size_t texels, uint32_t seed) {
             case Format::RGBA16_FLOAT: put(i, toHalf(float(k % 211) * 0.25f - 20.0f)); break;
             case Format::RGBA32_FLOAT:
             case Format::R32_FLOAT: put(i, float(k) * 1.375f - 300.0f); break;
-            case Format::R32_UINT: put(i, k * 2654435761u); break;
+            case Format::R32_UINT:
+            case Format::RGBA32_UINT: put(i, k * 2654435761u); break;
             case Format::R11G11B10_FLOAT:
                 // Small multiples of powers of two: exact in 11- and 10-bit floats (no sign bit).
                 put(i, glm::packF2x11_1x10(glm::vec3(float(k % 29) * 0.5f, float(k % 23) * 0.25f, float(k % 19) * 2.0f)));

@@ -15,6 +15,7 @@ enum class Format {
     RGBA32_FLOAT,
     R11G11B10_FLOAT,
     R32_UINT,
+    RGBA32_UINT,
     R32_FLOAT,
     D32_FLOAT,
 };
