@@ -1,0 +1,1 @@
+# Light culling shaders (see docs/LIGHTING.md).

@@ -1,0 +1,1 @@
+# Directional shadow map shaders.
