@@ -1,1 +1,3 @@
-# Directional shadow map shaders.
+# Directional shadow map shaders (renderer/src/shadow_map.cpp; lookups in shadow_sampling.glsl).
+janus_add_shader(janus_shaders NAME shadow_vert SOURCE ${CMAKE_CURRENT_LIST_DIR}/shadow.vert)
+janus_add_shader(janus_shaders NAME shadow_frag SOURCE ${CMAKE_CURRENT_LIST_DIR}/shadow.frag)

@@ -1,0 +1,221 @@
+// Directional shadow map: orthographic fit, depth-only pass, compare sampler. See docs/SHADOWS.md.
+#include "shadow_map.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstring>
+
+#include <fmt/format.h>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "janus/renderer/renderer.h"
+#include "janus/renderer/scene.h"
+#include "janus/shaders/shaders.h"
+
+namespace janus::renderer {
+namespace {
+
+// Texels kept free on each side of the fitted bounds: one for the snap, one for the PCF kernel.
+constexpr float kBorderTexels = 2.0f;
+
+// Polygon offset of the shadow pass. Slope-scaled bias removes acne on surfaces at grazing angles
+// to the light; the constant part (in units of the D32F value's ulp) covers the flat case. The
+// normal offset in shadow_sampling.glsl does the rest, so both stay small enough not to
+// detach shadows from their casters (peter-panning).
+constexpr float kDepthBiasConstant = 2.0f;
+constexpr float kDepthBiasSlope = 2.0f;
+
+uint64_t alignUp(uint64_t value, uint64_t alignment) { return alignment ? (value + alignment - 1) / alignment * alignment : value; }
+
+bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+rhi::ShaderHandle makeShader(rhi::IDevice& device, rhi::ShaderStage stage, const char* name) {
+    return device.createShader(rhi::ShaderDesc{}.setStage(stage).setSpirv(shaders::get(name)).setDebugName(name));
+}
+
+}  // namespace
+
+DirectionalShadowMap::DirectionalShadowMap(rhi::IDevice& device, uint32_t size) : m_device(device), m_size(size) {
+    const uint32_t maxSize = device.capabilities().limits.maxTextureSize2D;
+    if (size < kMinSize || size > maxSize)
+        throw RendererError(fmt::format("shadow map size {} is not possible on this {} device: it must be between {} and the "
+                                        "maximum 2D texture size {}",
+                                        size, rhi::toString(device.info().backend), kMinSize, maxSize));
+    static_assert(sizeof(Vertex) == 48 && offsetof(Vertex, position) == 0, "the shadow pass reads positions from renderer Vertex");
+
+    m_depth = device.createTexture(rhi::TextureDesc{}
+                                       .setFormat(kDepthFormat)
+                                       .setSize(size, size)
+                                       .setUsage(rhi::TextureUsage::RenderTarget | rhi::TextureUsage::Sampled)
+                                       .setDebugName("directional shadow map"));
+    // Linear filtering on a compare sampler filters the four comparison results (hardware 2x2
+    // PCF); clamp-to-edge keeps taps just outside the map on the border texels.
+    rhi::SamplerDesc sampler;
+    sampler.setFilter(rhi::Filter::Linear).setAddress(rhi::AddressMode::ClampToEdge).setLodRange(0.0f, 0.0f);
+    sampler.mipFilter = rhi::Filter::Nearest;
+    sampler.setCompare(rhi::CompareOp::LessOrEqual);
+    m_compareSampler = device.createSampler(sampler);
+
+    m_passUniforms = device.createBuffer(
+        rhi::BufferDesc{}.setSize(sizeof(glm::mat4)).setUsage(rhi::BufferUsage::Uniform).setDebugName("shadow pass uniforms"));
+    m_passBindings = device.createBindingSet(rhi::BindingSetDesc{}.add(rhi::BindingItem::uniformBuffer(0, m_passUniforms)));
+    m_casterStride = alignUp(sizeof(glm::mat4), std::max<uint32_t>(device.capabilities().limits.uniformBufferOffsetAlignment, 16));
+
+    const rhi::ShaderHandle vs = makeShader(device, rhi::ShaderStage::Vertex, "shadow_vert");
+    const rhi::ShaderHandle fs = makeShader(device, rhi::ShaderStage::Fragment, "shadow_frag");
+    auto pipeline = [&](rhi::CullMode cull, const char* name) {
+        rhi::RasterState raster;
+        raster.cullMode = cull;
+        // The light's projection has the same handedness and y flip as the camera's, so glTF
+        // counter-clockwise front faces stay counter-clockwise as seen in the map.
+        raster.frontFace = rhi::FrontFace::CounterClockwise;
+        raster.depthBiasEnable = true;
+        raster.depthBiasConstant = kDepthBiasConstant;
+        raster.depthBiasSlope = kDepthBiasSlope;
+        return device.createGraphicsPipeline(rhi::GraphicsPipelineDesc{}
+                                                 .setShaders(vs, fs)
+                                                 .addVertexBuffer({0, sizeof(Vertex), false})
+                                                 .addVertexAttribute({0, rhi::VertexFormat::Float3, 0, offsetof(Vertex, position)})
+                                                 .setRaster(raster)
+                                                 .setDepth(rhi::DepthState{true, true, rhi::CompareOp::LessOrEqual})
+                                                 .setDepthFormat(kDepthFormat)
+                                                 .setDebugName(name));
+    };
+    m_culledPipeline = pipeline(rhi::CullMode::Back, "shadow (back-face culled)");
+    m_doubleSidedPipeline = pipeline(rhi::CullMode::None, "shadow (double-sided)");
+}
+
+void DirectionalShadowMap::fit(const glm::vec3& lightDirection, const glm::vec3& sceneMin, const glm::vec3& sceneMax) {
+    const float length = glm::length(lightDirection);
+    if (!finite(lightDirection) || !(length > 1e-20f))
+        throw RendererError(fmt::format("shadow map: the light direction ({}, {}, {}) is zero or not finite", lightDirection.x,
+                                        lightDirection.y, lightDirection.z));
+    if (!finite(sceneMin) || !finite(sceneMax))
+        throw RendererError("shadow map: the scene bounds are not finite");
+    const glm::vec3 direction = lightDirection / length;
+    const glm::vec3 center = (sceneMin + sceneMax) * 0.5f;
+    // An inverted (empty) box collapses to its centre.
+    const glm::vec3 lo = glm::min(sceneMin, center), hi = glm::max(sceneMax, center);
+
+    // Any up vector not parallel to the light; which one only rotates the map.
+    const glm::vec3 up = std::abs(direction.y) > 0.99f ? glm::vec3(0.0f, 0.0f, 1.0f) : glm::vec3(0.0f, 1.0f, 0.0f);
+    const glm::mat4 view = glm::lookAt(center - direction, center, up);
+
+    glm::vec3 viewMin(INFINITY), viewMax(-INFINITY);
+    for (int corner = 0; corner < 8; ++corner) {
+        const glm::vec3 p((corner & 1) ? hi.x : lo.x, (corner & 2) ? hi.y : lo.y, (corner & 4) ? hi.z : lo.z);
+        const glm::vec3 v = glm::vec3(view * glm::vec4(p, 1.0f));
+        viewMin = glm::min(viewMin, v);
+        viewMax = glm::max(viewMax, v);
+    }
+
+    // Square texels: the larger of the two extents, plus the border. A scale floor keeps a point
+    // (or flat) scene from giving a zero-sized projection.
+    const float scale = std::max({glm::length(hi - lo), glm::length(center), 1.0f});
+    const float rawExtent = std::max({viewMax.x - viewMin.x, viewMax.y - viewMin.y, scale * 1e-4f});
+    const float texel = rawExtent / (float(m_size) - 2.0f * kBorderTexels);
+    const float extent = texel * float(m_size);
+    // Snapping the window's corner to whole texels in light space keeps the texel grid fixed
+    // to the world while the bounds move by less than a texel, so shadow edges do not crawl.
+    const glm::vec2 middle((viewMin.x + viewMax.x) * 0.5f, (viewMin.y + viewMax.y) * 0.5f);
+    const float left = std::floor((middle.x - extent * 0.5f) / texel) * texel;
+    const float bottom = std::floor((middle.y - extent * 0.5f) / texel) * texel;
+
+    // View space looks down -Z: the nearest corner has the largest z. A little depth margin keeps
+    // geometry lying on the bounds from being clipped by float error.
+    const float depthRange = viewMax.z - viewMin.z;
+    const float depthMargin = std::max(depthRange * 1e-3f, scale * 1e-5f);
+    const float nearPlane = -viewMax.z - depthMargin, farPlane = -viewMin.z + depthMargin;
+    glm::mat4 projection = glm::orthoRH_ZO(left, left + extent, bottom, bottom + extent, nearPlane, farPlane);
+    // Vulkan convention, as for the camera: light-space up lands on NDC y = -1, row 0.
+    projection[1][1] *= -1.0f;
+    projection[3][1] *= -1.0f;
+
+    m_lightViewProjection = projection * view;
+    m_lightDirection = direction;
+    m_texelWorldSize = texel;
+    m_fitted = true;
+    m_passUniformsDirty = true;
+}
+
+glm::mat4 DirectionalShadowMap::worldToShadow() const {
+    // Clip (x, y in [-1, 1], z in [0, 1]) -> (u, v, depth). NDC y = -1 is row 0 and v = 0 is
+    // row 0, so v follows y without a flip.
+    glm::mat4 clipToTexture(1.0f);
+    clipToTexture[0][0] = 0.5f;
+    clipToTexture[1][1] = 0.5f;
+    clipToTexture[3][0] = 0.5f;
+    clipToTexture[3][1] = 0.5f;
+    return clipToTexture * m_lightViewProjection;
+}
+
+void DirectionalShadowMap::setCasters(std::span<const ShadowCaster> casters) {
+    const size_t slots = std::max<size_t>(casters.size(), 1);
+    m_casterUniforms = m_device.createBuffer(rhi::BufferDesc{}
+                                                 .setSize(slots * m_casterStride)
+                                                 .setUsage(rhi::BufferUsage::Uniform)
+                                                 .setDebugName("shadow caster uniforms"));
+    std::vector<std::byte> data(slots * m_casterStride);
+    m_casterBindings.clear();
+    m_casterWorlds.clear();
+    for (size_t i = 0; i < casters.size(); ++i) {
+        std::memcpy(data.data() + i * m_casterStride, &casters[i].world, sizeof(glm::mat4));
+        m_casterWorlds.push_back(casters[i].world);
+        m_casterBindings.push_back(m_device.createBindingSet(rhi::BindingSetDesc{}.add(
+            rhi::BindingItem::uniformBuffer(1, m_casterUniforms, i * m_casterStride, sizeof(glm::mat4)))));
+    }
+    m_device.writeBuffer(m_casterUniforms, data.data(), data.size());
+}
+
+void DirectionalShadowMap::uploadPassUniforms(rhi::ICommandList& cmd) {
+    if (!m_passUniformsDirty) return;
+    cmd.writeBuffer(m_passUniforms, &m_lightViewProjection, sizeof(glm::mat4));
+    m_passUniformsDirty = false;
+}
+
+void DirectionalShadowMap::record(rhi::ICommandList& cmd, std::span<const ShadowCaster> casters, uint32_t& drawCount) {
+    if (!m_fitted) throw RendererError("DirectionalShadowMap::record() was called before fit(); fit the map to the scene first");
+    if (casters.size() > m_casterBindings.size()) setCasters(casters);
+    uploadPassUniforms(cmd);
+    // Moved casters: one copy of the changed slot range, recorded before the pass.
+    size_t firstChanged = casters.size(), lastChanged = 0;
+    for (size_t i = 0; i < casters.size(); ++i) {
+        if (std::memcmp(&casters[i].world, &m_casterWorlds[i], sizeof(glm::mat4)) == 0) continue;
+        m_casterWorlds[i] = casters[i].world;
+        firstChanged = std::min(firstChanged, i);
+        lastChanged = i;
+    }
+    if (firstChanged < casters.size()) {
+        std::vector<std::byte> data((lastChanged - firstChanged + 1) * m_casterStride);
+        for (size_t i = firstChanged; i <= lastChanged; ++i)
+            std::memcpy(data.data() + (i - firstChanged) * m_casterStride, &m_casterWorlds[i], sizeof(glm::mat4));
+        cmd.writeBuffer(m_casterUniforms, data.data(), data.size(), firstChanged * m_casterStride);
+    }
+
+    cmd.beginRenderPass(rhi::RenderPassDesc{}.setDepth(rhi::Attachment::clearDepthTo(m_depth, 1.0f)));
+    const rhi::IPipeline* bound = nullptr;
+    for (size_t i = 0; i < casters.size(); ++i) {
+        const ShadowCaster& caster = casters[i];
+        if (caster.indexCount == 0 || !caster.vertices || !caster.indices) continue;
+        const rhi::PipelineHandle& pipeline = caster.doubleSided ? m_doubleSidedPipeline : m_culledPipeline;
+        if (pipeline.get() != bound) {
+            cmd.setPipeline(pipeline);
+            cmd.setBindingSet(0, m_passBindings);
+            bound = pipeline.get();
+        }
+        cmd.setBindingSet(1, m_casterBindings[i]);
+        cmd.setVertexBuffer(0, caster.vertices);
+        cmd.setIndexBuffer(caster.indices, rhi::IndexType::UInt32);
+        cmd.drawIndexed(caster.indexCount);
+        ++drawCount;
+    }
+    cmd.endRenderPass();
+}
+
+rhi::BindingItem DirectionalShadowMap::binding(uint32_t slot) const {
+    return rhi::BindingItem::sampledTexture(slot, m_depth, m_compareSampler);
+}
+
+}  // namespace janus::renderer

@@ -1,0 +1,100 @@
+// Shadow map for the main directional light (internal to the renderer; see docs/SHADOWS.md).
+//
+// Usage, once per scene:   DirectionalShadowMap shadows(device, 1024);
+//                          shadows.fit(light.direction, sceneMin, sceneMax);
+//                          shadows.setCasters(casters);            // binding sets made here
+// once per frame:          shadows.record(cmd, casters, draws);    // one depth-only render pass
+// in the forward pass:     shadows.binding(9) in set 0 (sampler2DShadow), worldToShadow() and
+//                          texelSize() / normalOffset() in the frame uniforms, and
+//                          shaders/renderer/shadow_sampling.glsl in the shader.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "janus/rhi/rhi.h"
+
+namespace janus::renderer {
+
+// One mesh drawn into the shadow map. The vertex buffer holds renderer Vertex structs (position
+// at offset 0, stride 48 bytes); the index buffer holds uint32 indices.
+struct ShadowCaster {
+    rhi::BufferHandle vertices;
+    rhi::BufferHandle indices;
+    uint32_t indexCount = 0;
+    glm::mat4 world{1.0f};
+    bool doubleSided = false;   // drawn without face culling, like the forward pass draws it
+};
+
+class DirectionalShadowMap {
+public:
+    static constexpr rhi::Format kDepthFormat = rhi::Format::D32_FLOAT;
+    static constexpr uint32_t kMinSize = 16;   // fit() keeps a border of a few texels
+
+    // Creates the depth texture (size x size D32F), the compare sampler and the depth-only
+    // pipelines. Throws RendererError when `size` is below kMinSize or above the device's
+    // maximum 2D texture size.
+    DirectionalShadowMap(rhi::IDevice& device, uint32_t size);
+
+    // Fits an orthographic light view-projection around the axis-aligned box [sceneMin, sceneMax]
+    // seen along `lightDirection` (the way the light travels; need not be unit length). The map
+    // is square in world units, keeps two texels of border for the PCF kernel and is snapped to
+    // whole texels, so equal inputs always give bit-equal matrices. An empty or inverted box is
+    // treated as a point at its centre. Throws RendererError for a zero or non-finite direction
+    // or non-finite bounds.
+    void fit(const glm::vec3& lightDirection, const glm::vec3& sceneMin, const glm::vec3& sceneMax);
+
+    // World -> clip space of the shadow pass (Vulkan conventions: depth [0, 1], NDC y = -1 is row 0).
+    const glm::mat4& lightViewProjection() const { return m_lightViewProjection; }
+    // World -> (u, v, depth): u, v in [0, 1] with v = 0 at row 0, depth in [0, 1] as stored in the
+    // map; exactly the coordinates texture(sampler2DShadow, vec3) expects (w stays 1).
+    glm::mat4 worldToShadow() const;
+    // 1 / size: one texel in u, v (the PCF kernel's step).
+    float texelSize() const { return 1.0f / float(m_size); }
+    // World-space width of one texel (square texels).
+    float texelWorldSize() const { return m_texelWorldSize; }
+    // Suggested normal offset for shadowCoordFor() in world units (1.5 texels, see docs/SHADOWS.md).
+    float normalOffset() const { return 1.5f * m_texelWorldSize; }
+    uint32_t size() const { return m_size; }
+    const glm::vec3& lightDirection() const { return m_lightDirection; }
+
+    // Prepares one uniform slot and binding set per caster. Call when the set of casters
+    // changes; record() calls it itself when given more casters than were prepared.
+    void setCasters(std::span<const ShadowCaster> casters);
+
+    // Records the depth-only render pass: clears the map to 1 and draws every caster with an
+    // index count. Changed world matrices or a changed fit are uploaded by a copy recorded
+    // before the pass. Adds the number of draws to `drawCount`.
+    void record(rhi::ICommandList& cmd, std::span<const ShadowCaster> casters, uint32_t& drawCount);
+
+    // The map as a sampler2DShadow at `slot` (compare LessOrEqual: 1 = lit, linear filtering
+    // gives hardware 2x2 PCF per tap).
+    rhi::BindingItem binding(uint32_t slot) const;
+    const rhi::TextureHandle& texture() const { return m_depth; }
+    const rhi::SamplerHandle& compareSampler() const { return m_compareSampler; }
+
+private:
+    void uploadPassUniforms(rhi::ICommandList& cmd);
+
+    rhi::IDevice& m_device;
+    uint32_t m_size = 0;
+    rhi::TextureHandle m_depth;
+    rhi::SamplerHandle m_compareSampler;
+    rhi::PipelineHandle m_culledPipeline, m_doubleSidedPipeline;
+    rhi::BufferHandle m_passUniforms;     // set 0, binding 0: light view-projection
+    rhi::BindingSetHandle m_passBindings;
+    rhi::BufferHandle m_casterUniforms;   // set 1, binding 1: one world matrix slot per caster
+    std::vector<rhi::BindingSetHandle> m_casterBindings;
+    std::vector<glm::mat4> m_casterWorlds;   // what the slots on the GPU hold
+    uint64_t m_casterStride = 0;
+    bool m_passUniformsDirty = true;
+    bool m_fitted = false;
+    glm::vec3 m_lightDirection{0.0f, -1.0f, 0.0f};
+    glm::mat4 m_lightViewProjection{1.0f};
+    float m_texelWorldSize = 0.0f;
+};
+
+}  // namespace janus::renderer
