@@ -20,13 +20,6 @@ namespace {
 // Texels kept free on each side of the fitted bounds: one for the snap, one for the PCF kernel.
 constexpr float kBorderTexels = 2.0f;
 
-// Polygon offset of the shadow pass. Slope-scaled bias removes acne on surfaces at grazing angles
-// to the light; the constant part (in units of the D32F value's ulp) covers the flat case. The
-// normal offset in shadow_sampling.glsl does the rest, so both stay small enough not to
-// detach shadows from their casters (peter-panning).
-constexpr float kDepthBiasConstant = 2.0f;
-constexpr float kDepthBiasSlope = 2.0f;
-
 uint64_t alignUp(uint64_t value, uint64_t alignment) { return alignment ? (value + alignment - 1) / alignment * alignment : value; }
 
 bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
@@ -88,54 +81,56 @@ DirectionalShadowMap::DirectionalShadowMap(rhi::IDevice& device, uint32_t size) 
 }
 
 void DirectionalShadowMap::fit(const glm::vec3& lightDirection, const glm::vec3& sceneMin, const glm::vec3& sceneMax) {
-    const float length = glm::length(lightDirection);
-    if (!finite(lightDirection) || !(length > 1e-20f))
+    if (!finite(lightDirection) || !(glm::length(glm::dvec3(lightDirection)) > 1e-30))
         throw RendererError(fmt::format("shadow map: the light direction ({}, {}, {}) is zero or not finite", lightDirection.x,
                                         lightDirection.y, lightDirection.z));
     if (!finite(sceneMin) || !finite(sceneMax))
         throw RendererError("shadow map: the scene bounds are not finite");
-    const glm::vec3 direction = lightDirection / length;
-    const glm::vec3 center = (sceneMin + sceneMax) * 0.5f;
+    // Doubles: light space is anchored at the world origin (below), so a scene far from it would
+    // lose the snap and the border to float rounding. The result is rounded to float once.
+    const glm::dvec3 direction = glm::normalize(glm::dvec3(lightDirection));
+    const glm::dvec3 center = (glm::dvec3(sceneMin) + glm::dvec3(sceneMax)) * 0.5;
     // An inverted (empty) box collapses to its centre.
-    const glm::vec3 lo = glm::min(sceneMin, center), hi = glm::max(sceneMax, center);
+    const glm::dvec3 lo = glm::min(glm::dvec3(sceneMin), center), hi = glm::max(glm::dvec3(sceneMax), center);
 
-    // Any up vector not parallel to the light; which one only rotates the map.
-    const glm::vec3 up = std::abs(direction.y) > 0.99f ? glm::vec3(0.0f, 0.0f, 1.0f) : glm::vec3(0.0f, 1.0f, 0.0f);
-    const glm::mat4 view = glm::lookAt(center - direction, center, up);
+    // Any up vector not parallel to the light; which one only rotates the map. The view is a pure
+    // rotation about the world origin, so light space (and the texel grid snapped in it below)
+    // does not move with the bounds.
+    const glm::dvec3 up = std::abs(direction.y) > 0.99 ? glm::dvec3(0.0, 0.0, 1.0) : glm::dvec3(0.0, 1.0, 0.0);
+    const glm::dmat4 view = glm::lookAt(glm::dvec3(0.0), direction, up);
 
-    glm::vec3 viewMin(INFINITY), viewMax(-INFINITY);
+    glm::dvec3 viewMin(INFINITY), viewMax(-INFINITY);
     for (int corner = 0; corner < 8; ++corner) {
-        const glm::vec3 p((corner & 1) ? hi.x : lo.x, (corner & 2) ? hi.y : lo.y, (corner & 4) ? hi.z : lo.z);
-        const glm::vec3 v = glm::vec3(view * glm::vec4(p, 1.0f));
+        const glm::dvec3 p((corner & 1) ? hi.x : lo.x, (corner & 2) ? hi.y : lo.y, (corner & 4) ? hi.z : lo.z);
+        const glm::dvec3 v = glm::dvec3(view * glm::dvec4(p, 1.0));
         viewMin = glm::min(viewMin, v);
         viewMax = glm::max(viewMax, v);
     }
 
-    // Square texels: the larger of the two extents, plus the border. A scale floor keeps a point
-    // (or flat) scene from giving a zero-sized projection.
-    const float scale = std::max({glm::length(hi - lo), glm::length(center), 1.0f});
-    const float rawExtent = std::max({viewMax.x - viewMin.x, viewMax.y - viewMin.y, scale * 1e-4f});
-    const float texel = rawExtent / (float(m_size) - 2.0f * kBorderTexels);
-    const float extent = texel * float(m_size);
-    // Snapping the window's corner to whole texels in light space keeps the texel grid fixed
-    // to the world while the bounds move by less than a texel, so shadow edges do not crawl.
-    const glm::vec2 middle((viewMin.x + viewMax.x) * 0.5f, (viewMin.y + viewMax.y) * 0.5f);
-    const float left = std::floor((middle.x - extent * 0.5f) / texel) * texel;
-    const float bottom = std::floor((middle.y - extent * 0.5f) / texel) * texel;
+    // Square texels: the larger of the two extents, plus the border. A floor relative to the
+    // scene's size and distance keeps a point (or edge-on flat) scene from giving a zero-sized
+    // projection, and keeps a texel above the float precision of the world positions.
+    const double scale = std::max({glm::length(hi - lo), glm::length(center), 1.0});
+    const double rawExtent = std::max({viewMax.x - viewMin.x, viewMax.y - viewMin.y, scale * 1e-4});
+    const double texel = rawExtent / (double(m_size) - 2.0 * kBorderTexels);
+    const double extent = texel * double(m_size);
+    // Snapping the window's corner to whole texels of light space keeps the texel grid fixed to
+    // the world while the bounds move, so shadow edges do not crawl.
+    const double left = std::floor(((viewMin.x + viewMax.x) * 0.5 - extent * 0.5) / texel) * texel;
+    const double bottom = std::floor(((viewMin.y + viewMax.y) * 0.5 - extent * 0.5) / texel) * texel;
 
     // View space looks down -Z: the nearest corner has the largest z. A little depth margin keeps
     // geometry lying on the bounds from being clipped by float error.
-    const float depthRange = viewMax.z - viewMin.z;
-    const float depthMargin = std::max(depthRange * 1e-3f, scale * 1e-5f);
-    const float nearPlane = -viewMax.z - depthMargin, farPlane = -viewMin.z + depthMargin;
-    glm::mat4 projection = glm::orthoRH_ZO(left, left + extent, bottom, bottom + extent, nearPlane, farPlane);
+    const double depthMargin = std::max((viewMax.z - viewMin.z) * 1e-3, scale * 1e-5);
+    const double nearPlane = -viewMax.z - depthMargin, farPlane = -viewMin.z + depthMargin;
+    glm::dmat4 projection = glm::orthoRH_ZO(left, left + extent, bottom, bottom + extent, nearPlane, farPlane);
     // Vulkan convention, as for the camera: light-space up lands on NDC y = -1, row 0.
-    projection[1][1] *= -1.0f;
-    projection[3][1] *= -1.0f;
+    projection[1][1] *= -1.0;
+    projection[3][1] *= -1.0;
 
-    m_lightViewProjection = projection * view;
-    m_lightDirection = direction;
-    m_texelWorldSize = texel;
+    m_lightViewProjection = glm::mat4(projection * view);
+    m_lightDirection = glm::vec3(direction);
+    m_texelWorldSize = float(texel);
     m_fitted = true;
     m_passUniformsDirty = true;
 }

@@ -33,6 +33,12 @@ class DirectionalShadowMap {
 public:
     static constexpr rhi::Format kDepthFormat = rhi::Format::D32_FLOAT;
     static constexpr uint32_t kMinSize = 16;   // fit() keeps a border of a few texels
+    // Polygon offset of the shadow pass. Slope-scaled bias removes acne on surfaces at grazing
+    // angles to the light; the constant part (in units of the D32F value's ulp) covers the flat
+    // case. The normal offset in shadow_sampling.glsl does the rest, so both stay small enough
+    // not to detach shadows from their casters (peter-panning).
+    static constexpr float kDepthBiasConstant = 2.0f;
+    static constexpr float kDepthBiasSlope = 2.0f;
 
     // Creates the depth texture (size x size D32F), the compare sampler and the depth-only
     // pipelines. Throws RendererError when `size` is below kMinSize or above the device's
