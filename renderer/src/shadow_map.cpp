@@ -30,6 +30,46 @@ rhi::ShaderHandle makeShader(rhi::IDevice& device, rhi::ShaderStage stage, const
 
 }  // namespace
 
+WorldBounds sceneWorldBounds(const Scene& scene) {
+    // Per mesh once: the local box, whose 8 transformed corners bound each instance.
+    std::vector<WorldBounds> local(scene.meshes.size());
+    for (size_t m = 0; m < scene.meshes.size(); ++m)
+        for (const Vertex& v : scene.meshes[m].vertices) {
+            local[m].min = glm::min(local[m].min, v.position);
+            local[m].max = glm::max(local[m].max, v.position);
+        }
+    WorldBounds bounds;
+    for (const Instance& instance : scene.instances) {
+        if (instance.mesh >= local.size() || local[instance.mesh].empty()) continue;
+        const WorldBounds& box = local[instance.mesh];
+        for (int corner = 0; corner < 8; ++corner) {
+            const glm::vec3 p((corner & 1) ? box.max.x : box.min.x, (corner & 2) ? box.max.y : box.min.y,
+                              (corner & 4) ? box.max.z : box.min.z);
+            const glm::vec3 w = glm::vec3(instance.world * glm::vec4(p, 1.0f));
+            bounds.min = glm::min(bounds.min, w);
+            bounds.max = glm::max(bounds.max, w);
+        }
+    }
+    return bounds;
+}
+
+std::optional<size_t> mainDirectionalLight(const Scene& scene, uint32_t shadedDirectionalLights) {
+    std::optional<size_t> main;
+    float brightest = 0.0f;
+    uint32_t seen = 0;
+    for (size_t i = 0; i < scene.lights.size() && seen < shadedDirectionalLights; ++i) {
+        const Light& light = scene.lights[i];
+        if (light.type != LightType::Directional) continue;
+        ++seen;
+        const float brightness = std::max({light.color.r, light.color.g, light.color.b}) * light.intensity;
+        if (brightness > brightest) {
+            brightest = brightness;
+            main = i;
+        }
+    }
+    return main;
+}
+
 DirectionalShadowMap::DirectionalShadowMap(rhi::IDevice& device, uint32_t size) : m_device(device), m_size(size) {
     const uint32_t maxSize = device.capabilities().limits.maxTextureSize2D;
     if (size < kMinSize || size > maxSize)

@@ -9,7 +9,10 @@
 //                          shaders/renderer/shadow_sampling.glsl in the shader.
 #pragma once
 
+#include <cmath>
+#include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -18,6 +21,22 @@
 #include "janus/rhi/rhi.h"
 
 namespace janus::renderer {
+
+struct Scene;
+
+// World-space axis-aligned bounds of every instance's vertices. Empty (min > max) for a scene
+// without vertices.
+struct WorldBounds {
+    glm::vec3 min{INFINITY};
+    glm::vec3 max{-INFINITY};
+    bool empty() const { return !(min.x <= max.x && min.y <= max.y && min.z <= max.z); }
+};
+WorldBounds sceneWorldBounds(const Scene& scene);
+
+// The directional light the shadow map serves: the brightest (largest colour channel x
+// intensity) of the first `shadedDirectionalLights` directional lights in scene order, the first
+// of equals. An index into scene.lights; nullopt when none gives any light.
+std::optional<size_t> mainDirectionalLight(const Scene& scene, uint32_t shadedDirectionalLights = 4);
 
 // One mesh drawn into the shadow map. The vertex buffer holds renderer Vertex structs (position
 // at offset 0, stride 48 bytes); the index buffer holds uint32 indices.

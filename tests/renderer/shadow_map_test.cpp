@@ -13,6 +13,7 @@
 
 #include <fmt/format.h>
 #include <glm/glm.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "janus/renderer/renderer.h"
 #include "janus/renderer/scene.h"
@@ -122,6 +123,39 @@ TEST(ShadowMapFit, RefusesADegenerateDirection) {
     cmd->begin();
     EXPECT_THROW(shadows.record(*cmd, {}, draws), RendererError) << "record() before fit()";
     cmd->end();
+}
+
+TEST(ShadowMapScene, BoundsCoverEveryInstanceAndTheBrightestDirectionalLightIsMain) {
+    Scene scene;
+    Mesh mesh;
+    for (const glm::vec3& p : {glm::vec3(-1, 0, 0), glm::vec3(1, 2, 0), glm::vec3(0, 0, 3)})
+        mesh.vertices.push_back(Vertex{p, glm::vec3(0, 1, 0), glm::vec2(0.0f), glm::vec4(0.0f)});
+    mesh.indices = {0, 1, 2};
+    scene.meshes.push_back(mesh);
+    EXPECT_TRUE(sceneWorldBounds(scene).empty()) << "no instances, no bounds";
+    Instance moved;
+    moved.world = glm::translate(glm::mat4(1.0f), glm::vec3(10, 0, 0)) * glm::scale(glm::mat4(1.0f), glm::vec3(2.0f));
+    scene.instances = {Instance{}, moved};
+    const WorldBounds bounds = sceneWorldBounds(scene);
+    ASSERT_FALSE(bounds.empty());
+    EXPECT_EQ(bounds.min, glm::vec3(-1, 0, 0));
+    EXPECT_EQ(bounds.max, glm::vec3(12, 4, 6));
+
+    EXPECT_FALSE(mainDirectionalLight(scene).has_value()) << "no lights";
+    auto light = [](LightType type, float intensity, glm::vec3 color = glm::vec3(1.0f)) {
+        Light l;
+        l.type = type;
+        l.intensity = intensity;
+        l.color = color;
+        return l;
+    };
+    scene.lights = {light(LightType::Point, 100.0f), light(LightType::Directional, 0.0f)};
+    EXPECT_FALSE(mainDirectionalLight(scene).has_value()) << "a dark directional light casts nothing";
+    scene.lights = {light(LightType::Point, 100.0f), light(LightType::Directional, 2.0f), light(LightType::Directional, 1.0f, {0, 3, 0}),
+                    light(LightType::Directional, 3.0f), light(LightType::Directional, 4.0f)};
+    EXPECT_EQ(mainDirectionalLight(scene), std::optional<size_t>(4)) << "intensity 4 beats 3, 1 x green 3 and 2";
+    EXPECT_EQ(mainDirectionalLight(scene, 3), std::optional<size_t>(2)) << "green 3 ties white 3: the first of equals";
+    EXPECT_EQ(mainDirectionalLight(scene, 1), std::optional<size_t>(1)) << "only the first directional light is shaded";
 }
 
 // --- the shadow pass on every backend -------------------------------------------------------
