@@ -24,7 +24,9 @@ float sampleShadowPCF(sampler2DShadow map, vec3 shadowCoord, float texelSize) {
     for (int y = -1; y <= 1; ++y) {
         for (int x = -1; x <= 1; ++x) {
             vec2 uv = shadowCoord.xy + vec2(float(x), float(y)) * texelSize;
-            lit += texture(map, vec3(uv, shadowCoord.z));
+            // Explicit level 0: the map has one level, and callers may sample under non-uniform
+            // control flow, where implicit derivatives are undefined.
+            lit += textureLod(map, vec3(uv, shadowCoord.z), 0.0);
         }
     }
     return lit * (1.0 / 9.0);
