@@ -1,0 +1,81 @@
+// Shared by the renderer's GPU tests: the five configurations, one validated device per backend
+// per test process (starting a device costs far more than a frame), and a one-frame render that
+// fails the current test on any validation / GL debug message.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "janus/renderer/image.h"
+#include "janus/renderer/renderer.h"
+#include "janus/renderer/scene.h"
+#include "janus/rhi/rhi.h"
+
+namespace janus::renderer::test_support {
+
+struct Config {
+    rhi::Backend backend;
+    FeaturePath path;
+    std::string name() const;   // "vulkan_compute", "gles_fallback", ...
+};
+void PrintTo(const Config& config, std::ostream* os);
+
+// vulkan/compute (the reference) first, then vulkan/fallback, gl/compute, gl/fallback, gles/fallback.
+const std::vector<Config>& allConfigs();
+
+rhi::IDevice& deviceFor(rhi::Backend backend);
+std::string joinMessages(const std::vector<rhi::DebugMessage>& messages);
+
+// Where failing comparisons leave their images for a look.
+std::filesystem::path outputDir();
+
+struct FrameOutput {
+    FrameReport report;
+    ImageRGBA8 display;
+    ImageRGBAF hdr;
+    std::optional<TileLists> tiles;   // when asked for and the frame built tiles
+    std::vector<float> depth;         // when asked for
+};
+
+struct ReadBack {
+    bool tiles = false;
+    bool depth = false;
+};
+
+// Renders one frame of `scene` on `config` with `settings` (its path is replaced by the
+// config's). Adds a test failure naming the config for any debug message the device produced.
+FrameOutput renderOneFrame(const Config& config, const Scene& scene, RenderSettings settings, ReadBack readBack = {});
+
+constexpr uint32_t kSize = 128;   // small: llvmpipe/lavapipe render on two CPU cores
+
+Light pointLight(glm::vec3 position, glm::vec3 color, float intensity, std::optional<float> range);
+Light spotLight(glm::vec3 position, glm::vec3 direction, glm::vec3 color, float intensity, std::optional<float> range,
+                float innerConeAngle, float outerConeAngle);
+
+// size x size with the given culling mode, everything else unset (scene quality, then defaults).
+RenderSettings settingsFor(LightCulling culling, uint32_t size = kSize);
+
+// For labels. Not toString(LightCulling): these tests stay independent of the code they check.
+const char* cullingName(LightCulling mode);
+
+bool hasPassStartingWith(const FrameReport& report, std::string_view prefix);
+std::string passNames(const FrameReport& report);   // for failure messages
+
+// Every HDR value finite and non-negative (radiance); reports the first bad one.
+void expectFiniteHdr(const ImageRGBAF& hdr, const std::string& label);
+
+// The layout of docs/LIGHTING.md ("Tile lists"): grid size from the image size, counts within
+// the cap, indices below the local light count and ascending, and agreement with the report.
+void expectWellFormedTileLists(const TileLists& tiles, const LightCullingReport& report, uint32_t width, uint32_t height,
+                               const std::string& label);
+
+// Display images within 1 step and HDR within 1e-3 relative (see the definition for why);
+// failing images are written to outputDir() with `label` in their names.
+void expectSameImage(const FrameOutput& expected, const FrameOutput& actual, const std::string& label);
+
+}  // namespace janus::renderer::test_support
