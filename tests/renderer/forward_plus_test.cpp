@@ -12,6 +12,7 @@
 
 #include <fmt/format.h>
 #include <glm/glm.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "janus/renderer/image.h"
 #include "janus/renderer/renderer.h"
@@ -163,6 +164,161 @@ INSTANTIATE_TEST_SUITE_P(Configs, ForwardPlusEqualsNaive, testing::Combine(testi
                          [](const testing::TestParamInfo<EqualityParam>& info) {
                              return fmt::format("{}_{}", std::get<0>(info.param).name, std::get<1>(info.param).name());
                          });
+
+// ---------------------------------------------------------------------------------------------
+// Conservative tile lists, checked against an independent per-pixel brute force
+
+// A local light as culling sees it (docs/LIGHTING.md): the packed array holds the scene's point
+// and spot lights in scene order, minus those that light nothing.
+struct CullingLight {
+    glm::dvec3 position;
+    double radius;
+    bool spot;
+    glm::dvec3 direction;
+    double cosOuter;
+};
+
+constexpr float kDefaultIntensityCutoff = 0.01f;   // LightingSettings::intensityCutoff's default
+
+std::vector<CullingLight> cullingLights(const Scene& scene, float intensityCutoff = kDefaultIntensityCutoff) {
+    std::vector<CullingLight> lights;
+    for (const Light& light : scene.lights) {
+        if (light.type == LightType::Directional) continue;
+        const double power = double(std::max({light.color.r, light.color.g, light.color.b})) * light.intensity;
+        if (power <= 0.0 || (light.range && *light.range <= 0.0f)) continue;   // lights nothing: not packed
+        const double radius = light.range ? double(*light.range) : std::sqrt(power / intensityCutoff);
+        lights.push_back(CullingLight{glm::dvec3(light.position), radius, light.type == LightType::Spot,
+                                      glm::normalize(glm::dvec3(light.direction)), std::cos(double(light.outerConeAngle))});
+    }
+    return lights;
+}
+
+// World positions of the pixel centres that have geometry (depth < 1), nullopt elsewhere, from
+// the frame's depth with the renderer's projection (perspectiveRH_ZO, y flipped so NDC y = -1
+// is row 0; view = lookAt).
+std::vector<std::optional<glm::dvec3>> pixelWorldPositions(const Camera& camera, uint32_t width, uint32_t height, const std::vector<float>& depth) {
+    glm::dmat4 projection = glm::perspectiveRH_ZO(double(camera.fovYRadians), double(width) / double(height), double(camera.nearPlane),
+                                                  double(camera.farPlane));
+    projection[1][1] *= -1.0;
+    const glm::dmat4 view = glm::lookAt(glm::dvec3(camera.position), glm::dvec3(camera.target), glm::dvec3(camera.up));
+    const glm::dmat4 clipToWorld = glm::inverse(projection * view);
+    std::vector<std::optional<glm::dvec3>> positions(size_t(width) * height);
+    for (uint32_t y = 0; y < height; ++y) {
+        for (uint32_t x = 0; x < width; ++x) {
+            const double z = depth[size_t(y) * width + x];
+            if (!(z < 1.0)) continue;
+            const glm::dvec4 ndc((x + 0.5) / width * 2.0 - 1.0, (y + 0.5) / height * 2.0 - 1.0, z, 1.0);
+            const glm::dvec4 world = clipToWorld * ndc;
+            positions[size_t(y) * width + x] = glm::dvec3(world) / world.w;
+        }
+    }
+    return positions;
+}
+
+// Whether the light reaches the point with a contribution that is not negligible. The margins
+// keep float error in the depth reconstruction from turning a grazing light (whose range window
+// and cone factor both fall to 0 with zero slope at the edge, so it adds nothing measurable)
+// into a false "missing" report: 1e-4 of the radius, 1e-5 of the cone's cosine.
+bool contributes(const CullingLight& light, const glm::dvec3& point) {
+    const glm::dvec3 toPoint = point - light.position;
+    const double distance = glm::length(toPoint);
+    if (!(distance < light.radius * (1.0 - 1e-4))) return false;
+    if (!light.spot) return true;
+    return distance > 0.0 && glm::dot(light.direction, toPoint / distance) > light.cosOuter + 1e-5;
+}
+
+struct Evaluations {
+    uint64_t contributing = 0;   // (pixel, light) pairs where the light contributes
+    uint64_t performed = 0;      // (pixel, light) pairs the shader evaluates
+    double efficiency() const { return performed ? double(contributing) / double(performed) : 0.0; }
+};
+
+// Brute force over every pixel with geometry and every light: each contributing light must be in
+// the pixel's tile list. Returns the misses as text (empty = conservative) and counts evaluations.
+std::string findMissingLightsBruteForce(const Scene& scene, const TileLists& tiles, uint32_t width, uint32_t height,
+                                        const std::vector<float>& depth, Evaluations* evaluations = nullptr) {
+    const std::vector<CullingLight> lights = cullingLights(scene);
+    const auto positions = pixelWorldPositions(scene.camera, width, height, depth);
+    std::string misses;
+    uint32_t missCount = 0;
+    for (uint32_t y = 0; y < height; ++y) {
+        for (uint32_t x = 0; x < width; ++x) {
+            const std::optional<glm::dvec3>& point = positions[size_t(y) * width + x];
+            if (!point) continue;
+            const uint32_t tile = (y / tiles.tileSize) * tiles.tilesX + x / tiles.tileSize;
+            const uint32_t* listed = tiles.indices.data() + size_t(tile) * tiles.maxLightsPerTile;
+            const uint32_t count = tiles.counts[tile];
+            if (evaluations) evaluations->performed += count;
+            for (uint32_t i = 0; i < lights.size(); ++i) {
+                if (!contributes(lights[i], *point)) continue;
+                if (evaluations) ++evaluations->contributing;
+                if (std::find(listed, listed + count, i) == listed + count && missCount++ < 8)
+                    misses += fmt::format("\n  light {} lights pixel ({}, {}) but is not listed in tile {}", i, x, y, tile);
+            }
+        }
+    }
+    if (missCount > 8) misses += fmt::format("\n  ... {} misses in all", missCount);
+    return misses;
+}
+
+using ConservativeParam = std::tuple<SceneCase, Config>;
+
+class ForwardPlusTileLists : public testing::TestWithParam<ConservativeParam> {
+protected:
+    const SceneCase& sceneCase() const { return std::get<0>(GetParam()); }
+    const Config& config() const { return std::get<1>(GetParam()); }
+};
+
+// Compute configurations test light_cull.comp, fallback configurations the CPU builder.
+TEST_P(ForwardPlusTileLists, NoContributingLightIsMissingFromItsTile) {
+    const Scene scene = sceneCase().make();
+    for (LightCulling mode : {LightCulling::Tiles2D, LightCulling::TilesDepth}) {
+        RenderSettings settings = settingsFor(mode);
+        settings.lighting.tileSize = sceneCase().tileSize;
+        const FrameOutput output = renderOneFrame(config(), scene, settings, ReadBack{.tiles = true, .depth = true});
+        const std::string label = fmt::format("{}-{}-{}", sceneCase().name, config().name(), cullingName(mode));
+        ASSERT_TRUE(output.tiles.has_value()) << label;
+        ASSERT_EQ(output.depth.size(), size_t(kSize) * kSize) << label;
+        ASSERT_EQ(output.report.lightCulling->localLights, cullingLights(scene).size()) << label;
+        expectWellFormedTileLists(*output.tiles, *output.report.lightCulling, kSize, kSize, label);
+        Evaluations evaluations;
+        EXPECT_EQ(findMissingLightsBruteForce(scene, *output.tiles, kSize, kSize, output.depth, &evaluations), "") << label;
+        EXPECT_GT(evaluations.contributing, 0u) << label << ": the scene must test something";
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Configs, ForwardPlusTileLists, testing::Combine(testing::ValuesIn(kEqualityScenes), testing::ValuesIn(allConfigs())),
+                         [](const testing::TestParamInfo<ConservativeParam>& info) {
+                             return fmt::format("{}_{}", std::get<0>(info.param).name, std::get<1>(info.param).name());
+                         });
+
+// A sanity check of what depth bounds buy, not the benchmark (docs/BENCHMARKS.md has that):
+// contributing / performed light evaluations on the many-lights room, CPU builder.
+TEST(ForwardPlusCullingEfficiency, DepthBoundsBeatScreenTilesBeatNaive) {
+    const Config config{rhi::Backend::Vulkan, FeaturePath::Fallback};
+    const Scene scene = roomWithManyLights(64);
+    double efficiency[2] = {};
+    std::vector<float> depth;
+    uint64_t contributing = 0;
+    for (int i = 0; i < 2; ++i) {
+        const LightCulling mode = i == 0 ? LightCulling::Tiles2D : LightCulling::TilesDepth;
+        const FrameOutput output = renderOneFrame(config, scene, settingsFor(mode), ReadBack{.tiles = true, .depth = true});
+        ASSERT_TRUE(output.tiles.has_value()) << cullingName(mode);
+        Evaluations evaluations;
+        findMissingLightsBruteForce(scene, *output.tiles, kSize, kSize, output.depth, &evaluations);
+        efficiency[i] = evaluations.efficiency();
+        depth = output.depth;
+        contributing = evaluations.contributing;
+    }
+    uint64_t pixelsWithGeometry = 0;
+    for (float d : depth) pixelsWithGeometry += d < 1.0f ? 1 : 0;
+    const double naive = double(contributing) / (double(pixelsWithGeometry) * double(cullingLights(scene).size()));
+    EXPECT_GT(efficiency[1], efficiency[0]) << "tiles-depth " << efficiency[1] << " vs tiles-2d " << efficiency[0];
+    EXPECT_GT(efficiency[0], naive) << "tiles-2d " << efficiency[0] << " vs naive " << naive;
+    RecordProperty("naive", std::to_string(naive));
+    RecordProperty("tiles2d", std::to_string(efficiency[0]));
+    RecordProperty("tilesDepth", std::to_string(efficiency[1]));
+}
 
 // ---------------------------------------------------------------------------------------------
 // Parity of the many-lights scene across the five configurations
