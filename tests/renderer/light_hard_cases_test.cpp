@@ -124,9 +124,8 @@ TEST_P(LightSpecialCases, NoLocalLightsRunsNoCullPass) {
 
 TEST_P(LightSpecialCases, AllLightsOffScreenListNothingAndLightNothing) {
     const glm::vec3 up(0.0f, 1.0f, 0.0f);
-    // Behind the camera, beside the frustum and beyond the far plane (20), each with a range
-    // that keeps it clear of the view; a spot in view pointing away from everything with a
-    // range too short to reach any surface.
+    // Behind the camera, beside the frustum, below the floor and beyond the far plane (20), each
+    // with a range that keeps it clear of the view, and a spot behind the camera.
     const Scene scene = roomWith({pointLight({0.0f, 1.5f, 30.0f}, kWhite, 5.0f, 2.0f), pointLight({-40.0f, 1.0f, 0.0f}, kWhite, 5.0f, 3.0f),
                                   pointLight({40.0f, 1.0f, -5.0f}, kWhite, 5.0f, 3.0f), pointLight({0.0f, 1.0f, -60.0f}, kWhite, 5.0f, 5.0f),
                                   pointLight({0.0f, -50.0f, 0.0f}, kWhite, 5.0f, 4.0f), spotLight({0.0f, 1.5f, 25.0f}, up, kWhite, 5.0f, 2.0f, 0.2f, 0.4f)});
