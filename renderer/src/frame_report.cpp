@@ -10,6 +10,30 @@ std::optional<FeaturePath> parseFeaturePath(std::string_view name) {
     return std::nullopt;
 }
 
+const char* toString(LightCulling mode) {
+    switch (mode) {
+        case LightCulling::Auto: return "auto";
+        case LightCulling::Naive: return "naive";
+        case LightCulling::Tiles2D: return "tiles-2d";
+        case LightCulling::TilesDepth: return "tiles-depth";
+    }
+    return "unknown";
+}
+
+std::optional<LightCulling> parseLightCulling(std::string_view name) {
+    for (LightCulling mode : {LightCulling::Auto, LightCulling::Naive, LightCulling::Tiles2D, LightCulling::TilesDepth})
+        if (name == toString(mode)) return mode;
+    return std::nullopt;
+}
+
+const char* toString(DebugView view) { return view == DebugView::Tiles ? "tiles" : "none"; }
+
+std::optional<DebugView> parseDebugView(std::string_view name) {
+    if (name == "none") return DebugView::None;
+    if (name == "tiles") return DebugView::Tiles;
+    return std::nullopt;
+}
+
 nlohmann::json FrameReport::toJson() const {
     nlohmann::json passesJson = nlohmann::json::array();
     for (const PassReport& p : passes) {
@@ -17,7 +41,22 @@ nlohmann::json FrameReport::toJson() const {
         j["gpuMs"] = p.gpuMs ? nlohmann::json(*p.gpuMs) : nlohmann::json(nullptr);
         passesJson.push_back(std::move(j));
     }
-    return {{"backend", backend}, {"path", path}, {"width", width}, {"height", height}, {"passes", passesJson}};
+    nlohmann::json json{{"backend", backend}, {"path", path}, {"width", width}, {"height", height}, {"passes", passesJson}};
+    if (lightCulling) {
+        const LightCullingReport& c = *lightCulling;
+        json["lightCulling"] = {{"mode", toString(c.mode)},
+                                {"builder", c.builder},
+                                {"directionalLights", c.directionalLights},
+                                {"localLights", c.localLights},
+                                {"tileSize", c.tileSize},
+                                {"tilesX", c.tilesX},
+                                {"tilesY", c.tilesY},
+                                {"maxLightsPerTile", c.maxLightsPerTile},
+                                {"listedLights", c.listedLights},
+                                {"overflowTiles", c.overflowTiles},
+                                {"droppedLights", c.droppedLights}};
+    }
+    return json;
 }
 
 }  // namespace janus::renderer

@@ -1,6 +1,11 @@
-// Renderer: uploads a Scene once, then records one frame per renderFrame():
-//   forward  (graphics)  meshes -> RGBA16F HDR radiance + D32F depth
-//   tonemap  (compute: storage-image dispatch | fallback: fullscreen triangle) HDR -> RGBA8 display
+// Renderer: uploads a Scene once, then records one frame per renderFrame() from a plan of the
+// passes the scene needs (docs/ARCHITECTURE.md, "Data flow of a frame"):
+//   shadow-map     (main directional light, when there is one and shadows are on)
+//   depth-prepass  (tiled light culling only) meshes -> D32F depth
+//   light-cull-*   (tiled only) compute: light_cull.comp | fallback: CPU builder -> tile lists
+//   forward        meshes -> RGBA16F HDR radiance (+ depth, or tested against the prepass depth)
+//   tonemap        (compute: storage-image dispatch | fallback: fullscreen triangle) HDR -> RGBA8 display
+//   tile-heatmap   (DebugView::Tiles) lights per tile blended over the display image
 // Both tonemap paths include shaders/renderer/tonemap_common.glsl, so they compute the same bits.
 #include "janus/renderer/renderer.h"
 
@@ -17,29 +22,59 @@
 #include <glm/gtc/packing.hpp>
 
 #include "janus/shaders/shaders.h"
+#include "shadow_map.h"
 
 namespace janus::renderer {
 namespace {
 
 constexpr uint32_t kMaxDirectionalLights = 4;   // must match forward_common.glsl
-constexpr uint32_t kMaxLocalLights = 16;
+constexpr uint32_t kMaxLocalLights = 16384;     // docs/LIGHTING.md: the light array's limit
 constexpr uint32_t kTonemapGroupSize = 8;       // tonemap.comp local_size
+constexpr uint32_t kDataTextureWidth = 1024;    // light_access.glsl: arrays in textures are 1024 elements wide
+
+// Lighting defaults (renderer.h, LightingSettings).
+constexpr uint32_t kDefaultTileSize = 16;
+constexpr uint32_t kDefaultMaxLightsPerTile = 256;
+constexpr float kDefaultIntensityCutoff = 0.01f;
+// LightCulling::Auto loops fewer local lights than this directly: below it the prepass and the
+// culling cost more than they save (docs/LIGHTING.md, bench).
+constexpr uint32_t kDefaultAutoTiledThreshold = 32;
+constexpr uint32_t kDefaultShadowMapSize = 1024;
 
 // std140 mirrors of the blocks in shaders/renderer/forward_common.glsl and tonemap_common.glsl.
-struct LightData {
-    glm::vec4 positionRange;
-    glm::vec4 directionType;
-    glm::vec4 colorIntensity;
-    glm::vec4 spotScaleOffset;
+struct DirectionalLightData {
+    glm::vec4 direction;        // w unused
+    glm::vec4 colorIntensity;   // w renderingLayers as uint bits
 };
 
 struct FrameUniforms {
     glm::mat4 viewProjection;
+    glm::mat4 worldToShadow;
     glm::vec4 cameraPosition;
     glm::vec4 ambientColor;
+    glm::vec4 shadowParams;
     glm::ivec4 lightCounts;
-    LightData directionalLights[kMaxDirectionalLights];
-    LightData localLights[kMaxLocalLights];
+    glm::ivec4 tileGrid;
+    DirectionalLightData directionalLights[kMaxDirectionalLights];
+};
+
+// One point/spot light, 4 x uvec4 (docs/LIGHTING.md, "GPU light layout").
+struct GpuLocalLight {
+    glm::vec3 position;
+    float invRangeSq;
+    glm::vec3 radiantIntensity;
+    uint32_t type;
+    glm::vec3 direction;
+    uint32_t renderingLayers;
+    float spotScale;
+    float spotOffset;
+    int32_t shadowIndex;
+    uint32_t unused;
+};
+static_assert(sizeof(GpuLocalLight) == 64, "a local light is 4 uvec4 words");
+
+struct HeatmapUniforms {
+    glm::ivec4 grid;
 };
 
 struct DrawUniforms {
@@ -57,7 +92,7 @@ struct TonemapUniforms {
 
 static_assert(sizeof(Vertex) == 48 && offsetof(Vertex, normal) == 12 && offsetof(Vertex, uv) == 24 && offsetof(Vertex, tangent) == 32,
               "the forward pipeline's vertex layout assumes a tightly packed Vertex");
-static_assert(sizeof(FrameUniforms) == 112 + 64 * (kMaxDirectionalLights + kMaxLocalLights), "FrameUniforms must match std140");
+static_assert(sizeof(FrameUniforms) == 208 + 32 * kMaxDirectionalLights, "FrameUniforms must match std140");
 static_assert(sizeof(DrawUniforms) == 192, "DrawUniforms must match std140");
 
 uint64_t alignUp(uint64_t value, uint64_t alignment) { return alignment ? (value + alignment - 1) / alignment * alignment : value; }
@@ -108,22 +143,49 @@ std::vector<uint8_t> downsample(const std::vector<uint8_t>& src, uint32_t width,
     return dst;
 }
 
-LightData packLight(const Light& light) {
-    LightData data{};
-    data.positionRange = glm::vec4(light.position, light.range.value_or(0.0f));
-    const float type = light.type == LightType::Directional ? 0.0f : light.type == LightType::Point ? 1.0f : 2.0f;
-    data.directionType = glm::vec4(glm::normalize(light.direction), type);
-    data.colorIntensity = glm::vec4(light.color * light.intensity, 0.0f);
-    // KHR_lights_punctual's smooth cone: clamp(cos * scale + offset, 0, 1)^2.
+// Rendering-layer masks arrive with the scene's Light/Instance::renderingLayers; scenes from
+// before that field light everything on layer 1.
+template <class T>
+uint32_t renderingLayersOf(const T& object) {
+    if constexpr (requires { object.renderingLayers; })
+        return object.renderingLayers;
+    else
+        return 1u;
+}
+
+float maxChannel(const glm::vec3& c) { return std::max({c.r, c.g, c.b}); }
+
+// KHR_lights_punctual's smooth cone, clamp(cos * scale + offset, 0, 1)^2, with scale and offset
+// guarded so that inner == outer gives a hard edge instead of a division by zero.
+glm::vec2 spotScaleOffset(const Light& light) {
+    if (light.type != LightType::Spot) return {0.0f, 1.0f};
     const float cosOuter = std::cos(light.outerConeAngle), cosInner = std::cos(light.innerConeAngle);
-    const float scale = 1.0f / std::max(0.001f, cosInner - cosOuter);
-    data.spotScaleOffset = glm::vec4(scale, -cosOuter * scale, 0.0f, 0.0f);
-    return data;
+    const float scale = 1.0f / std::max(cosInner - cosOuter, 1e-4f);
+    return {scale, -cosOuter * scale};
 }
 
 rhi::ShaderHandle makeShader(rhi::IDevice& device, rhi::ShaderStage stage, const char* name) {
     return device.createShader(rhi::ShaderDesc{}.setStage(stage).setSpirv(shaders::get(name)).setDebugName(name));
 }
+
+// Settings: the RenderSettings value, else the scene file's "quality" key, else the default.
+template <class T>
+T resolveSetting(const std::optional<T>& given, const nlohmann::json& quality, const char* key, T fallback) {
+    if (given) return *given;
+    if (!quality.is_object() || !quality.contains(key)) return fallback;
+    const nlohmann::json& value = quality.at(key);
+    if constexpr (std::is_same_v<T, bool>) {
+        if (value.is_boolean()) return value.get<bool>();
+        throw RendererError(fmt::format("scene quality key '{}' must be true or false, not {}", key, value.dump()));
+    } else if constexpr (std::is_integral_v<T>) {
+        if (value.is_number_unsigned()) return T(value.get<uint64_t>());
+        throw RendererError(fmt::format("scene quality key '{}' must be a non-negative integer, not {}", key, value.dump()));
+    } else {
+        if (value.is_number()) return T(value.get<double>());
+        throw RendererError(fmt::format("scene quality key '{}' must be a number, not {}", key, value.dump()));
+    }
+}
+
 
 }  // namespace
 
@@ -138,15 +200,30 @@ struct Renderer::Impl {
         bool doubleSided = false;
         rhi::BindingSetHandle bindings;
     };
-    // One entry of the frame plan: a pass the scene needs, how to record it, and its timer.
+    // One entry of the frame plan: a pass the scene needs, how to record it, and its timer. A
+    // pass with `cpuWork` runs on the CPU between two submissions: what was recorded before it
+    // is executed first, and the passes after it go into a new submission.
     struct PlannedPass {
         std::string name;
-        void (Impl::*record)(rhi::ICommandList&, PassReport&);
-        rhi::TimerQueryHandle timer;   // null without Capability::TimestampQueries
+        void (Impl::*record)(rhi::ICommandList&, PassReport&) = nullptr;
+        void (Impl::*cpuWork)(PassReport&) = nullptr;
+        rhi::TimerQueryHandle timer;   // null without Capability::TimestampQueries or for CPU work
+    };
+    // LightingSettings after RenderSettings -> scene quality -> defaults.
+    struct Lighting {
+        LightCulling culling = LightCulling::Auto;
+        uint32_t tileSize = kDefaultTileSize;
+        uint32_t maxLightsPerTile = kDefaultMaxLightsPerTile;
+        float intensityCutoff = kDefaultIntensityCutoff;
+        uint32_t autoTiledThreshold = kDefaultAutoTiledThreshold;
+        bool shadows = true;
+        uint32_t shadowMapSize = kDefaultShadowMapSize;
     };
 
     rhi::IDevice& device;
     RenderSettings settings;
+    Lighting lighting;
+    LightCulling cullingMode = LightCulling::Naive;   // resolved for this scene (never Auto)
     std::vector<GpuMesh> meshes;
     std::vector<Draw> draws;
     std::vector<rhi::TextureHandle> textures;
@@ -158,34 +235,76 @@ struct Renderer::Impl {
     rhi::BindingSetHandle frameBindings, tonemapBindings;
     rhi::TextureHandle hdrTarget, depthTarget, displayImage;
     rhi::PipelineHandle forwardCulled, forwardDoubleSided, tonemapPipeline;
+    rhi::PipelineHandle prepassCulled, prepassDoubleSided;
     std::array<float, 4> backgroundRadiance{};
     rhi::CommandListHandle commandList;
     std::vector<PlannedPass> plan;
     bool frameRendered = false;   // the targets hold nothing readable before the first frame
 
+    // Lights.
+    uint32_t directionalCount = 0;
+    std::vector<GpuLocalLight> localLights;
+    rhi::BufferHandle localLightBuffer, tileBuffer;       // compute path (storage buffers)
+    rhi::TextureHandle localLightTexture, tileTexture;    // fallback path (RGBA32UI / R32UI)
+    uint32_t tilesX = 0, tilesY = 0;
+    std::vector<uint32_t> cpuTileData;                    // fallback path: what the CPU builder produced
+    std::optional<LightCullingReport> cullingReport;
+    bool overflowWarned = false;
+
+    // Shadows.
+    std::unique_ptr<DirectionalShadowMap> shadowMap;
+    std::vector<ShadowCaster> shadowCasters;
+    rhi::TextureHandle dummyShadowTexture;   // bound at binding 9 when nothing casts shadows
+    rhi::SamplerHandle dummyShadowSampler;
+
+    // Debug view.
+    rhi::PipelineHandle heatmapPipeline;
+    rhi::BufferHandle heatmapUniforms;
+    rhi::BindingSetHandle heatmapBindings;
+
     Impl(rhi::IDevice& d, const Scene& scene, const RenderSettings& s) : device(d), settings(s) {
         validateScene(scene);
         checkSettings();
+        resolveLighting(scene);
+        packLights(scene);
+        chooseCulling();
         createTargets();
         uploadTextures(scene);
         uploadMeshes(scene);
+        createShadows(scene);
+        createLightArrays();
         createForward(scene);
+        createCulling();
         createTonemap(scene);
+        createHeatmap();
         commandList = device.createCommandList();
         planFrame();
     }
 
+    bool tiled() const { return cullingMode == LightCulling::Tiles2D || cullingMode == LightCulling::TilesDepth; }
+    uint32_t tileCount() const { return tilesX * tilesY; }
+
     // The passes this scene needs, in order. Every frame produces HDR radiance and a display
-    // image, so forward and tonemap are always there; features added later (light culling,
-    // shadows, probes) join the plan only when the scene has what they work on.
+    // image, so forward and tonemap are always there; the rest join only when the scene has
+    // what they work on.
     void planFrame() {
-        plan.push_back({"forward", &Impl::recordForward, nullptr});
+        if (shadowMap) plan.push_back({"shadow-map", &Impl::recordShadowMap, nullptr, nullptr});
+        if (tiled()) {
+            plan.push_back({"depth-prepass", &Impl::recordDepthPrepass, nullptr, nullptr});
+            if (settings.path == FeaturePath::Compute)
+                plan.push_back({"light-cull-compute", &Impl::recordLightCullCompute, nullptr, nullptr});
+            else
+                plan.push_back({"light-cull-cpu", nullptr, &Impl::buildTilesOnCpu, nullptr});
+        }
+        plan.push_back({"forward", &Impl::recordForward, nullptr, nullptr});
         if (settings.path == FeaturePath::Compute)
-            plan.push_back({"tonemap-compute", &Impl::recordTonemapCompute, nullptr});
+            plan.push_back({"tonemap-compute", &Impl::recordTonemapCompute, nullptr, nullptr});
         else
-            plan.push_back({"tonemap-fallback", &Impl::recordTonemapFallback, nullptr});
+            plan.push_back({"tonemap-fallback", &Impl::recordTonemapFallback, nullptr, nullptr});
+        if (heatmapPipeline) plan.push_back({"tile-heatmap", &Impl::recordHeatmap, nullptr, nullptr});
         if (device.capabilities().timestampQueries)
-            for (PlannedPass& pass : plan) pass.timer = device.createTimerQuery();
+            for (PlannedPass& pass : plan)
+                if (pass.record) pass.timer = device.createTimerQuery();
     }
 
     void checkSettings() const {
@@ -200,11 +319,120 @@ struct Renderer::Impl {
                                             "device lacks",
                                             rhi::toString(rhi::Capability::FloatRenderTargets), rhi::toString(device.info().backend)));
         if (settings.path == FeaturePath::Compute) {
-            for (rhi::Capability cap : {rhi::Capability::Compute, rhi::Capability::StorageImages})
+            for (rhi::Capability cap : {rhi::Capability::Compute, rhi::Capability::StorageImages, rhi::Capability::StorageBuffers})
                 if (!caps.has(cap))
                     throw RendererError(fmt::format("the compute path needs the '{}' capability, which this {} device lacks; render "
                                                     "with the fallback path (FeaturePath::Fallback, --path fallback)",
                                                     rhi::toString(cap), rhi::toString(device.info().backend)));
+        }
+    }
+
+    void resolveLighting(const Scene& scene) {
+        const LightingSettings& given = settings.lighting;
+        const nlohmann::json& quality = scene.quality;
+        if (given.culling) {
+            lighting.culling = *given.culling;
+        } else if (quality.is_object() && quality.contains("lightCulling")) {
+            const nlohmann::json& value = quality.at("lightCulling");
+            const std::optional<LightCulling> parsed =
+                value.is_string() ? parseLightCulling(value.get<std::string>()) : std::nullopt;
+            if (!parsed)
+                throw RendererError(fmt::format("scene quality key 'lightCulling' is {}; expected \"auto\", \"naive\", \"tiles-2d\" or "
+                                                "\"tiles-depth\"",
+                                                value.dump()));
+            lighting.culling = *parsed;
+        }
+        lighting.tileSize = resolveSetting(given.tileSize, quality, "tileSize", kDefaultTileSize);
+        lighting.maxLightsPerTile = resolveSetting(given.maxLightsPerTile, quality, "maxLightsPerTile", kDefaultMaxLightsPerTile);
+        lighting.intensityCutoff = resolveSetting(given.intensityCutoff, quality, "intensityCutoff", kDefaultIntensityCutoff);
+        lighting.autoTiledThreshold = resolveSetting(given.autoTiledThreshold, quality, "autoTiledThreshold", kDefaultAutoTiledThreshold);
+        lighting.shadows = resolveSetting(given.shadows, quality, "shadows", true);
+        lighting.shadowMapSize = resolveSetting(given.shadowMapSize, quality, "shadowMapSize", kDefaultShadowMapSize);
+
+        const uint32_t t = lighting.tileSize;
+        if (t != 16 && t != 32 && t != 64 && t != 128 && t != 256)
+            throw RendererError(fmt::format("tile size {} is not supported: use 16, 32, 64, 128 or 256 pixels", t));
+        if (lighting.maxLightsPerTile < 1 || lighting.maxLightsPerTile > 1024)
+            throw RendererError(fmt::format("maxLightsPerTile {} is out of range: it must be between 1 and 1024", lighting.maxLightsPerTile));
+        if (!std::isfinite(lighting.intensityCutoff) || lighting.intensityCutoff < 0.0f)
+            throw RendererError(fmt::format("intensity cut-off {} is not possible: it must be a finite number >= 0 (lux)",
+                                            lighting.intensityCutoff));
+        if (lighting.intensityCutoff == 0.0f && (lighting.culling == LightCulling::Tiles2D || lighting.culling == LightCulling::TilesDepth))
+            throw RendererError(fmt::format("intensity cut-off 0 gives lights without a range an infinite range, which only naive "
+                                            "culling can render; use LightCulling::Naive (\"naive\") or a cut-off above 0 with {}",
+                                            toString(lighting.culling)));
+    }
+
+    // Directional lights into the frame uniforms (the main one first: it casts the shadow);
+    // point and spot lights into the GPU light array (docs/LIGHTING.md).
+    void packLights(const Scene& scene) {
+        uint32_t ignoredDirectional = 0, skippedRange = 0;
+        for (const Light& light : scene.lights) {
+            if (light.type == LightType::Directional) continue;
+            if (light.range && *light.range <= 0.0f) {
+                ++skippedRange;
+                continue;
+            }
+            const float strength = maxChannel(light.color) * light.intensity;
+            if (!(strength > 0.0f)) continue;   // lights nothing
+            float radius = 0.0f;                 // 0 = infinite
+            if (light.range)
+                radius = *light.range;
+            else if (lighting.intensityCutoff > 0.0f)
+                radius = std::sqrt(strength / lighting.intensityCutoff);
+            GpuLocalLight packed{};
+            packed.position = light.position;
+            packed.invRangeSq = radius > 0.0f ? 1.0f / (radius * radius) : 0.0f;
+            packed.radiantIntensity = light.color * light.intensity;
+            packed.type = light.type == LightType::Point ? 1u : 2u;
+            packed.direction = glm::normalize(light.direction);
+            packed.renderingLayers = renderingLayersOf(light);
+            const glm::vec2 cone = spotScaleOffset(light);
+            packed.spotScale = cone.x;
+            packed.spotOffset = cone.y;
+            packed.shadowIndex = -1;
+            localLights.push_back(packed);
+        }
+        if (localLights.size() > kMaxLocalLights)
+            throw RendererError(fmt::format("scene '{}' has {} point/spot lights that light something; the renderer shades at most {}",
+                                            scene.name, localLights.size(), kMaxLocalLights));
+        if (skippedRange)
+            fmt::print(stderr, "janus renderer: warning: scene '{}': {} point/spot light(s) with range <= 0 light nothing and are skipped\n",
+                       scene.name, skippedRange);
+        for (const Light& light : scene.lights)
+            if (light.type == LightType::Directional && ++directionalCount > kMaxDirectionalLights) ++ignoredDirectional;
+        directionalCount = std::min(directionalCount, kMaxDirectionalLights);
+        if (ignoredDirectional)
+            fmt::print(stderr, "janus renderer: warning: scene '{}' has more than {} directional lights; {} ignored\n", scene.name,
+                       kMaxDirectionalLights, ignoredDirectional);
+    }
+
+    void chooseCulling() {
+        cullingMode = lighting.culling;
+        if (cullingMode == LightCulling::Auto) {
+            // Infinite ranges (cut-off 0) can only be looped directly.
+            const bool tiledPossible = lighting.intensityCutoff > 0.0f;
+            cullingMode = tiledPossible && localLights.size() >= lighting.autoTiledThreshold ? LightCulling::TilesDepth : LightCulling::Naive;
+        }
+        // No local lights: nothing to cull, no prepass.
+        if (localLights.empty()) cullingMode = LightCulling::Naive;
+        if (tiled()) {
+            tilesX = (settings.width + lighting.tileSize - 1) / lighting.tileSize;
+            tilesY = (settings.height + lighting.tileSize - 1) / lighting.tileSize;
+        }
+        if (!localLights.empty()) {
+            LightCullingReport report;
+            report.mode = cullingMode;
+            report.builder = tiled() ? (settings.path == FeaturePath::Compute ? "compute" : "cpu") : "";
+            report.directionalLights = directionalCount;
+            report.localLights = uint32_t(localLights.size());
+            if (tiled()) {
+                report.tileSize = lighting.tileSize;
+                report.tilesX = tilesX;
+                report.tilesY = tilesY;
+                report.maxLightsPerTile = lighting.maxLightsPerTile;
+            }
+            cullingReport = report;
         }
     }
 
@@ -215,10 +443,16 @@ struct Renderer::Impl {
                                              .setSize(w, h)
                                              .setUsage(rhi::TextureUsage::RenderTarget | rhi::TextureUsage::Sampled)
                                              .setDebugName("hdr radiance"));
-        depthTarget = device.createTexture(
-            rhi::TextureDesc{}.setFormat(rhi::Format::D32_FLOAT).setSize(w, h).setUsage(rhi::TextureUsage::RenderTarget).setDebugName("depth"));
-        const rhi::TextureUsage displayUsage =
+        // Sampled: light_cull.comp reads the prepass depth for the tile depth bounds.
+        depthTarget = device.createTexture(rhi::TextureDesc{}
+                                               .setFormat(rhi::Format::D32_FLOAT)
+                                               .setSize(w, h)
+                                               .setUsage(rhi::TextureUsage::RenderTarget | rhi::TextureUsage::Sampled)
+                                               .setDebugName("depth"));
+        rhi::TextureUsage displayUsage =
             settings.path == FeaturePath::Compute ? rhi::TextureUsage::Storage : rhi::TextureUsage::RenderTarget;
+        // The tile heat map is blended over the display image by a fragment shader on both paths.
+        if (settings.debugView == DebugView::Tiles) displayUsage = displayUsage | rhi::TextureUsage::RenderTarget;
         displayImage = device.createTexture(
             rhi::TextureDesc{}.setFormat(rhi::Format::RGBA8_UNORM).setSize(w, h).setUsage(displayUsage).setDebugName("display"));
     }
@@ -293,30 +527,109 @@ struct Renderer::Impl {
         }
     }
 
-    FrameUniforms frameUniformsFor(const Scene& scene) const {
-        FrameUniforms frame{};
-        const Camera& camera = scene.camera;
+    void createShadows(const Scene& scene) {
+        dummyShadowTexture = device.createTexture(rhi::TextureDesc{}
+                                                      .setFormat(DirectionalShadowMap::kDepthFormat)
+                                                      .setSize(1, 1)
+                                                      .setUsage(rhi::TextureUsage::Sampled | rhi::TextureUsage::RenderTarget)
+                                                      .setDebugName("no shadow map"));
+        dummyShadowSampler = device.createSampler(rhi::SamplerDesc{}
+                                                      .setFilter(rhi::Filter::Nearest)
+                                                      .setAddress(rhi::AddressMode::ClampToEdge)
+                                                      .setCompare(rhi::CompareOp::LessOrEqual));
+        if (!lighting.shadows) return;
+        const std::optional<size_t> main = mainDirectionalLight(scene, kMaxDirectionalLights);
+        if (!main) return;
+        const WorldBounds bounds = sceneWorldBounds(scene);
+        if (bounds.empty()) return;
+        const Material defaultMaterial;
+        for (const Instance& instance : scene.instances) {
+            const GpuMesh& mesh = meshes[instance.mesh];
+            if (mesh.indexCount == 0) continue;
+            const Mesh& sceneMesh = scene.meshes[instance.mesh];
+            const Material& material = sceneMesh.material >= 0 ? scene.materials[size_t(sceneMesh.material)] : defaultMaterial;
+            shadowCasters.push_back(ShadowCaster{mesh.vertices, mesh.indices, mesh.indexCount, instance.world, material.doubleSided});
+        }
+        if (shadowCasters.empty()) return;
+        shadowMap = std::make_unique<DirectionalShadowMap>(device, lighting.shadowMapSize);
+        shadowMap->fit(scene.lights[*main].direction, bounds.min, bounds.max);
+        shadowMap->setCasters(shadowCasters);
+    }
+
+    // The light array and the tile lists in the form the path reads them. Without local lights
+    // (or without tiles) a one-element stand-in keeps the bindings valid.
+    void createLightArrays() {
+        const size_t lightWords = std::max<size_t>(localLights.size(), 1) * 4;   // uvec4 words
+        const size_t tileWords = tiled() ? size_t(tileCount()) * (1 + lighting.maxLightsPerTile) : 1;   // uints
+        if (settings.path == FeaturePath::Compute) {
+            localLightBuffer = device.createBuffer(
+                rhi::BufferDesc{}.setSize(lightWords * 16).setUsage(rhi::BufferUsage::Storage).setDebugName("local lights"));
+            if (!localLights.empty()) device.writeBuffer(localLightBuffer, localLights.data(), localLights.size() * sizeof(GpuLocalLight));
+            tileBuffer = device.createBuffer(
+                rhi::BufferDesc{}.setSize(tileWords * 4).setUsage(rhi::BufferUsage::Storage).setDebugName("tile light lists"));
+        } else {
+            localLightTexture = createDataTexture(rhi::Format::RGBA32_UINT, lightWords, "local lights");
+            if (!localLights.empty()) writeDataTexture(localLightTexture, localLights.data(), localLights.size() * 4, 16);
+            tileTexture = createDataTexture(rhi::Format::R32_UINT, tileWords, "tile light lists");
+        }
+    }
+
+    // An array of `elements` texels in a texture kDataTextureWidth wide (light_access.glsl).
+    rhi::TextureHandle createDataTexture(rhi::Format format, size_t elements, const char* name) {
+        const uint32_t width = uint32_t(std::min<size_t>(elements, kDataTextureWidth));
+        const size_t height = (elements + kDataTextureWidth - 1) / kDataTextureWidth;
+        if (height > device.capabilities().limits.maxTextureSize2D)
+            throw RendererError(fmt::format("the {} need a {}x{} texture on the fallback path, more than this device's maximum 2D "
+                                            "texture size {}; use larger tiles or a smaller maxLightsPerTile",
+                                            name, width, height, device.capabilities().limits.maxTextureSize2D));
+        return device.createTexture(
+            rhi::TextureDesc{}.setFormat(format).setSize(width, uint32_t(height)).setUsage(rhi::TextureUsage::Sampled).setDebugName(name));
+    }
+
+    // Writes `elements` texels of `texelBytes` each; the texture's padding after them reads as zero.
+    void writeDataTexture(const rhi::TextureHandle& texture, const void* data, size_t elements, size_t texelBytes) {
+        const rhi::TextureDesc& desc = texture->desc();
+        std::vector<std::byte> texels(size_t(desc.width) * desc.height * texelBytes);
+        std::memcpy(texels.data(), data, elements * texelBytes);
+        device.writeTexture(texture, {}, texels.data(), texels.size());
+    }
+
+    glm::mat4 projectionFor(const Camera& camera) const {
         const float aspect = float(settings.width) / float(settings.height);
         glm::mat4 projection = glm::perspectiveRH_ZO(camera.fovYRadians, aspect, camera.nearPlane, camera.farPlane);
         // Vulkan convention (docs/ARCHITECTURE.md): world up must land on NDC y = -1, row 0.
         projection[1][1] *= -1.0f;
-        frame.viewProjection = projection * glm::lookAt(camera.position, camera.target, camera.up);
+        return projection;
+    }
+
+    FrameUniforms frameUniformsFor(const Scene& scene) const {
+        FrameUniforms frame{};
+        const Camera& camera = scene.camera;
+        frame.viewProjection = projectionFor(camera) * glm::lookAt(camera.position, camera.target, camera.up);
         frame.cameraPosition = glm::vec4(camera.position, 1.0f);
         frame.ambientColor = glm::vec4(scene.environment.ambientColor, 0.0f);
-        uint32_t directional = 0, local = 0, ignored = 0;
-        for (const Light& light : scene.lights) {
-            if (light.type == LightType::Directional && directional < kMaxDirectionalLights)
-                frame.directionalLights[directional++] = packLight(light);
-            else if (light.type != LightType::Directional && local < kMaxLocalLights)
-                frame.localLights[local++] = packLight(light);
-            else
-                ++ignored;
+        // The main directional light goes first: the shader shadows directional light 0.
+        std::vector<const Light*> directional;
+        for (const Light& light : scene.lights)
+            if (light.type == LightType::Directional && directional.size() < kMaxDirectionalLights) directional.push_back(&light);
+        if (const std::optional<size_t> main = mainDirectionalLight(scene, kMaxDirectionalLights)) {
+            auto it = std::find(directional.begin(), directional.end(), &scene.lights[*main]);
+            if (it != directional.end()) std::rotate(directional.begin(), it, it + 1);
         }
-        if (ignored)
-            fmt::print(stderr, "janus renderer: warning: scene '{}' has more lights than the forward pass shades ({} directional, {} "
-                               "point/spot); {} ignored until the Forward+ light grid lands\n",
-                       scene.name, kMaxDirectionalLights, kMaxLocalLights, ignored);
-        frame.lightCounts = glm::ivec4(int(directional), int(local), 0, 0);
+        for (size_t i = 0; i < directional.size(); ++i) {
+            const Light& light = *directional[i];
+            const uint32_t layers = renderingLayersOf(light);
+            float layerBits;
+            std::memcpy(&layerBits, &layers, sizeof(layerBits));
+            frame.directionalLights[i].direction = glm::vec4(glm::normalize(light.direction), 0.0f);
+            frame.directionalLights[i].colorIntensity = glm::vec4(light.color * light.intensity, layerBits);
+        }
+        if (shadowMap) {
+            frame.worldToShadow = shadowMap->worldToShadow();
+            frame.shadowParams = glm::vec4(1.0f, shadowMap->texelSize(), shadowMap->normalOffset(), 0.0f);
+        }
+        frame.lightCounts = glm::ivec4(int(directional.size()), int(localLights.size()), tiled() ? 1 : 0, 0);
+        frame.tileGrid = glm::ivec4(int(lighting.tileSize), int(tilesX), int(lighting.maxLightsPerTile), int(tileCount()));
         return frame;
     }
 
@@ -326,7 +639,16 @@ struct Renderer::Impl {
         frameUniforms = device.createBuffer(
             rhi::BufferDesc{}.setSize(sizeof(FrameUniforms)).setUsage(rhi::BufferUsage::Uniform).setDebugName("frame uniforms"));
         device.writeBuffer(frameUniforms, &frame, sizeof(frame));
-        frameBindings = device.createBindingSet(rhi::BindingSetDesc{}.add(rhi::BindingItem::uniformBuffer(0, frameUniforms)));
+        rhi::BindingSetDesc frameSet;
+        frameSet.add(rhi::BindingItem::uniformBuffer(0, frameUniforms));
+        if (settings.path == FeaturePath::Compute) {
+            frameSet.add(rhi::BindingItem::storageBuffer(7, localLightBuffer)).add(rhi::BindingItem::storageBuffer(8, tileBuffer));
+        } else {
+            frameSet.add(rhi::BindingItem::sampledTexture(7, localLightTexture, targetSampler))
+                .add(rhi::BindingItem::sampledTexture(8, tileTexture, targetSampler));
+        }
+        frameSet.add(shadowMap ? shadowMap->binding(9) : rhi::BindingItem::sampledTexture(9, dummyShadowTexture, dummyShadowSampler));
+        frameBindings = device.createBindingSet(frameSet);
         backgroundRadiance = {scene.environment.ambientColor.r, scene.environment.ambientColor.g, scene.environment.ambientColor.b, 1.0f};
 
         // One slot per draw in a single uniform buffer; each draw's binding set views its slot.
@@ -350,7 +672,7 @@ struct Renderer::Impl {
             uniforms.materialParams = glm::vec4(material.metallicFactor, material.roughnessFactor, 1.0f, 1.0f);
             // Normal maps need tangents; meshes without them shade with their vertex normals.
             uniforms.flags = glm::ivec4(material.doubleSided ? 1 : 0, hasTangents && material.normalTexture >= 0 ? 1 : 0,
-                                        material.alphaMode == AlphaMode::Mask ? 1 : 0, 0);
+                                        material.alphaMode == AlphaMode::Mask ? 1 : 0, int32_t(renderingLayersOf(instance)));
             std::memcpy(drawData.data() + i * stride, &uniforms, sizeof(uniforms));
 
             auto texture = [&](uint32_t binding, int32_t index, const rhi::TextureHandle& fallback) {
@@ -376,10 +698,13 @@ struct Renderer::Impl {
         std::stable_sort(draws.begin(), draws.end(), [](const Draw& a, const Draw& b) { return !a.doubleSided && b.doubleSided; });
 
         const rhi::ShaderHandle vs = makeShader(device, rhi::ShaderStage::Vertex, "forward_vert");
-        const rhi::ShaderHandle fs = makeShader(device, rhi::ShaderStage::Fragment, "forward_frag");
-        auto pipeline = [&](rhi::CullMode cull, const char* name) {
+        const rhi::ShaderHandle fs = makeShader(device, rhi::ShaderStage::Fragment,
+                                                settings.path == FeaturePath::Compute ? "forward_frag" : "forward_textures_frag");
+        const bool hasDoubleSided = std::any_of(draws.begin(), draws.end(), [](const Draw& d) { return d.doubleSided; });
+        auto meshPipeline = [&](const rhi::ShaderHandle& fragment, rhi::CullMode cull, rhi::DepthState depth, bool color,
+                                const char* name) {
             rhi::GraphicsPipelineDesc desc;
-            desc.setShaders(vs, fs)
+            desc.setShaders(vs, fragment)
                 .addVertexBuffer({0, sizeof(Vertex), false})
                 .addVertexAttribute({0, rhi::VertexFormat::Float3, 0, offsetof(Vertex, position)})
                 .addVertexAttribute({1, rhi::VertexFormat::Float3, 0, offsetof(Vertex, normal)})
@@ -387,15 +712,32 @@ struct Renderer::Impl {
                 .addVertexAttribute({3, rhi::VertexFormat::Float4, 0, offsetof(Vertex, tangent)})
                 // glTF front faces are counter-clockwise; our projection keeps that as seen in the image.
                 .setRaster(rhi::RasterState{cull, rhi::FrontFace::CounterClockwise})
-                .setDepth(rhi::DepthState{true, true, rhi::CompareOp::Less})
-                .addColorFormat(rhi::Format::RGBA16_FLOAT)
+                .setDepth(depth)
                 .setDepthFormat(rhi::Format::D32_FLOAT)
                 .setDebugName(name);
+            if (color) desc.addColorFormat(rhi::Format::RGBA16_FLOAT);
             return device.createGraphicsPipeline(desc);
         };
-        forwardCulled = pipeline(rhi::CullMode::Back, "forward (back-face culled)");
-        if (std::any_of(draws.begin(), draws.end(), [](const Draw& d) { return d.doubleSided; }))
-            forwardDoubleSided = pipeline(rhi::CullMode::None, "forward (double-sided)");
+        // After a depth prepass the forward pass only shades the surfaces the prepass kept
+        // (forward.vert's invariant position gives both the same depth bits).
+        const rhi::DepthState forwardDepth =
+            tiled() ? rhi::DepthState{true, false, rhi::CompareOp::LessOrEqual} : rhi::DepthState{true, true, rhi::CompareOp::Less};
+        forwardCulled = meshPipeline(fs, rhi::CullMode::Back, forwardDepth, true, "forward (back-face culled)");
+        if (hasDoubleSided) forwardDoubleSided = meshPipeline(fs, rhi::CullMode::None, forwardDepth, true, "forward (double-sided)");
+        if (tiled()) {
+            const rhi::ShaderHandle prepassFs = makeShader(device, rhi::ShaderStage::Fragment, "depth_prepass_frag");
+            const rhi::DepthState prepassDepth{true, true, rhi::CompareOp::Less};
+            prepassCulled = meshPipeline(prepassFs, rhi::CullMode::Back, prepassDepth, false, "depth prepass (back-face culled)");
+            if (hasDoubleSided)
+                prepassDoubleSided = meshPipeline(prepassFs, rhi::CullMode::None, prepassDepth, false, "depth prepass (double-sided)");
+        }
+    }
+
+    // Tile-list building: the compute path's resources (light_cull.comp) or nothing for the CPU
+    // builder, which runs between submissions.
+    void createCulling() {
+        if (!tiled() || settings.path != FeaturePath::Compute) return;
+        createCullCompute();
     }
 
     void createTonemap(const Scene& scene) {
@@ -420,13 +762,38 @@ struct Renderer::Impl {
         tonemapBindings = device.createBindingSet(bindings);
     }
 
-    void recordForward(rhi::ICommandList& cmd, PassReport& report) {
-        cmd.beginRenderPass(rhi::RenderPassDesc{}
-                                .addColor(rhi::Attachment::clear(hdrTarget, backgroundRadiance))
-                                .setDepth(rhi::Attachment::clearDepthTo(depthTarget, 1.0f)));
+    void createHeatmap() {
+        if (settings.debugView != DebugView::Tiles) return;
+        if (!tiled()) {
+            fmt::print(stderr, "janus renderer: warning: no tiles to show: the frame uses {} light culling ({}); the tile debug view "
+                               "needs tiles-2d or tiles-depth and point/spot lights\n",
+                       toString(cullingMode), localLights.empty() ? "the scene has no point or spot lights" : "no tile lists");
+            return;
+        }
+        const HeatmapUniforms uniforms{glm::ivec4(int(lighting.tileSize), int(tilesX), int(lighting.maxLightsPerTile), int(tileCount()))};
+        heatmapUniforms = device.createBuffer(
+            rhi::BufferDesc{}.setSize(sizeof(uniforms)).setUsage(rhi::BufferUsage::Uniform).setDebugName("heat map uniforms"));
+        device.writeBuffer(heatmapUniforms, &uniforms, sizeof(uniforms));
+        rhi::BindingSetDesc bindings;
+        bindings.add(rhi::BindingItem::uniformBuffer(0, heatmapUniforms));
+        if (settings.path == FeaturePath::Compute)
+            bindings.add(rhi::BindingItem::storageBuffer(8, tileBuffer));
+        else
+            bindings.add(rhi::BindingItem::sampledTexture(8, tileTexture, targetSampler));
+        heatmapBindings = device.createBindingSet(bindings);
+        heatmapPipeline = device.createGraphicsPipeline(
+            rhi::GraphicsPipelineDesc{}
+                .setShaders(makeShader(device, rhi::ShaderStage::Vertex, "fullscreen_vert"),
+                            makeShader(device, rhi::ShaderStage::Fragment,
+                                       settings.path == FeaturePath::Compute ? "tile_heatmap_frag" : "tile_heatmap_textures_frag"))
+                .addColorFormat(rhi::Format::RGBA8_UNORM, rhi::BlendAttachment::alpha())
+                .setDebugName("tile heat map"));
+    }
+
+    void recordMeshes(rhi::ICommandList& cmd, PassReport& report, const rhi::PipelineHandle& culled, const rhi::PipelineHandle& doubleSided) {
         const rhi::IPipeline* bound = nullptr;
         for (const Draw& draw : draws) {
-            const rhi::PipelineHandle& pipeline = draw.doubleSided ? forwardDoubleSided : forwardCulled;
+            const rhi::PipelineHandle& pipeline = draw.doubleSided ? doubleSided : culled;
             if (pipeline.get() != bound) {
                 cmd.setPipeline(pipeline);
                 cmd.setBindingSet(0, frameBindings);
@@ -439,6 +806,21 @@ struct Renderer::Impl {
             cmd.drawIndexed(mesh.indexCount);
             ++report.draws;
         }
+    }
+
+    void recordShadowMap(rhi::ICommandList& cmd, PassReport& report) { shadowMap->record(cmd, shadowCasters, report.draws); }
+
+    void recordDepthPrepass(rhi::ICommandList& cmd, PassReport& report) {
+        cmd.beginRenderPass(rhi::RenderPassDesc{}.setDepth(rhi::Attachment::clearDepthTo(depthTarget, 1.0f)));
+        recordMeshes(cmd, report, prepassCulled, prepassDoubleSided);
+        cmd.endRenderPass();
+    }
+
+    void recordForward(rhi::ICommandList& cmd, PassReport& report) {
+        cmd.beginRenderPass(rhi::RenderPassDesc{}
+                                .addColor(rhi::Attachment::clear(hdrTarget, backgroundRadiance))
+                                .setDepth(tiled() ? rhi::Attachment::load(depthTarget) : rhi::Attachment::clearDepthTo(depthTarget, 1.0f)));
+        recordMeshes(cmd, report, forwardCulled, forwardDoubleSided);
         cmd.endRenderPass();
     }
 
@@ -462,6 +844,24 @@ struct Renderer::Impl {
         cmd.endRenderPass();
     }
 
+    void recordHeatmap(rhi::ICommandList& cmd, PassReport& report) {
+        cmd.beginRenderPass(rhi::RenderPassDesc{}.addColor(rhi::Attachment::load(displayImage)));
+        cmd.setPipeline(heatmapPipeline);
+        cmd.setBindingSet(0, heatmapBindings);
+        cmd.draw(3);
+        ++report.draws;
+        cmd.endRenderPass();
+    }
+
+    void warnOverflowOnce(const LightCullingReport& report) {
+        if (report.overflowTiles == 0 || overflowWarned) return;
+        overflowWarned = true;
+        fmt::print(stderr, "janus renderer: warning: {} tile(s) had more than maxLightsPerTile = {} lights; {} light reference(s) were "
+                           "dropped (highest light indices first), so those tiles miss light. Raise maxLightsPerTile or use smaller "
+                           "tiles (reported once per renderer)\n",
+                   report.overflowTiles, report.maxLightsPerTile, report.droppedLights);
+    }
+
     FrameReport renderFrame() {
         FrameReport frame;
         frame.backend = rhi::toString(device.info().backend);
@@ -470,28 +870,48 @@ struct Renderer::Impl {
         frame.height = settings.height;
 
         rhi::ICommandList& cmd = *commandList;
-        cmd.begin();
+        bool recording = false;
+        auto submit = [&] {
+            if (!recording) return;
+            cmd.end();
+            device.execute(commandList);
+            recording = false;
+        };
         for (const PlannedPass& pass : plan) {
             PassReport report{pass.name};
-            const auto start = std::chrono::steady_clock::now();
-            if (pass.timer) cmd.beginTimer(pass.timer);
-            cmd.pushDebugGroup(pass.name);
-            (this->*pass.record)(cmd, report);
-            cmd.popDebugGroup();
-            if (pass.timer) cmd.endTimer(pass.timer);
-            report.cpuMs = millisecondsSince(start);
+            if (pass.cpuWork) {
+                submit();
+                const auto start = std::chrono::steady_clock::now();
+                (this->*pass.cpuWork)(report);
+                report.cpuMs = millisecondsSince(start);
+            } else {
+                if (!recording) {
+                    cmd.begin();
+                    recording = true;
+                }
+                const auto start = std::chrono::steady_clock::now();
+                if (pass.timer) cmd.beginTimer(pass.timer);
+                cmd.pushDebugGroup(pass.name);
+                (this->*pass.record)(cmd, report);
+                cmd.popDebugGroup();
+                if (pass.timer) cmd.endTimer(pass.timer);
+                report.cpuMs = millisecondsSince(start);
+            }
             frame.passes.push_back(std::move(report));
         }
-        cmd.end();
-        device.execute(commandList);
+        submit();
         frameRendered = true;
 
         for (size_t i = 0; i < plan.size(); ++i) {
             if (!plan[i].timer) continue;
             if (std::optional<double> seconds = device.timerSeconds(plan[i].timer)) frame.passes[i].gpuMs = *seconds * 1000.0;
         }
+        if (cullingReport && tiled() && settings.path == FeaturePath::Compute) readCullStats(*cullingReport);
+        if (cullingReport) warnOverflowOnce(*cullingReport);
+        frame.lightCulling = cullingReport;
         return frame;
     }
+
     void requireFrame(const char* what) const {
         if (!frameRendered) throw RendererError(fmt::format("{} was called before any frame was rendered; call renderFrame() first", what));
     }
@@ -524,6 +944,56 @@ struct Renderer::Impl {
         }
         return image;
     }
+
+    TileLists readTileLists() {
+        requireFrame("readTileLists()");
+        if (!tiled())
+            throw RendererError(fmt::format("readTileLists(): the last frame built no tile lists (light culling {}{}); tiles exist only "
+                                            "with tiles-2d or tiles-depth and point/spot lights",
+                                            toString(cullingMode), localLights.empty() ? ", no point or spot lights" : ""));
+        std::vector<uint32_t> data;
+        if (settings.path == FeaturePath::Compute) {
+            const std::vector<std::byte> bytes = device.readBuffer(tileBuffer);
+            data.resize(bytes.size() / 4);
+            std::memcpy(data.data(), bytes.data(), data.size() * 4);
+        } else {
+            data = cpuTileData;
+        }
+        TileLists lists;
+        lists.tileSize = lighting.tileSize;
+        lists.tilesX = tilesX;
+        lists.tilesY = tilesY;
+        lists.maxLightsPerTile = lighting.maxLightsPerTile;
+        const size_t tiles = tileCount();
+        if (data.size() < tiles * (1 + lists.maxLightsPerTile))
+            throw RendererError(fmt::format("readTileLists(): the tile data holds {} words, expected {}", data.size(),
+                                            tiles * (1 + lists.maxLightsPerTile)));
+        lists.counts.assign(data.begin(), data.begin() + tiles);
+        lists.indices.assign(data.begin() + tiles, data.begin() + tiles * (1 + lists.maxLightsPerTile));
+        return lists;
+    }
+
+    std::vector<float> readDepth() {
+        requireFrame("readDepth()");
+        const std::vector<std::byte> bytes = device.readTexture(depthTarget, {});
+        const size_t pixels = size_t(settings.width) * settings.height;
+        if (bytes.size() != pixels * 4)
+            throw RendererError(fmt::format("depth readback returned {} bytes, expected {} for {}x{} D32F", bytes.size(), pixels * 4,
+                                            settings.width, settings.height));
+        std::vector<float> depth(pixels);
+        std::memcpy(depth.data(), bytes.data(), bytes.size());
+        return depth;
+    }
+
+    // ---- Tile-list builders (light_grid.h, light_cull.comp: docs/LIGHTING.md) ----
+    void createCullCompute() {
+        throw RendererError("tiled light culling is not built yet on the compute path");
+    }
+    void recordLightCullCompute(rhi::ICommandList&, PassReport&) {}
+    void readCullStats(LightCullingReport&) {}
+    void buildTilesOnCpu(PassReport&) {
+        throw RendererError("tiled light culling is not built yet on the fallback path");
+    }
 };
 
 Renderer::Renderer(rhi::IDevice& device, const Scene& scene, const RenderSettings& settings)
@@ -532,5 +1002,7 @@ Renderer::~Renderer() = default;
 FrameReport Renderer::renderFrame() { return m_impl->renderFrame(); }
 ImageRGBA8 Renderer::readDisplayImage() { return m_impl->readDisplayImage(); }
 ImageRGBAF Renderer::readHdrImage() { return m_impl->readHdrImage(); }
+TileLists Renderer::readTileLists() { return m_impl->readTileLists(); }
+std::vector<float> Renderer::readDepth() { return m_impl->readDepth(); }
 
 }  // namespace janus::renderer

@@ -2,7 +2,14 @@
 #extension GL_GOOGLE_include_directive : require
 // Forward PBR (glTF metallic-roughness): GGX distribution, height-correlated Smith visibility,
 // Schlick Fresnel, Lambert diffuse. Writes linear radiance to the RGBA16F HDR target.
+// Directional lights come from the frame uniforms; point and spot lights from the light array,
+// either all of them (naive) or the current tile's list (Forward+). One loop serves both, so a
+// tile list that holds every light that reaches the pixel gives the naive image bit for bit.
 #include "renderer/forward_common.glsl"
+#include "renderer/light_access.glsl"
+#include "renderer/shadow_sampling.glsl"
+
+layout(set = 0, binding = 9) uniform sampler2DShadow shadowMap;
 
 layout(set = 1, binding = 2) uniform sampler2D baseColorTexture;          // sRGB texture: decoded by the sampler
 layout(set = 1, binding = 3) uniform sampler2D metallicRoughnessTexture;  // G roughness, B metallic
@@ -61,12 +68,27 @@ vec3 shade(Surface s, vec3 toLight, vec3 irradiance) {
     return (diffuse + specular) * irradiance * NoL;
 }
 
-// KHR_lights_punctual's recommended range window: smooth fall-off to zero at `range`.
-float rangeAttenuation(float distance, float range) {
-    if (range <= 0.0) return 1.0 / max(distance * distance, 1e-4);
-    float ratio = distance / range;
-    float window = clamp(1.0 - ratio * ratio * ratio * ratio, 0.0, 1.0);
-    return window * window / max(distance * distance, 1e-4);
+// Radiance can reach fp16's maximum (65504) and turn into Inf there; the HDR target holds less.
+const float kMaxRadiance = 65000.0;
+
+// One point or spot light (words per docs/LIGHTING.md): inverse square with a window that reaches
+// zero with zero slope at the range, times the squared spot cone.
+vec3 shadeLocalLight(Surface s, vec3 worldPosition, int index, uint meshLayers) {
+    uvec4 w0 = localLightWord(index, 0);
+    uvec4 w1 = localLightWord(index, 1);
+    uvec4 w2 = localLightWord(index, 2);
+    uvec4 w3 = localLightWord(index, 3);
+    if ((w2.w & meshLayers) == 0u) return vec3(0.0);
+    vec3 toLight = uintBitsToFloat(w0.xyz) - worldPosition;
+    float distanceSq = dot(toLight, toLight);
+    toLight *= inversesqrt(max(distanceSq, 1e-12));
+    float ratioSq = distanceSq * uintBitsToFloat(w0.w);
+    float window = clamp(1.0 - ratioSq * ratioSq, 0.0, 1.0);
+    float attenuation = window * window / max(distanceSq, 1e-4);
+    vec2 spot = uintBitsToFloat(w3.xy);
+    float cone = clamp(dot(uintBitsToFloat(w2.xyz), -toLight) * spot.x + spot.y, 0.0, 1.0);
+    attenuation *= cone * cone;
+    return shade(s, toLight, uintBitsToFloat(w1.rgb) * attenuation);
 }
 
 void main() {
@@ -95,22 +117,30 @@ void main() {
     s.alpha = perceptualRoughness * perceptualRoughness;
 
     vec3 radiance = vec3(0.0);
+    uint meshLayers = uint(draw.flags.w);
     for (int i = 0; i < frame.lightCounts.x; ++i) {
-        LightData light = frame.directionalLights[i];
-        radiance += shade(s, -light.directionType.xyz, light.colorIntensity.rgb);
-    }
-    for (int i = 0; i < frame.lightCounts.y; ++i) {
-        LightData light = frame.localLights[i];
-        vec3 toLight = light.positionRange.xyz - vWorldPosition;
-        float distance = length(toLight);
-        toLight /= max(distance, 1e-6);
-        float attenuation = rangeAttenuation(distance, light.positionRange.w);
-        if (light.directionType.w > 1.5) {
-            float cd = dot(light.directionType.xyz, -toLight);
-            float cone = clamp(cd * light.spotScaleOffset.x + light.spotScaleOffset.y, 0.0, 1.0);
-            attenuation *= cone * cone;
+        DirectionalLight light = frame.directionalLights[i];
+        if ((floatBitsToUint(light.colorIntensity.w) & meshLayers) == 0u) continue;
+        vec3 irradiance = light.colorIntensity.rgb;
+        if (i == 0 && frame.shadowParams.x > 0.0) {
+            vec3 shadowCoord = shadowCoordFor(frame.worldToShadow, vWorldPosition, vNormal, frame.shadowParams.z);
+            irradiance *= sampleShadowPCF(shadowMap, shadowCoord, frame.shadowParams.y);
         }
-        radiance += shade(s, toLight, light.colorIntensity.rgb * attenuation);
+        radiance += shade(s, -light.direction.xyz, irradiance);
+    }
+
+    bool tiled = frame.lightCounts.z != 0;
+    int tile = 0;
+    int localCount = frame.lightCounts.y;
+    if (tiled) {
+        ivec2 tileXY = ivec2(gl_FragCoord.xy) / frame.tileGrid.x;
+        tile = tileXY.y * frame.tileGrid.y + tileXY.x;
+        localCount = int(tileDataAt(tile));
+    }
+    int listBase = frame.tileGrid.w + tile * frame.tileGrid.z;
+    for (int k = 0; k < localCount; ++k) {
+        int index = tiled ? int(tileDataAt(listBase + k)) : k;
+        radiance += shadeLocalLight(s, vWorldPosition, index, meshLayers);
     }
 
     // Uniform ambient until probes / IBL land: diffuse plus a rough specular term.
@@ -118,5 +148,5 @@ void main() {
     radiance += frame.ambientColor.rgb * (s.diffuseColor + s.f0) * occlusion;
     radiance += draw.emissiveFactor.rgb * texture(emissiveTexture, vUv).rgb;
 
-    outRadiance = vec4(radiance, 1.0);
+    outRadiance = vec4(min(radiance, vec3(kMaxRadiance)), 1.0);
 }

@@ -13,11 +13,17 @@ layout(location = 1) out vec3 vNormal;
 layout(location = 2) out vec2 vUv;
 layout(location = 3) out vec4 vTangent;
 
+
 void main() {
-    vec4 world = draw.world * vec4(inPosition, 1.0);
+    // The depth prepass and the forward pass (depth test LessOrEqual, no depth write) must get the
+    // same depth bits for the same vertex: `precise` forbids contracting these products into
+    // FMAs differently per pipeline. (`invariant gl_Position` would say the same, but Mesa warns
+    // on glslang's decoration of the gl_PerVertex member.)
+    precise vec4 world = draw.world * vec4(inPosition, 1.0);
     vWorldPosition = world.xyz;
     vNormal = mat3(draw.normalMatrix) * inNormal;
     vTangent = vec4(mat3(draw.world) * inTangent.xyz, inTangent.w);
     vUv = inUv;
-    gl_Position = frame.viewProjection * world;
+    precise vec4 position = frame.viewProjection * world;
+    gl_Position = position;
 }

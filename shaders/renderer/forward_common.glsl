@@ -1,23 +1,24 @@
-// Uniform blocks shared by forward.vert and forward.frag. Mirrors FrameUniforms/DrawUniforms in
-// renderer/src/renderer.cpp (std140); binding numbers are unique across sets (see Conventions).
+// Uniform blocks shared by forward.vert, forward.frag and depth_prepass.frag. Mirrors
+// FrameUniforms/DrawUniforms in renderer/src/renderer.cpp (std140); binding numbers are unique
+// across sets (see Conventions). Point and spot lights are not here: they live in the light
+// array of renderer/light_access.glsl (docs/LIGHTING.md).
 
 const int kMaxDirectionalLights = 4;
-const int kMaxLocalLights = 16;   // point and spot lights, shaded in a plain loop for now
 
-struct LightData {
-    vec4 positionRange;    // xyz position, w range (0 = infinite)
-    vec4 directionType;    // xyz direction the light travels, w 0 directional / 1 point / 2 spot
-    vec4 colorIntensity;   // rgb colour * intensity (lux or candela), w unused
-    vec4 spotScaleOffset;  // x, y: cone attenuation scale and offset (KHR_lights_punctual)
+struct DirectionalLight {
+    vec4 direction;        // xyz the way the light travels (unit), w unused
+    vec4 colorIntensity;   // rgb colour * intensity (lux), w renderingLayers as uint bits
 };
 
 layout(set = 0, binding = 0, std140) uniform FrameUniforms {
     mat4 viewProjection;
+    mat4 worldToShadow;    // directional light 0 (the main one): world -> (u, v, depth) of its shadow map
     vec4 cameraPosition;
     vec4 ambientColor;
-    ivec4 lightCounts;     // x directional, y local
-    LightData directionalLights[kMaxDirectionalLights];
-    LightData localLights[kMaxLocalLights];
+    vec4 shadowParams;     // x 1 when directional light 0 casts shadows, y shadow texel size, z normal offset (world)
+    ivec4 lightCounts;     // x directional, y local, z 1 = read tile lists (tiled culling), 0 = loop every local light
+    ivec4 tileGrid;        // x tileSize, y tilesX, z maxLightsPerTile, w tileCount
+    DirectionalLight directionalLights[kMaxDirectionalLights];
 } frame;
 
 layout(set = 1, binding = 1, std140) uniform DrawUniforms {
@@ -26,5 +27,5 @@ layout(set = 1, binding = 1, std140) uniform DrawUniforms {
     vec4 baseColorFactor;
     vec4 emissiveFactor;   // rgb emissive, w alpha cutoff
     vec4 materialParams;   // x metallic, y roughness, z normal scale, w occlusion strength
-    ivec4 flags;           // x double-sided, y has tangents, z alpha mask
+    ivec4 flags;           // x double-sided, y has tangents, z alpha mask, w renderingLayers (uint bits)
 } draw;

@@ -1,0 +1,17 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// Depth prepass for Forward+ (with forward.vert): writes depth only, but drops alpha-masked
+// pixels exactly as forward.frag does, so the tile depth bounds and the forward pass's
+// LessOrEqual test see the same surfaces.
+#include "renderer/forward_common.glsl"
+
+layout(set = 1, binding = 2) uniform sampler2D baseColorTexture;
+
+layout(location = 2) in vec2 vUv;
+
+void main() {
+    if (draw.flags.z != 0) {
+        vec4 baseColor = draw.baseColorFactor * texture(baseColorTexture, vUv);
+        if (baseColor.a < draw.emissiveFactor.w) discard;
+    }
+}

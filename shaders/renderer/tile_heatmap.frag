@@ -1,0 +1,32 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// Debug view "tiles": local lights per tile as a heat colour blended over the display image
+// (blue = none, green = half the cap, red = at the cap). Tiles at the cap, where lights may have
+// been dropped, also get a white diagonal hatch. Drawn after tonemapping with alpha blending.
+#define TILE_DATA_ONLY 1
+#include "renderer/light_access.glsl"
+
+layout(set = 0, binding = 0, std140) uniform HeatmapUniforms {
+    ivec4 grid;   // x tileSize, y tilesX, z maxLightsPerTile, w tileCount
+} heatmap;
+
+layout(location = 0) out vec4 outColor;
+
+vec3 heatColor(float t) {
+    // blue -> green -> red
+    return t < 0.5 ? mix(vec3(0.0, 0.0, 1.0), vec3(0.0, 1.0, 0.0), t * 2.0)
+                   : mix(vec3(0.0, 1.0, 0.0), vec3(1.0, 0.0, 0.0), t * 2.0 - 1.0);
+}
+
+void main() {
+    ivec2 pixel = ivec2(gl_FragCoord.xy);
+    ivec2 tileXY = pixel / heatmap.grid.x;
+    int count = int(tileDataAt(tileXY.y * heatmap.grid.y + tileXY.x));
+    bool atCap = count >= heatmap.grid.z;
+    vec4 color = vec4(heatColor(float(count) / float(heatmap.grid.z)), 0.45);
+    ivec2 inTile = pixel - tileXY * heatmap.grid.x;
+    // Tile outlines keep neighbouring tiles of equal count apart.
+    if (inTile.x == 0 || inTile.y == 0) color = vec4(0.0, 0.0, 0.0, 0.35);
+    if (atCap && ((pixel.x + pixel.y) & 7) < 2) color = vec4(1.0, 1.0, 1.0, 0.85);
+    outColor = color;
+}
