@@ -10,7 +10,7 @@
 #include "scene_internal.h"
 
 namespace janus::renderer {
-namespace {
+namespace detail {
 
 // A unit quad in the XY plane facing +Z (counter-clockwise seen from +Z), 2x2 units.
 Mesh makeQuad(int32_t material) {
@@ -42,7 +42,7 @@ Mesh makeBox(int32_t material) {
 }
 
 // A UV sphere of radius 1, counter-clockwise from outside.
-Mesh makeSphere(int32_t material, uint32_t slices = 32, uint32_t stacks = 16) {
+Mesh makeSphere(int32_t material, uint32_t slices, uint32_t stacks) {
     Mesh mesh;
     for (uint32_t stack = 0; stack <= stacks; ++stack) {
         const float theta = glm::pi<float>() * float(stack) / float(stacks);   // 0 at the north pole
@@ -65,7 +65,7 @@ Mesh makeSphere(int32_t material, uint32_t slices = 32, uint32_t stacks = 16) {
     return mesh;
 }
 
-int32_t addMaterial(Scene& scene, std::string name, glm::vec3 color, float metallic, float roughness, glm::vec3 emissive = {}) {
+int32_t addMaterial(Scene& scene, std::string name, glm::vec3 color, float metallic, float roughness, glm::vec3 emissive) {
     Material material;
     material.name = std::move(name);
     material.baseColorFactor = glm::vec4(color, 1.0f);
@@ -81,7 +81,9 @@ uint32_t addMesh(Scene& scene, Mesh mesh) {
     return uint32_t(scene.meshes.size() - 1);
 }
 
-}  // namespace
+}  // namespace detail
+
+using namespace detail;
 
 Scene defaultScene() {
     Scene scene;

@@ -120,6 +120,13 @@ glm::vec3 vec3(const std::filesystem::path& file, const json& object, const char
     return glm::vec3(value[0].get<float>(), value[1].get<float>(), value[2].get<float>());
 }
 
+// A 32-bit rendering-layer mask: an integer in [0, 2^32).
+uint32_t layerMask(const std::filesystem::path& file, const json& value, const std::string& where) {
+    if (!value.is_number_integer() || value.get<int64_t>() < 0 || value.get<int64_t>() > int64_t(UINT32_MAX))
+        fail(file, fmt::format("{} must be an integer layer mask in [0, 4294967295], got {}", where, value.dump()));
+    return uint32_t(value.get<int64_t>());
+}
+
 const json& objectAt(const std::filesystem::path& file, const json& parent, const char* key) {
     const json& value = parent.at(key);
     if (!value.is_object()) fail(file, fmt::format("\"{}\" must be an object", key));
@@ -143,6 +150,7 @@ Light parseLight(const std::filesystem::path& file, const json& j, size_t index)
     if (j.contains("range")) light.range = number(file, j, "range", 0.0f);
     light.innerConeAngle = glm::radians(number(file, j, "innerConeDegrees", glm::degrees(light.innerConeAngle)));
     light.outerConeAngle = glm::radians(number(file, j, "outerConeDegrees", glm::degrees(light.outerConeAngle)));
+    if (j.contains("layers")) light.renderingLayers = layerMask(file, j["layers"], fmt::format("lights[{}].layers", index));
     return light;
 }
 
@@ -189,6 +197,16 @@ Scene loadSceneFile(const std::filesystem::path& path) {
         if (root.contains("lights")) {
             if (!root["lights"].is_array()) fail(path, "\"lights\" must be an array");
             for (size_t i = 0; i < root["lights"].size(); ++i) scene.lights.push_back(parseLight(path, root["lights"][i], i));
+        }
+        if (root.contains("meshLayers")) {
+            // Keyed by glTF node name; every instance of that node's mesh gets the mask.
+            for (const auto& [node, mask] : objectAt(path, root, "meshLayers").items()) {
+                const uint32_t layers = layerMask(path, mask, fmt::format("meshLayers[\"{}\"]", node));
+                bool found = false;
+                for (Instance& instance : scene.instances)
+                    if (instance.nodeName == node) instance.renderingLayers = layers, found = true;
+                if (!found) fail(path, fmt::format("meshLayers names node '{}', but no mesh node of the glTF has that name", node));
+            }
         }
         if (scene.lights.empty() && root.value("defaultLight", true)) scene.lights.push_back(detail::defaultKeyLight());
         if (root.contains("markers")) {
@@ -293,7 +311,7 @@ void validateScene(const Scene& scene) {
             throw SceneError(fmt::format("light {} has a NaN or infinite colour, intensity, position or direction", i));
         if (light.intensity < 0 || light.color.r < 0 || light.color.g < 0 || light.color.b < 0)
             throw SceneError(fmt::format("light {} has a negative colour or intensity", i));
-        if (light.range && *light.range <= 0) throw SceneError(fmt::format("light {} has range {} (must be > 0)", i, *light.range));
+        // range <= 0 is allowed: such a light lights nothing and the renderer skips it.
         if (glm::length(light.direction) < 1e-6f) throw SceneError(fmt::format("light {} has a zero direction", i));
     }
     for (size_t i = 0; i < scene.markers.size(); ++i)

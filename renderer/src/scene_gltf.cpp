@@ -320,7 +320,16 @@ private:
         if (node.mesh >= 0) {
             auto it = m_meshPrimitives.find(node.mesh);
             if (it == m_meshPrimitives.end()) fail(fmt::format("node '{}' references missing mesh {}", name, node.mesh));
-            for (uint32_t mesh : it->second) scene.instances.push_back(Instance{mesh, world});
+            // Optional node extras {"renderingLayers": mask}, the glTF twin of a scene file's meshLayers.
+            uint32_t layers = 1u;
+            if (node.extras.IsObject() && node.extras.Has("renderingLayers")) {
+                const tinygltf::Value& value = node.extras.Get("renderingLayers");
+                if (!value.IsNumber() || value.GetNumberAsDouble() < 0 || value.GetNumberAsDouble() > double(UINT32_MAX) ||
+                    value.GetNumberAsDouble() != std::floor(value.GetNumberAsDouble()))
+                    fail(fmt::format("node '{}' extras.renderingLayers must be an integer mask in [0, 4294967295]", name));
+                layers = uint32_t(value.GetNumberAsDouble());
+            }
+            for (uint32_t mesh : it->second) scene.instances.push_back(Instance{mesh, world, layers, node.name});
         }
         if (node.camera >= 0 && !m_cameraFound) readCamera(node, world, name);
         bool hasLight = false;

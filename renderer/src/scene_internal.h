@@ -26,4 +26,11 @@ Scene loadGltf(const std::filesystem::path& path, bool& hasCamera);
 // Lighting added to scenes that bring none, so glTF sample models are not black.
 Light defaultKeyLight();
 
+// Geometry and material helpers for scenes built in code (default_scene.cpp).
+Mesh makeQuad(int32_t material);                                   // 2x2 in XY, facing +Z
+Mesh makeBox(int32_t material);                                    // -1..1 cube, faces outwards
+Mesh makeSphere(int32_t material, uint32_t slices = 32, uint32_t stacks = 16);   // radius 1
+int32_t addMaterial(Scene& scene, std::string name, glm::vec3 color, float metallic, float roughness, glm::vec3 emissive = {});
+uint32_t addMesh(Scene& scene, Mesh mesh);
+
 }  // namespace janus::renderer::detail

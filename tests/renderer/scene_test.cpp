@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <set>
+#include <algorithm>
 
 #include <fmt/format.h>
 #include <glm/gtc/type_ptr.hpp>
@@ -489,6 +491,137 @@ TEST(SceneErrors, ValidateSceneCatchesNaNInScenesBuiltInCode) {
         scene.environment.exposure = nan;
         EXPECT_NE(sceneErrorOf([&] { validateScene(scene); }).find("environment"), std::string::npos);
     }
+}
+
+// --- rendering layers and lights that light nothing ----------------------------------------------
+
+TEST(SceneLoading, RenderingLayersDefaultToLayerOne) {
+    TinyGltf file;
+    const Scene scene = loadScene(file.write());
+    ASSERT_EQ(scene.instances.size(), 1u);
+    EXPECT_EQ(scene.instances[0].renderingLayers, 1u);
+    EXPECT_EQ(scene.instances[0].nodeName, "triangle node");
+    ASSERT_EQ(scene.lights.size(), 1u);
+    EXPECT_EQ(scene.lights[0].renderingLayers, 1u);
+}
+
+TEST(SceneLoading, SceneFileSetsLightAndMeshLayers) {
+    TinyGltf file;
+    file.write();
+    const Scene scene = loadScene(file.writeText("layers.json", R"({"gltf": "tri.gltf",
+        "lights": [{"type": "point", "position": [0, 1, 0], "layers": 6}, {"type": "point", "layers": 4294967295}],
+        "meshLayers": {"triangle node": 2}})"));
+    ASSERT_EQ(scene.lights.size(), 2u);
+    EXPECT_EQ(scene.lights[0].renderingLayers, 6u);
+    EXPECT_EQ(scene.lights[1].renderingLayers, 0xFFFFFFFFu);
+    EXPECT_EQ(scene.instances.at(0).renderingLayers, 2u);
+}
+
+TEST(SceneLoading, GltfNodeExtrasSetMeshLayers) {
+    TinyGltf file;
+    file.gltf["nodes"][0]["extras"] = {{"renderingLayers", 12}};
+    EXPECT_EQ(loadScene(file.write()).instances.at(0).renderingLayers, 12u);
+    file.gltf["nodes"][0]["extras"] = {{"renderingLayers", -1}};
+    const std::string message = sceneErrorOf([&] { loadScene(file.write()); });
+    EXPECT_NE(message.find("renderingLayers"), std::string::npos) << message;
+}
+
+TEST(SceneErrors, BadLayerMasksNameTheField) {
+    TinyGltf file;
+    file.write();
+    const std::string badLight = sceneErrorOf(
+        [&] { loadScene(file.writeText("a.json", R"({"gltf": "tri.gltf", "lights": [{"type": "point", "layers": 4294967296}]})")); });
+    EXPECT_NE(badLight.find("lights[0].layers"), std::string::npos) << badLight;
+    const std::string badMask =
+        sceneErrorOf([&] { loadScene(file.writeText("b.json", R"({"gltf": "tri.gltf", "meshLayers": {"triangle node": "two"}})")); });
+    EXPECT_NE(badMask.find("meshLayers[\"triangle node\"]"), std::string::npos) << badMask;
+    const std::string badNode =
+        sceneErrorOf([&] { loadScene(file.writeText("c.json", R"({"gltf": "tri.gltf", "meshLayers": {"no such node": 2}})")); });
+    EXPECT_NE(badNode.find("'no such node'"), std::string::npos) << badNode;
+}
+
+TEST(SceneLoading, ZeroOrNegativeRangeIsAcceptedButNaNIsNot) {
+    Scene scene = defaultScene();
+    Light light;
+    light.type = LightType::Point;
+    light.range = 0.0f;
+    scene.lights.push_back(light);
+    light.range = -3.0f;
+    scene.lights.push_back(light);
+    EXPECT_NO_THROW(validateScene(scene));
+    scene.lights.back().range = std::numeric_limits<float>::quiet_NaN();
+    EXPECT_NE(sceneErrorOf([&] { validateScene(scene); }).find("NaN or infinite"), std::string::npos);
+    scene.lights.back().range = std::numeric_limits<float>::infinity();
+    EXPECT_NE(sceneErrorOf([&] { validateScene(scene); }).find("NaN or infinite"), std::string::npos);
+}
+
+// --- the many-lights scene ---------------------------------------------------------------------
+
+// Position of the first local light of manyLightsScene() with seed 1 (pinned; see IsDeterministicPerSeed).
+const glm::vec3 kFirstLightOfSeed1(1.1702414f, 3.4771819f, 9.6550150f);
+
+size_t countLights(const Scene& scene, LightType type) {
+    return size_t(std::count_if(scene.lights.begin(), scene.lights.end(), [&](const Light& l) { return l.type == type; }));
+}
+
+TEST(ManyLightsScene, HasTheRequestedLightsInsideTheRoom) {
+    ManyLightsOptions options;
+    options.lightCount = 500;
+    const Scene scene = manyLightsScene(options);
+    EXPECT_NO_THROW(validateScene(scene));
+    EXPECT_EQ(countLights(scene, LightType::Directional), 1u);
+    const size_t spots = countLights(scene, LightType::Spot), points = countLights(scene, LightType::Point);
+    EXPECT_EQ(spots + points, 500u);
+    // Binomial(500, 0.3): mean 150, sd ~10; the seed is fixed so this only guards the fraction's meaning.
+    EXPECT_GT(spots, 100u);
+    EXPECT_LT(spots, 200u);
+    for (const Light& light : scene.lights) {
+        if (light.type == LightType::Directional) continue;
+        EXPECT_TRUE(std::abs(light.position.x) < 6 && light.position.y > 0 && light.position.y < 4 && std::abs(light.position.z) < 12);
+        ASSERT_TRUE(light.range.has_value());
+        // Modest coverage: a range well under the room's 12 m width.
+        EXPECT_GT(*light.range, 0.5f);
+        EXPECT_LT(*light.range, 4.0f);
+        EXPECT_GT(light.color.r + light.color.g + light.color.b, 0.5f);
+        if (light.type == LightType::Spot) {
+            EXPECT_LT(light.innerConeAngle, light.outerConeAngle);
+        }
+    }
+    // Pillars and boxes of different roughness, so depth and specular vary across tiles.
+    std::set<float> roughness;
+    for (const Material& m : scene.materials) roughness.insert(m.roughnessFactor);
+    EXPECT_GE(roughness.size(), 6u);
+    EXPECT_GE(scene.instances.size(), 20u);
+}
+
+TEST(ManyLightsScene, IsDeterministicPerSeed) {
+    ManyLightsOptions options;
+    options.lightCount = 64;
+    const Scene a = manyLightsScene(options), b = manyLightsScene(options);
+    options.seed = 2;
+    const Scene c = manyLightsScene(options);
+    ASSERT_EQ(a.lights.size(), b.lights.size());
+    bool anyDifferent = false;
+    for (size_t i = 0; i < a.lights.size(); ++i) {
+        EXPECT_EQ(a.lights[i].position, b.lights[i].position);
+        EXPECT_EQ(a.lights[i].color, b.lights[i].color);
+        anyDifferent |= a.lights[i].position != c.lights[i].position;
+    }
+    EXPECT_TRUE(anyDifferent) << "another seed must move the lights";
+    // The first light of seed 1 is pinned, so a change of generator (which would silently change
+    // every benchmark) fails here.
+    EXPECT_NEAR(a.lights[1].position.x, kFirstLightOfSeed1.x, 1e-5f);
+    EXPECT_NEAR(a.lights[1].position.y, kFirstLightOfSeed1.y, 1e-5f);
+    EXPECT_NEAR(a.lights[1].position.z, kFirstLightOfSeed1.z, 1e-5f);
+}
+
+TEST(ManyLightsScene, ZeroLightsAndUnsetRanges) {
+    ManyLightsOptions options;
+    options.lightCount = 0;
+    EXPECT_EQ(manyLightsScene(options).lights.size(), 1u);   // only the directional light
+    options.lightCount = 10;
+    options.rangeFraction = 0.0f;
+    for (const Light& light : manyLightsScene(options).lights) EXPECT_FALSE(light.range.has_value());
 }
 
 // --- the built-in scene ------------------------------------------------------------------------

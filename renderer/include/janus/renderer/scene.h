@@ -79,6 +79,9 @@ struct Material {
 struct Instance {
     uint32_t mesh = 0;
     glm::mat4 world{1.0f};
+    // 32 rendering layers: a local light lights this mesh only if (light & mesh layers) != 0.
+    uint32_t renderingLayers = 1u;
+    std::string nodeName;            // glTF node it came from (scene files address it by name)
 };
 
 enum class LightType { Directional, Point, Spot };
@@ -92,6 +95,8 @@ struct Light {
     std::optional<float> range;
     float innerConeAngle = 0.0f;
     float outerConeAngle = 0.7853982f;
+    // Meshes this light lights: (renderingLayers & Instance::renderingLayers) != 0.
+    uint32_t renderingLayers = 1u;
 };
 
 struct Camera {
@@ -138,8 +143,24 @@ Scene loadScene(const std::filesystem::path& path);
 // roughness and metalness, lit by a directional light. `janus render` with no scene uses it.
 Scene defaultScene();
 
+// A generated many-lights scene for Forward+ benchmarks and tests: a closed room (floor,
+// walls, ceiling) with pillars and boxes of varied height and roughness, so depth varies a lot
+// across screen tiles, lit by one dim directional light and `lightCount` coloured point and spot
+// lights scattered through the volume. The same options always give the same scene.
+struct ManyLightsOptions {
+    uint32_t lightCount = 128;
+    uint32_t seed = 1;
+    float spotFraction = 0.3f;     // share of the local lights that are spots
+    // Each light's range is this fraction of the room's width (so a light covers a modest part
+    // of the room); 0 leaves the range unset, so the renderer derives it from intensityCutoff.
+    float rangeFraction = 0.18f;
+    float intensity = 1.5f;        // candela of each local light
+};
+Scene manyLightsScene(const ManyLightsOptions& options = {});
+
 // Throws SceneError when the scene holds NaN/Inf or out-of-range values (checked by loadScene
-// and by the Renderer for scenes built in code).
+// and by the Renderer for scenes built in code). A light with range <= 0 is valid: it lights
+// nothing (the renderer skips it).
 void validateScene(const Scene& scene);
 
 }  // namespace janus::renderer
