@@ -15,12 +15,14 @@
 #include <cmath>
 #include <cstddef>
 #include <cstring>
+#include <limits>
 
 #include <fmt/format.h>
 #include <glm/gtc/matrix_inverse.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/packing.hpp>
 
+#include "janus/renderer/light_grid.h"
 #include "janus/shaders/shaders.h"
 #include "shadow_map.h"
 
@@ -28,9 +30,7 @@ namespace janus::renderer {
 namespace {
 
 constexpr uint32_t kMaxDirectionalLights = 4;   // must match forward_common.glsl
-constexpr uint32_t kMaxLocalLights = 16384;     // docs/LIGHTING.md: the light array's limit
 constexpr uint32_t kTonemapGroupSize = 8;       // tonemap.comp local_size
-constexpr uint32_t kDataTextureWidth = 1024;    // light_access.glsl: arrays in textures are 1024 elements wide
 
 // Lighting defaults (renderer.h, LightingSettings).
 constexpr uint32_t kDefaultTileSize = 16;
@@ -57,21 +57,6 @@ struct FrameUniforms {
     glm::ivec4 tileGrid;
     DirectionalLightData directionalLights[kMaxDirectionalLights];
 };
-
-// One point/spot light, 4 x uvec4 (docs/LIGHTING.md, "GPU light layout").
-struct GpuLocalLight {
-    glm::vec3 position;
-    float invRangeSq;
-    glm::vec3 radiantIntensity;
-    uint32_t type;
-    glm::vec3 direction;
-    uint32_t renderingLayers;
-    float spotScale;
-    float spotOffset;
-    int32_t shadowIndex;
-    uint32_t unused;
-};
-static_assert(sizeof(GpuLocalLight) == 64, "a local light is 4 uvec4 words");
 
 struct HeatmapUniforms {
     glm::ivec4 grid;
@@ -143,27 +128,6 @@ std::vector<uint8_t> downsample(const std::vector<uint8_t>& src, uint32_t width,
     return dst;
 }
 
-// Rendering-layer masks arrive with the scene's Light/Instance::renderingLayers; scenes from
-// before that field light everything on layer 1.
-template <class T>
-uint32_t renderingLayersOf(const T& object) {
-    if constexpr (requires { object.renderingLayers; })
-        return object.renderingLayers;
-    else
-        return 1u;
-}
-
-float maxChannel(const glm::vec3& c) { return std::max({c.r, c.g, c.b}); }
-
-// KHR_lights_punctual's smooth cone, clamp(cos * scale + offset, 0, 1)^2, with scale and offset
-// guarded so that inner == outer gives a hard edge instead of a division by zero.
-glm::vec2 spotScaleOffset(const Light& light) {
-    if (light.type != LightType::Spot) return {0.0f, 1.0f};
-    const float cosOuter = std::cos(light.outerConeAngle), cosInner = std::cos(light.innerConeAngle);
-    const float scale = 1.0f / std::max(cosInner - cosOuter, 1e-4f);
-    return {scale, -cosOuter * scale};
-}
-
 rhi::ShaderHandle makeShader(rhi::IDevice& device, rhi::ShaderStage stage, const char* name) {
     return device.createShader(rhi::ShaderDesc{}.setStage(stage).setSpirv(shaders::get(name)).setDebugName(name));
 }
@@ -178,7 +142,8 @@ T resolveSetting(const std::optional<T>& given, const nlohmann::json& quality, c
         if (value.is_boolean()) return value.get<bool>();
         throw RendererError(fmt::format("scene quality key '{}' must be true or false, not {}", key, value.dump()));
     } else if constexpr (std::is_integral_v<T>) {
-        if (value.is_number_unsigned()) return T(value.get<uint64_t>());
+        if (value.is_number_integer() && value.get<int64_t>() >= 0 && uint64_t(value.get<int64_t>()) <= std::numeric_limits<T>::max())
+            return T(value.get<int64_t>());
         throw RendererError(fmt::format("scene quality key '{}' must be a non-negative integer, not {}", key, value.dump()));
     } else {
         if (value.is_number()) return T(value.get<double>());
@@ -243,7 +208,8 @@ struct Renderer::Impl {
 
     // Lights.
     uint32_t directionalCount = 0;
-    std::vector<GpuLocalLight> localLights;
+    std::vector<PackedLight> localLights;   // docs/LIGHTING.md, "GPU light layout"
+    TileGrid tileGrid;                       // camera matrices and tiling shared with the culling
     rhi::BufferHandle localLightBuffer, tileBuffer;       // compute path (storage buffers)
     rhi::TextureHandle localLightTexture, tileTexture;    // fallback path (RGBA32UI / R32UI)
     uint32_t tilesX = 0, tilesY = 0;
@@ -261,6 +227,11 @@ struct Renderer::Impl {
     rhi::PipelineHandle heatmapPipeline;
     rhi::BufferHandle heatmapUniforms;
     rhi::BindingSetHandle heatmapBindings;
+
+    // Compute-path culling (light_cull.comp).
+    rhi::PipelineHandle cullPipeline;
+    rhi::BufferHandle cullUniforms, cullStats;
+    rhi::BindingSetHandle cullBindings;
 
     Impl(rhi::IDevice& d, const Scene& scene, const RenderSettings& s) : device(d), settings(s) {
         validateScene(scene);
@@ -363,48 +334,18 @@ struct Renderer::Impl {
                                             toString(lighting.culling)));
     }
 
-    // Directional lights into the frame uniforms (the main one first: it casts the shadow);
-    // point and spot lights into the GPU light array (docs/LIGHTING.md).
+    // Point and spot lights into the GPU light array (light_grid.h: skips and warns about lights
+    // that light nothing, refuses more than kMaxLocalLights). Directional lights stay in the frame
+    // uniforms (frameUniformsFor).
     void packLights(const Scene& scene) {
-        uint32_t ignoredDirectional = 0, skippedRange = 0;
-        for (const Light& light : scene.lights) {
-            if (light.type == LightType::Directional) continue;
-            if (light.range && *light.range <= 0.0f) {
-                ++skippedRange;
-                continue;
-            }
-            const float strength = maxChannel(light.color) * light.intensity;
-            if (!(strength > 0.0f)) continue;   // lights nothing
-            float radius = 0.0f;                 // 0 = infinite
-            if (light.range)
-                radius = *light.range;
-            else if (lighting.intensityCutoff > 0.0f)
-                radius = std::sqrt(strength / lighting.intensityCutoff);
-            GpuLocalLight packed{};
-            packed.position = light.position;
-            packed.invRangeSq = radius > 0.0f ? 1.0f / (radius * radius) : 0.0f;
-            packed.radiantIntensity = light.color * light.intensity;
-            packed.type = light.type == LightType::Point ? 1u : 2u;
-            packed.direction = glm::normalize(light.direction);
-            packed.renderingLayers = renderingLayersOf(light);
-            const glm::vec2 cone = spotScaleOffset(light);
-            packed.spotScale = cone.x;
-            packed.spotOffset = cone.y;
-            packed.shadowIndex = -1;
-            localLights.push_back(packed);
-        }
-        if (localLights.size() > kMaxLocalLights)
-            throw RendererError(fmt::format("scene '{}' has {} point/spot lights that light something; the renderer shades at most {}",
-                                            scene.name, localLights.size(), kMaxLocalLights));
-        if (skippedRange)
-            fmt::print(stderr, "janus renderer: warning: scene '{}': {} point/spot light(s) with range <= 0 light nothing and are skipped\n",
-                       scene.name, skippedRange);
-        for (const Light& light : scene.lights)
-            if (light.type == LightType::Directional && ++directionalCount > kMaxDirectionalLights) ++ignoredDirectional;
-        directionalCount = std::min(directionalCount, kMaxDirectionalLights);
-        if (ignoredDirectional)
-            fmt::print(stderr, "janus renderer: warning: scene '{}' has more than {} directional lights; {} ignored\n", scene.name,
-                       kMaxDirectionalLights, ignoredDirectional);
+        localLights = packLocalLights(scene, lighting.intensityCutoff).lights;
+        const auto directional = std::count_if(scene.lights.begin(), scene.lights.end(),
+                                               [](const Light& light) { return light.type == LightType::Directional; });
+        directionalCount = uint32_t(std::min<size_t>(size_t(directional), kMaxDirectionalLights));
+        if (size_t(directional) > kMaxDirectionalLights)
+            fmt::print(stderr, "janus renderer: warning: scene '{}' has {} directional lights; the first {} are shaded\n", scene.name,
+                       directional, kMaxDirectionalLights);
+        tileGrid = makeTileGrid(scene.camera, settings.width, settings.height, lighting.tileSize, lighting.maxLightsPerTile);
     }
 
     void chooseCulling() {
@@ -417,8 +358,8 @@ struct Renderer::Impl {
         // No local lights: nothing to cull, no prepass.
         if (localLights.empty()) cullingMode = LightCulling::Naive;
         if (tiled()) {
-            tilesX = (settings.width + lighting.tileSize - 1) / lighting.tileSize;
-            tilesY = (settings.height + lighting.tileSize - 1) / lighting.tileSize;
+            tilesX = tileGrid.tilesX();
+            tilesY = tileGrid.tilesY();
         }
         if (!localLights.empty()) {
             LightCullingReport report;
@@ -564,7 +505,7 @@ struct Renderer::Impl {
         if (settings.path == FeaturePath::Compute) {
             localLightBuffer = device.createBuffer(
                 rhi::BufferDesc{}.setSize(lightWords * 16).setUsage(rhi::BufferUsage::Storage).setDebugName("local lights"));
-            if (!localLights.empty()) device.writeBuffer(localLightBuffer, localLights.data(), localLights.size() * sizeof(GpuLocalLight));
+            if (!localLights.empty()) device.writeBuffer(localLightBuffer, localLights.data(), localLights.size() * sizeof(PackedLight));
             tileBuffer = device.createBuffer(
                 rhi::BufferDesc{}.setSize(tileWords * 4).setUsage(rhi::BufferUsage::Storage).setDebugName("tile light lists"));
         } else {
@@ -594,18 +535,10 @@ struct Renderer::Impl {
         device.writeTexture(texture, {}, texels.data(), texels.size());
     }
 
-    glm::mat4 projectionFor(const Camera& camera) const {
-        const float aspect = float(settings.width) / float(settings.height);
-        glm::mat4 projection = glm::perspectiveRH_ZO(camera.fovYRadians, aspect, camera.nearPlane, camera.farPlane);
-        // Vulkan convention (docs/ARCHITECTURE.md): world up must land on NDC y = -1, row 0.
-        projection[1][1] *= -1.0f;
-        return projection;
-    }
-
     FrameUniforms frameUniformsFor(const Scene& scene) const {
         FrameUniforms frame{};
         const Camera& camera = scene.camera;
-        frame.viewProjection = projectionFor(camera) * glm::lookAt(camera.position, camera.target, camera.up);
+        frame.viewProjection = tileGrid.viewProjection();   // the same matrices the culling uses
         frame.cameraPosition = glm::vec4(camera.position, 1.0f);
         frame.ambientColor = glm::vec4(scene.environment.ambientColor, 0.0f);
         // The main directional light goes first: the shader shadows directional light 0.
@@ -618,7 +551,7 @@ struct Renderer::Impl {
         }
         for (size_t i = 0; i < directional.size(); ++i) {
             const Light& light = *directional[i];
-            const uint32_t layers = renderingLayersOf(light);
+            const uint32_t layers = light.renderingLayers;
             float layerBits;
             std::memcpy(&layerBits, &layers, sizeof(layerBits));
             frame.directionalLights[i].direction = glm::vec4(glm::normalize(light.direction), 0.0f);
@@ -672,7 +605,7 @@ struct Renderer::Impl {
             uniforms.materialParams = glm::vec4(material.metallicFactor, material.roughnessFactor, 1.0f, 1.0f);
             // Normal maps need tangents; meshes without them shade with their vertex normals.
             uniforms.flags = glm::ivec4(material.doubleSided ? 1 : 0, hasTangents && material.normalTexture >= 0 ? 1 : 0,
-                                        material.alphaMode == AlphaMode::Mask ? 1 : 0, int32_t(renderingLayersOf(instance)));
+                                        material.alphaMode == AlphaMode::Mask ? 1 : 0, int32_t(instance.renderingLayers));
             std::memcpy(drawData.data() + i * stride, &uniforms, sizeof(uniforms));
 
             auto texture = [&](uint32_t binding, int32_t index, const rhi::TextureHandle& fallback) {
@@ -881,9 +814,7 @@ struct Renderer::Impl {
             PassReport report{pass.name};
             if (pass.cpuWork) {
                 submit();
-                const auto start = std::chrono::steady_clock::now();
                 (this->*pass.cpuWork)(report);
-                report.cpuMs = millisecondsSince(start);
             } else {
                 if (!recording) {
                     cmd.begin();
@@ -975,6 +906,10 @@ struct Renderer::Impl {
 
     std::vector<float> readDepth() {
         requireFrame("readDepth()");
+        return readDepthTarget();
+    }
+
+    std::vector<float> readDepthTarget() {
         const std::vector<std::byte> bytes = device.readTexture(depthTarget, {});
         const size_t pixels = size_t(settings.width) * settings.height;
         if (bytes.size() != pixels * 4)
@@ -987,12 +922,56 @@ struct Renderer::Impl {
 
     // ---- Tile-list builders (light_grid.h, light_cull.comp: docs/LIGHTING.md) ----
     void createCullCompute() {
-        throw RendererError("tiled light culling is not built yet on the compute path");
+        const CullUniforms uniforms = makeCullUniforms(tileGrid, uint32_t(localLights.size()), cullingMode);
+        cullUniforms = device.createBuffer(
+            rhi::BufferDesc{}.setSize(sizeof(uniforms)).setUsage(rhi::BufferUsage::Uniform).setDebugName("cull uniforms"));
+        device.writeBuffer(cullUniforms, &uniforms, sizeof(uniforms));
+        cullStats = device.createBuffer(rhi::BufferDesc{}.setSize(16).setUsage(rhi::BufferUsage::Storage).setDebugName("cull stats"));
+        cullBindings = device.createBindingSet(rhi::BindingSetDesc{}
+                                                   .add(rhi::BindingItem::uniformBuffer(0, cullUniforms))
+                                                   .add(rhi::BindingItem::sampledTexture(1, depthTarget, targetSampler))
+                                                   .add(rhi::BindingItem::storageBuffer(2, localLightBuffer))
+                                                   .add(rhi::BindingItem::storageBuffer(3, tileBuffer))
+                                                   .add(rhi::BindingItem::storageBuffer(4, cullStats)));
+        cullPipeline = device.createComputePipeline(rhi::ComputePipelineDesc{}
+                                                        .setShader(makeShader(device, rhi::ShaderStage::Compute, "light_cull_comp"))
+                                                        .setDebugName("light culling"));
     }
-    void recordLightCullCompute(rhi::ICommandList&, PassReport&) {}
-    void readCullStats(LightCullingReport&) {}
-    void buildTilesOnCpu(PassReport&) {
-        throw RendererError("tiled light culling is not built yet on the fallback path");
+
+    // One workgroup per tile; the stats are atomics, so they start from zero every frame.
+    void recordLightCullCompute(rhi::ICommandList& cmd, PassReport& report) {
+        const std::array<uint32_t, 4> zero{};
+        cmd.writeBuffer(cullStats, zero.data(), sizeof(zero));
+        cmd.setPipeline(cullPipeline);
+        cmd.setBindingSet(0, cullBindings);
+        cmd.dispatch(tilesX, tilesY);
+        ++report.dispatches;
+    }
+
+    void readCullStats(LightCullingReport& report) {
+        const std::vector<std::byte> bytes = device.readBuffer(cullStats);
+        std::array<uint32_t, 4> stats{};
+        std::memcpy(stats.data(), bytes.data(), std::min(bytes.size(), sizeof(stats)));
+        report.overflowTiles = stats[0];
+        report.droppedLights = stats[1];
+        report.listedLights = stats[2];
+    }
+
+    // Fallback path, between the prepass submission and the forward one: the prepass depth (for
+    // TilesDepth) comes back, the multi-threaded CPU builder makes the lists, and they go up as
+    // the R32UI tile texture. cpuMs is the builder's time alone.
+    void buildTilesOnCpu(PassReport& report) {
+        std::vector<float> depth;
+        if (cullingMode == LightCulling::TilesDepth) depth = readDepthTarget();
+        TileBuildStats stats;
+        const auto start = std::chrono::steady_clock::now();
+        const TileLists lists = buildTileListsCpu(tileGrid, localLights, depth, &stats);
+        report.cpuMs = millisecondsSince(start);
+        cpuTileData = flattenTileData(lists);
+        writeDataTexture(tileTexture, cpuTileData.data(), cpuTileData.size(), sizeof(uint32_t));
+        cullingReport->listedLights = stats.listedLights;
+        cullingReport->overflowTiles = stats.overflowTiles;
+        cullingReport->droppedLights = stats.droppedLights;
     }
 };
 
