@@ -1,7 +1,12 @@
-// FrameReport::toJson and the FeaturePath names: what `janus render --report` and benchmarks read.
+// FrameReport::toJson and the FeaturePath / LightCulling / DebugView names: what `janus render
+// --report` and benchmarks read. Also the tile heat map debug view on every configuration.
 #include <gtest/gtest.h>
 
+#include <fmt/format.h>
+
+#include "janus/renderer/image.h"
 #include "janus/renderer/renderer.h"
+#include "renderer_test_support.h"
 
 namespace janus::renderer {
 namespace {
@@ -34,6 +39,90 @@ TEST(FeaturePath, NamesRoundTrip) {
     EXPECT_EQ(parseFeaturePath("Compute"), std::nullopt);
     EXPECT_EQ(parseFeaturePath(""), std::nullopt);
 }
+
+TEST(LightCulling, NamesRoundTrip) {
+    for (LightCulling mode : {LightCulling::Auto, LightCulling::Naive, LightCulling::Tiles2D, LightCulling::TilesDepth})
+        EXPECT_EQ(parseLightCulling(toString(mode)), mode);
+    EXPECT_STREQ(toString(LightCulling::Tiles2D), "tiles-2d");
+    EXPECT_STREQ(toString(LightCulling::TilesDepth), "tiles-depth");
+    EXPECT_EQ(parseLightCulling("Naive"), std::nullopt);
+    EXPECT_EQ(parseLightCulling("tiles"), std::nullopt);
+}
+
+TEST(DebugView, NamesRoundTrip) {
+    for (DebugView view : {DebugView::None, DebugView::Tiles}) EXPECT_EQ(parseDebugView(toString(view)), view);
+    EXPECT_EQ(parseDebugView("heatmap"), std::nullopt);
+}
+
+TEST(FrameReport, JsonHasTheLightCullingReportOnlyWhenPresent) {
+    FrameReport report;
+    EXPECT_FALSE(report.toJson().contains("lightCulling"));
+    LightCullingReport culling;
+    culling.mode = LightCulling::TilesDepth;
+    culling.builder = "cpu";
+    culling.directionalLights = 1;
+    culling.localLights = 300;
+    culling.tileSize = 16;
+    culling.tilesX = 8;
+    culling.tilesY = 4;
+    culling.maxLightsPerTile = 64;
+    culling.listedLights = 5000000000ull;   // past 32 bits: the JSON must keep it
+    culling.overflowTiles = 3;
+    culling.droppedLights = 7;
+    report.lightCulling = culling;
+    const nlohmann::json json = report.toJson().at("lightCulling");
+    EXPECT_EQ(json.at("mode"), "tiles-depth");
+    EXPECT_EQ(json.at("builder"), "cpu");
+    EXPECT_EQ(json.at("directionalLights"), 1);
+    EXPECT_EQ(json.at("localLights"), 300);
+    EXPECT_EQ(json.at("tileSize"), 16);
+    EXPECT_EQ(json.at("tilesX"), 8);
+    EXPECT_EQ(json.at("tilesY"), 4);
+    EXPECT_EQ(json.at("maxLightsPerTile"), 64);
+    EXPECT_EQ(json.at("listedLights"), 5000000000ull);
+    EXPECT_EQ(json.at("overflowTiles"), 3);
+    EXPECT_EQ(json.at("droppedLights"), 7);
+}
+
+using test_support::Config;
+
+class TileHeatmap : public testing::TestWithParam<Config> {};
+
+// The heat map joins the plan after tonemapping, changes the display image (not the HDR image)
+// and marks tiles at the cap; without tiles it is left out.
+TEST_P(TileHeatmap, DrawsOverTheDisplayImageOnlyWhenTilesExist) {
+    const Config& config = GetParam();
+    const Scene scene = manyLightsScene(ManyLightsOptions{64});
+    RenderSettings plain = test_support::settingsFor(LightCulling::TilesDepth);
+    plain.lighting.maxLightsPerTile = 4;   // low enough that some tiles reach the cap
+    RenderSettings debug = plain;
+    debug.debugView = DebugView::Tiles;
+    const test_support::FrameOutput without = test_support::renderOneFrame(config, scene, plain);
+    const test_support::FrameOutput with = test_support::renderOneFrame(config, scene, debug);
+
+    ASSERT_FALSE(with.report.passes.empty());
+    EXPECT_EQ(with.report.passes.back().name, "tile-heatmap") << test_support::passNames(with.report);
+    EXPECT_FALSE(test_support::hasPassStartingWith(without.report, "tile-heatmap"));
+    ASSERT_TRUE(with.report.lightCulling);
+    EXPECT_GT(with.report.lightCulling->overflowTiles, 0u) << "the test needs tiles at the cap";
+    EXPECT_EQ(with.hdr.pixels, without.hdr.pixels) << "the debug view must not change the radiance";
+    // Most pixels change (every tile gets a colour); the hatch of tiles at the cap is pure white.
+    const ImageDifference diff = compareImages(without.display, with.display, 0);
+    EXPECT_GT(diff.differingPixels, uint64_t(with.display.width) * with.display.height / 2);
+    bool white = false;
+    for (size_t i = 0; i + 3 < with.display.pixels.size() && !white; i += 4)
+        white = with.display.pixels[i] >= 240 && with.display.pixels[i + 1] >= 240 && with.display.pixels[i + 2] >= 240;
+    EXPECT_TRUE(white) << "no hatch on tiles at the cap";
+    writePNG(test_support::outputDir() / fmt::format("tile-heatmap-{}.png", config.name()), with.display);
+
+    RenderSettings naive = test_support::settingsFor(LightCulling::Naive);
+    naive.debugView = DebugView::Tiles;
+    const test_support::FrameOutput noTiles = test_support::renderOneFrame(config, scene, naive);
+    EXPECT_FALSE(test_support::hasPassStartingWith(noTiles.report, "tile-heatmap")) << test_support::passNames(noTiles.report);
+}
+
+INSTANTIATE_TEST_SUITE_P(Configs, TileHeatmap, testing::ValuesIn(test_support::allConfigs()),
+                         [](const testing::TestParamInfo<Config>& info) { return info.param.name(); });
 
 }  // namespace
 }  // namespace janus::renderer
