@@ -1,6 +1,7 @@
 #include "cli_common.h"
 
 #include <algorithm>
+#include <cmath>
 #include <charconv>
 #include <cstdio>
 #include <new>
@@ -170,9 +171,30 @@ void addGLPlatformOption(CLI::App& app, std::string& glPlatform) {
         ->type_name("PLATFORM");
 }
 
+std::optional<uint32_t> parseManyLightsSceneName(std::string_view text) {
+    if (text.substr(0, kManyLightsSceneName.size()) != kManyLightsSceneName) return std::nullopt;
+    std::string_view rest = text.substr(kManyLightsSceneName.size());
+    if (rest.empty()) return renderer::ManyLightsOptions{}.lightCount;
+    if (rest[0] != ':') return std::nullopt;
+    rest.remove_prefix(1);
+    uint32_t count = 0;
+    const auto [end, error] = std::from_chars(rest.data(), rest.data() + rest.size(), count);
+    if (error != std::errc() || end != rest.data() + rest.size() || rest.empty() || count > 16384)
+        throw UsageError(fmt::format("scene '{}': the built-in many-lights scene takes a light count 0..16384, "
+                                     "as in many-lights:512", text));
+    return count;
+}
+
 renderer::Scene loadSceneOrDefault(const std::optional<std::filesystem::path>& scenePath) {
     if (!scenePath) return renderer::defaultScene();
     std::error_code ec;
+    if (!std::filesystem::exists(*scenePath, ec)) {
+        if (const std::optional<uint32_t> lights = parseManyLightsSceneName(scenePath->string())) {
+            renderer::ManyLightsOptions options;
+            options.lightCount = *lights;
+            return renderer::manyLightsScene(options);
+        }
+    }
     if (!std::filesystem::exists(*scenePath, ec))
         throw InputError(fmt::format("scene file '{}' does not exist; give a .gltf, .glb or .json scene, "
                                      "or leave it out to use the built-in scene", scenePath->string()));
@@ -183,7 +205,83 @@ renderer::Scene loadSceneOrDefault(const std::optional<std::filesystem::path>& s
 }
 
 std::string sceneLabel(const std::optional<std::filesystem::path>& scenePath) {
-    return scenePath ? scenePath->string() : std::string("built-in default scene");
+    if (!scenePath) return "built-in default scene";
+    std::error_code ec;
+    if (!std::filesystem::exists(*scenePath, ec) && parseManyLightsSceneName(scenePath->string()))
+        return fmt::format("built-in {} scene", scenePath->string());
+    return scenePath->string();
+}
+
+void addLightingOptions(CLI::App& app, LightingOptions& options) {
+    app.add_option("--culling", options.culling, "Local-light culling: auto, naive, tiles-2d or tiles-depth (default: scene, then auto)")
+        ->type_name("MODE");
+    app.add_option("--tile-size", options.tileSize, "Screen tile side in pixels: 16, 32, 64, 128 or 256 (default 16)")->type_name("N");
+    app.add_option("--max-lights-per-tile", options.maxLightsPerTile, "Cap of each tile's light list, 1..1024 (default 256)")
+        ->type_name("N");
+    app.add_option("--intensity-cutoff", options.intensityCutoff,
+                   "Illuminance (lux) below which a light without a range is culled; 0 = never (naive only; default 0.01)")
+        ->type_name("LUX");
+    app.add_flag("--no-shadows", options.noShadows, "No shadow map for the main directional light");
+}
+
+namespace {
+
+uint32_t parseWholeFlag(std::string_view flag, std::string_view text, uint32_t lo, uint32_t hi, std::string_view allowed) {
+    uint32_t value = 0;
+    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (error != std::errc() || end != text.data() + text.size() || text.empty() || value < lo || value > hi)
+        throw UsageError(fmt::format("{} '{}' is not allowed; use {}", flag, text, allowed));
+    return value;
+}
+
+}  // namespace
+
+renderer::LightingSettings parseLightingOptions(const LightingOptions& options) {
+    renderer::LightingSettings lighting;
+    if (!options.culling.empty()) {
+        lighting.culling = renderer::parseLightCulling(options.culling);
+        if (!lighting.culling)
+            throw UsageError(fmt::format("--culling '{}' is not a culling mode; use auto, naive, tiles-2d or tiles-depth", options.culling));
+    }
+    if (!options.tileSize.empty()) {
+        const uint32_t size = parseWholeFlag("--tile-size", options.tileSize, 16, 256, "16, 32, 64, 128 or 256");
+        if (size != 16 && size != 32 && size != 64 && size != 128 && size != 256)
+            throw UsageError(fmt::format("--tile-size '{}' is not allowed; use 16, 32, 64, 128 or 256", options.tileSize));
+        lighting.tileSize = size;
+    }
+    if (!options.maxLightsPerTile.empty())
+        lighting.maxLightsPerTile = parseWholeFlag("--max-lights-per-tile", options.maxLightsPerTile, 1, 1024, "a whole number 1..1024");
+    if (!options.intensityCutoff.empty()) {
+        float cutoff = 0.0f;
+        const std::string& text = options.intensityCutoff;
+        const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), cutoff);
+        if (error != std::errc() || end != text.data() + text.size() || !std::isfinite(cutoff) || cutoff < 0.0f)
+            throw UsageError(fmt::format("--intensity-cutoff '{}' is not allowed; use a finite number >= 0 (lux; 0 = infinite range)", text));
+        lighting.intensityCutoff = cutoff;
+    }
+    if (options.noShadows) lighting.shadows = false;
+    return lighting;
+}
+
+renderer::DebugView parseDebugOption(std::string_view text) {
+    const std::optional<renderer::DebugView> view = renderer::parseDebugView(text);
+    if (!view) throw UsageError(fmt::format("--debug '{}' is not a debug view; use none or tiles", text));
+    return *view;
+}
+
+std::string lightCullingLine(const renderer::FrameReport& report) {
+    if (!report.lightCulling) return "";
+    const renderer::LightCullingReport& c = *report.lightCulling;
+    std::string line = fmt::format("light culling: {}", renderer::toString(c.mode));
+    if (!c.builder.empty()) line += fmt::format(" ({} builder)", c.builder);
+    line += fmt::format(", {} local + {} directional lights", c.localLights, c.directionalLights);
+    if (c.tilesX * c.tilesY > 0) {
+        line += fmt::format(", {}x{} tiles of {} px, cap {}, {:.1f} lights/tile", c.tilesX, c.tilesY, c.tileSize, c.maxLightsPerTile,
+                            double(c.listedLights) / double(c.tilesX * c.tilesY));
+        line += c.overflowTiles ? fmt::format(", OVERFLOW: {} tiles, {} lights dropped", c.overflowTiles, c.droppedLights)
+                                : std::string(", no overflow");
+    }
+    return line;
 }
 
 std::string configurationLabel(rhi::Backend backend, renderer::FeaturePath path) {
@@ -213,6 +311,8 @@ RenderOutcome renderConfiguration(const renderer::Scene& scene, const RenderRequ
     settings.width = request.size.width;
     settings.height = request.size.height;
     settings.path = request.path;
+    settings.lighting = request.lighting;
+    settings.debugView = request.debugView;
 
     RenderOutcome outcome;
     outcome.device = device->info();

@@ -81,7 +81,10 @@ rhi::GLPlatform parseGLPlatformOption(std::string_view text);      // throws Usa
 // not a directory, or `file` itself is a directory. Saves a render that could not be saved.
 void checkOutputFile(const std::filesystem::path& file, std::string_view optionName);
 
-// The scene file given on the command line, or the built-in default scene.
+// The scene file given on the command line, the built-in many-lights scene ("many-lights" or
+// "many-lights:N", N local lights, default 128; a file of that name wins), or the default scene.
+inline constexpr std::string_view kManyLightsSceneName = "many-lights";
+std::optional<uint32_t> parseManyLightsSceneName(std::string_view text);   // nullopt: not that name; throws UsageError for a bad N
 renderer::Scene loadSceneOrDefault(const std::optional<std::filesystem::path>& scenePath);
 std::string sceneLabel(const std::optional<std::filesystem::path>& scenePath);
 
@@ -89,6 +92,19 @@ std::string sceneLabel(const std::optional<std::filesystem::path>& scenePath);
 void addSceneArgument(CLI::App& app, std::string& scene);
 void addSizeOption(CLI::App& app, std::string& size);
 void addGLPlatformOption(CLI::App& app, std::string& glPlatform);
+
+// Forward+ lighting flags (--culling, --tile-size, --max-lights-per-tile, --intensity-cutoff,
+// --no-shadows), shared by render, parity and bench. Empty strings = not given (scene/default).
+struct LightingOptions {
+    std::string culling;
+    std::string tileSize;
+    std::string maxLightsPerTile;
+    std::string intensityCutoff;
+    bool noShadows = false;
+};
+void addLightingOptions(CLI::App& app, LightingOptions& options);
+renderer::LightingSettings parseLightingOptions(const LightingOptions& options);   // throws UsageError naming the flag
+renderer::DebugView parseDebugOption(std::string_view text);                        // throws UsageError
 
 // ---- rendering one configuration ----------------------------------------------------------
 
@@ -99,6 +115,8 @@ struct RenderRequest {
     ImageSize size;
     bool validation = false;
     bool wantHdr = false;
+    renderer::LightingSettings lighting;
+    renderer::DebugView debugView = renderer::DebugView::None;
 };
 
 struct RenderOutcome {
@@ -122,6 +140,9 @@ std::string configurationFileStem(rhi::Backend backend, renderer::FeaturePath pa
 
 // Prints the per-pass table (name, GPU ms, CPU ms, draws, dispatches).
 void printPassSummary(const renderer::FrameReport& report);
+// One line on how the frame culled its local lights (mode, builder, lights, tiles, overflow);
+// "" when the scene had no local lights.
+std::string lightCullingLine(const renderer::FrameReport& report);
 
 // A left-aligned text table: every column as wide as its widest cell.
 std::string formatTable(const std::vector<std::vector<std::string>>& rows, size_t indent = 2);

@@ -20,6 +20,7 @@ struct ParityOptions {
     std::string tolerance = "1";
     std::string glPlatform = "egl";
     bool validation = false;
+    LightingOptions lighting;
 };
 
 struct Configuration {
@@ -84,6 +85,7 @@ int run(const ParityOptions& options) {
     base.size = parseSize(options.size);
     base.glPlatform = parseGLPlatformOption(options.glPlatform);
     base.validation = options.validation;
+    base.lighting = parseLightingOptions(options.lighting);
     const uint32_t tolerance = parseTolerance(options.tolerance);
     if (options.out.empty()) throw UsageError("--out DIR is required: where to write the images and parity.json");
 
@@ -209,6 +211,7 @@ Command addParityCommand(CLI::App& parent) {
         ->default_str("1")
         ->type_name("STEPS");
     addGLPlatformOption(*app, options->glPlatform);
+    addLightingOptions(*app, options->lighting);
     app->add_flag("--validation", options->validation,
                   "Enable Vulkan validation layers / GL debug output; a configuration with errors fails");
     return {app, [options] { return run(*options); }};

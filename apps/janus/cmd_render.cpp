@@ -20,6 +20,8 @@ struct RenderOptions {
     std::string report;
     std::string glPlatform = "egl";
     bool validation = false;
+    std::string debug;
+    LightingOptions lighting;
 };
 
 bool hasExtension(const std::filesystem::path& file, std::string_view extension) {
@@ -36,6 +38,8 @@ int run(const RenderOptions& options) {
     request.glPlatform = parseGLPlatformOption(options.glPlatform);
     request.size = parseSize(options.size);
     request.validation = options.validation;
+    request.lighting = parseLightingOptions(options.lighting);
+    if (!options.debug.empty()) request.debugView = parseDebugOption(options.debug);
 
     if (options.out.empty()) throw UsageError("--out FILE.png is required: where to write the rendered image");
     const std::filesystem::path outPath = options.out;
@@ -79,6 +83,7 @@ int run(const RenderOptions& options) {
     std::printf("  image:  %s\n", outPath.c_str());
     if (hdrPath) std::printf("  hdr:    %s\n", hdrPath->c_str());
     if (reportPath) std::printf("  report: %s\n", reportPath->c_str());
+    if (const std::string culling = lightCullingLine(outcome.report); !culling.empty()) std::printf("  %s\n", culling.c_str());
     std::printf("\n");
     printPassSummary(outcome.report);
 
@@ -104,6 +109,10 @@ Command addRenderCommand(CLI::App& parent) {
     app->add_option("--hdr", options->hdr, "Also write the linear HDR image (.exr or .pfm)")->type_name("FILE.exr|FILE.pfm");
     app->add_option("--report", options->report, "Also write the frame report as JSON")->type_name("FILE.json");
     addGLPlatformOption(*app, options->glPlatform);
+    addLightingOptions(*app, options->lighting);
+    app->add_option("--debug", options->debug, "Debug view: none, or tiles (heat map of lights per tile, blue to red; "
+                                               "tiles at the cap outlined)")
+        ->type_name("VIEW");
     app->add_flag("--validation", options->validation,
                   "Enable Vulkan validation layers / GL debug output; errors make the command fail (exit 5)");
     app->footer(kExitCodeHelp);
