@@ -121,6 +121,10 @@ void PrintTo(const SceneCase& sceneCase, std::ostream* os) { *os << sceneCase.na
 
 const SceneCase kEqualityScenes[] = {
     {"ManyLights", [] { return roomWithManyLights(64); }, 16},
+    // The benchmark's hall (boxes and pillars: depth varies within tiles), lights with ranges.
+    {"ManyLightsScene", [] { return manyLightsScene(ManyLightsOptions{.lightCount = 64}); }, 16},
+    // ... and without ranges: culling radii from the intensity cut-off.
+    {"ManyLightsSceneNoRanges", [] { return manyLightsScene(ManyLightsOptions{.lightCount = 48, .seed = 7, .rangeFraction = 0.0f, .intensity = 0.02f}); }, 16},
     {"CameraInsideLights", cameraInsideLights, 16},
     // Larger tiles too: the near-plane lights cover many pixels of few tiles.
     {"LightsStraddlingTheNearPlane", lightsStraddlingTheNearPlane, 32},
@@ -308,7 +312,7 @@ INSTANTIATE_TEST_SUITE_P(Configs, ForwardPlusTileLists, testing::Combine(testing
 // the library's analysis and by this file's independent brute force.
 TEST(ForwardPlusCullingEfficiency, DepthBoundsBeatScreenTilesBeatNaive) {
     const Config config{rhi::Backend::Vulkan, FeaturePath::Fallback};
-    const Scene scene = roomWithManyLights(64);
+    const Scene scene = manyLightsScene(ManyLightsOptions{.lightCount = 64});
     const PackedLights packed = packLocalLights(scene, kDefaultIntensityCutoff);
     double library[3] = {}, bruteForce[3] = {};   // naive, tiles-2d, tiles-depth
     for (int i = 1; i < 3; ++i) {
@@ -343,7 +347,7 @@ TEST(ForwardPlusCullingEfficiency, DepthBoundsBeatScreenTilesBeatNaive) {
 class ForwardPlusParity : public testing::TestWithParam<Config> {};
 
 TEST_P(ForwardPlusParity, ManyLightsMatchesVulkanCompute) {
-    const Scene scene = roomWithManyLights(64);
+    const Scene scene = manyLightsScene(ManyLightsOptions{.lightCount = 64});
     static const FrameOutput reference = renderOneFrame(allConfigs()[0], scene, settingsFor(LightCulling::TilesDepth));
     const FrameOutput result = renderOneFrame(GetParam(), scene, settingsFor(LightCulling::TilesDepth));
     // As in render_test.cpp: at most one 8-bit step (the last bit of the shading math may round
@@ -463,6 +467,36 @@ TEST_P(ForwardPlusFramePlan, SceneQualityKeysAndSettingsOverrideThem) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Configs, ForwardPlusFramePlan, testing::ValuesIn(allConfigs()),
+                         [](const testing::TestParamInfo<Config>& info) { return info.param.name(); });
+
+// ---------------------------------------------------------------------------------------------
+// Rendering layers: a light lights a mesh only if their masks overlap
+
+class ForwardPlusRenderingLayers : public testing::TestWithParam<Config> {};
+
+TEST_P(ForwardPlusRenderingLayers, ALightLightsOnlyMeshesSharingALayer) {
+    const Config& config = GetParam();
+    const Scene unlit = roomWithManyLights(8);   // every mesh and light on layer 1 (the default)
+    Scene layer2 = unlit;
+    Light bright = pointLight({0.0f, 1.2f, -0.5f}, glm::vec3(1.0f, 0.3f, 0.1f), 6.0f, 3.0f);
+    bright.renderingLayers = 2u;
+    layer2.lights.push_back(bright);
+    Scene layers3 = layer2;
+    for (Instance& instance : layers3.instances) instance.renderingLayers = 3u;
+    for (LightCulling mode : {LightCulling::Naive, LightCulling::TilesDepth}) {
+        const std::string label = fmt::format("Layers-{}-{}", config.name(), cullingName(mode));
+        const FrameOutput without = renderOneFrame(config, unlit, settingsFor(mode, 64));
+        const FrameOutput masked = renderOneFrame(config, layer2, settingsFor(mode, 64));
+        const FrameOutput lit = renderOneFrame(config, layers3, settingsFor(mode, 64));
+        // Layer 2 vs meshes on layer 1: the light adds nothing anywhere.
+        expectSameImage(without, masked, label + "-masked");
+        // Meshes on layers 1 and 2: the light shows (a strong orange light in the room's middle).
+        EXPECT_GT(compareImages(without.display, lit.display).maxChannelDifference, 20u) << label;
+        EXPECT_EQ(masked.report.lightCulling->localLights, 9u) << label << ": a masked light is still packed";
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Configs, ForwardPlusRenderingLayers, testing::ValuesIn(allConfigs()),
                          [](const testing::TestParamInfo<Config>& info) { return info.param.name(); });
 
 TEST(ForwardPlusLimits, MoreThan16384LocalLightsIsRefusedWithTheCountAndTheLimit) {

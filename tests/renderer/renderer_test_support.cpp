@@ -179,10 +179,3 @@ void expectSameImage(const FrameOutput& expected, const FrameOutput& actual, con
 }
 
 }  // namespace janus::renderer::test_support
-
-// TEMPORARY (remove when renderer.cpp defines them): weak stand-ins so the test binary links
-// while the Forward+ implementation lands; the real definitions replace them at link time.
-namespace janus::renderer {
-__attribute__((weak)) TileLists Renderer::readTileLists() { throw RendererError("Renderer::readTileLists is not implemented yet"); }
-__attribute__((weak)) std::vector<float> Renderer::readDepth() { throw RendererError("Renderer::readDepth is not implemented yet"); }
-}  // namespace janus::renderer
