@@ -158,5 +158,6 @@ struct Command {
 Command addInfoCommand(CLI::App& parent);
 Command addRenderCommand(CLI::App& parent);
 Command addParityCommand(CLI::App& parent);
+Command addBenchCommand(CLI::App& parent);
 
 }  // namespace janus::cli

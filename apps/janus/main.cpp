@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
         janus::cli::addInfoCommand(app),
         janus::cli::addRenderCommand(app),
         janus::cli::addParityCommand(app),
+        janus::cli::addBenchCommand(app),
     };
     app.set_version_flag("--version", "janus " JANUS_VERSION);
     app.require_subcommand(0, 1);
@@ -47,12 +48,12 @@ int main(int argc, char** argv) {
             if (command.app->parsed()) failedIn = command.app;
         // CLI11 calls a mistyped command an unexpected argument; say what it is.
         if (failedIn == &app && argc > 1 && argv[1][0] != '-')
-            return usageFailure(fmt::format("unknown command '{}'; choose one of info, render, parity", argv[1]), app);
+            return usageFailure(fmt::format("unknown command '{}'; choose one of info, render, parity, bench", argv[1]), app);
         return usageFailure(e.what(), *failedIn);
     }
 
     for (const auto& command : commands)
         if (command.app->parsed()) return janus::cli::runCommand(command.run);
 
-    return usageFailure("no command given; choose one of info, render, parity", app);
+    return usageFailure("no command given; choose one of info, render, parity, bench", app);
 }

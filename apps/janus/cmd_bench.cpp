@@ -1,0 +1,328 @@
+// `janus bench forward`: the many-lights scene at several light counts, culling modes, feature
+// paths and backends; frame time, culling time and culling efficiency, with ratios against naive
+// from the same run; the intensity cut-off's error; forward.md / forward.json / forward.png.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <memory>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "cli_common.h"
+#include "janus/renderer/light_grid.h"
+#include "plot.h"
+
+namespace janus::cli {
+namespace {
+
+struct BenchOptions {
+    std::string lights = "0,8,32,128,512,2048";
+    std::string modes = "naive,tiles-2d,tiles-depth";
+    std::string paths = "compute,fallback";
+    std::string backends = "vulkan,gl";
+    std::string cutoffs = "0.1,0.03,0.01,0.003,0.001";
+    std::string size = "256x256";
+    std::string out;
+    uint32_t frames = 5;
+    uint32_t warmup = 2;
+    std::string glPlatform = "egl";
+    bool quick = false;
+};
+
+std::vector<std::string> splitList(const std::string& text) {
+    std::vector<std::string> items;
+    std::stringstream stream(text);
+    for (std::string item; std::getline(stream, item, ',');)
+        if (!item.empty()) items.push_back(item);
+    return items;
+}
+
+double median(std::vector<double> values) {
+    if (values.empty()) return 0.0;
+    std::sort(values.begin(), values.end());
+    const size_t mid = values.size() / 2;
+    return values.size() % 2 ? values[mid] : 0.5 * (values[mid - 1] + values[mid]);
+}
+
+struct Measurement {
+    double frameGpuMs = 0.0, frameWallMs = 0.0, cullMs = 0.0;
+    bool gpuTimed = true;
+    renderer::FrameReport report;
+    std::optional<renderer::ImageRGBAF> hdr;
+    std::optional<renderer::CullingEfficiency> efficiency;
+};
+
+// Renders warmup + frames frames of one configuration; medians of the frame GPU time (sum of the
+// passes), the CPU wall time of renderFrame, and the culling time (light-cull pass: GPU time of
+// the compute dispatch, CPU time of the CPU builder).
+Measurement measure(rhi::IDevice& device, const renderer::Scene& scene, const renderer::RenderSettings& settings, uint32_t warmup,
+                    uint32_t frames, bool wantHdr, bool wantEfficiency) {
+    renderer::Renderer frameRenderer(device, scene, settings);
+    Measurement result;
+    std::vector<double> gpu, wall, cull;
+    for (uint32_t i = 0; i < warmup + frames; ++i) {
+        const auto start = std::chrono::steady_clock::now();
+        renderer::FrameReport report = frameRenderer.renderFrame();
+        const double wallMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+        if (i < warmup) continue;
+        double gpuMs = 0.0, cullMs = 0.0;
+        for (const renderer::PassReport& pass : report.passes) {
+            const bool culling = pass.name.rfind("light-cull", 0) == 0;
+            // The CPU builder runs between submissions, so its CPU time is part of the frame.
+            if (pass.gpuMs) gpuMs += *pass.gpuMs;
+            else if (culling) gpuMs += pass.cpuMs;
+            else result.gpuTimed = false;
+            if (culling) cullMs += pass.gpuMs ? *pass.gpuMs : pass.cpuMs;
+        }
+        gpu.push_back(gpuMs);
+        wall.push_back(wallMs);
+        cull.push_back(cullMs);
+        result.report = std::move(report);
+    }
+    result.frameGpuMs = median(gpu);
+    result.frameWallMs = median(wall);
+    result.cullMs = median(cull);
+    if (wantHdr) result.hdr = frameRenderer.readHdrImage();
+    if (wantEfficiency && result.report.lightCulling) {
+        const renderer::LightCullingReport& c = *result.report.lightCulling;
+        const std::vector<float> depth = frameRenderer.readDepth();
+        const renderer::PackedLights packed =
+            renderer::packLocalLights(scene, settings.lighting.intensityCutoff.value_or(0.01f));
+        const bool tiled = c.mode != renderer::LightCulling::Naive;
+        const renderer::TileGrid grid = renderer::makeTileGrid(scene.camera, settings.width, settings.height,
+                                                               tiled ? c.tileSize : 16, tiled ? c.maxLightsPerTile : 1);
+        if (tiled) {
+            const renderer::TileLists lists = frameRenderer.readTileLists();
+            result.efficiency = renderer::measureCullingEfficiency(grid, packed.lights, &lists, depth);
+        } else {
+            result.efficiency = renderer::measureCullingEfficiency(grid, packed.lights, nullptr, depth);
+        }
+    }
+    return result;
+}
+
+// Frame time used for ratios: GPU time where the device has timers, CPU wall time otherwise.
+double frameMs(const Measurement& m) { return m.gpuTimed ? m.frameGpuMs : m.frameWallMs; }
+
+struct Row {
+    std::string backend, path, mode;
+    uint32_t lights = 0;
+    Measurement m;
+    double speedupVsNaive = 0.0;   // naive frame ms / this frame ms, same backend, path and count
+};
+
+int runForward(const BenchOptions& options) {
+    std::vector<uint32_t> counts;
+    for (const std::string& item : splitList(options.quick ? "0,64" : options.lights)) {
+        const std::optional<uint32_t> n = parseManyLightsSceneName(fmt::format("many-lights:{}", item));
+        if (!n) throw UsageError(fmt::format("--lights '{}' must be a comma-separated list of light counts 0..16384", options.lights));
+        counts.push_back(*n);
+    }
+    std::vector<renderer::LightCulling> modes;
+    for (const std::string& item : splitList(options.modes)) {
+        const std::optional<renderer::LightCulling> mode = renderer::parseLightCulling(item);
+        if (!mode || *mode == renderer::LightCulling::Auto)
+            throw UsageError(fmt::format("--modes '{}': each mode must be naive, tiles-2d or tiles-depth", options.modes));
+        modes.push_back(*mode);
+    }
+    std::vector<renderer::FeaturePath> paths;
+    for (const std::string& item : splitList(options.paths)) paths.push_back(parsePathOption(item));
+    std::vector<rhi::Backend> backends;
+    for (const std::string& item : splitList(options.backends)) backends.push_back(parseBackendOption(item));
+    std::vector<float> cutoffs;
+    for (const std::string& item : splitList(options.quick ? "0.01" : options.cutoffs)) {
+        LightingOptions lighting;
+        lighting.intensityCutoff = item;
+        const renderer::LightingSettings parsed = parseLightingOptions(lighting);
+        if (*parsed.intensityCutoff <= 0.0f) throw UsageError("--cutoffs: each cut-off must be > 0 (0 is the reference)");
+        cutoffs.push_back(*parsed.intensityCutoff);
+    }
+    const ImageSize size = parseSize(options.quick ? "64x64" : options.size);
+    const uint32_t frames = options.quick ? 1 : std::max(options.frames, 1u), warmup = options.quick ? 1 : options.warmup;
+    if (options.out.empty()) throw UsageError("--out DIR is required: where to write forward.md, forward.json and forward.png");
+    const std::filesystem::path outDir = options.out;
+    std::error_code ec;
+    std::filesystem::create_directories(outDir, ec);
+    if (!std::filesystem::is_directory(outDir, ec)) throw InputError(fmt::format("--out '{}' could not be created as a directory", options.out));
+
+    std::vector<Row> rows;
+    struct CutoffRow {
+        std::string backend, path;
+        float cutoff = 0.0f;
+        double maxError = 0.0, meanError = 0.0, psnr = 0.0, ms = 0.0, referenceMs = 0.0;
+    };
+    std::vector<CutoffRow> cutoffRows;
+    const uint32_t cutoffLights = std::min<uint32_t>(*std::max_element(counts.begin(), counts.end()), 128);
+    for (rhi::Backend backend : backends) {
+        rhi::DeviceDesc desc;
+        desc.setBackend(backend).setGLPlatform(parseGLPlatformOption(options.glPlatform));
+        std::unique_ptr<rhi::IDevice> device = rhi::createDevice(desc);
+        for (renderer::FeaturePath path : paths) {
+            if (path == renderer::FeaturePath::Compute && !device->capabilities().has(rhi::Capability::Compute)) continue;
+            for (uint32_t count : counts) {
+                renderer::ManyLightsOptions sceneOptions;
+                sceneOptions.lightCount = count;
+                const renderer::Scene scene = renderer::manyLightsScene(sceneOptions);
+                size_t naiveRow = SIZE_MAX;
+                for (renderer::LightCulling mode : modes) {
+                    renderer::RenderSettings settings;
+                    settings.width = size.width;
+                    settings.height = size.height;
+                    settings.path = path;
+                    settings.lighting.culling = mode;
+                    Row row{rhi::toString(backend), renderer::toString(path), renderer::toString(mode), count,
+                            measure(*device, scene, settings, warmup, frames, false, count > 0)};
+                    if (mode == renderer::LightCulling::Naive) naiveRow = rows.size();
+                    std::fprintf(stderr, "  %s/%s %5u lights %-11s %9.3f ms\n", row.backend.c_str(), row.path.c_str(), count,
+                                 row.mode.c_str(), frameMs(row.m));
+                    rows.push_back(std::move(row));
+                }
+                if (naiveRow != SIZE_MAX)
+                    for (size_t r = naiveRow; r < rows.size(); ++r)
+                        if (rows[r].lights == count && rows[r].path == rows[naiveRow].path && rows[r].backend == rows[naiveRow].backend)
+                            rows[r].speedupVsNaive = frameMs(rows[naiveRow].m) / std::max(frameMs(rows[r].m), 1e-9);
+            }
+            // Intensity cut-off error: lights without a range, tiles-depth at each cut-off vs the
+            // infinite-range naive reference (cut-off 0), on the HDR image.
+            renderer::ManyLightsOptions sceneOptions;
+            sceneOptions.lightCount = cutoffLights;
+            sceneOptions.rangeFraction = 0.0f;
+            const renderer::Scene scene = renderer::manyLightsScene(sceneOptions);
+            renderer::RenderSettings settings;
+            settings.width = size.width;
+            settings.height = size.height;
+            settings.path = path;
+            settings.lighting.culling = renderer::LightCulling::Naive;
+            settings.lighting.intensityCutoff = 0.0f;
+            const Measurement reference = measure(*device, scene, settings, warmup, frames, true, false);
+            for (float cutoff : cutoffs) {
+                settings.lighting.culling = renderer::LightCulling::TilesDepth;
+                settings.lighting.intensityCutoff = cutoff;
+                const Measurement m = measure(*device, scene, settings, warmup, frames, true, false);
+                CutoffRow row{rhi::toString(backend), renderer::toString(path), cutoff};
+                double sumSq = 0.0, sum = 0.0, peak = 0.0;
+                const std::vector<float>& a = reference.hdr->pixels;
+                const std::vector<float>& b = m.hdr->pixels;
+                size_t samples = 0;
+                for (size_t i = 0; i < a.size(); ++i) {
+                    if (i % 4 == 3) continue;   // alpha carries no radiance
+                    const double error = std::abs(double(a[i]) - double(b[i]));
+                    row.maxError = std::max(row.maxError, error);
+                    sum += error;
+                    sumSq += error * error;
+                    peak = std::max(peak, double(a[i]));
+                    ++samples;
+                }
+                row.meanError = sum / double(std::max<size_t>(samples, 1));
+                const double mse = sumSq / double(std::max<size_t>(samples, 1));
+                // PSNR against the reference's brightest channel (HDR has no fixed peak).
+                row.psnr = mse > 0 ? 10.0 * std::log10(peak * peak / mse) : INFINITY;
+                row.ms = frameMs(m);
+                row.referenceMs = frameMs(reference);
+                cutoffRows.push_back(row);
+            }
+        }
+        const std::vector<rhi::DebugMessage> messages = device->takeDebugMessages();
+        reportDebugMessages(rhi::toString(backend), messages);
+    }
+
+    // Auto threshold suggestion: smallest light count at which the best tiled mode beats naive,
+    // per backend/path.
+    std::map<std::string, uint32_t> threshold;
+    for (const Row& row : rows) {
+        if (row.mode == "naive" || row.lights == 0 || row.speedupVsNaive <= 1.0) continue;
+        const std::string key = row.backend + "/" + row.path;
+        if (!threshold.count(key) || row.lights < threshold[key]) threshold[key] = row.lights;
+    }
+
+    auto efficiencyText = [](const Row& row) {
+        return row.m.efficiency ? fmt::format("{:.3f}", row.m.efficiency->ratio()) : std::string("-");
+    };
+    std::string md = fmt::format("# Forward+ benchmark\n\nScene: built-in many-lights, {}x{}, median of {} frames after {} warm-up.\n"
+                                 "Frame ms = sum of pass GPU times plus the CPU tile builder's time (CPU wall ms where the device has no timers). "
+                                 "Culling ms = light-cull pass (GPU for compute, CPU for the CPU builder). "
+                                 "Efficiency = contributing light evaluations / performed.\n\n",
+                                 size.width, size.height, frames, warmup);
+    md += "| backend | path | lights | mode | frame GPU ms | frame wall ms | culling ms | efficiency | speed-up vs naive |\n"
+          "|---|---|---:|---|---:|---:|---:|---:|---:|\n";
+    nlohmann::json json = {{"size", {size.width, size.height}}, {"frames", frames}, {"warmup", warmup}, {"rows", nlohmann::json::array()}};
+    for (const Row& row : rows) {
+        md += fmt::format("| {} | {} | {} | {} | {:.3f} | {:.3f} | {:.3f} | {} | {:.2f}x |\n", row.backend, row.path, row.lights, row.mode,
+                          row.m.frameGpuMs, row.m.frameWallMs, row.m.cullMs, efficiencyText(row), row.speedupVsNaive);
+        nlohmann::json j = {{"backend", row.backend}, {"path", row.path}, {"lights", row.lights}, {"mode", row.mode},
+                            {"frameGpuMs", row.m.frameGpuMs}, {"frameWallMs", row.m.frameWallMs}, {"gpuTimed", row.m.gpuTimed},
+                            {"cullMs", row.m.cullMs}, {"speedupVsNaive", row.speedupVsNaive}};
+        if (row.m.efficiency)
+            j["efficiency"] = {{"performed", row.m.efficiency->performed}, {"contributing", row.m.efficiency->contributing},
+                               {"ratio", row.m.efficiency->ratio()}};
+        if (row.m.report.lightCulling)
+            j["overflowTiles"] = row.m.report.lightCulling->overflowTiles;
+        json["rows"].push_back(j);
+    }
+    md += fmt::format("\n## Intensity cut-off error ({} lights without a range, tiles-depth vs infinite-range naive)\n\n"
+                      "| backend | path | cut-off (lux) | max abs error | mean abs error | PSNR dB | frame ms | reference ms |\n"
+                      "|---|---|---:|---:|---:|---:|---:|---:|\n",
+                      cutoffLights);
+    json["cutoffs"] = nlohmann::json::array();
+    for (const CutoffRow& row : cutoffRows) {
+        md += fmt::format("| {} | {} | {} | {:.4g} | {:.4g} | {:.1f} | {:.3f} | {:.3f} |\n", row.backend, row.path, row.cutoff, row.maxError,
+                          row.meanError, row.psnr, row.ms, row.referenceMs);
+        json["cutoffs"].push_back({{"backend", row.backend}, {"path", row.path}, {"cutoff", row.cutoff}, {"maxAbsError", row.maxError},
+                                   {"meanAbsError", row.meanError}, {"psnr", std::isinf(row.psnr) ? 999.0 : row.psnr},
+                                   {"frameMs", row.ms}, {"referenceMs", row.referenceMs}});
+    }
+    md += "\n## Auto threshold suggestion (smallest light count where a tiled mode beats naive)\n\n";
+    json["autoThreshold"] = nlohmann::json::object();
+    for (const auto& [key, count] : threshold) {
+        md += fmt::format("- {}: {}\n", key, count);
+        json["autoThreshold"][key] = count;
+    }
+    if (threshold.empty()) md += "- none: tiled never beat naive at these counts\n";
+
+    // Plot: frame ms vs light count, one line per backend/path/mode.
+    std::vector<PlotSeries> series;
+    for (const Row& row : rows) {
+        if (row.lights == 0) continue;   // log x
+        const std::string name = fmt::format("{}/{} {}", row.backend, row.path, row.mode);
+        auto it = std::find_if(series.begin(), series.end(), [&](const PlotSeries& s) { return s.name == name; });
+        if (it == series.end()) {
+            series.push_back(PlotSeries{name, {}});
+            it = series.end() - 1;
+        }
+        it->points.push_back({double(row.lights), frameMs(row.m)});
+    }
+    renderer::writeFileAtomically(outDir / "forward.md", md);
+    renderer::writeFileAtomically(outDir / "forward.json", json.dump(2) + "\n");
+    renderer::writePNG(outDir / "forward.png", drawLogXPlot(series, "LIGHTS", "FRAME MS"));
+    std::fputs(md.c_str(), stdout);
+    std::printf("\nwrote %s, forward.json, forward.png\n", (outDir / "forward.md").c_str());
+    return 0;
+}
+
+}  // namespace
+
+Command addBenchCommand(CLI::App& parent) {
+    auto options = std::make_shared<BenchOptions>();
+    CLI::App* app = parent.add_subcommand("bench", "Benchmarks; 'janus bench forward' measures Forward+ light culling");
+    CLI::App* forward = app->add_subcommand("forward", "Many-lights scene: naive / tiles-2d / tiles-depth on each path and backend; "
+                                                       "writes forward.md, forward.json, forward.png to --out");
+    app->require_subcommand(1);
+    forward->add_option("--lights", options->lights, "Comma-separated local-light counts")->default_str(options->lights);
+    forward->add_option("--modes", options->modes, "Comma-separated culling modes")->default_str(options->modes);
+    forward->add_option("--paths", options->paths, "Comma-separated feature paths")->default_str(options->paths);
+    forward->add_option("--backends", options->backends, "Comma-separated backends")->default_str(options->backends);
+    forward->add_option("--cutoffs", options->cutoffs, "Intensity cut-offs (lux) whose error is measured")->default_str(options->cutoffs);
+    addSizeOption(*forward, options->size);
+    forward->add_option("--frames", options->frames, "Measured frames per row (median)")->default_str("5");
+    forward->add_option("--warmup", options->warmup, "Frames rendered before measuring")->default_str("2");
+    forward->add_option("--out,-o", options->out, "Output directory; required")->type_name("DIR");
+    forward->add_flag("--quick", options->quick, "Tiny run for tests: 64x64, lights 0,64, one frame, one cut-off");
+    addGLPlatformOption(*forward, options->glPlatform);
+    app->footer(kExitCodeHelp);
+    return {app, [options] { return runForward(*options); }};
+}
+
+}  // namespace janus::cli
