@@ -2,6 +2,7 @@
 // paths and backends; frame time, culling time and culling efficiency, with ratios against naive
 // from the same run; the intensity cut-off's error; forward.md / forward.json / forward.png.
 #include <algorithm>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -117,9 +118,10 @@ struct Row {
 int runForward(const BenchOptions& options) {
     std::vector<uint32_t> counts;
     for (const std::string& item : splitList(options.quick ? "0,64" : options.lights)) {
-        const std::optional<uint32_t> n = parseManyLightsSceneName(fmt::format("many-lights:{}", item));
-        if (!n) throw UsageError(fmt::format("--lights '{}' must be a comma-separated list of light counts 0..16384", options.lights));
-        counts.push_back(*n);
+        uint32_t n = 0;
+        const auto [end, error] = std::from_chars(item.data(), item.data() + item.size(), n);
+        if (error != std::errc() || end != item.data() + item.size() || n > renderer::kMaxLocalLights) throw UsageError(fmt::format("--lights '{}' must be a comma-separated list of light counts 0..16384", options.lights));
+        counts.push_back(n);
     }
     std::vector<renderer::LightCulling> modes;
     for (const std::string& item : splitList(options.modes)) {
