@@ -8,9 +8,26 @@
 #   --repetitions  runs of each benchmark; the table uses the median (default: 5)
 #   --min-time     minimum timed seconds per run (default: 0.2)
 #   --json         also keep Google Benchmark's JSON output in FILE
+#
+# Forward+: scripts/bench.sh forward [--build-dir DIR] [janus bench forward options...]
+#   builds `janus` if missing and runs `janus bench forward` (default --out bench-forward);
+#   the results in docs/BENCHMARKS.md ("Forward+") come from this.
 set -euo pipefail
 
 repo_root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+if [[ "${1:-}" == forward ]]; then
+  shift
+  build_dir="$repo_root/build-bench"
+  if [[ "${1:-}" == --build-dir ]]; then build_dir="$(realpath -m "$2")"; shift 2; fi
+  if [[ ! -x "$build_dir/apps/janus/janus" ]]; then
+    [[ -f "$build_dir/build.ninja" ]] || cmake -S "$repo_root" -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
+    ninja -C "$build_dir" janus >&2
+  fi
+  has_out=0
+  for arg in "$@"; do [[ "$arg" == --out || "$arg" == -o ]] && has_out=1; done
+  if [[ $has_out == 0 ]]; then set -- "$@" --out bench-forward; fi
+  exec "$build_dir/apps/janus/janus" bench forward "$@"
+fi
 build_dir="$repo_root/build-bench"
 repetitions=5
 min_time=0.2
@@ -22,7 +39,7 @@ while [[ $# -gt 0 ]]; do
     --repetitions) repetitions="$2"; shift 2 ;;
     --min-time) min_time="$2"; shift 2 ;;
     --json) json_out="$2"; shift 2 ;;
-    -h|--help) sed -n '2,10p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "bench.sh: unknown argument '$1' (try --help)" >&2; exit 2 ;;
   esac
 done
