@@ -1,0 +1,72 @@
+// Forward+ tile culling math, the GLSL twin of renderer/src/light_grid_build.cpp
+// (sphereMeetsTile and friends): same algorithm, same margins, float throughout, so the compute
+// builder lists the same lights as the CPU builder (a few more through rounding, never fewer:
+// the margins dwarf the rounding). docs/LIGHTING.md, "Culling".
+#ifndef JANUS_LIGHT_CULLING_COMMON_GLSL
+#define JANUS_LIGHT_CULLING_COMMON_GLSL
+
+const float kRadiusRelativeMargin = 1e-3;   // float error of the view transform and planes, relative to the radius
+const float kRadiusAbsoluteMargin = 1e-4;   // ...and absolute, for tiny lights (world units)
+const float kDepthRelativeMargin = 1e-5;    // float error of depth linearisation (a few ulps)
+
+struct TileRegion {
+    float x0, x1, y0, y1;   // view-space slopes x/d, y/d of the tile's side planes (d = -z)
+    float dMin, dMax;       // view distance range
+    bool hasGeometry;
+};
+
+// D32F (perspectiveRH_ZO) depth -> distance along the view axis.
+float linearViewDepth(mat4 projection, float depth) {
+    return projection[3][2] / (depth + projection[2][2]);
+}
+
+TileRegion tileSlopes(mat4 projection, uvec2 tile, uvec2 size, uint tileSize, float nearPlane, float farPlane) {
+    uint px0 = tile.x * tileSize, px1 = min(px0 + tileSize, size.x);
+    uint py0 = tile.y * tileSize, py1 = min(py0 + tileSize, size.y);
+    float ndcX0 = 2.0 * float(px0) / float(size.x) - 1.0;
+    float ndcX1 = 2.0 * float(px1) / float(size.x) - 1.0;
+    float ndcY0 = 2.0 * float(py0) / float(size.y) - 1.0;
+    float ndcY1 = 2.0 * float(py1) / float(size.y) - 1.0;
+    float ax = ndcX0 / projection[0][0], bx = ndcX1 / projection[0][0];
+    float ay = ndcY0 / projection[1][1], by = ndcY1 / projection[1][1];
+    TileRegion region;
+    region.x0 = min(ax, bx);
+    region.x1 = max(ax, bx);
+    region.y0 = min(ay, by);
+    region.y1 = max(ay, by);
+    region.dMin = nearPlane;
+    region.dMax = farPlane;
+    region.hasGeometry = true;
+    return region;
+}
+
+// Culling radius with margins from the packed invRangeSq; < 0 means infinite (invRangeSq 0).
+float cullRadius(float invRangeSq) {
+    if (invRangeSq <= 0.0) return -1.0;
+    return (1.0 / sqrt(invRangeSq)) * (1.0 + kRadiusRelativeMargin) + kRadiusAbsoluteMargin;
+}
+
+// Conservative: false only when the (margined) sphere is entirely outside the tile's region.
+bool sphereMeetsTile(vec3 c, float r, TileRegion tile, bool useDepthBox) {
+    if (!tile.hasGeometry) return false;
+    if (r < 0.0) return true;
+    float d = -c.z;
+    if (d + r < tile.dMin || d - r > tile.dMax) return false;
+    if ((c.x + tile.x1 * c.z) / sqrt(1.0 + tile.x1 * tile.x1) > r) return false;
+    if ((-c.x - tile.x0 * c.z) / sqrt(1.0 + tile.x0 * tile.x0) > r) return false;
+    if ((c.y + tile.y1 * c.z) / sqrt(1.0 + tile.y1 * tile.y1) > r) return false;
+    if ((-c.y - tile.y0 * c.z) / sqrt(1.0 + tile.y0 * tile.y0) > r) return false;
+    if (useDepthBox) {
+        float boxMinX = min(tile.x0 * tile.dMin, tile.x0 * tile.dMax);
+        float boxMaxX = max(tile.x1 * tile.dMin, tile.x1 * tile.dMax);
+        float boxMinY = min(tile.y0 * tile.dMin, tile.y0 * tile.dMax);
+        float boxMaxY = max(tile.y1 * tile.dMin, tile.y1 * tile.dMax);
+        float ex = max(max(boxMinX - c.x, c.x - boxMaxX), 0.0);
+        float ey = max(max(boxMinY - c.y, c.y - boxMaxY), 0.0);
+        float ez = max(max(tile.dMin - d, d - tile.dMax), 0.0);
+        if (ex * ex + ey * ey + ez * ez > r * r) return false;
+    }
+    return true;
+}
+
+#endif
