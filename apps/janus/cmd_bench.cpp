@@ -248,12 +248,13 @@ int runForward(const BenchOptions& options) {
                                  "Culling ms = light-cull pass (GPU for compute, CPU for the CPU builder). "
                                  "Efficiency = contributing light evaluations / performed.\n\n",
                                  size.width, size.height, frames, warmup);
-    md += "| backend | path | lights | mode | frame GPU ms | frame wall ms | culling ms | efficiency | speed-up vs naive |\n"
-          "|---|---|---:|---|---:|---:|---:|---:|---:|\n";
+    md += "| backend | path | lights | mode | frame GPU ms | frame wall ms | culling ms | efficiency | speed-up vs naive | overflow tiles |\n"
+          "|---|---|---:|---|---:|---:|---:|---:|---:|---:|\n";
     nlohmann::json json = {{"size", {size.width, size.height}}, {"frames", frames}, {"warmup", warmup}, {"rows", nlohmann::json::array()}};
     for (const Row& row : rows) {
-        md += fmt::format("| {} | {} | {} | {} | {:.3f} | {:.3f} | {:.3f} | {} | {:.2f}x |\n", row.backend, row.path, row.lights, row.mode,
-                          row.m.frameGpuMs, row.m.frameWallMs, row.m.cullMs, efficiencyText(row), row.speedupVsNaive);
+        const uint32_t overflow = row.m.report.lightCulling ? row.m.report.lightCulling->overflowTiles : 0;
+        md += fmt::format("| {} | {} | {} | {} | {:.3f} | {:.3f} | {:.3f} | {} | {:.2f}x | {} |\n", row.backend, row.path, row.lights,
+                          row.mode, row.m.frameGpuMs, row.m.frameWallMs, row.m.cullMs, efficiencyText(row), row.speedupVsNaive, overflow);
         nlohmann::json j = {{"backend", row.backend}, {"path", row.path}, {"lights", row.lights}, {"mode", row.mode},
                             {"frameGpuMs", row.m.frameGpuMs}, {"frameWallMs", row.m.frameWallMs}, {"gpuTimed", row.m.gpuTimed},
                             {"cullMs", row.m.cullMs}, {"speedupVsNaive", row.speedupVsNaive}};
