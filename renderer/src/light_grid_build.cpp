@@ -28,12 +28,33 @@ struct CullLight {
     float radius;       // with margins; +inf for an infinite range
 };
 
+// Bounding sphere of what the light can reach: its range sphere, or for a spot whose outer cone
+// is narrower than 90 degrees the smaller sphere around the spherical sector (range sphere
+// clipped to the cone). Narrow cones (<= 45 deg): centre on the axis at R = range / (2 cos),
+// through the apex and the rim; wider ones: centre at range * cos on the axis, R = range * sin.
+// Either contains the whole sector (docs/LIGHTING.md, "Culling").
 CullLight toCullLight(const TileGrid& grid, const PackedLight& light) {
     CullLight cull;
-    cull.center = glm::vec3(grid.view * glm::vec4(light.position, 1.0f));
-    cull.radius = light.invRangeSq > 0.0f
-        ? (1.0f / std::sqrt(light.invRangeSq)) * (1.0f + kRadiusRelativeMargin) + kRadiusAbsoluteMargin
-        : std::numeric_limits<float>::infinity();
+    if (!(light.invRangeSq > 0.0f)) {
+        cull.center = glm::vec3(grid.view * glm::vec4(light.position, 1.0f));
+        cull.radius = std::numeric_limits<float>::infinity();
+        return cull;
+    }
+    const float range = 1.0f / std::sqrt(light.invRangeSq);
+    glm::vec3 center = light.position;
+    float radius = range;
+    if (light.type == kLocalLightTypeSpot && light.spotScale > 0.0f) {
+        const float cosOuter = -light.spotOffset / light.spotScale;
+        if (cosOuter >= 0.70710678f) {
+            radius = range / (2.0f * cosOuter);
+            center = light.position + light.direction * radius;
+        } else if (cosOuter > 0.0f) {
+            radius = range * std::sqrt(1.0f - cosOuter * cosOuter);
+            center = light.position + light.direction * (range * cosOuter);
+        }
+    }
+    cull.center = glm::vec3(grid.view * glm::vec4(center, 1.0f));
+    cull.radius = radius * (1.0f + kRadiusRelativeMargin) + kRadiusAbsoluteMargin;
     return cull;
 }
 

@@ -68,9 +68,9 @@ void main() {
     }
     if (region.hasGeometry) {
         for (uint i = local; i < lightCount; i += kThreads) {
-            uvec4 word0 = lightWords[4u * i];
-            vec3 center = (cull.view * vec4(uintBitsToFloat(word0.xyz), 1.0)).xyz;
-            if (sphereMeetsTile(center, cullRadius(uintBitsToFloat(word0.w)), region, useDepth))
+            vec4 sphere = cullSphere(lightWords[4u * i], lightWords[4u * i + 1u], lightWords[4u * i + 2u], lightWords[4u * i + 3u]);
+            vec3 center = (cull.view * vec4(sphere.xyz, 1.0)).xyz;
+            if (sphereMeetsTile(center, sphere.w, region, useDepth))
                 atomicOr(lightMask[i >> 5u], 1u << (i & 31u));
         }
     }

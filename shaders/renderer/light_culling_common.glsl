@@ -40,10 +40,29 @@ TileRegion tileSlopes(mat4 projection, uvec2 tile, uvec2 size, uint tileSize, fl
     return region;
 }
 
-// Culling radius with margins from the packed invRangeSq; < 0 means infinite (invRangeSq 0).
-float cullRadius(float invRangeSq) {
-    if (invRangeSq <= 0.0) return -1.0;
-    return (1.0 / sqrt(invRangeSq)) * (1.0 + kRadiusRelativeMargin) + kRadiusAbsoluteMargin;
+// Bounding sphere (world centre in xyz, radius with margins in w; w < 0 = infinite range) of what
+// a packed light can reach: the range sphere, or for spots narrower than 90 degrees the smaller
+// sphere around the spherical sector. Same as toCullLight() in light_grid_build.cpp.
+vec4 cullSphere(uvec4 word0, uvec4 word1, uvec4 word2, uvec4 word3) {
+    vec3 position = uintBitsToFloat(word0.xyz);
+    float invRangeSq = uintBitsToFloat(word0.w);
+    if (!(invRangeSq > 0.0)) return vec4(position, -1.0);
+    float range = 1.0 / sqrt(invRangeSq);
+    vec3 center = position;
+    float radius = range;
+    float spotScale = uintBitsToFloat(word3.x), spotOffset = uintBitsToFloat(word3.y);
+    vec3 direction = uintBitsToFloat(word2.xyz);
+    if (word1.w == 2u && spotScale > 0.0) {
+        float cosOuter = -spotOffset / spotScale;
+        if (cosOuter >= 0.70710678) {
+            radius = range / (2.0 * cosOuter);
+            center = position + direction * radius;
+        } else if (cosOuter > 0.0) {
+            radius = range * sqrt(1.0 - cosOuter * cosOuter);
+            center = position + direction * (range * cosOuter);
+        }
+    }
+    return vec4(center, radius * (1.0 + kRadiusRelativeMargin) + kRadiusAbsoluteMargin);
 }
 
 // Conservative: false only when the (margined) sphere is entirely outside the tile's region.

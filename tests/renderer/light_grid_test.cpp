@@ -257,6 +257,38 @@ TEST(LightGrid, HardLightsAreListedWhereTheyLight) {
         EXPECT_EQ(lists.counts[tx], 0u) << "tile " << tx << " has no geometry and must list nothing in TilesDepth";
 }
 
+TEST(LightGrid, SpotBoundsAreConservativeAndTighter) {
+    const Camera camera = testCamera();
+    Scene scene;
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> ux(-2.8f, 2.8f), uy(-0.2f, 3.2f), uz(-3.3f, 2.0f), unit(-1.0f, 1.0f);
+    std::uniform_real_distribution<float> angle(0.02f, 1.5707f), range(0.3f, 4.0f);
+    for (int i = 0; i < 80; ++i) {
+        const float outer = angle(rng);
+        // Every other spot has inner == outer (the guarded hard edge).
+        const float inner = i % 2 == 0 ? outer : outer * 0.5f;
+        scene.lights.push_back(spotLight({ux(rng), uy(rng), uz(rng)}, {unit(rng), unit(rng), unit(rng)}, range(rng), inner, outer));
+    }
+    const PackedLights packed = packLocalLights(scene, 0.01f);
+    const TileGrid grid = makeTileGrid(camera, 100, 75, 16, kMaxLocalLights);
+    for (const DepthCase& c : depthCases(grid))
+        for (bool useDepth : {false, true}) {
+            const std::span<const float> depth = useDepth ? std::span<const float>(c.depth) : std::span<const float>();
+            const TileLists lists = buildTileListsCpu(grid, packed.lights, depth);
+            const auto missing = findMissingLights(grid, packed.lights, lists, c.depth);
+            EXPECT_TRUE(missing.empty()) << c.name << (useDepth ? " depth" : " 2d") << ":" << describe(missing);
+            // The check means something only if the cones do reach geometry.
+            EXPECT_GT(measureCullingEfficiency(grid, packed.lights, &lists, c.depth).contributing, 1000u) << c.name;
+        }
+    // The same lights as points (range spheres) are listed in more tiles than the cone bounds.
+    std::vector<PackedLight> asPoints = packed.lights;
+    for (PackedLight& light : asPoints) light.type = kLocalLightTypePoint, light.spotScale = 0.0f, light.spotOffset = 1.0f;
+    TileBuildStats spots, points;
+    buildTileListsCpu(grid, packed.lights, {}, &spots);
+    buildTileListsCpu(grid, asPoints, {}, &points);
+    EXPECT_LT(spots.listedLights, points.listedLights);
+}
+
 TEST(LightGrid, DepthListsAreSubsetsOf2DLists) {
     const Camera camera = testCamera();
     const PackedLights packed = packLocalLights(hardLightsScene(camera), 0.01f);
