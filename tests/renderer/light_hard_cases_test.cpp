@@ -173,6 +173,7 @@ TEST_P(LightSpecialCases, MoreLightsThanTheCapOverflowLoudlyAndStayFinite) {
         lights.push_back(pointLight({0.3f * std::cos(angle), 1.2f + 0.02f * float(i), 0.3f * std::sin(angle)}, kWhite, 0.2f, 6.0f));
     }
     const Scene scene = roomWith(lights);
+    const FrameOutput naive = renderOneFrame(config(), scene, settingsFor(LightCulling::Naive, kHardCaseSize));
     for (LightCulling mode : {LightCulling::Tiles2D, LightCulling::TilesDepth}) {
         const std::string label = fmt::format("Overflow-{}-{}", config().name(), cullingName(mode));
         RenderSettings settings = settingsFor(mode, kHardCaseSize);
@@ -199,6 +200,9 @@ TEST_P(LightSpecialCases, MoreLightsThanTheCapOverflowLoudlyAndStayFinite) {
             for (uint32_t k = 0; k < 4; ++k) EXPECT_EQ(output.tiles->indices[t * 4 + k], k) << label << " tile " << t;
         }
         EXPECT_EQ(fullTiles, culling.overflowTiles) << label;
+        // Dropped lights are visible (which is why overflow must never be silent); this also shows
+        // that the tiled-vs-naive image comparison of forward_plus_test.cpp catches missing lights.
+        EXPECT_GT(compareImages(naive.display, output.display).maxChannelDifference, 1u) << label;
     }
 }
 
