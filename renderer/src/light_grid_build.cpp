@@ -61,6 +61,7 @@ CullLight toCullLight(const TileGrid& grid, const PackedLight& light) {
 // The tile as view-space slopes (x/d, y/d, d = -z = distance along the view axis) and a depth range.
 struct TileRegion {
     float x0, x1, y0, y1;
+    float invNormX0, invNormX1, invNormY0, invNormY1;   // 1 / |plane normal|, per tile rather than per light
     float dMin, dMax;
     bool hasGeometry;
 };
@@ -83,6 +84,10 @@ TileRegion tileSlopes(const TileGrid& grid, uint32_t tx, uint32_t ty) {
     region.x1 = std::max(ax, bx);
     region.y0 = std::min(ay, by);
     region.y1 = std::max(ay, by);
+    region.invNormX0 = 1.0f / std::sqrt(1.0f + region.x0 * region.x0);
+    region.invNormX1 = 1.0f / std::sqrt(1.0f + region.x1 * region.x1);
+    region.invNormY0 = 1.0f / std::sqrt(1.0f + region.y0 * region.y0);
+    region.invNormY1 = 1.0f / std::sqrt(1.0f + region.y1 * region.y1);
     region.dMin = grid.nearPlane;
     region.dMax = grid.farPlane;
     region.hasGeometry = true;
@@ -98,10 +103,10 @@ bool sphereMeetsTile(const CullLight& light, const TileRegion& tile, bool useDep
     const float d = -c.z;
     if (d + r < tile.dMin || d - r > tile.dMax) return false;
     // Side planes through the eye; inside means x <= x1 * d etc. Signed distance = n . c, |n| = 1.
-    if ((c.x + tile.x1 * c.z) / std::sqrt(1.0f + tile.x1 * tile.x1) > r) return false;
-    if ((-c.x - tile.x0 * c.z) / std::sqrt(1.0f + tile.x0 * tile.x0) > r) return false;
-    if ((c.y + tile.y1 * c.z) / std::sqrt(1.0f + tile.y1 * tile.y1) > r) return false;
-    if ((-c.y - tile.y0 * c.z) / std::sqrt(1.0f + tile.y0 * tile.y0) > r) return false;
+    if ((c.x + tile.x1 * c.z) * tile.invNormX1 > r) return false;
+    if ((-c.x - tile.x0 * c.z) * tile.invNormX0 > r) return false;
+    if ((c.y + tile.y1 * c.z) * tile.invNormY1 > r) return false;
+    if ((-c.y - tile.y0 * c.z) * tile.invNormY0 > r) return false;
     if (useDepthBox) {
         // The side planes alone let a sphere beside a thin depth slab through; its bounding box does not.
         const float boxMinX = std::min(tile.x0 * tile.dMin, tile.x0 * tile.dMax);

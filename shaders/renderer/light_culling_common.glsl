@@ -11,6 +11,7 @@ const float kDepthRelativeMargin = 1e-5;    // float error of depth linearisatio
 
 struct TileRegion {
     float x0, x1, y0, y1;   // view-space slopes x/d, y/d of the tile's side planes (d = -z)
+    float invNormX0, invNormX1, invNormY0, invNormY1;   // 1 / |plane normal|, per tile rather than per light
     float dMin, dMax;       // view distance range
     bool hasGeometry;
 };
@@ -34,6 +35,10 @@ TileRegion tileSlopes(mat4 projection, uvec2 tile, uvec2 size, uint tileSize, fl
     region.x1 = max(ax, bx);
     region.y0 = min(ay, by);
     region.y1 = max(ay, by);
+    region.invNormX0 = 1.0 / sqrt(1.0 + region.x0 * region.x0);
+    region.invNormX1 = 1.0 / sqrt(1.0 + region.x1 * region.x1);
+    region.invNormY0 = 1.0 / sqrt(1.0 + region.y0 * region.y0);
+    region.invNormY1 = 1.0 / sqrt(1.0 + region.y1 * region.y1);
     region.dMin = nearPlane;
     region.dMax = farPlane;
     region.hasGeometry = true;
@@ -71,10 +76,10 @@ bool sphereMeetsTile(vec3 c, float r, TileRegion tile, bool useDepthBox) {
     if (r < 0.0) return true;
     float d = -c.z;
     if (d + r < tile.dMin || d - r > tile.dMax) return false;
-    if ((c.x + tile.x1 * c.z) / sqrt(1.0 + tile.x1 * tile.x1) > r) return false;
-    if ((-c.x - tile.x0 * c.z) / sqrt(1.0 + tile.x0 * tile.x0) > r) return false;
-    if ((c.y + tile.y1 * c.z) / sqrt(1.0 + tile.y1 * tile.y1) > r) return false;
-    if ((-c.y - tile.y0 * c.z) / sqrt(1.0 + tile.y0 * tile.y0) > r) return false;
+    if ((c.x + tile.x1 * c.z) * tile.invNormX1 > r) return false;
+    if ((-c.x - tile.x0 * c.z) * tile.invNormX0 > r) return false;
+    if ((c.y + tile.y1 * c.z) * tile.invNormY1 > r) return false;
+    if ((-c.y - tile.y0 * c.z) * tile.invNormY0 > r) return false;
     if (useDepthBox) {
         float boxMinX = min(tile.x0 * tile.dMin, tile.x0 * tile.dMax);
         float boxMaxX = max(tile.x1 * tile.dMin, tile.x1 * tile.dMax);
