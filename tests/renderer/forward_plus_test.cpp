@@ -313,6 +313,37 @@ INSTANTIATE_TEST_SUITE_P(Configs, ForwardPlusTileLists, testing::Combine(testing
                              return fmt::format("{}_{}", std::get<0>(info.param).name, std::get<1>(info.param).name());
                          });
 
+// light_cull.comp makes the C++ builder's decisions; where float evaluation differs it may list
+// a light more, never one less (docs/LIGHTING.md). Both read the same prepass depth on one backend.
+TEST(ForwardPlusBuilders, ComputeListsContainTheCpuLists) {
+    for (rhi::Backend backend : {rhi::Backend::Vulkan, rhi::Backend::GL}) {
+        for (const SceneCase& sceneCase : kEqualityScenes) {
+            const Scene scene = sceneCase.make();
+            for (LightCulling mode : {LightCulling::Tiles2D, LightCulling::TilesDepth}) {
+                RenderSettings settings = settingsFor(mode);
+                settings.lighting.tileSize = sceneCase.tileSize;
+                const std::string label = fmt::format("{}-{}-{}", sceneCase.name, rhi::toString(backend), cullingName(mode));
+                const FrameOutput gpu = renderOneFrame(Config{backend, FeaturePath::Compute}, scene, settings, ReadBack{.tiles = true});
+                const FrameOutput cpu = renderOneFrame(Config{backend, FeaturePath::Fallback}, scene, settings, ReadBack{.tiles = true});
+                ASSERT_TRUE(gpu.tiles && cpu.tiles) << label;
+                ASSERT_EQ(gpu.tiles->counts.size(), cpu.tiles->counts.size()) << label;
+                const uint32_t cap = cpu.tiles->maxLightsPerTile;
+                uint64_t extra = 0;
+                for (size_t t = 0; t < cpu.tiles->counts.size(); ++t) {
+                    const uint32_t* gpuBegin = gpu.tiles->indices.data() + t * cap;
+                    const uint32_t* gpuEnd = gpuBegin + gpu.tiles->counts[t];
+                    const uint32_t* cpuBegin = cpu.tiles->indices.data() + t * cap;
+                    const uint32_t* cpuEnd = cpuBegin + cpu.tiles->counts[t];
+                    EXPECT_TRUE(std::includes(gpuBegin, gpuEnd, cpuBegin, cpuEnd)) << label << ": tile " << t << " lacks lights the CPU builder lists";
+                    extra += gpu.tiles->counts[t] - std::min(gpu.tiles->counts[t], cpu.tiles->counts[t]);
+                }
+                // "A few" extra: at most 1% of the listed lights.
+                EXPECT_LE(extra, cpu.report.lightCulling->listedLights / 100) << label;
+            }
+        }
+    }
+}
+
 // A sanity check of what depth bounds buy, not the benchmark (docs/BENCHMARKS.md has that):
 // contributing / performed light evaluations on the many-lights room, CPU builder, measured by
 // the library's analysis and by this file's independent brute force.
