@@ -27,6 +27,7 @@ void main() {
     ivec2 inTile = pixel - tileXY * heatmap.grid.x;
     // Tile outlines keep neighbouring tiles of equal count apart.
     if (inTile.x == 0 || inTile.y == 0) color = vec4(0.0, 0.0, 0.0, 0.35);
-    if (atCap && ((pixel.x + pixel.y) & 7) < 2) color = vec4(1.0, 1.0, 1.0, 0.85);
+    // Opaque: every heat colour has a zero channel, so pure white marks the cap unambiguously.
+    if (atCap && ((pixel.x + pixel.y) & 7) < 2) color = vec4(1.0);
     outColor = color;
 }
