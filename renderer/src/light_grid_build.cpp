@@ -228,8 +228,10 @@ TileLists buildTileListsCpu(const TileGrid& grid, std::span<const PackedLight> l
     std::vector<TileBuildStats> rowStats(tilesY);
     forEachRow(tilesY, threadCount(threads, tilesY), [&](uint32_t ty) {
         TileBuildStats& rs = rowStats[ty];
+        std::vector<TileRegion> regions(tilesX);
         for (uint32_t tx = 0; tx < tilesX; ++tx) {
-            TileRegion region = tileSlopes(grid, tx, ty);
+            TileRegion& region = regions[tx];
+            region = tileSlopes(grid, tx, ty);
             if (useDepth) {
                 float minDepth = 1.0f, maxDepth = 0.0f;
                 const uint32_t px0 = tx * grid.tileSize, px1 = std::min(px0 + grid.tileSize, grid.width);
@@ -246,11 +248,31 @@ TileLists buildTileListsCpu(const TileGrid& grid, std::span<const PackedLight> l
                 region.dMin = linearDepth(grid.projection, minDepth) * (1.0f - kDepthRelativeMargin);
                 region.dMax = linearDepth(grid.projection, maxDepth) * (1.0f + kDepthRelativeMargin);
             }
+        }
+        // Speed only: the row's region contains each of its tiles' regions, so lights that miss
+        // the row miss every tile of it; each tile then tests the row's candidates, in order.
+        TileRegion row = regions.front();
+        row.x1 = regions.back().x1;
+        row.invNormX1 = regions.back().invNormX1;
+        row.hasGeometry = false;
+        row.dMin = std::numeric_limits<float>::max();
+        row.dMax = 0.0f;
+        for (const TileRegion& region : regions)
+            if (region.hasGeometry) {
+                row.hasGeometry = true;
+                row.dMin = std::min(row.dMin, region.dMin);
+                row.dMax = std::max(row.dMax, region.dMax);
+            }
+        std::vector<uint32_t> candidates;
+        for (uint32_t i = 0; i < cullLights.size(); ++i)
+            if (sphereMeetsTile(cullLights[i], row, useDepth)) candidates.push_back(i);
+
+        for (uint32_t tx = 0; tx < tilesX; ++tx) {
             const size_t tile = size_t(ty) * tilesX + tx;
             uint32_t* out = lists.indices.data() + tile * cap;
             uint32_t met = 0;
-            for (uint32_t i = 0; i < cullLights.size(); ++i) {
-                if (!sphereMeetsTile(cullLights[i], region, useDepth)) continue;
+            for (uint32_t i : candidates) {
+                if (!sphereMeetsTile(cullLights[i], regions[tx], useDepth)) continue;
                 if (met < cap) out[met] = i;   // ascending by construction; past the cap the highest indices drop
                 ++met;
             }
