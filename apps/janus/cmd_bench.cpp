@@ -325,6 +325,7 @@ Command addBenchCommand(CLI::App& parent) {
     forward->add_flag("--quick", options->quick, "Tiny run for tests: 64x64, lights 0,64, one frame, one cut-off");
     addGLPlatformOption(*forward, options->glPlatform);
     app->footer(kExitCodeHelp);
+    forward->footer(kExitCodeHelp);
     return {app, [options] { return runForward(*options); }};
 }
 

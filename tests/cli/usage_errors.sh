@@ -3,7 +3,7 @@
 source "$(dirname "$0")/common.bash" "$@"
 
 # --help for janus and every command: exit 0, a usage line, and the exit-code table.
-for command in "" info render parity; do
+for command in "" info render parity bench "bench forward"; do
   # shellcheck disable=SC2086  # the empty command must vanish
   run_janus $command --help
   if [[ $rc != 0 ]]; then fail "janus $command --help: exit $rc"; fi
@@ -17,8 +17,16 @@ for option in --backend --path --size --out --hdr --report --gl-platform --valid
   grep -q -- "$option" "$TMP/stdout" || fail "janus render --help does not mention $option"
 done
 run_janus parity --help
-for option in --size --out --tolerance --gl-platform; do
+for option in --size --out --tolerance --gl-platform --culling --tile-size --max-lights-per-tile --intensity-cutoff --no-shadows; do
   grep -q -- "$option" "$TMP/stdout" || fail "janus parity --help does not mention $option"
+done
+run_janus render --help
+for option in --culling --tile-size --max-lights-per-tile --intensity-cutoff --no-shadows --debug; do
+  grep -q -- "$option" "$TMP/stdout" || fail "janus render --help does not mention $option"
+done
+run_janus bench forward --help
+for option in --lights --modes --paths --backends --cutoffs --size --frames --warmup --out --quick; do
+  grep -q -- "$option" "$TMP/stdout" || fail "janus bench forward --help does not mention $option"
 done
 
 expect_success --version
