@@ -111,7 +111,7 @@ Command addRenderCommand(CLI::App& parent) {
     addGLPlatformOption(*app, options->glPlatform);
     addLightingOptions(*app, options->lighting);
     app->add_option("--debug", options->debug, "Debug view: none, or tiles (heat map of lights per tile, blue to red; "
-                                               "tiles at the cap outlined)")
+                                               "tiles at the cap white-hatched)")
         ->type_name("VIEW");
     app->add_flag("--validation", options->validation,
                   "Enable Vulkan validation layers / GL debug output; errors make the command fail (exit 5)");

@@ -253,6 +253,16 @@ struct Renderer::Impl {
         planFrame();
     }
 
+    // A frame that threw half-way (e.g. in the CPU step between its submissions) may leave work
+    // in flight that uses the resources about to be destroyed: wait for it first.
+    ~Impl() {
+        try {
+            device.waitIdle();
+        } catch (const std::exception& e) {
+            fmt::print(stderr, "janus renderer: warning: waiting for the GPU before teardown failed: {}\n", e.what());
+        }
+    }
+
     bool tiled() const { return cullingMode == LightCulling::Tiles2D || cullingMode == LightCulling::TilesDepth; }
     uint32_t tileCount() const { return tilesX * tilesY; }
 

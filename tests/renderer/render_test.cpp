@@ -4,7 +4,6 @@
 
 #include <cmath>
 #include <filesystem>
-#include <map>
 #include <memory>
 
 #include <fmt/format.h>
@@ -13,39 +12,20 @@
 #include "janus/renderer/renderer.h"
 #include "janus/renderer/scene.h"
 #include "janus/rhi/rhi.h"
+#include "renderer/renderer_test_support.h"
 
 namespace janus::renderer {
 namespace {
 
 namespace fs = std::filesystem;
 
-constexpr uint32_t kSize = 128;   // small: llvmpipe/lavapipe render on two CPU cores
+using test_support::Config;
+using test_support::deviceFor;
+using test_support::joinMessages;
+using test_support::kSize;
 
-struct Config {
-    rhi::Backend backend;
-    FeaturePath path;
-    std::string name() const { return fmt::format("{}_{}", rhi::toString(backend), toString(path)); }
-};
-
-const std::vector<Config> kConfigs = {
-    {rhi::Backend::Vulkan, FeaturePath::Compute}, {rhi::Backend::Vulkan, FeaturePath::Fallback},
-    {rhi::Backend::GL, FeaturePath::Compute},     {rhi::Backend::GL, FeaturePath::Fallback},
-    {rhi::Backend::GLES, FeaturePath::Fallback},
-};
-
-// Devices are expensive to start; each test process keeps one per backend.
-rhi::IDevice& deviceFor(rhi::Backend backend) {
-    static std::map<rhi::Backend, std::unique_ptr<rhi::IDevice>> devices;
-    std::unique_ptr<rhi::IDevice>& device = devices[backend];
-    if (!device) device = rhi::createDevice(rhi::DeviceDesc{}.setBackend(backend).setEnableValidation(true));
-    return *device;
-}
-
-std::string joinMessages(const std::vector<rhi::DebugMessage>& messages) {
-    std::string text;
-    for (const rhi::DebugMessage& m : messages) text += "\n  " + m.text;
-    return text;
-}
+// vulkan/compute first: the reference the other configurations are compared with.
+const std::vector<Config>& kConfigs = test_support::allConfigs();
 
 struct Render {
     FrameReport report;
@@ -108,7 +88,6 @@ double averageChannel(const ImageRGBA8& image, uint32_t x0, uint32_t x1, uint32_
 }
 
 void PrintTo(const SceneCase& sceneCase, std::ostream* os) { *os << sceneCase.name; }
-void PrintTo(const Config& config, std::ostream* os) { *os << config.name(); }
 
 using RenderParam = std::tuple<SceneCase, Config>;
 
