@@ -36,10 +36,10 @@ constexpr uint32_t kTonemapGroupSize = 8;       // tonemap.comp local_size
 constexpr uint32_t kDefaultTileSize = 16;
 constexpr uint32_t kDefaultMaxLightsPerTile = 256;
 constexpr float kDefaultIntensityCutoff = 0.01f;
-// LightCulling::Auto loops fewer local lights than this directly: below it the prepass and the
-// culling cost about what they save. `janus bench forward` (docs/BENCHMARKS.md) finds a tiled
-// mode faster on every configuration from 32 lights; at 8 the difference is within the noise.
-constexpr uint32_t kDefaultAutoTiledThreshold = 32;
+// LightCulling::Auto loops fewer local lights than this directly. `janus bench forward` on a quiet
+// machine (docs/BENCHMARKS.md) finds a tiled mode faster than naive on all four configurations
+// from 8 lights (1.2-1.9x) and about even at 0; below 8 the prepass and culling cost what they save.
+constexpr uint32_t kDefaultAutoTiledThreshold = 8;
 constexpr uint32_t kDefaultShadowMapSize = 1024;
 
 // std140 mirrors of the blocks in shaders/renderer/forward_common.glsl and tonemap_common.glsl.

@@ -50,7 +50,7 @@ struct LightingSettings {
     // default 0.01. 0 = never cull them: infinite range, only Naive can render that (the
     // reference that measures the cut-off's error).
     std::optional<float> intensityCutoff;
-    std::optional<uint32_t> autoTiledThreshold;   // Auto: fewer local lights than this loop naively; default from bench
+    std::optional<uint32_t> autoTiledThreshold;   // Auto: fewer local lights than this loop naively; default 8 (bench)
     std::optional<bool> shadows;                  // shadow map for the main directional light; default true
     std::optional<uint32_t> shadowMapSize;        // default 1024
 };
