@@ -14,7 +14,7 @@ namespace {
 constexpr uint64_t kMaxBufferSize = uint64_t(1) << 31;
 }  // namespace
 
-GLBuffer::GLBuffer(ContextPtr context, const BufferDesc& desc) : m_context(std::move(context)), m_desc(desc) {
+Buffer::Buffer(ContextPtr context, const BufferDesc& desc) : m_context(std::move(context)), m_desc(desc) {
     if (desc.size == 0)
         throw Error(ErrorCode::InvalidDescription,
                     fmt::format("buffer '{}': BufferDesc::size is 0; give the size in bytes", desc.debugName));
@@ -44,7 +44,7 @@ GLBuffer::GLBuffer(ContextPtr context, const BufferDesc& desc) : m_context(std::
         gl.glObjectLabel(GL_BUFFER, m_name, GLsizei(desc.debugName.size()), desc.debugName.data());
 }
 
-GLBuffer::~GLBuffer() {
+Buffer::~Buffer() {
     m_context->makeCurrent();
     m_context->gl.glDeleteBuffers(1, &m_name);
 }

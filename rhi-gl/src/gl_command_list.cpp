@@ -11,7 +11,7 @@ namespace janus::rhi::gl {
 
 namespace {
 template <typename T, typename Handle>
-std::shared_ptr<T> cast(GLDevice& device, const Handle& handle, const char* what, const char* kind) {
+std::shared_ptr<T> cast(Device& device, const Handle& handle, const char* what, const char* kind) {
     auto result = std::dynamic_pointer_cast<T>(handle);
     if (!result)
         throw Error(ErrorCode::InvalidUsage, fmt::format("{}: the {} is null or comes from another backend", what, kind));
@@ -45,25 +45,25 @@ void checkRange(const IBuffer& buffer, uint64_t offset, uint64_t size, const cha
 // ---------------------------------------------------------------------------------------------
 // Recording
 
-void GLCommandList::requireRecording(const char* what) const {
+void CommandList::requireRecording(const char* what) const {
     if (!m_recording)
         throw Error(ErrorCode::InvalidUsage, fmt::format("{} was called outside begin()/end() of the command list", what));
 }
 
-void GLCommandList::requireOutsideRenderPass(const char* what) const {
+void CommandList::requireOutsideRenderPass(const char* what) const {
     requireRecording(what);
     if (m_inRenderPass)
         throw Error(ErrorCode::InvalidUsage,
                     fmt::format("{} is not allowed inside a render pass; call endRenderPass() first", what));
 }
 
-void GLCommandList::requireInsideRenderPass(const char* what) const {
+void CommandList::requireInsideRenderPass(const char* what) const {
     requireRecording(what);
     if (!m_inRenderPass)
         throw Error(ErrorCode::InvalidUsage, fmt::format("{} needs an active render pass; call beginRenderPass() first", what));
 }
 
-void GLCommandList::begin() {
+void CommandList::begin() {
     m_commands.clear();
     m_recording = true;
     m_recorded = false;
@@ -77,7 +77,7 @@ void GLCommandList::begin() {
     m_debugGroupDepth = 0;
 }
 
-void GLCommandList::requireCompatiblePipeline(const char* what) const {
+void CommandList::requireCompatiblePipeline(const char* what) const {
     const GraphicsPipelineDesc& desc = m_pipeline->graphics();
     auto list = [](const std::vector<Format>& formats) {
         std::string text;
@@ -96,7 +96,7 @@ void GLCommandList::requireCompatiblePipeline(const char* what) const {
                                 m_passDepthFormat == Format::Unknown ? "none" : toString(m_passDepthFormat)));
 }
 
-void GLCommandList::requireBindings(const char* what) const {
+void CommandList::requireBindings(const char* what) const {
     // GL would silently read whatever is bound at a unit; Vulkan's validation would flag the
     // same mistake, so catch it here with the binding named.
     for (const ShaderBinding& binding : m_pipeline->bindings()) {
@@ -123,7 +123,7 @@ void GLCommandList::requireBindings(const char* what) const {
     }
 }
 
-void GLCommandList::requireVertexBuffers(const char* what) const {
+void CommandList::requireVertexBuffers(const char* what) const {
     for (const VertexAttribute& attribute : m_pipeline->graphics().vertexAttributes) {
         if (std::find(m_vertexSlots.begin(), m_vertexSlots.end(), attribute.bufferSlot) == m_vertexSlots.end())
             throw Error(ErrorCode::InvalidUsage,
@@ -133,7 +133,7 @@ void GLCommandList::requireVertexBuffers(const char* what) const {
     }
 }
 
-void GLCommandList::end() {
+void CommandList::end() {
     requireRecording("end()");
     if (m_inRenderPass) throw Error(ErrorCode::InvalidUsage, "end() was called inside a render pass; call endRenderPass() first");
     if (m_debugGroupDepth != 0)
@@ -143,13 +143,13 @@ void GLCommandList::end() {
     m_recorded = true;
 }
 
-void GLCommandList::replay() {
+void CommandList::replay() {
     if (m_recording || !m_recorded)
         throw Error(ErrorCode::InvalidUsage, "execute() needs a command list that was recorded with begin() ... end()");
     for (auto& command : m_commands) command(m_device);
 }
 
-void GLCommandList::beginRenderPass(const RenderPassDesc& desc) {
+void CommandList::beginRenderPass(const RenderPassDesc& desc) {
     requireOutsideRenderPass("beginRenderPass");
     const Capabilities& caps = m_device.capabilities();
     if (desc.colors.empty() && !desc.depth)
@@ -160,7 +160,7 @@ void GLCommandList::beginRenderPass(const RenderPassDesc& desc) {
                                 caps.limits.maxColorAttachments));
     uint32_t width = 0, height = 0;
     auto check = [&](const Attachment& a, const std::string& which, bool wantDepth) {
-        auto texture = cast<GLTexture>(m_device, a.texture, "beginRenderPass", "attachment texture");
+        auto texture = cast<Texture>(m_device, a.texture, "beginRenderPass", "attachment texture");
         texture->validateSubresource(a.subresource, "beginRenderPass");
         if (!any(texture->desc().usage, TextureUsage::RenderTarget))
             throw Error(ErrorCode::InvalidDescription,
@@ -187,20 +187,20 @@ void GLCommandList::beginRenderPass(const RenderPassDesc& desc) {
     m_passColorFormats.clear();
     for (const Attachment& a : desc.colors) m_passColorFormats.push_back(a.texture->desc().format);
     m_passDepthFormat = desc.depth ? desc.depth->texture->desc().format : Format::Unknown;
-    record([desc](GLDevice& device) { device.beginRenderPass(desc); });
+    record([desc](Device& device) { device.beginRenderPass(desc); });
 }
 
-void GLCommandList::endRenderPass() {
+void CommandList::endRenderPass() {
     requireInsideRenderPass("endRenderPass");
     m_inRenderPass = false;
 }
 
-void GLCommandList::setViewport(const Viewport& viewport) {
+void CommandList::setViewport(const Viewport& viewport) {
     requireInsideRenderPass("setViewport");
     if (!(viewport.width > 0 && viewport.height > 0))
         throw Error(ErrorCode::InvalidUsage,
                     fmt::format("setViewport: width {} and height {} must be > 0", viewport.width, viewport.height));
-    record([viewport](GLDevice& device) {
+    record([viewport](Device& device) {
         const GLFunctions& gl = device.gl();
         // GL's window origin is row 0 as well, so y needs no flip.
         gl.glViewport(GLint(viewport.x), GLint(viewport.y), GLsizei(viewport.width), GLsizei(viewport.height));
@@ -208,35 +208,35 @@ void GLCommandList::setViewport(const Viewport& viewport) {
     });
 }
 
-void GLCommandList::setScissor(const ScissorRect& scissor) {
+void CommandList::setScissor(const ScissorRect& scissor) {
     requireInsideRenderPass("setScissor");
     if (scissor.x < 0 || scissor.y < 0)
         throw Error(ErrorCode::InvalidUsage,
                     fmt::format("setScissor: offset ({}, {}) is negative; scissor offsets must be >= 0", scissor.x, scissor.y));
-    record([scissor](GLDevice& device) {
+    record([scissor](Device& device) {
         device.gl().glScissor(scissor.x, scissor.y, GLsizei(scissor.width), GLsizei(scissor.height));
     });
 }
 
-void GLCommandList::setPipeline(const PipelineHandle& handle) {
+void CommandList::setPipeline(const PipelineHandle& handle) {
     requireRecording("setPipeline");
-    auto pipeline = cast<GLPipeline>(m_device, handle, "setPipeline", "pipeline");
+    auto pipeline = cast<Pipeline>(m_device, handle, "setPipeline", "pipeline");
     if (pipeline->isCompute() && m_inRenderPass)
         throw Error(ErrorCode::InvalidUsage, "setPipeline: a compute pipeline cannot be set inside a render pass");
     m_pipeline = pipeline;
-    record([pipeline](GLDevice& device) { device.bindPipeline(*pipeline); });
+    record([pipeline](Device& device) { device.bindPipeline(*pipeline); });
 }
 
-void GLCommandList::setBindingSet(uint32_t set, const BindingSetHandle& handle) {
+void CommandList::setBindingSet(uint32_t set, const BindingSetHandle& handle) {
     requireRecording("setBindingSet");
-    auto bindings = cast<GLBindingSet>(m_device, handle, "setBindingSet", "binding set");
+    auto bindings = cast<BindingSet>(m_device, handle, "setBindingSet", "binding set");
     m_bindingSets[set] = bindings;
-    record([bindings](GLDevice& device) { device.bindBindingSet(bindings->desc()); });
+    record([bindings](Device& device) { device.bindBindingSet(bindings->desc()); });
 }
 
-void GLCommandList::setVertexBuffer(uint32_t slot, const BufferHandle& handle, uint64_t offset) {
+void CommandList::setVertexBuffer(uint32_t slot, const BufferHandle& handle, uint64_t offset) {
     requireRecording("setVertexBuffer");
-    auto buffer = cast<GLBuffer>(m_device, handle, "setVertexBuffer", "buffer");
+    auto buffer = cast<Buffer>(m_device, handle, "setVertexBuffer", "buffer");
     if (!any(buffer->desc().usage, BufferUsage::Vertex))
         throw Error(ErrorCode::InvalidUsage,
                     fmt::format("setVertexBuffer: buffer '{}' lacks BufferUsage::Vertex", buffer->desc().debugName));
@@ -244,12 +244,12 @@ void GLCommandList::setVertexBuffer(uint32_t slot, const BufferHandle& handle, u
         throw Error(ErrorCode::InvalidUsage, fmt::format("setVertexBuffer: offset {} is past the end of buffer '{}' ({} bytes)",
                                                          offset, buffer->desc().debugName, buffer->desc().size));
     if (std::find(m_vertexSlots.begin(), m_vertexSlots.end(), slot) == m_vertexSlots.end()) m_vertexSlots.push_back(slot);
-    record([buffer, slot, offset](GLDevice& device) { device.setVertexBuffer(slot, buffer->name(), offset); });
+    record([buffer, slot, offset](Device& device) { device.setVertexBuffer(slot, buffer->name(), offset); });
 }
 
-void GLCommandList::setIndexBuffer(const BufferHandle& handle, IndexType type, uint64_t offset) {
+void CommandList::setIndexBuffer(const BufferHandle& handle, IndexType type, uint64_t offset) {
     requireRecording("setIndexBuffer");
-    auto buffer = cast<GLBuffer>(m_device, handle, "setIndexBuffer", "buffer");
+    auto buffer = cast<Buffer>(m_device, handle, "setIndexBuffer", "buffer");
     if (!any(buffer->desc().usage, BufferUsage::Index))
         throw Error(ErrorCode::InvalidUsage,
                     fmt::format("setIndexBuffer: buffer '{}' lacks BufferUsage::Index", buffer->desc().debugName));
@@ -259,20 +259,20 @@ void GLCommandList::setIndexBuffer(const BufferHandle& handle, IndexType type, u
                     fmt::format("setIndexBuffer: offset {} must be a multiple of {} inside the buffer ({} bytes)",
                                 offset, indexSize, buffer->desc().size));
     m_indexBufferSet = true;
-    record([buffer, type, offset](GLDevice& device) { device.setIndexBuffer(buffer->name(), type, offset); });
+    record([buffer, type, offset](Device& device) { device.setIndexBuffer(buffer->name(), type, offset); });
 }
 
-void GLCommandList::draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance) {
+void CommandList::draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance) {
     requireInsideRenderPass("draw");
     if (!m_pipeline || m_pipeline->isCompute())
         throw Error(ErrorCode::InvalidUsage, "draw: no graphics pipeline is set; call setPipeline() first");
     requireVertexBuffers("draw");
     requireCompatiblePipeline("draw");
     requireBindings("draw");
-    record([=](GLDevice& device) { device.draw(vertexCount, instanceCount, firstVertex, firstInstance); });
+    record([=](Device& device) { device.draw(vertexCount, instanceCount, firstVertex, firstInstance); });
 }
 
-void GLCommandList::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex, int32_t vertexOffset,
+void CommandList::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex, int32_t vertexOffset,
                                 uint32_t firstInstance) {
     requireInsideRenderPass("drawIndexed");
     if (!m_pipeline || m_pipeline->isCompute())
@@ -282,10 +282,10 @@ void GLCommandList::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uin
     requireBindings("drawIndexed");
     if (!m_indexBufferSet)
         throw Error(ErrorCode::InvalidUsage, "drawIndexed: no index buffer is set; call setIndexBuffer() first");
-    record([=](GLDevice& device) { device.drawIndexed(indexCount, instanceCount, firstIndex, vertexOffset, firstInstance); });
+    record([=](Device& device) { device.drawIndexed(indexCount, instanceCount, firstIndex, vertexOffset, firstInstance); });
 }
 
-void GLCommandList::dispatch(uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ) {
+void CommandList::dispatch(uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ) {
     m_device.require(Capability::Compute, "dispatch");
     requireOutsideRenderPass("dispatch");
     if (!m_pipeline || !m_pipeline->isCompute())
@@ -296,32 +296,32 @@ void GLCommandList::dispatch(uint32_t groupsX, uint32_t groupsY, uint32_t groups
         throw Error(ErrorCode::InvalidUsage,
                     fmt::format("dispatch: {}x{}x{} groups exceed the limit {}x{}x{}", groupsX, groupsY, groupsZ,
                                 maxCount[0], maxCount[1], maxCount[2]));
-    record([=](GLDevice& device) { device.dispatch(groupsX, groupsY, groupsZ); });
+    record([=](Device& device) { device.dispatch(groupsX, groupsY, groupsZ); });
 }
 
-void GLCommandList::writeBuffer(const BufferHandle& handle, const void* data, uint64_t size, uint64_t dstOffset) {
+void CommandList::writeBuffer(const BufferHandle& handle, const void* data, uint64_t size, uint64_t dstOffset) {
     requireOutsideRenderPass("writeBuffer");
-    auto buffer = cast<GLBuffer>(m_device, handle, "writeBuffer", "buffer");
+    auto buffer = cast<Buffer>(m_device, handle, "writeBuffer", "buffer");
     checkRange(*buffer, dstOffset, size, "writeBuffer");
     if (!data) throw Error(ErrorCode::InvalidUsage, "writeBuffer: data is null");
     // The data is copied now: the caller's memory need not outlive the call.
     auto bytes = std::make_shared<std::vector<std::byte>>(static_cast<const std::byte*>(data),
                                                           static_cast<const std::byte*>(data) + size);
-    record([buffer, bytes, dstOffset](GLDevice& device) {
+    record([buffer, bytes, dstOffset](Device& device) {
         device.bufferSubData(*buffer, bytes->data(), bytes->size(), dstOffset);
     });
 }
 
-void GLCommandList::copyBuffer(const BufferHandle& dstHandle, uint64_t dstOffset, const BufferHandle& srcHandle,
+void CommandList::copyBuffer(const BufferHandle& dstHandle, uint64_t dstOffset, const BufferHandle& srcHandle,
                                uint64_t srcOffset, uint64_t size) {
     requireOutsideRenderPass("copyBuffer");
-    auto dst = cast<GLBuffer>(m_device, dstHandle, "copyBuffer", "destination buffer");
-    auto src = cast<GLBuffer>(m_device, srcHandle, "copyBuffer", "source buffer");
+    auto dst = cast<Buffer>(m_device, dstHandle, "copyBuffer", "destination buffer");
+    auto src = cast<Buffer>(m_device, srcHandle, "copyBuffer", "source buffer");
     checkRange(*dst, dstOffset, size, "copyBuffer (destination)");
     checkRange(*src, srcOffset, size, "copyBuffer (source)");
     if (dst == src && dstOffset < srcOffset + size && srcOffset < dstOffset + size)
         throw Error(ErrorCode::InvalidUsage, "copyBuffer: source and destination ranges overlap in the same buffer");
-    record([=](GLDevice& device) {
+    record([=](Device& device) {
         const GLFunctions& gl = device.gl();
         gl.glBindBuffer(GL_COPY_READ_BUFFER, src->name());
         gl.glBindBuffer(GL_COPY_WRITE_BUFFER, dst->name());
@@ -330,14 +330,14 @@ void GLCommandList::copyBuffer(const BufferHandle& dstHandle, uint64_t dstOffset
     });
 }
 
-void GLCommandList::copyBufferToTexture(const TextureHandle& dstHandle, TextureSubresource dstSub,
+void CommandList::copyBufferToTexture(const TextureHandle& dstHandle, TextureSubresource dstSub,
                                         const BufferHandle& srcHandle, uint64_t srcOffset) {
     requireOutsideRenderPass("copyBufferToTexture");
-    auto dst = cast<GLTexture>(m_device, dstHandle, "copyBufferToTexture", "texture");
-    auto src = cast<GLBuffer>(m_device, srcHandle, "copyBufferToTexture", "buffer");
+    auto dst = cast<Texture>(m_device, dstHandle, "copyBufferToTexture", "texture");
+    auto src = cast<Buffer>(m_device, srcHandle, "copyBufferToTexture", "buffer");
     dst->validateSubresource(dstSub, "copyBufferToTexture");
     checkRange(*src, srcOffset, dst->subresourceSize(dstSub.mipLevel), "copyBufferToTexture");
-    record([=](GLDevice& device) {
+    record([=](Device& device) {
         // Unpacking from a bound pixel buffer: the "pointer" is an offset into it.
         device.gl().glBindBuffer(GL_PIXEL_UNPACK_BUFFER, src->name());
         device.uploadTexture(*dst, dstSub, reinterpret_cast<const void*>(uintptr_t(srcOffset)));
@@ -345,25 +345,25 @@ void GLCommandList::copyBufferToTexture(const TextureHandle& dstHandle, TextureS
     });
 }
 
-void GLCommandList::copyTextureToBuffer(const BufferHandle& dstHandle, uint64_t dstOffset, const TextureHandle& srcHandle,
+void CommandList::copyTextureToBuffer(const BufferHandle& dstHandle, uint64_t dstOffset, const TextureHandle& srcHandle,
                                         TextureSubresource srcSub) {
     requireOutsideRenderPass("copyTextureToBuffer");
-    auto dst = cast<GLBuffer>(m_device, dstHandle, "copyTextureToBuffer", "buffer");
-    auto src = cast<GLTexture>(m_device, srcHandle, "copyTextureToBuffer", "texture");
+    auto dst = cast<Buffer>(m_device, dstHandle, "copyTextureToBuffer", "buffer");
+    auto src = cast<Texture>(m_device, srcHandle, "copyTextureToBuffer", "texture");
     src->validateSubresource(srcSub, "copyTextureToBuffer");
     checkRange(*dst, dstOffset, src->subresourceSize(srcSub.mipLevel), "copyTextureToBuffer");
-    record([=](GLDevice& device) {
+    record([=](Device& device) {
         // Through the CPU: ES 3.0 can read some formats only in a wider form that needs repacking.
         const std::vector<std::byte> pixels = device.downloadTexture(*src, srcSub);
         device.bufferSubData(*dst, pixels.data(), pixels.size(), dstOffset);
     });
 }
 
-void GLCommandList::copyTexture(const TextureHandle& dstHandle, TextureSubresource dstSub, const TextureHandle& srcHandle,
+void CommandList::copyTexture(const TextureHandle& dstHandle, TextureSubresource dstSub, const TextureHandle& srcHandle,
                                 TextureSubresource srcSub) {
     requireOutsideRenderPass("copyTexture");
-    auto dst = cast<GLTexture>(m_device, dstHandle, "copyTexture", "destination texture");
-    auto src = cast<GLTexture>(m_device, srcHandle, "copyTexture", "source texture");
+    auto dst = cast<Texture>(m_device, dstHandle, "copyTexture", "destination texture");
+    auto src = cast<Texture>(m_device, srcHandle, "copyTexture", "source texture");
     dst->validateSubresource(dstSub, "copyTexture");
     src->validateSubresource(srcSub, "copyTexture");
     if (dst->desc().format != src->desc().format)
@@ -378,12 +378,12 @@ void GLCommandList::copyTexture(const TextureHandle& dstHandle, TextureSubresour
                                 dst->height(dstSub.mipLevel)));
     if (dst == src && dstSub.mipLevel == srcSub.mipLevel && dstSub.layer == srcSub.layer)
         throw Error(ErrorCode::InvalidUsage, "copyTexture: source and destination are the same subresource");
-    record([=](GLDevice& device) { device.copyTextureImage(*dst, dstSub, *src, srcSub); });
+    record([=](Device& device) { device.copyTextureImage(*dst, dstSub, *src, srcSub); });
 }
 
-void GLCommandList::generateMips(const TextureHandle& handle) {
+void CommandList::generateMips(const TextureHandle& handle) {
     requireOutsideRenderPass("generateMips");
-    auto texture = cast<GLTexture>(m_device, handle, "generateMips", "texture");
+    auto texture = cast<Texture>(m_device, handle, "generateMips", "texture");
     const Format format = texture->desc().format;
     if (isDepthFormat(format) || formatInfo(format).kind == FormatKind::UInt)
         throw Error(ErrorCode::InvalidUsage,
@@ -395,7 +395,7 @@ void GLCommandList::generateMips(const TextureHandle& handle) {
                     fmt::format("generateMips: OpenGL ES 3.0 cannot generate mips for {} (it must be colour-renderable "
                                 "and filterable); generate them with render passes instead",
                                 toString(format)));
-    record([texture](GLDevice& device) {
+    record([texture](Device& device) {
         const GLFunctions& gl = device.gl();
         gl.glActiveTexture(GL_TEXTURE0 + kScratchTextureUnit);
         gl.glBindTexture(texture->target(), texture->name());
@@ -403,45 +403,45 @@ void GLCommandList::generateMips(const TextureHandle& handle) {
     });
 }
 
-void GLCommandList::beginTimer(const TimerQueryHandle& handle) {
+void CommandList::beginTimer(const TimerQueryHandle& handle) {
     requireRecording("beginTimer");
-    auto timer = cast<GLTimerQuery>(m_device, handle, "beginTimer", "timer");
-    record([timer](GLDevice& device) {
+    auto timer = cast<TimerQuery>(m_device, handle, "beginTimer", "timer");
+    record([timer](Device& device) {
         device.timestamp(timer->beginQuery());
         timer->begun = true;
         timer->ended = false;
     });
 }
 
-void GLCommandList::endTimer(const TimerQueryHandle& handle) {
+void CommandList::endTimer(const TimerQueryHandle& handle) {
     requireRecording("endTimer");
-    auto timer = cast<GLTimerQuery>(m_device, handle, "endTimer", "timer");
-    record([timer](GLDevice& device) {
+    auto timer = cast<TimerQuery>(m_device, handle, "endTimer", "timer");
+    record([timer](Device& device) {
         device.timestamp(timer->endQuery());
         timer->ended = true;
     });
 }
 
-void GLCommandList::pushDebugGroup(std::string_view name) {
+void CommandList::pushDebugGroup(std::string_view name) {
     requireRecording("pushDebugGroup");
     ++m_debugGroupDepth;
-    record([label = std::string(name)](GLDevice& device) {
+    record([label = std::string(name)](Device& device) {
         if (device.gl().glPushDebugGroup)
             device.gl().glPushDebugGroup(GL_DEBUG_SOURCE_APPLICATION, 0, GLsizei(label.size()), label.c_str());
     });
 }
 
-void GLCommandList::popDebugGroup() {
+void CommandList::popDebugGroup() {
     requireRecording("popDebugGroup");
     if (m_debugGroupDepth == 0) throw Error(ErrorCode::InvalidUsage, "popDebugGroup: no debug group is open");
     --m_debugGroupDepth;
-    record([](GLDevice& device) {
+    record([](Device& device) {
         if (device.gl().glPopDebugGroup) device.gl().glPopDebugGroup();
     });
 }
 
 // ---------------------------------------------------------------------------------------------
-// Replay (GLDevice)
+// Replay (Device)
 
 namespace {
 bool sameVertexLayout(const GraphicsPipelineDesc& a, const GraphicsPipelineDesc& b) {
@@ -458,24 +458,24 @@ bool sameVertexLayout(const GraphicsPipelineDesc& a, const GraphicsPipelineDesc&
 }
 }  // namespace
 
-void GLDevice::beginRenderPass(const RenderPassDesc& desc) {
+void Device::beginRenderPass(const RenderPassDesc& desc) {
     const GLFunctions& f = gl();
     FramebufferKey key;
-    std::vector<const GLTexture*> colors;
-    const GLTexture* depth = nullptr;
+    std::vector<const Texture*> colors;
+    const Texture* depth = nullptr;
     for (const Attachment& a : desc.colors) {
-        auto* texture = static_cast<const GLTexture*>(a.texture.get());
+        auto* texture = static_cast<const Texture*>(a.texture.get());
         colors.push_back(texture);
         key.colors.push_back({texture->name(), a.subresource.mipLevel, a.subresource.layer});
     }
     if (desc.depth) {
-        depth = static_cast<const GLTexture*>(desc.depth->texture.get());
+        depth = static_cast<const Texture*>(desc.depth->texture.get());
         key.depth = {depth->name(), desc.depth->subresource.mipLevel, desc.depth->subresource.layer};
     }
     const GLuint fbo = m_context->framebuffer(key, colors, depth);
     f.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo);
 
-    const GLTexture* any = colors.empty() ? depth : colors[0];
+    const Texture* any = colors.empty() ? depth : colors[0];
     const uint32_t mip = colors.empty() ? desc.depth->subresource.mipLevel : desc.colors[0].subresource.mipLevel;
     m_renderWidth = any->width(mip);
     m_renderHeight = any->height(mip);
@@ -501,35 +501,35 @@ void GLDevice::beginRenderPass(const RenderPassDesc& desc) {
     if (m_pipeline) m_pipeline->applyState();
 }
 
-void GLDevice::bindPipeline(const GLPipeline& pipeline) {
+void Device::bindPipeline(const Pipeline& pipeline) {
     // Attribute pointers depend on the vertex layout only, which many pipelines share.
     if (!m_pipeline || !sameVertexLayout(m_pipeline->graphics(), pipeline.graphics())) m_vertexStateDirty = true;
     m_pipeline = &pipeline;
     pipeline.applyState();
 }
 
-void GLDevice::bindBindingSet(const BindingSetDesc& desc) {
+void Device::bindBindingSet(const BindingSetDesc& desc) {
     const GLFunctions& f = gl();
     for (const BindingItem& item : desc.items) {
         switch (item.type) {
             case ResourceType::UniformBuffer:
             case ResourceType::StorageBuffer: {
-                auto* buffer = static_cast<const GLBuffer*>(item.buffer.get());
+                auto* buffer = static_cast<const Buffer*>(item.buffer.get());
                 const uint64_t range = item.range ? item.range : buffer->desc().size - item.offset;
                 f.glBindBufferRange(item.type == ResourceType::UniformBuffer ? GL_UNIFORM_BUFFER : GL_SHADER_STORAGE_BUFFER,
                                     item.binding, buffer->name(), GLintptr(item.offset), GLsizeiptr(range));
                 break;
             }
             case ResourceType::SampledTexture: {
-                auto* texture = static_cast<const GLTexture*>(item.texture.get());
-                auto* sampler = static_cast<const GLSampler*>(item.sampler.get());
+                auto* texture = static_cast<const Texture*>(item.texture.get());
+                auto* sampler = static_cast<const Sampler*>(item.sampler.get());
                 f.glActiveTexture(GL_TEXTURE0 + item.binding);
                 f.glBindTexture(texture->target(), texture->name());
                 f.glBindSampler(item.binding, sampler->nameFor(*texture, m_floatLinearFilterable));
                 break;
             }
             case ResourceType::StorageImage: {
-                auto* texture = static_cast<const GLTexture*>(item.texture.get());
+                auto* texture = static_cast<const Texture*>(item.texture.get());
                 // Layered, so a compute shader can write every slice of a 3D texture.
                 f.glBindImageTexture(item.binding, texture->name(), GLint(item.mipLevel), GL_TRUE, 0, GL_READ_WRITE,
                                      texture->format().internalFormat);
@@ -539,20 +539,20 @@ void GLDevice::bindBindingSet(const BindingSetDesc& desc) {
     }
 }
 
-void GLDevice::setVertexBuffer(uint32_t slot, GLuint buffer, uint64_t offset) {
+void Device::setVertexBuffer(uint32_t slot, GLuint buffer, uint64_t offset) {
     VertexBinding& binding = m_vertexBuffers[slot];
     if (binding.buffer == buffer && binding.offset == offset) return;
     binding = {buffer, offset};
     m_vertexStateDirty = true;
 }
 
-void GLDevice::setIndexBuffer(GLuint buffer, IndexType type, uint64_t offset) {
+void Device::setIndexBuffer(GLuint buffer, IndexType type, uint64_t offset) {
     m_indexBuffer = buffer;
     m_indexType = type;
     m_indexOffset = offset;
 }
 
-void GLDevice::bindVertexAttributes(int64_t baseVertexOffset, uint32_t baseInstanceOffset) {
+void Device::bindVertexAttributes(int64_t baseVertexOffset, uint32_t baseInstanceOffset) {
     if (!m_vertexStateDirty && baseVertexOffset == m_vertexStateBase && baseInstanceOffset == m_vertexStateInstanceBase)
         return;
     m_vertexStateDirty = false;
@@ -595,7 +595,7 @@ void GLDevice::bindVertexAttributes(int64_t baseVertexOffset, uint32_t baseInsta
     m_enabledAttributes = wanted;
 }
 
-void GLDevice::setBaseInstance(uint32_t firstInstance) {
+void Device::setBaseInstance(uint32_t firstInstance) {
     // SPIRV-Cross emulates gl_InstanceIndex as gl_InstanceID + this uniform (0 after linking).
     const GLint location = m_pipeline->baseInstanceLocation();
     if (location < 0 || GLint(firstInstance) == m_pipeline->baseInstanceValue) return;
@@ -603,7 +603,7 @@ void GLDevice::setBaseInstance(uint32_t firstInstance) {
     m_pipeline->baseInstanceValue = GLint(firstInstance);
 }
 
-void GLDevice::draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance) {
+void Device::draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance) {
     const GLFunctions& f = gl();
     const GLenum mode = primitiveMode(m_pipeline->graphics().topology);
     setBaseInstance(firstInstance);
@@ -619,7 +619,7 @@ void GLDevice::draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t first
     f.glDrawArraysInstanced(mode, GLint(firstVertex), GLsizei(vertexCount), GLsizei(instanceCount));
 }
 
-void GLDevice::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex, int32_t vertexOffset,
+void Device::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex, int32_t vertexOffset,
                            uint32_t firstInstance) {
     const GLFunctions& f = gl();
     const GLenum mode = primitiveMode(m_pipeline->graphics().topology);
@@ -642,7 +642,7 @@ void GLDevice::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t
     f.glDrawElementsInstanced(mode, GLsizei(indexCount), type, indices, GLsizei(instanceCount));
 }
 
-void GLDevice::dispatch(uint32_t x, uint32_t y, uint32_t z) {
+void Device::dispatch(uint32_t x, uint32_t y, uint32_t z) {
     const GLFunctions& f = gl();
     f.glDispatchCompute(x, y, z);
     // Conservative: whatever reads the results next (draws, copies, mapping) sees them.

@@ -13,7 +13,7 @@
 namespace janus::rhi::gl {
 
 namespace {
-thread_local GLContext* t_currentContext = nullptr;
+thread_local Context* t_currentContext = nullptr;
 
 // GL_EXT_disjoint_timer_query's token; glcorearb.h lacks it.
 constexpr GLenum kGpuDisjointEXT = 0x8FBB;
@@ -39,13 +39,13 @@ void APIENTRY onDebugMessage(GLenum /*source*/, GLenum type, GLuint id, GLenum s
         ours = MessageSeverity::Warning;
     else
         return;   // notifications and low-severity hints are not problems
-    auto* context = static_cast<GLContext*>(const_cast<void*>(userParam));
+    auto* context = static_cast<Context*>(const_cast<void*>(userParam));
     context->collectDebugMessage({ours, fmt::format("GL debug (id {}): {}", id, message)});
 }
 
 
 template <typename T, typename Interface>
-const T& ownResource(const std::shared_ptr<Interface>& handle, const GLContext& context, const char* what,
+const T& ownResource(const std::shared_ptr<Interface>& handle, const Context& context, const char* what,
                      const char* kind) {
     auto* resource = dynamic_cast<const T*>(handle.get());
     if (!resource)
@@ -59,9 +59,9 @@ const T& ownResource(const std::shared_ptr<Interface>& handle, const GLContext& 
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
-// GLContext
+// Context
 
-GLContext::GLContext(std::unique_ptr<Platform> platform, bool es)
+Context::Context(std::unique_ptr<Platform> platform, bool es)
     : m_platform(std::move(platform)), m_es(es), m_platformName(m_platform->describe()) {
     // Creating the platform made its context current, replacing whichever was.
     t_currentContext = nullptr;
@@ -69,21 +69,21 @@ GLContext::GLContext(std::unique_ptr<Platform> platform, bool es)
     t_currentContext = this;
 }
 
-GLContext::~GLContext() {
+Context::~Context() {
     makeCurrent();
     for (auto& [key, fbo] : m_framebuffers) gl.glDeleteFramebuffers(1, &fbo);
     if (vertexArray) gl.glDeleteVertexArrays(1, &vertexArray);
     if (t_currentContext == this) t_currentContext = nullptr;
 }
 
-void GLContext::makeCurrent() {
+void Context::makeCurrent() {
     if (t_currentContext == this) return;
     m_platform->makeCurrent();
     t_currentContext = this;
 }
 
-GLuint GLContext::framebuffer(const FramebufferKey& key, const std::vector<const GLTexture*>& colorTextures,
-                              const GLTexture* depthTexture) {
+GLuint Context::framebuffer(const FramebufferKey& key, const std::vector<const Texture*>& colorTextures,
+                              const Texture* depthTexture) {
     if (auto it = m_framebuffers.find(key); it != m_framebuffers.end()) return it->second;
 
     GLuint fbo = 0;
@@ -109,7 +109,7 @@ GLuint GLContext::framebuffer(const FramebufferKey& key, const std::vector<const
         gl.glBindFramebuffer(GL_FRAMEBUFFER, 0);
         gl.glDeleteFramebuffers(1, &fbo);
         std::string formats;
-        for (const GLTexture* t : colorTextures) formats += fmt::format("{} ", toString(t->desc().format));
+        for (const Texture* t : colorTextures) formats += fmt::format("{} ", toString(t->desc().format));
         if (depthTexture) formats += fmt::format("depth {}", toString(depthTexture->desc().format));
         throw Error(ErrorCode::UnsupportedCapability,
                     fmt::format("the driver cannot render to this attachment combination ({}): {}; "
@@ -120,7 +120,7 @@ GLuint GLContext::framebuffer(const FramebufferKey& key, const std::vector<const
     return fbo;
 }
 
-void GLContext::forgetTexture(GLuint texture) {
+void Context::forgetTexture(GLuint texture) {
     makeCurrent();
     for (auto it = m_framebuffers.begin(); it != m_framebuffers.end();) {
         const FramebufferKey& key = it->first;
@@ -136,23 +136,23 @@ void GLContext::forgetTexture(GLuint texture) {
     }
 }
 
-void GLContext::collectDebugMessage(DebugMessage message) {
+void Context::collectDebugMessage(DebugMessage message) {
     if (messageCallback) messageCallback(message);
     m_debugMessages.push_back(std::move(message));
 }
 
-std::vector<DebugMessage> GLContext::takeDebugMessages() { return std::exchange(m_debugMessages, {}); }
+std::vector<DebugMessage> Context::takeDebugMessages() { return std::exchange(m_debugMessages, {}); }
 
 // ---------------------------------------------------------------------------------------------
 // Device creation
 
-GLDevice::GLDevice(const DeviceDesc& desc) {
+Device::Device(const DeviceDesc& desc) {
     const bool es = desc.backend == Backend::GLES;
     const GLApi api = es ? GLApi::ES30 : GLApi::DesktopCore43;
     std::unique_ptr<Platform> platform = desc.glPlatform == rhi::GLPlatform::OSMesa
                                                ? createOsmesaPlatform(api, desc.enableValidation)
                                                : createEglPlatform(api, desc.enableValidation);
-    m_context = std::make_shared<GLContext>(std::move(platform), es);
+    m_context = std::make_shared<Context>(std::move(platform), es);
     m_context->messageCallback = desc.messageCallback;
     const GLFunctions& f = gl();
 
@@ -186,17 +186,17 @@ GLDevice::GLDevice(const DeviceDesc& desc) {
     setupDefaultState();
 }
 
-GLDevice::~GLDevice() {
+Device::~Device() {
     // Resources may outlive the device; they keep the context alive. Only drop replay state.
     m_context->makeCurrent();
     m_context->gl.glFinish();
 }
 
-bool GLDevice::hasExtension(std::string_view name) const {
+bool Device::hasExtension(std::string_view name) const {
     return std::find(m_extensions.begin(), m_extensions.end(), name) != m_extensions.end();
 }
 
-void GLDevice::detectCapabilities() {
+void Device::detectCapabilities() {
     const GLFunctions& f = gl();
     auto integer = [&](GLenum name) {
         GLint v = 0;
@@ -259,7 +259,7 @@ void GLDevice::detectCapabilities() {
     }
 }
 
-void GLDevice::setupDebugOutput() {
+void Device::setupDebugOutput() {
     const GLFunctions& f = gl();
     bool available = !isES() || hasExtension("GL_KHR_debug");
     if (!available || !f.glDebugMessageCallback || !f.glDebugMessageControl)
@@ -273,7 +273,7 @@ void GLDevice::setupDebugOutput() {
     f.glDebugMessageControl(GL_DONT_CARE, GL_DONT_CARE, GL_DEBUG_SEVERITY_NOTIFICATION, 0, nullptr, GL_FALSE);
 }
 
-void GLDevice::setupDefaultState() {
+void Device::setupDefaultState() {
     const GLFunctions& f = gl();
     f.glPixelStorei(GL_PACK_ALIGNMENT, 1);
     f.glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
@@ -297,19 +297,19 @@ std::unique_ptr<IDevice> createDevice(const DeviceDesc& desc) {
     if (desc.backend != Backend::GL && desc.backend != Backend::GLES)
         throw Error(ErrorCode::InvalidDescription,
                     fmt::format("the GL backend serves backends gl and gles, not {}", toString(desc.backend)));
-    return std::make_unique<GLDevice>(desc);
+    return std::make_unique<Device>(desc);
 }
 
 // ---------------------------------------------------------------------------------------------
 // Resource creation (validation lives with each resource's constructor)
 
-BufferHandle GLDevice::createBuffer(const BufferDesc& desc) {
+BufferHandle Device::createBuffer(const BufferDesc& desc) {
     m_context->makeCurrent();
     if (any(desc.usage, BufferUsage::Storage)) require(Capability::StorageBuffers, "BufferUsage::Storage");
-    return std::make_shared<GLBuffer>(m_context, desc);
+    return std::make_shared<Buffer>(m_context, desc);
 }
 
-TextureHandle GLDevice::createTexture(const TextureDesc& desc) {
+TextureHandle Device::createTexture(const TextureDesc& desc) {
     m_context->makeCurrent();
     const std::string name = desc.debugName.empty() ? std::string("texture") : fmt::format("texture '{}'", desc.debugName);
     if (desc.format == Format::Unknown)
@@ -372,10 +372,10 @@ TextureHandle GLDevice::createTexture(const TextureDesc& desc) {
 
     TextureDesc resolved = desc;
     if (resolved.mipLevels == 0) resolved.mipLevels = fullChain;
-    return std::make_shared<GLTexture>(m_context, resolved);
+    return std::make_shared<Texture>(m_context, resolved);
 }
 
-SamplerHandle GLDevice::createSampler(const SamplerDesc& desc) {
+SamplerHandle Device::createSampler(const SamplerDesc& desc) {
     m_context->makeCurrent();
     if (!(desc.minLod <= desc.maxLod))
         throw Error(ErrorCode::InvalidDescription,
@@ -383,24 +383,24 @@ SamplerHandle GLDevice::createSampler(const SamplerDesc& desc) {
     if (!(desc.maxAnisotropy >= 1.0f))
         throw Error(ErrorCode::InvalidDescription,
                     fmt::format("SamplerDesc::maxAnisotropy is {}; it must be >= 1", desc.maxAnisotropy));
-    return std::make_shared<GLSampler>(m_context, desc, m_anisotropy);
+    return std::make_shared<Sampler>(m_context, desc, m_anisotropy);
 }
 
-ShaderHandle GLDevice::createShader(const ShaderDesc& desc) {
+ShaderHandle Device::createShader(const ShaderDesc& desc) {
     m_context->makeCurrent();
     if (desc.stage == ShaderStage::Compute) require(Capability::Compute, "a compute shader");
-    return std::make_shared<GLShader>(m_context, desc);
+    return std::make_shared<Shader>(m_context, desc);
 }
 
-PipelineHandle GLDevice::createGraphicsPipeline(const GraphicsPipelineDesc& desc) {
+PipelineHandle Device::createGraphicsPipeline(const GraphicsPipelineDesc& desc) {
     m_context->makeCurrent();
     const std::string name = desc.debugName.empty() ? std::string("graphics pipeline")
                                                     : fmt::format("graphics pipeline '{}'", desc.debugName);
     if (!desc.vertexShader || !desc.fragmentShader)
         throw Error(ErrorCode::InvalidDescription,
                     fmt::format("{}: GraphicsPipelineDesc needs both a vertex and a fragment shader", name));
-    ownResource<GLShader>(desc.vertexShader, *m_context, name.c_str(), "vertex shader");
-    ownResource<GLShader>(desc.fragmentShader, *m_context, name.c_str(), "fragment shader");
+    ownResource<Shader>(desc.vertexShader, *m_context, name.c_str(), "vertex shader");
+    ownResource<Shader>(desc.fragmentShader, *m_context, name.c_str(), "fragment shader");
     if (desc.vertexShader->desc().stage != ShaderStage::Vertex || desc.fragmentShader->desc().stage != ShaderStage::Fragment)
         throw Error(ErrorCode::InvalidDescription,
                     fmt::format("{}: vertexShader must be a vertex shader and fragmentShader a fragment shader", name));
@@ -422,7 +422,7 @@ PipelineHandle GLDevice::createGraphicsPipeline(const GraphicsPipelineDesc& desc
     }
     // GL would feed a missing attribute as (0, 0, 0, 1) and reinterpret a float attribute read as
     // an integer; Vulkan's validation rejects both, so reject them here too.
-    for (const ShaderInput& input : static_cast<const GLShader&>(*desc.vertexShader).inputs()) {
+    for (const ShaderInput& input : static_cast<const Shader&>(*desc.vertexShader).inputs()) {
         auto attribute = std::find_if(desc.vertexAttributes.begin(), desc.vertexAttributes.end(),
                                       [&](const VertexAttribute& a) { return a.location == input.location; });
         if (attribute == desc.vertexAttributes.end())
@@ -464,24 +464,24 @@ PipelineHandle GLDevice::createGraphicsPipeline(const GraphicsPipelineDesc& desc
                                         name, i));
         }
     }
-    return std::make_shared<GLPipeline>(m_context, desc);
+    return std::make_shared<Pipeline>(m_context, desc);
 }
 
-PipelineHandle GLDevice::createComputePipeline(const ComputePipelineDesc& desc) {
+PipelineHandle Device::createComputePipeline(const ComputePipelineDesc& desc) {
     m_context->makeCurrent();
     require(Capability::Compute, "a compute pipeline");
     if (!desc.computeShader || desc.computeShader->desc().stage != ShaderStage::Compute)
         throw Error(ErrorCode::InvalidDescription, "ComputePipelineDesc::computeShader must be a compute shader");
-    ownResource<GLShader>(desc.computeShader, *m_context, "compute pipeline", "compute shader");
-    return std::make_shared<GLPipeline>(m_context, desc);
+    ownResource<Shader>(desc.computeShader, *m_context, "compute pipeline", "compute shader");
+    return std::make_shared<Pipeline>(m_context, desc);
 }
 
-BindingSetHandle GLDevice::createBindingSet(const BindingSetDesc& desc) {
+BindingSetHandle Device::createBindingSet(const BindingSetDesc& desc) {
     for (const BindingItem& item : desc.items) {
         const auto where = fmt::format("binding {}", item.binding);
-        if (item.buffer) ownResource<GLBuffer>(item.buffer, *m_context, where.c_str(), "buffer");
-        if (item.texture) ownResource<GLTexture>(item.texture, *m_context, where.c_str(), "texture");
-        if (item.sampler) ownResource<GLSampler>(item.sampler, *m_context, where.c_str(), "sampler");
+        if (item.buffer) ownResource<Buffer>(item.buffer, *m_context, where.c_str(), "buffer");
+        if (item.texture) ownResource<Texture>(item.texture, *m_context, where.c_str(), "texture");
+        if (item.sampler) ownResource<Sampler>(item.sampler, *m_context, where.c_str(), "sampler");
         switch (item.type) {
             case ResourceType::UniformBuffer:
             case ResourceType::StorageBuffer: {
@@ -536,22 +536,22 @@ BindingSetHandle GLDevice::createBindingSet(const BindingSetDesc& desc) {
                 break;
         }
     }
-    return std::make_shared<GLBindingSet>(desc);
+    return std::make_shared<BindingSet>(desc);
 }
 
-TimerQueryHandle GLDevice::createTimerQuery() {
+TimerQueryHandle Device::createTimerQuery() {
     m_context->makeCurrent();
     require(Capability::TimestampQueries, "a timer query");
-    return std::make_shared<GLTimerQuery>(m_context);
+    return std::make_shared<TimerQuery>(m_context);
 }
 
-CommandListHandle GLDevice::createCommandList() { return std::make_shared<GLCommandList>(*this); }
+CommandListHandle Device::createCommandList() { return std::make_shared<CommandList>(*this); }
 
 // ---------------------------------------------------------------------------------------------
 // Execution
 
-void GLDevice::execute(const CommandListHandle& commandList) {
-    auto* list = dynamic_cast<GLCommandList*>(commandList.get());
+void Device::execute(const CommandListHandle& commandList) {
+    auto* list = dynamic_cast<CommandList*>(commandList.get());
     if (!list) throw Error(ErrorCode::InvalidUsage, "execute() was given a command list from another backend or none");
     m_context->makeCurrent();
     // Replay state never carries over between lists: what it points at is only kept alive by the
@@ -565,14 +565,14 @@ void GLDevice::execute(const CommandListHandle& commandList) {
     m_pipeline = nullptr;
 }
 
-void GLDevice::waitIdle() {
+void Device::waitIdle() {
     m_context->makeCurrent();
     gl().glFinish();
 }
 
-std::vector<DebugMessage> GLDevice::takeDebugMessages() { return m_context->takeDebugMessages(); }
+std::vector<DebugMessage> Device::takeDebugMessages() { return m_context->takeDebugMessages(); }
 
-void GLDevice::provokeValidationErrorForTesting() {
+void Device::provokeValidationErrorForTesting() {
     m_context->makeCurrent();
     // GL_INVALID_ENUM on every GL and ES version: 0 is not a capability.
     gl().glEnable(0);
@@ -583,7 +583,7 @@ void GLDevice::provokeValidationErrorForTesting() {
 // Immediate transfers
 
 namespace {
-void checkBufferRange(const GLBuffer& buffer, uint64_t offset, uint64_t size, const char* what) {
+void checkBufferRange(const Buffer& buffer, uint64_t offset, uint64_t size, const char* what) {
     if (size == 0 || offset > buffer.desc().size || size > buffer.desc().size - offset)
         throw Error(ErrorCode::InvalidUsage,
                     fmt::format("{}: bytes [{}, {}) are outside buffer '{}' of {} bytes (or the size is 0)", what,
@@ -591,21 +591,21 @@ void checkBufferRange(const GLBuffer& buffer, uint64_t offset, uint64_t size, co
 }
 }  // namespace
 
-void GLDevice::bufferSubData(const GLBuffer& buffer, const void* data, uint64_t size, uint64_t offset) {
+void Device::bufferSubData(const Buffer& buffer, const void* data, uint64_t size, uint64_t offset) {
     gl().glBindBuffer(GL_COPY_WRITE_BUFFER, buffer.name());
     gl().glBufferSubData(GL_COPY_WRITE_BUFFER, GLintptr(offset), GLsizeiptr(size), data);
 }
 
-void GLDevice::writeBuffer(const BufferHandle& handle, const void* data, uint64_t size, uint64_t offset) {
-    const GLBuffer& buffer = ownResource<GLBuffer>(handle, *m_context, "writeBuffer", "buffer");
+void Device::writeBuffer(const BufferHandle& handle, const void* data, uint64_t size, uint64_t offset) {
+    const Buffer& buffer = ownResource<Buffer>(handle, *m_context, "writeBuffer", "buffer");
     checkBufferRange(buffer, offset, size, "writeBuffer");
     if (!data) throw Error(ErrorCode::InvalidUsage, "writeBuffer: data is null");
     m_context->makeCurrent();
     bufferSubData(buffer, data, size, offset);
 }
 
-std::vector<std::byte> GLDevice::readBuffer(const BufferHandle& handle, uint64_t offset, uint64_t size) {
-    const GLBuffer& buffer = ownResource<GLBuffer>(handle, *m_context, "readBuffer", "buffer");
+std::vector<std::byte> Device::readBuffer(const BufferHandle& handle, uint64_t offset, uint64_t size) {
+    const Buffer& buffer = ownResource<Buffer>(handle, *m_context, "readBuffer", "buffer");
     if (size == 0 && offset < buffer.desc().size) size = buffer.desc().size - offset;
     checkBufferRange(buffer, offset, size, "readBuffer");
     m_context->makeCurrent();
@@ -621,8 +621,8 @@ std::vector<std::byte> GLDevice::readBuffer(const BufferHandle& handle, uint64_t
     return result;
 }
 
-void GLDevice::writeTexture(const TextureHandle& handle, TextureSubresource sub, const void* data, uint64_t size) {
-    const GLTexture& texture = ownResource<GLTexture>(handle, *m_context, "writeTexture", "texture");
+void Device::writeTexture(const TextureHandle& handle, TextureSubresource sub, const void* data, uint64_t size) {
+    const Texture& texture = ownResource<Texture>(handle, *m_context, "writeTexture", "texture");
     texture.validateSubresource(sub, "writeTexture");
     const uint64_t expected = texture.subresourceSize(sub.mipLevel);
     if (size != expected)
@@ -637,14 +637,14 @@ void GLDevice::writeTexture(const TextureHandle& handle, TextureSubresource sub,
     uploadTexture(texture, sub, data);
 }
 
-std::vector<std::byte> GLDevice::readTexture(const TextureHandle& handle, TextureSubresource sub) {
-    const GLTexture& texture = ownResource<GLTexture>(handle, *m_context, "readTexture", "texture");
+std::vector<std::byte> Device::readTexture(const TextureHandle& handle, TextureSubresource sub) {
+    const Texture& texture = ownResource<Texture>(handle, *m_context, "readTexture", "texture");
     texture.validateSubresource(sub, "readTexture");
     m_context->makeCurrent();
     return downloadTexture(texture, sub);
 }
 
-std::vector<std::byte> GLDevice::downloadTexture(const GLTexture& texture, TextureSubresource sub) {
+std::vector<std::byte> Device::downloadTexture(const Texture& texture, TextureSubresource sub) {
     const GLFunctions& f = gl();
     const uint32_t width = texture.width(sub.mipLevel), height = texture.height(sub.mipLevel);
     const size_t pixels = size_t(width) * height;
@@ -707,8 +707,8 @@ std::vector<std::byte> GLDevice::downloadTexture(const GLTexture& texture, Textu
     return result;
 }
 
-std::optional<double> GLDevice::timerSeconds(const TimerQueryHandle& handle) {
-    const auto* timer = &ownResource<GLTimerQuery>(handle, *m_context, "timerSeconds", "timer");
+std::optional<double> Device::timerSeconds(const TimerQueryHandle& handle) {
+    const auto* timer = &ownResource<TimerQuery>(handle, *m_context, "timerSeconds", "timer");
     if (!timer->begun || !timer->ended) return std::nullopt;
     m_context->makeCurrent();
     const GLFunctions& f = gl();

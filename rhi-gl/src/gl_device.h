@@ -1,5 +1,5 @@
 // Internal types of the GL backend (OpenGL 4.3 core and OpenGL ES 3.0 share all of them; the
-// differences are flags on GLContext and on the device's capabilities).
+// differences are flags on Context and on the device's capabilities).
 #pragma once
 
 #include <functional>
@@ -37,16 +37,16 @@ struct FramebufferKey {
     auto operator<=>(const FramebufferKey&) const = default;
 };
 
-class GLTexture;
+class Texture;
 
 // The context and everything tied to it. Shared by the device and every resource, so GL objects
 // can be deleted (with their context current) in whatever order handles are released.
-class GLContext {
+class Context {
 public:
-    GLContext(std::unique_ptr<Platform> platform, bool es);
-    ~GLContext();
-    GLContext(const GLContext&) = delete;
-    GLContext& operator=(const GLContext&) = delete;
+    Context(std::unique_ptr<Platform> platform, bool es);
+    ~Context();
+    Context(const Context&) = delete;
+    Context& operator=(const Context&) = delete;
 
     // Makes this context current on the calling thread unless it already is.
     void makeCurrent();
@@ -56,8 +56,8 @@ public:
 
     // Framebuffer objects are cached by attachments; a texture's deletion drops those naming it
     // (GL reuses texture names, so a stale entry would render into a deleted texture).
-    GLuint framebuffer(const FramebufferKey& key, const std::vector<const GLTexture*>& colorTextures,
-                       const GLTexture* depthTexture);
+    GLuint framebuffer(const FramebufferKey& key, const std::vector<const Texture*>& colorTextures,
+                       const Texture* depthTexture);
     void forgetTexture(GLuint texture);
 
     // Debug output, filled by the KHR_debug callback.
@@ -80,15 +80,15 @@ private:
     std::map<FramebufferKey, GLuint> m_framebuffers;
     std::vector<DebugMessage> m_debugMessages;
 };
-using ContextPtr = std::shared_ptr<GLContext>;
+using ContextPtr = std::shared_ptr<Context>;
 
 // ---------------------------------------------------------------------------------------------
 
-class GLBuffer final : public IBuffer {
+class Buffer final : public IBuffer {
 public:
-    const GLContext* owner() const { return m_context.get(); }
-    GLBuffer(ContextPtr context, const BufferDesc& desc);
-    ~GLBuffer() override;
+    const Context* owner() const { return m_context.get(); }
+    Buffer(ContextPtr context, const BufferDesc& desc);
+    ~Buffer() override;
     const BufferDesc& desc() const override { return m_desc; }
     GLuint name() const { return m_name; }
 
@@ -98,11 +98,11 @@ private:
     GLuint m_name = 0;
 };
 
-class GLTexture final : public ITexture {
+class Texture final : public ITexture {
 public:
-    const GLContext* owner() const { return m_context.get(); }
-    GLTexture(ContextPtr context, const TextureDesc& resolvedDesc);
-    ~GLTexture() override;
+    const Context* owner() const { return m_context.get(); }
+    Texture(ContextPtr context, const TextureDesc& resolvedDesc);
+    ~Texture() override;
     const TextureDesc& desc() const override { return m_desc; }
     GLuint name() const { return m_name; }
     GLenum target() const { return m_target; }
@@ -126,15 +126,15 @@ private:
     GLenum m_target = 0;
 };
 
-class GLSampler final : public ISampler {
+class Sampler final : public ISampler {
 public:
-    const GLContext* owner() const { return m_context.get(); }
-    GLSampler(ContextPtr context, const SamplerDesc& desc, bool anisotropySupported);
-    ~GLSampler() override;
+    const Context* owner() const { return m_context.get(); }
+    Sampler(ContextPtr context, const SamplerDesc& desc, bool anisotropySupported);
+    ~Sampler() override;
     const SamplerDesc& desc() const override { return m_desc; }
     // The sampler for `texture`: integer textures (and, where GL says so, unfilterable ones) are
     // incomplete under linear filtering, so they get a nearest-filtering twin of this sampler.
-    GLuint nameFor(const GLTexture& texture, bool floatLinearFilterable) const;
+    GLuint nameFor(const Texture& texture, bool floatLinearFilterable) const;
 
 private:
     ContextPtr m_context;
@@ -164,11 +164,11 @@ inline constexpr GLuint kScratchTextureUnit = 31;
 // The unit of the internal depth-to-colour copy's source (binding 30 in shaders/rhi-gl).
 inline constexpr GLuint kDepthCopyTextureUnit = 30;
 
-class GLShader final : public IShader {
+class Shader final : public IShader {
 public:
-    const GLContext* owner() const { return m_context.get(); }
-    GLShader(ContextPtr context, const ShaderDesc& desc);
-    ~GLShader() override;
+    const Context* owner() const { return m_context.get(); }
+    Shader(ContextPtr context, const ShaderDesc& desc);
+    ~Shader() override;
     const ShaderDesc& desc() const override { return m_desc; }
     std::string translatedSource() const override { return m_source; }
     GLuint name() const { return m_name; }
@@ -184,12 +184,12 @@ private:
     std::vector<ShaderInput> m_inputs;
 };
 
-class GLPipeline final : public IPipeline {
+class Pipeline final : public IPipeline {
 public:
-    const GLContext* owner() const { return m_context.get(); }
-    GLPipeline(ContextPtr context, const GraphicsPipelineDesc& desc);
-    GLPipeline(ContextPtr context, const ComputePipelineDesc& desc);
-    ~GLPipeline() override;
+    const Context* owner() const { return m_context.get(); }
+    Pipeline(ContextPtr context, const GraphicsPipelineDesc& desc);
+    Pipeline(ContextPtr context, const ComputePipelineDesc& desc);
+    ~Pipeline() override;
     bool isCompute() const override { return m_compute; }
     GLuint program() const { return m_program; }
     const GraphicsPipelineDesc& graphics() const { return m_graphics; }
@@ -202,7 +202,7 @@ public:
     void applyState() const;
 
 private:
-    void link(const std::vector<const GLShader*>& shaders, const std::string& debugName);
+    void link(const std::vector<const Shader*>& shaders, const std::string& debugName);
 
     ContextPtr m_context;
     bool m_compute = false;
@@ -212,20 +212,20 @@ private:
     std::vector<ShaderBinding> m_bindings;
 };
 
-class GLBindingSet final : public IBindingSet {
+class BindingSet final : public IBindingSet {
 public:
-    explicit GLBindingSet(const BindingSetDesc& desc) : m_desc(desc) {}
+    explicit BindingSet(const BindingSetDesc& desc) : m_desc(desc) {}
     const BindingSetDesc& desc() const override { return m_desc; }
 
 private:
     BindingSetDesc m_desc;
 };
 
-class GLTimerQuery final : public ITimerQuery {
+class TimerQuery final : public ITimerQuery {
 public:
-    const GLContext* owner() const { return m_context.get(); }
-    explicit GLTimerQuery(ContextPtr context);
-    ~GLTimerQuery() override;
+    const Context* owner() const { return m_context.get(); }
+    explicit TimerQuery(ContextPtr context);
+    ~TimerQuery() override;
     GLuint beginQuery() const { return m_queries[0]; }
     GLuint endQuery() const { return m_queries[1]; }
     bool begun = false;
@@ -238,11 +238,11 @@ private:
 
 // ---------------------------------------------------------------------------------------------
 
-class GLDevice;
+class Device;
 
-class GLCommandList final : public ICommandList {
+class CommandList final : public ICommandList {
 public:
-    explicit GLCommandList(GLDevice& device) : m_device(device) {}
+    explicit CommandList(Device& device) : m_device(device) {}
 
     void begin() override;
     void end() override;
@@ -273,24 +273,24 @@ public:
     void pushDebugGroup(std::string_view name) override;
     void popDebugGroup() override;
 
-    // Called by GLDevice::execute.
+    // Called by Device::execute.
     void replay();
 
 private:
-    void record(std::function<void(GLDevice&)> command) { m_commands.push_back(std::move(command)); }
+    void record(std::function<void(Device&)> command) { m_commands.push_back(std::move(command)); }
     void requireRecording(const char* what) const;
     void requireOutsideRenderPass(const char* what) const;
     void requireInsideRenderPass(const char* what) const;
 
-    GLDevice& m_device;
-    std::vector<std::function<void(GLDevice&)>> m_commands;
+    Device& m_device;
+    std::vector<std::function<void(Device&)>> m_commands;
     bool m_recording = false;
     bool m_recorded = false;
     bool m_inRenderPass = false;
-    std::shared_ptr<GLPipeline> m_pipeline;   // last pipeline set (validation at record time)
+    std::shared_ptr<Pipeline> m_pipeline;   // last pipeline set (validation at record time)
     std::vector<Format> m_passColorFormats;   // formats of the open render pass
     Format m_passDepthFormat = Format::Unknown;
-    std::map<uint32_t, std::shared_ptr<GLBindingSet>> m_bindingSets;   // by set index
+    std::map<uint32_t, std::shared_ptr<BindingSet>> m_bindingSets;   // by set index
     void requireCompatiblePipeline(const char* what) const;
     void requireBindings(const char* what) const;
     bool m_indexBufferSet = false;
@@ -301,10 +301,10 @@ private:
 
 // ---------------------------------------------------------------------------------------------
 
-class GLDevice final : public IDevice {
+class Device final : public IDevice {
 public:
-    explicit GLDevice(const DeviceDesc& desc);
-    ~GLDevice() override;
+    explicit Device(const DeviceDesc& desc);
+    ~Device() override;
 
     const DeviceInfo& info() const override { return m_info; }
     const Capabilities& capabilities() const override { return m_caps; }
@@ -331,18 +331,18 @@ public:
     void provokeValidationErrorForTesting() override;
 
     // --- used while replaying command lists (context current) ---
-    GLContext& context() { return *m_context; }
+    Context& context() { return *m_context; }
     const GLFunctions& gl() const { return m_context->gl; }
     bool isES() const { return m_context->isES(); }
-    void bufferSubData(const GLBuffer& buffer, const void* data, uint64_t size, uint64_t offset);
-    void uploadTexture(const GLTexture& texture, TextureSubresource sub, const void* pixels);
-    std::vector<std::byte> downloadTexture(const GLTexture& texture, TextureSubresource sub);
+    void bufferSubData(const Buffer& buffer, const void* data, uint64_t size, uint64_t offset);
+    void uploadTexture(const Texture& texture, TextureSubresource sub, const void* pixels);
+    std::vector<std::byte> downloadTexture(const Texture& texture, TextureSubresource sub);
     // ES 3.0 without NV_read_depth: draws the depth image into an r32f target and reads that.
-    std::vector<std::byte> readDepthThroughColor(const GLTexture& texture, TextureSubresource sub);
-    void copyTextureImage(const GLTexture& dst, TextureSubresource dstSub, const GLTexture& src,
+    std::vector<std::byte> readDepthThroughColor(const Texture& texture, TextureSubresource sub);
+    void copyTextureImage(const Texture& dst, TextureSubresource dstSub, const Texture& src,
                           TextureSubresource srcSub);
     void beginRenderPass(const RenderPassDesc& desc);
-    void bindPipeline(const GLPipeline& pipeline);
+    void bindPipeline(const Pipeline& pipeline);
     void bindBindingSet(const BindingSetDesc& desc);
     void setVertexBuffer(uint32_t slot, GLuint buffer, uint64_t offset);
     void setIndexBuffer(GLuint buffer, IndexType type, uint64_t offset);
@@ -371,10 +371,10 @@ private:
     bool m_floatLinearFilterable = true;
     bool m_anisotropy = false;
     bool m_readDepthNV = false;
-    std::shared_ptr<GLPipeline> m_depthCopyPipeline;   // created on first use
+    std::shared_ptr<Pipeline> m_depthCopyPipeline;   // created on first use
 
     // Replay state.
-    const GLPipeline* m_pipeline = nullptr;
+    const Pipeline* m_pipeline = nullptr;
     struct VertexBinding { GLuint buffer = 0; uint64_t offset = 0; };
     std::map<uint32_t, VertexBinding> m_vertexBuffers;
     GLuint m_indexBuffer = 0;

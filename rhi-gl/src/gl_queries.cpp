@@ -3,15 +3,15 @@
 
 namespace janus::rhi::gl {
 
-GLTimerQuery::GLTimerQuery(ContextPtr context) : m_context(std::move(context)) {
+TimerQuery::TimerQuery(ContextPtr context) : m_context(std::move(context)) {
     m_context->gl.glGenQueries(2, m_queries);
 }
 
-GLTimerQuery::~GLTimerQuery() {
+TimerQuery::~TimerQuery() {
     m_context->makeCurrent();
     m_context->gl.glDeleteQueries(2, m_queries);
 }
 
-void GLDevice::timestamp(GLuint query) { gl().glQueryCounter(query, GL_TIMESTAMP); }
+void Device::timestamp(GLuint query) { gl().glQueryCounter(query, GL_TIMESTAMP); }
 
 }  // namespace janus::rhi::gl

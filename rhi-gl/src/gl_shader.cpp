@@ -49,7 +49,7 @@ struct Translation {
 // Names every resource after its binding and every stage variable after its location, so that
 // (a) the program's resources can be found by name to assign binding points on ES 3.0, which has
 // no `binding` layout, and (b) vertex outputs match fragment inputs whatever the sources called them.
-Translation translate(const ShaderDesc& desc, const GLContext& context) {
+Translation translate(const ShaderDesc& desc, const Context& context) {
     const bool es = context.isES();
     spirv_cross::CompilerGLSL compiler(desc.spirv);
     const std::string label = shaderLabel(desc);
@@ -172,7 +172,7 @@ std::string describeCompileFailure(const std::string& log, const std::string& so
     return message;
 }
 
-GLShader::GLShader(ContextPtr context, const ShaderDesc& desc) : m_context(std::move(context)), m_desc(desc) {
+Shader::Shader(ContextPtr context, const ShaderDesc& desc) : m_context(std::move(context)), m_desc(desc) {
     const std::string label = shaderLabel(desc);
     if (desc.spirv.empty() || desc.spirv[0] != kSpirvMagic)
         throw Error(ErrorCode::ShaderTranslation,
@@ -209,7 +209,7 @@ GLShader::GLShader(ContextPtr context, const ShaderDesc& desc) : m_context(std::
     }
 }
 
-GLShader::~GLShader() {
+Shader::~Shader() {
     m_context->makeCurrent();
     m_context->gl.glDeleteShader(m_name);
 }
@@ -217,32 +217,32 @@ GLShader::~GLShader() {
 // ---------------------------------------------------------------------------------------------
 // Pipelines
 
-GLPipeline::GLPipeline(ContextPtr context, const GraphicsPipelineDesc& desc)
+Pipeline::Pipeline(ContextPtr context, const GraphicsPipelineDesc& desc)
     : m_context(std::move(context)), m_graphics(desc) {
-    auto* vs = dynamic_cast<const GLShader*>(desc.vertexShader.get());
-    auto* fs = dynamic_cast<const GLShader*>(desc.fragmentShader.get());
+    auto* vs = dynamic_cast<const Shader*>(desc.vertexShader.get());
+    auto* fs = dynamic_cast<const Shader*>(desc.fragmentShader.get());
     if (!vs || !fs) throw Error(ErrorCode::InvalidDescription, "the pipeline's shaders come from another backend");
     link({vs, fs}, desc.debugName);
 }
 
-GLPipeline::GLPipeline(ContextPtr context, const ComputePipelineDesc& desc)
+Pipeline::Pipeline(ContextPtr context, const ComputePipelineDesc& desc)
     : m_context(std::move(context)), m_compute(true) {
-    auto* cs = dynamic_cast<const GLShader*>(desc.computeShader.get());
+    auto* cs = dynamic_cast<const Shader*>(desc.computeShader.get());
     if (!cs) throw Error(ErrorCode::InvalidDescription, "the pipeline's compute shader comes from another backend");
     link({cs}, desc.debugName);
 }
 
-GLPipeline::~GLPipeline() {
+Pipeline::~Pipeline() {
     m_context->makeCurrent();
     m_context->gl.glDeleteProgram(m_program);
 }
 
-void GLPipeline::link(const std::vector<const GLShader*>& shaders, const std::string& debugName) {
+void Pipeline::link(const std::vector<const Shader*>& shaders, const std::string& debugName) {
     const GLFunctions& gl = m_context->gl;
     m_program = gl.glCreateProgram();
-    for (const GLShader* shader : shaders) gl.glAttachShader(m_program, shader->name());
+    for (const Shader* shader : shaders) gl.glAttachShader(m_program, shader->name());
     gl.glLinkProgram(m_program);
-    for (const GLShader* shader : shaders) gl.glDetachShader(m_program, shader->name());
+    for (const Shader* shader : shaders) gl.glDetachShader(m_program, shader->name());
     GLint linked = GL_FALSE;
     gl.glGetProgramiv(m_program, GL_LINK_STATUS, &linked);
     if (!linked) {
@@ -260,7 +260,7 @@ void GLPipeline::link(const std::vector<const GLShader*>& shaders, const std::st
 
     // Binding points from reflection: the SPIR-V binding number is the GL binding point.
     gl.glUseProgram(m_program);
-    for (const GLShader* shader : shaders) {
+    for (const Shader* shader : shaders) {
         for (const ShaderBinding& binding : shader->bindings()) {
             switch (binding.type) {
                 case ResourceType::UniformBuffer: {
@@ -319,7 +319,7 @@ GLenum toGL(BlendOp op) {
 }
 }  // namespace
 
-void GLPipeline::applyState() const {
+void Pipeline::applyState() const {
     const GLFunctions& gl = m_context->gl;
     gl.glUseProgram(m_program);
     if (m_compute) return;

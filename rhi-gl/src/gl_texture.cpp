@@ -77,7 +77,7 @@ const GLFormat& glFormat(Format format) {
 
 // ---------------------------------------------------------------------------------------------
 
-GLTexture::GLTexture(ContextPtr context, const TextureDesc& resolvedDesc)
+Texture::Texture(ContextPtr context, const TextureDesc& resolvedDesc)
     : m_context(std::move(context)), m_desc(resolvedDesc) {
     const GLFunctions& gl = m_context->gl;
     switch (m_desc.dimension) {
@@ -105,7 +105,7 @@ GLTexture::GLTexture(ContextPtr context, const TextureDesc& resolvedDesc)
         gl.glObjectLabel(GL_TEXTURE, m_name, GLsizei(m_desc.debugName.size()), m_desc.debugName.data());
 }
 
-void GLTexture::zeroContents() const {
+void Texture::zeroContents() const {
     // New textures read as zero (rhi.h); GL leaves immutable storage undefined.
     const GLFunctions& gl = m_context->gl;
     const GLFormat& glf = format();
@@ -137,12 +137,12 @@ void GLTexture::zeroContents() const {
     }
 }
 
-GLTexture::~GLTexture() {
+Texture::~Texture() {
     m_context->forgetTexture(m_name);
     m_context->gl.glDeleteTextures(1, &m_name);
 }
 
-uint32_t GLTexture::layers(uint32_t mip) const {
+uint32_t Texture::layers(uint32_t mip) const {
     switch (m_desc.dimension) {
         case TextureDimension::Texture2D: return 1;
         case TextureDimension::TextureCube: return 6;
@@ -151,11 +151,11 @@ uint32_t GLTexture::layers(uint32_t mip) const {
     return 1;
 }
 
-uint64_t GLTexture::subresourceSize(uint32_t mip) const {
+uint64_t Texture::subresourceSize(uint32_t mip) const {
     return uint64_t(width(mip)) * height(mip) * formatInfo(m_desc.format).bytesPerPixel;
 }
 
-void GLTexture::validateSubresource(TextureSubresource sub, const char* what) const {
+void Texture::validateSubresource(TextureSubresource sub, const char* what) const {
     if (sub.mipLevel >= m_desc.mipLevels)
         throw Error(ErrorCode::InvalidUsage,
                     fmt::format("{}: mip level {} does not exist in texture '{}', which has {} levels", what,
@@ -167,7 +167,7 @@ void GLTexture::validateSubresource(TextureSubresource sub, const char* what) co
                                 layers(sub.mipLevel)));
 }
 
-void GLTexture::attach(GLenum framebufferTarget, GLenum attachmentPoint, uint32_t mip, uint32_t layer) const {
+void Texture::attach(GLenum framebufferTarget, GLenum attachmentPoint, uint32_t mip, uint32_t layer) const {
     const GLFunctions& gl = m_context->gl;
     switch (m_desc.dimension) {
         case TextureDimension::Texture2D:
@@ -187,7 +187,7 @@ void GLTexture::attach(GLenum framebufferTarget, GLenum attachmentPoint, uint32_
 // ---------------------------------------------------------------------------------------------
 // Texture transfers (the device's, since they use its framebuffer cache)
 
-void GLDevice::uploadTexture(const GLTexture& texture, TextureSubresource sub, const void* pixels) {
+void Device::uploadTexture(const Texture& texture, TextureSubresource sub, const void* pixels) {
     const GLFunctions& f = gl();
     const GLFormat& format = texture.format();
     const auto width = GLsizei(texture.width(sub.mipLevel)), height = GLsizei(texture.height(sub.mipLevel));
@@ -208,7 +208,7 @@ void GLDevice::uploadTexture(const GLTexture& texture, TextureSubresource sub, c
     }
 }
 
-void GLDevice::copyTextureImage(const GLTexture& dst, TextureSubresource dstSub, const GLTexture& src,
+void Device::copyTextureImage(const Texture& dst, TextureSubresource dstSub, const Texture& src,
                                 TextureSubresource srcSub) {
     const GLFunctions& f = gl();
     const auto width = GLsizei(src.width(srcSub.mipLevel)), height = GLsizei(src.height(srcSub.mipLevel));
@@ -220,7 +220,7 @@ void GLDevice::copyTextureImage(const GLTexture& dst, TextureSubresource dstSub,
     }
     // ES 3.0 has no glCopyImageSubData: blit between two single-attachment framebuffers.
     const bool depth = isDepthFormat(src.desc().format);
-    auto framebufferFor = [&](const GLTexture& texture, TextureSubresource sub) {
+    auto framebufferFor = [&](const Texture& texture, TextureSubresource sub) {
         FramebufferKey key;
         const AttachmentKey attachment{texture.name(), sub.mipLevel, sub.layer};
         if (depth) {
@@ -240,27 +240,27 @@ void GLDevice::copyTextureImage(const GLTexture& dst, TextureSubresource dstSub,
     f.glEnable(GL_SCISSOR_TEST);
 }
 
-std::vector<std::byte> GLDevice::readDepthThroughColor(const GLTexture& texture, TextureSubresource sub) {
+std::vector<std::byte> Device::readDepthThroughColor(const Texture& texture, TextureSubresource sub) {
     require(Capability::FloatRenderTargets, "reading back depth on OpenGL ES without GL_NV_read_depth (via r32f)");
     const GLFunctions& f = gl();
     if (!m_depthCopyPipeline) {
         auto load = [&](ShaderStage stage, const char* name) {
-            return std::make_shared<GLShader>(
+            return std::make_shared<Shader>(
                 m_context, ShaderDesc().setStage(stage).setSpirv(janus::shaders::get(name)).setDebugName(name));
         };
         GraphicsPipelineDesc desc;
         desc.setShaders(load(ShaderStage::Vertex, "gl_depth_copy_vert"), load(ShaderStage::Fragment, "gl_depth_copy_frag"))
             .addColorFormat(Format::R32_FLOAT)
             .setDebugName("GL depth-to-colour copy");
-        m_depthCopyPipeline = std::make_shared<GLPipeline>(m_context, desc);
+        m_depthCopyPipeline = std::make_shared<Pipeline>(m_context, desc);
     }
     const uint32_t width = texture.width(sub.mipLevel), height = texture.height(sub.mipLevel);
     // The image alone as mip 0 of a 2D texture (a depth blit reaches cube faces and mips), so
     // the shader needs no face or level logic.
-    const GLTexture flat(m_context, TextureDesc().setFormat(Format::D32_FLOAT).setSize(width, height)
+    const Texture flat(m_context, TextureDesc().setFormat(Format::D32_FLOAT).setSize(width, height)
                                         .setUsage(TextureUsage::Sampled | TextureUsage::RenderTarget));
     copyTextureImage(flat, {}, texture, sub);
-    const GLTexture color(m_context, TextureDesc().setFormat(Format::R32_FLOAT).setSize(width, height)
+    const Texture color(m_context, TextureDesc().setFormat(Format::R32_FLOAT).setSize(width, height)
                                          .setUsage(TextureUsage::RenderTarget));
     FramebufferKey key;
     key.colors.push_back({color.name(), 0, 0});
@@ -285,7 +285,7 @@ std::vector<std::byte> GLDevice::readDepthThroughColor(const GLTexture& texture,
 // ---------------------------------------------------------------------------------------------
 // Samplers
 
-GLSampler::GLSampler(ContextPtr context, const SamplerDesc& desc, bool anisotropySupported)
+Sampler::Sampler(ContextPtr context, const SamplerDesc& desc, bool anisotropySupported)
     : m_context(std::move(context)), m_desc(desc) {
     const GLFunctions& gl = m_context->gl;
     auto configure = [&](GLuint sampler, bool nearest) {
@@ -312,13 +312,13 @@ GLSampler::GLSampler(ContextPtr context, const SamplerDesc& desc, bool anisotrop
     configure(m_nearestName, true);
 }
 
-GLSampler::~GLSampler() {
+Sampler::~Sampler() {
     m_context->makeCurrent();
     m_context->gl.glDeleteSamplers(1, &m_name);
     m_context->gl.glDeleteSamplers(1, &m_nearestName);
 }
 
-GLuint GLSampler::nameFor(const GLTexture& texture, bool floatLinearFilterable) const {
+GLuint Sampler::nameFor(const Texture& texture, bool floatLinearFilterable) const {
     const Format format = texture.desc().format;
     const bool integer = formatInfo(format).kind == FormatKind::UInt;
     // ES 3.0 cannot filter 32-bit floats without OES_texture_float_linear, nor depth without
