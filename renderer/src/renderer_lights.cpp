@@ -11,6 +11,7 @@
 
 #include <fmt/format.h>
 
+#include "janus/shaders/bindings.h"
 #include "renderer_impl.h"
 
 namespace janus::renderer {
@@ -82,11 +83,11 @@ void Renderer::Impl::createCullCompute() {
     device.writeBuffer(cullUniforms, &uniforms, sizeof(uniforms));
     cullStats = device.createBuffer(rhi::BufferDesc{}.setSize(16).setUsage(rhi::BufferUsage::Storage).setDebugName("cull stats"));
     cullBindings = device.createBindingSet(rhi::BindingSetDesc{}
-                                               .add(rhi::BindingItem::uniformBuffer(0, cullUniforms))
-                                               .add(rhi::BindingItem::sampledTexture(1, depthTarget, targetSampler))
-                                               .add(rhi::BindingItem::storageBuffer(2, localLightBuffer))
-                                               .add(rhi::BindingItem::storageBuffer(3, tileBuffer))
-                                               .add(rhi::BindingItem::storageBuffer(4, cullStats)));
+                                               .add(rhi::BindingItem::uniformBuffer(JANUS_BINDING_CULL_UNIFORMS, cullUniforms))
+                                               .add(rhi::BindingItem::sampledTexture(JANUS_BINDING_CULL_DEPTH, depthTarget, targetSampler))
+                                               .add(rhi::BindingItem::storageBuffer(JANUS_BINDING_CULL_LIGHTS, localLightBuffer))
+                                               .add(rhi::BindingItem::storageBuffer(JANUS_BINDING_CULL_TILE_LISTS, tileBuffer))
+                                               .add(rhi::BindingItem::storageBuffer(JANUS_BINDING_CULL_STATS, cullStats)));
     cullPipeline = device.createComputePipeline(rhi::ComputePipelineDesc{}
                                                     .setShader(makeShader(device, rhi::ShaderStage::Compute, "light_cull_comp"))
                                                     .setDebugName("light culling"));

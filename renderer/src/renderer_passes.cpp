@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 #include <glm/gtc/matrix_inverse.hpp>
 
+#include "janus/shaders/bindings.h"
 #include "renderer_impl.h"
 
 namespace janus::renderer {
@@ -99,14 +100,14 @@ void Renderer::Impl::createForward(const Scene& scene) {
         rhi::BufferDesc{}.setSize(sizeof(FrameUniforms)).setUsage(rhi::BufferUsage::Uniform).setDebugName("frame uniforms"));
     device.writeBuffer(frameUniforms, &frame, sizeof(frame));
     rhi::BindingSetDesc frameSet;
-    frameSet.add(rhi::BindingItem::uniformBuffer(0, frameUniforms));
+    frameSet.add(rhi::BindingItem::uniformBuffer(JANUS_BINDING_FRAME_UNIFORMS, frameUniforms));
     if (settings.path == FeaturePath::Compute) {
-        frameSet.add(rhi::BindingItem::storageBuffer(7, localLightBuffer)).add(rhi::BindingItem::storageBuffer(8, tileBuffer));
+        frameSet.add(rhi::BindingItem::storageBuffer(JANUS_BINDING_LOCAL_LIGHTS, localLightBuffer)).add(rhi::BindingItem::storageBuffer(JANUS_BINDING_TILE_LISTS, tileBuffer));
     } else {
-        frameSet.add(rhi::BindingItem::sampledTexture(7, localLightTexture, targetSampler))
-            .add(rhi::BindingItem::sampledTexture(8, tileTexture, targetSampler));
+        frameSet.add(rhi::BindingItem::sampledTexture(JANUS_BINDING_LOCAL_LIGHTS, localLightTexture, targetSampler))
+            .add(rhi::BindingItem::sampledTexture(JANUS_BINDING_TILE_LISTS, tileTexture, targetSampler));
     }
-    frameSet.add(shadowMap ? shadowMap->binding(9) : rhi::BindingItem::sampledTexture(9, dummyShadowTexture, dummyShadowSampler));
+    frameSet.add(shadowMap ? shadowMap->binding(JANUS_BINDING_SHADOW_MAP) : rhi::BindingItem::sampledTexture(JANUS_BINDING_SHADOW_MAP, dummyShadowTexture, dummyShadowSampler));
     frameBindings = device.createBindingSet(frameSet);
     backgroundRadiance = {scene.environment.ambientColor.r, scene.environment.ambientColor.g, scene.environment.ambientColor.b, 1.0f};
 
@@ -143,12 +144,12 @@ void Renderer::Impl::createForward(const Scene& scene) {
         draw.doubleSided = material.doubleSided;
         draw.bindings = device.createBindingSet(
             rhi::BindingSetDesc{}
-                .add(rhi::BindingItem::uniformBuffer(1, drawUniforms, i * stride, sizeof(DrawUniforms)))
-                .add(texture(2, material.baseColorTexture, whiteTexture))
-                .add(texture(3, material.metallicRoughnessTexture, whiteTexture))
-                .add(texture(4, material.normalTexture, flatNormalTexture))
-                .add(texture(5, material.occlusionTexture, whiteTexture))
-                .add(texture(6, material.emissiveTexture, whiteTexture)));
+                .add(rhi::BindingItem::uniformBuffer(JANUS_BINDING_DRAW_UNIFORMS, drawUniforms, i * stride, sizeof(DrawUniforms)))
+                .add(texture(JANUS_BINDING_BASE_COLOR, material.baseColorTexture, whiteTexture))
+                .add(texture(JANUS_BINDING_METALLIC_ROUGHNESS, material.metallicRoughnessTexture, whiteTexture))
+                .add(texture(JANUS_BINDING_NORMAL, material.normalTexture, flatNormalTexture))
+                .add(texture(JANUS_BINDING_OCCLUSION, material.occlusionTexture, whiteTexture))
+                .add(texture(JANUS_BINDING_EMISSIVE, material.emissiveTexture, whiteTexture)));
         draws.push_back(std::move(draw));
     }
     device.writeBuffer(drawUniforms, drawData.data(), drawData.size());
@@ -199,11 +200,11 @@ void Renderer::Impl::recordMeshes(rhi::ICommandList& cmd, PassReport& report, co
         const rhi::PipelineHandle& pipeline = draw.doubleSided ? doubleSided : culled;
         if (pipeline.get() != bound) {
             cmd.setPipeline(pipeline);
-            cmd.setBindingSet(0, frameBindings);
+            cmd.setBindingSet(JANUS_SET_VIEW, frameBindings);
             bound = pipeline.get();
         }
         const GpuMesh& mesh = meshes[draw.mesh];
-        cmd.setBindingSet(1, draw.bindings);
+        cmd.setBindingSet(JANUS_SET_DRAW, draw.bindings);
         cmd.setVertexBuffer(0, mesh.vertices);
         cmd.setIndexBuffer(mesh.indices, rhi::IndexType::UInt32);
         cmd.drawIndexed(mesh.indexCount);
@@ -231,9 +232,9 @@ void Renderer::Impl::createTonemap(const Scene& scene) {
         rhi::BufferDesc{}.setSize(sizeof(uniforms)).setUsage(rhi::BufferUsage::Uniform).setDebugName("tonemap uniforms"));
     device.writeBuffer(tonemapUniforms, &uniforms, sizeof(uniforms));
     rhi::BindingSetDesc bindings;
-    bindings.add(rhi::BindingItem::uniformBuffer(0, tonemapUniforms)).add(rhi::BindingItem::sampledTexture(1, hdrTarget, targetSampler));
+    bindings.add(rhi::BindingItem::uniformBuffer(JANUS_BINDING_TONEMAP_UNIFORMS, tonemapUniforms)).add(rhi::BindingItem::sampledTexture(JANUS_BINDING_TONEMAP_HDR, hdrTarget, targetSampler));
     if (settings.path == FeaturePath::Compute) {
-        bindings.add(rhi::BindingItem::storageImage(2, displayImage));
+        bindings.add(rhi::BindingItem::storageImage(JANUS_BINDING_TONEMAP_DISPLAY, displayImage));
         tonemapPipeline = device.createComputePipeline(
             rhi::ComputePipelineDesc{}.setShader(makeShader(device, rhi::ShaderStage::Compute, "tonemap_comp")).setDebugName("tonemap"));
     } else {
@@ -280,11 +281,11 @@ void Renderer::Impl::createHeatmap() {
         rhi::BufferDesc{}.setSize(sizeof(uniforms)).setUsage(rhi::BufferUsage::Uniform).setDebugName("heat map uniforms"));
     device.writeBuffer(heatmapUniforms, &uniforms, sizeof(uniforms));
     rhi::BindingSetDesc bindings;
-    bindings.add(rhi::BindingItem::uniformBuffer(0, heatmapUniforms));
+    bindings.add(rhi::BindingItem::uniformBuffer(JANUS_BINDING_HEATMAP_UNIFORMS, heatmapUniforms));
     if (settings.path == FeaturePath::Compute)
-        bindings.add(rhi::BindingItem::storageBuffer(8, tileBuffer));
+        bindings.add(rhi::BindingItem::storageBuffer(JANUS_BINDING_TILE_LISTS, tileBuffer));
     else
-        bindings.add(rhi::BindingItem::sampledTexture(8, tileTexture, targetSampler));
+        bindings.add(rhi::BindingItem::sampledTexture(JANUS_BINDING_TILE_LISTS, tileTexture, targetSampler));
     heatmapBindings = device.createBindingSet(bindings);
     heatmapPipeline = device.createGraphicsPipeline(
         rhi::GraphicsPipelineDesc{}

@@ -11,6 +11,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "janus/renderer/renderer.h"
+#include "janus/shaders/bindings.h"
 #include "janus/renderer/scene.h"
 #include "janus/shaders/shaders.h"
 
@@ -93,7 +94,7 @@ DirectionalShadowMap::DirectionalShadowMap(rhi::IDevice& device, uint32_t size) 
 
     m_passUniforms = device.createBuffer(
         rhi::BufferDesc{}.setSize(sizeof(glm::mat4)).setUsage(rhi::BufferUsage::Uniform).setDebugName("shadow pass uniforms"));
-    m_passBindings = device.createBindingSet(rhi::BindingSetDesc{}.add(rhi::BindingItem::uniformBuffer(0, m_passUniforms)));
+    m_passBindings = device.createBindingSet(rhi::BindingSetDesc{}.add(rhi::BindingItem::uniformBuffer(JANUS_BINDING_SHADOW_PASS, m_passUniforms)));
     m_casterStride = alignUp(sizeof(glm::mat4), std::max<uint32_t>(device.capabilities().limits.uniformBufferOffsetAlignment, 16));
 
     const rhi::ShaderHandle vs = makeShader(device, rhi::ShaderStage::Vertex, "shadow_vert");
@@ -199,7 +200,7 @@ void DirectionalShadowMap::setCasters(std::span<const ShadowCaster> casters) {
         std::memcpy(data.data() + i * m_casterStride, &casters[i].world, sizeof(glm::mat4));
         m_casterWorlds.push_back(casters[i].world);
         m_casterBindings.push_back(m_device.createBindingSet(rhi::BindingSetDesc{}.add(
-            rhi::BindingItem::uniformBuffer(1, m_casterUniforms, i * m_casterStride, sizeof(glm::mat4)))));
+            rhi::BindingItem::uniformBuffer(JANUS_BINDING_SHADOW_CASTER, m_casterUniforms, i * m_casterStride, sizeof(glm::mat4)))));
     }
     m_device.writeBuffer(m_casterUniforms, data.data(), data.size());
 }
