@@ -10,10 +10,10 @@
 #include <fmt/format.h>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "janus/renderer/renderer.h"
-#include "janus/shaders/bindings.h"
+#include "core/gpu_util.h"
 #include "janus/renderer/scene.h"
-#include "janus/shaders/shaders.h"
+#include "janus/renderer/settings.h"
+#include "janus/shaders/bindings.h"
 
 namespace janus::renderer {
 namespace {
@@ -21,13 +21,7 @@ namespace {
 // Texels kept free on each side of the fitted bounds: one for the snap, one for the PCF kernel.
 constexpr float kBorderTexels = 2.0f;
 
-uint64_t alignUp(uint64_t value, uint64_t alignment) { return alignment ? (value + alignment - 1) / alignment * alignment : value; }
-
 bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-
-rhi::ShaderHandle makeShader(rhi::IDevice& device, rhi::ShaderStage stage, const char* name) {
-    return device.createShader(rhi::ShaderDesc{}.setStage(stage).setSpirv(shaders::get(name)).setDebugName(name));
-}
 
 }  // namespace
 
