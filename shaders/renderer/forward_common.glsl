@@ -1,5 +1,5 @@
 // Uniform blocks shared by forward.vert, forward.frag and depth_prepass.frag. Mirrors
-// FrameUniforms/DrawUniforms in renderer/src/renderer_passes.cpp (std140); binding numbers are unique
+// FrameUniforms in renderer/src/forward/forward_shading.h and DrawUniforms in renderer/src/core/gpu_scene.cpp (std140); binding numbers are unique
 // across sets (see Conventions). Point and spot lights are not here: they live in the light
 // array of renderer/light_access.glsl (docs/LIGHTING.md).
 #include "janus/shaders/bindings.h"
