@@ -487,7 +487,11 @@ private:
         KeepMark* mark;   // inside `object`
     };
     std::vector<Kept> m_keepAlive;
-    uint64_t m_retainedId = 0;   // the mark of the objects kept from the previous recording
+    // The mark of the objects kept from the previous recording. Never 0, the mark of an object
+    // no list has kept yet (which would otherwise count as retained and not be kept), nor a
+    // recording id (those start at 2): 1 = nothing retained.
+    static constexpr uint64_t kNothingRetained = 1;
+    uint64_t m_retainedId = kNothingRetained;
     std::vector<std::shared_ptr<StagingBuffer>> m_staging;
     struct TimerUse {
         std::shared_ptr<TimerQuery> timer;

@@ -126,7 +126,7 @@ void CommandList::begin() {
     // retains nothing.
     if (m_state == State::Recording) {
         m_keepAlive.clear();
-        m_retainedId = 0;
+        m_retainedId = kNothingRetained;
     }
     m_staging.clear();
     m_timers.clear();
