@@ -207,6 +207,7 @@ void Device::detectCapabilities() {
     limits.maxTextureSize2D = integer(GL_MAX_TEXTURE_SIZE);
     limits.maxTextureSize3D = integer(GL_MAX_3D_TEXTURE_SIZE);
     limits.maxTextureSizeCube = integer(GL_MAX_CUBE_MAP_TEXTURE_SIZE);
+    limits.maxTextureArrayLayers = integer(GL_MAX_ARRAY_TEXTURE_LAYERS);
     limits.maxColorAttachments = std::min(integer(GL_MAX_COLOR_ATTACHMENTS), integer(GL_MAX_DRAW_BUFFERS));
     limits.maxUniformBufferRange = integer(GL_MAX_UNIFORM_BLOCK_SIZE);
     limits.uniformBufferOffsetAlignment = integer(GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT);
@@ -245,7 +246,16 @@ void Device::detectCapabilities() {
         limits.maxComputeWorkGroupInvocations = integer(GL_MAX_COMPUTE_WORK_GROUP_INVOCATIONS);
         m_anisotropy = hasExtension("GL_ARB_texture_filter_anisotropic") ||
                        hasExtension("GL_EXT_texture_filter_anisotropic");
+        m_caps.cubeArrays = true;   // GL 4.0 core
+        // glTextureView: GL 4.3 core (which we require) or ARB_texture_view.
+        m_caps.textureViews = (desktopAtLeast(4, 3) || hasExtension("GL_ARB_texture_view")) && f.glTextureView;
     } else {
+        // ES 3.0 has neither cube-map arrays nor texture views. Drivers that offer ES 3.2 or
+        // EXT_texture_cube_map_array still cannot be used for cube arrays here: every shader is
+        // translated to ESSL 300, which has no samplerCubeArray, and ES programs cannot link
+        // stages of different versions. Sampled mip ranges are emulated (BASE/MAX_LEVEL).
+        m_caps.cubeArrays = false;
+        m_caps.textureViews = false;
         // GLES stands in for compute-less devices: even when the driver offers ES 3.1+, compute,
         // SSBOs and image load/store stay off.
         m_caps.floatRenderTargets = hasExtension("GL_EXT_color_buffer_float");
@@ -343,7 +353,10 @@ TextureHandle Device::createTexture(const TextureDesc& desc) {
                 throw Error(ErrorCode::InvalidDescription,
                             fmt::format("{}: a 3D texture cannot have the depth format {}", name, toString(desc.format)));
             break;
+        case TextureDimension::Texture2DArray: break;   // layers: validateTextureLayers below
+        case TextureDimension::TextureCubeArray: maxSize = limits.maxTextureSizeCube; break;
     }
+    validateTextureLayers(desc, m_caps, m_info.backend);
     if (std::max({desc.width, desc.height, desc.dimension == TextureDimension::Texture3D ? desc.depth : 1u}) > maxSize)
         throw Error(ErrorCode::InvalidDescription,
                     fmt::format("{}: TextureDesc size {}x{}x{} exceeds this device's {} limit of {}", name, desc.width,
@@ -535,6 +548,8 @@ BindingSetHandle Device::createBindingSet(const BindingSetDesc& desc) {
                                             item.mipLevel, item.texture->desc().mipLevels));
                 break;
         }
+        if (item.type == ResourceType::SampledTexture || item.type == ResourceType::StorageImage)
+            validateTextureView(item, m_caps, m_info.backend, fmt::format("BindingSetDesc item {} (binding {})", size_t(&item - desc.items.data()), item.binding));
     }
     return std::make_shared<BindingSet>(desc);
 }

@@ -6,11 +6,14 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 #include "gl_functions.h"
 #include "gl_platform.h"
 #include "janus/rhi/rhi.h"
+#include "janus/rhi/texture_view_validation.h"
 
 namespace janus::rhi::gl {
 
@@ -117,6 +120,14 @@ public:
     // Attaches one image to the bound framebuffer object at `attachmentPoint`.
     void attach(GLenum framebufferTarget, GLenum attachmentPoint, uint32_t mip, uint32_t layer) const;
 
+    // Desktop GL: a texture view (glTextureView) showing `view`, created on first use and
+    // cached; the texture itself when the view is the whole texture. Returns name and target.
+    std::pair<GLuint, GLenum> viewFor(const ResolvedTextureView& view) const;
+    // GLES (no texture views): shows mips [base, base + count) to samplers through
+    // GL_TEXTURE_BASE_LEVEL / GL_TEXTURE_MAX_LEVEL. The texture must be bound to the active unit.
+    // Every sampled binding sets its range, so no range leaks from one binding to the next.
+    void applyMipRange(uint32_t baseMip, uint32_t mipCount) const;
+
 private:
     void zeroContents() const;
 
@@ -124,6 +135,9 @@ private:
     TextureDesc m_desc;
     GLuint m_name = 0;
     GLenum m_target = 0;
+    mutable std::map<std::tuple<int, uint32_t, uint32_t, uint32_t, uint32_t>, GLuint> m_views;
+    mutable uint32_t m_baseLevel = 0;   // GLES: the range applyMipRange last set
+    mutable uint32_t m_maxLevel = 0;
 };
 
 class Sampler final : public ISampler {
@@ -291,6 +305,7 @@ private:
     std::vector<Format> m_passColorFormats;   // formats of the open render pass
     Format m_passDepthFormat = Format::Unknown;
     std::map<uint32_t, std::shared_ptr<BindingSet>> m_bindingSets;   // by set index
+    RenderPassDesc m_passDesc;   // the open pass's attachments, for the view-overlap check
     void requireCompatiblePipeline(const char* what) const;
     void requireBindings(const char* what) const;
     bool m_indexBufferSet = false;

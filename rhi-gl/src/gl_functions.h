@@ -127,7 +127,8 @@ class Platform;
     X(PFNGLCOLORMASKIPROC, glColorMaski, nullptr) \
     X(PFNGLCLIPCONTROLPROC, glClipControl, "glClipControlEXT")                                                \
     X(PFNGLCLEARTEXIMAGEPROC, glClearTexImage, "glClearTexImageEXT")                                          \
-    X(PFNGLCLEARBUFFERDATAPROC, glClearBufferData, nullptr)
+    X(PFNGLCLEARBUFFERDATAPROC, glClearBufferData, nullptr)                                                   \
+    X(PFNGLTEXTUREVIEWPROC, glTextureView, nullptr)
 
 struct GLFunctions {
 #define JANUS_GL_DECLARE(type, name) type name = nullptr;

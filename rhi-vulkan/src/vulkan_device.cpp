@@ -288,11 +288,14 @@ Capabilities queryCapabilities(const Context& ctx) {
     caps.floatBlend = hasFormatFeatures(ctx, Format::RGBA32_FLOAT, VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BLEND_BIT) &&
                       hasFormatFeatures(ctx, Format::R32_FLOAT, VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BLEND_BIT);
     caps.timestampQueries = ctx.timestampValidBits > 0 && l.timestampComputeAndGraphics;
+    caps.cubeArrays = ctx.enabledFeatures.imageCubeArray;   // enabled whenever the device has it
+    caps.textureViews = true;   // VkImageView of any layer range / compatible type is core Vulkan
 
     Limits& limits = caps.limits;
     limits.maxTextureSize2D = l.maxImageDimension2D;
     limits.maxTextureSize3D = l.maxImageDimension3D;
     limits.maxTextureSizeCube = l.maxImageDimensionCube;
+    limits.maxTextureArrayLayers = l.maxImageArrayLayers;
     limits.maxColorAttachments = l.maxColorAttachments;
     limits.maxUniformBufferRange = l.maxUniformBufferRange;
     limits.maxStorageBufferRange = caps.storageBuffers ? l.maxStorageBufferRange : 0;
@@ -331,6 +334,7 @@ public:
     }
     TextureHandle createTexture(const TextureDesc& desc) override {
         if (any(desc.usage, TextureUsage::Storage)) require(Capability::StorageImages, "TextureUsage::Storage");
+        validateTextureLayers(desc, m_capabilities, Backend::Vulkan);
         return std::make_shared<Texture>(m_context, desc);
     }
     SamplerHandle createSampler(const SamplerDesc& desc) override { return std::make_shared<Sampler>(m_context, desc); }
@@ -343,7 +347,14 @@ public:
         return std::make_shared<Pipeline>(m_context, desc);
     }
     BindingSetHandle createBindingSet(const BindingSetDesc& desc) override {
-        return std::make_shared<BindingSet>(m_context, desc);
+        auto set = std::make_shared<BindingSet>(m_context, desc);   // checks the items' objects first
+        for (size_t i = 0; i < desc.items.size(); ++i) {
+            const BindingItem& item = desc.items[i];
+            if (item.type == ResourceType::SampledTexture || item.type == ResourceType::StorageImage)
+                validateTextureView(item, m_capabilities, Backend::Vulkan,
+                                    fmt::format("BindingSetDesc item {} (binding {})", i, item.binding));
+        }
+        return set;
     }
     TimerQueryHandle createTimerQuery() override {
         require(Capability::TimestampQueries, "createTimerQuery");

@@ -26,6 +26,11 @@ void validate(const Context& ctx, TextureDesc& desc) {
             if (desc.width > limits.maxImageDimension2D || desc.height > limits.maxImageDimension2D)
                 invalid(desc, fmt::format("width/height exceed maxTextureSize2D ({})", limits.maxImageDimension2D));
             break;
+        case TextureDimension::Texture2DArray:
+            if (desc.width > limits.maxImageDimension2D || desc.height > limits.maxImageDimension2D)
+                invalid(desc, fmt::format("width/height exceed maxTextureSize2D ({})", limits.maxImageDimension2D));
+            break;   // layers: validateTextureLayers (Device::createTexture)
+        case TextureDimension::TextureCubeArray:
         case TextureDimension::TextureCube:
             if (desc.width != desc.height) invalid(desc, "a cube map needs width == height");
             if (desc.depth != 1) invalid(desc, "depth must be 1 for a cube map (its 6 faces are implied)");
@@ -106,7 +111,8 @@ Texture::Texture(ContextPtr context, const TextureDesc& desc) : m_context(std::m
     info.usage = imageUsage(m_desc);
     info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
     info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-    if (m_desc.dimension == TextureDimension::TextureCube) info.flags |= VK_IMAGE_CREATE_CUBE_COMPATIBLE_BIT;
+    if (m_desc.dimension == TextureDimension::TextureCube || m_desc.dimension == TextureDimension::TextureCubeArray)
+        info.flags |= VK_IMAGE_CREATE_CUBE_COMPATIBLE_BIT;
     // Lets one slice of a volume be a 2D colour attachment (RenderToVolumeSlice).
     if (m_desc.dimension == TextureDimension::Texture3D && any(m_desc.usage, TextureUsage::RenderTarget))
         info.flags |= VK_IMAGE_CREATE_2D_ARRAY_COMPATIBLE_BIT;
@@ -122,6 +128,9 @@ Texture::Texture(ContextPtr context, const TextureDesc& desc) : m_context(std::m
         info.extent.depth > supported.maxExtent.depth)
         invalid(m_desc, fmt::format("the device's largest texture of this kind is {}x{}x{}", supported.maxExtent.width,
                                     supported.maxExtent.height, supported.maxExtent.depth));
+    if (info.arrayLayers > supported.maxArrayLayers)
+        invalid(m_desc, fmt::format("the device allows at most {} layers for a texture of this kind",
+                                    supported.maxArrayLayers));
 
     check(vkCreateImage(m_context->device, &info, nullptr, &image), ErrorCode::InvalidDescription,
           fmt::format("vkCreateImage for '{}'", m_desc.debugName));
