@@ -96,7 +96,7 @@ void CommandList::requireCompatiblePipeline(const char* what) const {
                                 m_passDepthFormat == Format::Unknown ? "none" : toString(m_passDepthFormat)));
 }
 
-void CommandList::requireBindings(const char* what) const {
+std::vector<UsedBinding> CommandList::requireBindings(const char* what) const {
     // GL would silently read whatever is bound at a unit; Vulkan's validation would flag the
     // same mistake, so catch it here with the binding named.
     std::vector<UsedBinding> textures;
@@ -147,6 +147,20 @@ void CommandList::requireBindings(const char* what) const {
                                             toString(Capability::TextureViews)));
             }
     }
+    return textures;
+}
+
+void CommandList::recordMipRanges(const std::vector<UsedBinding>& textures) {
+    if (!m_device.isES()) return;   // desktop GL binds texture views instead
+    std::vector<Device::MipRange> ranges;
+    for (const UsedBinding& used : textures) {
+        if (used.item->type != ResourceType::SampledTexture) continue;
+        const ResolvedTextureView view = resolveTextureView(*used.item);
+        // The binding set's replayed closure keeps the texture alive.
+        ranges.push_back({static_cast<const Texture*>(used.item->texture.get()), used.item->binding, view.baseMip,
+                          view.mipCount});
+    }
+    if (!ranges.empty()) record([ranges = std::move(ranges)](Device& device) { device.applyMipRanges(ranges); });
 }
 
 void CommandList::requireVertexBuffers(const char* what) const {
@@ -296,7 +310,7 @@ void CommandList::draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t fi
         throw Error(ErrorCode::InvalidUsage, "draw: no graphics pipeline is set; call setPipeline() first");
     requireVertexBuffers("draw");
     requireCompatiblePipeline("draw");
-    requireBindings("draw");
+    recordMipRanges(requireBindings("draw"));
     record([=](Device& device) { device.draw(vertexCount, instanceCount, firstVertex, firstInstance); });
 }
 
@@ -307,7 +321,7 @@ void CommandList::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint3
         throw Error(ErrorCode::InvalidUsage, "drawIndexed: no graphics pipeline is set; call setPipeline() first");
     requireVertexBuffers("drawIndexed");
     requireCompatiblePipeline("drawIndexed");
-    requireBindings("drawIndexed");
+    recordMipRanges(requireBindings("drawIndexed"));
     if (!m_indexBufferSet)
         throw Error(ErrorCode::InvalidUsage, "drawIndexed: no index buffer is set; call setIndexBuffer() first");
     record([=](Device& device) { device.drawIndexed(indexCount, instanceCount, firstIndex, vertexOffset, firstInstance); });
@@ -580,6 +594,14 @@ void Device::bindBindingSet(const BindingSetDesc& desc) {
                 break;
             }
         }
+    }
+}
+
+void Device::applyMipRanges(const std::vector<MipRange>& ranges) {
+    for (const MipRange& r : ranges) {
+        if (r.texture->hasMipRange(r.baseMip, r.mipCount)) continue;
+        gl().glActiveTexture(GL_TEXTURE0 + r.unit);   // where the binding set bound it
+        r.texture->applyMipRange(r.baseMip, r.mipCount);
     }
 }
 

@@ -127,6 +127,9 @@ public:
     // GL_TEXTURE_BASE_LEVEL / GL_TEXTURE_MAX_LEVEL. The texture must be bound to the active unit.
     // Every sampled binding sets its range, so no range leaks from one binding to the next.
     void applyMipRange(uint32_t baseMip, uint32_t mipCount) const;
+    bool hasMipRange(uint32_t baseMip, uint32_t mipCount) const {
+        return m_baseLevel == baseMip && m_maxLevel == baseMip + mipCount - 1;
+    }
 
 private:
     void zeroContents() const;
@@ -307,7 +310,11 @@ private:
     std::map<uint32_t, std::shared_ptr<BindingSet>> m_bindingSets;   // by set index
     RenderPassDesc m_passDesc;   // the open pass's attachments, for the view-overlap check
     void requireCompatiblePipeline(const char* what) const;
-    void requireBindings(const char* what) const;
+    // Checks what the pipeline's shaders use against the bound sets; returns the texture bindings.
+    std::vector<UsedBinding> requireBindings(const char* what) const;
+    // GLES: re-applies the mip ranges of the sampled textures a draw uses right before it (an
+    // item of a set bound later, unused by the draw, may have set another range on the texture).
+    void recordMipRanges(const std::vector<UsedBinding>& textures);
     bool m_indexBufferSet = false;
     std::vector<uint32_t> m_vertexSlots;   // slots given a buffer since begin()
     int m_debugGroupDepth = 0;
@@ -359,6 +366,11 @@ public:
     void beginRenderPass(const RenderPassDesc& desc);
     void bindPipeline(const Pipeline& pipeline);
     void bindBindingSet(const BindingSetDesc& desc);
+    struct MipRange {
+        const Texture* texture;
+        uint32_t unit, baseMip, mipCount;
+    };
+    void applyMipRanges(const std::vector<MipRange>& ranges);
     void setVertexBuffer(uint32_t slot, GLuint buffer, uint64_t offset);
     void setIndexBuffer(GLuint buffer, IndexType type, uint64_t offset);
     void draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance);

@@ -98,6 +98,39 @@ TEST_P(TextureViewTest, MipRangeDoesNotLeakIntoLaterBindings) {
     EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(second), mip0, 16)) << "the whole texture at lod 0 is mip 0";
 }
 
+// A set bound after the draw's own, whose item (unused by the draw) views another mip range of
+// the same texture, must not change what the draw samples (gles: ranges are texture state).
+TEST_P(TextureViewTest, UnusedLaterBindingDoesNotChangeTheRange) {
+    TextureHandle texture = createLayered(TextureDimension::Texture2D, 4, 1, 3);
+    writeEveryLayer(texture);
+    struct Block {
+        std::array<std::array<float, 4>, 64> coords{};
+        std::array<float, 64> lods{};
+    } data;
+    std::vector<Lookup> lookups;
+    addImageLookups(lookups, 4, 0.0f);
+    for (size_t i = 0; i < lookups.size(); ++i) data.coords[i] = lookups[i].coords;
+    BufferHandle ubo = createBuffer(BufferUsage::Uniform, std::as_bytes(std::span(&data, 1)));
+    SamplerHandle sampler = nearestClampSampler();
+    BindingSetHandle used = device().createBindingSet(
+        BindingSetDesc().add(BindingItem::uniformBuffer(0, ubo)).add(BindingItem::sampledTexture(1, texture, sampler)));
+    BindingSetHandle unused =
+        device().createBindingSet(BindingSetDesc().add(BindingItem::sampledTexture(3, texture, sampler).setMips(2, 1)));
+    TextureHandle target = createTexture2D(Format::RGBA8_UNORM, 16, 1, TextureUsage::RenderTarget);
+    PipelineHandle pipeline = fullscreenPipeline("rt_sample_lookup_2d_frag", Format::RGBA8_UNORM);
+    submit([&](ICommandList& cmd) {
+        cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(target)));
+        cmd.setPipeline(pipeline);
+        cmd.setBindingSet(0, used);
+        cmd.setBindingSet(1, unused);   // the pipeline reads set 0 only
+        cmd.draw(3);
+        cmd.endRenderPass();
+    });
+    std::vector<Rgba8> mip0;
+    addImageTexels(mip0, 4, 0, 0);
+    EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(target), mip0, 16)) << "lod 0 of the whole texture is mip 0";
+}
+
 // One face of a cube, one layer of an array, one cube of a cube array, a layer subrange: views
 // with layers need Capability::TextureViews. On gles creating them is UnsupportedCapability.
 TEST_P(TextureViewTest, SingleFaceAndLayerViews) {
