@@ -133,10 +133,16 @@ const rhi::TextureHandle& Renderer::Impl::captureDepth(uint32_t size) {
 }
 
 FrameReport Renderer::Impl::renderCubeCapture(const CubeCaptureDesc& capture) {
-    if (!capture.target) throw RendererError("cube capture: no target texture; give a TextureCube with RenderTarget usage");
+    if (!capture.target)
+        throw RendererError("cube capture: no target texture; give a TextureCube or TextureCubeArray with RenderTarget usage");
     const rhi::TextureDesc& desc = capture.target->desc();
-    if (desc.dimension != rhi::TextureDimension::TextureCube)
-        throw RendererError(fmt::format("cube capture: target '{}' is a {}, not a cube map", desc.debugName, rhi::toString(desc.dimension)));
+    if (desc.dimension != rhi::TextureDimension::TextureCube && desc.dimension != rhi::TextureDimension::TextureCubeArray)
+        throw RendererError(fmt::format("cube capture: target '{}' is a {}, not a cube map or cube array", desc.debugName,
+                                        rhi::toString(desc.dimension)));
+    const uint32_t cubes = rhi::textureLayerCount(desc) / 6;
+    if (capture.cube >= cubes)
+        throw RendererError(fmt::format("cube capture: target '{}' holds {} cube(s); cube {} does not exist", desc.debugName, cubes,
+                                        capture.cube));
     if (!rhi::any(desc.usage, rhi::TextureUsage::RenderTarget))
         throw RendererError(fmt::format("cube capture: target '{}' needs RenderTarget usage", desc.debugName));
     const rhi::FormatKind kind = rhi::formatInfo(desc.format).kind;
@@ -162,7 +168,7 @@ FrameReport Renderer::Impl::renderCubeCapture(const CubeCaptureDesc& capture) {
         view.passes.lightCulling = false;
         view.passes.tonemap = false;
         const ViewTarget color{graph.importResource(fmt::format("capture {}", cubeFaceName(face))), capture.target,
-                               rhi::TextureSubresource{capture.mipLevel, face}};
+                               rhi::TextureSubresource{capture.mipLevel, capture.cube * 6 + face}};
         forward->addPasses(graph, view, color, depth, shadowMap);
         graph.markOutput(color.resource);
         frame.views.push_back(ViewReport{view.name, size, size});

@@ -1,7 +1,9 @@
 // Scene views: the six cube-face views of a point render straight into a cube map's faces, and
 // each face shows what a 90-degree perspective camera at that point, looking along the face's
 // axis with the face's up vector, sees (mirrored left to right, as the cube map layout is).
-// On every configuration.
+// On every configuration: into one cube of a cube array where the device has cube arrays (the
+// middle one of three, so the layer-face arithmetic is exercised), into a cube map on gles,
+// which has none (Capability::CubeArrays).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -50,6 +52,18 @@ protected:
                                           .setUsage(rhi::TextureUsage::RenderTarget | rhi::TextureUsage::Sampled)
                                           .setDebugName("capture cube"));
     }
+    bool hasCubeArrays() { return device().capabilities().has(rhi::Capability::CubeArrays); }
+    // Three cubes where the device has cube arrays; a cube map otherwise.
+    rhi::TextureHandle makeCaptureTarget() {
+        if (!hasCubeArrays()) return makeCube();
+        return device().createTexture(rhi::TextureDesc{}
+                                          .setDimension(rhi::TextureDimension::TextureCubeArray)
+                                          .setFormat(rhi::Format::RGBA16_FLOAT)
+                                          .setSize(kFaceSize, kFaceSize)
+                                          .setArrayLayers(3 * 6)
+                                          .setUsage(rhi::TextureUsage::RenderTarget | rhi::TextureUsage::Sampled)
+                                          .setDebugName("capture cube array"));
+    }
     void expectNoMessages() {
         const std::vector<rhi::DebugMessage> messages = device().takeDebugMessages();
         EXPECT_TRUE(messages.empty()) << GetParam().name() << ":" << test_support::joinMessages(messages);
@@ -59,7 +73,8 @@ protected:
 TEST_P(CubeCaptureTest, EachFaceShowsWhatAPerspectiveCameraAlongItsAxisSees) {
     device().takeDebugMessages();
     const Scene scene = defaultScene();
-    const rhi::TextureHandle cube = makeCube();
+    const rhi::TextureHandle cube = makeCaptureTarget();
+    const uint32_t cubeIndex = hasCubeArrays() ? 1 : 0;
     FrameReport report;
     {
         Renderer renderer(device(), scene, settings());
@@ -68,6 +83,7 @@ TEST_P(CubeCaptureTest, EachFaceShowsWhatAPerspectiveCameraAlongItsAxisSees) {
         capture.nearPlane = scene.camera.nearPlane;
         capture.farPlane = scene.camera.farPlane;
         capture.target = cube;
+        capture.cube = cubeIndex;
         report = renderer.renderCubeCapture(capture);
     }
     ASSERT_EQ(report.views.size(), 6u);
@@ -83,7 +99,7 @@ TEST_P(CubeCaptureTest, EachFaceShowsWhatAPerspectiveCameraAlongItsAxisSees) {
 
     for (uint32_t face = 0; face < 6; ++face) {
         SCOPED_TRACE(fmt::format("{} face {}", GetParam().name(), cubeFaceName(face)));
-        const std::vector<float> faceRadiance = halfsToFloats(device().readTexture(cube, {0, face}));
+        const std::vector<float> faceRadiance = halfsToFloats(device().readTexture(cube, {0, cubeIndex * 6 + face}));
         ASSERT_EQ(faceRadiance.size(), size_t(kFaceSize) * kFaceSize * 4);
 
         Scene camera = scene;
@@ -148,6 +164,9 @@ TEST_P(CubeCaptureTest, RefusesTargetsThatAreNotFloatCubeRenderTargets) {
     capture.target = makeCube();
     capture.mipLevel = 1;
     EXPECT_THROW(renderer.renderCubeCapture(capture), RendererError);   // no mip 1
+    capture.mipLevel = 0;
+    capture.cube = 1;
+    EXPECT_THROW(renderer.renderCubeCapture(capture), RendererError);   // a cube map holds one cube
     device().takeDebugMessages();
 }
 

@@ -31,9 +31,11 @@ struct CubeCaptureDesc {
     glm::vec3 position{0.0f};
     float nearPlane = 0.05f;
     float farPlane = 100.0f;
-    // A TextureCube with RenderTarget usage and a float colour format (e.g. RGBA16F); faces are
-    // its layers 0..5 at `mipLevel`, whose size is the faces' size.
+    // A TextureCube or TextureCubeArray with RenderTarget usage and a float colour format (e.g.
+    // RGBA16F). The faces written are layers 6 * cube + 0..5 at `mipLevel`, whose size is the
+    // faces' size (`cube` is 0 for a TextureCube).
     rhi::TextureHandle target;
+    uint32_t cube = 0;
     uint32_t mipLevel = 0;
     bool shadows = true;                // the main light's shadow map (the pass is left out without)
     uint32_t renderingLayers = ~0u;     // meshes the capture sees
