@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "janus/renderer/frame_report.h"
 #include "janus/renderer/settings.h"
 #include "janus/rhi/rhi.h"
 #include "janus/shaders/shaders.h"
@@ -32,6 +33,18 @@ rhi::BufferHandle makeUniformBuffer(rhi::IDevice& device, const T& value, const 
 
 inline double millisecondsSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+// A render pass into `target` that draws one fullscreen triangle (fullscreen.vert) with
+// `pipeline` and `bindings` at set 0.
+inline void drawFullscreenTriangle(rhi::ICommandList& cmd, const rhi::Attachment& target, const rhi::PipelineHandle& pipeline,
+                                   const rhi::BindingSetHandle& bindings, PassReport& report) {
+    cmd.beginRenderPass(rhi::RenderPassDesc{}.addColor(target));
+    cmd.setPipeline(pipeline);
+    cmd.setBindingSet(0, bindings);
+    cmd.draw(3);
+    ++report.draws;
+    cmd.endRenderPass();
 }
 
 // Reads back a D32F texture's mip 0 (row 0 on top). Waits for the GPU.

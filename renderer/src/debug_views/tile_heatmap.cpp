@@ -56,12 +56,7 @@ void TileHeatmap::setup() {
 }
 
 void TileHeatmap::record(rhi::ICommandList& cmd, PassReport& report) {
-    cmd.beginRenderPass(rhi::RenderPassDesc{}.addColor(rhi::Attachment::load(m_display.texture, m_display.subresource)));
-    cmd.setPipeline(m_pipeline);
-    cmd.setBindingSet(0, m_bindings);
-    cmd.draw(3);
-    ++report.draws;
-    cmd.endRenderPass();
+    drawFullscreenTriangle(cmd, rhi::Attachment::load(m_display.texture, m_display.subresource), m_pipeline, m_bindings, report);
 }
 
 }  // namespace janus::renderer

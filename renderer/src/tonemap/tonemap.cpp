@@ -68,12 +68,7 @@ void Tonemap::record(rhi::ICommandList& cmd, PassReport& report) {
     // Every pixel is written, so the previous contents do not matter.
     rhi::Attachment target = rhi::Attachment::clear(m_display.texture, {0, 0, 0, 0}, m_display.subresource);
     target.loadOp = rhi::LoadOp::DontCare;
-    cmd.beginRenderPass(rhi::RenderPassDesc{}.addColor(target));
-    cmd.setPipeline(m_pipeline);
-    cmd.setBindingSet(0, m_bindings);
-    cmd.draw(3);
-    ++report.draws;
-    cmd.endRenderPass();
+    drawFullscreenTriangle(cmd, target, m_pipeline, m_bindings, report);
 }
 
 }  // namespace janus::renderer
