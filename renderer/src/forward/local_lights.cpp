@@ -61,18 +61,25 @@ LocalLights::LocalLights(rhi::IDevice& device, const Scene& scene, const Resolve
     // The light array and the tile lists in the form the path reads them. Without local lights
     // (or without tiles) a one-element stand-in keeps the bindings valid.
     const size_t lightWords = std::max<size_t>(m_lights.size(), 1) * 4;   // uvec4 words
-    const size_t tileWords = tiled() ? size_t(tileCount()) * (1 + m_lighting.maxLightsPerTile) : 1;   // uints
     if (m_path == FeaturePath::Compute) {
         m_lightBuffer = m_device.createBuffer(
             rhi::BufferDesc{}.setSize(lightWords * 16).setUsage(rhi::BufferUsage::Storage).setDebugName("local lights"));
         if (!m_lights.empty()) m_device.writeBuffer(m_lightBuffer, m_lights.data(), m_lights.size() * sizeof(PackedLight));
-        m_tileBuffer = m_device.createBuffer(
-            rhi::BufferDesc{}.setSize(tileWords * 4).setUsage(rhi::BufferUsage::Storage).setDebugName("tile light lists"));
     } else {
         m_lightTexture = createDataTexture(rhi::Format::RGBA32_UINT, lightWords, "local lights");
         if (!m_lights.empty()) writeDataTexture(m_lightTexture, m_lights.data(), m_lights.size() * 4, 16);
-        m_tileTexture = createDataTexture(rhi::Format::R32_UINT, tileWords, "tile light lists");
     }
+    // The full tile lists are made only when the culling pass is kept (createTileStorage).
+    if (!tiled()) createTileStorage(1);
+}
+
+void LocalLights::createTileStorage(size_t words) {
+    if (m_tileBuffer || m_tileTexture) return;
+    if (m_path == FeaturePath::Compute)
+        m_tileBuffer = m_device.createBuffer(
+            rhi::BufferDesc{}.setSize(words * 4).setUsage(rhi::BufferUsage::Storage).setDebugName("tile light lists"));
+    else
+        m_tileTexture = createDataTexture(rhi::Format::R32_UINT, words, "tile light lists");
 }
 
 rhi::TextureHandle LocalLights::createDataTexture(rhi::Format format, size_t elements, const char* name) {
@@ -94,7 +101,8 @@ void LocalLights::writeDataTexture(const rhi::TextureHandle& texture, const void
 }
 
 PassGraph::ResourceId LocalLights::addCullingPass(PassGraph& graph, PassGraph::ResourceId depth, rhi::TextureHandle depthTexture) {
-    const PassGraph::ResourceId tileLists = graph.addResource("tile-lists");
+    const PassGraph::ResourceId tileLists =
+        graph.addResource("tile-lists", [this] { createTileStorage(size_t(tileCount()) * (1 + m_lighting.maxLightsPerTile)); });
     m_depthTexture = std::move(depthTexture);
     PassGraph::PassDesc pass;
     pass.view = m_tiledViewName;

@@ -39,7 +39,8 @@ public:
     uint32_t tilesX() const { return m_tilesX; }
     uint32_t tileCount() const { return m_tilesX * m_tilesY; }
 
-    // Adds the tile-list builder for the tiled view: light-cull-compute | light-cull-cpu, which
+    // Adds the tile-list builder for the tiled view (the graph creates the tile lists' storage
+    // only if the pass is kept): light-cull-compute | light-cull-cpu, which
     // reads `depth` (the prepass) and writes the returned "tile-lists" resource. `depthTexture` is
     // what the builder samples or reads back.
     PassGraph::ResourceId addCullingPass(PassGraph& graph, PassGraph::ResourceId depth, rhi::TextureHandle depthTexture);
@@ -58,6 +59,8 @@ public:
 private:
     rhi::TextureHandle createDataTexture(rhi::Format format, size_t elements, const char* name);
     void writeDataTexture(const rhi::TextureHandle& texture, const void* data, size_t elements, size_t texelBytes);
+    // The tile lists' storage buffer | R32UI texture of `words` uints (once).
+    void createTileStorage(size_t words);
     void createCullCompute();
     void recordCullCompute(rhi::ICommandList& cmd, PassReport& report);
     void buildTilesOnCpu(PassReport& report);
