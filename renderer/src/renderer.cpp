@@ -31,13 +31,22 @@ Renderer::Impl::Impl(rhi::IDevice& d, const Scene& scene, const RenderSettings& 
     mainView.debugView = settings.debugView;
     createTargets();
     gpuScene = std::make_unique<GpuScene>(device, scene);
-    localLights = std::make_unique<LocalLights>(device, scene, lighting, settings.path, mainView, gpuScene->pointSampler());
-    shadows = std::make_unique<MainLightShadows>(device, scene, *gpuScene, lighting.shadows, lighting.shadowMapSize, kMaxDirectionalLights);
-    forward = std::make_unique<ForwardShading>(device, scene, *gpuScene, *localLights, *shadows, settings.path);
-    tonemap = std::make_unique<Tonemap>(device, scene.environment.exposure, settings.path, gpuScene->pointSampler());
-    if (settings.debugView == DebugView::Tiles) heatmap = std::make_unique<TileHeatmap>(device, *localLights, settings.path);
+    createFeatures(scene);
     commandList = device.createCommandList();
     buildFrameGraph();
+}
+
+// The one place that knows which features exist. Order matters twice: a feature may take
+// another in its constructor, and passes are added (and so run) in this order for each view.
+void Renderer::Impl::createFeatures(const Scene& scene) {
+    localLights = std::make_unique<LocalLights>(device, scene, lighting, settings.path, mainView, gpuScene->pointSampler());
+    auto shadows = std::make_unique<MainLightShadows>(device, scene, *gpuScene, lighting.shadows, lighting.shadowMapSize,
+                                                      kMaxDirectionalLights);
+    auto forward = std::make_unique<ForwardShading>(device, scene, *gpuScene, *localLights, *shadows, settings.path);
+    features.push_back(std::move(shadows));
+    features.push_back(std::move(forward));
+    features.push_back(std::make_unique<Tonemap>(device, scene.environment.exposure, settings.path, gpuScene->pointSampler()));
+    if (settings.debugView == DebugView::Tiles) features.push_back(std::make_unique<TileHeatmap>(device, *localLights, settings.path));
 }
 
 Renderer::Impl::~Impl() {
@@ -87,16 +96,21 @@ void Renderer::Impl::createTargets() {
         rhi::TextureDesc{}.setFormat(rhi::Format::RGBA8_UNORM).setSize(w, h).setUsage(displayUsage).setDebugName("display"));
 }
 
-// The main view: every feature adds its passes, the frame needs the display image (and the HDR
-// image and depth, which can be read back), and the graph keeps what contributes to them.
+void Renderer::Impl::addView(PassGraph& graph, const SceneView& view, const ViewTarget& hdr, const ViewTarget& depth,
+                             const ViewTarget* display) {
+    graph.publish(view.name, frame_resources::kHdr, hdr);
+    graph.publish(view.name, frame_resources::kDepth, depth);
+    if (display) graph.publish(view.name, frame_resources::kDisplay, *display);
+    for (const std::unique_ptr<RenderFeature>& feature : features) feature->addPasses(graph, view);
+}
+
+// The main view: the frame needs the display image (and the HDR image and depth, which can be
+// read back), and the graph keeps what contributes to them.
 void Renderer::Impl::buildFrameGraph() {
     const ViewTarget hdr{frameGraph.importResource("hdr"), hdrTarget, {}};
     const ViewTarget depth{frameGraph.importResource("depth"), depthTarget, {}};
     const ViewTarget display{frameGraph.importResource("display"), displayImage, {}};
-    const std::optional<PassGraph::ResourceId> shadowMap = shadows->addPass(frameGraph);
-    const std::optional<PassGraph::ResourceId> tileLists = forward->addPasses(frameGraph, mainView, hdr, depth, shadowMap);
-    tonemap->addPass(frameGraph, mainView.name, hdr, display);
-    if (heatmap) heatmap->addPass(frameGraph, mainView.name, tileLists, display);
+    addView(frameGraph, mainView, hdr, depth, &display);
     frameGraph.markOutput(display.resource);
     frameGraph.markOutput(hdr.resource);
     frameGraph.markOutput(depth.resource);
@@ -157,7 +171,6 @@ FrameReport Renderer::Impl::renderCubeCapture(const CubeCaptureDesc& capture) {
 
     PassGraph graph;
     const ViewTarget depth{graph.importResource("capture depth"), captureDepth(size), {}};
-    const std::optional<PassGraph::ResourceId> shadowMap = shadows->addPass(graph);
     FrameReport frame = newReport(size, size);
     std::array<SceneView, 6> views = makeCubeFaceViews(capture.position, size, capture.nearPlane, capture.farPlane);
     for (uint32_t face = 0; face < 6; ++face) {
@@ -169,7 +182,7 @@ FrameReport Renderer::Impl::renderCubeCapture(const CubeCaptureDesc& capture) {
         view.passes.tonemap = false;
         const ViewTarget color{graph.importResource(fmt::format("capture {}", cubeFaceName(face))), capture.target,
                                rhi::TextureSubresource{capture.mipLevel, capture.cube * 6 + face}};
-        forward->addPasses(graph, view, color, depth, shadowMap);
+        addView(graph, view, color, depth, nullptr);
         graph.markOutput(color.resource);
         frame.views.push_back(ViewReport{view.name, size, size});
     }

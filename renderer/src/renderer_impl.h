@@ -15,6 +15,7 @@
 
 #include "core/gpu_scene.h"
 #include "core/pass_graph.h"
+#include "core/render_feature.h"
 #include "debug_views/tile_heatmap.h"
 #include "forward/forward_shading.h"
 #include "forward/lighting_settings.h"
@@ -33,11 +34,9 @@ struct Renderer::Impl {
     rhi::TextureHandle hdrTarget, depthTarget, displayImage;   // the main view's targets
 
     std::unique_ptr<GpuScene> gpuScene;
-    std::unique_ptr<LocalLights> localLights;
-    std::unique_ptr<MainLightShadows> shadows;
-    std::unique_ptr<ForwardShading> forward;
-    std::unique_ptr<Tonemap> tonemap;
-    std::unique_ptr<TileHeatmap> heatmap;   // DebugView::Tiles only
+    std::unique_ptr<LocalLights> localLights;   // forward/'s light data; also behind readTileLists()
+    // The features in the order their passes are added for each view (core/render_feature.h).
+    std::vector<std::unique_ptr<RenderFeature>> features;
 
     PassGraph frameGraph;                   // the main view's frame, compiled once
     rhi::CommandListHandle commandList;
@@ -51,6 +50,9 @@ struct Renderer::Impl {
 
     void checkSettings() const;
     void createTargets();
+    void createFeatures(const Scene& scene);
+    // Publishes a view's targets on the graph and lets every feature add its passes for it.
+    void addView(PassGraph& graph, const SceneView& view, const ViewTarget& hdr, const ViewTarget& depth, const ViewTarget* display);
     void buildFrameGraph();
     FrameReport newReport(uint32_t width, uint32_t height) const;
     FrameReport renderFrame();

@@ -118,6 +118,24 @@ TEST(PassGraphTest, AReadWithoutAnEarlierWriterIsAnError) {
     }
 }
 
+TEST(PassGraphTest, BlackboardFindsTheViewsTargetBeforeTheFramesAndNothingElse) {
+    PassGraph graph;
+    const auto frameWide = graph.importResource("shadow");
+    const auto mainHdr = graph.importResource("main hdr");
+    const auto faceHdr = graph.importResource("face hdr");
+    graph.publish("", "shadow-map", ViewTarget{frameWide, nullptr, {}});
+    graph.publish("main", "hdr", ViewTarget{mainHdr, nullptr, {}});
+    graph.publish("cube +X", "hdr", ViewTarget{faceHdr, nullptr, {0, 0}});
+    ASSERT_NE(graph.find("main", "hdr"), nullptr);
+    EXPECT_EQ(graph.find("main", "hdr")->resource, mainHdr);
+    EXPECT_EQ(graph.find("cube +X", "hdr")->resource, faceHdr);
+    ASSERT_NE(graph.find("cube +X", "shadow-map"), nullptr);
+    EXPECT_EQ(graph.find("cube +X", "shadow-map")->resource, frameWide);
+    EXPECT_EQ(graph.find("cube -X", "hdr"), nullptr);
+    EXPECT_EQ(graph.find("main", "display"), nullptr);
+    EXPECT_THROW(graph.publish("main", "display", ViewTarget{99, nullptr, {}}), RendererError);
+}
+
 TEST(PassGraphTest, APassNeedsExactlyOneOfRecordAndRun) {
     PassGraph graph;
     PassGraph::PassDesc pass;

@@ -139,6 +139,18 @@ bool PassGraph::isKept(const std::string& passName) const {
     return std::any_of(m_passes.begin(), m_passes.end(), [&](const Pass& p) { return p.kept && p.desc.name == passName; });
 }
 
+void PassGraph::publish(const std::string& view, const std::string& name, const ViewTarget& target) {
+    if (target.resource >= m_resources.size())
+        throw RendererError(fmt::format("pass graph: '{}' published for view '{}' names an unknown resource", name, view));
+    m_blackboard[{view, name}] = target;
+}
+
+const ViewTarget* PassGraph::find(const std::string& view, const std::string& name) const {
+    auto it = m_blackboard.find({view, name});
+    if (it == m_blackboard.end()) it = m_blackboard.find({std::string(), name});
+    return it == m_blackboard.end() ? nullptr : &it->second;
+}
+
 bool PassGraph::isUsed(ResourceId resource) const { return m_resources.at(resource).used; }
 
 }  // namespace janus::renderer

@@ -18,6 +18,8 @@
 
 #include <cstdint>
 #include <functional>
+#include <map>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -25,6 +27,13 @@
 #include "janus/rhi/rhi.h"
 
 namespace janus::renderer {
+
+// A render target of a view: the graph resource and the texture subresource passes write.
+struct ViewTarget {
+    uint32_t resource = 0;   // PassGraph::ResourceId
+    rhi::TextureHandle texture;
+    rhi::TextureSubresource subresource;
+};
 
 class PassGraph {
 public:
@@ -64,6 +73,12 @@ public:
     // returns one report per kept pass. Call only after compile().
     std::vector<PassReport> execute(rhi::IDevice& device, const rhi::CommandListHandle& commandList);
 
+    // The blackboard (Filament's): named targets features publish for each other. A name belongs
+    // to a view ("hdr" of "cube +X") or, with view "", to the whole frame ("shadow-map"); find()
+    // looks in the view first, then frame-wide. Names: core/frame_resources.h.
+    void publish(const std::string& view, const std::string& name, const ViewTarget& target);
+    const ViewTarget* find(const std::string& view, const std::string& name) const;
+
     bool compiled() const { return m_compiled; }
     // Names of the passes compile() kept / culled, in the order they were added.
     std::vector<std::string> keptPasses() const;
@@ -89,14 +104,9 @@ private:
 
     std::vector<Resource> m_resources;
     std::vector<Pass> m_passes;
+    std::map<std::pair<std::string, std::string>, ViewTarget> m_blackboard;
     bool m_compiled = false;
 };
 
-// A render target of a view: the graph resource and the texture subresource passes write.
-struct ViewTarget {
-    PassGraph::ResourceId resource = 0;
-    rhi::TextureHandle texture;
-    rhi::TextureSubresource subresource;
-};
 
 }  // namespace janus::renderer

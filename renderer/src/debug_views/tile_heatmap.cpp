@@ -19,20 +19,22 @@ struct HeatmapUniforms {
 TileHeatmap::TileHeatmap(rhi::IDevice& device, const LocalLights& localLights, FeaturePath path)
     : m_device(device), m_localLights(localLights), m_path(path) {}
 
-void TileHeatmap::addPass(PassGraph& graph, const std::string& view, std::optional<PassGraph::ResourceId> tileLists,
-                          const ViewTarget& display) {
+void TileHeatmap::addPasses(PassGraph& graph, const SceneView& sceneView) {
+    const ViewTarget* display = graph.find(sceneView.name, frame_resources::kDisplay);
+    if (sceneView.debugView != DebugView::Tiles || !display) return;
+    const ViewTarget* tileLists = graph.find(sceneView.name, frame_resources::kTileLists);
     if (!tileLists) {
         fmt::print(stderr, "janus renderer: warning: no tiles to show: the frame uses {} light culling ({}); the tile debug view "
                            "needs tiles-2d or tiles-depth and point/spot lights\n",
                    toString(m_localLights.mode()), m_localLights.count() == 0 ? "the scene has no point or spot lights" : "no tile lists");
         return;
     }
-    m_display = display;
+    m_display = *display;
     PassGraph::PassDesc pass;
     pass.name = "tile-heatmap";
-    pass.view = view;
-    pass.reads = {*tileLists, display.resource};
-    pass.writes = {display.resource};
+    pass.view = sceneView.name;
+    pass.reads = {tileLists->resource, display->resource};
+    pass.writes = {display->resource};
     pass.setup = [this] { setup(); };
     pass.record = [this](rhi::ICommandList& cmd, PassReport& report) { record(cmd, report); };
     graph.addPass(std::move(pass));

@@ -4,20 +4,22 @@
 #pragma once
 
 #include "core/pass_graph.h"
+#include "core/render_feature.h"
 #include "forward/local_lights.h"
 
 namespace janus::renderer {
 
-class TileHeatmap {
+class TileHeatmap final : public RenderFeature {
 public:
     TileHeatmap(rhi::IDevice& device, const LocalLights& localLights, FeaturePath path);
 
     // The usage the display image needs on top of the tonemap's.
     static rhi::TextureUsage displayUsage() { return rhi::TextureUsage::RenderTarget; }
 
-    // Adds "tile-heatmap": reads `tileLists` and `display`, writes `display`. Without tile lists
-    // (the frame does not tile) it adds nothing and warns why.
-    void addPass(PassGraph& graph, const std::string& view, std::optional<PassGraph::ResourceId> tileLists, const ViewTarget& display);
+    // For a view with DebugView::Tiles and a kDisplay target, adds "tile-heatmap": reads the
+    // view's kTileLists and kDisplay, writes kDisplay. Without tile lists (the view does not
+    // tile) it adds nothing and warns why.
+    void addPasses(PassGraph& graph, const SceneView& view) override;
 
 private:
     void setup();

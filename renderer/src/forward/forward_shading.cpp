@@ -40,8 +40,15 @@ ForwardShading::ForwardShading(rhi::IDevice& device, const Scene& scene, const G
     m_forwardShader = makeShader(device, rhi::ShaderStage::Fragment, path == FeaturePath::Compute ? "forward_frag" : "forward_textures_frag");
 }
 
-std::optional<PassGraph::ResourceId> ForwardShading::addPasses(PassGraph& graph, const SceneView& view, const ViewTarget& color,
-                                                               const ViewTarget& depth, std::optional<PassGraph::ResourceId> shadowMap) {
+void ForwardShading::addPasses(PassGraph& graph, const SceneView& view) {
+    const ViewTarget* colorTarget = graph.find(view.name, frame_resources::kHdr);
+    const ViewTarget* depthTarget = graph.find(view.name, frame_resources::kDepth);
+    if (!colorTarget || !depthTarget)
+        throw RendererError(fmt::format("forward shading: view '{}' has no '{}' and '{}' targets", view.name, frame_resources::kHdr,
+                                        frame_resources::kDepth));
+    const ViewTarget color = *colorTarget, depth = *depthTarget;
+    std::optional<PassGraph::ResourceId> shadowMap;
+    if (const ViewTarget* shadows = graph.find(view.name, frame_resources::kShadowMap)) shadowMap = shadows->resource;
     auto owned = std::make_unique<ViewState>();
     ViewState& state = *owned;
     m_views.push_back(std::move(owned));
@@ -61,6 +68,7 @@ std::optional<PassGraph::ResourceId> ForwardShading::addPasses(PassGraph& graph,
         prepass.record = [this, &state](rhi::ICommandList& cmd, PassReport& report) { recordPrepass(state, cmd, report); };
         graph.addPass(std::move(prepass));
         tileLists = m_localLights.addCullingPass(graph, depth.resource, depth.texture);
+        graph.publish(view.name, frame_resources::kTileLists, ViewTarget{*tileLists, nullptr, {}});
     }
 
     PassGraph::PassDesc forward;
@@ -72,7 +80,6 @@ std::optional<PassGraph::ResourceId> ForwardShading::addPasses(PassGraph& graph,
     forward.setup = [this, &state] { setupView(state); };
     forward.record = [this, &state](rhi::ICommandList& cmd, PassReport& report) { recordForward(state, cmd, report); };
     graph.addPass(std::move(forward));
-    return tileLists;
 }
 
 void ForwardShading::setupView(ViewState& state) {

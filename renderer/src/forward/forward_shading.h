@@ -19,6 +19,7 @@
 
 #include "core/gpu_scene.h"
 #include "core/pass_graph.h"
+#include "core/render_feature.h"
 #include "forward/lighting_settings.h"
 #include "forward/local_lights.h"
 #include "shadows/main_light_shadows.h"
@@ -43,18 +44,16 @@ struct FrameUniforms {
 static_assert(sizeof(FrameUniforms) == 208 + 32 * kMaxDirectionalLights, "FrameUniforms must match std140");
 
 
-class ForwardShading {
+class ForwardShading final : public RenderFeature {
 public:
     ForwardShading(rhi::IDevice& device, const Scene& scene, const GpuScene& gpuScene, LocalLights& localLights,
                    MainLightShadows& shadows, FeaturePath path);
 
     // Adds, for `view`: depth-prepass and the tile-list builder (when the view is tiled), then
-    // forward, which writes `color` (RGBA16F radiance, cleared to the ambient colour) and
-    // `depth`. `shadowMap` is the shadow pass's output when the frame has one; the forward pass
-    // reads it only if the view wants shadows. Returns the tile-lists resource when the view is
-    // tiled (the tile heat map reads it).
-    std::optional<PassGraph::ResourceId> addPasses(PassGraph& graph, const SceneView& view, const ViewTarget& color,
-                                                   const ViewTarget& depth, std::optional<PassGraph::ResourceId> shadowMap);
+    // forward, which writes the view's kHdr target (RGBA16F radiance, cleared to the ambient
+    // colour) and kDepth. It reads kShadowMap only if the view wants shadows. Publishes the
+    // view's kTileLists when it is tiled (the tile heat map reads them).
+    void addPasses(PassGraph& graph, const SceneView& view) override;
 
 private:
     struct ViewState {

@@ -37,16 +37,16 @@ void MainLightShadows::createMap() {
     m_map->setCasters(m_casters);
 }
 
-std::optional<PassGraph::ResourceId> MainLightShadows::addPass(PassGraph& graph) {
-    if (!active()) return std::nullopt;
-    const PassGraph::ResourceId shadowMap = graph.addResource("shadow-map");
+void MainLightShadows::addPasses(PassGraph& graph, const SceneView&) {
+    if (!active() || graph.find("", frame_resources::kShadowMap)) return;
+    const PassGraph::ResourceId shadowMap = graph.addResource(frame_resources::kShadowMap);
     PassGraph::PassDesc pass;
     pass.name = "shadow-map";
     pass.writes = {shadowMap};
     pass.setup = [this] { createMap(); };
     pass.record = [this](rhi::ICommandList& cmd, PassReport& report) { m_map->record(cmd, m_casters, report.draws); };
     graph.addPass(std::move(pass));
-    return shadowMap;
+    graph.publish("", frame_resources::kShadowMap, ViewTarget{shadowMap, nullptr, {}});
 }
 
 rhi::BindingItem MainLightShadows::binding(uint32_t slot) const {

@@ -11,11 +11,12 @@
 
 #include "core/gpu_scene.h"
 #include "core/pass_graph.h"
+#include "core/render_feature.h"
 #include "shadows/shadow_map.h"
 
 namespace janus::renderer {
 
-class MainLightShadows {
+class MainLightShadows final : public RenderFeature {
 public:
     // Finds the main light (mainDirectionalLight over the first `shadedDirectionalLights`), the
     // scene bounds and the casters; makes no GPU resource for the map yet.
@@ -26,9 +27,11 @@ public:
     // and meshes with geometry.
     bool active() const { return !m_casters.empty(); }
 
-    // Adds the "shadow-map" pass, which writes the returned resource; its setup creates and fits
-    // the map (once, however many graphs add the pass). nullopt when not active().
-    std::optional<PassGraph::ResourceId> addPass(PassGraph& graph);
+    // Adds the "shadow-map" pass once per frame graph (the map does not depend on the view) and
+    // publishes it as frame_resources::kShadowMap; views that want shadows read it, and when none
+    // does the graph culls the pass. Its setup creates and fits the map (once, however many
+    // graphs add the pass). Adds nothing when not active().
+    void addPasses(PassGraph& graph, const SceneView& view) override;
 
     // Valid once the pass setup ran (null before, and when the pass was culled).
     const DirectionalShadowMap* map() const { return m_map.get(); }

@@ -24,14 +24,18 @@ rhi::TextureUsage Tonemap::displayUsage(FeaturePath path) {
     return path == FeaturePath::Compute ? rhi::TextureUsage::Storage : rhi::TextureUsage::RenderTarget;
 }
 
-void Tonemap::addPass(PassGraph& graph, const std::string& view, const ViewTarget& hdr, const ViewTarget& display) {
-    m_hdr = hdr;
-    m_display = display;
+void Tonemap::addPasses(PassGraph& graph, const SceneView& sceneView) {
+    const ViewTarget* hdr = graph.find(sceneView.name, frame_resources::kHdr);
+    const ViewTarget* display = graph.find(sceneView.name, frame_resources::kDisplay);
+    if (!sceneView.passes.tonemap || !hdr || !display) return;
+    const std::string& view = sceneView.name;
+    m_hdr = *hdr;
+    m_display = *display;
     PassGraph::PassDesc pass;
     pass.name = m_path == FeaturePath::Compute ? "tonemap-compute" : "tonemap-fallback";
     pass.view = view;
-    pass.reads = {hdr.resource};
-    pass.writes = {display.resource};
+    pass.reads = {hdr->resource};
+    pass.writes = {display->resource};
     pass.setup = [this] { setup(); };
     pass.record = [this](rhi::ICommandList& cmd, PassReport& report) { record(cmd, report); };
     graph.addPass(std::move(pass));

@@ -5,19 +5,21 @@
 #pragma once
 
 #include "core/pass_graph.h"
+#include "core/render_feature.h"
 #include "janus/renderer/settings.h"
 
 namespace janus::renderer {
 
-class Tonemap {
+class Tonemap final : public RenderFeature {
 public:
     Tonemap(rhi::IDevice& device, float exposure, FeaturePath path, rhi::SamplerHandle pointSampler);
 
     // The usage the display image needs for this path.
     static rhi::TextureUsage displayUsage(FeaturePath path);
 
-    // Adds "tonemap-compute" | "tonemap-fallback": reads `hdr`, writes `display` (same size).
-    void addPass(PassGraph& graph, const std::string& view, const ViewTarget& hdr, const ViewTarget& display);
+    // Adds "tonemap-compute" | "tonemap-fallback" for a view that wants it and has a kDisplay
+    // target: reads its kHdr, writes kDisplay (same size). One view per renderer (the main one).
+    void addPasses(PassGraph& graph, const SceneView& view) override;
 
 private:
     void setup();

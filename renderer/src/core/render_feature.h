@@ -1,0 +1,30 @@
+// What every feature module is to the renderer's core (internal to the renderer): something that
+// adds its passes for a view to a frame's pass graph. The core makes the features in order and
+// calls addPasses for every view it renders; features find their inputs and publish their
+// outputs on the graph's blackboard under the names below, so adding a feature adds a folder
+// and one line where the features are made, and nothing else in the core.
+#pragma once
+
+#include "core/pass_graph.h"
+#include "janus/renderer/scene_view.h"
+
+namespace janus::renderer {
+
+// Blackboard names (PassGraph::publish / find).
+namespace frame_resources {
+inline constexpr const char* kHdr = "hdr";                // per view: RGBA16F radiance the scene is shaded into
+inline constexpr const char* kDepth = "depth";            // per view: D32F depth
+inline constexpr const char* kDisplay = "display";        // per view, optional: the RGBA8 image people look at
+inline constexpr const char* kShadowMap = "shadow-map";   // frame-wide: the main directional light's map
+inline constexpr const char* kTileLists = "tile-lists";   // per view: Forward+ light lists
+}  // namespace frame_resources
+
+class RenderFeature {
+public:
+    virtual ~RenderFeature() = default;
+    // Adds this feature's passes for `view`, or nothing when the view does not call for it.
+    // Called for each view in the order views are rendered, features in the order they were made.
+    virtual void addPasses(PassGraph& graph, const SceneView& view) = 0;
+};
+
+}  // namespace janus::renderer
