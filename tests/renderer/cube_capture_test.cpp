@@ -150,6 +150,24 @@ TEST_P(CubeCaptureTest, ACaptureWithoutShadowsRunsNoShadowPass) {
     expectNoMessages();
 }
 
+TEST_P(CubeCaptureTest, CapturingAgainGivesTheSameFacesAndAMainFrameInBetweenChangesNothing) {
+    device().takeDebugMessages();
+    Renderer renderer(device(), defaultScene(), settings());
+    CubeCaptureDesc capture;
+    capture.position = kCapturePoint;
+    capture.target = makeCube();
+    renderer.renderCubeCapture(capture);
+    std::vector<std::vector<std::byte>> first;
+    for (uint32_t face = 0; face < 6; ++face) first.push_back(device().readTexture(capture.target, {0, face}));
+    const FrameReport main = renderer.renderFrame();
+    const FrameReport again = renderer.renderCubeCapture(capture);
+    EXPECT_EQ(again.views.size(), 6u);
+    for (uint32_t face = 0; face < 6; ++face)
+        EXPECT_EQ(device().readTexture(capture.target, {0, face}), first[face]) << "face " << cubeFaceName(face);
+    EXPECT_EQ(main.views.size(), 1u);
+    expectNoMessages();
+}
+
 TEST_P(CubeCaptureTest, RefusesTargetsThatAreNotFloatCubeRenderTargets) {
     Renderer renderer(device(), defaultScene(), settings());
     CubeCaptureDesc capture;

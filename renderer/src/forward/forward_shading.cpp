@@ -49,9 +49,12 @@ void ForwardShading::addPasses(PassGraph& graph, const SceneView& view) {
     const ViewTarget color = *colorTarget, depth = *depthTarget;
     std::optional<PassGraph::ResourceId> shadowMap;
     if (const ViewTarget* shadows = graph.find(view.name, frame_resources::kShadowMap)) shadowMap = shadows->resource;
-    auto owned = std::make_unique<ViewState>();
-    ViewState& state = *owned;
-    m_views.push_back(std::move(owned));
+    // A view rendered again (each cube capture re-adds its faces) reuses its state, so repeated
+    // captures do not accumulate uniform buffers; the graph that referred to it is gone by then.
+    auto it = std::find_if(m_views.begin(), m_views.end(), [&](const auto& s) { return s->view.name == view.name; });
+    if (it == m_views.end()) it = m_views.insert(m_views.end(), std::make_unique<ViewState>());
+    ViewState& state = **it;
+    state = ViewState{};
     state.view = view;
     state.tiled = m_localLights.tiledFor(view);
     state.shadowed = view.passes.shadows && shadowMap.has_value();
