@@ -17,6 +17,7 @@ class Platform;
     X(PFNGLGETINTEGERVPROC, glGetIntegerv)                                                                    \
     X(PFNGLGETINTEGER64VPROC, glGetInteger64v)                                                                \
     X(PFNGLGETINTEGERI_VPROC, glGetIntegeri_v)                                                                \
+    X(PFNGLGETFLOATVPROC, glGetFloatv)                                                                        \
     X(PFNGLENABLEPROC, glEnable)                                                                              \
     X(PFNGLDISABLEPROC, glDisable)                                                                            \
     X(PFNGLVIEWPORTPROC, glViewport)                                                                          \
@@ -127,7 +128,8 @@ class Platform;
     X(PFNGLCOLORMASKIPROC, glColorMaski, nullptr) \
     X(PFNGLCLIPCONTROLPROC, glClipControl, "glClipControlEXT")                                                \
     X(PFNGLCLEARTEXIMAGEPROC, glClearTexImage, "glClearTexImageEXT")                                          \
-    X(PFNGLCLEARBUFFERDATAPROC, glClearBufferData, nullptr)
+    X(PFNGLCLEARBUFFERDATAPROC, glClearBufferData, nullptr)                                                   \
+    X(PFNGLGETINTERNALFORMATIVPROC, glGetInternalformativ, nullptr)
 
 struct GLFunctions {
 #define JANUS_GL_DECLARE(type, name) type name = nullptr;

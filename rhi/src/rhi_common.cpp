@@ -57,6 +57,7 @@ const char* toString(Capability cap) {
         case Capability::FloatRenderTargets: return "float-render-targets";
         case Capability::FloatBlend: return "float32-blend";
         case Capability::TimestampQueries: return "timestamp-queries";
+        case Capability::IndependentBlend: return "independent-blend";
     }
     return "unknown";
 }
@@ -71,6 +72,7 @@ bool Capabilities::has(Capability cap) const {
         case Capability::FloatRenderTargets: return floatRenderTargets;
         case Capability::FloatBlend: return floatBlend;
         case Capability::TimestampQueries: return timestampQueries;
+        case Capability::IndependentBlend: return independentBlend;
     }
     return false;
 }

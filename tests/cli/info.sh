@@ -17,7 +17,7 @@ json_check "$TMP/info.json" '[b["name"] for b in j["backends"]] == ["vulkan", "g
 json_check "$TMP/info.json" 'j["glPlatform"] == "egl"' "glPlatform is not egl by default"
 json_check "$TMP/info.json" 'all(isinstance(b["available"], bool) for b in j["backends"])' "'available' is not a bool"
 json_check "$TMP/info.json" 'all(b["available"] or b["reason"] for b in j["backends"])' "an unavailable backend has no reason"
-capabilities='["compute", "storage-buffers", "storage-images", "render-to-3d-slice", "render-to-cube-face-mip", "float-render-targets", "float32-blend", "timestamp-queries"]'
+capabilities='["compute", "storage-buffers", "storage-images", "render-to-3d-slice", "render-to-cube-face-mip", "float-render-targets", "float32-blend", "timestamp-queries", "independent-blend"]'
 json_check "$TMP/info.json" "all(sorted(b['capabilities']) == sorted($capabilities) for b in j['backends'] if b['available'])" \
   "an available backend does not report every capability"
 json_check "$TMP/info.json" 'all(b["apiVersion"] and b["device"] and b["shadingLanguage"] and b["limits"]["maxTextureSize2D"] > 0 for b in j["backends"] if b["available"])' \
@@ -26,7 +26,7 @@ json_check "$TMP/info.json" 'all(b["apiVersion"] and b["device"] and b["shadingL
 # With the table: when any backend starts, the capability table lists every capability.
 run_janus info
 if grep -q ': available$' "$TMP/stdout"; then
-  for capability in compute storage-buffers storage-images render-to-3d-slice render-to-cube-face-mip float-render-targets float32-blend timestamp-queries; do
+  for capability in compute storage-buffers storage-images render-to-3d-slice render-to-cube-face-mip float-render-targets float32-blend timestamp-queries independent-blend; do
     grep -Eq "^  $capability +" "$TMP/stdout" || fail "janus info capability table lacks $capability"
   done
 fi
