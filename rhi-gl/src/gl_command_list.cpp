@@ -506,10 +506,8 @@ void Device::bindVertexAttributes(int64_t baseVertexOffset, uint32_t baseInstanc
                 break;
             case VertexFormat::UInt1: f.glVertexAttribIPointer(location, 1, GL_UNSIGNED_INT, stride, pointer); break;
         }
-        // Stride 0 means "every vertex reads the same element" (Vulkan); GL reads it as "tightly
-        // packed", so hold the element with a divisor no instance count reaches instead.
-        const GLuint divisor = layout.stride == 0 ? 0xFFFFFFFFu : layout.perInstance ? 1 : 0;
-        f.glVertexAttribDivisor(location, divisor);
+        // Strides are >= 1 (validated): GL would read 0 as "tightly packed".
+        f.glVertexAttribDivisor(location, layout.perInstance ? 1 : 0);
         wanted |= 1u << location;
     }
     for (GLuint location = 0; location < 16; ++location) {

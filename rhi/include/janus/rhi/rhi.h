@@ -40,9 +40,9 @@ namespace janus::rhi {
 
 enum class ErrorCode {
     BackendUnavailable,     // the backend (driver, platform layer, context) could not start
-    UnsupportedCapability,  // the device lacks a capability the call needs (see Capability)
+    UnsupportedCapability,  // the device lacks a Capability or a format capability the call needs
     InvalidDescription,     // a Desc has absurd or contradictory values; the message names the field
-    InvalidUsage,           // a call in the wrong state (draw outside a render pass, ...)
+    InvalidUsage,           // a call in the wrong state or with bad arguments (draw outside a render pass, a range outside a buffer, ...)
     ShaderTranslation,      // SPIR-V could not be turned into code for this backend
     ShaderCompilation,      // the driver rejected a shader or program
     OutOfMemory,
@@ -208,6 +208,7 @@ enum class TextureUsage : uint32_t {
     Sampled = 1u << 0,
     RenderTarget = 1u << 1,   // colour or depth attachment (by format)
     Storage = 1u << 2,        // image load/store; needs Capability::StorageImages
+    // Each usage also needs the format capability of the same name (IDevice::formatCapabilities).
 };
 constexpr TextureUsage operator|(TextureUsage a, TextureUsage b) { return TextureUsage(uint32_t(a) | uint32_t(b)); }
 constexpr bool any(TextureUsage a, TextureUsage b) { return (uint32_t(a) & uint32_t(b)) != 0; }
