@@ -24,8 +24,8 @@ function(janus_add_shader target)
   add_custom_command(
     OUTPUT "${spv}" "${header}"
     COMMAND ${CMAKE_COMMAND} -E make_directory "${outdir}"
-    COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.2 -I${CMAKE_CURRENT_SOURCE_DIR} ${defs} --depfile "${spv}.d" -o "${spv}" "${src}"
-    COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.2 -I${CMAKE_CURRENT_SOURCE_DIR} ${defs} --vn "janus_spirv_${SH_NAME}" -o "${header}" "${src}"
+    COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.2 -I${CMAKE_CURRENT_SOURCE_DIR} -I${CMAKE_CURRENT_SOURCE_DIR}/include ${defs} --depfile "${spv}.d" -o "${spv}" "${src}"
+    COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.2 -I${CMAKE_CURRENT_SOURCE_DIR} -I${CMAKE_CURRENT_SOURCE_DIR}/include ${defs} --vn "janus_spirv_${SH_NAME}" -o "${header}" "${src}"
     ${check_cmds}
     DEPENDS "${src}"
     # glslang's depfile lists the #included files, so editing a shared .glsl rebuilds its users.

@@ -359,19 +359,19 @@ std::string formatTable(const std::vector<std::vector<std::string>>& rows, size_
 }
 
 void printPassSummary(const renderer::FrameReport& report) {
-    std::vector<std::vector<std::string>> rows{{"pass", "GPU ms", "CPU ms", "draws", "dispatches"}};
+    std::vector<std::vector<std::string>> rows{{"view", "pass", "GPU ms", "CPU ms", "draws", "dispatches"}};
     double totalCpu = 0.0, totalGpu = 0.0;
     bool allTimed = true;
     uint32_t totalDraws = 0, totalDispatches = 0;
     for (const renderer::PassReport& pass : report.passes) {
-        rows.push_back({pass.name, pass.gpuMs ? fmt::format("{:.3f}", *pass.gpuMs) : "-", fmt::format("{:.3f}", pass.cpuMs),
+        rows.push_back({pass.view.empty() ? "-" : pass.view, pass.name, pass.gpuMs ? fmt::format("{:.3f}", *pass.gpuMs) : "-", fmt::format("{:.3f}", pass.cpuMs),
                         std::to_string(pass.draws), std::to_string(pass.dispatches)});
         totalCpu += pass.cpuMs;
         if (pass.gpuMs) totalGpu += *pass.gpuMs; else allTimed = false;
         totalDraws += pass.draws;
         totalDispatches += pass.dispatches;
     }
-    rows.push_back({"total", allTimed && !report.passes.empty() ? fmt::format("{:.3f}", totalGpu) : "-",
+    rows.push_back({"total", "", allTimed && !report.passes.empty() ? fmt::format("{:.3f}", totalGpu) : "-",
                     fmt::format("{:.3f}", totalCpu), std::to_string(totalDraws), std::to_string(totalDispatches)});
     std::fputs(formatTable(rows).c_str(), stdout);
 }

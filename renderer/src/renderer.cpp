@@ -1,16 +1,14 @@
-// Renderer: uploads a Scene once, then records one frame per renderFrame() from a plan of the
-// passes the scene needs (docs/ARCHITECTURE.md, "Data flow of a frame"):
-//   shadow-map     (main directional light, when there is one and shadows are on)
-//   depth-prepass  (tiled light culling only) meshes -> D32F depth
-//   light-cull-*   (tiled only) compute: light_cull.comp | fallback: CPU builder -> tile lists
-//   forward        meshes -> RGBA16F HDR radiance (+ depth, or tested against the prepass depth)
-//   tonemap        (compute: storage-image dispatch | fallback: fullscreen triangle) HDR -> RGBA8 display
-//   tile-heatmap   (DebugView::Tiles) lights per tile blended over the display image
-// Both tonemap paths include shaders/renderer/tonemap_common.glsl, so they compute the same bits.
-// This file: construction (the order the pieces are made in), the frame plan, renderFrame, the
-// readbacks and the public Renderer. Renderer::Impl is declared in renderer_impl.h; its other
-// methods live by topic in renderer_settings.cpp, renderer_resources.cpp, renderer_lights.cpp,
-// renderer_shadows.cpp and renderer_passes.cpp.
+// Renderer: the composition root (renderer_impl.h). Construction uploads the scene once and
+// builds the main view's frame graph from the features the scene and settings call for
+// (docs/ARCHITECTURE.md, "Data flow of a frame"):
+//   shadow-map     (shadows/)   main directional light, when there is one and shadows are on
+//   depth-prepass  (forward/)   tiled light culling only: meshes -> D32F depth
+//   light-cull-*   (forward/)   tiled only. compute: light_cull.comp | fallback: CPU builder -> tile lists
+//   forward        (forward/)   meshes -> RGBA16F HDR radiance (+ depth, or tested against the prepass depth)
+//   tonemap-*      (tonemap/)   HDR -> RGBA8 display (compute: storage-image dispatch | fallback: fullscreen triangle)
+//   tile-heatmap   (debug_views/) DebugView::Tiles: lights per tile blended over the display image
+// The pass graph keeps only passes whose output the frame needs. renderCubeCapture() renders six
+// more views with the same features into a cube map.
 #include "janus/renderer/renderer.h"
 
 #include <chrono>
@@ -20,6 +18,7 @@
 #include <fmt/format.h>
 #include <glm/gtc/packing.hpp>
 
+#include "core/gpu_util.h"
 #include "renderer_impl.h"
 
 namespace janus::renderer {
@@ -27,24 +26,20 @@ namespace janus::renderer {
 Renderer::Impl::Impl(rhi::IDevice& d, const Scene& scene, const RenderSettings& s) : device(d), settings(s) {
     validateScene(scene);
     checkSettings();
-    resolveLighting(scene);
-    packLights(scene);
-    chooseCulling();
+    lighting = resolveLighting(settings.lighting, scene.quality);
+    mainView = makeCameraView(scene.camera, settings.width, settings.height, "main");
+    mainView.debugView = settings.debugView;
     createTargets();
-    uploadTextures(scene);
-    uploadMeshes(scene);
-    createShadows(scene);
-    createLightArrays();
-    createForward(scene);
-    createCulling();
-    createTonemap(scene);
-    createHeatmap();
+    gpuScene = std::make_unique<GpuScene>(device, scene);
+    localLights = std::make_unique<LocalLights>(device, scene, lighting, settings.path, mainView, gpuScene->pointSampler());
+    shadows = std::make_unique<MainLightShadows>(device, scene, *gpuScene, lighting.shadows, lighting.shadowMapSize, kMaxDirectionalLights);
+    forward = std::make_unique<ForwardShading>(device, scene, *gpuScene, *localLights, *shadows, settings.path);
+    tonemap = std::make_unique<Tonemap>(device, scene.environment.exposure, settings.path, gpuScene->pointSampler());
+    if (settings.debugView == DebugView::Tiles) heatmap = std::make_unique<TileHeatmap>(device, *localLights, settings.path);
     commandList = device.createCommandList();
-    planFrame();
+    buildFrameGraph();
 }
 
-// A frame that threw half-way (e.g. in the CPU step between its submissions) may leave work
-// in flight that uses the resources about to be destroyed: wait for it first.
 Renderer::Impl::~Impl() {
     try {
         device.waitIdle();
@@ -53,74 +48,133 @@ Renderer::Impl::~Impl() {
     }
 }
 
-// The passes this scene needs, in order. Every frame produces HDR radiance and a display
-// image, so forward and tonemap are always there; the rest join only when the scene has
-// what they work on.
-void Renderer::Impl::planFrame() {
-    if (shadowMap) plan.push_back({"shadow-map", &Impl::recordShadowMap, nullptr, nullptr});
-    if (tiled()) {
-        plan.push_back({"depth-prepass", &Impl::recordDepthPrepass, nullptr, nullptr});
-        if (settings.path == FeaturePath::Compute)
-            plan.push_back({"light-cull-compute", &Impl::recordLightCullCompute, nullptr, nullptr});
-        else
-            plan.push_back({"light-cull-cpu", nullptr, &Impl::buildTilesOnCpu, nullptr});
+void Renderer::Impl::checkSettings() const {
+    const rhi::Capabilities& caps = device.capabilities();
+    const uint32_t maxSize = caps.limits.maxTextureSize2D;
+    if (settings.width == 0 || settings.height == 0 || settings.width > maxSize || settings.height > maxSize)
+        throw RendererError(fmt::format("render size {}x{} is not possible on this {} device: width and height must be "
+                                        "between 1 and its maximum 2D texture size {}",
+                                        settings.width, settings.height, rhi::toString(device.info().backend), maxSize));
+    if (!caps.floatRenderTargets)
+        throw RendererError(fmt::format("the forward pass renders into RGBA16F, which needs the '{}' capability that this {} "
+                                        "device lacks",
+                                        rhi::toString(rhi::Capability::FloatRenderTargets), rhi::toString(device.info().backend)));
+    if (settings.path == FeaturePath::Compute) {
+        for (rhi::Capability cap : {rhi::Capability::Compute, rhi::Capability::StorageImages, rhi::Capability::StorageBuffers})
+            if (!caps.has(cap))
+                throw RendererError(fmt::format("the compute path needs the '{}' capability, which this {} device lacks; render "
+                                                "with the fallback path (FeaturePath::Fallback, --path fallback)",
+                                                rhi::toString(cap), rhi::toString(device.info().backend)));
     }
-    plan.push_back({"forward", &Impl::recordForward, nullptr, nullptr});
-    if (settings.path == FeaturePath::Compute)
-        plan.push_back({"tonemap-compute", &Impl::recordTonemapCompute, nullptr, nullptr});
-    else
-        plan.push_back({"tonemap-fallback", &Impl::recordTonemapFallback, nullptr, nullptr});
-    if (heatmapPipeline) plan.push_back({"tile-heatmap", &Impl::recordHeatmap, nullptr, nullptr});
-    if (device.capabilities().timestampQueries)
-        for (PlannedPass& pass : plan)
-            if (pass.record) pass.timer = device.createTimerQuery();
 }
 
-FrameReport Renderer::Impl::renderFrame() {
+void Renderer::Impl::createTargets() {
+    const uint32_t w = settings.width, h = settings.height;
+    hdrTarget = device.createTexture(rhi::TextureDesc{}
+                                         .setFormat(mainView.colorFormat)
+                                         .setSize(w, h)
+                                         .setUsage(rhi::TextureUsage::RenderTarget | rhi::TextureUsage::Sampled)
+                                         .setDebugName("hdr radiance"));
+    // Sampled: light_cull.comp reads the prepass depth for the tile depth bounds.
+    depthTarget = device.createTexture(rhi::TextureDesc{}
+                                           .setFormat(mainView.depthFormat)
+                                           .setSize(w, h)
+                                           .setUsage(rhi::TextureUsage::RenderTarget | rhi::TextureUsage::Sampled)
+                                           .setDebugName("depth"));
+    rhi::TextureUsage displayUsage = Tonemap::displayUsage(settings.path);
+    if (settings.debugView == DebugView::Tiles) displayUsage = displayUsage | TileHeatmap::displayUsage();
+    displayImage = device.createTexture(
+        rhi::TextureDesc{}.setFormat(rhi::Format::RGBA8_UNORM).setSize(w, h).setUsage(displayUsage).setDebugName("display"));
+}
+
+// The main view: every feature adds its passes, the frame needs the display image (and the HDR
+// image and depth, which can be read back), and the graph keeps what contributes to them.
+void Renderer::Impl::buildFrameGraph() {
+    const ViewTarget hdr{frameGraph.importResource("hdr"), hdrTarget, {}};
+    const ViewTarget depth{frameGraph.importResource("depth"), depthTarget, {}};
+    const ViewTarget display{frameGraph.importResource("display"), displayImage, {}};
+    const std::optional<PassGraph::ResourceId> shadowMap = shadows->addPass(frameGraph);
+    const std::optional<PassGraph::ResourceId> tileLists = forward->addPasses(frameGraph, mainView, hdr, depth, shadowMap);
+    tonemap->addPass(frameGraph, mainView.name, hdr, display);
+    if (heatmap) heatmap->addPass(frameGraph, mainView.name, tileLists, display);
+    frameGraph.markOutput(display.resource);
+    frameGraph.markOutput(hdr.resource);
+    frameGraph.markOutput(depth.resource);
+    frameGraph.compile(device);
+}
+
+FrameReport Renderer::Impl::newReport(uint32_t width, uint32_t height) const {
     FrameReport frame;
     frame.backend = rhi::toString(device.info().backend);
     frame.path = toString(settings.path);
-    frame.width = settings.width;
-    frame.height = settings.height;
+    frame.width = width;
+    frame.height = height;
+    return frame;
+}
 
-    rhi::ICommandList& cmd = *commandList;
-    bool recording = false;
-    auto submit = [&] {
-        if (!recording) return;
-        cmd.end();
-        device.execute(commandList);
-        recording = false;
-    };
-    for (const PlannedPass& pass : plan) {
-        PassReport report{pass.name};
-        if (pass.cpuWork) {
-            submit();
-            (this->*pass.cpuWork)(report);
-        } else {
-            if (!recording) {
-                cmd.begin();
-                recording = true;
-            }
-            const auto start = std::chrono::steady_clock::now();
-            if (pass.timer) cmd.beginTimer(pass.timer);
-            cmd.pushDebugGroup(pass.name);
-            (this->*pass.record)(cmd, report);
-            cmd.popDebugGroup();
-            if (pass.timer) cmd.endTimer(pass.timer);
-            report.cpuMs = millisecondsSince(start);
-        }
-        frame.passes.push_back(std::move(report));
-    }
-    submit();
+FrameReport Renderer::Impl::renderFrame() {
+    FrameReport frame = newReport(settings.width, settings.height);
+    frame.views.push_back(ViewReport{mainView.name, mainView.width, mainView.height});
+    frame.passes = frameGraph.execute(device, commandList);
     frameRendered = true;
+    frame.lightCulling = localLights->finishFrame();
+    return frame;
+}
 
-    for (size_t i = 0; i < plan.size(); ++i) {
-        if (!plan[i].timer) continue;
-        if (std::optional<double> seconds = device.timerSeconds(plan[i].timer)) frame.passes[i].gpuMs = *seconds * 1000.0;
+const rhi::TextureHandle& Renderer::Impl::captureDepth(uint32_t size) {
+    for (const rhi::TextureHandle& texture : captureDepths)
+        if (texture->desc().width == size) return texture;
+    captureDepths.push_back(device.createTexture(rhi::TextureDesc{}
+                                                     .setFormat(rhi::Format::D32_FLOAT)
+                                                     .setSize(size, size)
+                                                     .setUsage(rhi::TextureUsage::RenderTarget)
+                                                     .setDebugName(fmt::format("capture depth {}", size))));
+    return captureDepths.back();
+}
+
+FrameReport Renderer::Impl::renderCubeCapture(const CubeCaptureDesc& capture) {
+    if (!capture.target)
+        throw RendererError("cube capture: no target texture; give a TextureCube or TextureCubeArray with RenderTarget usage");
+    const rhi::TextureDesc& desc = capture.target->desc();
+    if (desc.dimension != rhi::TextureDimension::TextureCube && desc.dimension != rhi::TextureDimension::TextureCubeArray)
+        throw RendererError(fmt::format("cube capture: target '{}' is a {}, not a cube map or cube array", desc.debugName,
+                                        rhi::toString(desc.dimension)));
+    const uint32_t cubes = rhi::textureLayerCount(desc) / 6;
+    if (capture.cube >= cubes)
+        throw RendererError(fmt::format("cube capture: target '{}' holds {} cube(s); cube {} does not exist", desc.debugName, cubes,
+                                        capture.cube));
+    if (!rhi::any(desc.usage, rhi::TextureUsage::RenderTarget))
+        throw RendererError(fmt::format("cube capture: target '{}' needs RenderTarget usage", desc.debugName));
+    const rhi::FormatKind kind = rhi::formatInfo(desc.format).kind;
+    if (kind != rhi::FormatKind::Float)
+        throw RendererError(fmt::format("cube capture: target '{}' has format {}; radiance needs a float colour format such as rgba16f",
+                                        desc.debugName, rhi::toString(desc.format)));
+    if (capture.mipLevel >= desc.mipLevels)
+        throw RendererError(fmt::format("cube capture: target '{}' has {} mip level(s); mip {} does not exist", desc.debugName,
+                                        desc.mipLevels, capture.mipLevel));
+    if (capture.mipLevel > 0) device.require(rhi::Capability::RenderToCubeFaceMip, "cube capture into a mip level other than 0");
+    const uint32_t size = rhi::mipExtent(desc.width, capture.mipLevel);
+
+    PassGraph graph;
+    const ViewTarget depth{graph.importResource("capture depth"), captureDepth(size), {}};
+    const std::optional<PassGraph::ResourceId> shadowMap = shadows->addPass(graph);
+    FrameReport frame = newReport(size, size);
+    std::array<SceneView, 6> views = makeCubeFaceViews(capture.position, size, capture.nearPlane, capture.farPlane);
+    for (uint32_t face = 0; face < 6; ++face) {
+        SceneView& view = views[face];
+        view.colorFormat = desc.format;
+        view.renderingLayers = capture.renderingLayers;
+        view.passes.shadows = capture.shadows;
+        view.passes.lightCulling = false;
+        view.passes.tonemap = false;
+        const ViewTarget color{graph.importResource(fmt::format("capture {}", cubeFaceName(face))), capture.target,
+                               rhi::TextureSubresource{capture.mipLevel, capture.cube * 6 + face}};
+        forward->addPasses(graph, view, color, depth, shadowMap);
+        graph.markOutput(color.resource);
+        frame.views.push_back(ViewReport{view.name, size, size});
     }
-    if (cullingReport && tiled() && settings.path == FeaturePath::Compute) readCullStats(*cullingReport);
-    if (cullingReport) warnOverflowOnce(*cullingReport);
-    frame.lightCulling = cullingReport;
+    graph.compile(device);
+    frame.passes = graph.execute(device, commandList);
     return frame;
 }
 
@@ -157,29 +211,20 @@ ImageRGBAF Renderer::Impl::readHdrImage() {
     return image;
 }
 
-std::vector<float> Renderer::Impl::readDepth() {
-    requireFrame("readDepth()");
-    return readDepthTarget();
-}
-
-std::vector<float> Renderer::Impl::readDepthTarget() {
-    const std::vector<std::byte> bytes = device.readTexture(depthTarget, {});
-    const size_t pixels = size_t(settings.width) * settings.height;
-    if (bytes.size() != pixels * 4)
-        throw RendererError(fmt::format("depth readback returned {} bytes, expected {} for {}x{} D32F", bytes.size(), pixels * 4,
-                                        settings.width, settings.height));
-    std::vector<float> depth(pixels);
-    std::memcpy(depth.data(), bytes.data(), bytes.size());
-    return depth;
-}
-
 Renderer::Renderer(rhi::IDevice& device, const Scene& scene, const RenderSettings& settings)
     : m_impl(std::make_unique<Impl>(device, scene, settings)) {}
 Renderer::~Renderer() = default;
 FrameReport Renderer::renderFrame() { return m_impl->renderFrame(); }
+FrameReport Renderer::renderCubeCapture(const CubeCaptureDesc& capture) { return m_impl->renderCubeCapture(capture); }
 ImageRGBA8 Renderer::readDisplayImage() { return m_impl->readDisplayImage(); }
 ImageRGBAF Renderer::readHdrImage() { return m_impl->readHdrImage(); }
-TileLists Renderer::readTileLists() { return m_impl->readTileLists(); }
-std::vector<float> Renderer::readDepth() { return m_impl->readDepth(); }
+TileLists Renderer::readTileLists() {
+    m_impl->requireFrame("readTileLists()");
+    return m_impl->localLights->readTileLists();
+}
+std::vector<float> Renderer::readDepth() {
+    m_impl->requireFrame("readDepth()");
+    return readDepth32F(m_impl->device, m_impl->depthTarget);
+}
 
 }  // namespace janus::renderer

@@ -89,9 +89,10 @@ void CommandList::requireCompatiblePipeline(const char* what) const {
                                 m_passDepthFormat == Format::Unknown ? "none" : toString(m_passDepthFormat)));
 }
 
-void CommandList::requireBindings(const char* what) const {
+std::vector<UsedBinding> CommandList::requireBindings(const char* what) const {
     // GL would silently read whatever is bound at a unit; Vulkan's validation would flag the
     // same mistake, so catch it here with the binding named.
+    std::vector<UsedBinding> textures;
     for (const ShaderBinding& binding : m_pipeline->bindings()) {
         const BindingItem* found = nullptr;
         if (auto set = m_bindingSets.find(binding.set); set != m_bindingSets.end()) {
@@ -108,12 +109,51 @@ void CommandList::requireBindings(const char* what) const {
                         fmt::format("{}: binding {} is a different resource type in the binding set than in the "
                                     "shader ({})",
                                     what, binding.binding, binding.glName));
-        if (binding.dimension && found->texture && found->texture->desc().dimension != *binding.dimension)
+        if (!found->texture) continue;
+        const TextureDimension viewed = found->viewDimension.value_or(found->texture->desc().dimension);
+        if (binding.dimension && viewed != *binding.dimension)
             throw Error(ErrorCode::InvalidUsage,
-                        fmt::format("{}: binding {} holds a {} texture but the shader declares a {} one", what,
-                                    binding.binding, toString(found->texture->desc().dimension),
-                                    toString(*binding.dimension)));
+                        fmt::format("{}: binding {} views {} texture '{}' as {} but the shader declares a {} one; match "
+                                    "the shader's type or set BindingItem::viewDimension",
+                                    what, binding.binding, toString(found->texture->desc().dimension),
+                                    found->texture->desc().debugName, toString(viewed), toString(*binding.dimension)));
+        textures.push_back({binding.set, found});
     }
+    validateViewOverlaps(textures, m_inRenderPass ? &m_passDesc : nullptr, what);
+    if (m_device.isES()) {
+        // Mip ranges are texture state on ES (BASE/MAX_LEVEL): one range per texture per draw.
+        for (size_t i = 0; i < textures.size(); ++i)
+            for (size_t j = 0; j < i; ++j) {
+                const BindingItem& a = *textures[i].item;
+                const BindingItem& b = *textures[j].item;
+                if (a.texture != b.texture || a.type != ResourceType::SampledTexture ||
+                    b.type != ResourceType::SampledTexture)
+                    continue;
+                const ResolvedTextureView va = resolveTextureView(a), vb = resolveTextureView(b);
+                if (va.baseMip != vb.baseMip || va.mipCount != vb.mipCount)
+                    throw Error(ErrorCode::UnsupportedCapability,
+                                fmt::format("{}: bindings {} and {} sample texture '{}' through different mip ranges "
+                                            "in one draw, which needs capability '{}' (OpenGL ES emulates mip ranges "
+                                            "with texture state: one range per texture per draw); the gles backend "
+                                            "does not have it",
+                                            what, b.binding, a.binding, a.texture->desc().debugName,
+                                            toString(Capability::TextureViews)));
+            }
+    }
+    return textures;
+}
+
+void CommandList::recordMipRanges(const std::vector<UsedBinding>& textures) {
+    if (!m_device.isES()) return;   // desktop GL binds texture views instead
+    std::vector<Device::MipRange> ranges;
+    for (const UsedBinding& used : textures) {
+        if (used.item->type != ResourceType::SampledTexture) continue;
+        const ResolvedTextureView view = resolveTextureView(*used.item);
+        // The binding set's replayed closure keeps the texture alive.
+        ranges.push_back({static_cast<const Texture*>(used.item->texture.get()), used.item->binding, view.baseMip,
+                          view.mipCount});
+    }
+    if (!ranges.empty()) record([ranges = std::move(ranges)](Device& device) { device.applyMipRanges(ranges); });
 }
 
 void CommandList::requireVertexBuffers(const char* what) const {
@@ -148,6 +188,7 @@ void CommandList::beginRenderPassImpl(const RenderPassDesc& desc) {
     for (const Attachment& a : desc.colors) cast<Texture>(m_device, a.texture, "beginRenderPass", "attachment texture");
     if (desc.depth) cast<Texture>(m_device, desc.depth->texture, "beginRenderPass", "attachment texture");
     m_inRenderPass = true;
+    m_passDesc = desc;
     m_passColorFormats.clear();
     for (const Attachment& a : desc.colors) m_passColorFormats.push_back(a.texture->desc().format);
     m_passDepthFormat = desc.depth ? desc.depth->texture->desc().format : Format::Unknown;
@@ -157,6 +198,7 @@ void CommandList::beginRenderPassImpl(const RenderPassDesc& desc) {
 void CommandList::endRenderPass() {
     requireInsideRenderPass("endRenderPass");
     m_inRenderPass = false;
+    m_passDesc = {};
 }
 
 void CommandList::setViewport(const Viewport& viewport) {
@@ -232,7 +274,7 @@ void CommandList::draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t fi
         throw Error(ErrorCode::InvalidUsage, "draw: no graphics pipeline is set; call setPipeline() first");
     requireVertexBuffers("draw");
     requireCompatiblePipeline("draw");
-    requireBindings("draw");
+    recordMipRanges(requireBindings("draw"));
     record([=](Device& device) { device.draw(vertexCount, instanceCount, firstVertex, firstInstance); });
 }
 
@@ -243,7 +285,7 @@ void CommandList::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint3
         throw Error(ErrorCode::InvalidUsage, "drawIndexed: no graphics pipeline is set; call setPipeline() first");
     requireVertexBuffers("drawIndexed");
     requireCompatiblePipeline("drawIndexed");
-    requireBindings("drawIndexed");
+    recordMipRanges(requireBindings("drawIndexed"));
     if (!m_indexBufferSet)
         throw Error(ErrorCode::InvalidUsage, "drawIndexed: no index buffer is set; call setIndexBuffer() first");
     record([=](Device& device) { device.drawIndexed(indexCount, instanceCount, firstIndex, vertexOffset, firstInstance); });
@@ -324,6 +366,8 @@ void CommandList::generateMipsImpl(const TextureHandle& handle) {
         const GLFunctions& gl = device.gl();
         gl.glActiveTexture(GL_TEXTURE0 + kScratchTextureUnit);
         gl.glBindTexture(texture->target(), texture->name());
+        // glGenerateMipmap starts at GL_TEXTURE_BASE_LEVEL: undo a mip-range view's (GLES).
+        if (device.isES()) texture->applyMipRange(0, texture->desc().mipLevels);
         gl.glGenerateMipmap(texture->target());
     });
 }
@@ -448,19 +492,41 @@ void Device::bindBindingSet(const BindingSetDesc& desc) {
             case ResourceType::SampledTexture: {
                 auto* texture = static_cast<const Texture*>(item.texture.get());
                 auto* sampler = static_cast<const Sampler*>(item.sampler.get());
+                const ResolvedTextureView view = resolveTextureView(item);
                 f.glActiveTexture(GL_TEXTURE0 + item.binding);
-                f.glBindTexture(texture->target(), texture->name());
+                if (isES()) {
+                    // No texture views: the whole texture, showing the view's mips (and all of
+                    // them when the binding has no range, so no earlier range leaks into it).
+                    f.glBindTexture(texture->target(), texture->name());
+                    texture->applyMipRange(view.baseMip, view.mipCount);
+                } else {
+                    const auto [name, target] = texture->viewFor(view);
+                    f.glBindTexture(target, name);
+                }
                 f.glBindSampler(item.binding, sampler->name());
                 break;
             }
             case ResourceType::StorageImage: {
                 auto* texture = static_cast<const Texture*>(item.texture.get());
-                // Layered, so a compute shader can write every slice of a 3D texture.
-                f.glBindImageTexture(item.binding, texture->name(), GLint(item.mipLevel), GL_TRUE, 0, GL_READ_WRITE,
+                const ResolvedTextureView view = resolveTextureView(item);
+                // All layers (layered, so a compute shader can write every slice of a 3D texture,
+                // face of a cube, layer of an array), or one layer as a 2D image.
+                const bool oneLayer = view.dimension == TextureDimension::Texture2D &&
+                                      texture->desc().dimension != TextureDimension::Texture2D;
+                f.glBindImageTexture(item.binding, texture->name(), GLint(item.mipLevel), oneLayer ? GL_FALSE : GL_TRUE,
+                                     oneLayer ? GLint(view.baseLayer) : 0, GL_READ_WRITE,
                                      texture->format().internalFormat);
                 break;
             }
         }
+    }
+}
+
+void Device::applyMipRanges(const std::vector<MipRange>& ranges) {
+    for (const MipRange& r : ranges) {
+        if (r.texture->hasMipRange(r.baseMip, r.mipCount)) continue;
+        gl().glActiveTexture(GL_TEXTURE0 + r.unit);   // where the binding set bound it
+        r.texture->applyMipRange(r.baseMip, r.mipCount);
     }
 }
 

@@ -212,6 +212,7 @@ Capabilities Device::detectCapabilities() {
     limits.maxTextureSize2D = integer(GL_MAX_TEXTURE_SIZE);
     limits.maxTextureSize3D = integer(GL_MAX_3D_TEXTURE_SIZE);
     limits.maxTextureSizeCube = integer(GL_MAX_CUBE_MAP_TEXTURE_SIZE);
+    limits.maxTextureArrayLayers = integer(GL_MAX_ARRAY_TEXTURE_LAYERS);
     limits.maxColorAttachments = std::min(integer(GL_MAX_COLOR_ATTACHMENTS), integer(GL_MAX_DRAW_BUFFERS));
     limits.maxUniformBufferRange = integer(GL_MAX_UNIFORM_BLOCK_SIZE);
     limits.uniformBufferOffsetAlignment = integer(GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT);
@@ -257,7 +258,16 @@ Capabilities Device::detectCapabilities() {
         m_anisotropy = hasExtension("GL_ARB_texture_filter_anisotropic") ||
                        hasExtension("GL_EXT_texture_filter_anisotropic");
         caps.independentBlend = true;   // glBlendFuncSeparatei / glColorMaski (GL 4.0)
+        caps.cubeArrays = true;   // GL 4.0 core
+        // glTextureView: GL 4.3 core (which we require) or ARB_texture_view.
+        caps.textureViews = (desktopAtLeast(4, 3) || hasExtension("GL_ARB_texture_view")) && f.glTextureView;
     } else {
+        // ES 3.0 has neither cube-map arrays nor texture views. Drivers that offer ES 3.2 or
+        // EXT_texture_cube_map_array still cannot be used for cube arrays here: every shader is
+        // translated to ESSL 300, which has no samplerCubeArray, and ES programs cannot link
+        // stages of different versions. Sampled mip ranges are emulated (BASE/MAX_LEVEL).
+        caps.cubeArrays = false;
+        caps.textureViews = false;
         // GLES stands in for compute-less devices: even when the driver offers ES 3.1+, compute,
         // SSBOs and image load/store stay off.
         caps.floatRenderTargets = hasExtension("GL_EXT_color_buffer_float");

@@ -6,11 +6,14 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 #include "gl_functions.h"
 #include "gl_platform.h"
 #include "janus/rhi/rhi.h"
+#include "janus/rhi/texture_view_validation.h"
 
 namespace janus::rhi::gl {
 
@@ -115,6 +118,17 @@ public:
     // Attaches one image to the bound framebuffer object at `attachmentPoint`.
     void attach(GLenum framebufferTarget, GLenum attachmentPoint, uint32_t mip, uint32_t layer) const;
 
+    // Desktop GL: a texture view (glTextureView) showing `view`, created on first use and
+    // cached; the texture itself when the view is the whole texture. Returns name and target.
+    std::pair<GLuint, GLenum> viewFor(const ResolvedTextureView& view) const;
+    // GLES (no texture views): shows mips [base, base + count) to samplers through
+    // GL_TEXTURE_BASE_LEVEL / GL_TEXTURE_MAX_LEVEL. The texture must be bound to the active unit.
+    // Every sampled binding sets its range, so no range leaks from one binding to the next.
+    void applyMipRange(uint32_t baseMip, uint32_t mipCount) const;
+    bool hasMipRange(uint32_t baseMip, uint32_t mipCount) const {
+        return m_baseLevel == baseMip && m_maxLevel == baseMip + mipCount - 1;
+    }
+
 private:
     void zeroContents() const;
 
@@ -122,6 +136,9 @@ private:
     TextureDesc m_desc;
     GLuint m_name = 0;
     GLenum m_target = 0;
+    mutable std::map<std::tuple<int, uint32_t, uint32_t, uint32_t, uint32_t>, GLuint> m_views;
+    mutable uint32_t m_baseLevel = 0;   // GLES: the range applyMipRange last set
+    mutable uint32_t m_maxLevel = 0;
 };
 
 class Sampler final : public ISampler {
@@ -288,8 +305,13 @@ private:
     std::vector<Format> m_passColorFormats;   // formats of the open render pass
     Format m_passDepthFormat = Format::Unknown;
     std::map<uint32_t, std::shared_ptr<BindingSet>> m_bindingSets;   // by set index
+    RenderPassDesc m_passDesc;   // the open pass's attachments, for the view-overlap check
     void requireCompatiblePipeline(const char* what) const;
-    void requireBindings(const char* what) const;
+    // Checks what the pipeline's shaders use against the bound sets; returns the texture bindings.
+    std::vector<UsedBinding> requireBindings(const char* what) const;
+    // GLES: re-applies the mip ranges of the sampled textures a draw uses right before it (an
+    // item of a set bound later, unused by the draw, may have set another range on the texture).
+    void recordMipRanges(const std::vector<UsedBinding>& textures);
     bool m_indexBufferSet = false;
     std::vector<uint32_t> m_vertexSlots;   // slots given a buffer since begin()
     int m_debugGroupDepth = 0;
@@ -338,6 +360,11 @@ public:
     void beginRenderPass(const RenderPassDesc& desc);
     void bindPipeline(const Pipeline& pipeline);
     void bindBindingSet(const BindingSetDesc& desc);
+    struct MipRange {
+        const Texture* texture;
+        uint32_t unit, baseMip, mipCount;
+    };
+    void applyMipRanges(const std::vector<MipRange>& ranges);
     void setVertexBuffer(uint32_t slot, GLuint buffer, uint64_t offset);
     void setIndexBuffer(GLuint buffer, IndexType type, uint64_t offset);
     void draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance);

@@ -129,7 +129,8 @@ class Platform;
     X(PFNGLCLIPCONTROLPROC, glClipControl, "glClipControlEXT")                                                \
     X(PFNGLCLEARTEXIMAGEPROC, glClearTexImage, "glClearTexImageEXT")                                          \
     X(PFNGLCLEARBUFFERDATAPROC, glClearBufferData, nullptr)                                                   \
-    X(PFNGLGETINTERNALFORMATIVPROC, glGetInternalformativ, nullptr)
+    X(PFNGLGETINTERNALFORMATIVPROC, glGetInternalformativ, nullptr)                                           \
+    X(PFNGLTEXTUREVIEWPROC, glTextureView, nullptr)
 
 struct GLFunctions {
 #define JANUS_GL_DECLARE(type, name) type name = nullptr;

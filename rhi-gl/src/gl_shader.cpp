@@ -82,10 +82,15 @@ Translation translate(const ShaderDesc& desc, const Context& context) {
         }
         std::optional<TextureDimension> dimension;
         if (type == ResourceType::SampledTexture || type == ResourceType::StorageImage) {
-            switch (compiler.get_type(resource.type_id).image.dim) {
+            const auto& image = compiler.get_type(resource.type_id).image;
+            switch (image.dim) {
                 case spv::Dim3D: dimension = TextureDimension::Texture3D; break;
-                case spv::DimCube: dimension = TextureDimension::TextureCube; break;
-                default: dimension = TextureDimension::Texture2D; break;
+                case spv::DimCube:
+                    dimension = image.arrayed ? TextureDimension::TextureCubeArray : TextureDimension::TextureCube;
+                    break;
+                default:
+                    dimension = image.arrayed ? TextureDimension::Texture2DArray : TextureDimension::Texture2D;
+                    break;
             }
         }
         result.bindings.push_back({type, set, binding, glName, dimension});

@@ -84,13 +84,17 @@ Texture::Texture(ContextPtr context, const TextureDesc& resolvedDesc)
         case TextureDimension::Texture2D: m_target = GL_TEXTURE_2D; break;
         case TextureDimension::TextureCube: m_target = GL_TEXTURE_CUBE_MAP; break;
         case TextureDimension::Texture3D: m_target = GL_TEXTURE_3D; break;
+        case TextureDimension::Texture2DArray: m_target = GL_TEXTURE_2D_ARRAY; break;
+        case TextureDimension::TextureCubeArray: m_target = GL_TEXTURE_CUBE_MAP_ARRAY; break;
     }
+    m_maxLevel = m_desc.mipLevels - 1;
     gl.glGenTextures(1, &m_name);
     bindForEdit(gl, m_target, m_name);
     const GLenum internalFormat = format().internalFormat;
-    if (m_target == GL_TEXTURE_3D)
+    if (m_target == GL_TEXTURE_3D || m_target == GL_TEXTURE_2D_ARRAY || m_target == GL_TEXTURE_CUBE_MAP_ARRAY)
+        // Arrays: depth = layers (cube arrays: layer-faces, 6 x cubes).
         gl.glTexStorage3D(m_target, GLsizei(m_desc.mipLevels), internalFormat, GLsizei(m_desc.width),
-                          GLsizei(m_desc.height), GLsizei(m_desc.depth));
+                          GLsizei(m_desc.height), GLsizei(m_target == GL_TEXTURE_3D ? m_desc.depth : m_desc.arrayLayers));
     else
         gl.glTexStorage2D(m_target, GLsizei(m_desc.mipLevels), internalFormat, GLsizei(m_desc.width),
                           GLsizei(m_desc.height));
@@ -117,7 +121,7 @@ void Texture::zeroContents() const {
     // Without glClearTexImage: upload zeros, one whole level (a cube: one face) at a time. The
     // texture is still bound to the scratch unit from its creation.
     gl.glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
-    const std::vector<std::byte> zeros(subresourceSize(0) * (m_target == GL_TEXTURE_3D ? m_desc.depth : 1));
+    const std::vector<std::byte> zeros(subresourceSize(0) * layers(0));
     for (uint32_t mip = 0; mip < m_desc.mipLevels; ++mip) {
         const auto w = GLsizei(width(mip)), h = GLsizei(height(mip));
         switch (m_desc.dimension) {
@@ -130,7 +134,9 @@ void Texture::zeroContents() const {
                                        glf.uploadType, zeros.data());
                 break;
             case TextureDimension::Texture3D:
-                gl.glTexSubImage3D(GL_TEXTURE_3D, GLint(mip), 0, 0, 0, w, h, GLsizei(layers(mip)), glf.uploadFormat,
+            case TextureDimension::Texture2DArray:
+            case TextureDimension::TextureCubeArray:
+                gl.glTexSubImage3D(m_target, GLint(mip), 0, 0, 0, w, h, GLsizei(layers(mip)), glf.uploadFormat,
                                    glf.uploadType, zeros.data());
                 break;
         }
@@ -139,7 +145,47 @@ void Texture::zeroContents() const {
 
 Texture::~Texture() {
     m_context->forgetTexture(m_name);
+    for (auto& [key, view] : m_views) m_context->gl.glDeleteTextures(1, &view);
     m_context->gl.glDeleteTextures(1, &m_name);
+}
+
+namespace {
+GLenum viewTarget(TextureDimension dimension) {
+    switch (dimension) {
+        case TextureDimension::Texture2D: return GL_TEXTURE_2D;
+        case TextureDimension::Texture3D: return GL_TEXTURE_3D;
+        case TextureDimension::TextureCube: return GL_TEXTURE_CUBE_MAP;
+        case TextureDimension::Texture2DArray: return GL_TEXTURE_2D_ARRAY;
+        case TextureDimension::TextureCubeArray: return GL_TEXTURE_CUBE_MAP_ARRAY;
+    }
+    return GL_TEXTURE_2D;
+}
+}  // namespace
+
+std::pair<GLuint, GLenum> Texture::viewFor(const ResolvedTextureView& view) const {
+    if (isWholeTexture(view, m_desc)) return {m_name, m_target};
+    const auto key = std::make_tuple(int(view.dimension), view.baseMip, view.mipCount, view.baseLayer, view.layerCount);
+    const GLenum target = viewTarget(view.dimension);
+    if (auto it = m_views.find(key); it != m_views.end()) return {it->second, target};
+    // Views need immutable storage (we always use glTexStorage*) and GL 4.3 / ARB_texture_view
+    // (Capability::TextureViews; binding sets check it). A volume's view has its one layer.
+    const GLFunctions& gl = m_context->gl;
+    const bool volume = view.dimension == TextureDimension::Texture3D;
+    GLuint name = 0;
+    gl.glGenTextures(1, &name);
+    gl.glTextureView(name, target, m_name, format().internalFormat, view.baseMip, view.mipCount,
+                     volume ? 0 : view.baseLayer, volume ? 1 : view.layerCount);
+    m_views.emplace(key, name);
+    return {name, target};
+}
+
+void Texture::applyMipRange(uint32_t baseMip, uint32_t mipCount) const {
+    const uint32_t maxLevel = baseMip + mipCount - 1;
+    const GLFunctions& gl = m_context->gl;
+    if (m_baseLevel != baseMip) gl.glTexParameteri(m_target, GL_TEXTURE_BASE_LEVEL, GLint(baseMip));
+    if (m_maxLevel != maxLevel) gl.glTexParameteri(m_target, GL_TEXTURE_MAX_LEVEL, GLint(maxLevel));
+    m_baseLevel = baseMip;
+    m_maxLevel = maxLevel;
 }
 
 uint32_t Texture::layers(uint32_t mip) const {
@@ -147,6 +193,8 @@ uint32_t Texture::layers(uint32_t mip) const {
         case TextureDimension::Texture2D: return 1;
         case TextureDimension::TextureCube: return 6;
         case TextureDimension::Texture3D: return mipExtent(m_desc.depth, mip);
+        case TextureDimension::Texture2DArray:
+        case TextureDimension::TextureCubeArray: return m_desc.arrayLayers;
     }
     return 1;
 }
@@ -167,6 +215,8 @@ void Texture::attach(GLenum framebufferTarget, GLenum attachmentPoint, uint32_t 
                                       m_name, GLint(mip));
             break;
         case TextureDimension::Texture3D:
+        case TextureDimension::Texture2DArray:
+        case TextureDimension::TextureCubeArray:   // layer = layer-face, 6 * cube + face
             gl.glFramebufferTextureLayer(framebufferTarget, attachmentPoint, m_name, GLint(mip), GLint(layer));
             break;
     }
@@ -190,7 +240,9 @@ void Device::uploadTexture(const Texture& texture, TextureSubresource sub, const
                               format.uploadFormat, format.uploadType, pixels);
             break;
         case TextureDimension::Texture3D:
-            f.glTexSubImage3D(GL_TEXTURE_3D, GLint(sub.mipLevel), 0, 0, GLint(sub.layer), width, height, 1,
+        case TextureDimension::Texture2DArray:
+        case TextureDimension::TextureCubeArray:
+            f.glTexSubImage3D(texture.target(), GLint(sub.mipLevel), 0, 0, GLint(sub.layer), width, height, 1,
                               format.uploadFormat, format.uploadType, pixels);
             break;
     }

@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "janus/rhi/backends.h"
+#include "janus/rhi/texture_view_validation.h"
 
 namespace janus::rhi::vulkan {
 
@@ -267,7 +268,10 @@ public:
     ~Texture() override;
     const TextureDesc& desc() const override { return m_desc; }
 
-    uint32_t arrayLayers() const { return m_desc.dimension == TextureDimension::TextureCube ? 6 : 1; }
+    // Image array layers: 6 for a cube, arrayLayers for arrays (layer-faces for cube arrays), else 1.
+    uint32_t arrayLayers() const {
+        return m_desc.dimension == TextureDimension::Texture3D ? 1 : textureLayerCount(m_desc);
+    }
     VkExtent3D extent(uint32_t mip) const;
     // Bytes of one subresource (one face / slice of one mip), rows tightly packed.
     uint64_t subresourceSize(uint32_t mip) const;
@@ -276,7 +280,7 @@ public:
     VkOffset3D copyOffset(TextureSubresource sub) const;
     VkExtent3D copyExtent(TextureSubresource sub) const;
 
-    // Cached views; `usage` restricts what the view may be used for.
+    // Cached views (one VkImageView per distinct view); `usage` restricts what the view may be used for.
     VkImageView view(VkImageViewType type, uint32_t baseMip, uint32_t mipCount, uint32_t baseLayer,
                      uint32_t layerCount, VkImageUsageFlags usage);
     // A 2D view of one face / slice at one mip, for use as an attachment.
@@ -362,6 +366,8 @@ public:
         std::array<ResourceAccess, 2> fewAccesses{};   // most sets: no second allocation to visit
         std::vector<ResourceAccess> manyAccesses;
         VkDescriptorPool pool = VK_NULL_HANDLE;
+        // The texture items the layout's shaders use, for the view-overlap check at draw/dispatch.
+        std::vector<const BindingItem*> textureItems;
     };
     // Written on first use; the last one used is found without a lock (binds are hot).
     const LayoutUse& useWith(const DescriptorSetLayoutInfo& layout, uint32_t set) {
@@ -454,6 +460,9 @@ private:
     void bindDescriptorSets(Pipeline& pipeline, VkPipelineBindPoint bindPoint, uint32_t& dirtyMask,
                             std::array<const BindingSet::LayoutUse*, Pipeline::kMaxSets>& uses);
     void checkDrawState(std::string_view call);
+    // validateViewOverlaps over the texture items of the sets `pipeline` uses.
+    void checkViewOverlaps(const Pipeline& pipeline, const std::array<const BindingSet::LayoutUse*, Pipeline::kMaxSets>& uses,
+                           bool inPass, std::string_view call);
     void prepareDraw(std::string_view call);
     // Barrier first if any of `accesses` conflicts with what was tracked, then tracks them.
     void access(std::initializer_list<ResourceAccess> accesses);
@@ -484,7 +493,11 @@ private:
         KeepMark* mark;   // inside `object`
     };
     std::vector<Kept> m_keepAlive;
-    uint64_t m_retainedId = 0;   // the mark of the objects kept from the previous recording
+    // The mark of the objects kept from the previous recording. Never 0, the mark of an object
+    // no list has kept yet (which would otherwise count as retained and not be kept), nor a
+    // recording id (those start at 2): 1 = nothing retained.
+    static constexpr uint64_t kNothingRetained = 1;
+    uint64_t m_retainedId = kNothingRetained;
     std::vector<std::shared_ptr<StagingBuffer>> m_staging;
     struct TimerUse {
         std::shared_ptr<TimerQuery> timer;
@@ -495,6 +508,8 @@ private:
     TimerUse& timerUse(const TimerQueryHandle& timer);
 
     bool m_inRenderPass = false;
+    RenderPassDesc m_passDesc;   // the open pass's attachments, for the view-overlap check
+    std::vector<UsedBinding> m_usedTextures;   // scratch for checkViewOverlaps
     std::vector<Format> m_passColorFormats;
     Format m_passDepthFormat = Format::Unknown;
     // Bound objects; m_keepAlive owns them.

@@ -47,6 +47,24 @@ VkPipelineStageFlags pipelineStagesOf(VkShaderStageFlags shaderStages) {
     return stages;
 }
 
+VkImageViewType toVkViewType(TextureDimension dim) {
+    switch (dim) {
+        case TextureDimension::Texture2D: return VK_IMAGE_VIEW_TYPE_2D;
+        case TextureDimension::Texture3D: return VK_IMAGE_VIEW_TYPE_3D;
+        case TextureDimension::TextureCube: return VK_IMAGE_VIEW_TYPE_CUBE;
+        case TextureDimension::Texture2DArray: return VK_IMAGE_VIEW_TYPE_2D_ARRAY;
+        case TextureDimension::TextureCubeArray: return VK_IMAGE_VIEW_TYPE_CUBE_ARRAY;
+    }
+    return VK_IMAGE_VIEW_TYPE_2D;
+}
+
+// The hazard-tracking keys of a view: exact for one mip, else whole mips (conservative).
+KeyRange viewKeys(const ResolvedTextureView& view, TextureDimension textureDimension) {
+    if (view.mipCount == 1 && textureDimension != TextureDimension::Texture3D)
+        return {uint64_t(view.baseMip) << 32 | view.baseLayer, uint64_t(view.baseMip) << 32 | (view.baseLayer + view.layerCount)};
+    return {uint64_t(view.baseMip) << 32, uint64_t(view.baseMip + view.mipCount) << 32};
+}
+
 // What a command using `item` through binding `b` reads or writes.
 ResourceAccess accessOf(const BindingItem& item, const ReflectedBinding& b) {
     ResourceAccess access;
@@ -65,27 +83,16 @@ ResourceAccess accessOf(const BindingItem& item, const ReflectedBinding& b) {
         }
         case VK_DESCRIPTOR_TYPE_STORAGE_IMAGE:
             access.resource = item.texture.get();
-            access.range = mipKeys(item.mipLevel);
+            access.range = viewKeys(resolveTextureView(item), item.texture->desc().dimension);
             access.access = b.written ? VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT : VK_ACCESS_SHADER_READ_BIT;
             break;
-        default:   // sampled texture: every mip may be read
+        default:   // sampled texture: every mip and layer of the view may be read
             access.resource = item.texture.get();
-            access.range = kAllSubresources;
+            access.range = viewKeys(resolveTextureView(item), item.texture->desc().dimension);
             access.access = VK_ACCESS_SHADER_READ_BIT;
             break;
     }
     return access;
-}
-
-bool viewFits(TextureDimension dim, VkImageViewType type) {
-    switch (dim) {
-        case TextureDimension::Texture2D: return type == VK_IMAGE_VIEW_TYPE_2D || type == VK_IMAGE_VIEW_TYPE_2D_ARRAY;
-        case TextureDimension::TextureCube:
-            return type == VK_IMAGE_VIEW_TYPE_CUBE || type == VK_IMAGE_VIEW_TYPE_2D_ARRAY ||
-                   type == VK_IMAGE_VIEW_TYPE_CUBE_ARRAY;
-        case TextureDimension::Texture3D: return type == VK_IMAGE_VIEW_TYPE_3D;
-    }
-    return false;
 }
 
 }  // namespace
@@ -129,11 +136,13 @@ const BindingSet::LayoutUse& BindingSet::createOrFind(const DescriptorSetLayoutI
             throw Error(ErrorCode::InvalidUsage,
                         fmt::format("set {} binding {} ('{}') is a {} in the shader but the binding set gives a {}", set,
                                     b.binding, b.name, typeName(b.type), typeName(toVkDescriptorType(item->type))));
-        if (item->texture && !viewFits(item->texture->desc().dimension, b.viewType))
+        if (item->texture && toVkViewType(resolveTextureView(*item).dimension) != b.viewType)
             throw Error(ErrorCode::InvalidUsage,
-                        fmt::format("set {} binding {} ('{}') is a {} image in the shader but texture '{}' is {}", set,
-                                    b.binding, b.name, viewTypeName(b.viewType), item->texture->desc().debugName,
-                                    toString(item->texture->desc().dimension)));
+                        fmt::format("set {} binding {} ('{}') is a {} image in the shader but the binding views {} "
+                                    "texture '{}' as {}; match the shader's type or set BindingItem::viewDimension",
+                                    set, b.binding, b.name, viewTypeName(b.viewType),
+                                    toString(item->texture->desc().dimension), item->texture->desc().debugName,
+                                    toString(resolveTextureView(*item).dimension)));
         items.push_back(&*item);
     }
 
@@ -182,14 +191,17 @@ const BindingSet::LayoutUse& BindingSet::createOrFind(const DescriptorSetLayoutI
                 write.pBufferInfo = &bufferInfos[i];
             } else {
                 auto* texture = static_cast<Texture*>(item.texture.get());
-                const uint32_t layers = b.viewType == VK_IMAGE_VIEW_TYPE_3D ? 1 : texture->arrayLayers();
+                const ResolvedTextureView v = resolveTextureView(item);
+                // A volume's view has its one array layer (the slices are its depth).
+                const bool volume = v.dimension == TextureDimension::Texture3D;
+                const uint32_t baseLayer = volume ? 0 : v.baseLayer, layers = volume ? 1 : v.layerCount;
                 if (b.type == VK_DESCRIPTOR_TYPE_STORAGE_IMAGE) {
                     imageInfos[i] = {VK_NULL_HANDLE,
-                                     texture->view(b.viewType, item.mipLevel, 1, 0, layers, VK_IMAGE_USAGE_STORAGE_BIT),
+                                     texture->view(b.viewType, v.baseMip, 1, baseLayer, layers, VK_IMAGE_USAGE_STORAGE_BIT),
                                      VK_IMAGE_LAYOUT_GENERAL};
                 } else {
                     imageInfos[i] = {static_cast<Sampler*>(item.sampler.get())->sampler,
-                                     texture->view(b.viewType, 0, texture->desc().mipLevels, 0, layers,
+                                     texture->view(b.viewType, v.baseMip, v.mipCount, baseLayer, layers,
                                                    VK_IMAGE_USAGE_SAMPLED_BIT),
                                      VK_IMAGE_LAYOUT_GENERAL};
                 }
@@ -207,6 +219,8 @@ const BindingSet::LayoutUse& BindingSet::createOrFind(const DescriptorSetLayoutI
         use = m_otherUses.emplace(layout.layout, std::make_unique<LayoutUse>()).first->second.get();
     use->set = allocation.set;
     use->pool = allocation.pool;
+    for (const BindingItem* item : items)
+        if (item->texture) use->textureItems.push_back(item);
     if (items.size() <= use->fewAccesses.size()) {
         for (size_t i = 0; i < items.size(); ++i) use->fewAccesses[i] = accessOf(*items[i], layout.bindings[i]);
         use->accesses = std::span(use->fewAccesses.data(), items.size());

@@ -118,7 +118,7 @@ void CommandList::begin() {
     // retains nothing.
     if (m_state == State::Recording) {
         m_keepAlive.clear();
-        m_retainedId = 0;
+        m_retainedId = kNothingRetained;
     }
     m_staging.clear();
     m_timers.clear();
@@ -242,6 +242,7 @@ void CommandList::beginRenderPassImpl(const RenderPassDesc& desc) {
     m_context->cmdBeginRendering(m_commands, &info);
 
     m_inRenderPass = true;
+    m_passDesc = desc;
     m_drawStateChecked = false;
     m_passTrackedSets = 0;
     m_passTrackedVertices = false;
@@ -257,6 +258,7 @@ void CommandList::endRenderPass() {
     if (!m_inRenderPass) throw Error(ErrorCode::InvalidUsage, "endRenderPass(): no render pass is open");
     m_context->cmdEndRendering(m_commands);
     m_inRenderPass = false;
+    m_passDesc = {};
 }
 
 void CommandList::setViewport(const Viewport& v) {
@@ -389,6 +391,17 @@ void CommandList::checkDrawState(std::string_view call) {
     m_drawStateChecked = true;
 }
 
+void CommandList::checkViewOverlaps(const Pipeline& pipeline,
+                                    const std::array<const BindingSet::LayoutUse*, Pipeline::kMaxSets>& uses,
+                                    bool inPass, std::string_view call) {
+    m_usedTextures.clear();
+    for (uint32_t sets = pipeline.usedSets; sets; sets &= sets - 1) {
+        const uint32_t s = uint32_t(std::countr_zero(sets));
+        for (const BindingItem* item : uses[s]->textureItems) m_usedTextures.push_back({s, item});
+    }
+    if (!m_usedTextures.empty()) validateViewOverlaps(m_usedTextures, inPass ? &m_passDesc : nullptr, call);
+}
+
 // Draws cannot be preceded by barriers (beginRenderPass made earlier writes visible), so their
 // accesses are only tracked, for later commands; each binding once per pass.
 void CommandList::prepareDraw(std::string_view call) {
@@ -399,6 +412,8 @@ void CommandList::prepareDraw(std::string_view call) {
     Pipeline& pipeline = *m_graphicsPipeline;
     bindDescriptorSets(pipeline, VK_PIPELINE_BIND_POINT_GRAPHICS, m_dirtyGraphicsSets, m_graphicsSetUses);
     if (const uint32_t untracked = pipeline.usedSets & ~m_passTrackedSets) {
+        // Once per pass and set change, like the tracking: no view may overlap an attachment.
+        checkViewOverlaps(pipeline, m_graphicsSetUses, true, call);
         for (uint32_t sets = untracked; sets; sets &= sets - 1)
             for (const ResourceAccess& a : m_graphicsSetUses[std::countr_zero(sets)]->accesses) m_hazards.record(a);
         m_passTrackedSets |= untracked;
@@ -437,7 +452,16 @@ void CommandList::dispatchImpl(uint32_t groupsX, uint32_t groupsY, uint32_t grou
     if (!m_computePipeline)
         throw Error(ErrorCode::InvalidUsage, "dispatch(): no compute pipeline is set; call setPipeline()");
     Pipeline& pipeline = *m_computePipeline;
+    const uint32_t changedSets = m_dirtyComputeSets & pipeline.usedSets;
     bindDescriptorSets(pipeline, VK_PIPELINE_BIND_POINT_COMPUTE, m_dirtyComputeSets, m_computeSetUses);
+    if (changedSets) {
+        try {
+            checkViewOverlaps(pipeline, m_computeSetUses, false, "dispatch()");
+        } catch (...) {
+            m_dirtyComputeSets |= changedSets;   // checked again by the next dispatch
+            throw;
+        }
+    }
     const uint32_t sets = pipeline.usedSets;
     if (sets && (sets & (sets - 1)) == 0) {   // the common case: one set (no popcount call)
         m_hazards.access(m_commands, m_computeSetUses[std::countr_zero(sets)]->accesses);

@@ -289,11 +289,14 @@ Capabilities queryCapabilities(const Context& ctx) {
                       hasFormatFeatures(ctx, Format::R32_FLOAT, VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BLEND_BIT);
     caps.timestampQueries = ctx.timestampValidBits > 0 && l.timestampComputeAndGraphics;
     caps.independentBlend = ctx.enabledFeatures.independentBlend;
+    caps.cubeArrays = ctx.enabledFeatures.imageCubeArray;   // enabled whenever the device has it
+    caps.textureViews = true;   // VkImageView of any layer range / compatible type is core Vulkan
 
     Limits& limits = caps.limits;
     limits.maxTextureSize2D = l.maxImageDimension2D;
     limits.maxTextureSize3D = l.maxImageDimension3D;
     limits.maxTextureSizeCube = l.maxImageDimensionCube;
+    limits.maxTextureArrayLayers = l.maxImageArrayLayers;
     limits.maxColorAttachments = l.maxColorAttachments;
     limits.maxUniformBufferRange = l.maxUniformBufferRange;
     limits.maxStorageBufferRange = caps.storageBuffers ? l.maxStorageBufferRange : 0;

@@ -65,7 +65,8 @@ Texture::Texture(ContextPtr context, const TextureDesc& desc) : m_context(std::m
     info.usage = imageUsage(m_desc);
     info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
     info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-    if (m_desc.dimension == TextureDimension::TextureCube) info.flags |= VK_IMAGE_CREATE_CUBE_COMPATIBLE_BIT;
+    if (m_desc.dimension == TextureDimension::TextureCube || m_desc.dimension == TextureDimension::TextureCubeArray)
+        info.flags |= VK_IMAGE_CREATE_CUBE_COMPATIBLE_BIT;
     // Lets one slice of a volume be a 2D colour attachment (RenderToVolumeSlice).
     if (m_desc.dimension == TextureDimension::Texture3D && any(m_desc.usage, TextureUsage::RenderTarget))
         info.flags |= VK_IMAGE_CREATE_2D_ARRAY_COMPATIBLE_BIT;
@@ -81,6 +82,9 @@ Texture::Texture(ContextPtr context, const TextureDesc& desc) : m_context(std::m
         info.extent.depth > supported.maxExtent.depth)
         invalid(m_desc, fmt::format("the device's largest texture of this kind is {}x{}x{}", supported.maxExtent.width,
                                     supported.maxExtent.height, supported.maxExtent.depth));
+    if (info.arrayLayers > supported.maxArrayLayers)
+        invalid(m_desc, fmt::format("the device allows at most {} layers for a texture of this kind",
+                                    supported.maxArrayLayers));
 
     check(vkCreateImage(m_context->device, &info, nullptr, &image), ErrorCode::InvalidDescription,
           fmt::format("vkCreateImage for '{}'", m_desc.debugName));

@@ -58,6 +58,8 @@ const char* toString(Capability cap) {
         case Capability::FloatBlend: return "float32-blend";
         case Capability::TimestampQueries: return "timestamp-queries";
         case Capability::IndependentBlend: return "independent-blend";
+        case Capability::CubeArrays: return "cube-arrays";
+        case Capability::TextureViews: return "texture-views";
     }
     return "unknown";
 }
@@ -73,6 +75,8 @@ bool Capabilities::has(Capability cap) const {
         case Capability::FloatBlend: return floatBlend;
         case Capability::TimestampQueries: return timestampQueries;
         case Capability::IndependentBlend: return independentBlend;
+        case Capability::CubeArrays: return cubeArrays;
+        case Capability::TextureViews: return textureViews;
     }
     return false;
 }
@@ -90,8 +94,21 @@ const char* toString(TextureDimension dim) {
         case TextureDimension::Texture2D: return "2d";
         case TextureDimension::Texture3D: return "3d";
         case TextureDimension::TextureCube: return "cube";
+        case TextureDimension::Texture2DArray: return "2d-array";
+        case TextureDimension::TextureCubeArray: return "cube-array";
     }
     return "unknown";
+}
+
+uint32_t textureLayerCount(const TextureDesc& desc) {
+    switch (desc.dimension) {
+        case TextureDimension::Texture2D: return 1;
+        case TextureDimension::Texture3D: return desc.depth;
+        case TextureDimension::TextureCube: return 6;
+        case TextureDimension::Texture2DArray:
+        case TextureDimension::TextureCubeArray: return desc.arrayLayers;
+    }
+    return 1;
 }
 
 const char* toString(ShaderStage stage) {

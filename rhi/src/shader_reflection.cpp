@@ -71,10 +71,17 @@ ShaderReflection reflectShader(const ShaderDesc& desc) {
                 invalid(desc, fmt::format("'{}' uses set {}; sets 0..{} are available", r.name, resource.set,
                                           kMaxBindingSets - 1));
             if (type == ResourceType::SampledTexture || type == ResourceType::StorageImage) {
+                // sampler2D / image2D, sampler2DArray / image2DArray, samplerCube / imageCube,
+                // samplerCubeArray / imageCubeArray, sampler3D / image3D.
+                const bool arrayed = spirType.image.arrayed;
                 switch (spirType.image.dim) {
                     case spv::Dim3D: resource.dimension = TextureDimension::Texture3D; break;
-                    case spv::DimCube: resource.dimension = TextureDimension::TextureCube; break;
-                    default: resource.dimension = TextureDimension::Texture2D; break;
+                    case spv::DimCube:
+                        resource.dimension = arrayed ? TextureDimension::TextureCubeArray : TextureDimension::TextureCube;
+                        break;
+                    default:
+                        resource.dimension = arrayed ? TextureDimension::Texture2DArray : TextureDimension::Texture2D;
+                        break;
                 }
             }
             result.resources.push_back(std::move(resource));

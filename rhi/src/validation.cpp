@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "janus/rhi/texture_view_validation.h"
 #include "shader_reflection.h"
 
 namespace janus::rhi::detail {
@@ -32,14 +33,21 @@ void requireCapability(const DeviceProperties& device, Capability cap, std::stri
                                 "path or another backend", what, toString(cap), toString(device.info.backend)));
 }
 
-// Layers (cube faces, 3D slices at that mip) of one mip level.
+// Layers (cube faces, array layers, cube-array layer-faces, 3D slices at that mip) of one mip
+// level. The only place subresource layers are counted.
 uint32_t layersAt(const TextureDesc& desc, uint32_t mip) {
     switch (desc.dimension) {
         case TextureDimension::Texture2D: return 1;
         case TextureDimension::TextureCube: return 6;
+        case TextureDimension::Texture2DArray:
+        case TextureDimension::TextureCubeArray: return desc.arrayLayers;
         case TextureDimension::Texture3D: return mipExtent(desc.depth, mip);
     }
     return 1;
+}
+
+bool isCubeLike(TextureDimension d) {
+    return d == TextureDimension::TextureCube || d == TextureDimension::TextureCubeArray;
 }
 
 uint64_t subresourceBytes(const TextureDesc& desc, uint32_t mip) {
@@ -127,15 +135,24 @@ TextureDesc validateTexture(const DeviceProperties& device, const TextureDesc& d
     if (desc.width == 0 || desc.height == 0 || desc.depth == 0)
         invalid(fmt::format("{}: width, height and depth must all be at least 1", name));
     const Limits& limits = device.capabilities.limits;
+    // arrayLayers against the dimension, Limits::maxTextureArrayLayers and Capability::CubeArrays
+    // (texture_view_validation.cpp); the extents per dimension below.
+    validateTextureLayers(desc, device.capabilities, device.info.backend);
     switch (desc.dimension) {
         case TextureDimension::Texture2D:
-            if (desc.depth != 1) invalid(fmt::format("{}: depth must be 1 for a 2D texture (use Texture3D for volumes)", name));
+        case TextureDimension::Texture2DArray:
+            if (desc.depth != 1)
+                invalid(fmt::format("{}: depth must be 1 for a 2D texture or 2D array (use Texture3D for volumes, "
+                                    "arrayLayers for layers)", name));
             if (std::max(desc.width, desc.height) > limits.maxTextureSize2D)
                 invalid(fmt::format("{}: width/height exceed Limits::maxTextureSize2D ({})", name, limits.maxTextureSize2D));
             break;
         case TextureDimension::TextureCube:
+        case TextureDimension::TextureCubeArray:
             if (desc.width != desc.height) invalid(fmt::format("{}: a cube map needs width == height", name));
-            if (desc.depth != 1) invalid(fmt::format("{}: depth must be 1 for a cube map (its 6 faces are implied)", name));
+            if (desc.depth != 1)
+                invalid(fmt::format("{}: depth must be 1 for a cube map or cube array (its faces are implied, a cube "
+                                    "array's layer-faces are arrayLayers)", name));
             if (desc.width > limits.maxTextureSizeCube)
                 invalid(fmt::format("{}: width exceeds Limits::maxTextureSizeCube ({})", name, limits.maxTextureSizeCube));
             break;
@@ -186,6 +203,10 @@ void validateShader(const DeviceProperties& device, const ShaderDesc& desc) {
             requireCapability(device, Capability::StorageBuffers, fmt::format("{}: storage buffer '{}'", name, r.name));
         if (r.type == ResourceType::StorageImage)
             requireCapability(device, Capability::StorageImages, fmt::format("{}: storage image '{}'", name, r.name));
+        if (r.dimension == TextureDimension::TextureCubeArray)
+            requireCapability(device, Capability::CubeArrays,
+                              fmt::format("{}: cube-array {} '{}'", name,
+                                          r.type == ResourceType::StorageImage ? "image" : "sampler", r.name));
     }
 }
 
@@ -369,6 +390,7 @@ void validateBindingSet(const DeviceProperties& device, const BindingSetDesc& de
                                             sd.compare ? FormatCapability::CompareFilterable : FormatCapability::Filterable,
                                             fmt::format("{}: a linear-filtering sampler over texture '{}' (use "
                                                         "Filter::Nearest for it)", where, td.debugName));
+                validateTextureView(item, caps, device.info.backend, where);
                 break;
             }
             case ResourceType::StorageImage: {
@@ -380,6 +402,7 @@ void validateBindingSet(const DeviceProperties& device, const BindingSetDesc& de
                 if (item.mipLevel >= td.mipLevels)
                     invalid(fmt::format("{}: mipLevel {} does not exist; texture '{}' has {}", where, item.mipLevel,
                                         td.debugName, td.mipLevels));
+                validateTextureView(item, caps, device.info.backend, where);
                 break;
             }
         }
@@ -416,7 +439,7 @@ void validateRenderPass(const DeviceProperties& device, const RenderPassDesc& de
                                 sub.mipLevel < td.mipLevels ? layersAt(td, sub.mipLevel) : 0));
         if (td.dimension == TextureDimension::Texture3D)
             requireCapability(device, Capability::RenderToVolumeSlice, where + ": a 3D texture slice");
-        if (td.dimension == TextureDimension::TextureCube && sub.mipLevel > 0)
+        if (isCubeLike(td.dimension) && sub.mipLevel > 0)
             requireCapability(device, Capability::RenderToCubeFaceMip, where + ": a cube face at mip > 0");
         const uint32_t w = mipExtent(td.width, sub.mipLevel), h = mipExtent(td.height, sub.mipLevel);
         if (width == 0) {

@@ -1,11 +1,12 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
+#include "janus/shaders/bindings.h"
 // Depth prepass for Forward+ (with forward.vert): writes depth only, but drops alpha-masked
 // pixels exactly as forward.frag does, so the tile depth bounds and the forward pass's
 // LessOrEqual test see the same surfaces.
 #include "renderer/forward_common.glsl"
 
-layout(set = 1, binding = 2) uniform sampler2D baseColorTexture;
+layout(set = JANUS_SET_DRAW, binding = JANUS_BINDING_BASE_COLOR) uniform sampler2D baseColorTexture;
 
 layout(location = 2) in vec2 vUv;
 

@@ -1,5 +1,6 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
+#include "janus/shaders/bindings.h"
 // Forward PBR (glTF metallic-roughness): GGX distribution, height-correlated Smith visibility,
 // Schlick Fresnel, Lambert diffuse. Writes linear radiance to the RGBA16F HDR target.
 // Directional lights come from the frame uniforms; point and spot lights from the light array,
@@ -9,13 +10,13 @@
 #include "renderer/light_access.glsl"
 #include "renderer/shadow_sampling.glsl"
 
-layout(set = 0, binding = 9) uniform sampler2DShadow shadowMap;
+layout(set = JANUS_SET_VIEW, binding = JANUS_BINDING_SHADOW_MAP) uniform sampler2DShadow shadowMap;
 
-layout(set = 1, binding = 2) uniform sampler2D baseColorTexture;          // sRGB texture: decoded by the sampler
-layout(set = 1, binding = 3) uniform sampler2D metallicRoughnessTexture;  // G roughness, B metallic
-layout(set = 1, binding = 4) uniform sampler2D normalTexture;
-layout(set = 1, binding = 5) uniform sampler2D occlusionTexture;          // R occlusion
-layout(set = 1, binding = 6) uniform sampler2D emissiveTexture;
+layout(set = JANUS_SET_DRAW, binding = JANUS_BINDING_BASE_COLOR) uniform sampler2D baseColorTexture;          // sRGB texture: decoded by the sampler
+layout(set = JANUS_SET_DRAW, binding = JANUS_BINDING_METALLIC_ROUGHNESS) uniform sampler2D metallicRoughnessTexture;  // G roughness, B metallic
+layout(set = JANUS_SET_DRAW, binding = JANUS_BINDING_NORMAL) uniform sampler2D normalTexture;
+layout(set = JANUS_SET_DRAW, binding = JANUS_BINDING_OCCLUSION) uniform sampler2D occlusionTexture;          // R occlusion
+layout(set = JANUS_SET_DRAW, binding = JANUS_BINDING_EMISSIVE) uniform sampler2D emissiveTexture;
 
 layout(location = 0) in vec3 vWorldPosition;
 layout(location = 1) in vec3 vNormal;

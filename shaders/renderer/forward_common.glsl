@@ -1,7 +1,8 @@
 // Uniform blocks shared by forward.vert, forward.frag and depth_prepass.frag. Mirrors
-// FrameUniforms/DrawUniforms in renderer/src/renderer_passes.cpp (std140); binding numbers are unique
+// FrameUniforms in renderer/src/forward/forward_shading.h and DrawUniforms in renderer/src/core/gpu_scene.cpp (std140); binding numbers are unique
 // across sets (see Conventions). Point and spot lights are not here: they live in the light
 // array of renderer/light_access.glsl (docs/LIGHTING.md).
+#include "janus/shaders/bindings.h"
 
 const int kMaxDirectionalLights = 4;
 
@@ -10,7 +11,7 @@ struct DirectionalLight {
     vec4 colorIntensity;   // rgb colour * intensity (lux), w renderingLayers as uint bits
 };
 
-layout(set = 0, binding = 0, std140) uniform FrameUniforms {
+layout(set = JANUS_SET_VIEW, binding = JANUS_BINDING_FRAME_UNIFORMS, std140) uniform FrameUniforms {
     mat4 viewProjection;
     mat4 worldToShadow;    // directional light 0 (the main one): world -> (u, v, depth) of its shadow map
     vec4 cameraPosition;
@@ -21,7 +22,7 @@ layout(set = 0, binding = 0, std140) uniform FrameUniforms {
     DirectionalLight directionalLights[kMaxDirectionalLights];
 } frame;
 
-layout(set = 1, binding = 1, std140) uniform DrawUniforms {
+layout(set = JANUS_SET_DRAW, binding = JANUS_BINDING_DRAW_UNIFORMS, std140) uniform DrawUniforms {
     mat4 world;
     mat4 normalMatrix;     // inverse transpose of world (upper 3x3 used)
     vec4 baseColorFactor;

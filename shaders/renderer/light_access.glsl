@@ -4,14 +4,15 @@
 // Define TILE_DATA_ONLY to declare only the tile lists (binding 8).
 #ifndef JANUS_LIGHT_ACCESS_GLSL
 #define JANUS_LIGHT_ACCESS_GLSL
+#include "janus/shaders/bindings.h"
 
 const int kDataTextureWidth = 1024;
 
 #ifdef LIGHTS_IN_TEXTURES
 #ifndef TILE_DATA_ONLY
-layout(set = 0, binding = 7) uniform highp usampler2D localLightTexture;   // RGBA32UI, 4 texels per light
+layout(set = JANUS_SET_VIEW, binding = JANUS_BINDING_LOCAL_LIGHTS) uniform highp usampler2D localLightTexture;   // RGBA32UI, 4 texels per light
 #endif
-layout(set = 0, binding = 8) uniform highp usampler2D tileDataTexture;     // R32UI
+layout(set = JANUS_SET_VIEW, binding = JANUS_BINDING_TILE_LISTS) uniform highp usampler2D tileDataTexture;     // R32UI
 
 #ifndef TILE_DATA_ONLY
 uvec4 localLightWord(int light, int word) {
@@ -23,10 +24,10 @@ uint tileDataAt(int e) { return texelFetch(tileDataTexture, ivec2(e % kDataTextu
 
 #else
 #ifndef TILE_DATA_ONLY
-layout(set = 0, binding = 7, std430) readonly buffer LocalLights { uvec4 lightWords[]; };
+layout(set = JANUS_SET_VIEW, binding = JANUS_BINDING_LOCAL_LIGHTS, std430) readonly buffer LocalLights { uvec4 lightWords[]; };
 uvec4 localLightWord(int light, int word) { return lightWords[light * 4 + word]; }
 #endif
-layout(set = 0, binding = 8, std430) readonly buffer TileData { uint tileData[]; };
+layout(set = JANUS_SET_VIEW, binding = JANUS_BINDING_TILE_LISTS, std430) readonly buffer TileData { uint tileData[]; };
 uint tileDataAt(int e) { return tileData[e]; }
 #endif
 

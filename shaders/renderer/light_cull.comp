@@ -1,5 +1,6 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
+#include "janus/shaders/bindings.h"
 // Forward+ tile lists, compute path: one 16x16 workgroup per screen tile. Depth bounds from the
 // prepass (TilesDepth), a per-light bitmask in shared memory, then an ordered compaction so each
 // tile's list is ascending like the CPU builder's (docs/LIGHTING.md).
@@ -7,7 +8,7 @@
 
 layout(local_size_x = 16, local_size_y = 16) in;
 
-layout(set = 0, binding = 0, std140) uniform CullUniforms {
+layout(set = 0, binding = JANUS_BINDING_CULL_UNIFORMS, std140) uniform CullUniforms {
     mat4 view;
     mat4 projection;
     mat4 inverseProjection;
@@ -15,10 +16,10 @@ layout(set = 0, binding = 0, std140) uniform CullUniforms {
     uvec4 counts;   // x tilesX, y tilesY, z lightCount, w mode (1 Tiles2D, 2 TilesDepth)
     vec4 planes;    // x near, y far
 } cull;
-layout(set = 0, binding = 1) uniform sampler2D depthTexture;
-layout(set = 0, binding = 2, std430) readonly buffer LocalLights { uvec4 lightWords[]; };
-layout(set = 0, binding = 3, std430) buffer TileData { uint tileData[]; };
-layout(set = 0, binding = 4, std430) buffer CullStats { uint overflowTiles; uint droppedLights; uint listedLights; uint unused; };
+layout(set = 0, binding = JANUS_BINDING_CULL_DEPTH) uniform sampler2D depthTexture;
+layout(set = 0, binding = JANUS_BINDING_CULL_LIGHTS, std430) readonly buffer LocalLights { uvec4 lightWords[]; };
+layout(set = 0, binding = JANUS_BINDING_CULL_TILE_LISTS, std430) buffer TileData { uint tileData[]; };
+layout(set = 0, binding = JANUS_BINDING_CULL_STATS, std430) buffer CullStats { uint overflowTiles; uint droppedLights; uint listedLights; uint unused; };
 
 const uint kThreads = 256u;
 const uint kMaskWords = 512u;   // 16384 lights (kMaxLocalLights)

@@ -1,4 +1,4 @@
-// Forward+ tile culling math, the GLSL twin of renderer/src/light_grid_build.cpp
+// Forward+ tile culling math, the GLSL twin of renderer/src/forward/light_grid_build.cpp
 // (sphereMeetsTile and friends): same algorithm, same margins, float throughout, so the compute
 // builder lists the same lights as the CPU builder (a few more through rounding, never fewer:
 // the margins dwarf the rounding). docs/LIGHTING.md, "Culling".

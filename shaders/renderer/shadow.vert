@@ -1,7 +1,9 @@
 #version 450
+#extension GL_GOOGLE_include_directive : require
+#include "janus/shaders/bindings.h"
 // Shadow pass: positions only, into the directional light's clip space (see docs/SHADOWS.md).
-layout(set = 0, binding = 0) uniform ShadowPass { mat4 lightViewProjection; } pass;
-layout(set = 1, binding = 1) uniform ShadowCaster { mat4 world; } caster;
+layout(set = 0, binding = JANUS_BINDING_SHADOW_PASS) uniform ShadowPass { mat4 lightViewProjection; } pass;
+layout(set = 1, binding = JANUS_BINDING_SHADOW_CASTER) uniform ShadowCaster { mat4 world; } caster;
 
 layout(location = 0) in vec3 inPosition;
 

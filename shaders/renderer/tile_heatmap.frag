@@ -1,12 +1,13 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
+#include "janus/shaders/bindings.h"
 // Debug view "tiles": local lights per tile as a heat colour blended over the display image
 // (blue = none, green = half the cap, red = at the cap). Tiles at the cap, where lights may have
 // been dropped, also get a white diagonal hatch. Drawn after tonemapping with alpha blending.
 #define TILE_DATA_ONLY 1
 #include "renderer/light_access.glsl"
 
-layout(set = 0, binding = 0, std140) uniform HeatmapUniforms {
+layout(set = 0, binding = JANUS_BINDING_HEATMAP_UNIFORMS, std140) uniform HeatmapUniforms {
     ivec4 grid;   // x tileSize, y tilesX, z maxLightsPerTile, w tileCount
 } heatmap;
 

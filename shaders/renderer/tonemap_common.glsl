@@ -1,11 +1,12 @@
 // Tonemapping shared by tonemap.comp (compute path) and tonemap.frag (fallback path), so both
 // paths run the same math on the same inputs.
+#include "janus/shaders/bindings.h"
 
-layout(set = 0, binding = 0, std140) uniform TonemapUniforms {
+layout(set = 0, binding = JANUS_BINDING_TONEMAP_UNIFORMS, std140) uniform TonemapUniforms {
     vec4 params;   // x exposure
 } tonemap;
 
-layout(set = 0, binding = 1) uniform sampler2D hdrImage;
+layout(set = 0, binding = JANUS_BINDING_TONEMAP_HDR) uniform sampler2D hdrImage;
 
 // ACES filmic curve, Narkowicz's fit.
 vec3 acesFitted(vec3 x) {

@@ -30,3 +30,18 @@ janus_add_shader(janus_shaders NAME rt_fill_image_rgba8_comp SOURCE ${_rt}/fill_
 janus_add_shader(janus_shaders NAME rt_fill_image_r11f_g11f_b10f_comp SOURCE ${_rt}/fill_image_float.comp DEFINES IMAGE_FORMAT=r11f_g11f_b10f)
 janus_add_shader(janus_shaders NAME rt_fill_image_r32ui_comp SOURCE ${_rt}/fill_image_uint.comp DEFINES IMAGE_FORMAT=r32ui)
 janus_add_shader(janus_shaders NAME rt_fill_image_rgba32ui_comp SOURCE ${_rt}/fill_image_uint.comp DEFINES IMAGE_FORMAT=rgba32ui)
+# Array textures and texture views (tests/rhi/array_textures_test.cpp, texture_views_test.cpp).
+janus_add_shader(janus_shaders NAME rt_sample_lookup_2d_frag SOURCE ${_rt}/sample_lookup.frag)
+janus_add_shader(janus_shaders NAME rt_sample_lookup_array_frag SOURCE ${_rt}/sample_lookup.frag DEFINES ARRAY)
+janus_add_shader(janus_shaders NAME rt_sample_lookup_cube_frag SOURCE ${_rt}/sample_lookup.frag DEFINES CUBE)
+# ESSL 300 has no samplerCubeArray (Capability::CubeArrays is off on gles).
+janus_add_shader(janus_shaders NAME rt_sample_lookup_cube_array_frag SOURCE ${_rt}/sample_lookup.frag DEFINES CUBE_ARRAY NO_ES)
+janus_add_shader(janus_shaders NAME rt_fill_layers_array_comp SOURCE ${_rt}/fill_layers.comp DEFINES ARRAY)
+janus_add_shader(janus_shaders NAME rt_fill_layers_cube_comp SOURCE ${_rt}/fill_layers.comp DEFINES CUBE)
+janus_add_shader(janus_shaders NAME rt_fill_layers_cube_array_comp SOURCE ${_rt}/fill_layers.comp DEFINES CUBE_ARRAY)
+janus_add_shader(janus_shaders NAME rt_fill_layers_layer_comp SOURCE ${_rt}/fill_layers.comp DEFINES LAYER)
+janus_add_shader(janus_shaders NAME rt_downsample_layers_array_comp SOURCE ${_rt}/downsample_layers.comp)
+janus_add_shader(janus_shaders NAME rt_downsample_layers_cube_comp SOURCE ${_rt}/downsample_layers.comp DEFINES CUBE)
+janus_add_shader(janus_shaders NAME rt_downsample_layers_cube_array_comp SOURCE ${_rt}/downsample_layers.comp DEFINES CUBE_ARRAY)
+janus_add_shader(janus_shaders NAME rt_downsample_face_cube_frag SOURCE ${_rt}/downsample_face.frag DEFINES CUBE)
+janus_add_shader(janus_shaders NAME rt_downsample_face_2d_frag SOURCE ${_rt}/downsample_face.frag)

@@ -7,11 +7,13 @@ source "$(dirname "$0")/common.bash" "$@"
 expect_success render --size 64x48 --out "$TMP/vulkan.png" --hdr "$TMP/vulkan.exr" --report "$TMP/vulkan.json" --validation
 check_png "$TMP/vulkan.png" 64 48
 grep -q "vulkan.png" "$TMP/stdout" || fail "render does not say where the PNG went"
-grep -Eq "^  pass +GPU ms +CPU ms +draws +dispatches$" "$TMP/stdout" || fail "render prints no per-pass summary"
+grep -Eq "^  view +pass +GPU ms +CPU ms +draws +dispatches$" "$TMP/stdout" || fail "render prints no per-pass summary"
+grep -Eq "^  main +forward " "$TMP/stdout" || fail "the per-pass summary does not name the view of each pass"
 json_check "$TMP/vulkan.json" 'j["backend"] == "vulkan" and j["path"] == "compute" and j["width"] == 64 and j["height"] == 48' \
   "report does not describe vulkan/compute at 64x48"
 json_check "$TMP/vulkan.json" 'len(j["passes"]) > 0 and all(p["name"] and p["cpuMs"] >= 0 for p in j["passes"])' "report has no passes"
 json_check "$TMP/vulkan.json" 'sum(p["dispatches"] for p in j["passes"]) > 0' "the compute path ran no dispatch"
+json_check "$TMP/vulkan.json" '[v["name"] for v in j["views"]] == ["main"] and all(p["view"] == ("" if p["name"] == "shadow-map" else "main") for p in j["passes"])' "report does not list the main view and the view of every pass"
 if [[ ! -f $TMP/vulkan.exr ]] || [[ $(head -c 4 "$TMP/vulkan.exr" | od -An -tx1 | tr -d ' ') != 762f3101 ]]; then
   fail "--hdr did not write an OpenEXR file"
 fi

@@ -17,7 +17,8 @@ TEST(FrameReport, JsonHasEveryFieldAndNullForMissingTimers) {
     report.path = "fallback";
     report.width = 128;
     report.height = 64;
-    report.passes.push_back(PassReport{"forward", 1.5, 0.25, 18, 0});
+    report.views.push_back(ViewReport{"main", 128, 64});
+    report.passes.push_back(PassReport{"forward", 1.5, 0.25, 18, 0, "main"});
     report.passes.push_back(PassReport{"tonemap-fallback", std::nullopt, 0.125, 1, 0});
     const nlohmann::json json = report.toJson();
     EXPECT_EQ(json.at("backend"), "gles");
@@ -27,6 +28,12 @@ TEST(FrameReport, JsonHasEveryFieldAndNullForMissingTimers) {
     ASSERT_EQ(json.at("passes").size(), 2u);
     const nlohmann::json& forward = json["passes"][0];
     EXPECT_EQ(forward.at("name"), "forward");
+    EXPECT_EQ(forward.at("view"), "main");
+    ASSERT_EQ(json.at("views").size(), 1u);
+    EXPECT_EQ(json["views"][0].at("name"), "main");
+    EXPECT_EQ(json["views"][0].at("width"), 128);
+    EXPECT_EQ(json["views"][0].at("height"), 64);
+    EXPECT_EQ(json["passes"][1].at("view"), "");
     EXPECT_EQ(forward.at("gpuMs"), 1.5);
     EXPECT_EQ(forward.at("cpuMs"), 0.25);
     EXPECT_EQ(forward.at("draws"), 18);

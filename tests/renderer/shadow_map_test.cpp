@@ -19,7 +19,7 @@
 #include "janus/renderer/scene.h"
 #include "janus/rhi/rhi.h"
 // Internal to the renderer; the test target sees only tests/ and the public include paths.
-#include "../../renderer/src/shadow_map.h"
+#include "../../renderer/src/shadows/shadow_map.h"
 #include "../../shaders/include/janus/shaders/shaders.h"
 
 namespace janus::renderer {

@@ -74,6 +74,30 @@ TEST_P(BindingTest, BindingSetsCanBeSwitchedBetweenDraws) {
     EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(target), expected, 4));
 }
 
+// rhi.h: a command list keeps what it references alive until it has executed, from its first
+// recording on. Handles dropped right after use (binding sets, their textures) must survive; a
+// list that did not keep them would bind freed sets (and a new one at a reused address).
+TEST_P(BindingTest, FirstRecordingKeepsDroppedHandlesAlive) {
+    TextureHandle target = createTexture2D(Format::RGBA8_UNORM, 4, 4, TextureUsage::RenderTarget);
+    PipelineHandle pipeline = fullscreenPipeline("rt_sample_2d_frag", Format::RGBA8_UNORM);
+    SamplerHandle sampler = nearestClampSampler();
+    submit([&](ICommandList& cmd) {
+        cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(target)));
+        cmd.setPipeline(pipeline);
+        for (auto [c, x] : {std::pair{Rgba8{255, 0, 0, 255}, 0}, {Rgba8{0, 0, 255, 255}, 2}}) {
+            TextureHandle texture = createTexture2D(Format::RGBA8_UNORM, 1, 1);
+            device().writeTexture(texture, {}, &c, sizeof c);
+            cmd.setBindingSet(0, device().createBindingSet(BindingSetDesc().add(BindingItem::sampledTexture(0, texture, sampler))));
+            cmd.setScissor({x, 0, 2, 4});
+            cmd.draw(3);
+        }   // the texture and binding set handles are gone here
+        cmd.endRenderPass();
+    });
+    std::vector<Rgba8> expected(16);
+    for (size_t i = 0; i < 16; ++i) expected[i] = i % 4 < 2 ? Rgba8{255, 0, 0, 255} : Rgba8{0, 0, 255, 255};
+    EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(target), expected, 4));
+}
+
 // Uniform data written by the command list between passes must be what each pass sees, not the
 // last value written (a backend that applied writes at record time would show the last one).
 TEST_P(BindingTest, CommandListUniformWritesAreOrderedWithDraws) {

@@ -140,6 +140,8 @@ TEST_P(ErrorTest, CapabilityTableIsHonest) {
             case Capability::FloatBlend: flag = c.floatBlend; break;
             case Capability::TimestampQueries: flag = c.timestampQueries; break;
             case Capability::IndependentBlend: flag = c.independentBlend; break;
+            case Capability::CubeArrays: flag = c.cubeArrays; break;
+            case Capability::TextureViews: flag = c.textureViews; break;
         }
         EXPECT_EQ(c.has(cap), flag) << toString(cap);
     }
@@ -147,6 +149,7 @@ TEST_P(ErrorTest, CapabilityTableIsHonest) {
     EXPECT_GE(l.maxTextureSize2D, 2048u);
     EXPECT_GE(l.maxTextureSize3D, 256u);
     EXPECT_GE(l.maxTextureSizeCube, 2048u);
+    EXPECT_GE(l.maxTextureArrayLayers, 256u);   // the GL 4.3 / ES 3.0 / Vulkan minimum
     EXPECT_GE(l.maxColorAttachments, 4u);
     EXPECT_GE(l.maxUniformBufferRange, 16384u);
     EXPECT_GT(l.uniformBufferOffsetAlignment, 0u);
@@ -189,6 +192,14 @@ TEST_P(ErrorTest, MissingCapabilitiesThrowUnsupportedCapability) {
         {Capability::TimestampQueries, [&] {
              TimerQueryHandle timer = device().createTimerQuery();
              submit([&](ICommandList& cmd) { cmd.beginTimer(timer); cmd.endTimer(timer); });
+         }},
+        {Capability::CubeArrays, [&] {
+             device().createTexture(TextureDesc().setDimension(TextureDimension::TextureCubeArray).setSize(4, 4).setArrayLayers(12));
+         }},
+        {Capability::TextureViews, [&] {
+             TextureHandle cube = device().createTexture(TextureDesc().setDimension(TextureDimension::TextureCube).setSize(4, 4));
+             device().createBindingSet(BindingSetDesc().add(BindingItem::sampledTexture(0, cube, nearestClampSampler())
+                                                                .setLayers(2, 1).setViewDimension(TextureDimension::Texture2D)));
          }},
     };
     size_t checked = 0;

@@ -11,8 +11,10 @@
 
 #include <glm/glm.hpp>
 
-#include "janus/renderer/renderer.h"
+#include "janus/renderer/frame_report.h"
+#include "janus/renderer/settings.h"
 #include "janus/renderer/scene.h"
+#include "janus/renderer/scene_view.h"
 
 namespace janus::renderer {
 
@@ -83,6 +85,8 @@ struct TileGrid {
 // Throws RendererError for zero sizes or a tile size of 0.
 TileGrid makeTileGrid(const Camera& camera, uint32_t width, uint32_t height, uint32_t tileSize,
                       uint32_t maxLightsPerTile);
+// The same for any scene view (its matrices, size and near/far planes).
+TileGrid makeTileGrid(const SceneView& view, uint32_t tileSize, uint32_t maxLightsPerTile);
 glm::mat4 makeProjection(const Camera& camera, uint32_t width, uint32_t height);
 glm::mat4 makeView(const Camera& camera);
 

@@ -11,6 +11,7 @@
 //    images show at the top. No backend flips rows on upload, render or readback.
 //  * FrontFace::CounterClockwise means counter-clockwise as seen in the image (row 0 on top).
 //  * Cube faces are ordered +X, -X, +Y, -Y, +Z, -Z (layer 0..5), oriented as in the Vulkan/GL spec.
+//    Cube arrays number their 2D layers "layer-faces": layer = 6 * cube + face.
 //  * Binding model: shaders declare `layout(set = S, binding = B)`; binding numbers are unique
 //    across all sets of one pipeline (so GL can use B as its binding point / texture unit / image
 //    unit directly). Sampled textures are combined image samplers (`sampler2D`...).
@@ -104,18 +105,23 @@ enum class Capability {
     FloatBlend,              // blending into 32-bit float attachments
     TimestampQueries,        // GPU timers
     IndependentBlend,        // a different blend state / write mask per colour attachment
+    CubeArrays,              // TextureDimension::TextureCubeArray (samplerCubeArray / imageCubeArray)
+    TextureViews,            // binding views with a layer/face subrange or another dimension than the
+                             // texture's (one cube face as 2D, ...); mip ranges need no capability
 };
 const char* toString(Capability cap);
 inline constexpr std::array kAllCapabilities = {
     Capability::Compute,           Capability::StorageBuffers,     Capability::StorageImages,
     Capability::RenderToVolumeSlice, Capability::RenderToCubeFaceMip, Capability::FloatRenderTargets,
     Capability::FloatBlend,        Capability::TimestampQueries,   Capability::IndependentBlend,
+    Capability::CubeArrays,        Capability::TextureViews,
 };
 
 struct Limits {
     uint32_t maxTextureSize2D = 0;
     uint32_t maxTextureSize3D = 0;
     uint32_t maxTextureSizeCube = 0;
+    uint32_t maxTextureArrayLayers = 0;   // TextureDesc::arrayLayers (layer-faces for cube arrays)
     uint32_t maxColorAttachments = 0;
     uint64_t maxUniformBufferRange = 0;
     uint64_t maxStorageBufferRange = 0;   // 0 without StorageBuffers
@@ -157,6 +163,8 @@ struct Capabilities {
     bool floatBlend = false;
     bool timestampQueries = false;
     bool independentBlend = false;
+    bool cubeArrays = false;
+    bool textureViews = false;
     Limits limits;
     Conventions conventions;
 
@@ -200,7 +208,10 @@ using BufferHandle = std::shared_ptr<IBuffer>;
 // ---------------------------------------------------------------------------------------------
 // New resources read as zero until written (every backend guarantees it).
 
-enum class TextureDimension { Texture2D, Texture3D, TextureCube };
+// Layers: a cube has 6 (its faces); a 2D array has TextureDesc::arrayLayers; a cube array has
+// arrayLayers = 6 x cubes "layer-faces", layer = 6 * cube + face (NVRHI's arraySize, Vulkan's
+// arrayLayers, GL's layer-face). TextureCubeArray needs Capability::CubeArrays.
+enum class TextureDimension { Texture2D, Texture3D, TextureCube, Texture2DArray, TextureCubeArray };
 const char* toString(TextureDimension dim);
 
 enum class TextureUsage : uint32_t {
@@ -219,6 +230,9 @@ struct TextureDesc {
     uint32_t width = 1;
     uint32_t height = 1;          // cube maps: width == height
     uint32_t depth = 1;           // 3D textures only
+    // Texture2DArray: layers (>= 1); TextureCubeArray: 6 x cubes (a multiple of 6); 1 otherwise
+    // (a cube's 6 faces are implied). At most Limits::maxTextureArrayLayers.
+    uint32_t arrayLayers = 1;
     uint32_t mipLevels = 1;       // 0 = full chain
     TextureUsage usage = TextureUsage::Sampled;   // copies and readback are always allowed
     std::string debugName;
@@ -226,12 +240,17 @@ struct TextureDesc {
     TextureDesc& setDimension(TextureDimension v) { dimension = v; return *this; }
     TextureDesc& setFormat(Format v) { format = v; return *this; }
     TextureDesc& setSize(uint32_t w, uint32_t h, uint32_t d = 1) { width = w; height = h; depth = d; return *this; }
+    TextureDesc& setArrayLayers(uint32_t v) { arrayLayers = v; return *this; }
     TextureDesc& setMipLevels(uint32_t v) { mipLevels = v; return *this; }
     TextureDesc& setUsage(TextureUsage v) { usage = v; return *this; }
     TextureDesc& setDebugName(std::string v) { debugName = std::move(v); return *this; }
 };
 
-// One 2D image of a texture: mip level plus cube face (0..5) or 3D slice (at that mip's depth).
+// The number of 2D layers of a non-3D texture (1, 6, arrayLayers); 3D: its depth at mip 0.
+uint32_t textureLayerCount(const TextureDesc& desc);
+
+// One 2D image of a texture: mip level plus cube face (0..5), array layer, cube-array
+// layer-face (6 * cube + face) or 3D slice (at that mip's depth).
 struct TextureSubresource {
     uint32_t mipLevel = 0;
     uint32_t layer = 0;
@@ -405,8 +424,35 @@ using PipelineHandle = std::shared_ptr<IPipeline>;
 enum class ResourceType {
     UniformBuffer,    // layout(std140) uniform Block
     StorageBuffer,    // layout(std430) buffer Block; needs StorageBuffers
-    SampledTexture,   // sampler2D / sampler3D / samplerCube / sampler2DShadow (texture + sampler)
-    StorageImage,     // image2D / image3D (one mip level; all layers); needs StorageImages
+    SampledTexture,   // sampler2D / sampler3D / samplerCube / sampler2DArray / samplerCubeArray /
+                      // sampler2DShadow (texture + sampler)
+    StorageImage,     // image2D / image3D / imageCube / image2DArray / imageCubeArray (one mip level;
+                      // all layers, or one layer as image2D); needs StorageImages
+};
+
+inline constexpr uint32_t kAllMips = ~0u;     // a count meaning "to the last mip level"
+inline constexpr uint32_t kAllLayers = ~0u;   // a count meaning "to the last layer"
+
+// The part of a texture a SampledTexture / StorageImage binding sees (a "view"). The defaults
+// view everything. Layers count 2D layers (faces, array layers, layer-faces; see
+// TextureDimension); 3D textures are always viewed whole. The shader's declared type must match
+// the view's dimension: viewDimension when set, otherwise the texture's.
+//  * Mip ranges work everywhere (GLES emulates them with GL_TEXTURE_BASE_LEVEL/MAX_LEVEL, so
+//    there one texture can be seen through only one mip range per draw). Level of detail 0 of a
+//    view is its baseMip, as in Vulkan and GL texture views.
+//  * A layer subrange or a viewDimension other than the texture's needs Capability::TextureViews
+//    (not on GLES). Allowed: 2D/2D-array -> Texture2D (one layer) or Texture2DArray; cube and
+//    cube array -> Texture2D (one layer), Texture2DArray, TextureCube (6 layers from a multiple
+//    of 6), TextureCubeArray (multiples of 6; needs CubeArrays).
+//  * Storage images bind one mip (BindingItem::mipLevel; leave the mip range at its default)
+//    and all layers with the texture's dimension, or one layer as Texture2D.
+//  * A view may not overlap a subresource the same draw / dispatch writes: an attachment of the
+//    current render pass, or a storage image of the bound sets (InvalidUsage on every backend).
+struct TextureViewRange {
+    uint32_t baseMip = 0;
+    uint32_t mipCount = kAllMips;
+    uint32_t baseLayer = 0;
+    uint32_t layerCount = kAllLayers;
 };
 
 struct BindingItem {
@@ -418,11 +464,18 @@ struct BindingItem {
     TextureHandle texture;
     SamplerHandle sampler;
     uint32_t mipLevel = 0;            // StorageImage: which level
+    TextureViewRange view;            // textures: which mips / layers the binding sees
+    std::optional<TextureDimension> viewDimension;   // textures: view as another dimension
 
     static BindingItem uniformBuffer(uint32_t b, BufferHandle buf, uint64_t off = 0, uint64_t rng = 0) { BindingItem i; i.binding = b; i.type = ResourceType::UniformBuffer; i.buffer = std::move(buf); i.offset = off; i.range = rng; return i; }
     static BindingItem storageBuffer(uint32_t b, BufferHandle buf, uint64_t off = 0, uint64_t rng = 0) { BindingItem i; i.binding = b; i.type = ResourceType::StorageBuffer; i.buffer = std::move(buf); i.offset = off; i.range = rng; return i; }
     static BindingItem sampledTexture(uint32_t b, TextureHandle tex, SamplerHandle smp) { BindingItem i; i.binding = b; i.type = ResourceType::SampledTexture; i.texture = std::move(tex); i.sampler = std::move(smp); return i; }
     static BindingItem storageImage(uint32_t b, TextureHandle tex, uint32_t mip = 0) { BindingItem i; i.binding = b; i.type = ResourceType::StorageImage; i.texture = std::move(tex); i.mipLevel = mip; return i; }
+    // Views (see TextureViewRange): BindingItem::sampledTexture(1, cube, s).setMips(2, 1).setLayers(4, 1)
+    //     .setViewDimension(TextureDimension::Texture2D) samples face +Z of mip 2 as a sampler2D.
+    BindingItem& setMips(uint32_t base, uint32_t count = 1) { view.baseMip = base; view.mipCount = count; return *this; }
+    BindingItem& setLayers(uint32_t base, uint32_t count = 1) { view.baseLayer = base; view.layerCount = count; return *this; }
+    BindingItem& setViewDimension(TextureDimension d) { viewDimension = d; return *this; }
 };
 
 // Sets a pipeline may use: `layout(set = 0 .. kMaxBindingSets - 1)`.
@@ -457,7 +510,8 @@ using TimerQueryHandle = std::shared_ptr<ITimerQuery>;
 enum class LoadOp { Load, Clear, DontCare };
 enum class StoreOp { Store, DontCare };
 
-// An attachment is any 2D subresource: a 2D mip, a cube face + mip, or a 3D slice at a mip.
+// An attachment is any 2D subresource: a 2D mip, a cube face + mip, an array layer (cube arrays:
+// layer-face 6 * cube + face) + mip, or a 3D slice at a mip.
 struct Attachment {
     TextureHandle texture;
     TextureSubresource subresource;
@@ -546,7 +600,7 @@ public:
     void copyBufferToTexture(const TextureHandle& dst, TextureSubresource dstSub, const BufferHandle& src, uint64_t srcOffset = 0);
     void copyTextureToBuffer(const BufferHandle& dst, uint64_t dstOffset, const TextureHandle& src, TextureSubresource srcSub);
     void copyTexture(const TextureHandle& dst, TextureSubresource dstSub, const TextureHandle& src, TextureSubresource srcSub);
-    void generateMips(const TextureHandle& texture);   // from mip 0, every face/slice
+    void generateMips(const TextureHandle& texture);   // from mip 0, every face/layer/slice
 
     // GPU timers: the time between begin and end on the GPU.
     virtual void beginTimer(const TimerQueryHandle& timer) = 0;

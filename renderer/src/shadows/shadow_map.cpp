@@ -10,9 +10,10 @@
 #include <fmt/format.h>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "janus/renderer/renderer.h"
+#include "core/gpu_util.h"
 #include "janus/renderer/scene.h"
-#include "janus/shaders/shaders.h"
+#include "janus/renderer/settings.h"
+#include "janus/shaders/bindings.h"
 
 namespace janus::renderer {
 namespace {
@@ -20,13 +21,7 @@ namespace {
 // Texels kept free on each side of the fitted bounds: one for the snap, one for the PCF kernel.
 constexpr float kBorderTexels = 2.0f;
 
-uint64_t alignUp(uint64_t value, uint64_t alignment) { return alignment ? (value + alignment - 1) / alignment * alignment : value; }
-
 bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-
-rhi::ShaderHandle makeShader(rhi::IDevice& device, rhi::ShaderStage stage, const char* name) {
-    return device.createShader(rhi::ShaderDesc{}.setStage(stage).setSpirv(shaders::get(name)).setDebugName(name));
-}
 
 }  // namespace
 
@@ -93,7 +88,7 @@ DirectionalShadowMap::DirectionalShadowMap(rhi::IDevice& device, uint32_t size) 
 
     m_passUniforms = device.createBuffer(
         rhi::BufferDesc{}.setSize(sizeof(glm::mat4)).setUsage(rhi::BufferUsage::Uniform).setDebugName("shadow pass uniforms"));
-    m_passBindings = device.createBindingSet(rhi::BindingSetDesc{}.add(rhi::BindingItem::uniformBuffer(0, m_passUniforms)));
+    m_passBindings = device.createBindingSet(rhi::BindingSetDesc{}.add(rhi::BindingItem::uniformBuffer(JANUS_BINDING_SHADOW_PASS, m_passUniforms)));
     m_casterStride = alignUp(sizeof(glm::mat4), std::max<uint32_t>(device.capabilities().limits.uniformBufferOffsetAlignment, 16));
 
     const rhi::ShaderHandle vs = makeShader(device, rhi::ShaderStage::Vertex, "shadow_vert");
@@ -199,7 +194,7 @@ void DirectionalShadowMap::setCasters(std::span<const ShadowCaster> casters) {
         std::memcpy(data.data() + i * m_casterStride, &casters[i].world, sizeof(glm::mat4));
         m_casterWorlds.push_back(casters[i].world);
         m_casterBindings.push_back(m_device.createBindingSet(rhi::BindingSetDesc{}.add(
-            rhi::BindingItem::uniformBuffer(1, m_casterUniforms, i * m_casterStride, sizeof(glm::mat4)))));
+            rhi::BindingItem::uniformBuffer(JANUS_BINDING_SHADOW_CASTER, m_casterUniforms, i * m_casterStride, sizeof(glm::mat4)))));
     }
     m_device.writeBuffer(m_casterUniforms, data.data(), data.size());
 }

@@ -1,14 +1,13 @@
-// Renderer settings: checkSettings (size and capabilities the path needs), resolveLighting
-// (LightingSettings from RenderSettings, else the scene file's "quality" keys, else the defaults
-// in renderer_impl.h) and chooseCulling (the light culling mode this scene renders with).
+// Lighting settings: each knob from RenderSettings, else the scene file's "quality" key, else the
+// default in lighting_settings.h; then the checks that name what to change.
+#include "forward/lighting_settings.h"
+
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <type_traits>
 
 #include <fmt/format.h>
-
-#include "renderer_impl.h"
 
 namespace janus::renderer {
 namespace {
@@ -34,29 +33,8 @@ T resolveSetting(const std::optional<T>& given, const nlohmann::json& quality, c
 
 }  // namespace
 
-void Renderer::Impl::checkSettings() const {
-    const rhi::Capabilities& caps = device.capabilities();
-    const uint32_t maxSize = caps.limits.maxTextureSize2D;
-    if (settings.width == 0 || settings.height == 0 || settings.width > maxSize || settings.height > maxSize)
-        throw RendererError(fmt::format("render size {}x{} is not possible on this {} device: width and height must be "
-                                        "between 1 and its maximum 2D texture size {}",
-                                        settings.width, settings.height, rhi::toString(device.info().backend), maxSize));
-    if (!caps.floatRenderTargets)
-        throw RendererError(fmt::format("the forward pass renders into RGBA16F, which needs the '{}' capability that this {} "
-                                        "device lacks",
-                                        rhi::toString(rhi::Capability::FloatRenderTargets), rhi::toString(device.info().backend)));
-    if (settings.path == FeaturePath::Compute) {
-        for (rhi::Capability cap : {rhi::Capability::Compute, rhi::Capability::StorageImages, rhi::Capability::StorageBuffers})
-            if (!caps.has(cap))
-                throw RendererError(fmt::format("the compute path needs the '{}' capability, which this {} device lacks; render "
-                                                "with the fallback path (FeaturePath::Fallback, --path fallback)",
-                                                rhi::toString(cap), rhi::toString(device.info().backend)));
-    }
-}
-
-void Renderer::Impl::resolveLighting(const Scene& scene) {
-    const LightingSettings& given = settings.lighting;
-    const nlohmann::json& quality = scene.quality;
+ResolvedLighting resolveLighting(const LightingSettings& given, const nlohmann::json& quality) {
+    ResolvedLighting lighting;
     if (given.culling) {
         lighting.culling = *given.culling;
     } else if (quality.is_object() && quality.contains("lightCulling")) {
@@ -88,35 +66,7 @@ void Renderer::Impl::resolveLighting(const Scene& scene) {
         throw RendererError(fmt::format("intensity cut-off 0 gives lights without a range an infinite range, which only naive "
                                         "culling can render; use LightCulling::Naive (\"naive\") or a cut-off above 0 with {}",
                                         toString(lighting.culling)));
-}
-
-void Renderer::Impl::chooseCulling() {
-    cullingMode = lighting.culling;
-    if (cullingMode == LightCulling::Auto) {
-        // Infinite ranges (cut-off 0) can only be looped directly.
-        const bool tiledPossible = lighting.intensityCutoff > 0.0f;
-        cullingMode = tiledPossible && localLights.size() >= lighting.autoTiledThreshold ? LightCulling::TilesDepth : LightCulling::Naive;
-    }
-    // No local lights: nothing to cull, no prepass.
-    if (localLights.empty()) cullingMode = LightCulling::Naive;
-    if (tiled()) {
-        tilesX = tileGrid.tilesX();
-        tilesY = tileGrid.tilesY();
-    }
-    if (!localLights.empty()) {
-        LightCullingReport report;
-        report.mode = cullingMode;
-        report.builder = tiled() ? (settings.path == FeaturePath::Compute ? "compute" : "cpu") : "";
-        report.directionalLights = directionalCount;
-        report.localLights = uint32_t(localLights.size());
-        if (tiled()) {
-            report.tileSize = lighting.tileSize;
-            report.tilesX = tilesX;
-            report.tilesY = tilesY;
-            report.maxLightsPerTile = lighting.maxLightsPerTile;
-        }
-        cullingReport = report;
-    }
+    return lighting;
 }
 
 }  // namespace janus::renderer

@@ -4,7 +4,7 @@
 //                          shadows.fit(light.direction, sceneMin, sceneMax);
 //                          shadows.setCasters(casters);            // binding sets made here
 // once per frame:          shadows.record(cmd, casters, draws);    // one depth-only render pass
-// in the forward pass:     shadows.binding(9) in set 0 (sampler2DShadow), worldToShadow() and
+// in the forward pass:     shadows.binding(JANUS_BINDING_SHADOW_MAP) in set 0 (sampler2DShadow), worldToShadow() and
 //                          texelSize() / normalOffset() in the frame uniforms, and
 //                          shaders/renderer/shadow_sampling.glsl in the shader.
 #pragma once

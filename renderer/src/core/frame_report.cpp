@@ -37,11 +37,14 @@ std::optional<DebugView> parseDebugView(std::string_view name) {
 nlohmann::json FrameReport::toJson() const {
     nlohmann::json passesJson = nlohmann::json::array();
     for (const PassReport& p : passes) {
-        nlohmann::json j{{"name", p.name}, {"cpuMs", p.cpuMs}, {"draws", p.draws}, {"dispatches", p.dispatches}};
+        nlohmann::json j{{"name", p.name}, {"view", p.view}, {"cpuMs", p.cpuMs}, {"draws", p.draws}, {"dispatches", p.dispatches}};
         j["gpuMs"] = p.gpuMs ? nlohmann::json(*p.gpuMs) : nlohmann::json(nullptr);
         passesJson.push_back(std::move(j));
     }
-    nlohmann::json json{{"backend", backend}, {"path", path}, {"width", width}, {"height", height}, {"passes", passesJson}};
+    nlohmann::json viewsJson = nlohmann::json::array();
+    for (const ViewReport& v : views) viewsJson.push_back({{"name", v.name}, {"width", v.width}, {"height", v.height}});
+    nlohmann::json json{{"backend", backend}, {"path", path},        {"width", width},
+                        {"height", height},   {"views", viewsJson}, {"passes", passesJson}};
     if (lightCulling) {
         const LightCullingReport& c = *lightCulling;
         json["lightCulling"] = {{"mode", toString(c.mode)},

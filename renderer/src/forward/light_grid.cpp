@@ -102,6 +102,22 @@ TileGrid makeTileGrid(const Camera& camera, uint32_t width, uint32_t height, uin
     return grid;
 }
 
+TileGrid makeTileGrid(const SceneView& view, uint32_t tileSize, uint32_t maxLightsPerTile) {
+    if (view.width == 0 || view.height == 0)
+        throw RendererError(fmt::format("tile grid: view '{}' size {}x{} is empty", view.name, view.width, view.height));
+    if (tileSize == 0) throw RendererError("tile grid: tile size must be > 0");
+    TileGrid grid;
+    grid.width = view.width;
+    grid.height = view.height;
+    grid.tileSize = tileSize;
+    grid.maxLightsPerTile = maxLightsPerTile;
+    grid.view = view.view;
+    grid.projection = view.projection;
+    grid.nearPlane = view.nearPlane;
+    grid.farPlane = view.farPlane;
+    return grid;
+}
+
 CullUniforms makeCullUniforms(const TileGrid& grid, uint32_t lightCount, LightCulling mode) {
     CullUniforms u;
     u.view = grid.view;

@@ -1,0 +1,60 @@
+// janus::renderer settings: what a Renderer is asked to render, and the error it throws when it
+// cannot. Lower than renderer.h so that feature code (light_grid.h, shadows) need not include it.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <stdexcept>
+#include <string_view>
+
+namespace janus::renderer {
+
+enum class FeaturePath { Compute, Fallback };
+const char* toString(FeaturePath path);          // "compute", "fallback"
+std::optional<FeaturePath> parseFeaturePath(std::string_view name);
+
+// How point and spot lights reach the pixels that they light (docs/LIGHTING.md).
+enum class LightCulling {
+    Auto,         // chosen per frame: Naive below LightingSettings::autoTiledThreshold local lights, else TilesDepth
+    Naive,        // every pixel loops every local light (the reference)
+    Tiles2D,      // screen tiles; a light is listed where its sphere meets the tile's frustum (near..far)
+    TilesDepth,   // as Tiles2D, clipped to each tile's depth bounds from a depth prepass
+};
+const char* toString(LightCulling mode);          // "auto", "naive", "tiles-2d", "tiles-depth"
+std::optional<LightCulling> parseLightCulling(std::string_view name);
+
+enum class DebugView {
+    None,
+    Tiles,   // heat map of local lights per tile (blue = few, red = many) over the image; tiles at the cap are marked
+};
+const char* toString(DebugView view);             // "none", "tiles"
+std::optional<DebugView> parseDebugView(std::string_view name);
+
+// Lighting knobs. Unset fields take the scene file's "quality" value, then the default shown.
+struct LightingSettings {
+    std::optional<LightCulling> culling;          // default Auto
+    std::optional<uint32_t> tileSize;             // pixels: 16, 32, 64, 128 or 256; default 16
+    std::optional<uint32_t> maxLightsPerTile;     // 1..1024; default 256
+    // Lights without a glTF range are culled where their illuminance falls below this (lux);
+    // default 0.01. 0 = never cull them: infinite range, only Naive can render that (the
+    // reference that measures the cut-off's error).
+    std::optional<float> intensityCutoff;
+    std::optional<uint32_t> autoTiledThreshold;   // Auto: fewer local lights than this loop naively; default 8 (bench)
+    std::optional<bool> shadows;                  // shadow map for the main directional light; default true
+    std::optional<uint32_t> shadowMapSize;        // default 1024
+};
+
+struct RenderSettings {
+    uint32_t width = 256;
+    uint32_t height = 256;
+    FeaturePath path = FeaturePath::Compute;
+    LightingSettings lighting;
+    DebugView debugView = DebugView::None;
+};
+
+class RendererError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+}  // namespace janus::renderer

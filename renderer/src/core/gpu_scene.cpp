@@ -1,0 +1,253 @@
+#include "core/gpu_scene.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstring>
+#include <utility>
+
+#include <fmt/format.h>
+#include <glm/gtc/matrix_inverse.hpp>
+
+#include "core/gpu_util.h"
+#include "janus/shaders/bindings.h"
+
+namespace janus::renderer {
+namespace {
+
+// std140 mirror of forward_common.glsl's DrawUniforms block.
+struct DrawUniforms {
+    glm::mat4 world;
+    glm::mat4 normalMatrix;
+    glm::vec4 baseColorFactor;
+    glm::vec4 emissiveFactor;
+    glm::vec4 materialParams;
+    glm::ivec4 flags;
+};
+static_assert(sizeof(DrawUniforms) == 192, "DrawUniforms must match std140");
+static_assert(sizeof(Vertex) == 48 && offsetof(Vertex, normal) == 12 && offsetof(Vertex, uv) == 24 && offsetof(Vertex, tangent) == 32,
+              "the mesh pipelines' vertex layout assumes a tightly packed Vertex");
+
+float srgbToLinear(uint8_t value) {
+    static const std::array<float, 256> table = [] {
+        std::array<float, 256> t{};
+        for (size_t i = 0; i < t.size(); ++i) {
+            const float c = float(i) / 255.0f;
+            t[i] = c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+        }
+        return t;
+    }();
+    return table[value];
+}
+
+uint8_t linearToSrgb(float c) {
+    const float s = c <= 0.0031308f ? c * 12.92f : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
+    return uint8_t(std::clamp(std::lround(s * 255.0f), 0L, 255L));
+}
+
+// The next mip of an RGBA8 image with a 2x2 box filter (sRGB colour averaged in linear light).
+// Mips are made on the CPU rather than with generateMips so every backend samples the same texels.
+std::vector<uint8_t> downsample(const std::vector<uint8_t>& src, uint32_t width, uint32_t height, bool srgb) {
+    const uint32_t w = std::max(width / 2, 1u), h = std::max(height / 2, 1u);
+    std::vector<uint8_t> dst(size_t(w) * h * 4);
+    for (uint32_t y = 0; y < h; ++y) {
+        for (uint32_t x = 0; x < w; ++x) {
+            for (uint32_t c = 0; c < 4; ++c) {
+                float sum = 0.0f;
+                for (uint32_t dy = 0; dy < 2; ++dy) {
+                    for (uint32_t dx = 0; dx < 2; ++dx) {
+                        const uint32_t sx = std::min(x * 2 + dx, width - 1), sy = std::min(y * 2 + dy, height - 1);
+                        const uint8_t v = src[(size_t(sy) * width + sx) * 4 + c];
+                        sum += (srgb && c < 3) ? srgbToLinear(v) : float(v);
+                    }
+                }
+                const float average = sum / 4.0f;
+                dst[(size_t(y) * w + x) * 4 + c] =
+                    (srgb && c < 3) ? linearToSrgb(average) : uint8_t(std::clamp(std::lround(average), 0L, 255L));
+            }
+        }
+    }
+    return dst;
+}
+
+}  // namespace
+
+GpuScene::GpuScene(rhi::IDevice& device, const Scene& scene) : m_device(device) {
+    uploadTextures(scene);
+    uploadMeshes(scene);
+    createDraws(scene);
+}
+
+rhi::TextureHandle GpuScene::createTexture(const std::string& name, uint32_t width, uint32_t height, std::vector<uint8_t> rgba,
+                                                 bool srgb) {
+    const uint32_t mips = rhi::fullMipCount(width, height);
+    rhi::TextureHandle texture = m_device.createTexture(rhi::TextureDesc{}
+                                                          .setFormat(srgb ? rhi::Format::RGBA8_SRGB : rhi::Format::RGBA8_UNORM)
+                                                          .setSize(width, height)
+                                                          .setMipLevels(mips)
+                                                          .setUsage(rhi::TextureUsage::Sampled)
+                                                          .setDebugName(name));
+    for (uint32_t mip = 0; mip < mips; ++mip) {
+        if (mip > 0) {
+            rgba = downsample(rgba, width, height, srgb);
+            width = std::max(width / 2, 1u);
+            height = std::max(height / 2, 1u);
+        }
+        m_device.writeTexture(texture, rhi::TextureSubresource{mip, 0}, rgba.data(), rgba.size());
+    }
+    return texture;
+}
+
+rhi::SamplerHandle GpuScene::createSampler(const TextureSampling& sampling) {
+    auto address = [](TextureWrap wrap) {
+        switch (wrap) {
+            case TextureWrap::ClampToEdge: return rhi::AddressMode::ClampToEdge;
+            case TextureWrap::MirroredRepeat: return rhi::AddressMode::MirroredRepeat;
+            default: return rhi::AddressMode::Repeat;
+        }
+    };
+    rhi::SamplerDesc desc;
+    desc.magFilter = sampling.nearestMagnification ? rhi::Filter::Nearest : rhi::Filter::Linear;
+    desc.minFilter = sampling.nearestMinification ? rhi::Filter::Nearest : rhi::Filter::Linear;
+    desc.mipFilter = sampling.nearestMip ? rhi::Filter::Nearest : rhi::Filter::Linear;
+    desc.addressU = address(sampling.wrapU);
+    desc.addressV = address(sampling.wrapV);
+    if (!sampling.mipmapped) desc.setLodRange(0.0f, 0.0f);   // glTF NEAREST / LINEAR minification: mip 0 only
+    return m_device.createSampler(desc);
+}
+
+void GpuScene::uploadTextures(const Scene& scene) {
+    m_whiteTexture = createTexture("default white", 1, 1, {255, 255, 255, 255}, false);
+    m_flatNormalTexture = createTexture("default normal", 1, 1, {128, 128, 255, 255}, false);
+    m_materialSampler = m_device.createSampler(rhi::SamplerDesc{});
+    std::vector<std::pair<TextureSampling, rhi::SamplerHandle>> samplers{{TextureSampling{}, m_materialSampler}};
+    for (const TextureImage& image : scene.textures) {
+        m_textures.push_back(createTexture(image.name, image.width, image.height, image.rgba, image.srgb));
+        auto it = std::find_if(samplers.begin(), samplers.end(), [&](const auto& s) { return s.first == image.sampling; });
+        if (it == samplers.end()) it = samplers.insert(samplers.end(), {image.sampling, createSampler(image.sampling)});
+        m_textureSamplers.push_back(it->second);
+    }
+    m_pointSampler = m_device.createSampler(rhi::SamplerDesc{}.setFilter(rhi::Filter::Nearest).setAddress(rhi::AddressMode::ClampToEdge));
+}
+
+void GpuScene::uploadMeshes(const Scene& scene) {
+    for (size_t m = 0; m < scene.meshes.size(); ++m) {
+        const renderer::Mesh& mesh = scene.meshes[m];
+        Mesh gpu;
+        gpu.indexCount = uint32_t(mesh.indices.size());
+        if (!mesh.vertices.empty() && !mesh.indices.empty()) {
+            const uint64_t vertexBytes = mesh.vertices.size() * sizeof(Vertex);
+            const uint64_t indexBytes = mesh.indices.size() * sizeof(uint32_t);
+            gpu.vertices = m_device.createBuffer(
+                rhi::BufferDesc{}.setSize(vertexBytes).setUsage(rhi::BufferUsage::Vertex).setDebugName(fmt::format("mesh {} vertices", m)));
+            gpu.indices = m_device.createBuffer(
+                rhi::BufferDesc{}.setSize(indexBytes).setUsage(rhi::BufferUsage::Index).setDebugName(fmt::format("mesh {} indices", m)));
+            m_device.writeBuffer(gpu.vertices, mesh.vertices.data(), vertexBytes);
+            m_device.writeBuffer(gpu.indices, mesh.indices.data(), indexBytes);
+        }
+        m_meshes.push_back(std::move(gpu));
+    }
+}
+
+void GpuScene::createDraws(const Scene& scene) {
+    // One slot per draw in a single uniform buffer; each draw's binding set views its slot.
+    const uint64_t stride =
+        alignUp(sizeof(DrawUniforms), std::max<uint32_t>(m_device.capabilities().limits.uniformBufferOffsetAlignment, 16));
+    std::vector<std::byte> drawData(std::max<size_t>(scene.instances.size(), 1) * stride);
+    m_drawUniforms = m_device.createBuffer(
+        rhi::BufferDesc{}.setSize(drawData.size()).setUsage(rhi::BufferUsage::Uniform).setDebugName("draw uniforms"));
+    const Material defaultMaterial;
+    for (size_t i = 0; i < scene.instances.size(); ++i) {
+        const Instance& instance = scene.instances[i];
+        const renderer::Mesh& mesh = scene.meshes[instance.mesh];
+        if (m_meshes[instance.mesh].indexCount == 0) continue;
+        const Material& material = mesh.material >= 0 ? scene.materials[size_t(mesh.material)] : defaultMaterial;
+        const bool hasTangents = std::any_of(mesh.vertices.begin(), mesh.vertices.end(),
+                                             [](const Vertex& v) { return v.tangent != glm::vec4(0.0f); });
+        DrawUniforms uniforms{};
+        uniforms.world = instance.world;
+        uniforms.normalMatrix = glm::inverseTranspose(instance.world);
+        uniforms.baseColorFactor = material.baseColorFactor;
+        uniforms.emissiveFactor = glm::vec4(material.emissiveFactor, material.alphaCutoff);
+        uniforms.materialParams = glm::vec4(material.metallicFactor, material.roughnessFactor, 1.0f, 1.0f);
+        // Normal maps need tangents; meshes without them shade with their vertex normals.
+        uniforms.flags = glm::ivec4(material.doubleSided ? 1 : 0, hasTangents && material.normalTexture >= 0 ? 1 : 0,
+                                    material.alphaMode == AlphaMode::Mask ? 1 : 0, int32_t(instance.renderingLayers));
+        std::memcpy(drawData.data() + i * stride, &uniforms, sizeof(uniforms));
+
+        auto texture = [&](uint32_t binding, int32_t index, const rhi::TextureHandle& fallback) {
+            return index >= 0 ? rhi::BindingItem::sampledTexture(binding, m_textures[size_t(index)], m_textureSamplers[size_t(index)])
+                              : rhi::BindingItem::sampledTexture(binding, fallback, m_materialSampler);
+        };
+        Draw draw;
+        draw.mesh = instance.mesh;
+        draw.instance = uint32_t(i);
+        draw.doubleSided = material.doubleSided;
+        draw.renderingLayers = instance.renderingLayers;
+        draw.world = instance.world;
+        draw.bindings = m_device.createBindingSet(
+            rhi::BindingSetDesc{}
+                .add(rhi::BindingItem::uniformBuffer(JANUS_BINDING_DRAW_UNIFORMS, m_drawUniforms, i * stride, sizeof(DrawUniforms)))
+                .add(texture(JANUS_BINDING_BASE_COLOR, material.baseColorTexture, m_whiteTexture))
+                .add(texture(JANUS_BINDING_METALLIC_ROUGHNESS, material.metallicRoughnessTexture, m_whiteTexture))
+                .add(texture(JANUS_BINDING_NORMAL, material.normalTexture, m_flatNormalTexture))
+                .add(texture(JANUS_BINDING_OCCLUSION, material.occlusionTexture, m_whiteTexture))
+                .add(texture(JANUS_BINDING_EMISSIVE, material.emissiveTexture, m_whiteTexture)));
+        m_draws.push_back(std::move(draw));
+    }
+    m_device.writeBuffer(m_drawUniforms, drawData.data(), drawData.size());
+
+    // Fewer pipeline switches: single-sided draws first, then double-sided ones.
+    std::stable_sort(m_draws.begin(), m_draws.end(), [](const Draw& a, const Draw& b) { return !a.doubleSided && b.doubleSided; });
+    m_hasDoubleSided = std::any_of(m_draws.begin(), m_draws.end(), [](const Draw& d) { return d.doubleSided; });
+}
+
+GpuScene::MeshPipelines GpuScene::createMeshPipelines(const rhi::ShaderHandle& vertexShader, const rhi::ShaderHandle& fragmentShader,
+                                                      rhi::DepthState depth, rhi::Format colorFormat, rhi::Format depthFormat,
+                                                      bool mirrored, const std::string& name) const {
+    auto pipeline = [&](rhi::CullMode cull, const char* variant) {
+        rhi::GraphicsPipelineDesc desc;
+        desc.setShaders(vertexShader, fragmentShader)
+            .addVertexBuffer({0, sizeof(Vertex), false})
+            .addVertexAttribute({0, rhi::VertexFormat::Float3, 0, offsetof(Vertex, position)})
+            .addVertexAttribute({1, rhi::VertexFormat::Float3, 0, offsetof(Vertex, normal)})
+            .addVertexAttribute({2, rhi::VertexFormat::Float2, 0, offsetof(Vertex, uv)})
+            .addVertexAttribute({3, rhi::VertexFormat::Float4, 0, offsetof(Vertex, tangent)})
+            // glTF front faces are counter-clockwise; an ordinary projection keeps that as seen in
+            // the image, a mirrored one (cube faces) turns it clockwise.
+            .setRaster(rhi::RasterState{cull, mirrored ? rhi::FrontFace::Clockwise : rhi::FrontFace::CounterClockwise})
+            .setDepth(depth)
+            .setDepthFormat(depthFormat)
+            .setDebugName(fmt::format("{} ({})", name, variant));
+        if (colorFormat != rhi::Format::Unknown) desc.addColorFormat(colorFormat);
+        return m_device.createGraphicsPipeline(desc);
+    };
+    MeshPipelines pipelines;
+    pipelines.culled = pipeline(rhi::CullMode::Back, "back-face culled");
+    if (m_hasDoubleSided) pipelines.doubleSided = pipeline(rhi::CullMode::None, "double-sided");
+    return pipelines;
+}
+
+void GpuScene::drawMeshes(rhi::ICommandList& cmd, const SceneView& view, const MeshPipelines& pipelines,
+                          const rhi::BindingSetHandle& viewBindings, PassReport& report) const {
+    const rhi::IPipeline* bound = nullptr;
+    for (const Draw& draw : m_draws) {
+        // A view of every layer draws everything, including meshes in no layer (lit by ambient only).
+        if (view.renderingLayers != ~0u && (draw.renderingLayers & view.renderingLayers) == 0) continue;
+        const rhi::PipelineHandle& pipeline = draw.doubleSided ? pipelines.doubleSided : pipelines.culled;
+        if (pipeline.get() != bound) {
+            cmd.setPipeline(pipeline);
+            cmd.setBindingSet(JANUS_SET_VIEW, viewBindings);
+            bound = pipeline.get();
+        }
+        const Mesh& mesh = m_meshes[draw.mesh];
+        cmd.setBindingSet(JANUS_SET_DRAW, draw.bindings);
+        cmd.setVertexBuffer(0, mesh.vertices);
+        cmd.setIndexBuffer(mesh.indices, rhi::IndexType::UInt32);
+        cmd.drawIndexed(mesh.indexCount);
+        ++report.draws;
+    }
+}
+
+}  // namespace janus::renderer

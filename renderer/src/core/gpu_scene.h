@@ -1,0 +1,81 @@
+// The scene on the GPU, uploaded once (internal to the renderer): meshes, material textures and
+// samplers, and one draw per instance with its per-draw bindings (set JANUS_SET_DRAW: draw
+// uniforms and the five material textures). Every feature that draws meshes for a view uses
+// drawMeshes(), so views and features share one way of drawing the scene.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "janus/renderer/frame_report.h"
+#include "janus/renderer/scene.h"
+#include "janus/renderer/scene_view.h"
+#include "janus/rhi/rhi.h"
+
+namespace janus::renderer {
+
+class GpuScene {
+public:
+    struct Mesh {
+        rhi::BufferHandle vertices;   // renderer Vertex (48 bytes)
+        rhi::BufferHandle indices;    // uint32
+        uint32_t indexCount = 0;
+    };
+    struct Draw {
+        uint32_t mesh = 0;
+        uint32_t instance = 0;
+        bool doubleSided = false;
+        uint32_t renderingLayers = 1u;
+        glm::mat4 world{1.0f};
+        rhi::BindingSetHandle bindings;   // set JANUS_SET_DRAW
+    };
+    // Two pipelines for one kind of mesh pass: back-face culled, and without culling for
+    // double-sided materials (null when the scene has none).
+    struct MeshPipelines {
+        rhi::PipelineHandle culled;
+        rhi::PipelineHandle doubleSided;
+    };
+
+    GpuScene(rhi::IDevice& device, const Scene& scene);
+
+    const std::vector<Mesh>& meshes() const { return m_meshes; }
+    // Instances with geometry, single-sided first (fewer pipeline switches).
+    const std::vector<Draw>& draws() const { return m_draws; }
+    bool hasDoubleSided() const { return m_hasDoubleSided; }
+    // Nearest, clamp: for targets and data textures read with texelFetch (filtering never applies).
+    const rhi::SamplerHandle& pointSampler() const { return m_pointSampler; }
+
+    // Pipelines that draw the scene's Vertex layout with `vertexShader`/`fragmentShader` into a
+    // target of the given formats (colorFormat Unknown: depth only). Mirrored views get
+    // clockwise front faces.
+    MeshPipelines createMeshPipelines(const rhi::ShaderHandle& vertexShader, const rhi::ShaderHandle& fragmentShader,
+                                      rhi::DepthState depth, rhi::Format colorFormat, rhi::Format depthFormat, bool mirrored,
+                                      const std::string& name) const;
+
+    // Draws every instance the view sees (its rendering layers) inside the current render pass:
+    // set JANUS_SET_VIEW = viewBindings, set JANUS_SET_DRAW = each draw's bindings.
+    void drawMeshes(rhi::ICommandList& cmd, const SceneView& view, const MeshPipelines& pipelines,
+                    const rhi::BindingSetHandle& viewBindings, PassReport& report) const;
+
+private:
+    rhi::TextureHandle createTexture(const std::string& name, uint32_t width, uint32_t height, std::vector<uint8_t> rgba, bool srgb);
+    rhi::SamplerHandle createSampler(const TextureSampling& sampling);
+    void uploadTextures(const Scene& scene);
+    void uploadMeshes(const Scene& scene);
+    void createDraws(const Scene& scene);
+
+    rhi::IDevice& m_device;
+    std::vector<Mesh> m_meshes;
+    std::vector<Draw> m_draws;
+    bool m_hasDoubleSided = false;
+    std::vector<rhi::TextureHandle> m_textures;
+    std::vector<rhi::SamplerHandle> m_textureSamplers;   // per scene texture, shared between equal samplings
+    rhi::TextureHandle m_whiteTexture, m_flatNormalTexture;
+    rhi::SamplerHandle m_materialSampler, m_pointSampler;
+    rhi::BufferHandle m_drawUniforms;
+};
+
+}  // namespace janus::renderer

@@ -1,0 +1,62 @@
+#include "debug_views/tile_heatmap.h"
+
+#include <fmt/format.h>
+#include <glm/glm.hpp>
+
+#include "core/gpu_util.h"
+#include "janus/shaders/bindings.h"
+
+namespace janus::renderer {
+namespace {
+
+// std140 mirror of tile_heatmap.frag's HeatmapUniforms.
+struct HeatmapUniforms {
+    glm::ivec4 grid;   // x tileSize, y tilesX, z maxLightsPerTile, w tileCount
+};
+
+}  // namespace
+
+TileHeatmap::TileHeatmap(rhi::IDevice& device, const LocalLights& localLights, FeaturePath path)
+    : m_device(device), m_localLights(localLights), m_path(path) {}
+
+void TileHeatmap::addPass(PassGraph& graph, const std::string& view, std::optional<PassGraph::ResourceId> tileLists,
+                          const ViewTarget& display) {
+    if (!tileLists) {
+        fmt::print(stderr, "janus renderer: warning: no tiles to show: the frame uses {} light culling ({}); the tile debug view "
+                           "needs tiles-2d or tiles-depth and point/spot lights\n",
+                   toString(m_localLights.mode()), m_localLights.count() == 0 ? "the scene has no point or spot lights" : "no tile lists");
+        return;
+    }
+    m_display = display;
+    PassGraph::PassDesc pass;
+    pass.name = "tile-heatmap";
+    pass.view = view;
+    pass.reads = {*tileLists, display.resource};
+    pass.writes = {display.resource};
+    pass.setup = [this] { setup(); };
+    pass.record = [this](rhi::ICommandList& cmd, PassReport& report) { record(cmd, report); };
+    graph.addPass(std::move(pass));
+}
+
+void TileHeatmap::setup() {
+    const ResolvedLighting& lighting = m_localLights.lighting();
+    const HeatmapUniforms uniforms{glm::ivec4(int(lighting.tileSize), int(m_localLights.tilesX()), int(lighting.maxLightsPerTile),
+                                              int(m_localLights.tileCount()))};
+    m_uniforms = makeUniformBuffer(m_device, uniforms, "heat map uniforms");
+    m_bindings = m_device.createBindingSet(rhi::BindingSetDesc{}
+                                               .add(rhi::BindingItem::uniformBuffer(JANUS_BINDING_HEATMAP_UNIFORMS, m_uniforms))
+                                               .add(m_localLights.tileListBinding()));
+    m_pipeline = m_device.createGraphicsPipeline(
+        rhi::GraphicsPipelineDesc{}
+            .setShaders(makeShader(m_device, rhi::ShaderStage::Vertex, "fullscreen_vert"),
+                        makeShader(m_device, rhi::ShaderStage::Fragment,
+                                   m_path == FeaturePath::Compute ? "tile_heatmap_frag" : "tile_heatmap_textures_frag"))
+            .addColorFormat(m_display.texture->desc().format, rhi::BlendAttachment::alpha())
+            .setDebugName("tile heat map"));
+}
+
+void TileHeatmap::record(rhi::ICommandList& cmd, PassReport& report) {
+    drawFullscreenTriangle(cmd, rhi::Attachment::load(m_display.texture, m_display.subresource), m_pipeline, m_bindings, report);
+}
+
+}  // namespace janus::renderer

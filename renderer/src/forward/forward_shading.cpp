@@ -1,0 +1,138 @@
+// Forward shading: per-view frame uniforms and bindings, the depth prepass and the forward pass.
+// GGX + height-correlated Smith + Schlick + Lambert in shaders/renderer/forward.frag.
+#include "forward/forward_shading.h"
+
+#include <algorithm>
+#include <cstring>
+
+#include <fmt/format.h>
+
+#include "core/gpu_util.h"
+#include "janus/shaders/bindings.h"
+
+namespace janus::renderer {
+
+ForwardShading::ForwardShading(rhi::IDevice& device, const Scene& scene, const GpuScene& gpuScene, LocalLights& localLights,
+                               MainLightShadows& shadows, FeaturePath path)
+    : m_device(device), m_gpuScene(gpuScene), m_localLights(localLights), m_shadows(shadows), m_path(path) {
+    const glm::vec3 ambient = scene.environment.ambientColor;
+    m_background = {ambient.r, ambient.g, ambient.b, 1.0f};
+    m_sceneUniforms.ambientColor = glm::vec4(ambient, 0.0f);
+    // The main directional light goes first: the shader shadows directional light 0.
+    std::vector<const Light*> directional;
+    for (const Light& light : scene.lights)
+        if (light.type == LightType::Directional && directional.size() < kMaxDirectionalLights) directional.push_back(&light);
+    if (const std::optional<size_t> main = mainDirectionalLight(scene, kMaxDirectionalLights)) {
+        auto it = std::find(directional.begin(), directional.end(), &scene.lights[*main]);
+        if (it != directional.end()) std::rotate(directional.begin(), it, it + 1);
+    }
+    for (size_t i = 0; i < directional.size(); ++i) {
+        const Light& light = *directional[i];
+        const uint32_t layers = light.renderingLayers;
+        float layerBits;
+        std::memcpy(&layerBits, &layers, sizeof(layerBits));
+        m_sceneUniforms.directionalLights[i].direction = glm::vec4(glm::normalize(light.direction), 0.0f);
+        m_sceneUniforms.directionalLights[i].colorIntensity = glm::vec4(light.color * light.intensity, layerBits);
+    }
+    m_sceneUniforms.lightCounts.x = int(directional.size());
+
+    m_vertexShader = makeShader(device, rhi::ShaderStage::Vertex, "forward_vert");
+    m_forwardShader = makeShader(device, rhi::ShaderStage::Fragment, path == FeaturePath::Compute ? "forward_frag" : "forward_textures_frag");
+}
+
+std::optional<PassGraph::ResourceId> ForwardShading::addPasses(PassGraph& graph, const SceneView& view, const ViewTarget& color,
+                                                               const ViewTarget& depth, std::optional<PassGraph::ResourceId> shadowMap) {
+    auto owned = std::make_unique<ViewState>();
+    ViewState& state = *owned;
+    m_views.push_back(std::move(owned));
+    state.view = view;
+    state.tiled = m_localLights.tiledFor(view);
+    state.shadowed = view.passes.shadows && shadowMap.has_value();
+    state.color = color;
+    state.depth = depth;
+
+    std::optional<PassGraph::ResourceId> tileLists;
+    if (state.tiled) {
+        PassGraph::PassDesc prepass;
+        prepass.name = "depth-prepass";
+        prepass.view = view.name;
+        prepass.writes = {depth.resource};
+        prepass.setup = [this, &state] { pipelines(true, state); };
+        prepass.record = [this, &state](rhi::ICommandList& cmd, PassReport& report) { recordPrepass(state, cmd, report); };
+        graph.addPass(std::move(prepass));
+        tileLists = m_localLights.addCullingPass(graph, depth.resource, depth.texture);
+    }
+
+    PassGraph::PassDesc forward;
+    forward.name = "forward";
+    forward.view = view.name;
+    if (state.tiled) forward.reads = {depth.resource, *tileLists};
+    if (state.shadowed) forward.reads.push_back(*shadowMap);
+    forward.writes = {color.resource, depth.resource};
+    forward.setup = [this, &state] { setupView(state); };
+    forward.record = [this, &state](rhi::ICommandList& cmd, PassReport& report) { recordForward(state, cmd, report); };
+    graph.addPass(std::move(forward));
+    return tileLists;
+}
+
+void ForwardShading::setupView(ViewState& state) {
+    const SceneView& view = state.view;
+    FrameUniforms frame = m_sceneUniforms;
+    frame.viewProjection = view.viewProjection();   // for the tiled view, the matrices the culling uses
+    frame.cameraPosition = glm::vec4(view.position, 1.0f);
+    const DirectionalShadowMap* map = state.shadowed ? m_shadows.map() : nullptr;
+    if (map) {
+        frame.worldToShadow = map->worldToShadow();
+        frame.shadowParams = glm::vec4(1.0f, map->texelSize(), map->normalOffset(), 0.0f);
+    }
+    const ResolvedLighting& lighting = m_localLights.lighting();
+    frame.lightCounts = glm::ivec4(frame.lightCounts.x, int(m_localLights.count()), state.tiled ? 1 : 0, 0);
+    frame.tileGrid = glm::ivec4(int(lighting.tileSize), state.tiled ? int(m_localLights.tilesX()) : 0, int(lighting.maxLightsPerTile),
+                                state.tiled ? int(m_localLights.tileCount()) : 0);
+    state.frameUniforms = makeUniformBuffer(m_device, frame, fmt::format("frame uniforms ({})", view.name).c_str());
+
+    rhi::BindingSetDesc set;
+    set.add(rhi::BindingItem::uniformBuffer(JANUS_BINDING_FRAME_UNIFORMS, state.frameUniforms));
+    m_localLights.addViewBindings(set);
+    set.add(map ? map->binding(JANUS_BINDING_SHADOW_MAP) : m_shadows.binding(JANUS_BINDING_SHADOW_MAP));
+    state.bindings = m_device.createBindingSet(set);
+    pipelines(false, state);
+}
+
+const GpuScene::MeshPipelines& ForwardShading::pipelines(bool prepass, const ViewState& state) {
+    const PipelineKey key{prepass, state.tiled, state.view.colorFormat, state.view.depthFormat, state.view.mirrored};
+    auto it = m_pipelines.find(key);
+    if (it != m_pipelines.end()) return it->second;
+    GpuScene::MeshPipelines made;
+    if (prepass) {
+        if (!m_prepassShader) m_prepassShader = makeShader(m_device, rhi::ShaderStage::Fragment, "depth_prepass_frag");
+        made = m_gpuScene.createMeshPipelines(m_vertexShader, m_prepassShader, rhi::DepthState{true, true, rhi::CompareOp::Less},
+                                              rhi::Format::Unknown, state.view.depthFormat, state.view.mirrored, "depth prepass");
+    } else {
+        // After a depth prepass the forward pass only shades the surfaces the prepass kept
+        // (forward.vert's invariant position gives both the same depth bits).
+        const rhi::DepthState depth = state.tiled ? rhi::DepthState{true, false, rhi::CompareOp::LessOrEqual}
+                                                  : rhi::DepthState{true, true, rhi::CompareOp::Less};
+        made = m_gpuScene.createMeshPipelines(m_vertexShader, m_forwardShader, depth, state.view.colorFormat, state.view.depthFormat,
+                                              state.view.mirrored, "forward");
+    }
+    return m_pipelines.emplace(key, std::move(made)).first->second;
+}
+
+void ForwardShading::recordPrepass(const ViewState& state, rhi::ICommandList& cmd, PassReport& report) {
+    cmd.beginRenderPass(
+        rhi::RenderPassDesc{}.setDepth(rhi::Attachment::clearDepthTo(state.depth.texture, 1.0f, state.depth.subresource)));
+    m_gpuScene.drawMeshes(cmd, state.view, pipelines(true, state), state.bindings, report);
+    cmd.endRenderPass();
+}
+
+void ForwardShading::recordForward(const ViewState& state, rhi::ICommandList& cmd, PassReport& report) {
+    cmd.beginRenderPass(rhi::RenderPassDesc{}
+                            .addColor(rhi::Attachment::clear(state.color.texture, m_background, state.color.subresource))
+                            .setDepth(state.tiled ? rhi::Attachment::load(state.depth.texture, state.depth.subresource)
+                                                  : rhi::Attachment::clearDepthTo(state.depth.texture, 1.0f, state.depth.subresource)));
+    m_gpuScene.drawMeshes(cmd, state.view, pipelines(false, state), state.bindings, report);
+    cmd.endRenderPass();
+}
+
+}  // namespace janus::renderer

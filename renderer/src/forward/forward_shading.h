@@ -1,0 +1,88 @@
+// Forward shading feature (internal to the renderer; docs/LIGHTING.md): for each view, the
+// depth prepass (tiled culling only), the tile-list builder (LocalLights) and the forward pass
+// that shades every mesh with the directional lights, the local lights and the main light's
+// shadow into the view's HDR target.
+//
+// Per view it owns the frame uniforms (set JANUS_SET_VIEW: camera, lights, shadow, tile grid)
+// and the view's binding set; pipelines are shared between views with the same target formats
+// and handedness.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "core/gpu_scene.h"
+#include "core/pass_graph.h"
+#include "forward/lighting_settings.h"
+#include "forward/local_lights.h"
+#include "shadows/main_light_shadows.h"
+
+namespace janus::renderer {
+
+// std140 mirrors of forward_common.glsl's frame block (set JANUS_SET_VIEW).
+struct DirectionalLightData {
+    glm::vec4 direction;        // w unused
+    glm::vec4 colorIntensity;   // w renderingLayers as uint bits
+};
+struct FrameUniforms {
+    glm::mat4 viewProjection;
+    glm::mat4 worldToShadow;
+    glm::vec4 cameraPosition;
+    glm::vec4 ambientColor;
+    glm::vec4 shadowParams;
+    glm::ivec4 lightCounts;
+    glm::ivec4 tileGrid;
+    DirectionalLightData directionalLights[kMaxDirectionalLights];
+};
+static_assert(sizeof(FrameUniforms) == 208 + 32 * kMaxDirectionalLights, "FrameUniforms must match std140");
+
+
+class ForwardShading {
+public:
+    ForwardShading(rhi::IDevice& device, const Scene& scene, const GpuScene& gpuScene, LocalLights& localLights,
+                   MainLightShadows& shadows, FeaturePath path);
+
+    // Adds, for `view`: depth-prepass and the tile-list builder (when the view is tiled), then
+    // forward, which writes `color` (RGBA16F radiance, cleared to the ambient colour) and
+    // `depth`. `shadowMap` is the shadow pass's output when the frame has one; the forward pass
+    // reads it only if the view wants shadows. Returns the tile-lists resource when the view is
+    // tiled (the tile heat map reads it).
+    std::optional<PassGraph::ResourceId> addPasses(PassGraph& graph, const SceneView& view, const ViewTarget& color,
+                                                   const ViewTarget& depth, std::optional<PassGraph::ResourceId> shadowMap);
+
+private:
+    struct ViewState {
+        SceneView view;
+        bool tiled = false;
+        bool shadowed = false;
+        ViewTarget color, depth;
+        rhi::BufferHandle frameUniforms;
+        rhi::BindingSetHandle bindings;
+        GpuScene::MeshPipelines forward, prepass;
+    };
+    using PipelineKey = std::tuple<bool /*prepass*/, bool /*tiled*/, rhi::Format, rhi::Format, bool /*mirrored*/>;
+
+    void setupView(ViewState& state);
+    const GpuScene::MeshPipelines& pipelines(bool prepass, const ViewState& state);
+    void recordPrepass(const ViewState& state, rhi::ICommandList& cmd, PassReport& report);
+    void recordForward(const ViewState& state, rhi::ICommandList& cmd, PassReport& report);
+
+    rhi::IDevice& m_device;
+    const GpuScene& m_gpuScene;
+    LocalLights& m_localLights;
+    MainLightShadows& m_shadows;
+    FeaturePath m_path;
+    std::array<float, 4> m_background{};
+    FrameUniforms m_sceneUniforms{};   // the view-independent part: ambient and directional lights
+    std::vector<std::unique_ptr<ViewState>> m_views;
+    std::map<PipelineKey, GpuScene::MeshPipelines> m_pipelines;
+    rhi::ShaderHandle m_vertexShader, m_forwardShader, m_prepassShader;
+};
+
+}  // namespace janus::renderer

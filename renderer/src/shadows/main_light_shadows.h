@@ -1,0 +1,51 @@
+// Shadows feature (internal to the renderer): the main directional light's shadow map
+// (DirectionalShadowMap, docs/SHADOWS.md) for every view that wants shadows, or a 1x1 stand-in
+// bound where there is none. The map does not depend on the camera, so one "shadow-map" pass per
+// frame serves all views; when no view wants shadows, the pass is culled and the map never made.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "core/gpu_scene.h"
+#include "core/pass_graph.h"
+#include "shadows/shadow_map.h"
+
+namespace janus::renderer {
+
+class MainLightShadows {
+public:
+    // Finds the main light (mainDirectionalLight over the first `shadedDirectionalLights`), the
+    // scene bounds and the casters; makes no GPU resource for the map yet.
+    MainLightShadows(rhi::IDevice& device, const Scene& scene, const GpuScene& gpuScene, bool enabled, uint32_t mapSize,
+                     uint32_t shadedDirectionalLights);
+
+    // True when the scene has something to shadow: shadows on, a main light that gives light,
+    // and meshes with geometry.
+    bool active() const { return !m_casters.empty(); }
+
+    // Adds the "shadow-map" pass, which writes the returned resource; its setup creates and fits
+    // the map (once, however many graphs add the pass). nullopt when not active().
+    std::optional<PassGraph::ResourceId> addPass(PassGraph& graph);
+
+    // Valid once the pass setup ran (null before, and when the pass was culled).
+    const DirectionalShadowMap* map() const { return m_map.get(); }
+    // The map (when made) or the stand-in, as the sampler2DShadow at `slot`.
+    rhi::BindingItem binding(uint32_t slot) const;
+
+private:
+    void createMap();
+
+    rhi::IDevice& m_device;
+    uint32_t m_mapSize = 0;
+    glm::vec3 m_lightDirection{0.0f, -1.0f, 0.0f};
+    WorldBounds m_bounds;
+    std::vector<ShadowCaster> m_casters;
+    std::unique_ptr<DirectionalShadowMap> m_map;
+    rhi::TextureHandle m_standInTexture;   // bound when nothing casts shadows
+    rhi::SamplerHandle m_standInSampler;
+};
+
+}  // namespace janus::renderer

@@ -1,0 +1,51 @@
+// Backend-neutral checks of array textures and texture views (rhi/src/texture_view_validation.cpp).
+// Every backend calls these, so the same mistake gets the same ErrorCode and message everywhere.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string_view>
+
+#include "janus/rhi/rhi.h"
+
+namespace janus::rhi {
+
+// A view with every count resolved (no kAllMips / kAllLayers). 3D textures: baseLayer 0 and
+// layerCount = depth (views of a volume are always whole).
+struct ResolvedTextureView {
+    TextureDimension dimension = TextureDimension::Texture2D;
+    uint32_t baseMip = 0;
+    uint32_t mipCount = 1;
+    uint32_t baseLayer = 0;
+    uint32_t layerCount = 1;
+    bool operator==(const ResolvedTextureView&) const = default;
+};
+
+// Checks TextureDesc::arrayLayers against the dimension, Limits::maxTextureArrayLayers and
+// Capability::CubeArrays. Throws InvalidDescription or UnsupportedCapability.
+void validateTextureLayers(const TextureDesc& desc, const Capabilities& caps, Backend backend);
+
+// Checks the view of a SampledTexture / StorageImage item (its texture must be set) and returns
+// it resolved. `where` names the item in messages ("binding 3"). Throws InvalidDescription when
+// the view does not fit the texture, UnsupportedCapability for TextureViews / CubeArrays.
+ResolvedTextureView validateTextureView(const BindingItem& item, const Capabilities& caps, Backend backend,
+                                        std::string_view where);
+
+// The same resolution without checks, for items validated when their set was created.
+ResolvedTextureView resolveTextureView(const BindingItem& item);
+
+// True when `view` shows all of `desc` with its own dimension (what binding the texture itself gives).
+bool isWholeTexture(const ResolvedTextureView& view, const TextureDesc& desc);
+
+// One binding a draw or dispatch uses (an item its shaders read), with its set for messages.
+struct UsedBinding {
+    uint32_t set = 0;
+    const BindingItem* item = nullptr;
+};
+
+// Throws InvalidUsage when a texture binding of `bindings` overlaps a subresource the same
+// command writes: an attachment of `pass` (when given; attachments count as written) or a
+// storage image of `bindings` (storage images count as written). `call` names the command.
+void validateViewOverlaps(std::span<const UsedBinding> bindings, const RenderPassDesc* pass, std::string_view call);
+
+}  // namespace janus::rhi

@@ -1,0 +1,46 @@
+// Binding slots of the renderer's shaders: the one place that numbers them. Included by C++
+// (`#include "janus/shaders/bindings.h"`) and by GLSL (glslang runs with shaders/include on its
+// include path), so it holds preprocessor definitions only.
+//
+// Binding numbers are unique across all sets of one pipeline (docs/ARCHITECTURE.md, "Binding
+// model"): the GL backend uses them as UBO binding points, texture units, SSBO bindings and
+// image units directly. Keep every number below 16.
+#ifndef JANUS_SHADERS_BINDINGS_H
+#define JANUS_SHADERS_BINDINGS_H
+
+// ---- Scene passes (forward.vert/.frag, depth_prepass.frag) ------------------------------------
+// Set 0: per view.
+#define JANUS_SET_VIEW 0
+#define JANUS_BINDING_FRAME_UNIFORMS 0      // FrameUniforms (forward_common.glsl)
+#define JANUS_BINDING_LOCAL_LIGHTS 7        // light array: SSBO (compute path) | RGBA32UI texture (fallback)
+#define JANUS_BINDING_TILE_LISTS 8          // tile lists: SSBO (compute path) | R32UI texture (fallback)
+#define JANUS_BINDING_SHADOW_MAP 9          // sampler2DShadow of the main directional light
+// Set 1: per draw.
+#define JANUS_SET_DRAW 1
+#define JANUS_BINDING_DRAW_UNIFORMS 1       // DrawUniforms (forward_common.glsl)
+#define JANUS_BINDING_BASE_COLOR 2
+#define JANUS_BINDING_METALLIC_ROUGHNESS 3
+#define JANUS_BINDING_NORMAL 4
+#define JANUS_BINDING_OCCLUSION 5
+#define JANUS_BINDING_EMISSIVE 6
+
+// ---- Light culling (light_cull.comp), set 0 ---------------------------------------------------
+#define JANUS_BINDING_CULL_UNIFORMS 0
+#define JANUS_BINDING_CULL_DEPTH 1
+#define JANUS_BINDING_CULL_LIGHTS 2
+#define JANUS_BINDING_CULL_TILE_LISTS 3
+#define JANUS_BINDING_CULL_STATS 4
+
+// ---- Shadow map pass (shadow.vert) ------------------------------------------------------------
+#define JANUS_BINDING_SHADOW_PASS 0         // set 0: light view-projection
+#define JANUS_BINDING_SHADOW_CASTER 1       // set 1: caster world matrix
+
+// ---- Tonemap (tonemap.comp / tonemap.frag), set 0 ---------------------------------------------
+#define JANUS_BINDING_TONEMAP_UNIFORMS 0
+#define JANUS_BINDING_TONEMAP_HDR 1
+#define JANUS_BINDING_TONEMAP_DISPLAY 2     // compute path: rgba8 storage image
+
+// ---- Tile heat map (tile_heatmap.frag), set 0; reads JANUS_BINDING_TILE_LISTS -----------------
+#define JANUS_BINDING_HEATMAP_UNIFORMS 0
+
+#endif
