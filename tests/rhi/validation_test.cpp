@@ -42,6 +42,11 @@ TEST_P(ValidationTest, SameMistakeSameErrorCodeOnEveryBackend) {
     TextureHandle other = createTexture2D(Format::RGBA16_FLOAT, 4, 4, TextureUsage::Sampled);
     TextureHandle depth = createTexture2D(Format::D32_FLOAT, 4, 4, TextureUsage::RenderTarget);
     TextureHandle uintTexture = createTexture2D(Format::R32_UINT, 4, 4, TextureUsage::Sampled);
+    TextureHandle array = dev.createTexture(TextureDesc()
+                                                .setDimension(TextureDimension::Texture2DArray)
+                                                .setSize(4, 4)
+                                                .setArrayLayers(3)
+                                                .setUsage(TextureUsage::Sampled | TextureUsage::RenderTarget));
     BufferHandle uniforms = createBuffer(BufferUsage::Uniform, 1024);
     BufferHandle vertices = createBuffer(BufferUsage::Vertex, 256);
     SamplerHandle nearest = nearestClampSampler();
@@ -68,6 +73,12 @@ TEST_P(ValidationTest, SameMistakeSameErrorCodeOnEveryBackend) {
         {"texture format Unknown", kDesc, {"format"}, [&] { dev.createTexture(TextureDesc().setFormat(Format::Unknown).setSize(4, 4)); }},
         {"2D texture above maxTextureSize2D", kDesc, {"maxTextureSize2D"},
          [&] { dev.createTexture(TextureDesc().setSize(limits.maxTextureSize2D + 1, 1)); }},
+        {"2D array with depth 2", kDesc, {"depth"}, [&] {
+             dev.createTexture(TextureDesc().setDimension(TextureDimension::Texture2DArray).setSize(4, 4, 2).setArrayLayers(2)); }},
+        {"2D array above maxTextureArrayLayers", kDesc, {"maxTextureArrayLayers"}, [&] {
+             dev.createTexture(TextureDesc().setDimension(TextureDimension::Texture2DArray).setArrayLayers(limits.maxTextureArrayLayers + 1)); }},
+        {"arrayLayers on a 2D texture", kDesc, {"arrayLayers", "Texture2DArray"},
+         [&] { dev.createTexture(TextureDesc().setSize(4, 4).setArrayLayers(2)); }},
         {"sRGB storage texture", kUnsupported, {"rgba8_srgb", "storage"},
          [&] { dev.createTexture(TextureDesc().setFormat(Format::RGBA8_SRGB).setSize(4, 4).setUsage(TextureUsage::Storage)); },
          Capability::StorageImages},
@@ -134,6 +145,12 @@ TEST_P(ValidationTest, SameMistakeSameErrorCodeOnEveryBackend) {
         {"comparison sampler over a colour texture", kDesc, {"compare"}, [&] { bindings(BindingItem::sampledTexture(0, color, compare)); }},
         {"linear sampler over an integer texture", kUnsupported, {"r32ui", "filterable"},
          [&] { bindings(BindingItem::sampledTexture(0, uintTexture, linear)); }},
+        {"view of a mip that does not exist", kDesc, {"binding 0", "baseMip 1"},
+         [&] { bindings(BindingItem::sampledTexture(0, color, nearest).setMips(1, 1)); }},
+        {"view of a 2D texture as a cube", kDesc, {"cannot be viewed as cube"},
+         [&] { bindings(BindingItem::sampledTexture(0, color, nearest).setViewDimension(TextureDimension::TextureCube)); }},
+        {"view of layers past an array's last", kDesc, {"count 3"},
+         [&] { bindings(BindingItem::sampledTexture(0, array, nearest).setLayers(1, 3)); }},
         {"storage image without Storage usage", kDesc, {"TextureUsage::Storage"},
          [&] { bindings(BindingItem::storageImage(0, color)); }, Capability::StorageImages},
         // RenderPassDesc
@@ -144,6 +161,8 @@ TEST_P(ValidationTest, SameMistakeSameErrorCodeOnEveryBackend) {
         {"attachments of different sizes", kDesc, {"same size"}, [&] {
              pass(RenderPassDesc().addColor(Attachment::clear(color)).addColor(Attachment::clear(small))); }},
         {"attachment mip that does not exist", kDesc, {"mip 1"}, [&] { pass(RenderPassDesc().addColor(Attachment::clear(color, {}, {1, 0}))); }},
+        {"attachment layer past an array's last", kDesc, {"layer 3"},
+         [&] { pass(RenderPassDesc().addColor(Attachment::clear(array, {}, {0, 3}))); }},
         {"attachment without texture", kDesc, {"null"}, [&] { pass(RenderPassDesc().addColor(Attachment::clear(nullptr))); }},
         // Immediate transfers
         {"writeBuffer past the end", kUsage, {"writeBuffer"}, [&] { dev.writeBuffer(uniforms, bytes.data(), 64, 1000); }},
@@ -152,6 +171,7 @@ TEST_P(ValidationTest, SameMistakeSameErrorCodeOnEveryBackend) {
         {"writeTexture of the wrong size", kUsage, {"size"}, [&] { dev.writeTexture(color, {}, bytes.data(), 60); }},
         {"readTexture of a missing mip", kUsage, {"mip level 1"}, [&] { dev.readTexture(color, {1, 0}); }},
         {"readTexture of a missing layer", kUsage, {"layer 1"}, [&] { dev.readTexture(color, {0, 1}); }},
+        {"readTexture of a missing array layer", kUsage, {"layer 3"}, [&] { dev.readTexture(array, {0, 3}); }},
         // Command list calls
         {"copyBuffer between overlapping ranges", kUsage, {"overlap"}, [&] { record([&](ICommandList& c) { c.copyBuffer(uniforms, 0, uniforms, 32, 64); }); }},
         {"copyBufferToTexture from a too small buffer", kUsage, {"copyBufferToTexture"}, [&] {
@@ -198,6 +218,30 @@ TEST_P(ValidationTest, IndependentBlendNeedsTheCapability) {
     }
     EXPECT_TRUE(throwsRhiError([&] { device().createGraphicsPipeline(desc); }, ErrorCode::UnsupportedCapability,
                                {toString(Capability::IndependentBlend)}));
+}
+
+// Cube arrays and texture views: the validation layer names the missing capability for the
+// texture, the shader and the binding alike, whatever the backend (gles has neither).
+TEST_P(ValidationTest, CubeArraysAndTextureViewsNeedTheirCapabilities) {
+    SamplerHandle sampler = nearestClampSampler();
+    TextureHandle cube = device().createTexture(TextureDesc().setDimension(TextureDimension::TextureCube).setSize(4, 4));
+    const std::vector<std::pair<Capability, std::function<void()>>> uses = {
+        {Capability::CubeArrays, [&] {
+             device().createTexture(TextureDesc().setDimension(TextureDimension::TextureCubeArray).setSize(4, 4).setArrayLayers(6)); }},
+        {Capability::CubeArrays, [&] { shader("rt_sample_lookup_cube_array_frag"); }},
+        {Capability::CubeArrays, [&] {
+             device().createBindingSet(BindingSetDesc().add(
+                 BindingItem::sampledTexture(1, cube, sampler).setViewDimension(TextureDimension::TextureCubeArray))); }},
+        {Capability::TextureViews, [&] {
+             device().createBindingSet(BindingSetDesc().add(
+                 BindingItem::sampledTexture(1, cube, sampler).setLayers(2, 1).setViewDimension(TextureDimension::Texture2D))); }},
+    };
+    for (const auto& [cap, use] : uses) {
+        if (caps().has(cap))
+            EXPECT_NO_THROW(use()) << toString(cap);
+        else
+            EXPECT_TRUE(throwsRhiError(use, ErrorCode::UnsupportedCapability, {toString(cap)})) << toString(cap);
+    }
 }
 
 }  // namespace
