@@ -23,6 +23,7 @@ struct BackendReport {
     std::string reason;   // why it is unavailable
     rhi::DeviceInfo info;
     rhi::Capabilities caps;
+    std::vector<rhi::FormatCapabilities> formats;   // indexed by rhi::Format
 };
 
 constexpr std::array kBackends = {rhi::Backend::Vulkan, rhi::Backend::GL, rhi::Backend::GLES};
@@ -37,6 +38,7 @@ std::vector<BackendReport> probe(rhi::GLPlatform platform) {
             std::unique_ptr<rhi::IDevice> device = rhi::createDevice(desc);
             report.info = device->info();
             report.caps = device->capabilities();
+            report.formats = device->properties().formats;
             report.available = true;
         } catch (const std::exception& e) {
             // An unavailable backend is information here, not a failure of the command.
@@ -55,6 +57,7 @@ std::vector<std::pair<std::string, std::string>> limitRows(const rhi::Limits& l)
         {"max texture 2D", std::to_string(l.maxTextureSize2D)},
         {"max texture 3D", std::to_string(l.maxTextureSize3D)},
         {"max texture cube", std::to_string(l.maxTextureSizeCube)},
+        {"max texture array layers", std::to_string(l.maxTextureArrayLayers)},
         {"max colour attachments", std::to_string(l.maxColorAttachments)},
         {"max uniform buffer range", std::to_string(l.maxUniformBufferRange)},
         {"max storage buffer range", std::to_string(l.maxStorageBufferRange)},
@@ -63,7 +66,30 @@ std::vector<std::pair<std::string, std::string>> limitRows(const rhi::Limits& l)
         {"max compute invocations", std::to_string(l.maxComputeWorkGroupInvocations)},
         {"uniform offset alignment", std::to_string(l.uniformBufferOffsetAlignment)},
         {"storage offset alignment", std::to_string(l.storageBufferOffsetAlignment)},
+        {"max buffer size", std::to_string(l.maxBufferSize)},
+        {"max vertex buffers", std::to_string(l.maxVertexBuffers)},
+        {"max vertex attributes", std::to_string(l.maxVertexAttributes)},
+        {"max vertex stride", std::to_string(l.maxVertexStride)},
+        {"max sampler anisotropy", fmt::format("{:g}", l.maxSamplerAnisotropy)},
     };
+}
+
+rhi::FormatCapabilities formatCaps(const BackendReport& r, rhi::Format format) {
+    return size_t(format) < r.formats.size() ? r.formats[size_t(format)] : rhi::FormatCapabilities{};
+}
+
+// The format table of one backend: what each format is (static) and what this device can do with it.
+std::string formatTableText(const BackendReport& r) {
+    std::vector<std::vector<std::string>> rows{{"format", "kind", "bytes", "srgb"}};
+    for (rhi::FormatCapability cap : rhi::kAllFormatCapabilities) rows[0].push_back(rhi::toString(cap));
+    for (const rhi::FormatInfo& info : rhi::allFormats()) {
+        std::vector<std::string> row{info.name, rhi::toString(info.kind), std::to_string(info.bytesPerPixel),
+                                     info.srgb ? "yes" : "-"};
+        const rhi::FormatCapabilities caps = formatCaps(r, info.format);
+        for (rhi::FormatCapability cap : rhi::kAllFormatCapabilities) row.push_back(caps.has(cap) ? "yes" : "-");
+        rows.push_back(std::move(row));
+    }
+    return formatTable(rows);
 }
 
 nlohmann::json toJson(const std::vector<BackendReport>& reports, rhi::GLPlatform platform) {
@@ -88,6 +114,7 @@ nlohmann::json toJson(const std::vector<BackendReport>& reports, rhi::GLPlatform
             {"maxTextureSize2D", l.maxTextureSize2D},
             {"maxTextureSize3D", l.maxTextureSize3D},
             {"maxTextureSizeCube", l.maxTextureSizeCube},
+            {"maxTextureArrayLayers", l.maxTextureArrayLayers},
             {"maxColorAttachments", l.maxColorAttachments},
             {"maxUniformBufferRange", l.maxUniformBufferRange},
             {"maxStorageBufferRange", l.maxStorageBufferRange},
@@ -96,7 +123,21 @@ nlohmann::json toJson(const std::vector<BackendReport>& reports, rhi::GLPlatform
             {"maxComputeWorkGroupInvocations", l.maxComputeWorkGroupInvocations},
             {"uniformBufferOffsetAlignment", l.uniformBufferOffsetAlignment},
             {"storageBufferOffsetAlignment", l.storageBufferOffsetAlignment},
+            {"maxBufferSize", l.maxBufferSize},
+            {"maxVertexBuffers", l.maxVertexBuffers},
+            {"maxVertexAttributes", l.maxVertexAttributes},
+            {"maxVertexStride", l.maxVertexStride},
+            {"maxSamplerAnisotropy", l.maxSamplerAnisotropy},
         };
+        nlohmann::json formats = nlohmann::json::object();
+        for (const rhi::FormatInfo& info : rhi::allFormats()) {
+            nlohmann::json format{{"kind", rhi::toString(info.kind)}, {"bytesPerPixel", info.bytesPerPixel},
+                                  {"channels", info.channels}, {"srgb", info.srgb}};
+            const rhi::FormatCapabilities caps = formatCaps(r, info.format);
+            for (rhi::FormatCapability cap : rhi::kAllFormatCapabilities) format[rhi::toString(cap)] = caps.has(cap);
+            formats[info.name] = std::move(format);
+        }
+        entry["formats"] = std::move(formats);
         entry["conventions"] = {
             {"nativeClipDepthZeroToOne", r.caps.conventions.nativeClipDepthZeroToOne},
             {"nativeFramebufferOriginTopLeft", r.caps.conventions.nativeFramebufferOriginTopLeft},
@@ -162,6 +203,13 @@ void printText(const std::vector<BackendReport>& reports, rhi::GLPlatform platfo
     conventions.push_back(originRow);
     out += "\nConventions (presented identically by every backend; native = no translation needed)\n" +
            formatTable(conventions);
+
+    // What each backend can do with each format (the validation layer checks every use against it).
+    for (const BackendReport& r : reports) {
+        if (!r.available) continue;
+        out += fmt::format("\nFormats on {} (yes = the device can; checked by validation)\n", rhi::toString(r.backend)) +
+               formatTableText(r);
+    }
     std::fputs(out.c_str(), stdout);
 }
 
@@ -170,7 +218,7 @@ void printText(const std::vector<BackendReport>& reports, rhi::GLPlatform platfo
 Command addInfoCommand(CLI::App& parent) {
     auto options = std::make_shared<InfoOptions>();
     CLI::App* app = parent.add_subcommand("info", "Show each backend (vulkan, gl, gles): availability, device, "
-                                                  "capabilities, limits, conventions");
+                                                  "capabilities, limits, conventions, format capabilities");
     addGLPlatformOption(*app, options->glPlatform);
     app->add_flag("--json", options->json, "Print JSON instead of a table");
     app->footer(kExitCodeHelp);

@@ -8,20 +8,8 @@
 
 namespace janus::rhi::gl {
 
-namespace {
-// Far beyond any buffer a test or scene needs, and below where GL sizes (GLsizeiptr) or llvmpipe
-// allocations get questionable; larger requests are almost certainly a size computed wrong.
-constexpr uint64_t kMaxBufferSize = uint64_t(1) << 31;
-}  // namespace
-
+// `desc` is validated (size within Limits::maxBufferSize, 2^31 on GL).
 Buffer::Buffer(ContextPtr context, const BufferDesc& desc) : m_context(std::move(context)), m_desc(desc) {
-    if (desc.size == 0)
-        throw Error(ErrorCode::InvalidDescription,
-                    fmt::format("buffer '{}': BufferDesc::size is 0; give the size in bytes", desc.debugName));
-    if (desc.size > kMaxBufferSize)
-        throw Error(ErrorCode::InvalidDescription,
-                    fmt::format("buffer '{}': BufferDesc::size {} exceeds the GL backend's limit of {} bytes",
-                                desc.debugName, desc.size, kMaxBufferSize));
     const GLFunctions& gl = m_context->gl;
     gl.glGenBuffers(1, &m_name);
     gl.glBindBuffer(GL_COPY_WRITE_BUFFER, m_name);

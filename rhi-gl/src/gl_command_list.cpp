@@ -33,13 +33,6 @@ GLenum primitiveMode(PrimitiveTopology topology) {
     }
     return GL_TRIANGLES;
 }
-
-void checkRange(const IBuffer& buffer, uint64_t offset, uint64_t size, const char* what) {
-    if (size == 0 || offset > buffer.desc().size || size > buffer.desc().size - offset)
-        throw Error(ErrorCode::InvalidUsage,
-                    fmt::format("{}: bytes [{}, {}) are outside buffer '{}' of {} bytes (or the size is 0)", what,
-                                offset, offset + size, buffer.desc().debugName, buffer.desc().size));
-}
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
@@ -189,40 +182,11 @@ void CommandList::replay() {
     for (auto& command : m_commands) command(m_device);
 }
 
-void CommandList::beginRenderPass(const RenderPassDesc& desc) {
+// `desc` is validated (rhi/src/validation.cpp); the attachments must still be this device's.
+void CommandList::beginRenderPassImpl(const RenderPassDesc& desc) {
     requireOutsideRenderPass("beginRenderPass");
-    const Capabilities& caps = m_device.capabilities();
-    if (desc.colors.empty() && !desc.depth)
-        throw Error(ErrorCode::InvalidDescription, "RenderPassDesc has no attachments; add a colour or depth attachment");
-    if (desc.colors.size() > caps.limits.maxColorAttachments)
-        throw Error(ErrorCode::InvalidDescription,
-                    fmt::format("RenderPassDesc has {} colour attachments; the limit is {}", desc.colors.size(),
-                                caps.limits.maxColorAttachments));
-    uint32_t width = 0, height = 0;
-    auto check = [&](const Attachment& a, const std::string& which, bool wantDepth) {
-        auto texture = cast<Texture>(m_device, a.texture, "beginRenderPass", "attachment texture");
-        texture->validateSubresource(a.subresource, "beginRenderPass");
-        if (!any(texture->desc().usage, TextureUsage::RenderTarget))
-            throw Error(ErrorCode::InvalidDescription,
-                        fmt::format("beginRenderPass: {} texture '{}' lacks TextureUsage::RenderTarget", which,
-                                    texture->desc().debugName));
-        if (isDepthFormat(texture->desc().format) != wantDepth)
-            throw Error(ErrorCode::InvalidDescription,
-                        fmt::format("beginRenderPass: the {} attachment has format {}, which is {} depth format", which,
-                                    toString(texture->desc().format), wantDepth ? "not a" : "a"));
-        const uint32_t w = texture->width(a.subresource.mipLevel), h = texture->height(a.subresource.mipLevel);
-        if (width == 0) {
-            width = w;
-            height = h;
-        } else if (w != width || h != height) {
-            throw Error(ErrorCode::InvalidDescription,
-                        fmt::format("beginRenderPass: the {} attachment is {}x{} but the others are {}x{}; all "
-                                    "attachments must have the same size",
-                                    which, w, h, width, height));
-        }
-    };
-    for (size_t i = 0; i < desc.colors.size(); ++i) check(desc.colors[i], fmt::format("colour {}", i), false);
-    if (desc.depth) check(*desc.depth, "depth", true);
+    for (const Attachment& a : desc.colors) cast<Texture>(m_device, a.texture, "beginRenderPass", "attachment texture");
+    if (desc.depth) cast<Texture>(m_device, desc.depth->texture, "beginRenderPass", "attachment texture");
     m_inRenderPass = true;
     m_passDesc = desc;
     m_passColorFormats.clear();
@@ -269,7 +233,7 @@ void CommandList::setPipeline(const PipelineHandle& handle) {
     record([pipeline](Device& device) { device.bindPipeline(*pipeline); });
 }
 
-void CommandList::setBindingSet(uint32_t set, const BindingSetHandle& handle) {
+void CommandList::setBindingSetImpl(uint32_t set, const BindingSetHandle& handle) {
     requireRecording("setBindingSet");
     auto bindings = cast<BindingSet>(m_device, handle, "setBindingSet", "binding set");
     m_bindingSets[set] = bindings;
@@ -327,25 +291,18 @@ void CommandList::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint3
     record([=](Device& device) { device.drawIndexed(indexCount, instanceCount, firstIndex, vertexOffset, firstInstance); });
 }
 
-void CommandList::dispatch(uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ) {
-    m_device.require(Capability::Compute, "dispatch");
+void CommandList::dispatchImpl(uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ) {   // Compute; counts in limits
     requireOutsideRenderPass("dispatch");
     if (!m_pipeline || !m_pipeline->isCompute())
         throw Error(ErrorCode::InvalidUsage, "dispatch: no compute pipeline is set; call setPipeline() first");
     requireBindings("dispatch");
-    const auto& maxCount = m_device.capabilities().limits.maxComputeWorkGroupCount;
-    if (groupsX > maxCount[0] || groupsY > maxCount[1] || groupsZ > maxCount[2])
-        throw Error(ErrorCode::InvalidUsage,
-                    fmt::format("dispatch: {}x{}x{} groups exceed the limit {}x{}x{}", groupsX, groupsY, groupsZ,
-                                maxCount[0], maxCount[1], maxCount[2]));
     record([=](Device& device) { device.dispatch(groupsX, groupsY, groupsZ); });
 }
 
-void CommandList::writeBuffer(const BufferHandle& handle, const void* data, uint64_t size, uint64_t dstOffset) {
+// Transfers: arguments are validated (rhi/src/validation.cpp); ranges and subresources exist.
+void CommandList::writeBufferImpl(const BufferHandle& handle, const void* data, uint64_t size, uint64_t dstOffset) {
     requireOutsideRenderPass("writeBuffer");
     auto buffer = cast<Buffer>(m_device, handle, "writeBuffer", "buffer");
-    checkRange(*buffer, dstOffset, size, "writeBuffer");
-    if (!data) throw Error(ErrorCode::InvalidUsage, "writeBuffer: data is null");
     // The data is copied now: the caller's memory need not outlive the call.
     auto bytes = std::make_shared<std::vector<std::byte>>(static_cast<const std::byte*>(data),
                                                           static_cast<const std::byte*>(data) + size);
@@ -354,15 +311,11 @@ void CommandList::writeBuffer(const BufferHandle& handle, const void* data, uint
     });
 }
 
-void CommandList::copyBuffer(const BufferHandle& dstHandle, uint64_t dstOffset, const BufferHandle& srcHandle,
-                               uint64_t srcOffset, uint64_t size) {
+void CommandList::copyBufferImpl(const BufferHandle& dstHandle, uint64_t dstOffset, const BufferHandle& srcHandle,
+                                 uint64_t srcOffset, uint64_t size) {
     requireOutsideRenderPass("copyBuffer");
     auto dst = cast<Buffer>(m_device, dstHandle, "copyBuffer", "destination buffer");
     auto src = cast<Buffer>(m_device, srcHandle, "copyBuffer", "source buffer");
-    checkRange(*dst, dstOffset, size, "copyBuffer (destination)");
-    checkRange(*src, srcOffset, size, "copyBuffer (source)");
-    if (dst == src && dstOffset < srcOffset + size && srcOffset < dstOffset + size)
-        throw Error(ErrorCode::InvalidUsage, "copyBuffer: source and destination ranges overlap in the same buffer");
     record([=](Device& device) {
         const GLFunctions& gl = device.gl();
         gl.glBindBuffer(GL_COPY_READ_BUFFER, src->name());
@@ -372,13 +325,11 @@ void CommandList::copyBuffer(const BufferHandle& dstHandle, uint64_t dstOffset, 
     });
 }
 
-void CommandList::copyBufferToTexture(const TextureHandle& dstHandle, TextureSubresource dstSub,
-                                        const BufferHandle& srcHandle, uint64_t srcOffset) {
+void CommandList::copyBufferToTextureImpl(const TextureHandle& dstHandle, TextureSubresource dstSub,
+                                          const BufferHandle& srcHandle, uint64_t srcOffset) {
     requireOutsideRenderPass("copyBufferToTexture");
     auto dst = cast<Texture>(m_device, dstHandle, "copyBufferToTexture", "texture");
     auto src = cast<Buffer>(m_device, srcHandle, "copyBufferToTexture", "buffer");
-    dst->validateSubresource(dstSub, "copyBufferToTexture");
-    checkRange(*src, srcOffset, dst->subresourceSize(dstSub.mipLevel), "copyBufferToTexture");
     record([=](Device& device) {
         // Unpacking from a bound pixel buffer: the "pointer" is an offset into it.
         device.gl().glBindBuffer(GL_PIXEL_UNPACK_BUFFER, src->name());
@@ -387,13 +338,11 @@ void CommandList::copyBufferToTexture(const TextureHandle& dstHandle, TextureSub
     });
 }
 
-void CommandList::copyTextureToBuffer(const BufferHandle& dstHandle, uint64_t dstOffset, const TextureHandle& srcHandle,
-                                        TextureSubresource srcSub) {
+void CommandList::copyTextureToBufferImpl(const BufferHandle& dstHandle, uint64_t dstOffset,
+                                          const TextureHandle& srcHandle, TextureSubresource srcSub) {
     requireOutsideRenderPass("copyTextureToBuffer");
     auto dst = cast<Buffer>(m_device, dstHandle, "copyTextureToBuffer", "buffer");
     auto src = cast<Texture>(m_device, srcHandle, "copyTextureToBuffer", "texture");
-    src->validateSubresource(srcSub, "copyTextureToBuffer");
-    checkRange(*dst, dstOffset, src->subresourceSize(srcSub.mipLevel), "copyTextureToBuffer");
     record([=](Device& device) {
         // Through the CPU: ES 3.0 can read some formats only in a wider form that needs repacking.
         const std::vector<std::byte> pixels = device.downloadTexture(*src, srcSub);
@@ -401,42 +350,18 @@ void CommandList::copyTextureToBuffer(const BufferHandle& dstHandle, uint64_t ds
     });
 }
 
-void CommandList::copyTexture(const TextureHandle& dstHandle, TextureSubresource dstSub, const TextureHandle& srcHandle,
-                                TextureSubresource srcSub) {
+void CommandList::copyTextureImpl(const TextureHandle& dstHandle, TextureSubresource dstSub,
+                                  const TextureHandle& srcHandle, TextureSubresource srcSub) {
     requireOutsideRenderPass("copyTexture");
     auto dst = cast<Texture>(m_device, dstHandle, "copyTexture", "destination texture");
     auto src = cast<Texture>(m_device, srcHandle, "copyTexture", "source texture");
-    dst->validateSubresource(dstSub, "copyTexture");
-    src->validateSubresource(srcSub, "copyTexture");
-    if (dst->desc().format != src->desc().format)
-        throw Error(ErrorCode::InvalidUsage,
-                    fmt::format("copyTexture: formats differ ({} -> {}); copies need the same format",
-                                toString(src->desc().format), toString(dst->desc().format)));
-    if (dst->width(dstSub.mipLevel) != src->width(srcSub.mipLevel) ||
-        dst->height(dstSub.mipLevel) != src->height(srcSub.mipLevel))
-        throw Error(ErrorCode::InvalidUsage,
-                    fmt::format("copyTexture: the source is {}x{} but the destination is {}x{}; sizes must match",
-                                src->width(srcSub.mipLevel), src->height(srcSub.mipLevel), dst->width(dstSub.mipLevel),
-                                dst->height(dstSub.mipLevel)));
-    if (dst == src && dstSub.mipLevel == srcSub.mipLevel && dstSub.layer == srcSub.layer)
-        throw Error(ErrorCode::InvalidUsage, "copyTexture: source and destination are the same subresource");
     record([=](Device& device) { device.copyTextureImage(*dst, dstSub, *src, srcSub); });
 }
 
-void CommandList::generateMips(const TextureHandle& handle) {
+// The format's GenerateMips capability (colour-renderable and filterable) is validated.
+void CommandList::generateMipsImpl(const TextureHandle& handle) {
     requireOutsideRenderPass("generateMips");
     auto texture = cast<Texture>(m_device, handle, "generateMips", "texture");
-    const Format format = texture->desc().format;
-    if (isDepthFormat(format) || formatInfo(format).kind == FormatKind::UInt)
-        throw Error(ErrorCode::InvalidUsage,
-                    fmt::format("generateMips: {} textures cannot be filtered into mips", toString(format)));
-    const bool float32 = format == Format::RGBA32_FLOAT || format == Format::R32_FLOAT;
-    const bool floatUnrenderable = !m_device.capabilities().floatRenderTargets && formatInfo(format).kind == FormatKind::Float;
-    if (m_device.isES() && (float32 || floatUnrenderable))
-        throw Error(ErrorCode::UnsupportedCapability,
-                    fmt::format("generateMips: OpenGL ES 3.0 cannot generate mips for {} (it must be colour-renderable "
-                                "and filterable); generate them with render passes instead",
-                                toString(format)));
     record([texture](Device& device) {
         const GLFunctions& gl = device.gl();
         gl.glActiveTexture(GL_TEXTURE0 + kScratchTextureUnit);
@@ -578,7 +503,7 @@ void Device::bindBindingSet(const BindingSetDesc& desc) {
                     const auto [name, target] = texture->viewFor(view);
                     f.glBindTexture(target, name);
                 }
-                f.glBindSampler(item.binding, sampler->nameFor(*texture, m_floatLinearFilterable));
+                f.glBindSampler(item.binding, sampler->name());
                 break;
             }
             case ResourceType::StorageImage: {
@@ -647,10 +572,8 @@ void Device::bindVertexAttributes(int64_t baseVertexOffset, uint32_t baseInstanc
                 break;
             case VertexFormat::UInt1: f.glVertexAttribIPointer(location, 1, GL_UNSIGNED_INT, stride, pointer); break;
         }
-        // Stride 0 means "every vertex reads the same element" (Vulkan); GL reads it as "tightly
-        // packed", so hold the element with a divisor no instance count reaches instead.
-        const GLuint divisor = layout.stride == 0 ? 0xFFFFFFFFu : layout.perInstance ? 1 : 0;
-        f.glVertexAttribDivisor(location, divisor);
+        // Strides are >= 1 (validated): GL would read 0 as "tightly packed".
+        f.glVertexAttribDivisor(location, layout.perInstance ? 1 : 0);
         wanted |= 1u << location;
     }
     for (GLuint location = 0; location < 16; ++location) {

@@ -173,15 +173,19 @@ Device::Device(const DeviceDesc& desc) {
         const GLubyte* s = f.glGetString(name);
         return s ? std::string(reinterpret_cast<const char*>(s)) : std::string();
     };
-    m_info.backend = desc.backend;
-    m_info.apiVersion = glString(GL_VERSION);
-    if (!es && m_info.apiVersion.rfind("OpenGL", 0) != 0) m_info.apiVersion = "OpenGL " + m_info.apiVersion;
-    m_info.deviceName = glString(GL_RENDERER);
-    m_info.driverInfo = glString(GL_VENDOR);
-    m_info.platform = m_context->platformName();
-    m_info.shadingLanguage = es ? "ESSL 300" : "GLSL 430";
+    DeviceProperties properties;
+    DeviceInfo& info = properties.info;
+    info.backend = desc.backend;
+    info.apiVersion = glString(GL_VERSION);
+    if (!es && info.apiVersion.rfind("OpenGL", 0) != 0) info.apiVersion = "OpenGL " + info.apiVersion;
+    info.deviceName = glString(GL_RENDERER);
+    info.driverInfo = glString(GL_VENDOR);
+    info.platform = m_context->platformName();
+    info.shadingLanguage = es ? "ESSL 300" : "GLSL 430";
 
-    detectCapabilities();
+    properties.capabilities = detectCapabilities();
+    properties.formats = queryFormatCapabilities(properties.capabilities);
+    setProperties(std::move(properties));
     if (desc.enableValidation) setupDebugOutput();
     setupDefaultState();
 }
@@ -196,14 +200,15 @@ bool Device::hasExtension(std::string_view name) const {
     return std::find(m_extensions.begin(), m_extensions.end(), name) != m_extensions.end();
 }
 
-void Device::detectCapabilities() {
+Capabilities Device::detectCapabilities() {
+    Capabilities caps;
     const GLFunctions& f = gl();
     auto integer = [&](GLenum name) {
         GLint v = 0;
         f.glGetIntegerv(name, &v);
         return uint32_t(std::max(v, 0));
     };
-    Limits& limits = m_caps.limits;
+    Limits& limits = caps.limits;
     limits.maxTextureSize2D = integer(GL_MAX_TEXTURE_SIZE);
     limits.maxTextureSize3D = integer(GL_MAX_3D_TEXTURE_SIZE);
     limits.maxTextureSizeCube = integer(GL_MAX_CUBE_MAP_TEXTURE_SIZE);
@@ -211,9 +216,15 @@ void Device::detectCapabilities() {
     limits.maxColorAttachments = std::min(integer(GL_MAX_COLOR_ATTACHMENTS), integer(GL_MAX_DRAW_BUFFERS));
     limits.maxUniformBufferRange = integer(GL_MAX_UNIFORM_BLOCK_SIZE);
     limits.uniformBufferOffsetAlignment = integer(GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT);
+    // Far beyond any buffer a test or scene needs, and below where GL sizes (GLsizeiptr) or
+    // llvmpipe allocations get questionable; larger requests are almost certainly a size computed wrong.
+    limits.maxBufferSize = uint64_t(1) << 31;
+    // Attribute locations double as our vertex buffer slots' upper bound; the backend tracks 16.
+    limits.maxVertexAttributes = std::min(integer(GL_MAX_VERTEX_ATTRIBS), 16u);
+    limits.maxVertexBuffers = limits.maxVertexAttributes;
 
-    m_caps.renderToVolumeSlice = true;   // glFramebufferTextureLayer on 3D textures: GL 3.0 / ES 3.0
-    m_caps.renderToCubeFaceMip = true;   // immutable storage keeps every face and mip complete
+    caps.renderToVolumeSlice = true;   // glFramebufferTextureLayer on 3D textures: GL 3.0 / ES 3.0
+    caps.renderToCubeFaceMip = true;   // immutable storage keeps every face and mip complete
     GLint major = 0, minor = 0;
     f.glGetIntegerv(GL_MAJOR_VERSION, &major);
     f.glGetIntegerv(GL_MINOR_VERSION, &minor);
@@ -225,13 +236,13 @@ void Device::detectCapabilities() {
     m_context->zeroToOneClipDepth = clipControl && f.glClipControl;
     m_context->clearTexImage = (desktopAtLeast(4, 4) || hasExtension(isES() ? "GL_EXT_clear_texture" : "GL_ARB_clear_texture")) &&
                                f.glClearTexImage;
-    m_caps.conventions.nativeClipDepthZeroToOne = m_context->zeroToOneClipDepth;
+    caps.conventions.nativeClipDepthZeroToOne = m_context->zeroToOneClipDepth;
     // Even with an upper-left clip origin, GL addresses rows (viewport, scissor, readback) bottom-up.
-    m_caps.conventions.nativeFramebufferOriginTopLeft = false;
+    caps.conventions.nativeFramebufferOriginTopLeft = false;
 
     if (!isES()) {
-        m_caps.compute = m_caps.storageBuffers = m_caps.storageImages = true;
-        m_caps.floatRenderTargets = m_caps.floatBlend = m_caps.timestampQueries = true;
+        caps.compute = caps.storageBuffers = caps.storageImages = true;
+        caps.floatRenderTargets = caps.floatBlend = caps.timestampQueries = true;
         GLint64 ssboSize = 0;
         f.glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &ssboSize);
         limits.maxStorageBufferRange = uint64_t(ssboSize);
@@ -246,27 +257,96 @@ void Device::detectCapabilities() {
         limits.maxComputeWorkGroupInvocations = integer(GL_MAX_COMPUTE_WORK_GROUP_INVOCATIONS);
         m_anisotropy = hasExtension("GL_ARB_texture_filter_anisotropic") ||
                        hasExtension("GL_EXT_texture_filter_anisotropic");
-        m_caps.cubeArrays = true;   // GL 4.0 core
+        caps.independentBlend = true;   // glBlendFuncSeparatei / glColorMaski (GL 4.0)
+        caps.cubeArrays = true;   // GL 4.0 core
         // glTextureView: GL 4.3 core (which we require) or ARB_texture_view.
-        m_caps.textureViews = (desktopAtLeast(4, 3) || hasExtension("GL_ARB_texture_view")) && f.glTextureView;
+        caps.textureViews = (desktopAtLeast(4, 3) || hasExtension("GL_ARB_texture_view")) && f.glTextureView;
     } else {
         // ES 3.0 has neither cube-map arrays nor texture views. Drivers that offer ES 3.2 or
         // EXT_texture_cube_map_array still cannot be used for cube arrays here: every shader is
         // translated to ESSL 300, which has no samplerCubeArray, and ES programs cannot link
         // stages of different versions. Sampled mip ranges are emulated (BASE/MAX_LEVEL).
-        m_caps.cubeArrays = false;
-        m_caps.textureViews = false;
+        caps.cubeArrays = false;
+        caps.textureViews = false;
         // GLES stands in for compute-less devices: even when the driver offers ES 3.1+, compute,
         // SSBOs and image load/store stay off.
-        m_caps.floatRenderTargets = hasExtension("GL_EXT_color_buffer_float");
-        m_caps.floatBlend = m_caps.floatRenderTargets && hasExtension("GL_EXT_float_blend");
-        m_caps.timestampQueries = hasExtension("GL_EXT_disjoint_timer_query") && gl().glQueryCounter &&
+        caps.floatRenderTargets = hasExtension("GL_EXT_color_buffer_float");
+        caps.floatBlend = caps.floatRenderTargets && hasExtension("GL_EXT_float_blend");
+        caps.timestampQueries = hasExtension("GL_EXT_disjoint_timer_query") && gl().glQueryCounter &&
                                   gl().glGetQueryObjectui64v;
         limits.storageBufferOffsetAlignment = 0;
-        m_floatLinearFilterable = hasExtension("GL_OES_texture_float_linear");
         m_anisotropy = hasExtension("GL_EXT_texture_filter_anisotropic");
         m_readDepthNV = hasExtension("GL_NV_read_depth");
     }
+    // GL 4.4 / ES 3.1 report the stride limit; before, 2048 is what Vulkan guarantees too.
+    limits.maxVertexStride = desktopAtLeast(4, 4) ? integer(GL_MAX_VERTEX_ATTRIB_STRIDE) : 2048;
+    if (m_anisotropy) {
+        constexpr GLenum kMaxTextureMaxAnisotropy = 0x84FF;   // EXT/ARB_texture_filter_anisotropic
+        GLfloat most = 1.0f;
+        f.glGetFloatv(kMaxTextureMaxAnisotropy, &most);
+        limits.maxSamplerAnisotropy = std::max(most, 1.0f);
+    }
+    return caps;
+}
+
+// The format table. Desktop GL 4.3: the core spec's rules narrowed by glGetInternalformativ
+// (ARB_internalformat_query2). Its answers are not taken alone: llvmpipe reports
+// GL_FRAMEBUFFER_BLEND for integer and depth formats (which never blend) and GL_READ_PIXELS
+// as unsupported for formats it reads fine. ES 3.0: the spec's format table (ES 3.0.6 tables
+// 3.13 and 4.x) plus the extensions that widen it.
+std::vector<FormatCapabilities> Device::queryFormatCapabilities(const Capabilities& caps) const {
+    const GLFunctions& f = gl();
+    std::vector<FormatCapabilities> table(allFormats().size() + 1);
+    const bool colorBufferFloat = hasExtension("GL_EXT_color_buffer_float");
+    const bool colorBufferHalfFloat = colorBufferFloat || hasExtension("GL_EXT_color_buffer_half_float");
+    const bool floatLinear = hasExtension("GL_OES_texture_float_linear");
+    const bool floatBlend = hasExtension("GL_EXT_float_blend");
+    for (const FormatInfo& info : allFormats()) {
+        const Format format = info.format;
+        const bool depth = info.kind == FormatKind::Depth;
+        const bool integer = info.kind == FormatKind::UInt;
+        const bool float32 = info.kind == FormatKind::Float && info.bytesPerPixel / info.channels == 4;
+        FormatCapabilities& c = table[size_t(format)];
+        bool sampled = true, filterable = !integer, renderable = true, blendable = !integer && !depth;
+        bool storage = caps.storageImages && !info.srgb && !depth;
+        bool copyable = true;
+        if (isES()) {
+            if (info.kind == FormatKind::Float) {
+                // 16-bit and packed floats filter in core ES 3.0; 32-bit ones need OES_texture_float_linear.
+                filterable = !float32 || floatLinear;
+                renderable = format == Format::RGBA16_FLOAT ? colorBufferHalfFloat : colorBufferFloat;
+                blendable = renderable && (!float32 || floatBlend);
+            }
+            // ES 3.0 filters depth only through comparison (without it a linear depth texture is incomplete).
+            if (depth) filterable = false;
+            // Colour readback and texture copies go through framebuffers: only renderable formats.
+            // Depth reads back with NV_read_depth or by drawing into r32f.
+            copyable = depth ? hasExtension("GL_NV_read_depth") || colorBufferFloat : renderable;
+        } else if (f.glGetInternalformativ) {
+            auto query = [&](GLenum pname) {
+                GLint value = GL_NONE;
+                f.glGetInternalformativ(GL_TEXTURE_2D, glFormat(format).internalFormat, pname, 1, &value);
+                return value;
+            };
+            if (query(GL_INTERNALFORMAT_SUPPORTED) != GL_TRUE) sampled = renderable = copyable = storage = false;
+            filterable = filterable && query(GL_FILTER) != GL_NONE;
+            renderable = renderable && query(GL_FRAMEBUFFER_RENDERABLE) != GL_NONE;
+            blendable = blendable && renderable && query(GL_FRAMEBUFFER_BLEND) != GL_NONE;
+            storage = storage && query(GL_SHADER_IMAGE_LOAD) != GL_NONE && query(GL_SHADER_IMAGE_STORE) != GL_NONE;
+            // GL_READ_PIXELS is not consulted (see above); readback uses glReadPixels on every format.
+        }
+        c.set(FormatCapability::Sampled, sampled);
+        c.set(FormatCapability::Filterable, sampled && filterable);
+        // Comparison (sampler2DShadow) filters depth linearly on GL 4.3 and ES 3.0 alike.
+        c.set(FormatCapability::CompareFilterable, sampled && depth);
+        c.set(FormatCapability::RenderTarget, renderable);
+        c.set(FormatCapability::Blendable, blendable);
+        c.set(FormatCapability::Storage, storage);
+        c.set(FormatCapability::Copyable, copyable);
+        // glGenerateMipmap: colour-renderable and filterable formats only.
+        c.set(FormatCapability::GenerateMips, !depth && renderable && sampled && filterable);
+    }
+    return table;
 }
 
 void Device::setupDebugOutput() {
@@ -311,256 +391,60 @@ std::unique_ptr<IDevice> createDevice(const DeviceDesc& desc) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Resource creation (validation lives with each resource's constructor)
+// Resource creation. Descriptions arrive validated (rhi/src/validation.cpp); what is left is that
+// the objects they name belong to this device's context.
 
-BufferHandle Device::createBuffer(const BufferDesc& desc) {
+BufferHandle Device::createBufferImpl(const BufferDesc& desc) {
     m_context->makeCurrent();
-    if (any(desc.usage, BufferUsage::Storage)) require(Capability::StorageBuffers, "BufferUsage::Storage");
     return std::make_shared<Buffer>(m_context, desc);
 }
 
-TextureHandle Device::createTexture(const TextureDesc& desc) {
+TextureHandle Device::createTextureImpl(const TextureDesc& desc) {
     m_context->makeCurrent();
-    const std::string name = desc.debugName.empty() ? std::string("texture") : fmt::format("texture '{}'", desc.debugName);
-    if (desc.format == Format::Unknown)
-        throw Error(ErrorCode::InvalidDescription, fmt::format("{}: TextureDesc::format is Unknown; pick a format", name));
-    if (desc.width == 0 || desc.height == 0 || desc.depth == 0)
-        throw Error(ErrorCode::InvalidDescription,
-                    fmt::format("{}: TextureDesc size {}x{}x{} has a zero extent; every extent must be >= 1",
-                                name, desc.width, desc.height, desc.depth));
-    const Limits& limits = m_caps.limits;
-    uint32_t maxSize = limits.maxTextureSize2D;
-    switch (desc.dimension) {
-        case TextureDimension::Texture2D:
-            if (desc.depth != 1)
-                throw Error(ErrorCode::InvalidDescription,
-                            fmt::format("{}: TextureDesc::depth is {} but a 2D texture has depth 1", name, desc.depth));
-            break;
-        case TextureDimension::TextureCube:
-            maxSize = limits.maxTextureSizeCube;
-            if (desc.width != desc.height)
-                throw Error(ErrorCode::InvalidDescription,
-                            fmt::format("{}: cube map faces must be square but TextureDesc width {} != height {}",
-                                        name, desc.width, desc.height));
-            if (desc.depth != 1)
-                throw Error(ErrorCode::InvalidDescription,
-                            fmt::format("{}: TextureDesc::depth is {} but a cube map has depth 1 (6 faces are implied)",
-                                        name, desc.depth));
-            break;
-        case TextureDimension::Texture3D:
-            maxSize = limits.maxTextureSize3D;
-            if (isDepthFormat(desc.format))
-                throw Error(ErrorCode::InvalidDescription,
-                            fmt::format("{}: a 3D texture cannot have the depth format {}", name, toString(desc.format)));
-            break;
-        case TextureDimension::Texture2DArray: break;   // layers: validateTextureLayers below
-        case TextureDimension::TextureCubeArray: maxSize = limits.maxTextureSizeCube; break;
-    }
-    validateTextureLayers(desc, m_caps, m_info.backend);
-    if (std::max({desc.width, desc.height, desc.dimension == TextureDimension::Texture3D ? desc.depth : 1u}) > maxSize)
-        throw Error(ErrorCode::InvalidDescription,
-                    fmt::format("{}: TextureDesc size {}x{}x{} exceeds this device's {} limit of {}", name, desc.width,
-                                desc.height, desc.depth, toString(desc.dimension), maxSize));
-    const uint32_t fullChain = fullMipCount(desc.width, desc.height,
-                                            desc.dimension == TextureDimension::Texture3D ? desc.depth : 1);
-    if (desc.mipLevels > fullChain)
-        throw Error(ErrorCode::InvalidDescription,
-                    fmt::format("{}: TextureDesc::mipLevels is {} but a {}x{}x{} texture has at most {} levels", name,
-                                desc.mipLevels, desc.width, desc.height, desc.depth, fullChain));
-    if (desc.usage == TextureUsage::None)
-        throw Error(ErrorCode::InvalidDescription,
-                    fmt::format("{}: TextureDesc::usage is None; give Sampled, RenderTarget and/or Storage", name));
-    const FormatInfo& info = formatInfo(desc.format);
-    if (any(desc.usage, TextureUsage::Storage)) {
-        require(Capability::StorageImages, "TextureUsage::Storage");
-        // GL has no sRGB or depth image formats for load/store (and neither do most Vulkan drivers).
-        if (info.srgb || info.kind == FormatKind::Depth)
-            throw Error(ErrorCode::InvalidDescription,
-                        fmt::format("{}: TextureUsage::Storage is not available for {} textures; use a linear "
-                                    "colour format (rgba8, rgba16f, rgba32f, r11g11b10f, r32f, r32ui)",
-                                    name, toString(desc.format)));
-    }
-    if (any(desc.usage, TextureUsage::RenderTarget) && info.kind == FormatKind::Float)
-        require(Capability::FloatRenderTargets, fmt::format("rendering to a {} texture", toString(desc.format)));
-
-    TextureDesc resolved = desc;
-    if (resolved.mipLevels == 0) resolved.mipLevels = fullChain;
-    return std::make_shared<Texture>(m_context, resolved);
+    return std::make_shared<Texture>(m_context, desc);
 }
 
-SamplerHandle Device::createSampler(const SamplerDesc& desc) {
+SamplerHandle Device::createSamplerImpl(const SamplerDesc& desc) {
     m_context->makeCurrent();
-    if (!(desc.minLod <= desc.maxLod))
-        throw Error(ErrorCode::InvalidDescription,
-                    fmt::format("SamplerDesc minLod {} is above maxLod {}", desc.minLod, desc.maxLod));
-    if (!(desc.maxAnisotropy >= 1.0f))
-        throw Error(ErrorCode::InvalidDescription,
-                    fmt::format("SamplerDesc::maxAnisotropy is {}; it must be >= 1", desc.maxAnisotropy));
     return std::make_shared<Sampler>(m_context, desc, m_anisotropy);
 }
 
-ShaderHandle Device::createShader(const ShaderDesc& desc) {
+ShaderHandle Device::createShaderImpl(const ShaderDesc& desc) {
     m_context->makeCurrent();
-    if (desc.stage == ShaderStage::Compute) require(Capability::Compute, "a compute shader");
     return std::make_shared<Shader>(m_context, desc);
 }
 
-PipelineHandle Device::createGraphicsPipeline(const GraphicsPipelineDesc& desc) {
+PipelineHandle Device::createGraphicsPipelineImpl(const GraphicsPipelineDesc& desc) {
     m_context->makeCurrent();
     const std::string name = desc.debugName.empty() ? std::string("graphics pipeline")
                                                     : fmt::format("graphics pipeline '{}'", desc.debugName);
-    if (!desc.vertexShader || !desc.fragmentShader)
-        throw Error(ErrorCode::InvalidDescription,
-                    fmt::format("{}: GraphicsPipelineDesc needs both a vertex and a fragment shader", name));
     ownResource<Shader>(desc.vertexShader, *m_context, name.c_str(), "vertex shader");
     ownResource<Shader>(desc.fragmentShader, *m_context, name.c_str(), "fragment shader");
-    if (desc.vertexShader->desc().stage != ShaderStage::Vertex || desc.fragmentShader->desc().stage != ShaderStage::Fragment)
-        throw Error(ErrorCode::InvalidDescription,
-                    fmt::format("{}: vertexShader must be a vertex shader and fragmentShader a fragment shader", name));
-    if (desc.colorFormats.size() > m_caps.limits.maxColorAttachments)
-        throw Error(ErrorCode::InvalidDescription,
-                    fmt::format("{}: {} colour formats exceed the limit of {} attachments", name,
-                                desc.colorFormats.size(), m_caps.limits.maxColorAttachments));
-    for (const VertexAttribute& attribute : desc.vertexAttributes) {
-        auto layout = std::find_if(desc.vertexBuffers.begin(), desc.vertexBuffers.end(),
-                                   [&](const VertexBufferLayout& l) { return l.slot == attribute.bufferSlot; });
-        if (layout == desc.vertexBuffers.end())
-            throw Error(ErrorCode::InvalidDescription,
-                        fmt::format("{}: vertex attribute at location {} reads buffer slot {}, which has no "
-                                    "VertexBufferLayout; add one with addVertexBuffer",
-                                    name, attribute.location, attribute.bufferSlot));
-        if (attribute.location >= 16)
-            throw Error(ErrorCode::InvalidDescription,
-                        fmt::format("{}: vertex attribute location {} is above the limit of 15", name, attribute.location));
-    }
-    // GL would feed a missing attribute as (0, 0, 0, 1) and reinterpret a float attribute read as
-    // an integer; Vulkan's validation rejects both, so reject them here too.
-    for (const ShaderInput& input : static_cast<const Shader&>(*desc.vertexShader).inputs()) {
-        auto attribute = std::find_if(desc.vertexAttributes.begin(), desc.vertexAttributes.end(),
-                                      [&](const VertexAttribute& a) { return a.location == input.location; });
-        if (attribute == desc.vertexAttributes.end())
-            throw Error(ErrorCode::InvalidDescription,
-                        fmt::format("{}: the vertex shader reads location {}, but no vertex attribute feeds it; add "
-                                    "one with addVertexAttribute",
-                                    name, input.location));
-        const bool integerFormat = attribute->format == VertexFormat::UInt1;
-        if (integerFormat != input.integer)
-            throw Error(ErrorCode::InvalidDescription,
-                        fmt::format("{}: vertex attribute at location {} is {} but the shader reads it as {}", name,
-                                    input.location, integerFormat ? "an integer format (UInt1)" : "a float format",
-                                    input.integer ? "an integer" : "a float"));
-    }
-    for (size_t i = 0; i < desc.colorFormats.size(); ++i) {
-        const Format format = desc.colorFormats[i];
-        const bool blends = i < desc.blend.size() && desc.blend[i].enable;
-        if (blends && (format == Format::RGBA32_FLOAT || format == Format::R32_FLOAT))
-            require(Capability::FloatBlend, fmt::format("blending into a {} attachment", toString(format)));
-        if (blends && formatInfo(format).kind == FormatKind::UInt)
-            throw Error(ErrorCode::InvalidDescription,
-                        fmt::format("{}: colour attachment {} is {}, an integer format, which cannot blend; disable blending for it",
-                                    name, i, toString(format)));
-    }
-    if (isES()) {
-        // ES 3.0 has one blend state and one colour mask for all attachments.
-        auto same = [](const BlendAttachment& a, const BlendAttachment& b) {
-            return a.enable == b.enable && a.writeMask == b.writeMask &&
-                   (!a.enable || (a.srcColor == b.srcColor && a.dstColor == b.dstColor && a.colorOp == b.colorOp &&
-                                  a.srcAlpha == b.srcAlpha && a.dstAlpha == b.dstAlpha && a.alphaOp == b.alphaOp));
-        };
-        for (size_t i = 1; i < desc.colorFormats.size(); ++i) {
-            BlendAttachment first = desc.blend.empty() ? BlendAttachment{} : desc.blend[0];
-            BlendAttachment other = i < desc.blend.size() ? desc.blend[i] : BlendAttachment{};
-            if (!same(first, other))
-                throw Error(ErrorCode::InvalidDescription,
-                            fmt::format("{}: colour attachment {} blends differently from attachment 0, but OpenGL "
-                                        "ES 3.0 applies one blend state to every attachment; use the same state",
-                                        name, i));
-        }
-    }
     return std::make_shared<Pipeline>(m_context, desc);
 }
 
-PipelineHandle Device::createComputePipeline(const ComputePipelineDesc& desc) {
+PipelineHandle Device::createComputePipelineImpl(const ComputePipelineDesc& desc) {
     m_context->makeCurrent();
-    require(Capability::Compute, "a compute pipeline");
-    if (!desc.computeShader || desc.computeShader->desc().stage != ShaderStage::Compute)
-        throw Error(ErrorCode::InvalidDescription, "ComputePipelineDesc::computeShader must be a compute shader");
     ownResource<Shader>(desc.computeShader, *m_context, "compute pipeline", "compute shader");
     return std::make_shared<Pipeline>(m_context, desc);
 }
 
-BindingSetHandle Device::createBindingSet(const BindingSetDesc& desc) {
+BindingSetHandle Device::createBindingSetImpl(const BindingSetDesc& desc) {
     for (const BindingItem& item : desc.items) {
         const auto where = fmt::format("binding {}", item.binding);
         if (item.buffer) ownResource<Buffer>(item.buffer, *m_context, where.c_str(), "buffer");
         if (item.texture) ownResource<Texture>(item.texture, *m_context, where.c_str(), "texture");
         if (item.sampler) ownResource<Sampler>(item.sampler, *m_context, where.c_str(), "sampler");
-        switch (item.type) {
-            case ResourceType::UniformBuffer:
-            case ResourceType::StorageBuffer: {
-                const bool uniform = item.type == ResourceType::UniformBuffer;
-                if (!uniform) require(Capability::StorageBuffers, "a storage-buffer binding");
-                if (!item.buffer)
-                    throw Error(ErrorCode::InvalidDescription, fmt::format("{}: the BindingItem has no buffer", where));
-                const BufferDesc& bd = item.buffer->desc();
-                if (!any(bd.usage, uniform ? BufferUsage::Uniform : BufferUsage::Storage))
-                    throw Error(ErrorCode::InvalidDescription,
-                                fmt::format("{}: buffer '{}' is bound as a {} buffer but lacks BufferUsage::{}", where,
-                                            bd.debugName, uniform ? "uniform" : "storage", uniform ? "Uniform" : "Storage"));
-                const uint64_t alignment = uniform ? m_caps.limits.uniformBufferOffsetAlignment
-                                                   : m_caps.limits.storageBufferOffsetAlignment;
-                if (alignment && item.offset % alignment != 0)
-                    throw Error(ErrorCode::InvalidDescription,
-                                fmt::format("{}: offset {} is not a multiple of the device's {} buffer offset "
-                                            "alignment {}",
-                                            where, item.offset, uniform ? "uniform" : "storage", alignment));
-                if (item.offset >= bd.size || item.offset + item.range > bd.size)
-                    throw Error(ErrorCode::InvalidDescription,
-                                fmt::format("{}: offset {} + range {} exceeds the buffer size {}", where, item.offset,
-                                            item.range, bd.size));
-                const uint64_t range = item.range ? item.range : bd.size - item.offset;
-                if (uniform && range > m_caps.limits.maxUniformBufferRange && item.range != 0)
-                    throw Error(ErrorCode::InvalidDescription,
-                                fmt::format("{}: range {} exceeds the uniform buffer range limit {}", where, range,
-                                            m_caps.limits.maxUniformBufferRange));
-                break;
-            }
-            case ResourceType::SampledTexture:
-                if (!item.texture || !item.sampler)
-                    throw Error(ErrorCode::InvalidDescription,
-                                fmt::format("{}: a sampled-texture BindingItem needs a texture and a sampler", where));
-                if (!any(item.texture->desc().usage, TextureUsage::Sampled))
-                    throw Error(ErrorCode::InvalidDescription,
-                                fmt::format("{}: texture '{}' lacks TextureUsage::Sampled", where,
-                                            item.texture->desc().debugName));
-                break;
-            case ResourceType::StorageImage:
-                require(Capability::StorageImages, "a storage-image binding");
-                if (!item.texture)
-                    throw Error(ErrorCode::InvalidDescription, fmt::format("{}: the BindingItem has no texture", where));
-                if (!any(item.texture->desc().usage, TextureUsage::Storage))
-                    throw Error(ErrorCode::InvalidDescription,
-                                fmt::format("{}: texture '{}' lacks TextureUsage::Storage", where,
-                                            item.texture->desc().debugName));
-                if (item.mipLevel >= item.texture->desc().mipLevels)
-                    throw Error(ErrorCode::InvalidDescription,
-                                fmt::format("{}: mip level {} does not exist (the texture has {})", where,
-                                            item.mipLevel, item.texture->desc().mipLevels));
-                break;
-        }
-        if (item.type == ResourceType::SampledTexture || item.type == ResourceType::StorageImage)
-            validateTextureView(item, m_caps, m_info.backend, fmt::format("BindingSetDesc item {} (binding {})", size_t(&item - desc.items.data()), item.binding));
     }
     return std::make_shared<BindingSet>(desc);
 }
 
-TimerQueryHandle Device::createTimerQuery() {
+TimerQueryHandle Device::createTimerQueryImpl() {
     m_context->makeCurrent();
-    require(Capability::TimestampQueries, "a timer query");
     return std::make_shared<TimerQuery>(m_context);
 }
 
-CommandListHandle Device::createCommandList() { return std::make_shared<CommandList>(*this); }
+CommandListHandle Device::createCommandListImpl() { return std::make_shared<CommandList>(*this); }
 
 // ---------------------------------------------------------------------------------------------
 // Execution
@@ -595,34 +479,21 @@ void Device::provokeValidationErrorForTesting() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Immediate transfers
-
-namespace {
-void checkBufferRange(const Buffer& buffer, uint64_t offset, uint64_t size, const char* what) {
-    if (size == 0 || offset > buffer.desc().size || size > buffer.desc().size - offset)
-        throw Error(ErrorCode::InvalidUsage,
-                    fmt::format("{}: bytes [{}, {}) are outside buffer '{}' of {} bytes (or the size is 0)", what,
-                                offset, offset + size, buffer.desc().debugName, buffer.desc().size));
-}
-}  // namespace
+// Immediate transfers (arguments validated by rhi/src/validation.cpp)
 
 void Device::bufferSubData(const Buffer& buffer, const void* data, uint64_t size, uint64_t offset) {
     gl().glBindBuffer(GL_COPY_WRITE_BUFFER, buffer.name());
     gl().glBufferSubData(GL_COPY_WRITE_BUFFER, GLintptr(offset), GLsizeiptr(size), data);
 }
 
-void Device::writeBuffer(const BufferHandle& handle, const void* data, uint64_t size, uint64_t offset) {
+void Device::writeBufferImpl(const BufferHandle& handle, const void* data, uint64_t size, uint64_t offset) {
     const Buffer& buffer = ownResource<Buffer>(handle, *m_context, "writeBuffer", "buffer");
-    checkBufferRange(buffer, offset, size, "writeBuffer");
-    if (!data) throw Error(ErrorCode::InvalidUsage, "writeBuffer: data is null");
     m_context->makeCurrent();
     bufferSubData(buffer, data, size, offset);
 }
 
-std::vector<std::byte> Device::readBuffer(const BufferHandle& handle, uint64_t offset, uint64_t size) {
+std::vector<std::byte> Device::readBufferImpl(const BufferHandle& handle, uint64_t offset, uint64_t size) {
     const Buffer& buffer = ownResource<Buffer>(handle, *m_context, "readBuffer", "buffer");
-    if (size == 0 && offset < buffer.desc().size) size = buffer.desc().size - offset;
-    checkBufferRange(buffer, offset, size, "readBuffer");
     m_context->makeCurrent();
     const GLFunctions& f = gl();
     f.glBindBuffer(GL_COPY_READ_BUFFER, buffer.name());
@@ -636,25 +507,15 @@ std::vector<std::byte> Device::readBuffer(const BufferHandle& handle, uint64_t o
     return result;
 }
 
-void Device::writeTexture(const TextureHandle& handle, TextureSubresource sub, const void* data, uint64_t size) {
+void Device::writeTextureImpl(const TextureHandle& handle, TextureSubresource sub, const void* data, uint64_t size) {
     const Texture& texture = ownResource<Texture>(handle, *m_context, "writeTexture", "texture");
-    texture.validateSubresource(sub, "writeTexture");
-    const uint64_t expected = texture.subresourceSize(sub.mipLevel);
-    if (size != expected)
-        throw Error(ErrorCode::InvalidUsage,
-                    fmt::format("writeTexture: {} bytes given but mip {} of '{}' holds {} bytes ({}x{} {}, tightly "
-                                "packed)",
-                                size, sub.mipLevel, texture.desc().debugName, expected, texture.width(sub.mipLevel),
-                                texture.height(sub.mipLevel), toString(texture.desc().format)));
-    if (!data) throw Error(ErrorCode::InvalidUsage, "writeTexture: data is null");
     m_context->makeCurrent();
     gl().glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
     uploadTexture(texture, sub, data);
 }
 
-std::vector<std::byte> Device::readTexture(const TextureHandle& handle, TextureSubresource sub) {
+std::vector<std::byte> Device::readTextureImpl(const TextureHandle& handle, TextureSubresource sub) {
     const Texture& texture = ownResource<Texture>(handle, *m_context, "readTexture", "texture");
-    texture.validateSubresource(sub, "readTexture");
     m_context->makeCurrent();
     return downloadTexture(texture, sub);
 }

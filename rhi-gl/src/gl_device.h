@@ -115,8 +115,6 @@ public:
     uint32_t height(uint32_t mip) const { return mipExtent(m_desc.height, mip); }
     uint32_t layers(uint32_t mip) const;
     uint64_t subresourceSize(uint32_t mip) const;
-    // Throws InvalidUsage when `sub` does not exist in this texture.
-    void validateSubresource(TextureSubresource sub, const char* what) const;
     // Attaches one image to the bound framebuffer object at `attachmentPoint`.
     void attach(GLenum framebufferTarget, GLenum attachmentPoint, uint32_t mip, uint32_t layer) const;
 
@@ -149,15 +147,14 @@ public:
     Sampler(ContextPtr context, const SamplerDesc& desc, bool anisotropySupported);
     ~Sampler() override;
     const SamplerDesc& desc() const override { return m_desc; }
-    // The sampler for `texture`: integer textures (and, where GL says so, unfilterable ones) are
-    // incomplete under linear filtering, so they get a nearest-filtering twin of this sampler.
-    GLuint nameFor(const Texture& texture, bool floatLinearFilterable) const;
+    // Validation rejects linear filtering of formats the device cannot filter, so every texture
+    // a sampler is bound with is complete under it.
+    GLuint name() const { return m_name; }
 
 private:
     ContextPtr m_context;
     SamplerDesc m_desc;
     GLuint m_name = 0;
-    GLuint m_nearestName = 0;
 };
 
 // What one shader uses at which binding point (from SPIRV-Cross reflection).
@@ -263,28 +260,28 @@ public:
 
     void begin() override;
     void end() override;
-    void beginRenderPass(const RenderPassDesc& desc) override;
+    void beginRenderPassImpl(const RenderPassDesc& desc) override;
     void endRenderPass() override;
     void setViewport(const Viewport& viewport) override;
     void setScissor(const ScissorRect& scissor) override;
     void setPipeline(const PipelineHandle& pipeline) override;
-    void setBindingSet(uint32_t set, const BindingSetHandle& bindings) override;
+    void setBindingSetImpl(uint32_t set, const BindingSetHandle& bindings) override;
     void setVertexBuffer(uint32_t slot, const BufferHandle& buffer, uint64_t offset) override;
     void setIndexBuffer(const BufferHandle& buffer, IndexType type, uint64_t offset) override;
     void draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance) override;
     void drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex, int32_t vertexOffset,
                      uint32_t firstInstance) override;
-    void dispatch(uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ) override;
-    void writeBuffer(const BufferHandle& dst, const void* data, uint64_t size, uint64_t dstOffset) override;
-    void copyBuffer(const BufferHandle& dst, uint64_t dstOffset, const BufferHandle& src, uint64_t srcOffset,
+    void dispatchImpl(uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ) override;
+    void writeBufferImpl(const BufferHandle& dst, const void* data, uint64_t size, uint64_t dstOffset) override;
+    void copyBufferImpl(const BufferHandle& dst, uint64_t dstOffset, const BufferHandle& src, uint64_t srcOffset,
                     uint64_t size) override;
-    void copyBufferToTexture(const TextureHandle& dst, TextureSubresource dstSub, const BufferHandle& src,
+    void copyBufferToTextureImpl(const TextureHandle& dst, TextureSubresource dstSub, const BufferHandle& src,
                              uint64_t srcOffset) override;
-    void copyTextureToBuffer(const BufferHandle& dst, uint64_t dstOffset, const TextureHandle& src,
+    void copyTextureToBufferImpl(const BufferHandle& dst, uint64_t dstOffset, const TextureHandle& src,
                              TextureSubresource srcSub) override;
-    void copyTexture(const TextureHandle& dst, TextureSubresource dstSub, const TextureHandle& src,
+    void copyTextureImpl(const TextureHandle& dst, TextureSubresource dstSub, const TextureHandle& src,
                      TextureSubresource srcSub) override;
-    void generateMips(const TextureHandle& texture) override;
+    void generateMipsImpl(const TextureHandle& texture) override;
     void beginTimer(const TimerQueryHandle& timer) override;
     void endTimer(const TimerQueryHandle& timer) override;
     void pushDebugGroup(std::string_view name) override;
@@ -328,26 +325,23 @@ public:
     explicit Device(const DeviceDesc& desc);
     ~Device() override;
 
-    const DeviceInfo& info() const override { return m_info; }
-    const Capabilities& capabilities() const override { return m_caps; }
-
-    BufferHandle createBuffer(const BufferDesc& desc) override;
-    TextureHandle createTexture(const TextureDesc& desc) override;
-    SamplerHandle createSampler(const SamplerDesc& desc) override;
-    ShaderHandle createShader(const ShaderDesc& desc) override;
-    PipelineHandle createGraphicsPipeline(const GraphicsPipelineDesc& desc) override;
-    PipelineHandle createComputePipeline(const ComputePipelineDesc& desc) override;
-    BindingSetHandle createBindingSet(const BindingSetDesc& desc) override;
-    TimerQueryHandle createTimerQuery() override;
-    CommandListHandle createCommandList() override;
+    BufferHandle createBufferImpl(const BufferDesc& desc) override;
+    TextureHandle createTextureImpl(const TextureDesc& desc) override;
+    SamplerHandle createSamplerImpl(const SamplerDesc& desc) override;
+    ShaderHandle createShaderImpl(const ShaderDesc& desc) override;
+    PipelineHandle createGraphicsPipelineImpl(const GraphicsPipelineDesc& desc) override;
+    PipelineHandle createComputePipelineImpl(const ComputePipelineDesc& desc) override;
+    BindingSetHandle createBindingSetImpl(const BindingSetDesc& desc) override;
+    TimerQueryHandle createTimerQueryImpl() override;
+    CommandListHandle createCommandListImpl() override;
 
     void execute(const CommandListHandle& commandList) override;
     void waitIdle() override;
 
-    void writeBuffer(const BufferHandle& buffer, const void* data, uint64_t size, uint64_t offset) override;
-    std::vector<std::byte> readBuffer(const BufferHandle& buffer, uint64_t offset, uint64_t size) override;
-    void writeTexture(const TextureHandle& texture, TextureSubresource sub, const void* data, uint64_t size) override;
-    std::vector<std::byte> readTexture(const TextureHandle& texture, TextureSubresource sub) override;
+    void writeBufferImpl(const BufferHandle& buffer, const void* data, uint64_t size, uint64_t offset) override;
+    std::vector<std::byte> readBufferImpl(const BufferHandle& buffer, uint64_t offset, uint64_t size) override;
+    void writeTextureImpl(const TextureHandle& texture, TextureSubresource sub, const void* data, uint64_t size) override;
+    std::vector<std::byte> readTextureImpl(const TextureHandle& texture, TextureSubresource sub) override;
     std::optional<double> timerSeconds(const TimerQueryHandle& timer) override;
     std::vector<DebugMessage> takeDebugMessages() override;
     void provokeValidationErrorForTesting() override;
@@ -382,7 +376,8 @@ public:
     uint32_t renderHeight() const { return m_renderHeight; }
 
 private:
-    void detectCapabilities();
+    Capabilities detectCapabilities();
+    std::vector<FormatCapabilities> queryFormatCapabilities(const Capabilities& caps) const;
     void setupDebugOutput();
     void setupDefaultState();
     // Offsets (in elements) of the per-vertex and per-instance attributes: ES 3.0's stand-in for
@@ -392,10 +387,7 @@ private:
     bool hasExtension(std::string_view name) const;
 
     ContextPtr m_context;
-    DeviceInfo m_info;
-    Capabilities m_caps;
     std::vector<std::string> m_extensions;
-    bool m_floatLinearFilterable = true;
     bool m_anisotropy = false;
     bool m_readDepthNV = false;
     std::shared_ptr<Pipeline> m_depthCopyPipeline;   // created on first use

@@ -17,6 +17,7 @@ class Platform;
     X(PFNGLGETINTEGERVPROC, glGetIntegerv)                                                                    \
     X(PFNGLGETINTEGER64VPROC, glGetInteger64v)                                                                \
     X(PFNGLGETINTEGERI_VPROC, glGetIntegeri_v)                                                                \
+    X(PFNGLGETFLOATVPROC, glGetFloatv)                                                                        \
     X(PFNGLENABLEPROC, glEnable)                                                                              \
     X(PFNGLDISABLEPROC, glDisable)                                                                            \
     X(PFNGLVIEWPORTPROC, glViewport)                                                                          \
@@ -128,6 +129,7 @@ class Platform;
     X(PFNGLCLIPCONTROLPROC, glClipControl, "glClipControlEXT")                                                \
     X(PFNGLCLEARTEXIMAGEPROC, glClearTexImage, "glClearTexImageEXT")                                          \
     X(PFNGLCLEARBUFFERDATAPROC, glClearBufferData, nullptr)                                                   \
+    X(PFNGLGETINTERNALFORMATIVPROC, glGetInternalformativ, nullptr)                                           \
     X(PFNGLTEXTUREVIEWPROC, glTextureView, nullptr)
 
 struct GLFunctions {

@@ -15,8 +15,6 @@ namespace janus::rhi::gl {
 
 namespace {
 
-constexpr uint32_t kSpirvMagic = 0x07230203;
-
 spv::ExecutionModel executionModel(ShaderStage stage) {
     switch (stage) {
         case ShaderStage::Vertex: return spv::ExecutionModelVertex;
@@ -52,28 +50,10 @@ struct Translation {
 Translation translate(const ShaderDesc& desc, const Context& context) {
     const bool es = context.isES();
     spirv_cross::CompilerGLSL compiler(desc.spirv);
-    const std::string label = shaderLabel(desc);
-    const auto entryPoints = compiler.get_entry_points_and_stages();
-    const bool hasEntry = std::any_of(entryPoints.begin(), entryPoints.end(), [&](const spirv_cross::EntryPoint& e) {
-        return e.name == desc.entryPoint && e.execution_model == executionModel(desc.stage);
-    });
-    if (!hasEntry)
-        throw Error(ErrorCode::ShaderTranslation,
-                    fmt::format("{}: the SPIR-V has no {} entry point named '{}'; check ShaderDesc::stage and "
-                                "entryPoint against the shader",
-                                label, toString(desc.stage), desc.entryPoint));
+    // The validation layer has checked the entry point and the binding model (combined image
+    // samplers, no push constants).
     compiler.set_entry_point(desc.entryPoint, executionModel(desc.stage));
     const spirv_cross::ShaderResources resources = compiler.get_shader_resources();
-
-    if (!resources.separate_images.empty() || !resources.separate_samplers.empty())
-        throw Error(ErrorCode::ShaderTranslation,
-                    fmt::format("{} uses separate textures/samplers; the Janus binding model takes combined image "
-                                "samplers (sampler2D, ...), so declare those instead",
-                                label));
-    if (!resources.push_constant_buffers.empty())
-        throw Error(ErrorCode::ShaderTranslation,
-                    fmt::format("{} uses push constants, which the Janus RHI does not have; use a uniform buffer",
-                                label));
 
     Translation result;
     auto flatten = [&](const spirv_cross::Resource& resource, ResourceType type) {
@@ -179,10 +159,6 @@ std::string describeCompileFailure(const std::string& log, const std::string& so
 
 Shader::Shader(ContextPtr context, const ShaderDesc& desc) : m_context(std::move(context)), m_desc(desc) {
     const std::string label = shaderLabel(desc);
-    if (desc.spirv.empty() || desc.spirv[0] != kSpirvMagic)
-        throw Error(ErrorCode::ShaderTranslation,
-                    fmt::format("{}: ShaderDesc::spirv is {}; pass SPIR-V words (e.g. janus::shaders::get(name))",
-                                label, desc.spirv.empty() ? "empty" : "not SPIR-V (wrong magic number)"));
     Translation translation;
     try {
         translation = translate(desc, *m_context);
@@ -222,19 +198,16 @@ Shader::~Shader() {
 // ---------------------------------------------------------------------------------------------
 // Pipelines
 
+// The shaders are this device's (checked by Device::create*PipelineImpl, or internal).
 Pipeline::Pipeline(ContextPtr context, const GraphicsPipelineDesc& desc)
     : m_context(std::move(context)), m_graphics(desc) {
-    auto* vs = dynamic_cast<const Shader*>(desc.vertexShader.get());
-    auto* fs = dynamic_cast<const Shader*>(desc.fragmentShader.get());
-    if (!vs || !fs) throw Error(ErrorCode::InvalidDescription, "the pipeline's shaders come from another backend");
-    link({vs, fs}, desc.debugName);
+    link({static_cast<const Shader*>(desc.vertexShader.get()), static_cast<const Shader*>(desc.fragmentShader.get())},
+         desc.debugName);
 }
 
 Pipeline::Pipeline(ContextPtr context, const ComputePipelineDesc& desc)
     : m_context(std::move(context)), m_compute(true) {
-    auto* cs = dynamic_cast<const Shader*>(desc.computeShader.get());
-    if (!cs) throw Error(ErrorCode::InvalidDescription, "the pipeline's compute shader comes from another backend");
-    link({cs}, desc.debugName);
+    link({static_cast<const Shader*>(desc.computeShader.get())}, desc.debugName);
 }
 
 Pipeline::~Pipeline() {

@@ -203,18 +203,6 @@ uint64_t Texture::subresourceSize(uint32_t mip) const {
     return uint64_t(width(mip)) * height(mip) * formatInfo(m_desc.format).bytesPerPixel;
 }
 
-void Texture::validateSubresource(TextureSubresource sub, const char* what) const {
-    if (sub.mipLevel >= m_desc.mipLevels)
-        throw Error(ErrorCode::InvalidUsage,
-                    fmt::format("{}: mip level {} does not exist in texture '{}', which has {} levels", what,
-                                sub.mipLevel, m_desc.debugName, m_desc.mipLevels));
-    if (sub.layer >= layers(sub.mipLevel))
-        throw Error(ErrorCode::InvalidUsage,
-                    fmt::format("{}: layer {} does not exist at mip {} of {} texture '{}', which has {} there", what,
-                                sub.layer, sub.mipLevel, toString(m_desc.dimension), m_desc.debugName,
-                                layers(sub.mipLevel)));
-}
-
 void Texture::attach(GLenum framebufferTarget, GLenum attachmentPoint, uint32_t mip, uint32_t layer) const {
     const GLFunctions& gl = m_context->gl;
     switch (m_desc.dimension) {
@@ -340,12 +328,9 @@ std::vector<std::byte> Device::readDepthThroughColor(const Texture& texture, Tex
 Sampler::Sampler(ContextPtr context, const SamplerDesc& desc, bool anisotropySupported)
     : m_context(std::move(context)), m_desc(desc) {
     const GLFunctions& gl = m_context->gl;
-    auto configure = [&](GLuint sampler, bool nearest) {
-        const Filter min = nearest ? Filter::Nearest : desc.minFilter;
-        const Filter mag = nearest ? Filter::Nearest : desc.magFilter;
-        const Filter mip = nearest ? Filter::Nearest : desc.mipFilter;
-        gl.glSamplerParameteri(sampler, GL_TEXTURE_MIN_FILTER, GLint(minFilter(min, mip)));
-        gl.glSamplerParameteri(sampler, GL_TEXTURE_MAG_FILTER, GLint(toGL(mag)));
+    auto configure = [&](GLuint sampler) {
+        gl.glSamplerParameteri(sampler, GL_TEXTURE_MIN_FILTER, GLint(minFilter(desc.minFilter, desc.mipFilter)));
+        gl.glSamplerParameteri(sampler, GL_TEXTURE_MAG_FILTER, GLint(toGL(desc.magFilter)));
         gl.glSamplerParameteri(sampler, GL_TEXTURE_WRAP_S, GLint(toGL(desc.addressU)));
         gl.glSamplerParameteri(sampler, GL_TEXTURE_WRAP_T, GLint(toGL(desc.addressV)));
         gl.glSamplerParameteri(sampler, GL_TEXTURE_WRAP_R, GLint(toGL(desc.addressW)));
@@ -355,29 +340,16 @@ Sampler::Sampler(ContextPtr context, const SamplerDesc& desc, bool anisotropySup
             gl.glSamplerParameteri(sampler, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
             gl.glSamplerParameteri(sampler, GL_TEXTURE_COMPARE_FUNC, GLint(compareFunction(*desc.compare)));
         }
-        if (anisotropySupported && desc.maxAnisotropy > 1.0f && !nearest)
+        if (anisotropySupported && desc.maxAnisotropy > 1.0f)
             gl.glSamplerParameterf(sampler, kTextureMaxAnisotropy, desc.maxAnisotropy);
     };
     gl.glGenSamplers(1, &m_name);
-    configure(m_name, false);
-    gl.glGenSamplers(1, &m_nearestName);
-    configure(m_nearestName, true);
+    configure(m_name);
 }
 
 Sampler::~Sampler() {
     m_context->makeCurrent();
     m_context->gl.glDeleteSamplers(1, &m_name);
-    m_context->gl.glDeleteSamplers(1, &m_nearestName);
-}
-
-GLuint Sampler::nameFor(const Texture& texture, bool floatLinearFilterable) const {
-    const Format format = texture.desc().format;
-    const bool integer = formatInfo(format).kind == FormatKind::UInt;
-    // ES 3.0 cannot filter 32-bit floats without OES_texture_float_linear, nor depth without
-    // comparison; GL would treat the texture as incomplete and sample zeros.
-    const bool unfilterableFloat = !floatLinearFilterable && (format == Format::RGBA32_FLOAT || format == Format::R32_FLOAT);
-    const bool unfilterableDepth = m_context->isES() && isDepthFormat(format) && !m_desc.compare;
-    return integer || unfilterableFloat || unfilterableDepth ? m_nearestName : m_name;
 }
 
 }  // namespace janus::rhi::gl

@@ -275,8 +275,6 @@ public:
     VkExtent3D extent(uint32_t mip) const;
     // Bytes of one subresource (one face / slice of one mip), rows tightly packed.
     uint64_t subresourceSize(uint32_t mip) const;
-    // Throws InvalidUsage unless `sub` names an existing 2D subresource.
-    void checkSubresource(TextureSubresource sub, std::string_view what) const;
     // Image subresource + offset addressing one face / slice for copies.
     VkImageSubresourceLayers copyLayers(TextureSubresource sub) const;
     VkOffset3D copyOffset(TextureSubresource sub) const;
@@ -324,7 +322,6 @@ public:
     VkShaderModule module = VK_NULL_HANDLE;
     VkShaderStageFlagBits stage = VK_SHADER_STAGE_VERTEX_BIT;
     std::vector<ReflectedBinding> bindings;
-    std::vector<uint32_t> inputLocations;   // vertex shaders: attribute locations it reads
 
 private:
     ContextPtr m_context;
@@ -417,28 +414,28 @@ public:
 
     void begin() override;
     void end() override;
-    void beginRenderPass(const RenderPassDesc& desc) override;
+    void beginRenderPassImpl(const RenderPassDesc& desc) override;
     void endRenderPass() override;
     void setViewport(const Viewport& viewport) override;
     void setScissor(const ScissorRect& scissor) override;
     void setPipeline(const PipelineHandle& pipeline) override;
-    void setBindingSet(uint32_t set, const BindingSetHandle& bindings) override;
+    void setBindingSetImpl(uint32_t set, const BindingSetHandle& bindings) override;
     void setVertexBuffer(uint32_t slot, const BufferHandle& buffer, uint64_t offset) override;
     void setIndexBuffer(const BufferHandle& buffer, IndexType type, uint64_t offset) override;
     void draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance) override;
     void drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex, int32_t vertexOffset,
                      uint32_t firstInstance) override;
-    void dispatch(uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ) override;
-    void writeBuffer(const BufferHandle& dst, const void* data, uint64_t size, uint64_t dstOffset) override;
-    void copyBuffer(const BufferHandle& dst, uint64_t dstOffset, const BufferHandle& src, uint64_t srcOffset,
+    void dispatchImpl(uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ) override;
+    void writeBufferImpl(const BufferHandle& dst, const void* data, uint64_t size, uint64_t dstOffset) override;
+    void copyBufferImpl(const BufferHandle& dst, uint64_t dstOffset, const BufferHandle& src, uint64_t srcOffset,
                     uint64_t size) override;
-    void copyBufferToTexture(const TextureHandle& dst, TextureSubresource dstSub, const BufferHandle& src,
+    void copyBufferToTextureImpl(const TextureHandle& dst, TextureSubresource dstSub, const BufferHandle& src,
                              uint64_t srcOffset) override;
-    void copyTextureToBuffer(const BufferHandle& dst, uint64_t dstOffset, const TextureHandle& src,
+    void copyTextureToBufferImpl(const BufferHandle& dst, uint64_t dstOffset, const TextureHandle& src,
                              TextureSubresource srcSub) override;
-    void copyTexture(const TextureHandle& dst, TextureSubresource dstSub, const TextureHandle& src,
+    void copyTextureImpl(const TextureHandle& dst, TextureSubresource dstSub, const TextureHandle& src,
                      TextureSubresource srcSub) override;
-    void generateMips(const TextureHandle& texture) override;
+    void generateMipsImpl(const TextureHandle& texture) override;
     void beginTimer(const TimerQueryHandle& timer) override;
     void endTimer(const TimerQueryHandle& timer) override;
     void pushDebugGroup(std::string_view name) override;

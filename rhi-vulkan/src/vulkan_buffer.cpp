@@ -8,13 +8,6 @@
 namespace janus::rhi::vulkan {
 
 Buffer::Buffer(ContextPtr context, const BufferDesc& desc) : m_context(std::move(context)), m_desc(desc) {
-    if (desc.size == 0)
-        throw Error(ErrorCode::InvalidDescription, fmt::format("BufferDesc::size of '{}' is 0; give it the number "
-                                                               "of bytes it must hold", desc.debugName));
-    if (m_context->maxMemoryAllocationSize && desc.size > m_context->maxMemoryAllocationSize)
-        throw Error(ErrorCode::InvalidDescription,
-                    fmt::format("BufferDesc::size of '{}' is {} bytes, above this device's largest allocation "
-                                "({} bytes)", desc.debugName, desc.size, m_context->maxMemoryAllocationSize));
     VkBufferUsageFlags usage = VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
     if (any(desc.usage, BufferUsage::Vertex)) usage |= VK_BUFFER_USAGE_VERTEX_BUFFER_BIT;
     if (any(desc.usage, BufferUsage::Index)) usage |= VK_BUFFER_USAGE_INDEX_BUFFER_BIT;

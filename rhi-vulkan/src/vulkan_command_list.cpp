@@ -17,14 +17,6 @@ std::string formatList(const std::vector<Format>& colors, Format depth) {
     return text + "] depth " + (depth == Format::Unknown ? std::string("none") : toString(depth));
 }
 
-void checkBufferRange(const Buffer& buffer, uint64_t offset, uint64_t size, std::string_view call) {
-    const uint64_t total = buffer.desc().size;
-    if (size == 0 || offset > total || size > total - offset)
-        throw Error(ErrorCode::InvalidUsage,
-                    fmt::format("{}: bytes [{}, {}) are not a non-empty range inside the {}-byte buffer '{}'", call,
-                                offset, offset + size, total, buffer.desc().debugName));
-}
-
 // Recording ids are unique across all command lists of all devices (see KeepMark).
 // Each takes two ids: N while recording, N + 1 for what it retains afterwards.
 std::atomic<uint64_t> g_nextRecordingId{2};
@@ -183,14 +175,10 @@ void CommandList::submit() {
     for (TimerUse& use : m_timers) use.timer->submitted = use.began && use.ended;
 }
 
-void CommandList::beginRenderPass(const RenderPassDesc& desc) {
+// `desc` is validated (rhi/src/validation.cpp): attachments exist, are render targets of the
+// right kind and have one size.
+void CommandList::beginRenderPassImpl(const RenderPassDesc& desc) {
     requireOutsideRenderPass("beginRenderPass()");
-    if (desc.colors.empty() && !desc.depth)
-        throw Error(ErrorCode::InvalidUsage, "beginRenderPass(): the RenderPassDesc has no colour and no depth attachment");
-    if (desc.colors.size() > m_context->properties.limits.maxColorAttachments)
-        throw Error(ErrorCode::InvalidUsage,
-                    fmt::format("beginRenderPass(): {} colour attachments, above maxColorAttachments ({})",
-                                desc.colors.size(), m_context->properties.limits.maxColorAttachments));
 
     std::optional<VkExtent2D> extent;
     std::vector<Format> colorFormats;
@@ -198,20 +186,7 @@ void CommandList::beginRenderPass(const RenderPassDesc& desc) {
     auto attach = [&](const Attachment& a, bool depth, const std::string& what) {
         auto* texture = native<Texture>(a.texture, what);
         const TextureDesc& tdesc = texture->desc();
-        if (!any(tdesc.usage, TextureUsage::RenderTarget))
-            throw Error(ErrorCode::InvalidUsage,
-                        fmt::format("beginRenderPass(): {} '{}' lacks TextureUsage::RenderTarget", what, tdesc.debugName));
-        if (isDepthFormat(tdesc.format) != depth)
-            throw Error(ErrorCode::InvalidUsage,
-                        fmt::format("beginRenderPass(): {} '{}' has format {}, which is {} a depth format", what,
-                                    tdesc.debugName, toString(tdesc.format), depth ? "not" : ""));
-        texture->checkSubresource(a.subresource, fmt::format("beginRenderPass(): {}", what));
         const VkExtent3D e = texture->extent(a.subresource.mipLevel);
-        if (extent && (extent->width != e.width || extent->height != e.height))
-            throw Error(ErrorCode::InvalidUsage,
-                        fmt::format("beginRenderPass(): {} '{}' is {}x{} but the first attachment is {}x{}; all "
-                                    "attachments must have the same size", what, tdesc.debugName, e.width, e.height,
-                                    extent->width, extent->height));
         extent = VkExtent2D{e.width, e.height};
         keep(a.texture, texture->keepMark);
         // Load and store ops read and write the attachment; counting it as written covers both.
@@ -326,12 +301,8 @@ void CommandList::setPipeline(const PipelineHandle& handle) {
     }
 }
 
-void CommandList::setBindingSet(uint32_t set, const BindingSetHandle& bindings) {
+void CommandList::setBindingSetImpl(uint32_t set, const BindingSetHandle& bindings) {   // set < kMaxBindingSets
     requireRecording("setBindingSet()");
-    if (set >= Pipeline::kMaxSets)
-        throw Error(ErrorCode::InvalidUsage,
-                    fmt::format("setBindingSet(): set {} does not exist; sets 0..{} are available", set,
-                                Pipeline::kMaxSets - 1));
     auto* bindingSet = native<BindingSet>(bindings, "setBindingSet(): the binding set");
     if (m_bindingSets[set] == bindingSet) return;   // already bound
     bindingSet->prefetchFirstUse();
@@ -476,19 +447,10 @@ void CommandList::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint3
     vkCmdDrawIndexed(m_commands, indexCount, instanceCount, firstIndex, vertexOffset, firstInstance);
 }
 
-void CommandList::dispatch(uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ) {
+void CommandList::dispatchImpl(uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ) {   // counts within limits
     requireOutsideRenderPass("dispatch()");
     if (!m_computePipeline)
         throw Error(ErrorCode::InvalidUsage, "dispatch(): no compute pipeline is set; call setPipeline()");
-    const auto& limit = m_context->properties.limits.maxComputeWorkGroupCount;
-    if (groupsX > limit[0] || groupsY > limit[1] || groupsZ > limit[2]) {
-        const uint32_t groups[3] = {groupsX, groupsY, groupsZ};
-        for (int i = 0; i < 3; ++i)
-            if (groups[i] > limit[i])
-                throw Error(ErrorCode::InvalidUsage,
-                            fmt::format("dispatch(): {} groups in dimension {} is above the device limit {}", groups[i],
-                                        "xyz"[i], limit[i]));
-    }
     Pipeline& pipeline = *m_computePipeline;
     const uint32_t changedSets = m_dirtyComputeSets & pipeline.usedSets;
     bindDescriptorSets(pipeline, VK_PIPELINE_BIND_POINT_COMPUTE, m_dirtyComputeSets, m_computeSetUses);
@@ -517,11 +479,10 @@ void CommandList::dispatch(uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ)
     vkCmdDispatch(m_commands, groupsX, groupsY, groupsZ);
 }
 
-void CommandList::writeBuffer(const BufferHandle& dst, const void* data, uint64_t size, uint64_t dstOffset) {
+// Transfers: arguments are validated (rhi/src/validation.cpp); ranges and subresources exist.
+void CommandList::writeBufferImpl(const BufferHandle& dst, const void* data, uint64_t size, uint64_t dstOffset) {
     requireOutsideRenderPass("writeBuffer()");
     auto* buffer = native<Buffer>(dst, "writeBuffer(): the buffer");
-    checkBufferRange(*buffer, dstOffset, size, "writeBuffer()");
-    if (!data) throw Error(ErrorCode::InvalidUsage, "writeBuffer(): data is null");
     auto staging = std::make_shared<StagingBuffer>(m_context, size);
     std::memcpy(staging->mapped, data, size);
     keep(dst, buffer->keepMark);
@@ -532,15 +493,11 @@ void CommandList::writeBuffer(const BufferHandle& dst, const void* data, uint64_
     m_staging.push_back(std::move(staging));
 }
 
-void CommandList::copyBuffer(const BufferHandle& dst, uint64_t dstOffset, const BufferHandle& src, uint64_t srcOffset,
-                             uint64_t size) {
+void CommandList::copyBufferImpl(const BufferHandle& dst, uint64_t dstOffset, const BufferHandle& src,
+                                 uint64_t srcOffset, uint64_t size) {
     requireOutsideRenderPass("copyBuffer()");
     auto* to = native<Buffer>(dst, "copyBuffer(): the destination");
     auto* from = native<Buffer>(src, "copyBuffer(): the source");
-    checkBufferRange(*to, dstOffset, size, "copyBuffer() destination");
-    checkBufferRange(*from, srcOffset, size, "copyBuffer() source");
-    if (to == from && srcOffset < dstOffset + size && dstOffset < srcOffset + size)
-        throw Error(ErrorCode::InvalidUsage, "copyBuffer(): source and destination ranges overlap in the same buffer");
     keep(dst, to->keepMark);
     keep(src, from->keepMark);
     access({transferRead(*from, srcOffset, size), transferWrite(*to, dstOffset, size)});
@@ -548,18 +505,11 @@ void CommandList::copyBuffer(const BufferHandle& dst, uint64_t dstOffset, const 
     vkCmdCopyBuffer(m_commands, from->buffer, to->buffer, 1, &region);
 }
 
-void CommandList::copyBufferToTexture(const TextureHandle& dst, TextureSubresource dstSub, const BufferHandle& src,
-                                      uint64_t srcOffset) {
+void CommandList::copyBufferToTextureImpl(const TextureHandle& dst, TextureSubresource dstSub, const BufferHandle& src,
+                                          uint64_t srcOffset) {
     requireOutsideRenderPass("copyBufferToTexture()");
     auto* texture = native<Texture>(dst, "copyBufferToTexture(): the texture");
     auto* buffer = native<Buffer>(src, "copyBufferToTexture(): the buffer");
-    texture->checkSubresource(dstSub, "copyBufferToTexture()");
-    checkBufferRange(*buffer, srcOffset, texture->subresourceSize(dstSub.mipLevel), "copyBufferToTexture() source");
-    const uint32_t texel = formatInfo(texture->desc().format).bytesPerPixel;
-    if (srcOffset % texel)
-        throw Error(ErrorCode::InvalidUsage,
-                    fmt::format("copyBufferToTexture(): srcOffset {} must be a multiple of the texel size {}", srcOffset,
-                                texel));
     keep(dst, texture->keepMark);
     keep(src, buffer->keepMark);
     access({transferRead(*buffer, srcOffset, texture->subresourceSize(dstSub.mipLevel)),
@@ -572,18 +522,11 @@ void CommandList::copyBufferToTexture(const TextureHandle& dst, TextureSubresour
     vkCmdCopyBufferToImage(m_commands, buffer->buffer, texture->image, VK_IMAGE_LAYOUT_GENERAL, 1, &region);
 }
 
-void CommandList::copyTextureToBuffer(const BufferHandle& dst, uint64_t dstOffset, const TextureHandle& src,
-                                      TextureSubresource srcSub) {
+void CommandList::copyTextureToBufferImpl(const BufferHandle& dst, uint64_t dstOffset, const TextureHandle& src,
+                                          TextureSubresource srcSub) {
     requireOutsideRenderPass("copyTextureToBuffer()");
     auto* buffer = native<Buffer>(dst, "copyTextureToBuffer(): the buffer");
     auto* texture = native<Texture>(src, "copyTextureToBuffer(): the texture");
-    texture->checkSubresource(srcSub, "copyTextureToBuffer()");
-    checkBufferRange(*buffer, dstOffset, texture->subresourceSize(srcSub.mipLevel), "copyTextureToBuffer() destination");
-    const uint32_t texel = formatInfo(texture->desc().format).bytesPerPixel;
-    if (dstOffset % texel)
-        throw Error(ErrorCode::InvalidUsage,
-                    fmt::format("copyTextureToBuffer(): dstOffset {} must be a multiple of the texel size {}", dstOffset,
-                                texel));
     keep(dst, buffer->keepMark);
     keep(src, texture->keepMark);
     access({transferRead(*texture, keysOf(srcSub)),
@@ -596,28 +539,12 @@ void CommandList::copyTextureToBuffer(const BufferHandle& dst, uint64_t dstOffse
     vkCmdCopyImageToBuffer(m_commands, texture->image, VK_IMAGE_LAYOUT_GENERAL, buffer->buffer, 1, &region);
 }
 
-void CommandList::copyTexture(const TextureHandle& dst, TextureSubresource dstSub, const TextureHandle& src,
-                              TextureSubresource srcSub) {
+void CommandList::copyTextureImpl(const TextureHandle& dst, TextureSubresource dstSub, const TextureHandle& src,
+                                  TextureSubresource srcSub) {
     requireOutsideRenderPass("copyTexture()");
     auto* to = native<Texture>(dst, "copyTexture(): the destination");
     auto* from = native<Texture>(src, "copyTexture(): the source");
-    to->checkSubresource(dstSub, "copyTexture() destination");
-    from->checkSubresource(srcSub, "copyTexture() source");
-    const Format dstFormat = to->desc().format, srcFormat = from->desc().format;
-    const bool compatible = dstFormat == srcFormat ||
-                            (!isDepthFormat(dstFormat) && !isDepthFormat(srcFormat) &&
-                             formatInfo(dstFormat).bytesPerPixel == formatInfo(srcFormat).bytesPerPixel);
-    if (!compatible)
-        throw Error(ErrorCode::InvalidUsage,
-                    fmt::format("copyTexture(): cannot copy {} into {}; formats must match or be colour formats of the "
-                                "same texel size", toString(srcFormat), toString(dstFormat)));
-    const VkExtent3D dstExtent = to->copyExtent(dstSub), srcExtent = from->copyExtent(srcSub);
-    if (dstExtent.width != srcExtent.width || dstExtent.height != srcExtent.height)
-        throw Error(ErrorCode::InvalidUsage,
-                    fmt::format("copyTexture(): source subresource is {}x{} but the destination is {}x{}",
-                                srcExtent.width, srcExtent.height, dstExtent.width, dstExtent.height));
-    if (to == from && dstSub.mipLevel == srcSub.mipLevel && dstSub.layer == srcSub.layer)
-        throw Error(ErrorCode::InvalidUsage, "copyTexture(): source and destination are the same subresource");
+    const VkExtent3D srcExtent = from->copyExtent(srcSub);
     keep(dst, to->keepMark);
     keep(src, from->keepMark);
     access({transferRead(*from, keysOf(srcSub)), transferWrite(*to, keysOf(dstSub))});
@@ -630,17 +557,11 @@ void CommandList::copyTexture(const TextureHandle& dst, TextureSubresource dstSu
     vkCmdCopyImage(m_commands, from->image, VK_IMAGE_LAYOUT_GENERAL, to->image, VK_IMAGE_LAYOUT_GENERAL, 1, &region);
 }
 
-void CommandList::generateMips(const TextureHandle& handle) {
+// The format's GenerateMips capability (blit source/destination, linear filter) is validated.
+void CommandList::generateMipsImpl(const TextureHandle& handle) {
     requireOutsideRenderPass("generateMips()");
     auto* texture = native<Texture>(handle, "generateMips(): the texture");
     const TextureDesc& desc = texture->desc();
-    constexpr VkFormatFeatureFlags kNeeded = VK_FORMAT_FEATURE_BLIT_SRC_BIT | VK_FORMAT_FEATURE_BLIT_DST_BIT |
-                                             VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT;
-    if ((m_context->formatProperties(desc.format).optimalTilingFeatures & kNeeded) != kNeeded)
-        throw Error(ErrorCode::InvalidUsage,
-                    fmt::format("generateMips(): texture '{}' has format {}, which this device cannot filter linearly; "
-                                "write each mip level yourself or use a filterable format",
-                                desc.debugName, toString(desc.format)));
     keep(handle, texture->keepMark);
     for (uint32_t level = 1; level < desc.mipLevels; ++level) {
         const VkExtent3D from = texture->extent(level - 1), to = texture->extent(level);

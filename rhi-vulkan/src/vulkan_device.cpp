@@ -288,6 +288,7 @@ Capabilities queryCapabilities(const Context& ctx) {
     caps.floatBlend = hasFormatFeatures(ctx, Format::RGBA32_FLOAT, VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BLEND_BIT) &&
                       hasFormatFeatures(ctx, Format::R32_FLOAT, VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BLEND_BIT);
     caps.timestampQueries = ctx.timestampValidBits > 0 && l.timestampComputeAndGraphics;
+    caps.independentBlend = ctx.enabledFeatures.independentBlend;
     caps.cubeArrays = ctx.enabledFeatures.imageCubeArray;   // enabled whenever the device has it
     caps.textureViews = true;   // VkImageView of any layer range / compatible type is core Vulkan
 
@@ -306,8 +307,40 @@ Capabilities queryCapabilities(const Context& ctx) {
     limits.maxComputeWorkGroupInvocations = l.maxComputeWorkGroupInvocations;
     limits.uniformBufferOffsetAlignment = uint32_t(l.minUniformBufferOffsetAlignment);
     limits.storageBufferOffsetAlignment = uint32_t(l.minStorageBufferOffsetAlignment);
+    limits.maxBufferSize = ctx.maxMemoryAllocationSize;
+    limits.maxVertexBuffers = l.maxVertexInputBindings;
+    limits.maxVertexAttributes = l.maxVertexInputAttributes;
+    limits.maxVertexStride = l.maxVertexInputBindingStride;
+    limits.maxSamplerAnisotropy = ctx.enabledFeatures.samplerAnisotropy ? l.maxSamplerAnisotropy : 1.0f;
     caps.conventions = Conventions{true, true};
     return caps;
+}
+
+// The format table: optimal-tiling features (every image is optimally tiled).
+std::vector<FormatCapabilities> queryFormatCapabilities(const Context& ctx, const Capabilities& caps) {
+    std::vector<FormatCapabilities> table(allFormats().size() + 1);
+    for (const FormatInfo& info : allFormats()) {
+        const VkFormatFeatureFlags f = ctx.formatProperties(info.format).optimalTilingFeatures;
+        const bool depth = info.kind == FormatKind::Depth;
+        auto has = [&](VkFormatFeatureFlags bits) { return (f & bits) == bits; };
+        FormatCapabilities& c = table[size_t(info.format)];
+        c.set(FormatCapability::Sampled, has(VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT));
+        c.set(FormatCapability::Filterable,
+              has(VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT | VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT));
+        // Linear filtering with compareEnable needs no FILTER_LINEAR bit (VUID-vkCmdDraw-magFilter-04553
+        // applies to compareEnable == VK_FALSE only); a sampled depth format compares.
+        c.set(FormatCapability::CompareFilterable, depth && has(VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT));
+        c.set(FormatCapability::RenderTarget, has(depth ? VK_FORMAT_FEATURE_DEPTH_STENCIL_ATTACHMENT_BIT
+                                                        : VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT));
+        c.set(FormatCapability::Blendable, !depth && has(VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BLEND_BIT));
+        c.set(FormatCapability::Storage, caps.storageImages && has(VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT));
+        c.set(FormatCapability::Copyable, has(VK_FORMAT_FEATURE_TRANSFER_SRC_BIT | VK_FORMAT_FEATURE_TRANSFER_DST_BIT));
+        // generateMips blits each level from the one above with linear filtering.
+        c.set(FormatCapability::GenerateMips,
+              !depth && has(VK_FORMAT_FEATURE_BLIT_SRC_BIT | VK_FORMAT_FEATURE_BLIT_DST_BIT |
+                            VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT));
+    }
+    return table;
 }
 
 class Device final : public IDevice {
@@ -317,60 +350,45 @@ public:
         createInstance(*m_context, desc);
         pickPhysicalDevice(*m_context);
         createLogicalDevice(*m_context);
-        m_info = describe(*m_context);
-        m_capabilities = queryCapabilities(*m_context);
+        DeviceProperties properties;
+        properties.info = describe(*m_context);
+        properties.capabilities = queryCapabilities(*m_context);
+        properties.formats = queryFormatCapabilities(*m_context, properties.capabilities);
+        setProperties(std::move(properties));
     }
 
     ~Device() override {
         if (m_context->device) vkDeviceWaitIdle(m_context->device);
     }
 
-    const DeviceInfo& info() const override { return m_info; }
-    const Capabilities& capabilities() const override { return m_capabilities; }
-
-    BufferHandle createBuffer(const BufferDesc& desc) override {
-        if (any(desc.usage, BufferUsage::Storage)) require(Capability::StorageBuffers, "BufferUsage::Storage");
-        return std::make_shared<Buffer>(m_context, desc);
-    }
-    TextureHandle createTexture(const TextureDesc& desc) override {
-        if (any(desc.usage, TextureUsage::Storage)) require(Capability::StorageImages, "TextureUsage::Storage");
-        validateTextureLayers(desc, m_capabilities, Backend::Vulkan);
+    // Descriptions arrive validated (rhi/src/validation.cpp).
+    BufferHandle createBufferImpl(const BufferDesc& desc) override { return std::make_shared<Buffer>(m_context, desc); }
+    TextureHandle createTextureImpl(const TextureDesc& desc) override {
         return std::make_shared<Texture>(m_context, desc);
     }
-    SamplerHandle createSampler(const SamplerDesc& desc) override { return std::make_shared<Sampler>(m_context, desc); }
-    ShaderHandle createShader(const ShaderDesc& desc) override { return std::make_shared<Shader>(m_context, desc); }
-    PipelineHandle createGraphicsPipeline(const GraphicsPipelineDesc& desc) override {
+    SamplerHandle createSamplerImpl(const SamplerDesc& desc) override {
+        return std::make_shared<Sampler>(m_context, desc);
+    }
+    ShaderHandle createShaderImpl(const ShaderDesc& desc) override { return std::make_shared<Shader>(m_context, desc); }
+    PipelineHandle createGraphicsPipelineImpl(const GraphicsPipelineDesc& desc) override {
         return std::make_shared<Pipeline>(m_context, desc);
     }
-    PipelineHandle createComputePipeline(const ComputePipelineDesc& desc) override {
-        require(Capability::Compute, "createComputePipeline");
+    PipelineHandle createComputePipelineImpl(const ComputePipelineDesc& desc) override {
         return std::make_shared<Pipeline>(m_context, desc);
     }
-    BindingSetHandle createBindingSet(const BindingSetDesc& desc) override {
-        auto set = std::make_shared<BindingSet>(m_context, desc);   // checks the items' objects first
-        for (size_t i = 0; i < desc.items.size(); ++i) {
-            const BindingItem& item = desc.items[i];
-            if (item.type == ResourceType::SampledTexture || item.type == ResourceType::StorageImage)
-                validateTextureView(item, m_capabilities, Backend::Vulkan,
-                                    fmt::format("BindingSetDesc item {} (binding {})", i, item.binding));
-        }
-        return set;
+    BindingSetHandle createBindingSetImpl(const BindingSetDesc& desc) override {
+        return std::make_shared<BindingSet>(m_context, desc);
     }
-    TimerQueryHandle createTimerQuery() override {
-        require(Capability::TimestampQueries, "createTimerQuery");
-        return std::make_shared<TimerQuery>(m_context);
-    }
-    CommandListHandle createCommandList() override { return std::make_shared<CommandList>(m_context); }
+    TimerQueryHandle createTimerQueryImpl() override { return std::make_shared<TimerQuery>(m_context); }
+    CommandListHandle createCommandListImpl() override { return std::make_shared<CommandList>(m_context); }
 
     void execute(const CommandListHandle& commandList) override {
         native<CommandList>(commandList, "execute(): the command list")->submit();
     }
     void waitIdle() override { m_context->waitIdle(); }
 
-    void writeBuffer(const BufferHandle& buffer, const void* data, uint64_t size, uint64_t offset) override {
+    void writeBufferImpl(const BufferHandle& buffer, const void* data, uint64_t size, uint64_t offset) override {
         auto* dst = native<Buffer>(buffer, "writeBuffer(): the buffer");
-        checkRange(dst->desc(), offset, size, "writeBuffer");
-        if (!data) throw Error(ErrorCode::InvalidUsage, "writeBuffer(): data is null");
         StagingBuffer staging(m_context, size);
         std::memcpy(staging.mapped, data, size);
         m_context->submitAndWait([&](VkCommandBuffer cmd) {
@@ -379,15 +397,8 @@ public:
         });
     }
 
-    std::vector<std::byte> readBuffer(const BufferHandle& buffer, uint64_t offset, uint64_t size) override {
+    std::vector<std::byte> readBufferImpl(const BufferHandle& buffer, uint64_t offset, uint64_t size) override {
         auto* src = native<Buffer>(buffer, "readBuffer(): the buffer");
-        if (size == 0) {
-            if (offset >= src->desc().size)
-                throw Error(ErrorCode::InvalidUsage, fmt::format("readBuffer(): offset {} is not inside the {}-byte "
-                                                                 "buffer", offset, src->desc().size));
-            size = src->desc().size - offset;
-        }
-        checkRange(src->desc(), offset, size, "readBuffer");
         StagingBuffer staging(m_context, size);
         m_context->submitAndWait([&](VkCommandBuffer cmd) {
             VkBufferCopy region{offset, 0, size};
@@ -396,15 +407,8 @@ public:
         return {staging.mapped, staging.mapped + size};
     }
 
-    void writeTexture(const TextureHandle& texture, TextureSubresource sub, const void* data, uint64_t size) override {
+    void writeTextureImpl(const TextureHandle& texture, TextureSubresource sub, const void* data, uint64_t size) override {
         auto* dst = native<Texture>(texture, "writeTexture(): the texture");
-        dst->checkSubresource(sub, "writeTexture()");
-        const uint64_t expected = dst->subresourceSize(sub.mipLevel);
-        if (size != expected)
-            throw Error(ErrorCode::InvalidUsage,
-                        fmt::format("writeTexture(): size is {} bytes but mip {} of this {} texture holds {} "
-                                    "(rows tightly packed)", size, sub.mipLevel, toString(dst->desc().format), expected));
-        if (!data) throw Error(ErrorCode::InvalidUsage, "writeTexture(): data is null");
         StagingBuffer staging(m_context, size);
         std::memcpy(staging.mapped, data, size);
         m_context->submitAndWait([&](VkCommandBuffer cmd) {
@@ -416,9 +420,8 @@ public:
         });
     }
 
-    std::vector<std::byte> readTexture(const TextureHandle& texture, TextureSubresource sub) override {
+    std::vector<std::byte> readTextureImpl(const TextureHandle& texture, TextureSubresource sub) override {
         auto* src = native<Texture>(texture, "readTexture(): the texture");
-        src->checkSubresource(sub, "readTexture()");
         const uint64_t size = src->subresourceSize(sub.mipLevel);
         StagingBuffer staging(m_context, size);
         m_context->submitAndWait([&](VkCommandBuffer cmd) {
@@ -457,17 +460,8 @@ public:
     }
 
 private:
-    static void checkRange(const BufferDesc& desc, uint64_t offset, uint64_t size, std::string_view call) {
-        if (size == 0 || offset > desc.size || size > desc.size - offset)
-            throw Error(ErrorCode::InvalidUsage,
-                        fmt::format("{}(): bytes [{}, {}) are not a non-empty range inside the {}-byte buffer '{}'",
-                                    call, offset, offset + size, desc.size, desc.debugName));
-    }
-
     ContextPtr m_context;
     bool m_validation = false;
-    DeviceInfo m_info;
-    Capabilities m_capabilities;
 };
 
 }  // namespace

@@ -36,43 +36,22 @@ VkImageViewType viewTypeOf(const spirv_cross::SPIRType& type) {
     }
 }
 
-// Reads set/binding/type of every resource the shader statically uses.
-void reflect(const ShaderDesc& desc, VkShaderStageFlagBits stage, std::vector<ReflectedBinding>& bindings,
-             std::vector<uint32_t>& inputLocations) {
+// Reads set/binding/type of every resource the shader statically uses. The validation layer has
+// checked the module (entry point, binding model) already.
+void reflect(const ShaderDesc& desc, VkShaderStageFlagBits stage, std::vector<ReflectedBinding>& bindings) {
     try {
         spirv_cross::Compiler compiler(desc.spirv);
-        bool found = false;
-        for (const auto& entry : compiler.get_entry_points_and_stages())
-            if (entry.name == desc.entryPoint && entry.execution_model == toExecutionModel(desc.stage)) found = true;
-        if (!found)
-            throw Error(ErrorCode::InvalidDescription,
-                        fmt::format("shader '{}' has no {} entry point named '{}'; check ShaderDesc::stage and "
-                                    "entryPoint", desc.debugName, toString(desc.stage), desc.entryPoint));
         compiler.set_entry_point(desc.entryPoint, toExecutionModel(desc.stage));
         auto active = compiler.get_active_interface_variables();
         spirv_cross::ShaderResources resources = compiler.get_shader_resources(active);
 
-        if (!resources.separate_images.empty() || !resources.separate_samplers.empty())
-            throw Error(ErrorCode::InvalidDescription,
-                        fmt::format("shader '{}' uses separate textures/samplers ('{}'); the Janus binding model "
-                                    "takes combined image samplers (sampler2D ...)", desc.debugName,
-                                    resources.separate_images.empty() ? resources.separate_samplers[0].name
-                                                                      : resources.separate_images[0].name));
         auto add = [&](const spirv_cross::Resource& r, VkDescriptorType type) {
             const auto& spirType = compiler.get_type(r.type_id);
             ReflectedBinding b;
             b.set = compiler.get_decoration(r.id, spv::DecorationDescriptorSet);
             b.binding = compiler.get_decoration(r.id, spv::DecorationBinding);
             b.type = type;
-            b.count = spirType.array.empty() ? 1 : spirType.array[0];
-            if (!spirType.array.empty() && (spirType.array[0] == 0 || spirType.array.size() > 1))
-                throw Error(ErrorCode::InvalidDescription,
-                            fmt::format("shader '{}': '{}' is a runtime-sized or multi-dimensional array, which the "
-                                        "RHI cannot bind", desc.debugName, r.name));
-            if (b.count != 1)
-                throw Error(ErrorCode::InvalidDescription,
-                            fmt::format("shader '{}': '{}' is an array of {} descriptors; BindingItem binds one "
-                                        "resource per binding", desc.debugName, r.name, b.count));
+            b.count = 1;   // arrays of descriptors are rejected by validation
             b.stages = stage;
             b.viewType = viewTypeOf(spirType);
             // Hazard tracking treats a storage resource as written unless the shader says readonly.
@@ -81,19 +60,12 @@ void reflect(const ShaderDesc& desc, VkShaderStageFlagBits stage, std::vector<Re
             else if (type == VK_DESCRIPTOR_TYPE_STORAGE_IMAGE)
                 b.written = !compiler.has_decoration(r.id, spv::DecorationNonWritable);
             b.name = r.name;
-            if (b.set >= Pipeline::kMaxSets)
-                throw Error(ErrorCode::InvalidDescription,
-                            fmt::format("shader '{}': '{}' uses set {}; sets 0..{} are available", desc.debugName,
-                                        r.name, b.set, Pipeline::kMaxSets - 1));
             bindings.push_back(b);
         };
         for (const auto& r : resources.uniform_buffers) add(r, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER);
         for (const auto& r : resources.storage_buffers) add(r, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
         for (const auto& r : resources.sampled_images) add(r, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER);
         for (const auto& r : resources.storage_images) add(r, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE);
-        if (desc.stage == ShaderStage::Vertex)
-            for (const auto& r : resources.stage_inputs)
-                inputLocations.push_back(compiler.get_decoration(r.id, spv::DecorationLocation));
     } catch (const spirv_cross::CompilerError& e) {
         throw Error(ErrorCode::ShaderCompilation,
                     fmt::format("shader '{}' is malformed SPIR-V (SPIRV-Cross cannot parse it: {}); recompile it "
@@ -159,30 +131,15 @@ VkBlendOp toVkBlendOp(BlendOp op) {
     return VK_BLEND_OP_ADD;
 }
 
-const Shader& shaderOf(const ShaderHandle& handle, ShaderStage expected, std::string_view field,
-                       const std::string& pipelineName) {
-    const auto* shader = native<Shader>(handle, fmt::format("pipeline '{}': {}", pipelineName, field));
-    if (shader->desc().stage != expected)
-        throw Error(ErrorCode::InvalidDescription,
-                    fmt::format("pipeline '{}': {} is a {} shader ('{}'), not a {} shader", pipelineName, field,
-                                toString(shader->desc().stage), shader->desc().debugName, toString(expected)));
-    return *shader;
+const Shader& shaderOf(const ShaderHandle& handle, std::string_view field, const std::string& pipelineName) {
+    return *native<Shader>(handle, fmt::format("pipeline '{}': {}", pipelineName, field));
 }
 
 }  // namespace
 
 Shader::Shader(ContextPtr context, const ShaderDesc& desc) : m_context(std::move(context)), m_desc(desc) {
-    if (desc.spirv.empty())
-        throw Error(ErrorCode::InvalidDescription,
-                    fmt::format("ShaderDesc::spirv of '{}' is empty; pass SPIR-V words (janus::shaders::get)",
-                                desc.debugName));
-    // A malformed module is what a driver would reject, so it reports as ShaderCompilation.
-    if (desc.spirv[0] != 0x07230203u)
-        throw Error(ErrorCode::ShaderCompilation,
-                    fmt::format("ShaderDesc::spirv of '{}' is not SPIR-V (bad magic number 0x{:08x}); pass SPIR-V "
-                                "words (janus::shaders::get)", desc.debugName, desc.spirv[0]));
     stage = toVkStage(desc.stage);
-    reflect(m_desc, stage, bindings, inputLocations);
+    reflect(m_desc, stage, bindings);
 
     VkShaderModuleCreateInfo info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
     info.codeSize = desc.spirv.size() * sizeof(uint32_t);
@@ -194,8 +151,8 @@ Shader::Shader(ContextPtr context, const ShaderDesc& desc) : m_context(std::move
 
 Shader::~Shader() { vkDestroyShaderModule(m_context->device, module, nullptr); }
 
-// Merges the shaders' bindings per set; binding numbers must be unique across the pipeline so
-// the GL backend can use them directly as binding points.
+// Merges the shaders' bindings per set (validation made binding numbers unique across sets and
+// shared bindings declared alike in every stage).
 void Pipeline::createLayout(const std::vector<const Shader*>& shaders) {
     std::array<std::vector<ReflectedBinding>, kMaxSets> perSet;
     for (const Shader* shader : shaders) {
@@ -204,16 +161,6 @@ void Pipeline::createLayout(const std::vector<const Shader*>& shaders) {
             for (auto& set : perSet) {
                 for (ReflectedBinding& existing : set) {
                     if (existing.binding != b.binding) continue;
-                    if (existing.set != b.set)
-                        throw Error(ErrorCode::InvalidDescription,
-                                    fmt::format("pipeline '{}': binding {} is used in set {} ('{}') and set {} ('{}'); "
-                                                "binding numbers must be unique across sets", debugName, b.binding,
-                                                existing.set, existing.name, b.set, b.name));
-                    if (existing.type != b.type || existing.viewType != b.viewType)
-                        throw Error(ErrorCode::InvalidDescription,
-                                    fmt::format("pipeline '{}': set {} binding {} is declared differently in two "
-                                                "stages ('{}' and '{}')", debugName, b.set, b.binding, existing.name,
-                                                b.name));
                     existing.stages |= b.stages;
                     existing.written = existing.written || b.written;
                     merged = true;
@@ -239,45 +186,16 @@ void Pipeline::createLayout(const std::vector<const Shader*>& shaders) {
 
 Pipeline::Pipeline(ContextPtr context, const GraphicsPipelineDesc& desc)
     : graphicsDesc(desc), debugName(desc.debugName), m_context(std::move(context)) {
-    const auto& limits = m_context->properties.limits;
-    std::vector<const Shader*> shaders{&shaderOf(desc.vertexShader, ShaderStage::Vertex, "vertexShader", debugName)};
-    if (desc.fragmentShader)
-        shaders.push_back(&shaderOf(desc.fragmentShader, ShaderStage::Fragment, "fragmentShader", debugName));
+    // `desc` is validated (rhi/src/validation.cpp): formats, blend, vertex input and bindings.
+    std::vector<const Shader*> shaders{&shaderOf(desc.vertexShader, "vertexShader", debugName),
+                                       &shaderOf(desc.fragmentShader, "fragmentShader", debugName)};
     m_shaders = {desc.vertexShader, desc.fragmentShader};
-
-    auto invalid = [&](const std::string& problem) {
-        return Error(ErrorCode::InvalidDescription, fmt::format("GraphicsPipelineDesc '{}': {}", debugName, problem));
-    };
-    if (desc.colorFormats.empty() && desc.depthFormat == Format::Unknown)
-        throw invalid("no colorFormats and no depthFormat; a pipeline must render into something");
-    if (desc.colorFormats.size() > limits.maxColorAttachments)
-        throw invalid(fmt::format("{} colour formats, above maxColorAttachments ({})", desc.colorFormats.size(),
-                                  limits.maxColorAttachments));
-    if (desc.depthFormat != Format::Unknown && !isDepthFormat(desc.depthFormat))
-        throw invalid(fmt::format("depthFormat {} is not a depth format", toString(desc.depthFormat)));
-    if (desc.blend.size() > desc.colorFormats.size())
-        throw invalid(fmt::format("{} blend states for {} colour formats", desc.blend.size(), desc.colorFormats.size()));
 
     std::vector<VkFormat> colorFormats;
     std::vector<VkPipelineColorBlendAttachmentState> blends;
     for (size_t i = 0; i < desc.colorFormats.size(); ++i) {
         const Format format = desc.colorFormats[i];
-        if (format == Format::Unknown || isDepthFormat(format))
-            throw invalid(fmt::format("colorFormats[{}] is {}, not a colour format", i, toString(format)));
-        const VkFormatFeatureFlags features = m_context->formatProperties(format).optimalTilingFeatures;
-        if (!(features & VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT))
-            throw Error(ErrorCode::UnsupportedCapability,
-                        fmt::format("pipeline '{}': rendering to {} needs capability '{}'", debugName, toString(format),
-                                    toString(Capability::FloatRenderTargets)));
         const BlendAttachment blend = i < desc.blend.size() ? desc.blend[i] : BlendAttachment{};
-        if (blend.enable && !(features & VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BLEND_BIT)) {
-            if (formatInfo(format).kind == FormatKind::Float)
-                throw Error(ErrorCode::UnsupportedCapability,
-                            fmt::format("pipeline '{}': blending into {} needs capability '{}'", debugName,
-                                        toString(format), toString(Capability::FloatBlend)));
-            throw invalid(fmt::format("blend[{}] is enabled but {} cannot be blended; disable blending for it", i,
-                                      toString(format)));
-        }
         VkPipelineColorBlendAttachmentState state{};
         state.blendEnable = blend.enable;
         state.srcColorBlendFactor = toVkBlendFactor(blend.srcColor);
@@ -287,42 +205,18 @@ Pipeline::Pipeline(ContextPtr context, const GraphicsPipelineDesc& desc)
         state.dstAlphaBlendFactor = toVkBlendFactor(blend.dstAlpha);
         state.alphaBlendOp = toVkBlendOp(blend.alphaOp);
         state.colorWriteMask = blend.writeMask & 0xF;
-        if (!blends.empty() && !m_context->enabledFeatures.independentBlend &&
-            std::memcmp(&state, &blends[0], sizeof(state)) != 0)
-            throw Error(ErrorCode::UnsupportedCapability,
-                        fmt::format("pipeline '{}': attachments have different blend states, but this device has "
-                                    "no independentBlend", debugName));
         colorFormats.push_back(toVkFormat(format));
         blends.push_back(state);
     }
 
     std::vector<VkVertexInputBindingDescription> vertexBindings;
     for (const auto& vb : desc.vertexBuffers) {
-        if (vb.stride == 0 || vb.stride > limits.maxVertexInputBindingStride)
-            throw invalid(fmt::format("vertex buffer slot {} has stride {}; it must be 1..{}", vb.slot, vb.stride,
-                                      limits.maxVertexInputBindingStride));
-        if (vb.slot >= limits.maxVertexInputBindings)
-            throw invalid(fmt::format("vertex buffer slot {} is above the device's {} slots", vb.slot,
-                                      limits.maxVertexInputBindings));
         vertexBindings.push_back(
             {vb.slot, vb.stride, vb.perInstance ? VK_VERTEX_INPUT_RATE_INSTANCE : VK_VERTEX_INPUT_RATE_VERTEX});
     }
     std::vector<VkVertexInputAttributeDescription> attributes;
-    for (const auto& a : desc.vertexAttributes) {
-        auto layout = std::find_if(desc.vertexBuffers.begin(), desc.vertexBuffers.end(),
-                                   [&](const VertexBufferLayout& vb) { return vb.slot == a.bufferSlot; });
-        if (layout == desc.vertexBuffers.end())
-            throw invalid(fmt::format("vertex attribute at location {} reads buffer slot {}, which has no "
-                                      "VertexBufferLayout", a.location, a.bufferSlot));
-        if (a.offset + vertexFormatSize(a.format) > layout->stride)
-            throw invalid(fmt::format("vertex attribute at location {} (offset {}, {} bytes) does not fit in "
-                                      "stride {}", a.location, a.offset, vertexFormatSize(a.format), layout->stride));
+    for (const auto& a : desc.vertexAttributes)
         attributes.push_back({a.location, a.bufferSlot, toVkVertexFormat(a.format), a.offset});
-    }
-    for (uint32_t location : shaders[0]->inputLocations)
-        if (std::none_of(attributes.begin(), attributes.end(), [&](const auto& a) { return a.location == location; }))
-            throw invalid(fmt::format("the vertex shader '{}' reads location {} but no vertex attribute provides it",
-                                      shaders[0]->desc().debugName, location));
 
     createLayout(shaders);
 
@@ -358,8 +252,6 @@ Pipeline::Pipeline(ContextPtr context, const GraphicsPipelineDesc& desc)
     multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
     VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
     const bool hasDepth = desc.depthFormat != Format::Unknown;
-    if ((desc.depth.testEnable || desc.depth.writeEnable) && !hasDepth)
-        throw invalid("depth test/write is enabled but depthFormat is Unknown");
     depth.depthTestEnable = desc.depth.testEnable;
     depth.depthWriteEnable = desc.depth.writeEnable;
     depth.depthCompareOp = toVkCompareOp(desc.depth.compare);
@@ -398,7 +290,7 @@ Pipeline::Pipeline(ContextPtr context, const GraphicsPipelineDesc& desc)
 
 Pipeline::Pipeline(ContextPtr context, const ComputePipelineDesc& desc)
     : debugName(desc.debugName), m_context(std::move(context)), m_compute(true) {
-    const Shader& shader = shaderOf(desc.computeShader, ShaderStage::Compute, "computeShader", debugName);
+    const Shader& shader = shaderOf(desc.computeShader, "computeShader", debugName);
     m_shaders = {desc.computeShader};
     createLayout({&shader});
     VkComputePipelineCreateInfo info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};

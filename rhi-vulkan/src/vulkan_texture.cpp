@@ -14,53 +14,6 @@ namespace {
                                                            desc.depth, toString(desc.format), problem));
 }
 
-void validate(const Context& ctx, TextureDesc& desc) {
-    const auto& limits = ctx.properties.limits;
-    if (desc.format == Format::Unknown || toVkFormat(desc.format) == VK_FORMAT_UNDEFINED)
-        invalid(desc, "format is Unknown; pick a concrete Format");
-    if (desc.width == 0 || desc.height == 0 || desc.depth == 0)
-        invalid(desc, "width, height and depth must all be at least 1");
-    switch (desc.dimension) {
-        case TextureDimension::Texture2D:
-            if (desc.depth != 1) invalid(desc, "depth must be 1 for a 2D texture (use Texture3D for volumes)");
-            if (desc.width > limits.maxImageDimension2D || desc.height > limits.maxImageDimension2D)
-                invalid(desc, fmt::format("width/height exceed maxTextureSize2D ({})", limits.maxImageDimension2D));
-            break;
-        case TextureDimension::Texture2DArray:
-            if (desc.width > limits.maxImageDimension2D || desc.height > limits.maxImageDimension2D)
-                invalid(desc, fmt::format("width/height exceed maxTextureSize2D ({})", limits.maxImageDimension2D));
-            break;   // layers: validateTextureLayers (Device::createTexture)
-        case TextureDimension::TextureCubeArray:
-        case TextureDimension::TextureCube:
-            if (desc.width != desc.height) invalid(desc, "a cube map needs width == height");
-            if (desc.depth != 1) invalid(desc, "depth must be 1 for a cube map (its 6 faces are implied)");
-            if (desc.width > limits.maxImageDimensionCube)
-                invalid(desc, fmt::format("width exceeds maxTextureSizeCube ({})", limits.maxImageDimensionCube));
-            break;
-        case TextureDimension::Texture3D:
-            if (std::max({desc.width, desc.height, desc.depth}) > limits.maxImageDimension3D)
-                invalid(desc, fmt::format("an extent exceeds maxTextureSize3D ({})", limits.maxImageDimension3D));
-            if (isDepthFormat(desc.format)) invalid(desc, "depth formats cannot be 3D textures");
-            break;
-    }
-    const uint32_t fullChain = fullMipCount(desc.width, desc.height,
-                                            desc.dimension == TextureDimension::Texture3D ? desc.depth : 1);
-    if (desc.mipLevels == 0) desc.mipLevels = fullChain;
-    if (desc.mipLevels > fullChain)
-        invalid(desc, fmt::format("mipLevels is {} but the full chain has only {} levels", desc.mipLevels, fullChain));
-    if (desc.usage == TextureUsage::None) invalid(desc, "usage is None; set Sampled, RenderTarget and/or Storage");
-    if (any(desc.usage, TextureUsage::Storage)) {
-        if (formatInfo(desc.format).srgb)
-            invalid(desc, "sRGB formats cannot be storage images; use RGBA8_UNORM and encode in the shader");
-        if (isDepthFormat(desc.format)) invalid(desc, "depth formats cannot be storage images");
-    }
-    if (any(desc.usage, TextureUsage::RenderTarget) && formatInfo(desc.format).kind == FormatKind::Float &&
-        !(ctx.formatProperties(desc.format).optimalTilingFeatures & VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT))
-        throw Error(ErrorCode::UnsupportedCapability,
-                    fmt::format("texture '{}': rendering to {} needs capability '{}', which this Vulkan device lacks",
-                                desc.debugName, toString(desc.format), toString(Capability::FloatRenderTargets)));
-}
-
 VkImageUsageFlags imageUsage(const TextureDesc& desc) {
     VkImageUsageFlags usage = VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
     if (any(desc.usage, TextureUsage::Sampled)) usage |= VK_IMAGE_USAGE_SAMPLED_BIT;
@@ -95,8 +48,9 @@ VkSamplerAddressMode toVkAddress(AddressMode m) {
 
 }  // namespace
 
+// `desc` is validated (rhi/src/validation.cpp), mipLevels resolved. What is left to check here is
+// what only the driver knows: whether this combination of format, kind, usage and size exists.
 Texture::Texture(ContextPtr context, const TextureDesc& desc) : m_context(std::move(context)), m_desc(desc) {
-    validate(*m_context, m_desc);
     format = toVkFormat(m_desc.format);
     aspect = aspectOf(m_desc.format);
 
@@ -188,18 +142,6 @@ uint64_t Texture::subresourceSize(uint32_t mip) const {
     return uint64_t(e.width) * e.height * formatInfo(m_desc.format).bytesPerPixel;
 }
 
-void Texture::checkSubresource(TextureSubresource sub, std::string_view what) const {
-    if (sub.mipLevel >= m_desc.mipLevels)
-        throw Error(ErrorCode::InvalidUsage, fmt::format("{}: mip level {} does not exist; '{}' has {} level(s)", what,
-                                                         sub.mipLevel, m_desc.debugName, m_desc.mipLevels));
-    const uint32_t layers = m_desc.dimension == TextureDimension::Texture3D ? extent(sub.mipLevel).depth
-                                                                             : arrayLayers();
-    if (sub.layer >= layers)
-        throw Error(ErrorCode::InvalidUsage,
-                    fmt::format("{}: layer {} does not exist; the {} texture '{}' has {} layer(s)/slice(s) at mip {}",
-                                what, sub.layer, toString(m_desc.dimension), m_desc.debugName, layers, sub.mipLevel));
-}
-
 VkImageSubresourceLayers Texture::copyLayers(TextureSubresource sub) const {
     const bool volume = m_desc.dimension == TextureDimension::Texture3D;
     return {aspect, sub.mipLevel, volume ? 0 : sub.layer, 1};
@@ -244,21 +186,6 @@ VkImageView Texture::attachmentView(TextureSubresource sub) {
 }
 
 Sampler::Sampler(ContextPtr context, const SamplerDesc& desc) : m_context(std::move(context)), m_desc(desc) {
-    const float maxAnisotropy = m_context->properties.limits.maxSamplerAnisotropy;
-    if (desc.maxAnisotropy < 1.0f)
-        throw Error(ErrorCode::InvalidDescription,
-                    fmt::format("SamplerDesc::maxAnisotropy is {}; it must be at least 1 (1 = off)", desc.maxAnisotropy));
-    if (desc.maxAnisotropy > 1.0f && !m_context->enabledFeatures.samplerAnisotropy)
-        throw Error(ErrorCode::InvalidDescription,
-                    "SamplerDesc::maxAnisotropy > 1 but this device has no anisotropic filtering; use 1");
-    if (desc.maxAnisotropy > maxAnisotropy)
-        throw Error(ErrorCode::InvalidDescription,
-                    fmt::format("SamplerDesc::maxAnisotropy is {}, above this device's limit {}", desc.maxAnisotropy,
-                                maxAnisotropy));
-    if (desc.minLod > desc.maxLod)
-        throw Error(ErrorCode::InvalidDescription,
-                    fmt::format("SamplerDesc: minLod {} is above maxLod {}", desc.minLod, desc.maxLod));
-
     VkSamplerCreateInfo info{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
     info.magFilter = toVkFilter(desc.magFilter);
     info.minFilter = toVkFilter(desc.minFilter);

@@ -6,6 +6,9 @@
 namespace janus::rhi {
 
 namespace {
+// The one table of what formats are made of. Adding a format: a row here (in enum order), the
+// enum entry in format.h, and each backend's mapping (toVkFormat, glFormat and its capability
+// rules); see docs/ARCHITECTURE.md, "How to add a format".
 constexpr std::array kFormats = {
     FormatInfo{Format::Unknown, "unknown", 0, 0, FormatKind::UNorm, false},
     FormatInfo{Format::RGBA8_UNORM, "rgba8", 4, 4, FormatKind::UNorm, false},
@@ -18,12 +21,44 @@ constexpr std::array kFormats = {
     FormatInfo{Format::R32_FLOAT, "r32f", 4, 1, FormatKind::Float, false},
     FormatInfo{Format::D32_FLOAT, "d32f", 4, 1, FormatKind::Depth, false},
 };
+
+constexpr bool inEnumOrder() {
+    for (size_t i = 0; i < kFormats.size(); ++i)
+        if (kFormats[i].format != Format(i)) return false;
+    return true;
+}
+static_assert(inEnumOrder(), "kFormats rows must follow the order of enum Format (it is indexed by it)");
 }  // namespace
 
 const FormatInfo& formatInfo(Format format) {
-    for (const auto& info : kFormats)
-        if (info.format == format) return info;
-    return kFormats[0];
+    const auto index = size_t(format);
+    return index < kFormats.size() ? kFormats[index] : kFormats[0];
+}
+
+std::span<const FormatInfo> allFormats() { return std::span(kFormats).subspan(1); }
+
+const char* toString(FormatKind kind) {
+    switch (kind) {
+        case FormatKind::UNorm: return "unorm";
+        case FormatKind::Float: return "float";
+        case FormatKind::UInt: return "uint";
+        case FormatKind::Depth: return "depth";
+    }
+    return "unknown";
+}
+
+const char* toString(FormatCapability cap) {
+    switch (cap) {
+        case FormatCapability::Sampled: return "sampled";
+        case FormatCapability::Filterable: return "filterable";
+        case FormatCapability::CompareFilterable: return "compare-filterable";
+        case FormatCapability::RenderTarget: return "render-target";
+        case FormatCapability::Blendable: return "blendable";
+        case FormatCapability::Storage: return "storage";
+        case FormatCapability::Copyable: return "copyable";
+        case FormatCapability::GenerateMips: return "generate-mips";
+    }
+    return "unknown";
 }
 
 std::optional<Format> parseFormat(std::string_view name) {

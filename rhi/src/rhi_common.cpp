@@ -57,6 +57,7 @@ const char* toString(Capability cap) {
         case Capability::FloatRenderTargets: return "float-render-targets";
         case Capability::FloatBlend: return "float32-blend";
         case Capability::TimestampQueries: return "timestamp-queries";
+        case Capability::IndependentBlend: return "independent-blend";
         case Capability::CubeArrays: return "cube-arrays";
         case Capability::TextureViews: return "texture-views";
     }
@@ -73,6 +74,7 @@ bool Capabilities::has(Capability cap) const {
         case Capability::FloatRenderTargets: return floatRenderTargets;
         case Capability::FloatBlend: return floatBlend;
         case Capability::TimestampQueries: return timestampQueries;
+        case Capability::IndependentBlend: return independentBlend;
         case Capability::CubeArrays: return cubeArrays;
         case Capability::TextureViews: return textureViews;
     }

@@ -24,6 +24,12 @@ janus_add_shader(janus_shaders NAME rt_fill_image_rgba16f_comp SOURCE ${_rt}/fil
 janus_add_shader(janus_shaders NAME rt_fill_image_rgba32f_comp SOURCE ${_rt}/fill_image_float.comp DEFINES IMAGE_FORMAT=rgba32f)
 janus_add_shader(janus_shaders NAME rt_fill_image_r32f_comp SOURCE ${_rt}/fill_image_float.comp DEFINES IMAGE_FORMAT=r32f)
 janus_add_shader(janus_shaders NAME rt_fetch_to_image_comp SOURCE ${_rt}/fetch_to_image.comp)
+# Format capability tests (tests/rhi/format_capabilities_test.cpp): one storage writer per format.
+janus_add_shader(janus_shaders NAME rt_sample_at_uint_frag SOURCE ${_rt}/sample_at.frag DEFINES UINT)
+janus_add_shader(janus_shaders NAME rt_fill_image_rgba8_comp SOURCE ${_rt}/fill_image_float.comp DEFINES IMAGE_FORMAT=rgba8)
+janus_add_shader(janus_shaders NAME rt_fill_image_r11f_g11f_b10f_comp SOURCE ${_rt}/fill_image_float.comp DEFINES IMAGE_FORMAT=r11f_g11f_b10f)
+janus_add_shader(janus_shaders NAME rt_fill_image_r32ui_comp SOURCE ${_rt}/fill_image_uint.comp DEFINES IMAGE_FORMAT=r32ui)
+janus_add_shader(janus_shaders NAME rt_fill_image_rgba32ui_comp SOURCE ${_rt}/fill_image_uint.comp DEFINES IMAGE_FORMAT=rgba32ui)
 # Array textures and texture views (tests/rhi/array_textures_test.cpp, texture_views_test.cpp).
 janus_add_shader(janus_shaders NAME rt_sample_lookup_2d_frag SOURCE ${_rt}/sample_lookup.frag)
 janus_add_shader(janus_shaders NAME rt_sample_lookup_array_frag SOURCE ${_rt}/sample_lookup.frag DEFINES ARRAY)

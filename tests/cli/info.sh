@@ -17,18 +17,36 @@ json_check "$TMP/info.json" '[b["name"] for b in j["backends"]] == ["vulkan", "g
 json_check "$TMP/info.json" 'j["glPlatform"] == "egl"' "glPlatform is not egl by default"
 json_check "$TMP/info.json" 'all(isinstance(b["available"], bool) for b in j["backends"])' "'available' is not a bool"
 json_check "$TMP/info.json" 'all(b["available"] or b["reason"] for b in j["backends"])' "an unavailable backend has no reason"
-capabilities='["compute", "storage-buffers", "storage-images", "render-to-3d-slice", "render-to-cube-face-mip", "float-render-targets", "float32-blend", "timestamp-queries", "cube-arrays", "texture-views"]'
+capabilities='["compute", "storage-buffers", "storage-images", "render-to-3d-slice", "render-to-cube-face-mip", "float-render-targets", "float32-blend", "timestamp-queries", "independent-blend", "cube-arrays", "texture-views"]'
 json_check "$TMP/info.json" "all(sorted(b['capabilities']) == sorted($capabilities) for b in j['backends'] if b['available'])" \
   "an available backend does not report every capability"
 json_check "$TMP/info.json" 'all(b["apiVersion"] and b["device"] and b["shadingLanguage"] and b["limits"]["maxTextureSize2D"] > 0 for b in j["backends"] if b["available"])' \
   "an available backend lacks API version, device, shading language or limits"
+json_check "$TMP/info.json" 'all(b["limits"]["maxTextureArrayLayers"] >= 256 for b in j["backends"] if b["available"])' \
+  "an available backend reports no maxTextureArrayLayers (at least 256 on GL 4.3 / ES 3.0 / Vulkan)"
+# The format table: every format, with its kind and every format capability as a bool.
+formats='["rgba8", "rgba8_srgb", "rgba16f", "rgba32f", "r11g11b10f", "r32ui", "rgba32ui", "r32f", "d32f"]'
+format_caps='["sampled", "filterable", "compare-filterable", "render-target", "blendable", "storage", "copyable", "generate-mips"]'
+json_check "$TMP/info.json" "all(sorted(b['formats']) == sorted($formats) for b in j['backends'] if b['available'])" \
+  "an available backend does not list every format"
+json_check "$TMP/info.json" "all(all(isinstance(f[c], bool) for c in $format_caps) and f['kind'] and f['bytesPerPixel'] > 0 for b in j['backends'] if b['available'] for f in b['formats'].values())" \
+  "a format lacks its kind, size or a capability"
+json_check "$TMP/info.json" "all(b['formats']['rgba8']['render-target'] and b['formats']['rgba8']['sampled'] for b in j['backends'] if b['available'])" \
+  "rgba8 is not reported renderable and sampled"
 
 # With the table: when any backend starts, the capability table lists every capability.
 run_janus info
 if grep -q ': available$' "$TMP/stdout"; then
-  for capability in compute storage-buffers storage-images render-to-3d-slice render-to-cube-face-mip float-render-targets float32-blend timestamp-queries cube-arrays texture-views; do
+  for capability in compute storage-buffers storage-images render-to-3d-slice render-to-cube-face-mip float-render-targets float32-blend timestamp-queries independent-blend cube-arrays texture-views; do
     grep -Eq "^  $capability +" "$TMP/stdout" || fail "janus info capability table lacks $capability"
   done
+  for backend in vulkan gl gles; do
+    if grep -q "^  $backend: available$" "$TMP/stdout"; then
+      grep -q "^Formats on $backend " "$TMP/stdout" || fail "janus info prints no format table for $backend"
+    fi
+  done
+  grep -Eq "^  d32f +depth +4 " "$TMP/stdout" || fail "janus info format table lacks d32f (kind, size)"
+  grep -Eq "^  max texture array layers +[0-9]" "$TMP/stdout" || fail "janus info limits table lacks max texture array layers"
 fi
 
 expect_success info --gl-platform osmesa --json

@@ -83,21 +83,20 @@ TEST_P(ErrorTest, BadTextureDescriptionsAreInvalid) {
         EXPECT_TRUE(throwsRhiError([&] { device().createTexture(c.desc); }, ErrorCode::InvalidDescription)) << c.what;
 }
 
+// SPIR-V that is not a valid module is a bad ShaderDesc on every backend (the validation layer
+// parses it before any backend translates or compiles it).
 TEST_P(ErrorTest, GarbageSpirvIsRejected) {
-    const std::vector<ErrorCode> shaderErrors = {ErrorCode::ShaderTranslation, ErrorCode::ShaderCompilation};
-    // Words that are not SPIR-V at all (wrong magic number) may also be reported as a bad
-    // ShaderDesc, like the empty module below.
     std::vector<uint32_t> garbage = {0xDEADBEEF, 1, 2, 3, 4, 5, 6, 7};
     EXPECT_TRUE(throwsRhiError([&] { device().createShader(ShaderDesc().setStage(ShaderStage::Fragment).setSpirv(garbage)); },
-                               {ErrorCode::ShaderTranslation, ErrorCode::ShaderCompilation, ErrorCode::InvalidDescription}))
+                               ErrorCode::InvalidDescription, {"spirv"}))
         << "wrong magic number";
     // A real shader cut in half: valid header, broken body.
     std::span<const uint32_t> real = janus::shaders::get("rt_vertex_color_frag");
     std::vector<uint32_t> truncated(real.begin(), real.begin() + real.size() / 2);
     EXPECT_TRUE(throwsRhiError([&] { device().createShader(ShaderDesc().setStage(ShaderStage::Fragment).setSpirv(truncated)); },
-                               shaderErrors)) << "truncated module";
+                               ErrorCode::InvalidDescription, {"spirv"})) << "truncated module";
     EXPECT_TRUE(throwsRhiError([&] { device().createShader(ShaderDesc().setStage(ShaderStage::Fragment)); },
-                               {ErrorCode::InvalidDescription, ErrorCode::ShaderTranslation})) << "empty SPIR-V";
+                               ErrorCode::InvalidDescription, {"spirv"})) << "empty SPIR-V";
 }
 
 TEST_P(ErrorTest, DrawOutsideARenderPassIsInvalidUsage) {
@@ -140,6 +139,7 @@ TEST_P(ErrorTest, CapabilityTableIsHonest) {
             case Capability::FloatRenderTargets: flag = c.floatRenderTargets; break;
             case Capability::FloatBlend: flag = c.floatBlend; break;
             case Capability::TimestampQueries: flag = c.timestampQueries; break;
+            case Capability::IndependentBlend: flag = c.independentBlend; break;
             case Capability::CubeArrays: flag = c.cubeArrays; break;
             case Capability::TextureViews: flag = c.textureViews; break;
         }

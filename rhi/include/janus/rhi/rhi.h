@@ -41,9 +41,9 @@ namespace janus::rhi {
 
 enum class ErrorCode {
     BackendUnavailable,     // the backend (driver, platform layer, context) could not start
-    UnsupportedCapability,  // the device lacks a capability the call needs (see Capability)
+    UnsupportedCapability,  // the device lacks a Capability or a format capability the call needs
     InvalidDescription,     // a Desc has absurd or contradictory values; the message names the field
-    InvalidUsage,           // a call in the wrong state (draw outside a render pass, ...)
+    InvalidUsage,           // a call in the wrong state or with bad arguments (draw outside a render pass, a range outside a buffer, ...)
     ShaderTranslation,      // SPIR-V could not be turned into code for this backend
     ShaderCompilation,      // the driver rejected a shader or program
     OutOfMemory,
@@ -104,6 +104,7 @@ enum class Capability {
     FloatRenderTargets,      // RGBA16F / RGBA32F / R11G11B10F / R32F colour attachments
     FloatBlend,              // blending into 32-bit float attachments
     TimestampQueries,        // GPU timers
+    IndependentBlend,        // a different blend state / write mask per colour attachment
     CubeArrays,              // TextureDimension::TextureCubeArray (samplerCubeArray / imageCubeArray)
     TextureViews,            // binding views with a layer/face subrange or another dimension than the
                              // texture's (one cube face as 2D, ...); mip ranges need no capability
@@ -112,8 +113,8 @@ const char* toString(Capability cap);
 inline constexpr std::array kAllCapabilities = {
     Capability::Compute,           Capability::StorageBuffers,     Capability::StorageImages,
     Capability::RenderToVolumeSlice, Capability::RenderToCubeFaceMip, Capability::FloatRenderTargets,
-    Capability::FloatBlend,        Capability::TimestampQueries,   Capability::CubeArrays,
-    Capability::TextureViews,
+    Capability::FloatBlend,        Capability::TimestampQueries,   Capability::IndependentBlend,
+    Capability::CubeArrays,        Capability::TextureViews,
 };
 
 struct Limits {
@@ -129,6 +130,11 @@ struct Limits {
     uint32_t maxComputeWorkGroupInvocations = 0;
     uint32_t uniformBufferOffsetAlignment = 256;
     uint32_t storageBufferOffsetAlignment = 256;
+    uint64_t maxBufferSize = 0;              // bytes of one buffer
+    uint32_t maxVertexBuffers = 0;           // vertex buffer slots are 0 .. maxVertexBuffers - 1
+    uint32_t maxVertexAttributes = 0;        // attribute locations are 0 .. maxVertexAttributes - 1
+    uint32_t maxVertexStride = 0;            // VertexBufferLayout::stride
+    float maxSamplerAnisotropy = 1.0f;       // 1 without anisotropic filtering
 };
 
 // What the native API does, and what the RHI presents (always Vulkan's, see the top of this
@@ -156,6 +162,7 @@ struct Capabilities {
     bool floatRenderTargets = false;
     bool floatBlend = false;
     bool timestampQueries = false;
+    bool independentBlend = false;
     bool cubeArrays = false;
     bool textureViews = false;
     Limits limits;
@@ -212,6 +219,7 @@ enum class TextureUsage : uint32_t {
     Sampled = 1u << 0,
     RenderTarget = 1u << 1,   // colour or depth attachment (by format)
     Storage = 1u << 2,        // image load/store; needs Capability::StorageImages
+    // Each usage also needs the format capability of the same name (IDevice::formatCapabilities).
 };
 constexpr TextureUsage operator|(TextureUsage a, TextureUsage b) { return TextureUsage(uint32_t(a) | uint32_t(b)); }
 constexpr bool any(TextureUsage a, TextureUsage b) { return (uint32_t(a) & uint32_t(b)) != 0; }
@@ -470,6 +478,9 @@ struct BindingItem {
     BindingItem& setViewDimension(TextureDimension d) { viewDimension = d; return *this; }
 };
 
+// Sets a pipeline may use: `layout(set = 0 .. kMaxBindingSets - 1)`.
+inline constexpr uint32_t kMaxBindingSets = 4;
+
 struct BindingSetDesc {
     std::vector<BindingItem> items;
     BindingSetDesc& add(BindingItem item) { items.push_back(std::move(item)); return *this; }
@@ -538,9 +549,20 @@ enum class IndexType { UInt16, UInt32 };
 // Command lists
 // ---------------------------------------------------------------------------------------------
 
+// What the validation layer checks calls against; fixed when the device starts. Backends fill
+// it once (IDevice::setProperties); the device and its command lists share it.
+struct DeviceProperties {
+    DeviceInfo info;
+    Capabilities capabilities;
+    std::vector<FormatCapabilities> formats;   // indexed by Format (Unknown: none)
+};
+
 // Records work; IDevice::execute() runs it. Barriers between passes, dispatches and copies are
 // inserted by the backend. Resources referenced by a command list are kept alive until it has
 // executed.
+//
+// The non-virtual calls validate their arguments (rhi/src/validation.cpp) and then call the
+// backend's protected ...Impl; the per-draw calls (binds, draws) go to the backend directly.
 class ICommandList {
 public:
     virtual ~ICommandList() = default;
@@ -549,27 +571,36 @@ public:
     virtual void end() = 0;
 
     // Render passes. Viewport and scissor default to the full attachment.
-    virtual void beginRenderPass(const RenderPassDesc& desc) = 0;
+    void beginRenderPass(const RenderPassDesc& desc);
     virtual void endRenderPass() = 0;
     virtual void setViewport(const Viewport& viewport) = 0;
     virtual void setScissor(const ScissorRect& scissor) = 0;
     virtual void setPipeline(const PipelineHandle& pipeline) = 0;
-    virtual void setBindingSet(uint32_t set, const BindingSetHandle& bindings) = 0;
+    void setBindingSet(uint32_t set, const BindingSetHandle& bindings) {
+        if (set >= kMaxBindingSets || !bindings) [[unlikely]] throwInvalidSetBinding(set);
+        setBindingSetImpl(set, bindings);
+    }
     virtual void setVertexBuffer(uint32_t slot, const BufferHandle& buffer, uint64_t offset = 0) = 0;
     virtual void setIndexBuffer(const BufferHandle& buffer, IndexType type, uint64_t offset = 0) = 0;
     virtual void draw(uint32_t vertexCount, uint32_t instanceCount = 1, uint32_t firstVertex = 0, uint32_t firstInstance = 0) = 0;
     virtual void drawIndexed(uint32_t indexCount, uint32_t instanceCount = 1, uint32_t firstIndex = 0, int32_t vertexOffset = 0, uint32_t firstInstance = 0) = 0;
 
     // Compute (outside render passes). Throws UnsupportedCapability without Capability::Compute.
-    virtual void dispatch(uint32_t groupsX, uint32_t groupsY = 1, uint32_t groupsZ = 1) = 0;
+    void dispatch(uint32_t groupsX, uint32_t groupsY = 1, uint32_t groupsZ = 1) {
+        const Capabilities& caps = m_properties->capabilities;
+        const auto& most = caps.limits.maxComputeWorkGroupCount;
+        if (!caps.compute || groupsX > most[0] || groupsY > most[1] || groupsZ > most[2]) [[unlikely]]
+            throwInvalidDispatch(groupsX, groupsY, groupsZ);
+        dispatchImpl(groupsX, groupsY, groupsZ);
+    }
 
     // Transfers (outside render passes). Sizes are whole subresources, rows tightly packed.
-    virtual void writeBuffer(const BufferHandle& dst, const void* data, uint64_t size, uint64_t dstOffset = 0) = 0;
-    virtual void copyBuffer(const BufferHandle& dst, uint64_t dstOffset, const BufferHandle& src, uint64_t srcOffset, uint64_t size) = 0;
-    virtual void copyBufferToTexture(const TextureHandle& dst, TextureSubresource dstSub, const BufferHandle& src, uint64_t srcOffset = 0) = 0;
-    virtual void copyTextureToBuffer(const BufferHandle& dst, uint64_t dstOffset, const TextureHandle& src, TextureSubresource srcSub) = 0;
-    virtual void copyTexture(const TextureHandle& dst, TextureSubresource dstSub, const TextureHandle& src, TextureSubresource srcSub) = 0;
-    virtual void generateMips(const TextureHandle& texture) = 0;   // from mip 0, every face/layer/slice
+    void writeBuffer(const BufferHandle& dst, const void* data, uint64_t size, uint64_t dstOffset = 0);
+    void copyBuffer(const BufferHandle& dst, uint64_t dstOffset, const BufferHandle& src, uint64_t srcOffset, uint64_t size);
+    void copyBufferToTexture(const TextureHandle& dst, TextureSubresource dstSub, const BufferHandle& src, uint64_t srcOffset = 0);
+    void copyTextureToBuffer(const BufferHandle& dst, uint64_t dstOffset, const TextureHandle& src, TextureSubresource srcSub);
+    void copyTexture(const TextureHandle& dst, TextureSubresource dstSub, const TextureHandle& src, TextureSubresource srcSub);
+    void generateMips(const TextureHandle& texture);   // from mip 0, every face/layer/slice
 
     // GPU timers: the time between begin and end on the GPU.
     virtual void beginTimer(const TimerQueryHandle& timer) = 0;
@@ -577,6 +608,26 @@ public:
 
     virtual void pushDebugGroup(std::string_view name) = 0;
     virtual void popDebugGroup() = 0;
+
+protected:
+    // Called with validated arguments only.
+    virtual void beginRenderPassImpl(const RenderPassDesc& desc) = 0;
+    virtual void setBindingSetImpl(uint32_t set, const BindingSetHandle& bindings) = 0;
+    virtual void dispatchImpl(uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ) = 0;
+    virtual void writeBufferImpl(const BufferHandle& dst, const void* data, uint64_t size, uint64_t dstOffset) = 0;
+    virtual void copyBufferImpl(const BufferHandle& dst, uint64_t dstOffset, const BufferHandle& src, uint64_t srcOffset, uint64_t size) = 0;
+    virtual void copyBufferToTextureImpl(const TextureHandle& dst, TextureSubresource dstSub, const BufferHandle& src, uint64_t srcOffset) = 0;
+    virtual void copyTextureToBufferImpl(const BufferHandle& dst, uint64_t dstOffset, const TextureHandle& src, TextureSubresource srcSub) = 0;
+    virtual void copyTextureImpl(const TextureHandle& dst, TextureSubresource dstSub, const TextureHandle& src, TextureSubresource srcSub) = 0;
+    virtual void generateMipsImpl(const TextureHandle& texture) = 0;
+
+    const DeviceProperties& properties() const { return *m_properties; }
+
+private:
+    friend class IDevice;
+    [[noreturn]] void throwInvalidSetBinding(uint32_t set) const;
+    [[noreturn]] void throwInvalidDispatch(uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ) const;
+    std::shared_ptr<const DeviceProperties> m_properties;   // set by IDevice::createCommandList
 };
 using CommandListHandle = std::shared_ptr<ICommandList>;
 
@@ -584,24 +635,29 @@ using CommandListHandle = std::shared_ptr<ICommandList>;
 // Device
 // ---------------------------------------------------------------------------------------------
 
+// The non-virtual calls validate descriptions and arguments once, the same way for every
+// backend (rhi/src/validation.cpp), and then call the backend's protected ...Impl.
 class IDevice {
 public:
     virtual ~IDevice() = default;
 
-    virtual const DeviceInfo& info() const = 0;
-    virtual const Capabilities& capabilities() const = 0;
+    const DeviceInfo& info() const { return m_properties->info; }
+    const Capabilities& capabilities() const { return m_properties->capabilities; }
+    // What this device can do with `format` (queried from the driver at start-up).
+    FormatCapabilities formatCapabilities(Format format) const;
+    const DeviceProperties& properties() const { return *m_properties; }
     // Throws Error(UnsupportedCapability) naming `cap` and `what` when the device lacks it.
     void require(Capability cap, std::string_view what) const;
 
-    virtual BufferHandle createBuffer(const BufferDesc& desc) = 0;
-    virtual TextureHandle createTexture(const TextureDesc& desc) = 0;
-    virtual SamplerHandle createSampler(const SamplerDesc& desc) = 0;
-    virtual ShaderHandle createShader(const ShaderDesc& desc) = 0;
-    virtual PipelineHandle createGraphicsPipeline(const GraphicsPipelineDesc& desc) = 0;
-    virtual PipelineHandle createComputePipeline(const ComputePipelineDesc& desc) = 0;
-    virtual BindingSetHandle createBindingSet(const BindingSetDesc& desc) = 0;
-    virtual TimerQueryHandle createTimerQuery() = 0;
-    virtual CommandListHandle createCommandList() = 0;
+    BufferHandle createBuffer(const BufferDesc& desc);
+    TextureHandle createTexture(const TextureDesc& desc);
+    SamplerHandle createSampler(const SamplerDesc& desc);
+    ShaderHandle createShader(const ShaderDesc& desc);
+    PipelineHandle createGraphicsPipeline(const GraphicsPipelineDesc& desc);
+    PipelineHandle createComputePipeline(const ComputePipelineDesc& desc);
+    BindingSetHandle createBindingSet(const BindingSetDesc& desc);
+    TimerQueryHandle createTimerQuery();
+    CommandListHandle createCommandList();
 
     // Submits recorded work. Work runs in submission order.
     virtual void execute(const CommandListHandle& commandList) = 0;
@@ -609,10 +665,10 @@ public:
 
     // Immediate transfers: wait for all executed work, then act. Rows tightly packed; row 0 is
     // the row at v = 0 (see Conventions).
-    virtual void writeBuffer(const BufferHandle& buffer, const void* data, uint64_t size, uint64_t offset = 0) = 0;
-    virtual std::vector<std::byte> readBuffer(const BufferHandle& buffer, uint64_t offset = 0, uint64_t size = 0) = 0;  // size 0 = to the end
-    virtual void writeTexture(const TextureHandle& texture, TextureSubresource sub, const void* data, uint64_t size) = 0;
-    virtual std::vector<std::byte> readTexture(const TextureHandle& texture, TextureSubresource sub) = 0;
+    void writeBuffer(const BufferHandle& buffer, const void* data, uint64_t size, uint64_t offset = 0);
+    std::vector<std::byte> readBuffer(const BufferHandle& buffer, uint64_t offset = 0, uint64_t size = 0);  // size 0 = to the end
+    void writeTexture(const TextureHandle& texture, TextureSubresource sub, const void* data, uint64_t size);
+    std::vector<std::byte> readTexture(const TextureHandle& texture, TextureSubresource sub);
 
     // GPU time in seconds between the timer's begin and end; waits for the result. nullopt when
     // the timer never ran.
@@ -624,6 +680,28 @@ public:
     // Makes one deliberately invalid raw API call (Vulkan: through the validation layer; GL: one
     // that raises a GL error) so tests can prove the debug-message hook really catches errors.
     virtual void provokeValidationErrorForTesting() = 0;
+
+protected:
+    // Backends call this once, from their constructor, before the device is used.
+    void setProperties(DeviceProperties properties);
+
+    // Called with validated descriptions and arguments only (TextureDesc::mipLevels resolved).
+    virtual BufferHandle createBufferImpl(const BufferDesc& desc) = 0;
+    virtual TextureHandle createTextureImpl(const TextureDesc& desc) = 0;
+    virtual SamplerHandle createSamplerImpl(const SamplerDesc& desc) = 0;
+    virtual ShaderHandle createShaderImpl(const ShaderDesc& desc) = 0;
+    virtual PipelineHandle createGraphicsPipelineImpl(const GraphicsPipelineDesc& desc) = 0;
+    virtual PipelineHandle createComputePipelineImpl(const ComputePipelineDesc& desc) = 0;
+    virtual BindingSetHandle createBindingSetImpl(const BindingSetDesc& desc) = 0;
+    virtual TimerQueryHandle createTimerQueryImpl() = 0;
+    virtual CommandListHandle createCommandListImpl() = 0;
+    virtual void writeBufferImpl(const BufferHandle& buffer, const void* data, uint64_t size, uint64_t offset) = 0;
+    virtual std::vector<std::byte> readBufferImpl(const BufferHandle& buffer, uint64_t offset, uint64_t size) = 0;  // size resolved
+    virtual void writeTextureImpl(const TextureHandle& texture, TextureSubresource sub, const void* data, uint64_t size) = 0;
+    virtual std::vector<std::byte> readTextureImpl(const TextureHandle& texture, TextureSubresource sub) = 0;
+
+private:
+    std::shared_ptr<const DeviceProperties> m_properties;
 };
 
 // Creates a device for desc.backend. Throws Error(BackendUnavailable) with the reason when the

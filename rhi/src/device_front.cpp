@@ -1,0 +1,155 @@
+// The non-virtual fronts of IDevice and ICommandList: validate (validation.cpp), then hand the
+// call to the backend's protected ...Impl. Backends cannot skip validation because users can
+// only reach them through these. The per-draw calls are not here: they go to the backend directly.
+#include <fmt/format.h>
+
+#include "janus/rhi/rhi.h"
+#include "validation.h"
+
+namespace janus::rhi {
+
+// ---------------------------------------------------------------------------------------------
+// IDevice
+
+void IDevice::setProperties(DeviceProperties properties) {
+    properties.formats.resize(allFormats().size() + 1);   // + Unknown, which can do nothing
+    properties.formats[size_t(Format::Unknown)] = {};
+    m_properties = std::make_shared<const DeviceProperties>(std::move(properties));
+}
+
+FormatCapabilities IDevice::formatCapabilities(Format format) const {
+    const auto index = size_t(format);
+    return index < m_properties->formats.size() ? m_properties->formats[index] : FormatCapabilities{};
+}
+
+BufferHandle IDevice::createBuffer(const BufferDesc& desc) {
+    detail::validateBuffer(*m_properties, desc);
+    return createBufferImpl(desc);
+}
+
+TextureHandle IDevice::createTexture(const TextureDesc& desc) {
+    return createTextureImpl(detail::validateTexture(*m_properties, desc));
+}
+
+SamplerHandle IDevice::createSampler(const SamplerDesc& desc) {
+    detail::validateSampler(*m_properties, desc);
+    return createSamplerImpl(desc);
+}
+
+ShaderHandle IDevice::createShader(const ShaderDesc& desc) {
+    detail::validateShader(*m_properties, desc);
+    return createShaderImpl(desc);
+}
+
+PipelineHandle IDevice::createGraphicsPipeline(const GraphicsPipelineDesc& desc) {
+    detail::validateGraphicsPipeline(*m_properties, desc);
+    return createGraphicsPipelineImpl(desc);
+}
+
+PipelineHandle IDevice::createComputePipeline(const ComputePipelineDesc& desc) {
+    detail::validateComputePipeline(*m_properties, desc);
+    return createComputePipelineImpl(desc);
+}
+
+BindingSetHandle IDevice::createBindingSet(const BindingSetDesc& desc) {
+    detail::validateBindingSet(*m_properties, desc);
+    return createBindingSetImpl(desc);
+}
+
+TimerQueryHandle IDevice::createTimerQuery() {
+    detail::validateTimerQuery(*m_properties);
+    return createTimerQueryImpl();
+}
+
+CommandListHandle IDevice::createCommandList() {
+    CommandListHandle list = createCommandListImpl();
+    list->m_properties = m_properties;
+    return list;
+}
+
+void IDevice::writeBuffer(const BufferHandle& buffer, const void* data, uint64_t size, uint64_t offset) {
+    detail::validateWriteBuffer(buffer, data, size, offset, "writeBuffer()");
+    writeBufferImpl(buffer, data, size, offset);
+}
+
+std::vector<std::byte> IDevice::readBuffer(const BufferHandle& buffer, uint64_t offset, uint64_t size) {
+    return readBufferImpl(buffer, offset, detail::validateReadBuffer(buffer, offset, size));
+}
+
+void IDevice::writeTexture(const TextureHandle& texture, TextureSubresource sub, const void* data, uint64_t size) {
+    detail::validateWriteTexture(*m_properties, texture, sub, data, size);
+    writeTextureImpl(texture, sub, data, size);
+}
+
+std::vector<std::byte> IDevice::readTexture(const TextureHandle& texture, TextureSubresource sub) {
+    detail::validateReadTexture(*m_properties, texture, sub);
+    return readTextureImpl(texture, sub);
+}
+
+// ---------------------------------------------------------------------------------------------
+// ICommandList
+
+void ICommandList::throwInvalidSetBinding(uint32_t set) const {
+    if (set >= kMaxBindingSets)
+        throw Error(ErrorCode::InvalidUsage, fmt::format("setBindingSet(): set {} does not exist; sets 0..{} are "
+                                                         "available", set, kMaxBindingSets - 1));
+    throw Error(ErrorCode::InvalidUsage, "setBindingSet(): the binding set is null");
+}
+
+void ICommandList::throwInvalidDispatch(uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ) const {
+    const Capabilities& caps = m_properties->capabilities;
+    if (!caps.compute)
+        throw Error(ErrorCode::UnsupportedCapability,
+                    fmt::format("dispatch() needs capability '{}', which the {} backend does not have; use the "
+                                "fallback path or another backend",
+                                toString(Capability::Compute), toString(m_properties->info.backend)));
+    const uint32_t groups[3] = {groupsX, groupsY, groupsZ};
+    for (int i = 0; i < 3; ++i)
+        if (groups[i] > caps.limits.maxComputeWorkGroupCount[i])
+            throw Error(ErrorCode::InvalidUsage,
+                        fmt::format("dispatch(): {} groups in dimension {} is above Limits::maxComputeWorkGroupCount "
+                                    "({}); split the dispatch", groups[i], "xyz"[i],
+                                    caps.limits.maxComputeWorkGroupCount[i]));
+    throw Error(ErrorCode::InvalidUsage, "dispatch(): invalid group count");
+}
+
+void ICommandList::beginRenderPass(const RenderPassDesc& desc) {
+    detail::validateRenderPass(*m_properties, desc);
+    beginRenderPassImpl(desc);
+}
+
+void ICommandList::writeBuffer(const BufferHandle& dst, const void* data, uint64_t size, uint64_t dstOffset) {
+    detail::validateWriteBuffer(dst, data, size, dstOffset, "ICommandList::writeBuffer()");
+    writeBufferImpl(dst, data, size, dstOffset);
+}
+
+void ICommandList::copyBuffer(const BufferHandle& dst, uint64_t dstOffset, const BufferHandle& src, uint64_t srcOffset,
+                              uint64_t size) {
+    detail::validateCopyBuffer(dst, dstOffset, src, srcOffset, size);
+    copyBufferImpl(dst, dstOffset, src, srcOffset, size);
+}
+
+void ICommandList::copyBufferToTexture(const TextureHandle& dst, TextureSubresource dstSub, const BufferHandle& src,
+                                       uint64_t srcOffset) {
+    detail::validateCopyBufferToTexture(*m_properties, dst, dstSub, src, srcOffset);
+    copyBufferToTextureImpl(dst, dstSub, src, srcOffset);
+}
+
+void ICommandList::copyTextureToBuffer(const BufferHandle& dst, uint64_t dstOffset, const TextureHandle& src,
+                                       TextureSubresource srcSub) {
+    detail::validateCopyTextureToBuffer(*m_properties, dst, dstOffset, src, srcSub);
+    copyTextureToBufferImpl(dst, dstOffset, src, srcSub);
+}
+
+void ICommandList::copyTexture(const TextureHandle& dst, TextureSubresource dstSub, const TextureHandle& src,
+                               TextureSubresource srcSub) {
+    detail::validateCopyTexture(*m_properties, dst, dstSub, src, srcSub);
+    copyTextureImpl(dst, dstSub, src, srcSub);
+}
+
+void ICommandList::generateMips(const TextureHandle& texture) {
+    detail::validateGenerateMips(*m_properties, texture);
+    generateMipsImpl(texture);
+}
+
+}  // namespace janus::rhi
