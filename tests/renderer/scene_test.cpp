@@ -429,6 +429,54 @@ TEST(SceneErrors, AccessorPastTheEndOfItsBufferIsCaught) {
     EXPECT_NE(message.find("reads past the end"), std::string::npos) << message;
 }
 
+// A count chosen so that count * 12 wraps to a few bytes in 64-bit arithmetic: before the
+// overflow-safe check the loader allocated 2 floats and wrote past them (heap overflow).
+TEST(SceneErrors, AccessorCountThatWrapsSizeArithmeticIsRefusedBeforeAllocating) {
+    TinyGltf file;
+    file.gltf["accessors"][0]["count"] = 6148914691236517206ull;
+    const std::string message = sceneErrorOf([&] { loadScene(file.write()); });
+    EXPECT_NE(message.find("POSITION accessor 0"), std::string::npos) << message;
+    EXPECT_NE(message.find("over 2^64"), std::string::npos) << message;
+}
+
+TEST(SceneErrors, HugeAccessorCountIsRefusedWithinTheMemoryBudget) {
+    TinyGltf file;
+    file.gltf["accessors"][1]["count"] = 1000000000;   // indices: 4 GB once read as uint32
+    const std::string message = sceneErrorOf([&] { loadScene(file.write()); });
+    EXPECT_NE(message.find("declares 1000000000 elements"), std::string::npos) << message;
+    EXPECT_NE(message.find("1024 MiB"), std::string::npos) << message;
+}
+
+TEST(SceneErrors, BufferViewRangeThatWrapsIsCaught) {
+    TinyGltf file;
+    file.gltf["bufferViews"][0]["byteOffset"] = 18446744073709551600ull;   // + byteLength wraps past 2^64
+    const std::string message = sceneErrorOf([&] { loadScene(file.write()); });
+    EXPECT_NE(message.find("accessor 0"), std::string::npos) << message;
+}
+
+TEST(SceneErrors, RequiredExtensionWeDoNotImplementIsNamed) {
+    TinyGltf file;
+    file.gltf["extensionsUsed"] = {"KHR_draco_mesh_compression"};
+    file.gltf["extensionsRequired"] = {"KHR_draco_mesh_compression"};
+    const std::string message = sceneErrorOf([&] { loadScene(file.write()); });
+    EXPECT_NE(message.find("requires glTF extension 'KHR_draco_mesh_compression'"), std::string::npos) << message;
+    EXPECT_NE(message.find("KHR_lights_punctual"), std::string::npos) << "the message lists what is supported: " << message;
+}
+
+TEST(SceneLoading, OptionalExtensionWeDoNotImplementIsIgnoredWithOneWarning) {
+    TinyGltf file;
+    file.gltf["extensionsUsed"] = {"KHR_materials_sheen", "KHR_lights_punctual"};
+    testing::internal::CaptureStderr();
+    const Scene scene = loadScene(file.write());
+    const std::string err = testing::internal::GetCapturedStderr();
+    EXPECT_EQ(scene.meshes.size(), 1u);
+    EXPECT_NE(err.find("ignoring glTF extension 'KHR_materials_sheen'"), std::string::npos) << err;
+    EXPECT_EQ(err.find("KHR_lights_punctual"), std::string::npos) << "a supported extension was warned about: " << err;
+    size_t warnings = 0;
+    for (size_t at = err.find("ignoring glTF extension"); at != std::string::npos; at = err.find("ignoring glTF extension", at + 1)) ++warnings;
+    EXPECT_EQ(warnings, 1u) << err;
+}
+
 TEST(SceneErrors, NonTriangleModesAreRejected) {
     TinyGltf file;
     file.gltf["meshes"][0]["primitives"][0]["mode"] = 1;   // LINES

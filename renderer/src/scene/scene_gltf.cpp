@@ -18,6 +18,26 @@
 namespace janus::renderer::detail {
 namespace {
 
+// The most one accessor may decode to. Sized for the largest assets we expect (a few million
+// vertices) with room to spare; a count beyond it is a wrong or hostile file, refused before
+// anything is allocated.
+constexpr uint64_t kMaxAccessorBytes = uint64_t(1) << 30;
+
+// glTF extensions the loader implements.
+constexpr std::string_view kSupportedExtensions[] = {"KHR_lights_punctual"};
+
+bool isSupportedExtension(std::string_view name) {
+    for (std::string_view supported : kSupportedExtensions)
+        if (name == supported) return true;
+    return false;
+}
+
+std::string supportedExtensionList() {
+    std::string list;
+    for (std::string_view supported : kSupportedExtensions) list += (list.empty() ? "" : ", ") + std::string(supported);
+    return list;
+}
+
 // Everything the loader throws names the file, so errors from a scene file that references a
 // glTF still point at the file that is wrong.
 class GltfReader {
@@ -31,6 +51,7 @@ public:
     Scene read(bool& hasCamera) {
         Scene scene;
         scene.name = m_path.stem().string();
+        checkExtensions();
         checkImages();
         readMaterials(scene);
         readMeshes(scene);
@@ -41,6 +62,19 @@ public:
     }
 
 private:
+    // A required extension we do not implement would render wrongly: refuse it by name. An
+    // optional one we do not implement is ignored, with one warning each.
+    void checkExtensions() const {
+        for (const std::string& name : m_model.extensionsRequired)
+            if (!isSupportedExtension(name))
+                fail(fmt::format("the file requires glTF extension '{}', which Janus does not implement (supported: {})", name,
+                                 supportedExtensionList()));
+        for (const std::string& name : m_model.extensionsUsed)
+            if (!isSupportedExtension(name))
+                fmt::print(stderr, "janus: warning: {}: ignoring glTF extension '{}' (not implemented; the file does not require it)\n",
+                           m_path.string(), name);
+    }
+
     // tinygltf only warns about an image it could not read; a missing texture is an error here.
     void checkImages() const {
         for (size_t i = 0; i < m_model.images.size(); ++i) {
@@ -155,7 +189,8 @@ private:
                              tinygltf::GetNumComponentsInType(uint32_t(accessor.type)), width));
         const int componentSize = tinygltf::GetComponentSizeInBytes(uint32_t(accessor.componentType));
         if (componentSize <= 0) fail(fmt::format("{} accessor {} has an invalid component type", what, index));
-        std::vector<float> out(accessor.count * size_t(width));
+        const size_t count = checkedElementCount(accessor, index, what, size_t(componentSize) * size_t(width), sizeof(float) * size_t(width));
+        std::vector<float> out(count * size_t(width));
         forEachElement(accessor, index, what, size_t(componentSize) * size_t(width), [&](const uint8_t* src, size_t e) {
             for (int c = 0; c < width; ++c) {
                 const uint8_t* p = src + size_t(c) * size_t(componentSize);
@@ -181,7 +216,7 @@ private:
         if (componentSize != 1 && componentSize != 2 && componentSize != 4)
             fail(fmt::format("index accessor {} has component type {}; indices must be unsigned byte, short or int", index,
                              accessor.componentType));
-        std::vector<uint32_t> out(accessor.count);
+        std::vector<uint32_t> out(checkedElementCount(accessor, index, "index", size_t(componentSize), sizeof(uint32_t)));
         forEachElement(accessor, index, "index", size_t(componentSize), [&](const uint8_t* src, size_t e) {
             uint32_t value = 0;
             if (componentSize == 1) value = *src;
@@ -200,24 +235,53 @@ private:
         return accessor;
     }
 
-    template <typename Visit>
-    void forEachElement(const tinygltf::Accessor& accessor, int index, const std::string& what, size_t elementSize,
-                        Visit&& visit) const {
-        if (accessor.count == 0) return;
+    // Checks that `accessor` (elements of `elementSize` bytes in the file, `decodedSize` bytes
+    // once read) lies inside its buffer view and buffer, with overflow-safe arithmetic, and that
+    // its decoded size stays within kMaxAccessorBytes. Returns its element count. Called before
+    // anything is allocated for the accessor: a count crafted to wrap a size computation (e.g.
+    // 6148914691236517206 VEC3 floats) must not reach an allocation or a copy.
+    size_t checkedElementCount(const tinygltf::Accessor& accessor, int index, const std::string& what, size_t elementSize,
+                               size_t decodedSize) const {
+        const uint64_t count = accessor.count;
+        if (count == 0) return 0;
+        uint64_t decodedBytes = 0;
+        const bool wraps = __builtin_mul_overflow(count, uint64_t(decodedSize), &decodedBytes);
+        if (wraps || decodedBytes > kMaxAccessorBytes)
+            fail(fmt::format("{} accessor {} declares {} elements ({} bytes once read), more than Janus reads from one accessor "
+                             "({} MiB); the count is wrong or the asset is too large",
+                             what, index, count, wraps ? std::string("over 2^64") : std::to_string(decodedBytes), kMaxAccessorBytes >> 20));
         if (accessor.bufferView < 0 || size_t(accessor.bufferView) >= m_model.bufferViews.size())
             fail(fmt::format("{} accessor {} has no valid buffer view", what, index));
         const tinygltf::BufferView& view = m_model.bufferViews[size_t(accessor.bufferView)];
         if (view.buffer < 0 || size_t(view.buffer) >= m_model.buffers.size())
             fail(fmt::format("buffer view {} references missing buffer {}", accessor.bufferView, view.buffer));
-        const std::vector<unsigned char>& data = m_model.buffers[size_t(view.buffer)].data;
-        const size_t stride = view.byteStride ? view.byteStride : elementSize;
-        const size_t start = view.byteOffset + accessor.byteOffset;
-        const size_t lastEnd = accessor.byteOffset + stride * (accessor.count - 1) + elementSize;
-        if (stride < elementSize || lastEnd > view.byteLength || view.byteOffset + view.byteLength > data.size())
+        const uint64_t bufferSize = m_model.buffers[size_t(view.buffer)].data.size();
+        const uint64_t stride = view.byteStride ? view.byteStride : elementSize;
+        uint64_t viewEnd = 0, span = 0, lastEnd = 0;
+        const bool overflow = __builtin_add_overflow(uint64_t(view.byteOffset), uint64_t(view.byteLength), &viewEnd) ||
+                              __builtin_mul_overflow(stride, count - 1, &span) ||
+                              __builtin_add_overflow(span, uint64_t(accessor.byteOffset), &lastEnd) ||
+                              __builtin_add_overflow(lastEnd, uint64_t(elementSize), &lastEnd);
+        if (stride < elementSize)
+            fail(fmt::format("{} accessor {}: buffer view {} has byteStride {}, smaller than one element ({} bytes)", what, index,
+                             accessor.bufferView, stride, elementSize));
+        if (overflow || lastEnd > view.byteLength || viewEnd > bufferSize)
             fail(fmt::format("{} accessor {} reads past the end of its buffer (the .bin file is too short or the "
                              "accessor's count/offset is wrong)",
                              what, index));
-        for (size_t e = 0; e < accessor.count; ++e) visit(data.data() + start + e * stride, e);
+        return size_t(count);
+    }
+
+    template <typename Visit>
+    void forEachElement(const tinygltf::Accessor& accessor, int index, const std::string& what, size_t elementSize,
+                        Visit&& visit) const {
+        const size_t count = checkedElementCount(accessor, index, what, elementSize, 0);
+        if (count == 0) return;
+        const tinygltf::BufferView& view = m_model.bufferViews[size_t(accessor.bufferView)];
+        const std::vector<unsigned char>& data = m_model.buffers[size_t(view.buffer)].data;
+        const size_t stride = view.byteStride ? view.byteStride : elementSize;
+        const size_t start = view.byteOffset + accessor.byteOffset;   // no overflow: checked above
+        for (size_t e = 0; e < count; ++e) visit(data.data() + start + e * stride, e);
     }
 
     void readMeshes(Scene& scene) {
