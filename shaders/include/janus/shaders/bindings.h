@@ -43,4 +43,13 @@
 // ---- Tile heat map (tile_heatmap.frag), set 0; reads JANUS_BINDING_TILE_LISTS -----------------
 #define JANUS_BINDING_HEATMAP_UNIFORMS 0
 
+// ---- IBL: SH irradiance (shaders/ibl/sh_*.comp|frag, renderer/src/ibl/sh_irradiance.*), set 0 ------
+#define JANUS_BINDING_SH_UNIFORMS 0         // ShUniforms (sh_common.glsl)
+#define JANUS_BINDING_SH_CUBE 1             // samplerCube: the environment (nearest, one mip)
+#define JANUS_BINDING_SH_SOLID_ANGLES 2     // sampler2D R32F: exact texel solid angles of one face
+#define JANUS_BINDING_SH_PARTIALS 3         // per-group partial sums: SSBO (compute) | RGBA32F row sums (fallback)
+#define JANUS_BINDING_SH_COEFFICIENTS 4     // compute path: 9 vec4 std430 (irradiance / pi SH), written by sh_reduce
+// For shading that reads the result: 9 vec4 SSBO (compute path) | 9x1 RGBA32F texture (fallback).
+#define JANUS_BINDING_SH_IRRADIANCE 10
+
 #endif
