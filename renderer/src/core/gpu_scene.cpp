@@ -184,6 +184,7 @@ void GpuScene::createDraws(const Scene& scene) {
         draw.mesh = instance.mesh;
         draw.instance = uint32_t(i);
         draw.doubleSided = material.doubleSided;
+        draw.mirrored = glm::determinant(glm::mat3(instance.world)) < 0.0f;
         draw.renderingLayers = instance.renderingLayers;
         draw.world = instance.world;
         draw.bindings = m_device.createBindingSet(
@@ -198,15 +199,18 @@ void GpuScene::createDraws(const Scene& scene) {
     }
     m_device.writeBuffer(m_drawUniforms, drawData.data(), drawData.size());
 
-    // Fewer pipeline switches: single-sided draws first, then double-sided ones.
-    std::stable_sort(m_draws.begin(), m_draws.end(), [](const Draw& a, const Draw& b) { return !a.doubleSided && b.doubleSided; });
-    m_hasDoubleSided = std::any_of(m_draws.begin(), m_draws.end(), [](const Draw& d) { return d.doubleSided; });
+    // Fewer pipeline switches: single-sided draws first, then double-sided ones; mirrored ones
+    // after the others of their kind.
+    std::stable_sort(m_draws.begin(), m_draws.end(), [](const Draw& a, const Draw& b) {
+        return std::pair(a.doubleSided, a.mirrored) < std::pair(b.doubleSided, b.mirrored);
+    });
+    for (const Draw& draw : m_draws) m_hasKind[draw.doubleSided][draw.mirrored] = true;
 }
 
 GpuScene::MeshPipelines GpuScene::createMeshPipelines(const rhi::ShaderHandle& vertexShader, const rhi::ShaderHandle& fragmentShader,
                                                       rhi::DepthState depth, rhi::Format colorFormat, rhi::Format depthFormat,
                                                       bool mirrored, const std::string& name) const {
-    auto pipeline = [&](rhi::CullMode cull, const char* variant) {
+    auto pipeline = [&](rhi::CullMode cull, bool clockwise, const char* variant) {
         rhi::GraphicsPipelineDesc desc;
         desc.setShaders(vertexShader, fragmentShader)
             .addVertexBuffer({0, sizeof(Vertex), false})
@@ -215,8 +219,8 @@ GpuScene::MeshPipelines GpuScene::createMeshPipelines(const rhi::ShaderHandle& v
             .addVertexAttribute({2, rhi::VertexFormat::Float2, 0, offsetof(Vertex, uv)})
             .addVertexAttribute({3, rhi::VertexFormat::Float4, 0, offsetof(Vertex, tangent)})
             // glTF front faces are counter-clockwise; an ordinary projection keeps that as seen in
-            // the image, a mirrored one (cube faces) turns it clockwise.
-            .setRaster(rhi::RasterState{cull, mirrored ? rhi::FrontFace::Clockwise : rhi::FrontFace::CounterClockwise})
+            // the image, a mirrored one (cube faces) or a mirrored instance turns it clockwise.
+            .setRaster(rhi::RasterState{cull, clockwise ? rhi::FrontFace::Clockwise : rhi::FrontFace::CounterClockwise})
             .setDepth(depth)
             .setDepthFormat(depthFormat)
             .setDebugName(fmt::format("{} ({})", name, variant));
@@ -224,8 +228,10 @@ GpuScene::MeshPipelines GpuScene::createMeshPipelines(const rhi::ShaderHandle& v
         return m_device.createGraphicsPipeline(desc);
     };
     MeshPipelines pipelines;
-    pipelines.culled = pipeline(rhi::CullMode::Back, "back-face culled");
-    if (m_hasDoubleSided) pipelines.doubleSided = pipeline(rhi::CullMode::None, "double-sided");
+    pipelines.culled = pipeline(rhi::CullMode::Back, mirrored, "back-face culled");
+    if (m_hasKind[1][0]) pipelines.doubleSided = pipeline(rhi::CullMode::None, mirrored, "double-sided");
+    if (m_hasKind[0][1]) pipelines.culledMirrored = pipeline(rhi::CullMode::Back, !mirrored, "back-face culled, mirrored instances");
+    if (m_hasKind[1][1]) pipelines.doubleSidedMirrored = pipeline(rhi::CullMode::None, !mirrored, "double-sided, mirrored instances");
     return pipelines;
 }
 
@@ -235,7 +241,7 @@ void GpuScene::drawMeshes(rhi::ICommandList& cmd, const SceneView& view, const M
     for (const Draw& draw : m_draws) {
         // A view of every layer draws everything, including meshes in no layer (lit by ambient only).
         if (view.renderingLayers != ~0u && (draw.renderingLayers & view.renderingLayers) == 0) continue;
-        const rhi::PipelineHandle& pipeline = draw.doubleSided ? pipelines.doubleSided : pipelines.culled;
+        const rhi::PipelineHandle& pipeline = pipelines.forDraw(draw);
         if (pipeline.get() != bound) {
             cmd.setPipeline(pipeline);
             cmd.setBindingSet(JANUS_SET_VIEW, viewBindings);

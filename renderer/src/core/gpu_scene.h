@@ -28,29 +28,37 @@ public:
         uint32_t mesh = 0;
         uint32_t instance = 0;
         bool doubleSided = false;
+        // The world matrix flips handedness (negative determinant, e.g. a mirrored node): its
+        // counter-clockwise front faces appear clockwise, so it draws with the opposite winding.
+        bool mirrored = false;
         uint32_t renderingLayers = 1u;
         glm::mat4 world{1.0f};
         rhi::BindingSetHandle bindings;   // set JANUS_SET_DRAW
     };
-    // Two pipelines for one kind of mesh pass: back-face culled, and without culling for
-    // double-sided materials (null when the scene has none).
+    // The pipelines of one kind of mesh pass: back-face culled, and without culling for
+    // double-sided materials, each with the view's winding and with the opposite one for
+    // mirrored instances (null where the scene has no such draw).
     struct MeshPipelines {
         rhi::PipelineHandle culled;
         rhi::PipelineHandle doubleSided;
+        rhi::PipelineHandle culledMirrored;
+        rhi::PipelineHandle doubleSidedMirrored;
+        const rhi::PipelineHandle& forDraw(const Draw& draw) const {
+            return draw.doubleSided ? (draw.mirrored ? doubleSidedMirrored : doubleSided) : (draw.mirrored ? culledMirrored : culled);
+        }
     };
 
     GpuScene(rhi::IDevice& device, const Scene& scene);
 
     const std::vector<Mesh>& meshes() const { return m_meshes; }
-    // Instances with geometry, single-sided first (fewer pipeline switches).
+    // Instances with geometry, single-sided first, unmirrored first (fewer pipeline switches).
     const std::vector<Draw>& draws() const { return m_draws; }
-    bool hasDoubleSided() const { return m_hasDoubleSided; }
     // Nearest, clamp: for targets and data textures read with texelFetch (filtering never applies).
     const rhi::SamplerHandle& pointSampler() const { return m_pointSampler; }
 
     // Pipelines that draw the scene's Vertex layout with `vertexShader`/`fragmentShader` into a
-    // target of the given formats (colorFormat Unknown: depth only). Mirrored views get
-    // clockwise front faces.
+    // target of the given formats (colorFormat Unknown: depth only). A mirrored view's
+    // front faces are clockwise, and a mirrored instance flips that again.
     MeshPipelines createMeshPipelines(const rhi::ShaderHandle& vertexShader, const rhi::ShaderHandle& fragmentShader,
                                       rhi::DepthState depth, rhi::Format colorFormat, rhi::Format depthFormat, bool mirrored,
                                       const std::string& name) const;
@@ -70,7 +78,7 @@ private:
     rhi::IDevice& m_device;
     std::vector<Mesh> m_meshes;
     std::vector<Draw> m_draws;
-    bool m_hasDoubleSided = false;
+    bool m_hasKind[2][2] = {};   // [doubleSided][mirrored]: which pipelines are needed
     std::vector<rhi::TextureHandle> m_textures;
     std::vector<rhi::SamplerHandle> m_textureSamplers;   // per scene texture, shared between equal samplings
     rhi::TextureHandle m_whiteTexture, m_flatNormalTexture;

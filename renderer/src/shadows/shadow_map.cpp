@@ -93,12 +93,13 @@ DirectionalShadowMap::DirectionalShadowMap(rhi::IDevice& device, uint32_t size) 
 
     const rhi::ShaderHandle vs = makeShader(device, rhi::ShaderStage::Vertex, "shadow_vert");
     const rhi::ShaderHandle fs = makeShader(device, rhi::ShaderStage::Fragment, "shadow_frag");
-    auto pipeline = [&](rhi::CullMode cull, const char* name) {
+    auto pipeline = [&](rhi::CullMode cull, bool mirroredCaster, const char* name) {
         rhi::RasterState raster;
         raster.cullMode = cull;
         // The light's projection has the same handedness and y flip as the camera's, so glTF
-        // counter-clockwise front faces stay counter-clockwise as seen in the map.
-        raster.frontFace = rhi::FrontFace::CounterClockwise;
+        // counter-clockwise front faces stay counter-clockwise as seen in the map (clockwise for
+        // a mirrored caster).
+        raster.frontFace = mirroredCaster ? rhi::FrontFace::Clockwise : rhi::FrontFace::CounterClockwise;
         raster.depthBiasEnable = true;
         raster.depthBiasConstant = kDepthBiasConstant;
         raster.depthBiasSlope = kDepthBiasSlope;
@@ -111,8 +112,9 @@ DirectionalShadowMap::DirectionalShadowMap(rhi::IDevice& device, uint32_t size) 
                                                  .setDepthFormat(kDepthFormat)
                                                  .setDebugName(name));
     };
-    m_culledPipeline = pipeline(rhi::CullMode::Back, "shadow (back-face culled)");
-    m_doubleSidedPipeline = pipeline(rhi::CullMode::None, "shadow (double-sided)");
+    m_culledPipeline = pipeline(rhi::CullMode::Back, false, "shadow (back-face culled)");
+    m_doubleSidedPipeline = pipeline(rhi::CullMode::None, false, "shadow (double-sided)");
+    m_culledMirroredPipeline = pipeline(rhi::CullMode::Back, true, "shadow (back-face culled, mirrored casters)");
 }
 
 void DirectionalShadowMap::fit(const glm::vec3& lightDirection, const glm::vec3& sceneMin, const glm::vec3& sceneMax) {
@@ -229,7 +231,9 @@ void DirectionalShadowMap::record(rhi::ICommandList& cmd, std::span<const Shadow
     for (size_t i = 0; i < casters.size(); ++i) {
         const ShadowCaster& caster = casters[i];
         if (caster.indexCount == 0 || !caster.vertices || !caster.indices) continue;
-        const rhi::PipelineHandle& pipeline = caster.doubleSided ? m_doubleSidedPipeline : m_culledPipeline;
+        const bool mirrored = glm::determinant(glm::mat3(caster.world)) < 0.0f;
+        const rhi::PipelineHandle& pipeline =
+            caster.doubleSided ? m_doubleSidedPipeline : (mirrored ? m_culledMirroredPipeline : m_culledPipeline);
         if (pipeline.get() != bound) {
             cmd.setPipeline(pipeline);
             cmd.setBindingSet(0, m_passBindings);

@@ -46,6 +46,8 @@ struct ShadowCaster {
     uint32_t indexCount = 0;
     glm::mat4 world{1.0f};
     bool doubleSided = false;   // drawn without face culling, like the forward pass draws it
+    // A negative determinant of `world` (a mirrored node) flips the winding; record() picks the
+    // pipeline that culls the right faces from the matrix it draws with.
 };
 
 class DirectionalShadowMap {
@@ -108,7 +110,9 @@ private:
     uint32_t m_size = 0;
     rhi::TextureHandle m_depth;
     rhi::SamplerHandle m_compareSampler;
-    rhi::PipelineHandle m_culledPipeline, m_doubleSidedPipeline;
+    // Culled casters with the light's winding, and with the opposite one for mirrored casters
+    // (a world matrix with a negative determinant turns their front faces clockwise).
+    rhi::PipelineHandle m_culledPipeline, m_doubleSidedPipeline, m_culledMirroredPipeline;
     rhi::BufferHandle m_passUniforms;     // set 0, binding 0: light view-projection
     rhi::BindingSetHandle m_passBindings;
     rhi::BufferHandle m_casterUniforms;   // set 1, binding 1: one world matrix slot per caster
