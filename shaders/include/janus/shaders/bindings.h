@@ -43,4 +43,15 @@
 // ---- Tile heat map (tile_heatmap.frag), set 0; reads JANUS_BINDING_TILE_LISTS -----------------
 #define JANUS_BINDING_HEATMAP_UNIFORMS 0
 
+// ---- IBL: environment and GGX prefilter (renderer/src/ibl/, shaders/ibl/), set 0 ------------
+// equirect_to_cube.comp / .frag
+#define JANUS_BINDING_EQUIRECT_PARAMS 0     // EquirectParams (face for the fallback path)
+#define JANUS_BINDING_EQUIRECT_SOURCE 1     // sampler2D: equirectangular radiance (wraps in u)
+#define JANUS_BINDING_EQUIRECT_CUBE 2       // compute path: rgba16f imageCube, mip 0, all faces
+// ggx_prefilter.comp / .frag
+#define JANUS_BINDING_PREFILTER_PARAMS 0    // PrefilterParams (face, mip, size, sample count)
+#define JANUS_BINDING_PREFILTER_SAMPLES 1   // PrefilterSamples: GGX directions + source lod of one mip
+#define JANUS_BINDING_PREFILTER_SOURCE 2    // samplerCube: the source cube with its mip chain
+#define JANUS_BINDING_PREFILTER_TARGET 3    // compute path: rgba16f imageCube, one mip, all faces
+
 #endif
