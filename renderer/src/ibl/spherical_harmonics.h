@@ -10,6 +10,8 @@
 
 #include <glm/glm.hpp>
 
+#include "ibl/cube_geometry.h"
+
 namespace janus::renderer {
 
 inline constexpr uint32_t kShCoefficientCount = 9;
@@ -43,16 +45,6 @@ struct CubeImage {
     glm::vec4& at(uint32_t face, uint32_t x, uint32_t y) { return faces[face][size_t(y) * size + x]; }
     const glm::vec4& at(uint32_t face, uint32_t x, uint32_t y) const { return faces[face][size_t(y) * size + x]; }
 };
-
-// The (unnormalised) direction of a point of face `face` at face coordinates u, v in [-1, 1]
-// (u = -1 at column 0's left edge, v = -1 at row 0's top edge): the inverse of the spec's
-// major-axis table, so sampling a cube along it lands at (u, v) of that face.
-glm::dvec3 cubeFacePointDirection(uint32_t face, double u, double v);
-// The unit direction through the centre of texel (x, y) of a face.
-glm::dvec3 cubeTexelDirection(uint32_t face, uint32_t x, uint32_t y, uint32_t size);
-// The exact solid angle of texel (x, y) of a face of `size` (the same on every face): the
-// area-element integral atan2(uv, sqrt(u^2 + v^2 + 1)) taken at the texel's four corners.
-double cubeTexelSolidAngle(uint32_t x, uint32_t y, uint32_t size);
 
 // L_lm = sum over texels of radiance (rgb) * Y_lm(direction) * solid angle, in double.
 ShRgb shProjectRadiance(const CubeImage& cube);

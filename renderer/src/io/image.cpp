@@ -336,6 +336,39 @@ ImageRGBAF readEXR(const std::filesystem::path& path) {
     return image;
 }
 
+ImageRGBAF readRadianceHDR(const std::filesystem::path& path) {
+    const std::string bytes = readWholeFile(path, "Radiance HDR");
+    if (bytes.size() > size_t(std::numeric_limits<int>::max()))
+        throw ImageIOError(fmt::format("cannot read Radiance HDR '{}': the file is too large", path.string()));
+    const auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());
+    const int length = int(bytes.size());
+    if (!stbi_is_hdr_from_memory(data, length))
+        throw ImageIOError(fmt::format("cannot read Radiance HDR '{}': not a Radiance HDR (.hdr, RGBE) file", path.string()));
+    int width = 0, height = 0, channelsInFile = 0;
+    if (!stbi_info_from_memory(data, length, &width, &height, &channelsInFile))
+        throw ImageIOError(fmt::format("cannot read Radiance HDR '{}': {}", path.string(), stbi_failure_reason()));
+    if (width <= 0 || height <= 0 || uint32_t(width) > kMaxImageSide || uint32_t(height) > kMaxImageSide)
+        throw ImageIOError(fmt::format("cannot read Radiance HDR '{}': size {}x{} is outside 1..{} per side", path.string(), width,
+                                       height, kMaxImageSide));
+    std::unique_ptr<float, void (*)(void*)> decoded(stbi_loadf_from_memory(data, length, &width, &height, &channelsInFile, 4),
+                                                    stbi_image_free);
+    if (!decoded) throw ImageIOError(fmt::format("cannot read Radiance HDR '{}': {}", path.string(), stbi_failure_reason()));
+    ImageRGBAF image;
+    image.width = uint32_t(width);
+    image.height = uint32_t(height);
+    image.pixels.assign(decoded.get(), decoded.get() + size_t(width) * size_t(height) * 4);
+    for (size_t i = 0; i < image.pixels.size(); ++i) {
+        const float value = image.pixels[i];
+        if (!std::isfinite(value) || value < 0.0f) {
+            const size_t pixel = i / 4;
+            throw ImageIOError(fmt::format("cannot read Radiance HDR '{}': pixel ({}, {}) channel {} is {}; radiance must be finite "
+                                           "and non-negative (the file is corrupt)",
+                                           path.string(), pixel % image.width, pixel / image.width, i % 4, value));
+        }
+    }
+    return image;
+}
+
 ImageDifference compareImages(const ImageRGBA8& a, const ImageRGBA8& b, uint32_t threshold) {
     checkSameSize(a, b, "compareImages");
     ImageDifference result;

@@ -37,6 +37,12 @@ ImageRGBA8 readPNG(const std::filesystem::path& path);
 // Readers for the HDR outputs, so tools and tests can check what was written. Throw ImageIOError.
 ImageRGBAF readPFM(const std::filesystem::path& path);   // alpha reads as 1
 ImageRGBAF readEXR(const std::filesystem::path& path);
+// Radiance RGBE (.hdr) through stb_image, alpha 1, row 0 on top. Throws ImageIOError naming the
+// path for a missing file, a file that is not Radiance HDR (stb would convert an LDR file; that is
+// refused), a side above 32768 (checked before decoding), or a NaN, infinite or negative sample
+// (refused, naming the pixel: radiance must be finite and >= 0; RGBE cannot encode them, so such a
+// file is corrupt).
+ImageRGBAF readRadianceHDR(const std::filesystem::path& path);
 
 // Writes `bytes` to `path` atomically (temporary file + rename). Throws ImageIOError.
 void writeFileAtomically(const std::filesystem::path& path, const std::string& bytes);

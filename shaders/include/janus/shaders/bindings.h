@@ -51,5 +51,15 @@
 #define JANUS_BINDING_SH_COEFFICIENTS 4     // compute path: 9 vec4 std430 (irradiance / pi SH), written by sh_reduce
 // For shading that reads the result: 9 vec4 SSBO (compute path) | 9x1 RGBA32F texture (fallback).
 #define JANUS_BINDING_SH_IRRADIANCE 10
+// ---- IBL: environment and GGX prefilter (renderer/src/ibl/, shaders/ibl/), set 0 ------------
+// equirect_to_cube.comp / .frag
+#define JANUS_BINDING_EQUIRECT_PARAMS 0     // EquirectParams (face for the fallback path)
+#define JANUS_BINDING_EQUIRECT_SOURCE 1     // sampler2D: equirectangular radiance (wraps in u)
+#define JANUS_BINDING_EQUIRECT_CUBE 2       // compute path: rgba16f imageCube, mip 0, all faces
+// ggx_prefilter.comp / .frag
+#define JANUS_BINDING_PREFILTER_PARAMS 0    // PrefilterParams (face, mip, size, sample count)
+#define JANUS_BINDING_PREFILTER_SAMPLES 1   // PrefilterSamples: GGX directions + source lod of one mip
+#define JANUS_BINDING_PREFILTER_SOURCE 2    // samplerCube: the source cube with its mip chain
+#define JANUS_BINDING_PREFILTER_TARGET 3    // compute path: rgba16f imageCube, one mip, all faces
 
 #endif

@@ -1,0 +1,152 @@
+#include "ibl/environment_map.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include <glm/gtc/packing.hpp>
+
+#include "core/gpu_util.h"
+#include "janus/shaders/bindings.h"
+
+namespace janus::renderer {
+namespace {
+
+constexpr uint32_t kGroupSize = 8;   // equirect_to_cube.comp local_size
+constexpr double kPi = 3.14159265358979323846;
+
+// std140 mirror of equirect_common.glsl's EquirectParams.
+struct EquirectParams {
+    glm::ivec4 params;   // x face, y face size
+};
+
+}  // namespace
+
+glm::dvec2 equirectUv(const glm::dvec3& d) {
+    return {0.5 + std::atan2(d.x, -d.z) / (2.0 * kPi), std::acos(std::clamp(d.y, -1.0, 1.0)) / kPi};
+}
+
+glm::dvec3 equirectDirection(const glm::dvec2& uv) {
+    const double phi = (uv.x - 0.5) * 2.0 * kPi, theta = uv.y * kPi;
+    return {std::sin(theta) * std::sin(phi), std::cos(theta), -std::sin(theta) * std::cos(phi)};
+}
+
+
+EnvironmentMap::EnvironmentMap(rhi::IDevice& device, const ImageRGBAF& equirect, uint32_t faceSize, FeaturePath path)
+    : m_device(device), m_path(path), m_faceSize(faceSize) {
+    if (equirect.width == 0 || equirect.height == 0 || equirect.pixels.size() != size_t(equirect.width) * equirect.height * 4)
+        throw RendererError(fmt::format("environment map: the equirect image is empty or malformed ({}x{}, {} floats)", equirect.width,
+                                        equirect.height, equirect.pixels.size()));
+    const rhi::Capabilities& caps = device.capabilities();
+    if (faceSize == 0 || faceSize > caps.limits.maxTextureSizeCube)
+        throw RendererError(fmt::format("environment map: face size {} is outside 1..{}", faceSize, caps.limits.maxTextureSizeCube));
+    if (equirect.width > caps.limits.maxTextureSize2D || equirect.height > caps.limits.maxTextureSize2D)
+        throw RendererError(fmt::format("environment map: the equirect image {}x{} exceeds the device's 2D limit {}", equirect.width,
+                                        equirect.height, caps.limits.maxTextureSize2D));
+    if (path == FeaturePath::Compute && !(caps.compute && caps.storageImages))
+        throw RendererError("environment map: the compute path needs Capability::Compute and StorageImages");
+    if (path == FeaturePath::Fallback && !caps.renderToCubeFaceMip)
+        throw RendererError("environment map: the fallback path needs Capability::RenderToCubeFaceMip");
+
+    // RGBA32F keeps every value of the file; devices that cannot filter it get RGBA16F (clamped).
+    const bool float32 = device.formatCapabilities(rhi::Format::RGBA32_FLOAT).has(rhi::FormatCapability::Filterable);
+    const size_t count = equirect.pixels.size();
+    m_equirect = device.createTexture(rhi::TextureDesc{}
+                                          .setFormat(float32 ? rhi::Format::RGBA32_FLOAT : rhi::Format::RGBA16_FLOAT)
+                                          .setSize(equirect.width, equirect.height)
+                                          .setUsage(rhi::TextureUsage::Sampled)
+                                          .setDebugName("environment equirect"));
+    if (float32) {
+        device.writeTexture(m_equirect, {}, equirect.pixels.data(), count * sizeof(float));
+    } else {
+        std::vector<uint16_t> halves(count);
+        for (size_t i = 0; i < count; ++i) halves[i] = glm::packHalf1x16(std::clamp(equirect.pixels[i], 0.0f, 65504.0f));
+        device.writeTexture(m_equirect, {}, halves.data(), count * sizeof(uint16_t));
+    }
+    const rhi::TextureUsage usage = rhi::TextureUsage::Sampled |
+                                    (path == FeaturePath::Compute ? rhi::TextureUsage::Storage : rhi::TextureUsage::RenderTarget);
+    m_cube = device.createTexture(rhi::TextureDesc{}
+                                      .setDimension(rhi::TextureDimension::TextureCube)
+                                      .setFormat(rhi::Format::RGBA16_FLOAT)
+                                      .setSize(faceSize, faceSize)
+                                      .setMipLevels(0)
+                                      .setUsage(usage)
+                                      .setDebugName("environment cube"));
+    rhi::SamplerDesc sampler;
+    sampler.setFilter(rhi::Filter::Linear);
+    sampler.addressU = rhi::AddressMode::Repeat;   // wraps around the horizon
+    sampler.addressV = sampler.addressW = rhi::AddressMode::ClampToEdge;
+    m_sampler = device.createSampler(sampler);
+}
+
+ViewTarget EnvironmentMap::addPasses(PassGraph& graph) {
+    ViewTarget target;
+    target.resource = graph.addResource(ibl_resources::kEnvironment);
+    target.texture = m_cube;
+    PassGraph::PassDesc pass;
+    pass.name = m_path == FeaturePath::Compute ? "equirect-to-cube-compute" : "equirect-to-cube-fallback";
+    pass.writes = {target.resource};
+    pass.setup = [this] { setup(); };
+    pass.record = [this](rhi::ICommandList& cmd, PassReport& report) { record(cmd, report); };
+    graph.addPass(std::move(pass));
+    graph.publish("", ibl_resources::kEnvironment, target);
+    return target;
+}
+
+void EnvironmentMap::setup() {
+    if (m_pipeline) return;
+    m_bindings.clear();
+    if (m_path == FeaturePath::Compute) {
+        m_pipeline = m_device.createComputePipeline(rhi::ComputePipelineDesc{}
+                                                        .setShader(makeShader(m_device, rhi::ShaderStage::Compute, "equirect_to_cube_comp"))
+                                                        .setDebugName("equirect to cube"));
+        const rhi::BufferHandle params =
+            makeUniformBuffer(m_device, EquirectParams{glm::ivec4(0, int(m_faceSize), 0, 0)}, "equirect params");
+        m_bindings.push_back(m_device.createBindingSet(
+            rhi::BindingSetDesc{}
+                .add(rhi::BindingItem::uniformBuffer(JANUS_BINDING_EQUIRECT_PARAMS, params))
+                .add(rhi::BindingItem::sampledTexture(JANUS_BINDING_EQUIRECT_SOURCE, m_equirect, m_sampler))
+                .add(rhi::BindingItem::storageImage(JANUS_BINDING_EQUIRECT_CUBE, m_cube, 0))));
+        return;
+    }
+    m_pipeline = m_device.createGraphicsPipeline(rhi::GraphicsPipelineDesc{}
+                                                     .setShaders(makeShader(m_device, rhi::ShaderStage::Vertex, "fullscreen_vert"),
+                                                                 makeShader(m_device, rhi::ShaderStage::Fragment, "equirect_to_cube_frag"))
+                                                     .addColorFormat(m_cube->desc().format)
+                                                     .setDebugName("equirect to cube"));
+    for (int face = 0; face < 6; ++face) {
+        const rhi::BufferHandle params =
+            makeUniformBuffer(m_device, EquirectParams{glm::ivec4(face, int(m_faceSize), 0, 0)}, "equirect params");
+        m_bindings.push_back(m_device.createBindingSet(
+            rhi::BindingSetDesc{}
+                .add(rhi::BindingItem::uniformBuffer(JANUS_BINDING_EQUIRECT_PARAMS, params))
+                .add(rhi::BindingItem::sampledTexture(JANUS_BINDING_EQUIRECT_SOURCE, m_equirect, m_sampler))));
+    }
+}
+
+void EnvironmentMap::record(rhi::ICommandList& cmd, PassReport& report) {
+    if (m_path == FeaturePath::Compute) {
+        cmd.setPipeline(m_pipeline);
+        cmd.setBindingSet(0, m_bindings[0]);
+        const uint32_t groups = (m_faceSize + kGroupSize - 1) / kGroupSize;
+        cmd.dispatch(groups, groups, 6);
+        ++report.dispatches;
+        return;
+    }
+    for (uint32_t face = 0; face < 6; ++face) {
+        rhi::Attachment target = rhi::Attachment::clear(m_cube, {0, 0, 0, 0}, {0, face});
+        target.loadOp = rhi::LoadOp::DontCare;   // every texel is written
+        drawFullscreenTriangle(cmd, target, m_pipeline, m_bindings[face], report);
+    }
+}
+
+PassReport EnvironmentMap::convert() {
+    PassGraph graph;
+    const ViewTarget target = addPasses(graph);
+    graph.markOutput(target.resource);
+    graph.compile(m_device);
+    std::vector<PassReport> reports = graph.execute(m_device, m_device.createCommandList());
+    return reports.empty() ? PassReport{} : reports.front();
+}
+
+}  // namespace janus::renderer

@@ -1,0 +1,227 @@
+#include "ibl/ggx_prefilter.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#include <glm/gtc/packing.hpp>
+
+#include "core/gpu_util.h"
+#include "ibl/environment_map.h"
+#include "janus/shaders/bindings.h"
+
+namespace janus::renderer {
+namespace {
+
+constexpr uint32_t kGroupSize = 8;   // ggx_prefilter.comp local_size
+
+// std140 mirrors of ggx_common.glsl's PrefilterParams and PrefilterSamples.
+struct PrefilterParams {
+    glm::ivec4 params;   // x face, y mip, z size, w sample count
+};
+struct PrefilterSamples {
+    glm::vec4 samples[kMaxGgxSamples];
+};
+
+}  // namespace
+
+GgxPrefilter::GgxPrefilter(rhi::IDevice& device, FeaturePath path, GgxPrefilterSettings settings)
+    : m_device(device), m_path(path), m_settings(std::move(settings)) {
+    const rhi::Capabilities& caps = device.capabilities();
+    if (path == FeaturePath::Compute && !(caps.compute && caps.storageImages))
+        throw RendererError("GGX prefilter: the compute path needs Capability::Compute and StorageImages");
+    if (path == FeaturePath::Fallback && !caps.renderToCubeFaceMip)
+        throw RendererError("GGX prefilter: the fallback path needs Capability::RenderToCubeFaceMip");
+    if (m_settings.samplesPerMip.empty()) throw RendererError("GGX prefilter: samplesPerMip is empty");
+    for (uint32_t n : m_settings.samplesPerMip)
+        if (n == 0 || n > kMaxGgxSamples)
+            throw RendererError(fmt::format("GGX prefilter: {} samples per mip is outside 1..{}", n, kMaxGgxSamples));
+    for (float r : m_settings.roughness)
+        if (!(r >= 0.0f && r <= 1.0f)) throw RendererError(fmt::format("GGX prefilter: roughness {} is outside [0, 1]", r));
+    rhi::SamplerDesc sampler;
+    sampler.setFilter(rhi::Filter::Linear).setAddress(rhi::AddressMode::ClampToEdge);
+    m_sampler = device.createSampler(sampler);
+}
+
+float GgxPrefilter::roughnessForMip(uint32_t mip) const {
+    if (mip < m_settings.roughness.size() && mip > 0) return m_settings.roughness[mip];
+    return ggxRoughnessForMip(mip, m_mipCount);
+}
+
+ViewTarget GgxPrefilter::addPasses(PassGraph& graph, const ViewTarget& source) {
+    const rhi::TextureDesc& desc = source.texture->desc();
+    if (desc.dimension != rhi::TextureDimension::TextureCube)
+        throw RendererError("GGX prefilter: the source must be a cube map");
+    const uint32_t full = rhi::fullMipCount(desc.width, desc.width);
+    if (desc.mipLevels != full)
+        throw RendererError(fmt::format("GGX prefilter: the source cube needs its full chain ({} mips), it has {}", full, desc.mipLevels));
+    const uint32_t mipCount = m_settings.mipCount == 0 ? full : m_settings.mipCount;
+    if (mipCount > full)
+        throw RendererError(fmt::format("GGX prefilter: {} mips asked for, a {}^2 cube has at most {}", mipCount, desc.width, full));
+    const bool reuse = m_target && m_target->desc().width == desc.width && m_target->desc().format == desc.format &&
+                       m_mipCount == mipCount && m_source == source.texture;
+    if (!reuse) {
+        m_pipeline.reset();
+        m_source = source.texture;
+        m_mipCount = mipCount;
+        const rhi::TextureUsage usage =
+            rhi::TextureUsage::Sampled | (m_path == FeaturePath::Compute ? rhi::TextureUsage::Storage : rhi::TextureUsage::RenderTarget);
+        m_target = m_device.createTexture(rhi::TextureDesc{}
+                                              .setDimension(rhi::TextureDimension::TextureCube)
+                                              .setFormat(desc.format)
+                                              .setSize(desc.width, desc.width)
+                                              .setMipLevels(mipCount)
+                                              .setUsage(usage)
+                                              .setDebugName("environment ggx"));
+        m_sets.assign(mipCount, GgxSampleSet{});
+        for (uint32_t mip = 1; mip < mipCount; ++mip)
+            m_sets[mip] = makeGgxSampleSet(roughnessForMip(mip), ggxSamplesForMip(m_settings.samplesPerMip, mip), desc.width,
+                                           desc.mipLevels);
+    }
+    ViewTarget target;
+    target.resource = graph.addResource(ibl_resources::kPrefilteredEnvironment);
+    target.texture = m_target;
+    PassGraph::PassDesc pass;
+    pass.name = m_path == FeaturePath::Compute ? "ggx-prefilter-compute" : "ggx-prefilter-fallback";
+    pass.reads = {source.resource};
+    pass.writes = {target.resource};
+    pass.setup = [this] { setup(); };
+    pass.record = [this](rhi::ICommandList& cmd, PassReport& report) { record(cmd, report); };
+    graph.addPass(std::move(pass));
+    graph.publish("", ibl_resources::kPrefilteredEnvironment, target);
+    return target;
+}
+
+void GgxPrefilter::setup() {
+    if (m_pipeline) return;
+    m_bindings.clear();
+    m_buffers.clear();
+    if (m_path == FeaturePath::Compute) {
+        m_pipeline = m_device.createComputePipeline(
+            rhi::ComputePipelineDesc{}.setShader(makeShader(m_device, rhi::ShaderStage::Compute, "ggx_prefilter_comp")).setDebugName("ggx prefilter"));
+    } else {
+        m_pipeline = m_device.createGraphicsPipeline(rhi::GraphicsPipelineDesc{}
+                                                         .setShaders(makeShader(m_device, rhi::ShaderStage::Vertex, "fullscreen_vert"),
+                                                                     makeShader(m_device, rhi::ShaderStage::Fragment, "ggx_prefilter_frag"))
+                                                         .addColorFormat(m_target->desc().format)
+                                                         .setDebugName("ggx prefilter"));
+    }
+    const uint32_t size0 = m_target->desc().width;
+    for (uint32_t mip = 1; mip < m_mipCount; ++mip) {
+        PrefilterSamples samples{};
+        const GgxSampleSet& set = m_sets[mip];
+        for (size_t i = 0; i < set.samples.size(); ++i) samples.samples[i] = glm::vec4(set.samples[i].direction, set.samples[i].lod);
+        const rhi::BufferHandle sampleBuffer = makeUniformBuffer(m_device, samples, "ggx samples");
+        m_buffers.push_back(sampleBuffer);
+        const int size = int(std::max(1u, size0 >> mip));
+        const int count = int(set.samples.size());
+        const int faces = m_path == FeaturePath::Compute ? 1 : 6;
+        for (int face = 0; face < faces; ++face) {
+            const rhi::BufferHandle params =
+                makeUniformBuffer(m_device, PrefilterParams{glm::ivec4(face, int(mip), size, count)}, "ggx prefilter params");
+            m_buffers.push_back(params);
+            rhi::BindingSetDesc bindings;
+            bindings.add(rhi::BindingItem::uniformBuffer(JANUS_BINDING_PREFILTER_PARAMS, params))
+                .add(rhi::BindingItem::uniformBuffer(JANUS_BINDING_PREFILTER_SAMPLES, sampleBuffer))
+                .add(rhi::BindingItem::sampledTexture(JANUS_BINDING_PREFILTER_SOURCE, m_source, m_sampler));
+            if (m_path == FeaturePath::Compute) bindings.add(rhi::BindingItem::storageImage(JANUS_BINDING_PREFILTER_TARGET, m_target, mip));
+            m_bindings.push_back(m_device.createBindingSet(bindings));
+        }
+    }
+}
+
+void GgxPrefilter::record(rhi::ICommandList& cmd, PassReport& report) {
+    if (m_source->desc().mipLevels > 1) cmd.generateMips(m_source);
+    for (uint32_t face = 0; face < 6; ++face) cmd.copyTexture(m_target, {0, face}, m_source, {0, face});
+    const uint32_t size0 = m_target->desc().width;
+    for (uint32_t mip = 1; mip < m_mipCount; ++mip) {
+        const uint32_t size = std::max(1u, size0 >> mip);
+        if (m_path == FeaturePath::Compute) {
+            cmd.setPipeline(m_pipeline);
+            cmd.setBindingSet(0, m_bindings[mip - 1]);
+            const uint32_t groups = (size + kGroupSize - 1) / kGroupSize;
+            cmd.dispatch(groups, groups, 6);
+            ++report.dispatches;
+            continue;
+        }
+        for (uint32_t face = 0; face < 6; ++face) {
+            rhi::Attachment target = rhi::Attachment::clear(m_target, {0, 0, 0, 0}, {mip, face});
+            target.loadOp = rhi::LoadOp::DontCare;   // every texel is written
+            drawFullscreenTriangle(cmd, target, m_pipeline, m_bindings[(mip - 1) * 6 + face], report);
+        }
+    }
+}
+
+PassReport GgxPrefilter::run(const rhi::TextureHandle& source) {
+    PassGraph graph;
+    ViewTarget input;
+    input.resource = graph.importResource("prefilter source");
+    input.texture = source;
+    const ViewTarget output = addPasses(graph, input);
+    graph.markOutput(output.resource);
+    graph.compile(m_device);
+    std::vector<PassReport> reports = graph.execute(m_device, m_device.createCommandList());
+    return reports.empty() ? PassReport{} : reports.front();
+}
+
+CubeImage readCube(rhi::IDevice& device, const rhi::TextureHandle& cube, uint32_t mip) {
+    const rhi::TextureDesc& desc = cube->desc();
+    CubeImage image;
+    image.size = std::max(1u, desc.width >> mip);
+    const size_t values = size_t(image.size) * image.size * 4;
+    for (uint32_t face = 0; face < 6; ++face) {
+        const std::vector<std::byte> bytes = device.readTexture(cube, {mip, face});
+        std::vector<float>& out = image.faces[face];
+        out.resize(values);
+        if (desc.format == rhi::Format::RGBA32_FLOAT && bytes.size() == values * 4) {
+            std::memcpy(out.data(), bytes.data(), bytes.size());
+        } else if (desc.format == rhi::Format::RGBA16_FLOAT && bytes.size() == values * 2) {
+            for (size_t i = 0; i < values; ++i) {
+                uint16_t half;
+                std::memcpy(&half, bytes.data() + i * 2, 2);
+                out[i] = glm::unpackHalf1x16(half);
+            }
+        } else {
+            throw RendererError(fmt::format("readCube: {} bytes for a {}^2 {} face", bytes.size(), image.size, rhi::toString(desc.format)));
+        }
+    }
+    return image;
+}
+
+GgxReference::GgxReference(const CubeImage& cube) {
+    m_texels.reserve(size_t(cube.size) * cube.size * 6);
+    for (uint32_t face = 0; face < 6; ++face)
+        for (uint32_t y = 0; y < cube.size; ++y)
+            for (uint32_t x = 0; x < cube.size; ++x)
+                m_texels.push_back(
+                    Texel{cubeTexelDirection(face, x, y, cube.size), cubeTexelSolidAngle(x, y, cube.size), cube.texel(face, x, y)});
+}
+
+glm::dvec3 GgxReference::radiance(const glm::dvec3& normal, double roughness) const {
+    const glm::dvec3 n = glm::normalize(normal);
+    const double alpha = roughness * roughness;
+    if (alpha < 1e-6) {
+        const Texel* nearest = nullptr;
+        double best = -2.0;
+        for (const Texel& t : m_texels)
+            if (double c = glm::dot(t.direction, n); c > best) {
+                best = c;
+                nearest = &t;
+            }
+        return nearest ? nearest->radiance : glm::dvec3(0.0);
+    }
+    glm::dvec3 sum(0.0);
+    double weight = 0.0;
+    for (const Texel& t : m_texels) {
+        const double nDotL = glm::dot(n, t.direction);
+        if (nDotL <= 0.0) continue;
+        const glm::dvec3 h = glm::normalize(n + t.direction);   // |n + l| > 0 since n.l > 0
+        const double w = ggxDistribution(std::max(0.0, glm::dot(n, h)), alpha) * nDotL * t.solidAngle;
+        sum += t.radiance * w;
+        weight += w;
+    }
+    return weight > 0.0 ? sum / weight : glm::dvec3(0.0);
+}
+
+}  // namespace janus::renderer
