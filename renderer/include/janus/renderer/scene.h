@@ -109,8 +109,14 @@ struct Camera {
 };
 
 struct Environment {
-    glm::vec3 ambientColor{0.03f};    // uniform ambient radiance until probes/IBL land
+    glm::vec3 ambientColor{0.03f};    // uniform ambient radiance where no environment map lights the scene
     float exposure = 1.0f;
+    // An equirectangular sky (.hdr Radiance RGBE or .exr), absolute or relative to the working
+    // directory (scene files resolve theirs relative to themselves). Empty: no sky; the ambient
+    // colour lights the scene. With one, it replaces the ambient colour: image-based diffuse (SH)
+    // and specular (GGX-prefiltered) light, and the background (docs/IBL.md).
+    std::filesystem::path map;
+    float intensity = 1.0f;           // multiplies the map's radiance
 };
 
 // Named empty nodes from glTF (e.g. the cornell box's "IrradianceVolume", "ReflectionCubemap"),
