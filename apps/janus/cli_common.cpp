@@ -1,6 +1,7 @@
 #include "cli_common.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <charconv>
 #include <cstdio>
@@ -267,6 +268,45 @@ renderer::DebugView parseDebugOption(std::string_view text) {
     const std::optional<renderer::DebugView> view = renderer::parseDebugView(text);
     if (!view) throw UsageError(fmt::format("--debug '{}' is not a debug view; use none or tiles", text));
     return *view;
+}
+
+void addEnvironmentOptions(CLI::App& app, EnvironmentOptions& options) {
+    app.add_option("--env", options.map,
+                   "Equirectangular sky (.hdr or .exr) that lights the scene and is its background; replaces the scene's")
+        ->type_name("FILE.hdr|FILE.exr");
+    app.add_option("--env-intensity", options.intensity, "Multiplies the sky's radiance, a finite number >= 0 (default: scene, then 1)")
+        ->type_name("X");
+}
+
+EnvironmentOverride parseEnvironmentOptions(const EnvironmentOptions& options) {
+    EnvironmentOverride environment;
+    if (!options.intensity.empty()) {
+        float intensity = 0.0f;
+        const std::string& text = options.intensity;
+        const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), intensity);
+        if (error != std::errc() || end != text.data() + text.size() || !std::isfinite(intensity) || intensity < 0.0f)
+            throw UsageError(fmt::format("--env-intensity '{}' is not allowed; use a finite number >= 0", text));
+        environment.intensity = intensity;
+    }
+    if (!options.map.empty()) {
+        const std::filesystem::path map = options.map;
+        std::string extension = map.extension().string();
+        for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));
+        if (extension != ".hdr" && extension != ".exr")
+            throw UsageError(fmt::format("--env '{}' must name an equirectangular .hdr or .exr image", options.map));
+        std::error_code ec;
+        if (!std::filesystem::exists(map, ec))
+            throw InputError(fmt::format("--env '{}' does not exist; give an existing .hdr or .exr sky", options.map));
+        if (std::filesystem::is_directory(map, ec))
+            throw InputError(fmt::format("--env '{}' is a directory; give the .hdr or .exr file inside it", options.map));
+        environment.map = std::filesystem::absolute(map).lexically_normal();
+    }
+    return environment;
+}
+
+void applyEnvironmentOverride(renderer::Scene& scene, const EnvironmentOverride& environment) {
+    if (environment.map) scene.environment.map = *environment.map;
+    if (environment.intensity) scene.environment.intensity = *environment.intensity;
 }
 
 std::string lightCullingLine(const renderer::FrameReport& report) {

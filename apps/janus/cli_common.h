@@ -106,6 +106,22 @@ void addLightingOptions(CLI::App& app, LightingOptions& options);
 renderer::LightingSettings parseLightingOptions(const LightingOptions& options);   // throws UsageError naming the flag
 renderer::DebugView parseDebugOption(std::string_view text);                        // throws UsageError
 
+// --env FILE.hdr|FILE.exr and --env-intensity X, shared by render and parity: they set or override
+// the scene's environment map and intensity. Empty strings = not given (the scene's own).
+struct EnvironmentOptions {
+    std::string map;
+    std::string intensity;
+};
+void addEnvironmentOptions(CLI::App& app, EnvironmentOptions& options);
+struct EnvironmentOverride {
+    std::optional<std::filesystem::path> map;   // absolute
+    std::optional<float> intensity;
+};
+// Checks the options before any scene is loaded: UsageError for a bad intensity or an extension
+// other than .hdr/.exr, InputError (exit 3) naming the file when the map is missing.
+EnvironmentOverride parseEnvironmentOptions(const EnvironmentOptions& options);
+void applyEnvironmentOverride(renderer::Scene& scene, const EnvironmentOverride& environment);
+
 // ---- rendering one configuration ----------------------------------------------------------
 
 struct RenderRequest {

@@ -21,6 +21,7 @@ struct ParityOptions {
     std::string glPlatform = "egl";
     bool validation = false;
     LightingOptions lighting;
+    EnvironmentOptions environment;
 };
 
 struct Configuration {
@@ -94,10 +95,13 @@ int run(const ParityOptions& options) {
     if (std::filesystem::exists(outDir, ec) && !std::filesystem::is_directory(outDir, ec))
         throw InputError(fmt::format("--out '{}' is a file; give a directory for the images", options.out));
 
+    const EnvironmentOverride environment = parseEnvironmentOptions(options.environment);
+
     // The scene is loaded before the directory is created, so a bad scene leaves nothing behind.
     std::optional<std::filesystem::path> scenePath;
     if (!options.scene.empty()) scenePath = options.scene;
-    const renderer::Scene scene = loadSceneOrDefault(scenePath);
+    renderer::Scene scene = loadSceneOrDefault(scenePath);
+    applyEnvironmentOverride(scene, environment);
 
     std::filesystem::create_directories(outDir, ec);
     if (ec)
@@ -212,6 +216,7 @@ Command addParityCommand(CLI::App& parent) {
         ->type_name("STEPS");
     addGLPlatformOption(*app, options->glPlatform);
     addLightingOptions(*app, options->lighting);
+    addEnvironmentOptions(*app, options->environment);
     app->add_flag("--validation", options->validation,
                   "Enable Vulkan validation layers / GL debug output; a configuration with errors fails");
     return {app, [options] { return run(*options); }};

@@ -22,6 +22,7 @@ struct RenderOptions {
     bool validation = false;
     std::string debug;
     LightingOptions lighting;
+    EnvironmentOptions environment;
 };
 
 bool hasExtension(const std::filesystem::path& file, std::string_view extension) {
@@ -59,10 +60,12 @@ int run(const RenderOptions& options) {
         reportPath = options.report;
         checkOutputFile(*reportPath, "--report");
     }
+    const EnvironmentOverride environment = parseEnvironmentOptions(options.environment);
     std::optional<std::filesystem::path> scenePath;
     if (!options.scene.empty()) scenePath = options.scene;
 
-    const renderer::Scene scene = loadSceneOrDefault(scenePath);
+    renderer::Scene scene = loadSceneOrDefault(scenePath);
+    applyEnvironmentOverride(scene, environment);
     const RenderOutcome outcome = renderConfiguration(scene, request);
 
     const bool validationFailed =
@@ -110,6 +113,7 @@ Command addRenderCommand(CLI::App& parent) {
     app->add_option("--report", options->report, "Also write the frame report as JSON")->type_name("FILE.json");
     addGLPlatformOption(*app, options->glPlatform);
     addLightingOptions(*app, options->lighting);
+    addEnvironmentOptions(*app, options->environment);
     app->add_option("--debug", options->debug, "Debug view: none, or tiles (heat map of lights per tile, blue to red; "
                                                "tiles at the cap white-hatched)")
         ->type_name("VIEW");

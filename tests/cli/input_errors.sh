@@ -18,6 +18,18 @@ expect_error 3 "garbage.glb"      render "$TMP/garbage.glb" --out "$out"
 expect_error 3 "dangling.gltf.*mesh" render "$TMP/dangling.gltf" --out "$out"
 expect_error 3 "is a directory"   render "$TMP" --out "$out"
 
+# Environment maps: --env naming a missing file, and a scene file whose "map" is missing (named
+# as resolved against the scene's folder). An existing sky passes the check (the scene then fails).
+sky="$REPO_ROOT/../shared/scenes/env/chinese_garden_1k.hdr"
+box="$REPO_ROOT/../shared/scenes/BoxTextured/glTF/BoxTextured.gltf"
+printf '{"gltf": "%s", "environment": {"map": "skies/missing-sky.hdr"}}' "$box" >"$TMP/nosky.json"
+mkdir "$TMP/dir.hdr"
+expect_error 3 "--env '.*no-such-sky.hdr' does not exist" render --env "$TMP/no-such-sky.hdr" --out "$out"
+expect_error 3 "--env '.*no-such-sky.exr' does not exist" parity --env "$TMP/no-such-sky.exr" --out "$TMP/parity"
+expect_error 3 "--env '.*' is a directory"                render --env "$TMP/dir.hdr" --out "$out"
+expect_error 3 "nosky.json.*$TMP/skies/missing-sky.hdr' does not exist" render "$TMP/nosky.json" --out "$out"
+expect_error 3 "scene file '.*no-such-scene.gltf' does not exist" render "$TMP/no-such-scene.gltf" --env "$sky" --out "$out"
+
 # Unwritable outputs: missing directory, a file where a directory should be, a directory as file.
 expect_error 3 "cannot write --out '.*missing/out.png': directory '.*missing' does not exist" render --out "$TMP/missing/out.png"
 expect_error 3 "cannot write --out '.*a-file/out.png'.*not a directory" render --out "$TMP/a-file/out.png"

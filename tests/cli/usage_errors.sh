@@ -17,11 +17,11 @@ for option in --backend --path --size --out --hdr --report --gl-platform --valid
   grep -q -- "$option" "$TMP/stdout" || fail "janus render --help does not mention $option"
 done
 run_janus parity --help
-for option in --size --out --tolerance --gl-platform --culling --tile-size --max-lights-per-tile --intensity-cutoff --no-shadows; do
+for option in --size --out --tolerance --gl-platform --culling --tile-size --max-lights-per-tile --intensity-cutoff --no-shadows --env --env-intensity; do
   grep -q -- "$option" "$TMP/stdout" || fail "janus parity --help does not mention $option"
 done
 run_janus render --help
-for option in --culling --tile-size --max-lights-per-tile --intensity-cutoff --no-shadows --debug; do
+for option in --culling --tile-size --max-lights-per-tile --intensity-cutoff --no-shadows --debug --env --env-intensity; do
   grep -q -- "$option" "$TMP/stdout" || fail "janus render --help does not mention $option"
 done
 run_janus bench forward --help
@@ -64,6 +64,13 @@ expect_error 2 "--hdr '.*out.hdr' must name a .exr or .pfm file" render --out "$
 expect_error 2 "--tolerance 'abc'"  parity --tolerance abc --out "$TMP/parity"
 expect_error 2 "--tolerance '256'"  parity --tolerance 256 --out "$TMP/parity"
 expect_error 2 "--tolerance '-1'"   parity --tolerance=-1 --out "$TMP/parity"
+
+# Environment options: the sky must be .hdr or .exr; the intensity a finite number >= 0.
+expect_error 2 "--env '.*sky.png' must name an equirectangular .hdr or .exr image" render --env "$TMP/sky.png" --out "$out"
+expect_error 2 "--env '.*sky' must name"            parity --env "$TMP/sky" --out "$TMP/parity"
+expect_error 2 "--env-intensity '-1' is not allowed" render --env-intensity=-1 --out "$out"
+expect_error 2 "--env-intensity 'inf'"               render --env-intensity inf --out "$out"
+expect_error 2 "--env-intensity 'bright'"            parity --env-intensity bright --out "$TMP/parity"
 
 # Nothing may have been written by any of the failures above.
 if [[ -e $out || -e $TMP/parity ]]; then fail "a failed command left output behind"; fi

@@ -541,6 +541,103 @@ TEST(SceneErrors, ValidateSceneCatchesNaNInScenesBuiltInCode) {
     }
 }
 
+// --- environment maps ----------------------------------------------------------------------------
+
+const fs::path kSharedSky = kSharedScenes / "env" / "chinese_garden_1k.hdr";
+
+TEST(SceneLoading, EnvironmentMapIsResolvedRelativeToTheSceneFile) {
+    TinyGltf file;
+    file.write();
+    fs::create_directories(file.dir() / "skies");
+    file.writeText("skies/sky.HDR", "only its name is read here");
+    const Scene scene = loadScene(file.writeText("sky.json", R"({"gltf": "tri.gltf",
+        "environment": {"map": "skies/../skies/sky.HDR", "intensity": 0.25}})"));
+    EXPECT_TRUE(scene.environment.map.is_absolute()) << scene.environment.map;
+    EXPECT_EQ(scene.environment.map, (fs::absolute(file.dir()) / "skies" / "sky.HDR").lexically_normal());
+    EXPECT_FLOAT_EQ(scene.environment.intensity, 0.25f);
+    // Absolute paths are kept; no map leaves the field empty and the intensity at 1.
+    const Scene shared = loadScene(file.writeText("shared.json",
+        json{{"gltf", "tri.gltf"}, {"environment", {{"map", kSharedSky.string()}}}}.dump()));
+    EXPECT_EQ(shared.environment.map, fs::absolute(kSharedSky).lexically_normal());
+    const Scene none = loadScene(file.writeText("none.json", R"({"gltf": "tri.gltf", "environment": {"exposure": 2}})"));
+    EXPECT_TRUE(none.environment.map.empty());
+    EXPECT_EQ(none.environment.intensity, 1.0f);
+}
+
+TEST(SceneErrors, MissingEnvironmentMapNamesTheSceneFileAndTheMap) {
+    TinyGltf file;
+    file.write();
+    const std::string message =
+        sceneErrorOf([&] { loadScene(file.writeText("nosky.json", R"({"gltf": "tri.gltf", "environment": {"map": "gone/sky.exr"}})")); });
+    EXPECT_NE(message.find("nosky.json"), std::string::npos) << message;
+    EXPECT_NE(message.find((fs::absolute(file.dir()) / "gone" / "sky.exr").lexically_normal().string()), std::string::npos) << message;
+    EXPECT_NE(message.find("does not exist"), std::string::npos) << message;
+    fs::create_directories(file.dir() / "dir.hdr");
+    const std::string directory =
+        sceneErrorOf([&] { loadScene(file.writeText("dirsky.json", R"({"gltf": "tri.gltf", "environment": {"map": "dir.hdr"}})")); });
+    EXPECT_NE(directory.find("is a directory"), std::string::npos) << directory;
+}
+
+TEST(SceneErrors, EnvironmentMapWithAnUnsupportedExtensionSaysWhichAre) {
+    TinyGltf file;
+    file.write();
+    file.writeText("sky.png", "x");
+    for (const char* map : {"sky.png", "sky", "sky.hdr.txt"}) {
+        const std::string message = sceneErrorOf([&] {
+            loadScene(file.writeText("png.json", json{{"gltf", "tri.gltf"}, {"environment", {{"map", map}}}}.dump()));
+        });
+        EXPECT_NE(message.find("png.json"), std::string::npos) << message;
+        EXPECT_NE(message.find(".hdr"), std::string::npos) << message;
+        EXPECT_NE(message.find(".exr"), std::string::npos) << message;
+        EXPECT_NE(message.find("not a supported sky"), std::string::npos) << message;
+    }
+}
+
+TEST(SceneErrors, EnvironmentMapAndIntensityOfTheWrongTypeOrValueNameTheKey) {
+    TinyGltf file;
+    file.write();
+    file.writeText("sky.exr", "x");
+    auto errorFor = [&](const std::string& environment) {
+        return sceneErrorOf(
+            [&] { loadScene(file.writeText("bad.json", fmt::format(R"({{"gltf": "tri.gltf", "environment": {}}})", environment))); });
+    };
+    for (const char* environment : {R"({"map": 3})", R"({"map": ["sky.exr"]})", R"({"map": ""})", R"({"map": null})"}) {
+        const std::string message = errorFor(environment);
+        EXPECT_NE(message.find("\"map\" must be the path of an .hdr or .exr image"), std::string::npos) << environment << ": " << message;
+        EXPECT_NE(message.find("bad.json"), std::string::npos) << message;
+    }
+    EXPECT_NE(errorFor(R"({"map": "sky.exr", "intensity": "bright"})").find("\"intensity\" must be a number"), std::string::npos);
+    EXPECT_NE(errorFor(R"({"intensity": [1]})").find("\"intensity\" must be a number"), std::string::npos);
+    for (const char* environment : {R"({"intensity": -0.5})", R"({"intensity": 1e39})", R"({"intensity": -1e39})"}) {
+        const std::string message = errorFor(environment);
+        EXPECT_NE(message.find("environment \"intensity\" must be a finite number >= 0"), std::string::npos) << environment << ": "
+                                                                                                            << message;
+    }
+    const Scene dark = loadScene(file.writeText("dark.json", R"({"gltf": "tri.gltf", "environment": {"map": "sky.exr", "intensity": 0}})"));
+    EXPECT_EQ(dark.environment.intensity, 0.0f);
+}
+
+TEST(SceneErrors, ValidateSceneChecksTheEnvironmentOfScenesBuiltInCode) {
+    Scene scene = defaultScene();
+    scene.environment.map = kSharedSky;
+    scene.environment.intensity = 2.0f;
+    EXPECT_NO_THROW(validateScene(scene));
+    for (float bad : {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity(), -1.0f}) {
+        scene.environment.intensity = bad;
+        const std::string message = sceneErrorOf([&] { validateScene(scene); });
+        EXPECT_NE(message.find("environment intensity"), std::string::npos) << message;
+    }
+    scene.environment.intensity = 1.0f;
+    scene.environment.map = kSharedSky.parent_path() / "no-such-sky.hdr";
+    std::string message = sceneErrorOf([&] { validateScene(scene); });
+    EXPECT_NE(message.find("no-such-sky.hdr' does not exist"), std::string::npos) << message;
+    scene.environment.map = kSharedSky.parent_path() / "README.md";   // exists, but is no sky
+    message = sceneErrorOf([&] { validateScene(scene); });
+    EXPECT_NE(message.find("README.md' is not a supported sky"), std::string::npos) << message;
+    scene.environment.map.clear();   // no map: the intensity is still checked, but nothing else
+    EXPECT_NO_THROW(validateScene(scene));
+}
+
 // --- rendering layers and lights that light nothing ----------------------------------------------
 
 TEST(SceneLoading, RenderingLayersDefaultToLayerOne) {

@@ -1,5 +1,6 @@
 // loadScene (glTF or JSON scene file), validateScene and the geometry helpers they share.
 // The scene-file format is documented in docs/SCENES.md.
+#include <cctype>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -133,6 +134,20 @@ const json& objectAt(const std::filesystem::path& file, const json& parent, cons
     return value;
 }
 
+// Why `map` cannot be an environment map, or "" when it can: the extension must be .hdr or .exr
+// (any case) and the file must exist. Shared by the scene-file loader and validateScene.
+std::string environmentMapProblem(const std::filesystem::path& map) {
+    std::string extension = map.extension().string();
+    for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));
+    if (extension != ".hdr" && extension != ".exr")
+        return fmt::format("environment map '{}' is not a supported sky; use an equirectangular .hdr (Radiance RGBE) or .exr image",
+                           map.string());
+    std::error_code ec;
+    if (!std::filesystem::exists(map, ec)) return fmt::format("environment map '{}' does not exist", map.string());
+    if (std::filesystem::is_directory(map, ec)) return fmt::format("environment map '{}' is a directory, not an image", map.string());
+    return {};
+}
+
 Light parseLight(const std::filesystem::path& file, const json& j, size_t index) {
     if (!j.is_object()) fail(file, fmt::format("lights[{}] must be an object", index));
     Light light;
@@ -193,6 +208,19 @@ Scene loadSceneFile(const std::filesystem::path& path) {
             const json& e = objectAt(path, root, "environment");
             scene.environment.ambientColor = vec3(path, e, "ambientColor", scene.environment.ambientColor);
             scene.environment.exposure = number(path, e, "exposure", scene.environment.exposure);
+            scene.environment.intensity = number(path, e, "intensity", scene.environment.intensity);
+            if (!std::isfinite(scene.environment.intensity) || scene.environment.intensity < 0)
+                fail(path, fmt::format("environment \"intensity\" must be a finite number >= 0, got {}", e.at("intensity").dump()));
+            if (e.contains("map")) {
+                const json& map = e.at("map");
+                if (!map.is_string() || map.get<std::string>().empty())
+                    fail(path, fmt::format("\"map\" must be the path of an .hdr or .exr image, relative to the scene file; got {}",
+                                           map.dump()));
+                // Stored absolute, so the renderer need not know where the scene file was.
+                scene.environment.map = std::filesystem::absolute(path.parent_path() / map.get<std::string>()).lexically_normal();
+                if (const std::string problem = environmentMapProblem(scene.environment.map); !problem.empty())
+                    fail(path, fmt::format("{} (\"map\": {}, relative to the scene file)", problem, map.dump()));
+            }
         }
         if (root.contains("lights")) {
             if (!root["lights"].is_array()) fail(path, "\"lights\" must be an array");
@@ -329,6 +357,10 @@ void validateScene(const Scene& scene) {
     if (!allFinite(scene.environment.ambientColor, scene.environment.exposure))
         throw SceneError("environment has a NaN or infinite ambient colour or exposure");
     if (scene.environment.exposure <= 0) throw SceneError(fmt::format("environment exposure {} must be > 0", scene.environment.exposure));
+    if (!std::isfinite(scene.environment.intensity) || scene.environment.intensity < 0)
+        throw SceneError(fmt::format("environment intensity {} must be finite and >= 0", scene.environment.intensity));
+    if (!scene.environment.map.empty())
+        if (const std::string problem = environmentMapProblem(scene.environment.map); !problem.empty()) throw SceneError(problem);
 }
 
 }  // namespace janus::renderer
