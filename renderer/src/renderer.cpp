@@ -42,9 +42,13 @@ void Renderer::Impl::createFeatures(const Scene& scene) {
     localLights = std::make_unique<LocalLights>(device, scene, lighting, settings.path, mainView, gpuScene->pointSampler());
     auto shadows = std::make_unique<MainLightShadows>(device, scene, *gpuScene, lighting.shadows, lighting.shadowMapSize,
                                                       kMaxDirectionalLights);
-    auto forward = std::make_unique<ForwardShading>(device, scene, *gpuScene, *localLights, *shadows, settings.path);
+    auto imageBasedLighting = std::make_unique<ImageBasedLighting>(device, scene.environment, settings.path, gpuScene->pointSampler());
+    auto forward = std::make_unique<ForwardShading>(device, scene, *gpuScene, *localLights, *shadows, *imageBasedLighting, settings.path);
+    auto sky = std::make_unique<SkyBackground>(device, *imageBasedLighting);
     features.push_back(std::move(shadows));
+    features.push_back(std::move(imageBasedLighting));
     features.push_back(std::move(forward));
+    features.push_back(std::move(sky));
     features.push_back(std::make_unique<Tonemap>(device, scene.environment.exposure, settings.path, gpuScene->pointSampler()));
     if (settings.debugView == DebugView::Tiles) features.push_back(std::make_unique<TileHeatmap>(device, *localLights, settings.path));
 }
@@ -129,7 +133,10 @@ FrameReport Renderer::Impl::newReport(uint32_t width, uint32_t height) const {
 FrameReport Renderer::Impl::renderFrame() {
     FrameReport frame = newReport(settings.width, settings.height);
     frame.views.push_back(ViewReport{mainView.name, mainView.width, mainView.height});
-    frame.passes = frameGraph.execute(device, commandList);
+    // Work done once when the renderer was made (e.g. the sky's filtering) opens the first report.
+    for (const std::unique_ptr<RenderFeature>& feature : features)
+        for (PassReport& pass : feature->takeStartupReports()) frame.passes.push_back(std::move(pass));
+    for (PassReport& pass : frameGraph.execute(device, commandList)) frame.passes.push_back(std::move(pass));
     frameRendered = true;
     frame.lightCulling = localLights->finishFrame();
     return frame;

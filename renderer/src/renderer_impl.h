@@ -20,6 +20,8 @@
 #include "forward/forward_shading.h"
 #include "forward/lighting_settings.h"
 #include "forward/local_lights.h"
+#include "ibl/image_based_lighting.h"
+#include "ibl/sky_background.h"
 #include "janus/renderer/renderer.h"
 #include "shadows/main_light_shadows.h"
 #include "tonemap/tonemap.h"

@@ -10,21 +10,7 @@ layout(set = 0, binding = JANUS_BINDING_SH_UNIFORMS, std140) uniform ShUniforms 
     uvec4 shParams;
 };
 
-// The nine basis values: a = (0..3), b = (4..7), c = 8.
-struct ShBasis {
-    vec4 a;
-    vec4 b;
-    float c;
-};
-
-// One vectorised evaluation of all nine terms at a unit direction (no per-coefficient branches).
-ShBasis shEvalBasis(vec3 n) {
-    ShBasis basis;
-    basis.a = vec4(0.28209479, 0.48860251, 0.48860251, 0.48860251) * vec4(1.0, n.y, n.z, n.x);
-    basis.b = vec4(1.09254843, 1.09254843, 0.31539157, 1.09254843) * vec4(n.x * n.y, n.y * n.z, 3.0 * n.z * n.z - 1.0, n.x * n.z);
-    basis.c = 0.54627422 * (n.x * n.x - n.y * n.y);
-    return basis;
-}
+#include "ibl/sh_basis.glsl"
 
 // Term k (0..8) of a basis, selected with masks rather than branches.
 float shBasisAt(ShBasis basis, int k) {

@@ -9,6 +9,7 @@
 #include "renderer/forward_common.glsl"
 #include "renderer/light_access.glsl"
 #include "renderer/shadow_sampling.glsl"
+#include "renderer/sky_access.glsl"
 
 layout(set = JANUS_SET_VIEW, binding = JANUS_BINDING_SHADOW_MAP) uniform sampler2DShadow shadowMap;
 
@@ -144,9 +145,19 @@ void main() {
         radiance += shadeLocalLight(s, vWorldPosition, index, meshLayers);
     }
 
-    // Uniform ambient until probes / IBL land: diffuse plus a rough specular term.
     float occlusion = mix(1.0, texture(occlusionTexture, vUv).r, draw.materialParams.w);
-    radiance += frame.ambientColor.rgb * (s.diffuseColor + s.f0) * occlusion;
+    if (frame.skyParams.x > 0.0) {
+        // The sky: SH9 diffuse and split-sum specular (docs/IBL.md).
+        float NoV = clamp(abs(dot(s.normal, s.view)), 1e-4, 1.0);
+        vec3 reflected = reflect(-s.view, s.normal);
+        vec3 sky = s.diffuseColor * skyIrradianceOverPi(s.normal) * occlusion +
+                   skySpecularRadiance(reflected, NoV, perceptualRoughness, s.f0, frame.skyParams.y) *
+                       specularOcclusion(NoV, occlusion, perceptualRoughness);
+        radiance += sky * frame.skyParams.z;
+    } else {
+        // Uniform ambient: diffuse plus a rough specular term.
+        radiance += frame.ambientColor.rgb * (s.diffuseColor + s.f0) * occlusion;
+    }
     radiance += draw.emissiveFactor.rgb * texture(emissiveTexture, vUv).rgb;
 
     outRadiance = vec4(min(radiance, vec3(kMaxRadiance)), 1.0);

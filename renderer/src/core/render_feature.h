@@ -5,6 +5,8 @@
 // and one line where the features are made, and nothing else in the core.
 #pragma once
 
+#include <vector>
+
 #include "core/pass_graph.h"
 #include "janus/renderer/scene_view.h"
 
@@ -25,6 +27,9 @@ public:
     // Adds this feature's passes for `view`, or nothing when the view does not call for it.
     // Called for each view in the order views are rendered, features in the order they were made.
     virtual void addPasses(PassGraph& graph, const SceneView& view) = 0;
+    // Work the feature did once while the renderer was made (e.g. filtering a static sky), for
+    // the first frame's report; returned once, then empty.
+    virtual std::vector<PassReport> takeStartupReports() { return {}; }
 };
 
 }  // namespace janus::renderer

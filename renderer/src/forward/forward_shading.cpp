@@ -13,8 +13,13 @@
 namespace janus::renderer {
 
 ForwardShading::ForwardShading(rhi::IDevice& device, const Scene& scene, const GpuScene& gpuScene, LocalLights& localLights,
-                               MainLightShadows& shadows, FeaturePath path)
-    : m_device(device), m_gpuScene(gpuScene), m_localLights(localLights), m_shadows(shadows), m_path(path) {
+                               MainLightShadows& shadows, const ImageBasedLighting& imageBasedLighting, FeaturePath path)
+    : m_device(device),
+      m_gpuScene(gpuScene),
+      m_localLights(localLights),
+      m_shadows(shadows),
+      m_imageBasedLighting(imageBasedLighting),
+      m_path(path) {
     const glm::vec3 ambient = scene.environment.ambientColor;
     m_background = {ambient.r, ambient.g, ambient.b, 1.0f};
     m_sceneUniforms.ambientColor = glm::vec4(ambient, 0.0f);
@@ -79,6 +84,7 @@ void ForwardShading::addPasses(PassGraph& graph, const SceneView& view) {
     forward.view = view.name;
     if (state.tiled) forward.reads = {depth.resource, *tileLists};
     if (state.shadowed) forward.reads.push_back(*shadowMap);
+    if (const ViewTarget* sky = graph.find(view.name, ibl_resources::kSkyLight)) forward.reads.push_back(sky->resource);
     forward.writes = {color.resource, depth.resource};
     forward.setup = [this, &state] { setupView(state); };
     forward.record = [this, &state](rhi::ICommandList& cmd, PassReport& report) { recordForward(state, cmd, report); };
@@ -99,12 +105,14 @@ void ForwardShading::setupView(ViewState& state) {
     frame.lightCounts = glm::ivec4(frame.lightCounts.x, int(m_localLights.count()), state.tiled ? 1 : 0, 0);
     frame.tileGrid = glm::ivec4(int(lighting.tileSize), state.tiled ? int(m_localLights.tilesX()) : 0, int(lighting.maxLightsPerTile),
                                 state.tiled ? int(m_localLights.tileCount()) : 0);
+    frame.skyParams = m_imageBasedLighting.shadingParams();
     state.frameUniforms = makeUniformBuffer(m_device, frame, fmt::format("frame uniforms ({})", view.name).c_str());
 
     rhi::BindingSetDesc set;
     set.add(rhi::BindingItem::uniformBuffer(JANUS_BINDING_FRAME_UNIFORMS, state.frameUniforms));
     m_localLights.addViewBindings(set);
     set.add(map ? map->binding(JANUS_BINDING_SHADOW_MAP) : m_shadows.binding(JANUS_BINDING_SHADOW_MAP));
+    m_imageBasedLighting.addViewBindings(set);
     state.bindings = m_device.createBindingSet(set);
     pipelines(false, state);
 }

@@ -22,6 +22,7 @@
 #include "core/render_feature.h"
 #include "forward/lighting_settings.h"
 #include "forward/local_lights.h"
+#include "ibl/image_based_lighting.h"
 #include "shadows/main_light_shadows.h"
 
 namespace janus::renderer {
@@ -40,18 +41,20 @@ struct FrameUniforms {
     glm::ivec4 lightCounts;
     glm::ivec4 tileGrid;
     DirectionalLightData directionalLights[kMaxDirectionalLights];
+    glm::vec4 skyParams;        // ImageBasedLighting::shadingParams()
 };
-static_assert(sizeof(FrameUniforms) == 208 + 32 * kMaxDirectionalLights, "FrameUniforms must match std140");
+static_assert(sizeof(FrameUniforms) == 208 + 32 * kMaxDirectionalLights + 16, "FrameUniforms must match std140");
 
 
 class ForwardShading final : public RenderFeature {
 public:
     ForwardShading(rhi::IDevice& device, const Scene& scene, const GpuScene& gpuScene, LocalLights& localLights,
-                   MainLightShadows& shadows, FeaturePath path);
+                   MainLightShadows& shadows, const ImageBasedLighting& imageBasedLighting, FeaturePath path);
 
     // Adds, for `view`: depth-prepass and the tile-list builder (when the view is tiled), then
     // forward, which writes the view's kHdr target (RGBA16F radiance, cleared to the ambient
-    // colour) and kDepth. It reads kShadowMap only if the view wants shadows. Publishes the
+    // colour) and kDepth. It reads kShadowMap only if the view wants shadows, and the sky
+    // (ibl_resources::kSkyLight) when the frame has one. Publishes the
     // view's kTileLists when it is tiled (the tile heat map reads them).
     void addPasses(PassGraph& graph, const SceneView& view) override;
 
@@ -76,6 +79,7 @@ private:
     const GpuScene& m_gpuScene;
     LocalLights& m_localLights;
     MainLightShadows& m_shadows;
+    const ImageBasedLighting& m_imageBasedLighting;
     FeaturePath m_path;
     std::array<float, 4> m_background{};
     FrameUniforms m_sceneUniforms{};   // the view-independent part: ambient and directional lights

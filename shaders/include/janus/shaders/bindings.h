@@ -15,6 +15,9 @@
 #define JANUS_BINDING_LOCAL_LIGHTS 7        // light array: SSBO (compute path) | RGBA32UI texture (fallback)
 #define JANUS_BINDING_TILE_LISTS 8          // tile lists: SSBO (compute path) | R32UI texture (fallback)
 #define JANUS_BINDING_SHADOW_MAP 9          // sampler2DShadow of the main directional light
+#define JANUS_BINDING_SKY_SPECULAR 10       // samplerCube: the sky, GGX-prefiltered (mip = roughness * (mips - 1))
+#define JANUS_BINDING_DFG 11                // sampler2D: split-sum (A, B) at (NoV, roughness)
+#define JANUS_BINDING_SKY_SH 12             // the sky's SH9 irradiance / pi: 9 vec4 SSBO (compute path) | 9x1 RGBA32F (fallback)
 // Set 1: per draw.
 #define JANUS_SET_DRAW 1
 #define JANUS_BINDING_DRAW_UNIFORMS 1       // DrawUniforms (forward_common.glsl)
@@ -40,6 +43,10 @@
 #define JANUS_BINDING_TONEMAP_HDR 1
 #define JANUS_BINDING_TONEMAP_DISPLAY 2     // compute path: rgba8 storage image
 
+// ---- Sky background (shaders/ibl/sky.vert/.frag), set 0 --------------------------------------
+#define JANUS_BINDING_SKY_UNIFORMS 0        // SkyUniforms: inverse view-projection without translation, intensity
+#define JANUS_BINDING_SKY_RADIANCE 1        // samplerCube: the sky (mip 0 of the prefiltered cube)
+
 // ---- Tile heat map (tile_heatmap.frag), set 0; reads JANUS_BINDING_TILE_LISTS -----------------
 #define JANUS_BINDING_HEATMAP_UNIFORMS 0
 
@@ -49,8 +56,7 @@
 #define JANUS_BINDING_SH_SOLID_ANGLES 2     // sampler2D R32F: exact texel solid angles of one face
 #define JANUS_BINDING_SH_PARTIALS 3         // per-group partial sums: SSBO (compute) | RGBA32F row sums (fallback)
 #define JANUS_BINDING_SH_COEFFICIENTS 4     // compute path: 9 vec4 std430 (irradiance / pi SH), written by sh_reduce
-// For shading that reads the result: 9 vec4 SSBO (compute path) | 9x1 RGBA32F texture (fallback).
-#define JANUS_BINDING_SH_IRRADIANCE 10
+// Shading reads the result through JANUS_BINDING_SKY_SH (scene passes, set 0).
 // ---- IBL: environment and GGX prefilter (renderer/src/ibl/, shaders/ibl/), set 0 ------------
 // equirect_to_cube.comp / .frag
 #define JANUS_BINDING_EQUIRECT_PARAMS 0     // EquirectParams (face for the fallback path)

@@ -1,0 +1,19 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#include "janus/shaders/bindings.h"
+// The sky background: the sky's radiance along each pixel's view ray (mip 0 of the cube).
+layout(set = 0, binding = JANUS_BINDING_SKY_UNIFORMS, std140) uniform SkyUniforms {
+    mat4 inverseViewProjection;   // of the view without its translation: clip -> world direction
+    vec4 params;                  // x intensity
+} sky;
+layout(set = 0, binding = JANUS_BINDING_SKY_RADIANCE) uniform samplerCube skyRadiance;
+
+layout(location = 0) in vec2 vNdc;
+layout(location = 0) out vec4 outRadiance;
+
+void main() {
+    vec4 far = sky.inverseViewProjection * vec4(vNdc, 1.0, 1.0);
+    vec3 direction = normalize(far.xyz / far.w);
+    vec3 radiance = textureLod(skyRadiance, direction, 0.0).rgb * sky.params.x;
+    outRadiance = vec4(min(radiance, vec3(65000.0)), 1.0);
+}

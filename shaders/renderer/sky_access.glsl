@@ -1,0 +1,45 @@
+// The sky's image-based lighting for forward shading (docs/IBL.md): the GGX-prefiltered cube,
+// the split-sum DFG table and the SH9 irradiance. frame.skyParams: x 1 when the scene has a sky,
+// y the prefiltered cube's last mip (roughness 1), z intensity. Without a sky the bindings hold
+// stand-ins and x is 0. The SH coefficients are a storage buffer on the compute path and a 9x1
+// RGBA32F texture on the fallback path (LIGHTS_IN_TEXTURES, as light_access.glsl).
+#ifndef JANUS_SKY_ACCESS_GLSL
+#define JANUS_SKY_ACCESS_GLSL
+
+#include "ibl/sh_basis.glsl"
+
+layout(set = JANUS_SET_VIEW, binding = JANUS_BINDING_SKY_SPECULAR) uniform samplerCube skySpecular;
+layout(set = JANUS_SET_VIEW, binding = JANUS_BINDING_DFG) uniform sampler2D dfgTable;
+
+#ifdef LIGHTS_IN_TEXTURES
+layout(set = JANUS_SET_VIEW, binding = JANUS_BINDING_SKY_SH) uniform highp sampler2D skyShTexture;
+vec3 skyShCoefficient(int k) { return texelFetch(skyShTexture, ivec2(k, 0), 0).rgb; }
+#else
+layout(set = JANUS_SET_VIEW, binding = JANUS_BINDING_SKY_SH, std430) readonly buffer SkySh { vec4 skyShCoefficients[9]; };
+vec3 skyShCoefficient(int k) { return skyShCoefficients[k].rgb; }
+#endif
+
+// Irradiance / pi at normal n (what Lambert multiplies albedo by), clamped at 0: a band-limited
+// reconstruction rings negative behind very bright, small sources (docs/IBL.md).
+vec3 skyIrradianceOverPi(vec3 n) {
+    ShBasis y = shEvalBasis(n);
+    vec3 sum = skyShCoefficient(0) * y.a.x + skyShCoefficient(1) * y.a.y + skyShCoefficient(2) * y.a.z +
+               skyShCoefficient(3) * y.a.w + skyShCoefficient(4) * y.b.x + skyShCoefficient(5) * y.b.y +
+               skyShCoefficient(6) * y.b.z + skyShCoefficient(7) * y.b.w + skyShCoefficient(8) * y.c;
+    return max(sum, vec3(0.0));
+}
+
+// Split-sum specular: prefiltered radiance along the reflection at the roughness's mip, times
+// f0 * A + B from the DFG table.
+vec3 skySpecularRadiance(vec3 reflected, float NoV, float perceptualRoughness, vec3 f0, float lastMip) {
+    vec3 prefiltered = textureLod(skySpecular, reflected, perceptualRoughness * lastMip).rgb;
+    vec2 dfg = texture(dfgTable, vec2(NoV, perceptualRoughness)).rg;
+    return prefiltered * (f0 * dfg.x + dfg.y);
+}
+
+// Specular occlusion from the material's ambient occlusion (Lagarde & de Rousiers 2014).
+float specularOcclusion(float NoV, float ao, float perceptualRoughness) {
+    return clamp(pow(NoV + ao, exp2(-16.0 * perceptualRoughness - 1.0)) - 1.0 + ao, 0.0, 1.0);
+}
+
+#endif

@@ -1,0 +1,154 @@
+// Image-based lighting from a sky (docs/IBL.md), end to end on every configuration: under a sky
+// of constant radiance L, a head-on dielectric quad must reflect exactly what the split-sum model
+// says (diffuse: albedo * L from the SH; specular: L * (f0 A + B) from the prefiltered cube and
+// the DFG table) and the background must show L; the sky's filtering is reported once, in the
+// first frame; a scene without a sky keeps its ambient colour.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include "ibl/dfg_lut.h"
+#include "janus/renderer/image.h"
+#include "janus/renderer/renderer.h"
+#include "renderer/renderer_test_support.h"
+
+namespace janus::renderer {
+namespace {
+
+using test_support::Config;
+namespace fs = std::filesystem;
+
+constexpr float kSkyRadiance = 0.5f;
+constexpr uint32_t kSize = 64;
+
+// An equirectangular EXR of constant radiance.
+fs::path writeConstantSky(float radiance) {
+    const fs::path path = fs::temp_directory_path() / fmt::format("janus-sky-{}-{}.exr", ::getpid(), radiance);
+    ImageRGBAF sky{32, 16, {}};
+    sky.pixels.assign(size_t(sky.width) * sky.height * 4, radiance);
+    for (size_t i = 3; i < sky.pixels.size(); i += 4) sky.pixels[i] = 1.0f;
+    writeEXR(path, sky);
+    return path;
+}
+
+// A quad facing the camera, centred, covering the middle of the image; the corners stay sky.
+Scene quadUnderTheSky(const fs::path& sky, float intensity, float albedo, float roughness) {
+    Scene scene;
+    scene.name = "quad under a constant sky";
+    Material material;
+    material.baseColorFactor = {albedo, albedo, albedo, 1.0f};
+    material.metallicFactor = 0.0f;
+    material.roughnessFactor = roughness;
+    scene.materials = {material};
+    Mesh quad;
+    const glm::vec4 tangent(0.0f);
+    quad.vertices = {Vertex{{-0.5f, -0.5f, 0.0f}, {0, 0, 1}, {0, 1}, tangent}, Vertex{{0.5f, -0.5f, 0.0f}, {0, 0, 1}, {1, 1}, tangent},
+                     Vertex{{0.5f, 0.5f, 0.0f}, {0, 0, 1}, {1, 0}, tangent}, Vertex{{-0.5f, 0.5f, 0.0f}, {0, 0, 1}, {0, 0}, tangent}};
+    quad.indices = {0, 1, 2, 0, 2, 3};
+    quad.material = 0;
+    scene.meshes = {quad};
+    scene.instances = {Instance{0, glm::mat4(1.0f)}};
+    scene.camera.position = {0.0f, 0.0f, 2.0f};
+    scene.camera.target = {0.0f, 0.0f, 0.0f};
+    scene.environment.map = sky;
+    scene.environment.intensity = intensity;
+    return scene;
+}
+
+glm::vec3 hdrAt(const ImageRGBAF& image, uint32_t x, uint32_t y) {
+    const float* p = &image.pixels[(size_t(y) * image.width + x) * 4];
+    return {p[0], p[1], p[2]};
+}
+
+class SkyLightingTest : public testing::TestWithParam<Config> {
+protected:
+    static void SetUpTestSuite() { s_sky = writeConstantSky(kSkyRadiance); }
+    static void TearDownTestSuite() {
+        std::error_code ec;
+        fs::remove(s_sky, ec);
+    }
+    RenderSettings settings() const {
+        RenderSettings s;
+        s.width = s.height = kSize;
+        return s;
+    }
+    static fs::path s_sky;
+};
+fs::path SkyLightingTest::s_sky;
+
+TEST_P(SkyLightingTest, AConstantSkyLightsAHeadOnQuadAsTheSplitSumSays) {
+    const float albedo = 0.8f, roughness = 1.0f, intensity = 1.5f;
+    const test_support::FrameOutput out =
+        test_support::renderOneFrame(GetParam(), quadUnderTheSky(s_sky, intensity, albedo, roughness), settings());
+    const float L = kSkyRadiance * intensity;
+    // Head-on at the centre: NoV = 1. Diffuse albedo * L (the SH of a constant is exact);
+    // specular L * (0.04 A + B); specular occlusion is 1 without an occlusion texture.
+    const glm::dvec2 dfg = integrateDfg(1.0, roughness, 4096);
+    const float expected = albedo * L + L * float(0.04 * dfg.x + dfg.y);
+    const glm::vec3 centre = hdrAt(out.hdr, kSize / 2, kSize / 2);
+    // 1%: the DFG table is half-float and bilinearly filtered, the SH sums in float, the cube is
+    // half-float; all far below what a wrong term (a missing specular adds 4%) would give.
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(centre[c], expected, 0.01f * expected) << GetParam().name() << " channel " << c;
+    // The background is the sky itself, times the intensity (half-float 0.5 is exact).
+    const glm::vec3 corner = hdrAt(out.hdr, 1, 1);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(corner[c], L, 1e-3f * L) << GetParam().name() << " channel " << c;
+}
+
+TEST_P(SkyLightingTest, TheSkysFilteringIsReportedInTheFirstFrameOnly) {
+    rhi::IDevice& device = test_support::deviceFor(GetParam().backend);
+    device.takeDebugMessages();
+    RenderSettings s = settings();
+    s.path = GetParam().path;
+    Renderer renderer(device, quadUnderTheSky(s_sky, 1.0f, 0.5f, 0.5f), s);
+    const FrameReport first = renderer.renderFrame();
+    const FrameReport second = renderer.renderFrame();
+    const bool compute = GetParam().path == FeaturePath::Compute;
+    for (const char* name : {compute ? "equirect-to-cube-compute" : "equirect-to-cube-fallback",
+                             compute ? "ggx-prefilter-compute" : "ggx-prefilter-fallback",
+                             compute ? "sh-irradiance-compute" : "sh-irradiance-fallback"}) {
+        EXPECT_TRUE(test_support::hasPassStartingWith(first, name)) << name << " in " << test_support::passNames(first);
+        EXPECT_FALSE(test_support::hasPassStartingWith(second, name)) << name << " in " << test_support::passNames(second);
+    }
+    EXPECT_TRUE(test_support::hasPassStartingWith(second, "sky")) << test_support::passNames(second);
+    const std::vector<rhi::DebugMessage> messages = device.takeDebugMessages();
+    EXPECT_TRUE(messages.empty()) << test_support::joinMessages(messages);
+}
+
+TEST_P(SkyLightingTest, WithoutASkyThereIsNoSkyWorkAndTheAmbientColourLights) {
+    Scene scene = quadUnderTheSky({}, 1.0f, 1.0f, 1.0f);
+    scene.environment.ambientColor = glm::vec3(0.25f);
+    const test_support::FrameOutput out = test_support::renderOneFrame(GetParam(), scene, settings());
+    EXPECT_FALSE(test_support::hasPassStartingWith(out.report, "sky")) << test_support::passNames(out.report);
+    EXPECT_FALSE(test_support::hasPassStartingWith(out.report, "ggx")) << test_support::passNames(out.report);
+    // Background: the ambient colour (the clear colour).
+    const glm::vec3 corner = hdrAt(out.hdr, 1, 1);
+    EXPECT_NEAR(corner.x, 0.25f, 1e-3f);
+}
+
+TEST_P(SkyLightingTest, AnUnreadableSkyIsARendererErrorNamingTheFile) {
+    const fs::path garbage = fs::temp_directory_path() / fmt::format("janus-sky-garbage-{}.hdr", ::getpid());
+    { std::ofstream(garbage) << "not a radiance file"; }
+    rhi::IDevice& device = test_support::deviceFor(GetParam().backend);
+    RenderSettings s = settings();
+    s.path = GetParam().path;
+    try {
+        Renderer renderer(device, quadUnderTheSky(garbage, 1.0f, 0.5f, 0.5f), s);
+        ADD_FAILURE() << "a garbage sky was accepted";
+    } catch (const RendererError& e) {
+        EXPECT_NE(std::string(e.what()).find(garbage.filename().string()), std::string::npos) << e.what();
+    }
+    std::error_code ec;
+    fs::remove(garbage, ec);
+    device.takeDebugMessages();
+}
+
+INSTANTIATE_TEST_SUITE_P(Configs, SkyLightingTest, testing::ValuesIn(test_support::allConfigs()),
+                         [](const testing::TestParamInfo<Config>& info) { return info.param.name(); });
+
+}  // namespace
+}  // namespace janus::renderer
