@@ -63,6 +63,13 @@ const SceneCase kScenes[] = {
     {"DamagedHelmet", [] { return sharedScene("DamagedHelmet/glTF/DamagedHelmet.gltf"); }},
     // A scene file: its camera, a point light, emissive lamp, textured walls.
     {"CornellSceneFile", [] { return loadScene(fs::path(__FILE__).parent_path() / "data" / "cornell.json"); }},
+    // Image-based lighting from the shared sky: metals reflect it, the background shows it.
+    {"DamagedHelmetUnderSky",
+     [] {
+         Scene scene = sharedScene("DamagedHelmet/glTF/DamagedHelmet.gltf");
+         scene.environment.map = fs::path(JANUS_SHARED_SCENES_DIR) / "env" / "chinese_garden_1k.hdr";
+         return scene;
+     }},
 };
 
 // The reference (vulkan/compute) render of each scene, made once per process.
@@ -132,19 +139,32 @@ TEST_P(RenderTest, MatchesVulkanComputeAndReportsItsPasses) {
     const bool shadows = std::any_of(scene.lights.begin(), scene.lights.end(), [](const Light& light) {
         return light.type == LightType::Directional && light.intensity * std::max({light.color.r, light.color.g, light.color.b}) > 0.0f;
     });
-    const size_t first = shadows ? 1 : 0;
-    ASSERT_EQ(report.passes.size(), first + 2) << report.toJson().dump();
-    if (shadows) {
-        EXPECT_EQ(report.passes[0].name, "shadow-map");
-        EXPECT_EQ(report.passes[0].draws, scene.instances.size());
-    }
-    EXPECT_EQ(report.passes[first].name, "forward");
-    EXPECT_EQ(report.passes[first].draws, scene.instances.size());
-    EXPECT_EQ(report.passes[first].dispatches, 0u);
     const bool compute = config().path == FeaturePath::Compute;
-    EXPECT_EQ(report.passes[first + 1].name, compute ? "tonemap-compute" : "tonemap-fallback");
-    EXPECT_EQ(report.passes[first + 1].dispatches, compute ? 1u : 0u);
-    EXPECT_EQ(report.passes[first + 1].draws, compute ? 0u : 1u);
+    const std::string path = compute ? "-compute" : "-fallback";
+    const bool sky = !scene.environment.map.empty();
+    std::vector<std::string> expected;
+    if (sky) expected = {"equirect-to-cube" + path, "ggx-prefilter" + path, "sh-irradiance" + path};   // once, at start-up
+    if (shadows) expected.push_back("shadow-map");
+    expected.push_back("forward");
+    if (sky) expected.push_back("sky");
+    expected.push_back("tonemap" + path);
+    std::vector<std::string> names;
+    for (const PassReport& pass : report.passes) names.push_back(pass.name);
+    ASSERT_EQ(names, expected) << report.toJson().dump();
+    auto pass = [&](const std::string& name) -> const PassReport& {
+        return *std::find_if(report.passes.begin(), report.passes.end(), [&](const PassReport& p) { return p.name == name; });
+    };
+    if (shadows) EXPECT_EQ(pass("shadow-map").draws, scene.instances.size());
+    EXPECT_EQ(pass("forward").draws, scene.instances.size());
+    EXPECT_EQ(pass("forward").dispatches, 0u);
+    EXPECT_EQ(pass("tonemap" + path).dispatches, compute ? 1u : 0u);
+    EXPECT_EQ(pass("tonemap" + path).draws, compute ? 0u : 1u);
+    if (sky) {
+        // One dispatch per prefiltered mip (8 mips of a 128^2 cube) | one draw per face and mip.
+        EXPECT_EQ(pass("ggx-prefilter" + path).dispatches, compute ? 7u : 0u);
+        EXPECT_EQ(pass("ggx-prefilter" + path).draws, compute ? 0u : 42u);
+        EXPECT_EQ(pass("sky").draws, 1u);
+    }
     const bool timers = deviceFor(config().backend).capabilities().timestampQueries;
     for (const PassReport& pass : report.passes) {
         EXPECT_EQ(pass.gpuMs.has_value(), timers) << pass.name;
