@@ -7,6 +7,8 @@
 
 #include <cmath>
 #include <filesystem>
+#include <tuple>
+#include <vector>
 #include <fstream>
 
 #include <fmt/format.h>
@@ -26,15 +28,18 @@ namespace fs = std::filesystem;
 constexpr float kSkyRadiance = 0.5f;
 constexpr uint32_t kSize = 64;
 
-// An equirectangular EXR of constant radiance.
-fs::path writeConstantSky(float radiance) {
-    const fs::path path = fs::temp_directory_path() / fmt::format("janus-sky-{}-{}.exr", ::getpid(), radiance);
+// An equirectangular EXR of constant radiance, with `hot` texels (x, y, radiance) on top.
+fs::path writeSky(const std::string& name, float radiance, std::vector<std::tuple<uint32_t, uint32_t, float>> hot = {}) {
+    const fs::path path = fs::temp_directory_path() / fmt::format("janus-sky-{}-{}.exr", ::getpid(), name);
     ImageRGBAF sky{32, 16, {}};
     sky.pixels.assign(size_t(sky.width) * sky.height * 4, radiance);
     for (size_t i = 3; i < sky.pixels.size(); i += 4) sky.pixels[i] = 1.0f;
+    for (const auto& [x, y, value] : hot)
+        for (uint32_t c = 0; c < 3; ++c) sky.pixels[(size_t(y) * sky.width + x) * 4 + c] = value;
     writeEXR(path, sky);
     return path;
 }
+fs::path writeConstantSky(float radiance) { return writeSky(fmt::format("{}", radiance), radiance); }
 
 // A quad facing the camera, centred, covering the middle of the image; the corners stay sky.
 Scene quadUnderTheSky(const fs::path& sky, float intensity, float albedo, float roughness) {
@@ -128,6 +133,41 @@ TEST_P(SkyLightingTest, WithoutASkyThereIsNoSkyWorkAndTheAmbientColourLights) {
     // Background: the ambient colour (the clear colour).
     const glm::vec3 corner = hdrAt(out.hdr, 1, 1);
     EXPECT_NEAR(corner.x, 0.25f, 1e-3f);
+}
+
+// Skies that break naive filtering: a sun 1e5 times brighter than the rest, one texel at the
+// half-float maximum, a sun beyond it (1e6: the RGBA16F cube must not turn it into Inf), and
+// all black. Mirror-smooth and rough surfaces, on every configuration: finite, non-negative.
+TEST_P(SkyLightingTest, HardSkiesGiveFiniteNonNegativeImages) {
+    struct Case {
+        std::string name;
+        float radiance;
+        std::vector<std::tuple<uint32_t, uint32_t, float>> hot;
+    };
+    const std::vector<Case> cases = {
+        {"sun-1e5", 0.5f, {{20, 4, 5e4f}, {21, 4, 5e4f}, {20, 5, 5e4f}, {21, 5, 5e4f}}},
+        {"texel-65504", 0.5f, {{8, 8, 65504.0f}}},
+        {"sun-1e6", 0.5f, {{16, 7, 1e6f}}},
+        {"black", 0.0f, {}},
+    };
+    for (const Case& c : cases) {
+        const fs::path sky = writeSky(c.name, c.radiance, c.hot);
+        for (float roughness : {0.0f, 1.0f}) {
+            for (float metallic : {0.0f, 1.0f}) {
+                Scene scene = quadUnderTheSky(sky, 1.0f, 0.9f, roughness);
+                scene.materials[0].metallicFactor = metallic;
+                const test_support::FrameOutput out = test_support::renderOneFrame(GetParam(), scene, settings());
+                const std::string label = fmt::format("{} sky {} roughness {} metallic {}", GetParam().name(), c.name, roughness, metallic);
+                test_support::expectFiniteHdr(out.hdr, label);
+                if (c.name == "black") {
+                    EXPECT_EQ(hdrAt(out.hdr, kSize / 2, kSize / 2), glm::vec3(0.0f)) << label;
+                    EXPECT_EQ(hdrAt(out.hdr, 1, 1), glm::vec3(0.0f)) << label;
+                }
+            }
+        }
+        std::error_code ec;
+        fs::remove(sky, ec);
+    }
 }
 
 TEST_P(SkyLightingTest, AnUnreadableSkyIsARendererErrorNamingTheFile) {
