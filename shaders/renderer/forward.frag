@@ -100,8 +100,12 @@ void main() {
     float metallic = clamp(draw.materialParams.x * metallicRoughness.b, 0.0, 1.0);
     float perceptualRoughness = clamp(draw.materialParams.y * metallicRoughness.g, 0.045, 1.0);
 
+    // A double-sided face seen from behind shades (and offsets its shadow lookup) with the
+    // normal of the side that is seen.
+    bool flipped = draw.flags.x != 0 && !gl_FrontFacing;
+    vec3 geometricNormal = flipped ? -vNormal : vNormal;
     vec3 normal = normalize(vNormal);
-    if (draw.flags.x != 0 && !gl_FrontFacing) normal = -normal;
+    if (flipped) normal = -normal;
     if (draw.flags.y != 0) {
         // Normal map in tangent space; the bitangent's sign comes from the tangent's w.
         vec3 tangent = normalize(vTangent.xyz - normal * dot(normal, vTangent.xyz));
@@ -125,7 +129,7 @@ void main() {
         if ((floatBitsToUint(light.colorIntensity.w) & meshLayers) == 0u) continue;
         vec3 irradiance = light.colorIntensity.rgb;
         if (i == 0 && frame.shadowParams.x > 0.0) {
-            vec3 shadowCoord = shadowCoordFor(frame.worldToShadow, vWorldPosition, vNormal, frame.shadowParams.z);
+            vec3 shadowCoord = shadowCoordFor(frame.worldToShadow, vWorldPosition, geometricNormal, frame.shadowParams.z);
             irradiance *= sampleShadowPCF(shadowMap, shadowCoord, frame.shadowParams.y);
         }
         radiance += shade(s, -light.direction.xyz, irradiance);
