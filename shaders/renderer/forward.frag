@@ -55,12 +55,19 @@ struct Surface {
     float alpha;
 };
 
+// normalize() of a zero vector is NaN, and NaN would slip through later min/max clamps (drivers
+// differ on which operand they return): a zero vector takes a defined fallback instead.
+vec3 safeNormalize(vec3 v, vec3 fallback) {
+    float lengthSq = dot(v, v);
+    return lengthSq > 1e-24 ? normalize(v) : fallback;
+}
+
 // Outgoing radiance for light arriving along -lightDirection with irradiance `irradiance`
 // at normal incidence.
 vec3 shade(Surface s, vec3 toLight, vec3 irradiance) {
     float NoL = clamp(dot(s.normal, toLight), 0.0, 1.0);
     if (NoL <= 0.0) return vec3(0.0);
-    vec3 h = normalize(toLight + s.view);
+    vec3 h = safeNormalize(toLight + s.view, s.normal);   // zero only for light exactly against the view
     float NoV = clamp(abs(dot(s.normal, s.view)), 1e-4, 1.0);
     float NoH = clamp(dot(s.normal, h), 0.0, 1.0);
     float VoH = clamp(dot(s.view, h), 0.0, 1.0);
@@ -104,20 +111,26 @@ void main() {
     // normal of the side that is seen.
     bool flipped = draw.flags.x != 0 && !gl_FrontFacing;
     vec3 geometricNormal = flipped ? -vNormal : vNormal;
-    vec3 normal = normalize(vNormal);
+    vec3 toCamera = safeNormalize(frame.cameraPosition.xyz - vWorldPosition, vec3(0.0, 0.0, 1.0));
+    // A zero normal (file data, a degenerate transform) faces the camera rather than going NaN.
+    vec3 normal = safeNormalize(vNormal, toCamera);
     if (flipped) normal = -normal;
     if (draw.flags.y != 0) {
         // Normal map in tangent space; the bitangent's sign comes from the tangent's w.
-        vec3 tangent = normalize(vTangent.xyz - normal * dot(normal, vTangent.xyz));
-        vec3 bitangent = cross(normal, tangent) * vTangent.w;
-        vec3 mapped = texture(normalTexture, vUv).xyz * 2.0 - 1.0;
-        mapped.xy *= draw.materialParams.z;
-        normal = normalize(mat3(tangent, bitangent, normal) * mapped);
+        // A tangent that is zero or parallel to the normal leaves no frame: keep the normal.
+        vec3 tangentDirection = vTangent.xyz - normal * dot(normal, vTangent.xyz);
+        if (dot(tangentDirection, tangentDirection) > 1e-24) {
+            vec3 tangent = normalize(tangentDirection);
+            vec3 bitangent = cross(normal, tangent) * vTangent.w;
+            vec3 mapped = texture(normalTexture, vUv).xyz * 2.0 - 1.0;
+            mapped.xy *= draw.materialParams.z;
+            normal = safeNormalize(mat3(tangent, bitangent, normal) * mapped, normal);
+        }
     }
 
     Surface s;
     s.normal = normal;
-    s.view = normalize(frame.cameraPosition.xyz - vWorldPosition);
+    s.view = toCamera;
     s.diffuseColor = baseColor.rgb * (1.0 - metallic);
     s.f0 = mix(vec3(0.04), baseColor.rgb, metallic);
     s.alpha = perceptualRoughness * perceptualRoughness;
@@ -164,5 +177,7 @@ void main() {
     }
     radiance += draw.emissiveFactor.rgb * texture(emissiveTexture, vUv).rgb;
 
+    // Whatever went wrong upstream, no NaN reaches the target (min() would not stop it).
+    radiance = mix(radiance, vec3(0.0), isnan(radiance));
     outRadiance = vec4(min(radiance, vec3(kMaxRadiance)), 1.0);
 }

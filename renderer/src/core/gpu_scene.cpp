@@ -26,6 +26,23 @@ struct DrawUniforms {
     glm::ivec4 flags;
 };
 static_assert(sizeof(DrawUniforms) == 192, "DrawUniforms must match std140");
+
+// The matrix that carries normals: the inverse transpose, or, for a world matrix that squashes an
+// axis to zero (no inverse: Inf/NaN), its cofactor matrix, which is the inverse transpose times
+// the determinant wherever that exists and stays finite where it does not (shading normalises).
+glm::mat4 normalMatrixOf(const glm::mat4& world) {
+    const glm::mat4 inverseTranspose = glm::inverseTranspose(world);
+    bool finite = true;
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r) finite = finite && std::isfinite(inverseTranspose[c][r]);
+    if (finite && glm::determinant(glm::mat3(world)) != 0.0f) return inverseTranspose;
+    const glm::mat3 m(world);
+    glm::mat3 cofactor;
+    cofactor[0] = glm::cross(m[1], m[2]);
+    cofactor[1] = glm::cross(m[2], m[0]);
+    cofactor[2] = glm::cross(m[0], m[1]);
+    return glm::mat4(cofactor);
+}
 static_assert(sizeof(Vertex) == 48 && offsetof(Vertex, normal) == 12 && offsetof(Vertex, uv) == 24 && offsetof(Vertex, tangent) == 32,
               "the mesh pipelines' vertex layout assumes a tightly packed Vertex");
 
@@ -167,7 +184,7 @@ void GpuScene::createDraws(const Scene& scene) {
                                              [](const Vertex& v) { return v.tangent != glm::vec4(0.0f); });
         DrawUniforms uniforms{};
         uniforms.world = instance.world;
-        uniforms.normalMatrix = glm::inverseTranspose(instance.world);
+        uniforms.normalMatrix = normalMatrixOf(instance.world);
         uniforms.baseColorFactor = material.baseColorFactor;
         uniforms.emissiveFactor = glm::vec4(material.emissiveFactor, material.alphaCutoff);
         uniforms.materialParams = glm::vec4(material.metallicFactor, material.roughnessFactor, 1.0f, 1.0f);
