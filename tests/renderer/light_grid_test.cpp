@@ -205,6 +205,22 @@ TEST(LightGrid, PacksValuesAndSkipsLightsThatLightNothing) {
     EXPECT_EQ(cullingRadius(point, 0.0f), 2.0f);                          // a glTF range wins over the cut-off
 }
 
+// A range (or cut-off radius) whose square underflows to 0 used to pack as invRangeSq = 0, the
+// encoding of an infinite range: the tiniest light lit the whole scene.
+TEST(LightGrid, TinyRangesStayTinyInsteadOfBecomingInfinite) {
+    Scene scene;
+    scene.lights.push_back(pointLight({0, 0, 0}, 1e-25f));
+    Light dim = pointLight({1, 0, 0}, 1.0f, glm::vec3(1.0f), 1e-38f);
+    dim.range.reset();   // radius from the cut-off: sqrt(1e-38 / 0.01) = 1e-18, whose square is at the edge
+    scene.lights.push_back(dim);
+    const PackedLights packed = packLocalLights(scene, 0.01f);
+    ASSERT_EQ(packed.lights.size(), 2u);
+    for (const PackedLight& light : packed.lights) {
+        EXPECT_TRUE(std::isfinite(light.invRangeSq));
+        EXPECT_GT(light.invRangeSq, 1e35f) << "a tiny light must have a tiny range, not an infinite one";
+    }
+}
+
 TEST(LightGrid, TooManyLightsNamesTheLimit) {
     Scene scene;
     scene.lights.assign(kMaxLocalLights + 1, pointLight({0, 0, 0}, 1.0f));

@@ -504,6 +504,31 @@ TEST(SceneErrors, InfiniteColourNamesTheMaterial) {
     EXPECT_NE(message.find("colour"), std::string::npos) << message;
 }
 
+// Colours beyond half-float range used to reach the RGBA16F targets as Inf (a clear to an
+// ambient of 1e30 made the whole background Inf); negative ones subtracted light.
+TEST(SceneErrors, ColoursOutsideHalfFloatRangeAreRefused) {
+    {
+        Scene scene = defaultScene();
+        scene.environment.ambientColor = glm::vec3(1e30f);
+        const std::string message = sceneErrorOf([&] { validateScene(scene); });
+        EXPECT_NE(message.find("ambient colour"), std::string::npos) << message;
+    }
+    {
+        Scene scene = defaultScene();
+        scene.materials.at(0).emissiveFactor = glm::vec3(-1.0f, 0.0f, 0.0f);
+        const std::string message = sceneErrorOf([&] { validateScene(scene); });
+        EXPECT_NE(message.find("outside [0, 65504]"), std::string::npos) << message;
+    }
+    {
+        Scene scene = defaultScene();
+        scene.materials.at(0).baseColorFactor = glm::vec4(1e5f, 1.0f, 1.0f, 1.0f);
+        EXPECT_THROW(validateScene(scene), SceneError);
+    }
+    Scene fine = defaultScene();
+    fine.environment.ambientColor = glm::vec3(65504.0f);
+    EXPECT_NO_THROW(validateScene(fine));
+}
+
 TEST(SceneErrors, ValidateSceneCatchesNaNInScenesBuiltInCode) {
     const float nan = std::numeric_limits<float>::quiet_NaN();
     {

@@ -50,9 +50,11 @@ PackedLights packLocalLights(const Scene& scene, float intensityCutoff) {
         }
         PackedLight p;
         p.position = light.position;
-        const float radius = cullingRadius(light, intensityCutoff);
+        // A radius so small that its square underflows to zero would read as 0 = infinite range:
+        // it becomes the smallest radius whose square is a normal float instead.
+        const float radius = std::max(cullingRadius(light, intensityCutoff), kMinLightRadius);
         const float radiusSq = radius * radius;
-        p.invRangeSq = std::isfinite(radiusSq) && radiusSq > 0.0f ? 1.0f / radiusSq : 0.0f;
+        p.invRangeSq = std::isfinite(radiusSq) ? 1.0f / radiusSq : 0.0f;
         p.radiance = light.color * light.intensity;
         p.renderingLayers = light.renderingLayers;
         const float dirLength = glm::length(light.direction);

@@ -13,6 +13,12 @@
 #include "scene_internal.h"
 
 namespace janus::renderer {
+
+namespace {
+// The largest finite half-float: colours above it would turn the RGBA16F targets to Inf.
+constexpr float kMaxColorValue = 65504.0f;
+}  // namespace
+
 namespace detail {
 
 void generateNormals(Mesh& mesh) {
@@ -313,6 +319,11 @@ void validateScene(const Scene& scene) {
         if (!allFinite(material.baseColorFactor, material.emissiveFactor, material.metallicFactor, material.roughnessFactor,
                        material.alphaCutoff))
             throw SceneError(fmt::format("material {} has a NaN or infinite colour or factor", name));
+        // Colours feed fp16 targets: beyond 65504 (or below 0) they become Inf (or negative light).
+        for (float v : {material.baseColorFactor.r, material.baseColorFactor.g, material.baseColorFactor.b, material.baseColorFactor.a,
+                        material.emissiveFactor.r, material.emissiveFactor.g, material.emissiveFactor.b})
+            if (v < 0.0f || v > kMaxColorValue)
+                throw SceneError(fmt::format("material {} has a base colour or emissive value {} outside [0, {}]", name, v, kMaxColorValue));
         if (material.metallicFactor < 0 || material.metallicFactor > 1 || material.roughnessFactor < 0 || material.roughnessFactor > 1)
             throw SceneError(fmt::format("material {} has metallic/roughness outside [0, 1]", name));
         for (int32_t texture : {material.baseColorTexture, material.metallicRoughnessTexture, material.normalTexture,
@@ -357,6 +368,10 @@ void validateScene(const Scene& scene) {
     if (!allFinite(scene.environment.ambientColor, scene.environment.exposure))
         throw SceneError("environment has a NaN or infinite ambient colour or exposure");
     if (scene.environment.exposure <= 0) throw SceneError(fmt::format("environment exposure {} must be > 0", scene.environment.exposure));
+    for (float v : {scene.environment.ambientColor.r, scene.environment.ambientColor.g, scene.environment.ambientColor.b})
+        if (v < 0.0f || v > kMaxColorValue)
+            throw SceneError(fmt::format("environment ambient colour value {} is outside [0, {}] (the HDR target is half-float)", v,
+                                         kMaxColorValue));
     if (!std::isfinite(scene.environment.intensity) || scene.environment.intensity < 0)
         throw SceneError(fmt::format("environment intensity {} must be finite and >= 0", scene.environment.intensity));
     if (!scene.environment.map.empty())
