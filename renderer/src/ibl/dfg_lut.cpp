@@ -7,20 +7,11 @@
 #include <fmt/format.h>
 #include <glm/gtc/packing.hpp>
 
+#include "ibl/ggx_samples.h"
 #include "janus/renderer/settings.h"
 
 namespace janus::renderer {
 namespace {
-
-// Van der Corput radical inverse in base 2 (the second Hammersley coordinate).
-double radicalInverse(uint32_t bits) {
-    bits = (bits << 16u) | (bits >> 16u);
-    bits = ((bits & 0x55555555u) << 1u) | ((bits & 0xAAAAAAAAu) >> 1u);
-    bits = ((bits & 0x33333333u) << 2u) | ((bits & 0xCCCCCCCCu) >> 2u);
-    bits = ((bits & 0x0F0F0F0Fu) << 4u) | ((bits & 0xF0F0F0F0u) >> 4u);
-    bits = ((bits & 0x00FF00FFu) << 8u) | ((bits & 0xFF00FF00u) >> 8u);
-    return double(bits) * 2.3283064365386963e-10;   // / 2^32
-}
 
 // forward.frag's visibilitySmithGGXCorrelated in double precision.
 double visibility(double NoV, double NoL, double alpha) {
