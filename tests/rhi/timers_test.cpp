@@ -38,7 +38,9 @@ TEST_P(TimerTest, TimerAroundADrawIsPlausible) {
     std::optional<double> seconds = timeDraws(1);
     ASSERT_TRUE(seconds.has_value()) << "the timer ran, so it must have a value";
     EXPECT_TRUE(std::isfinite(*seconds));
-    EXPECT_GE(*seconds, 0.0);
+    // Strictly positive: a pass that clears and draws 64x64 pixels takes time on any device, and
+    // a timer that always answered 0 must fail here (llvmpipe/lavapipe measure ~3 ms).
+    EXPECT_GT(*seconds, 0.0);
     EXPECT_LT(*seconds, 10.0);
 }
 
@@ -49,7 +51,8 @@ TEST_P(TimerTest, TimerAfterManyDrawsIsNotWrapped) {
     std::optional<double> many = timeDraws(500);
     ASSERT_TRUE(first.has_value() && many.has_value());
     EXPECT_TRUE(std::isfinite(*many));
-    EXPECT_GE(*many, 0.0);
+    EXPECT_GT(*first, 0.0);
+    EXPECT_GT(*many, 0.0);
     EXPECT_LT(*many, 10.0);
     // No "500 draws take longer than 1" check: llvmpipe/lavapipe defer rasterisation to the end
     // of the pass, so their timestamps do not scale with the work recorded between them.
