@@ -37,6 +37,8 @@ inline const std::vector<uint32_t>& defaultGgxSamplesPerMip() {
     return kDefault;
 }
 inline constexpr uint32_t kMaxGgxSamples = 128;   // JANUS_GGX_MAX_SAMPLES in ggx_common.glsl
+// Added to each sample's source lod (GgxPrefilterSettings::lodBias; docs/IBL.md).
+inline constexpr float kDefaultGgxLodBias = 1.0f;
 
 // r(m) = m / (mipCount - 1); 0 for a single mip.
 float ggxRoughnessForMip(uint32_t mip, uint32_t mipCount);
@@ -50,6 +52,8 @@ double radicalInverse(uint32_t bits);
 // One set: `count` (1..kMaxGgxSamples) samples for `roughness` in [0, 1], reading a source cube of
 // `sourceFaceSize` texels at mip 0 with `sourceMipCount` levels. Throws std::invalid_argument
 // outside those ranges. Every value is finite.
-GgxSampleSet makeGgxSampleSet(float roughness, uint32_t count, uint32_t sourceFaceSize, uint32_t sourceMipCount);
+// `lodBias` is added to every sample's lod (before the clamp); finite.
+GgxSampleSet makeGgxSampleSet(float roughness, uint32_t count, uint32_t sourceFaceSize, uint32_t sourceMipCount,
+                              float lodBias = kDefaultGgxLodBias);
 
 }  // namespace janus::renderer
