@@ -251,12 +251,13 @@ TEST_P(GgxPrefilterTest, MatchesTheCpuReferenceAndMip0IsTheSource) {
                                  GetParam().name(), mip, prefilter.roughnessForMip(mip), prefilter.sampleSets()[mip].samples.size(),
                                  e.rmse, e.maxRelative);
         // Tolerances: filtered importance sampling reads box-filtered source mips (lod from each
-        // sample's solid angle, +1 bias) instead of every texel, with 21..89 samples, so it is
-        // biased (slightly over-blurred) and noisy. Measured on every configuration (identical):
-        // relative RMSE 4.2..6.9 %, max relative 11..15 % (mip 2, r = 0.4, is the worst; table
-        // in docs/IBL.md). The bounds leave ~15 % headroom over the measurement.
-        EXPECT_LT(e.rmse, 0.08) << GetParam().name() << " mip " << mip;
-        EXPECT_LT(e.maxRelative, 0.18) << GetParam().name() << " mip " << mip;
+        // sample's solid angle, bias 0) instead of every texel, with 21..89 samples: noisy, and
+        // slightly blurred by the bilinear taps. Measured on every configuration (identical):
+        // relative RMSE 1.1..1.8 %, max relative 3.0..6.9 % (mip 1, r = 0.2, is the worst; table
+        // in docs/IBL.md). The bounds leave ~35 % headroom over the worst mip; Karis' +1 bias
+        // (4.2..6.9 % RMSE, 11..15 % max) fails them on every mip.
+        EXPECT_LT(e.rmse, 0.025) << GetParam().name() << " mip " << mip;
+        EXPECT_LT(e.maxRelative, 0.095) << GetParam().name() << " mip " << mip;
     }
     expectNoMessages();
 }
