@@ -39,6 +39,7 @@ GgxPrefilter::GgxPrefilter(rhi::IDevice& device, FeaturePath path, GgxPrefilterS
             throw RendererError(fmt::format("GGX prefilter: {} samples per mip is outside 1..{}", n, kMaxGgxSamples));
     for (float r : m_settings.roughness)
         if (!(r >= 0.0f && r <= 1.0f)) throw RendererError(fmt::format("GGX prefilter: roughness {} is outside [0, 1]", r));
+    if (!std::isfinite(m_settings.lodBias)) throw RendererError("GGX prefilter: the lod bias is not finite");
     rhi::SamplerDesc sampler;
     sampler.setFilter(rhi::Filter::Linear).setAddress(rhi::AddressMode::ClampToEdge);
     m_sampler = device.createSampler(sampler);
@@ -77,7 +78,7 @@ ViewTarget GgxPrefilter::addPasses(PassGraph& graph, const ViewTarget& source) {
         m_sets.assign(mipCount, GgxSampleSet{});
         for (uint32_t mip = 1; mip < mipCount; ++mip)
             m_sets[mip] = makeGgxSampleSet(roughnessForMip(mip), ggxSamplesForMip(m_settings.samplesPerMip, mip), desc.width,
-                                           desc.mipLevels);
+                                           desc.mipLevels, m_settings.lodBias);
     }
     ViewTarget target;
     target.resource = graph.addResource(ibl_resources::kPrefilteredEnvironment);

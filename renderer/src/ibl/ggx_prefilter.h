@@ -33,6 +33,8 @@ struct GgxPrefilterSettings {
     // Optional perceptual roughness per destination mip (index = mip; mip 0 is ignored); empty =
     // ggxRoughnessForMip(m, mipCount). For tests and special probes.
     std::vector<float> roughness;
+    // Added to every sample's source lod, 0.5 log2(Omega_s / Omega_p) (docs/IBL.md); finite.
+    float lodBias = kDefaultGgxLodBias;
 };
 
 class GgxPrefilter {

@@ -36,13 +36,14 @@ double radicalInverse(uint32_t bits) {
     return double(bits) * 2.3283064365386963e-10;   // / 2^32
 }
 
-GgxSampleSet makeGgxSampleSet(float roughness, uint32_t count, uint32_t sourceFaceSize, uint32_t sourceMipCount) {
+GgxSampleSet makeGgxSampleSet(float roughness, uint32_t count, uint32_t sourceFaceSize, uint32_t sourceMipCount, float lodBias) {
     if (!(roughness >= 0.0f && roughness <= 1.0f))
         throw std::invalid_argument("GGX sample set: roughness " + std::to_string(roughness) + " is outside [0, 1]");
     if (count == 0 || count > kMaxGgxSamples)
         throw std::invalid_argument("GGX sample set: " + std::to_string(count) + " samples is outside 1.." +
                                     std::to_string(kMaxGgxSamples));
     if (sourceFaceSize == 0 || sourceMipCount == 0) throw std::invalid_argument("GGX sample set: empty source cube");
+    if (!std::isfinite(lodBias)) throw std::invalid_argument("GGX sample set: the lod bias is not finite");
     GgxSampleSet set;
     set.roughness = roughness;
     set.requested = count;
@@ -70,7 +71,7 @@ GgxSampleSet makeGgxSampleSet(float roughness, uint32_t count, uint32_t sourceFa
         double lod = maxLod;
         if (pdf > 0.0 && std::isfinite(pdf)) {
             const double sampleSolidAngle = 1.0 / (double(count) * pdf);
-            lod = 0.5 * std::log2(sampleSolidAngle / texelSolidAngle) + 1.0;
+            lod = 0.5 * std::log2(sampleSolidAngle / texelSolidAngle) + double(lodBias);
             if (!std::isfinite(lod)) lod = lod > 0 ? maxLod : 0.0;
         }
         set.samples.push_back(GgxSample{glm::vec3(glm::normalize(l)), float(std::clamp(lod, 0.0, maxLod))});

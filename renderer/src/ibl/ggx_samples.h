@@ -7,8 +7,9 @@
 // reflected about N = V into L. Samples below the horizon (NdotL <= 0) are dropped (their weight
 // is 0). Each keeps its weight NdotL and the source mip it reads: with the sample's solid angle
 // Omega_s = 1 / (count * pdf(L)), pdf(L) = D / 4 (N = V = H-reflected), and a source texel's
-// Omega_p = 4 pi / (6 w^2) at mip 0, lod = 0.5 log2(Omega_s / Omega_p) + 1 (GPU Gems 3, ch. 20,
-// "filtered importance sampling", with Karis' +1 bias), clamped to [0, sourceMips - 1]. pdf = 0
+// Omega_p = 4 pi / (6 w^2) at mip 0, lod = 0.5 log2(Omega_s / Omega_p) + lodBias (GPU Gems 3,
+// ch. 20, "filtered importance sampling"; bias 0 by default, Karis' +1 over-blurs: docs/IBL.md),
+// clamped to [0, sourceMips - 1]. pdf = 0
 // (or not finite) gives the coarsest mip; roughness 0 gives one sample at N from mip 0.
 #pragma once
 
@@ -37,6 +38,10 @@ inline const std::vector<uint32_t>& defaultGgxSamplesPerMip() {
     return kDefault;
 }
 inline constexpr uint32_t kMaxGgxSamples = 128;   // JANUS_GGX_MAX_SAMPLES in ggx_common.glsl
+// Added to each sample's source lod (GgxPrefilterSettings::lodBias). 0: the bilinear taps of the
+// box-filtered mips already blur enough; Karis' +1 gives 3-4x the error against GgxReference
+// (docs/IBL.md, "GGX prefiltering").
+inline constexpr float kDefaultGgxLodBias = 0.0f;
 
 // r(m) = m / (mipCount - 1); 0 for a single mip.
 float ggxRoughnessForMip(uint32_t mip, uint32_t mipCount);
@@ -50,6 +55,8 @@ double radicalInverse(uint32_t bits);
 // One set: `count` (1..kMaxGgxSamples) samples for `roughness` in [0, 1], reading a source cube of
 // `sourceFaceSize` texels at mip 0 with `sourceMipCount` levels. Throws std::invalid_argument
 // outside those ranges. Every value is finite.
-GgxSampleSet makeGgxSampleSet(float roughness, uint32_t count, uint32_t sourceFaceSize, uint32_t sourceMipCount);
+// `lodBias` is added to every sample's lod (before the clamp); finite.
+GgxSampleSet makeGgxSampleSet(float roughness, uint32_t count, uint32_t sourceFaceSize, uint32_t sourceMipCount,
+                              float lodBias = kDefaultGgxLodBias);
 
 }  // namespace janus::renderer
