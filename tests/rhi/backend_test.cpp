@@ -44,6 +44,14 @@ void BackendTest::SetUp() {
     DeviceDesc desc;
     desc.setBackend(config.backend).setGLPlatform(config.glPlatform).setEnableValidation(true);
     customizeDeviceDesc(desc);
+    // Keep the suite's own callback (if a test set one) and also record every message.
+    desc.messageCallback = [sink = m_sink, user = desc.messageCallback](const DebugMessage& message) {
+        {
+            std::lock_guard lock(sink->mutex);
+            sink->messages.push_back(message);
+        }
+        if (user) user(message);
+    };
     try {
         m_device = createDevice(desc);
     } catch (const std::exception& e) {
@@ -64,7 +72,15 @@ void BackendTest::TearDown() {
     for (const DebugMessage& m : messages)
         ADD_FAILURE() << (m.severity == MessageSeverity::Error ? "validation error: " : "validation warning: ")
                       << m.text;
+    // Then destroy the device and fail on whatever it reported while going (e.g. Vulkan's
+    // "objects not destroyed" at vkDestroyDevice), which no takeDebugMessages() can see.
+    {
+        std::lock_guard lock(m_sink->mutex);
+        m_sink->messages.clear();
+    }
     m_device.reset();
+    std::lock_guard lock(m_sink->mutex);
+    for (const DebugMessage& m : m_sink->messages) ADD_FAILURE() << "message while the device was destroyed: " << m.text;
 }
 
 ShaderHandle BackendTest::shader(std::string_view name) {

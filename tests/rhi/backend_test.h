@@ -18,6 +18,7 @@
 #include <functional>
 #include <ostream>
 #include <memory>
+#include <mutex>
 #include <span>
 #include <string>
 #include <string_view>
@@ -119,6 +120,13 @@ public:
     }
 
 private:
+    // Every message the device reports, also the ones that arrive while it is destroyed (after
+    // the last takeDebugMessages()): TearDown checks those too.
+    struct MessageSink {
+        std::mutex mutex;
+        std::vector<DebugMessage> messages;
+    };
+    std::shared_ptr<MessageSink> m_sink = std::make_shared<MessageSink>();
     std::unique_ptr<IDevice> m_device;
 };
 
