@@ -198,7 +198,7 @@ int runProbes(const ProbesOptions& options) {
           "size, points in order of samples.\n";
     renderer::writeFileAtomically(outDir / "probes.md", md);
     renderer::writeFileAtomically(outDir / "probes.json", json.dump(2) + "\n");
-    renderer::writePNG(outDir / "probes.png", drawLogXPlot(series, "GPU MS PER UPDATE", "WORST MIP RMSE %"));
+    renderer::writePNG(outDir / "probes.png", drawLogXPlot(series, "GPU MS PER UPDATE", "WORST MIP RELATIVE RMSE (PERCENT)"));
     std::fputs(md.c_str(), stdout);
     std::printf("\nwrote %s, probes.json, probes.png\n", (outDir / "probes.md").c_str());
     return 0;
