@@ -175,5 +175,7 @@ Command addInfoCommand(CLI::App& parent);
 Command addRenderCommand(CLI::App& parent);
 Command addParityCommand(CLI::App& parent);
 Command addBenchCommand(CLI::App& parent);
+// `janus bench probes`, registered under `bench` by addBenchCommand; returns what runs it.
+std::function<int()> addBenchProbesCommand(CLI::App& bench);
 
 }  // namespace janus::cli

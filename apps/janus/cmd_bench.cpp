@@ -309,7 +309,8 @@ int runForward(const BenchOptions& options) {
 
 Command addBenchCommand(CLI::App& parent) {
     auto options = std::make_shared<BenchOptions>();
-    CLI::App* app = parent.add_subcommand("bench", "Benchmarks; 'janus bench forward' measures Forward+ light culling");
+    CLI::App* app = parent.add_subcommand("bench", "Benchmarks; 'janus bench forward' measures Forward+ light culling, "
+                                                   "'janus bench probes' the GGX prefilter's accuracy vs time");
     CLI::App* forward = app->add_subcommand("forward", "Many-lights scene: naive / tiles-2d / tiles-depth on each path and backend; "
                                                        "writes forward.md, forward.json, forward.png to --out");
     app->require_subcommand(1);
@@ -326,7 +327,8 @@ Command addBenchCommand(CLI::App& parent) {
     addGLPlatformOption(*forward, options->glPlatform);
     app->footer(kExitCodeHelp);
     forward->footer(kExitCodeHelp);
-    return {app, [options] { return runForward(*options); }};
+    std::function<int()> runProbes = addBenchProbesCommand(*app);
+    return {app, [options, forward, runProbes] { return forward->parsed() ? runForward(*options) : runProbes(); }};
 }
 
 }  // namespace janus::cli

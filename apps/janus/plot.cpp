@@ -112,6 +112,12 @@ renderer::ImageRGBA8 drawLogXPlot(const std::vector<PlotSeries>& series, const s
     for (const PlotSeries& s : series)
         for (const auto& point : s.points)
             if (std::find(xs.begin(), xs.end(), point.first) == xs.end()) xs.push_back(point.first);
+    if (xs.size() > 12) {   // measured x values (times) would overlap: ticks at 1, 2, 5 x 10^k instead
+        xs.clear();
+        for (double d = std::floor(std::log10(xMin)); d <= std::ceil(std::log10(xMax)); d += 1)
+            for (double m : {1.0, 2.0, 5.0})
+                if (const double x = m * std::pow(10.0, d); x >= std::pow(10.0, lx0) && x <= std::pow(10.0, lx1)) xs.push_back(x);
+    }
     for (double x : xs) {
         canvas.line(px(x), top, px(x), top + plotH, 0xEEEEEE);
         canvas.text(int(px(x)) - 8, top + plotH + 8, tickLabel(x), 0x333333);

@@ -35,7 +35,8 @@ layout(std140, set = 0, binding = JANUS_BINDING_PREFILTER_PARAMS) uniform Prefil
     ivec4 prefilterParams;   // x face (fallback path), y target mip, z target size (texels), w sample count
 };
 
-#define JANUS_GGX_MAX_SAMPLES 128
+// 1024 vec4 = 16 KiB: the minimum GL_MAX_UNIFORM_BLOCK_SIZE (GLES 3.0, GL) and maxUniformBufferRange.
+#define JANUS_GGX_MAX_SAMPLES 1024
 layout(std140, set = 0, binding = JANUS_BINDING_PREFILTER_SAMPLES) uniform PrefilterSamples {
     // xyz: the sample direction L in the frame where N = V = +Z (z = NdotL > 0 for used samples,
     // 0 for padding); w: the source mip to read it from.

@@ -23,6 +23,7 @@ struct PrefilterParams {
 struct PrefilterSamples {
     glm::vec4 samples[kMaxGgxSamples];
 };
+static_assert(sizeof(PrefilterSamples) <= 16384, "the minimum uniform block size of GLES 3.0 / GL / Vulkan");
 
 }  // namespace
 

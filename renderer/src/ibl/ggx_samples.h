@@ -37,7 +37,10 @@ inline const std::vector<uint32_t>& defaultGgxSamplesPerMip() {
     static const std::vector<uint32_t> kDefault = {21, 34, 55, 89, 89, 89};
     return kDefault;
 }
-inline constexpr uint32_t kMaxGgxSamples = 128;   // JANUS_GGX_MAX_SAMPLES in ggx_common.glsl
+// JANUS_GGX_MAX_SAMPLES in ggx_common.glsl. 1024 vec4 = 16384 bytes, the whole PrefilterSamples
+// block: exactly the minimum uniform block size of GLES 3.0 / GL 4.x (GL_MAX_UNIFORM_BLOCK_SIZE) and
+// Vulkan (maxUniformBufferRange), so every conforming device takes it.
+inline constexpr uint32_t kMaxGgxSamples = 1024;
 // Added to each sample's source lod (GgxPrefilterSettings::lodBias). 0: the bilinear taps of the
 // box-filtered mips already blur enough; Karis' +1 gives 3-4x the error against GgxReference
 // (docs/IBL.md, "GGX prefiltering").
