@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <new>
 #include <system_error>
+#include <sstream>
 
 #include <unistd.h>
 
@@ -396,6 +397,23 @@ std::string formatTable(const std::vector<std::vector<std::string>>& rows, size_
         out += '\n';
     }
     return out;
+}
+
+std::vector<std::string> splitList(const std::string& text) {
+    std::vector<std::string> items;
+    std::stringstream stream(text);
+    for (std::string item; std::getline(stream, item, ',');)
+        if (!item.empty()) items.push_back(item);
+    return items;
+}
+
+void writeBenchOutputs(const std::filesystem::path& dir, const std::string& stem, const std::string& markdown,
+                       const nlohmann::json& json, const renderer::ImageRGBA8& plot) {
+    renderer::writeFileAtomically(dir / (stem + ".md"), markdown);
+    renderer::writeFileAtomically(dir / (stem + ".json"), json.dump(2) + "\n");
+    renderer::writePNG(dir / (stem + ".png"), plot);
+    std::fputs(markdown.c_str(), stdout);
+    std::printf("\nwrote %s, %s.json, %s.png\n", (dir / (stem + ".md")).c_str(), stem.c_str(), stem.c_str());
 }
 
 void printPassSummary(const renderer::FrameReport& report) {

@@ -76,6 +76,7 @@ ImageSize parseSize(std::string_view text);                        // "WxH"; thr
 rhi::Backend parseBackendOption(std::string_view text);            // throws UsageError
 renderer::FeaturePath parsePathOption(std::string_view text);      // throws UsageError
 rhi::GLPlatform parseGLPlatformOption(std::string_view text);      // throws UsageError
+std::vector<std::string> splitList(const std::string& text);        // "a,b,,c" -> {a, b, c}
 
 // Fails early (InputError) when `file` could not be created: its directory is missing or is
 // not a directory, or `file` itself is a directory. Saves a render that could not be saved.
@@ -161,6 +162,11 @@ void printPassSummary(const renderer::FrameReport& report);
 std::string lightCullingLine(const renderer::FrameReport& report);
 
 // A left-aligned text table: every column as wide as its widest cell.
+// A benchmark's results in `dir`: STEM.md, STEM.json and STEM.png, each written atomically; the
+// Markdown is also printed, followed by where the files went.
+void writeBenchOutputs(const std::filesystem::path& dir, const std::string& stem, const std::string& markdown,
+                       const nlohmann::json& json, const renderer::ImageRGBA8& plot);
+
 std::string formatTable(const std::vector<std::vector<std::string>>& rows, size_t indent = 2);
 
 // ---- subcommands --------------------------------------------------------------------------

@@ -8,7 +8,6 @@
 #include <cstdio>
 #include <map>
 #include <memory>
-#include <sstream>
 
 #include <fmt/format.h>
 
@@ -32,14 +31,6 @@ struct BenchOptions {
     std::string glPlatform = "egl";
     bool quick = false;
 };
-
-std::vector<std::string> splitList(const std::string& text) {
-    std::vector<std::string> items;
-    std::stringstream stream(text);
-    for (std::string item; std::getline(stream, item, ',');)
-        if (!item.empty()) items.push_back(item);
-    return items;
-}
 
 double median(std::vector<double> values) {
     if (values.empty()) return 0.0;
@@ -297,11 +288,7 @@ int runForward(const BenchOptions& options) {
         }
         it->points.push_back({double(row.lights), frameMs(row.m)});
     }
-    renderer::writeFileAtomically(outDir / "forward.md", md);
-    renderer::writeFileAtomically(outDir / "forward.json", json.dump(2) + "\n");
-    renderer::writePNG(outDir / "forward.png", drawLogXPlot(series, "LIGHTS", "FRAME MS"));
-    std::fputs(md.c_str(), stdout);
-    std::printf("\nwrote %s, forward.json, forward.png\n", (outDir / "forward.md").c_str());
+    writeBenchOutputs(outDir, "forward", md, json, drawLogXPlot(series, "LIGHTS", "FRAME MS"));
     return 0;
 }
 

@@ -50,14 +50,6 @@ std::vector<uint32_t> parseCounts(const std::string& text, const char* option, u
     return values;
 }
 
-std::vector<std::string> splitNames(const std::string& text) {
-    std::vector<std::string> items;
-    std::stringstream stream(text);
-    for (std::string item; std::getline(stream, item, ',');)
-        if (!item.empty()) items.push_back(item);
-    return items;
-}
-
 struct Row {
     std::string backend, path;
     uint32_t faceSize = 0, samples = 0;
@@ -70,10 +62,10 @@ int runProbes(const ProbesOptions& options) {
         parseCounts(options.quick ? "16,64" : options.samples, "--samples", 1, renderer::kMaxProbeSamplesPerMip, false);
     const std::vector<uint32_t> sizes = parseCounts(options.quick ? "32" : options.sizes, "--sizes", 4, 2048, true);
     std::vector<renderer::FeaturePath> paths;
-    for (const std::string& item : splitNames(options.quick && !options.pathsGiven ? "compute" : options.paths))
+    for (const std::string& item : splitList(options.quick && !options.pathsGiven ? "compute" : options.paths))
         paths.push_back(parsePathOption(item));
     std::vector<rhi::Backend> backends;
-    for (const std::string& item : splitNames(options.quick && !options.backendsGiven ? "vulkan" : options.backends))
+    for (const std::string& item : splitList(options.quick && !options.backendsGiven ? "vulkan" : options.backends))
         backends.push_back(parseBackendOption(item));
     if (paths.empty() || backends.empty()) throw UsageError("--paths and --backends need at least one entry each");
     if (options.runs < 1 || options.runs > 100) throw UsageError(fmt::format("--runs {} must be 1..100", options.runs));
@@ -196,11 +188,7 @@ int runProbes(const ProbesOptions& options) {
     }
     md += "\nPlot (probes.png): worst-mip relative RMSE (%) against GPU ms per update, log-log, one line per backend/path/face "
           "size, points in order of samples.\n";
-    renderer::writeFileAtomically(outDir / "probes.md", md);
-    renderer::writeFileAtomically(outDir / "probes.json", json.dump(2) + "\n");
-    renderer::writePNG(outDir / "probes.png", drawLogXPlot(series, "GPU MS PER UPDATE", "WORST MIP RELATIVE RMSE (PERCENT)"));
-    std::fputs(md.c_str(), stdout);
-    std::printf("\nwrote %s, probes.json, probes.png\n", (outDir / "probes.md").c_str());
+    writeBenchOutputs(outDir, "probes", md, json, drawLogXPlot(series, "GPU MS PER UPDATE", "WORST MIP RELATIVE RMSE (PERCENT)"));
     return 0;
 }
 
