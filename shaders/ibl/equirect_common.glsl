@@ -14,8 +14,7 @@ layout(set = 0, binding = JANUS_BINDING_EQUIRECT_SOURCE) uniform sampler2D equir
 // `texel` of face `face`. Non-finite or negative radiance never reaches the cube (the loader
 // already refuses it); values are clamped to the largest half.
 vec4 equirectTexel(int face, ivec2 texel) {
-    float size = float(equirectParams.y);
-    vec3 d = normalize(cubeDirection(face, (vec2(texel) + 0.5) / size));
+    vec3 d = cubeTexelDirection(face, texel, equirectParams.y);
     vec3 c = textureLod(equirectSource, equirectUv(d), 0.0).rgb;
     return vec4(clamp(c, vec3(0.0), vec3(65504.0)), 1.0);
 }

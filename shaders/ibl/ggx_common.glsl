@@ -1,25 +1,13 @@
-// Shared by the IBL shaders (equirect_to_cube.*, ggx_prefilter.*): cube texel directions, the
+// Shared by the IBL shaders (equirect_to_cube.*, ggx_prefilter.*): the
 // equirectangular mapping and the GGX prefilter loop. The mappings are documented in
 // docs/IBL.md and mirrored on the CPU by renderer/src/ibl/environment_map.cpp.
 #ifndef JANUS_IBL_GGX_COMMON_GLSL
 #define JANUS_IBL_GGX_COMMON_GLSL
 
 #include "janus/shaders/bindings.h"
+#include "ibl/cube_geometry.glsl"
 
 const float kPi = 3.14159265358979;
-
-// The direction through (s, t) in [0, 1]^2 of cube face `face` (+X, -X, +Y, -Y, +Z, -Z), with the
-// face orientation of the Vulkan/GL cube map table (t = 0 is row 0). Not normalised.
-vec3 cubeDirection(int face, vec2 st) {
-    float a = 2.0 * st.x - 1.0;
-    float b = 2.0 * st.y - 1.0;
-    if (face == 0) return vec3(1.0, -b, -a);
-    if (face == 1) return vec3(-1.0, -b, a);
-    if (face == 2) return vec3(a, 1.0, b);
-    if (face == 3) return vec3(a, -1.0, -b);
-    if (face == 4) return vec3(a, -b, 1.0);
-    return vec3(-a, -b, -1.0);
-}
 
 // Equirectangular (u, v) of a unit direction: u = 0.5 + atan(x, -z) / 2pi (u = 0.5 looks along
 // -Z, u = 0.75 along +X, u = 0 / 1 along +Z), v = acos(y) / pi (v = 0 is +Y, row 0 on top).
@@ -48,8 +36,7 @@ layout(set = 0, binding = JANUS_BINDING_PREFILTER_SOURCE) uniform samplerCube pr
 // The split-sum prefilter at the centre of texel `texel` of face `face`: the NdotL-weighted mean
 // of the importance-sampled GGX directions around N = V = R. Weight sum 0 -> black, never 0/0.
 vec4 prefilterTexel(int face, ivec2 texel) {
-    float size = float(prefilterParams.z);
-    vec3 n = normalize(cubeDirection(face, (vec2(texel) + 0.5) / size));
+    vec3 n = cubeTexelDirection(face, texel, prefilterParams.z);
     vec3 up = abs(n.z) < 0.999 ? vec3(0.0, 0.0, 1.0) : vec3(1.0, 0.0, 0.0);
     vec3 tangentX = normalize(cross(up, n));
     vec3 tangentY = cross(n, tangentX);

@@ -10,6 +10,7 @@ layout(set = 0, binding = JANUS_BINDING_SH_UNIFORMS, std140) uniform ShUniforms 
     uvec4 shParams;
 };
 
+#include "ibl/cube_geometry.glsl"
 #include "ibl/sh_basis.glsl"
 
 // Term k (0..8) of a basis, selected with masks rather than branches.
@@ -22,15 +23,6 @@ float shBasisAt(ShBasis basis, int k) {
 // A_l / pi of coefficient k's band: 1, 2/3, 1/4 (the clamped-cosine convolution over pi).
 float shCosineOverPi(int k) {
     return k == 0 ? 1.0 : (k < 4 ? 2.0 / 3.0 : 0.25);
-}
-
-// The direction through the centre of texel (x, y) of a face (+X, -X, +Y, -Y, +Z, -Z): the
-// inverse of the Vulkan/GL major-axis table, as cubeFacePointDirection on the CPU.
-vec3 shCubeTexelDirection(int face, ivec2 texel, int size) {
-    vec2 uv = (vec2(texel) + 0.5) * (2.0 / float(size)) - 1.0;
-    float u = uv.x, v = uv.y;
-    vec3 dirs[6] = vec3[6](vec3(1.0, -v, -u), vec3(-1.0, -v, u), vec3(u, 1.0, v), vec3(u, -1.0, -v), vec3(u, -v, 1.0), vec3(-u, -v, -1.0));
-    return normalize(dirs[face]);
 }
 
 // The projection shaders sample `cube` with a nearest sampler at texel centres (level 0 of the

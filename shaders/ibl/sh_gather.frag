@@ -21,7 +21,7 @@ void main() {
     vec3 sum = vec3(0.0);
     for (int x = 0; x < size; ++x) {
         ivec2 texel = ivec2(x, y);
-        vec3 dir = shCubeTexelDirection(face, texel, size);
+        vec3 dir = cubeTexelDirection(face, texel, size);
         vec3 weighted = textureLod(cubeMap, dir, 0.0).rgb * texelFetch(solidAngles, texel, 0).r;
         sum += weighted * shBasisAt(shEvalBasis(dir), k);
     }

@@ -23,7 +23,7 @@ void main() {
     vec3 weighted = vec3(0.0);
     ShBasis basis = ShBasis(vec4(0.0), vec4(0.0), 0.0);
     if (all(lessThan(texel, ivec2(size)))) {
-        vec3 dir = shCubeTexelDirection(face, texel, size);
+        vec3 dir = cubeTexelDirection(face, texel, size);
         weighted = textureLod(cubeMap, dir, 0.0).rgb * texelFetch(solidAngles, texel, 0).r;
         basis = shEvalBasis(dir);
     }
