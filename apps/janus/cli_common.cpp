@@ -196,6 +196,7 @@ renderer::Scene loadSceneOrDefault(const std::optional<std::filesystem::path>& s
             options.lightCount = *lights;
             return renderer::manyLightsScene(options);
         }
+        if (scenePath->string() == kProbesSceneName) return renderer::probesScene();
     }
     if (!std::filesystem::exists(*scenePath, ec))
         throw InputError(fmt::format("scene file '{}' does not exist; give a .gltf, .glb or .json scene, "
@@ -209,7 +210,7 @@ renderer::Scene loadSceneOrDefault(const std::optional<std::filesystem::path>& s
 std::string sceneLabel(const std::optional<std::filesystem::path>& scenePath) {
     if (!scenePath) return "built-in default scene";
     std::error_code ec;
-    if (!std::filesystem::exists(*scenePath, ec) && parseManyLightsSceneName(scenePath->string()))
+    if (!std::filesystem::exists(*scenePath, ec) && (parseManyLightsSceneName(scenePath->string()) || scenePath->string() == kProbesSceneName))
         return fmt::format("built-in {} scene", scenePath->string());
     return scenePath->string();
 }
@@ -361,6 +362,16 @@ RenderOutcome renderConfiguration(const renderer::Scene& scene, const RenderRequ
         // The renderer owns device resources, so it must go before the device does.
         renderer::Renderer frameRenderer(*device, scene, settings);
         outcome.report = frameRenderer.renderFrame();
+        // Reflection probes may spread their first update over several frames: render until each
+        // is shown; the report keeps the last frame's passes and every frame's probe updates.
+        std::vector<renderer::ProbeUpdateReport> probeUpdates = outcome.report.probeUpdates;
+        outcome.frames = 1;
+        while (frameRenderer.probesPending() && outcome.frames < kMaxWarmUpFrames) {
+            outcome.report = frameRenderer.renderFrame();
+            probeUpdates.insert(probeUpdates.end(), outcome.report.probeUpdates.begin(), outcome.report.probeUpdates.end());
+            ++outcome.frames;
+        }
+        outcome.report.probeUpdates = std::move(probeUpdates);
         outcome.display = frameRenderer.readDisplayImage();
         if (request.wantHdr) outcome.hdr = frameRenderer.readHdrImage();
     }
@@ -431,6 +442,18 @@ void printPassSummary(const renderer::FrameReport& report) {
     }
     rows.push_back({"total", "", allTimed && !report.passes.empty() ? fmt::format("{:.3f}", totalGpu) : "-",
                     fmt::format("{:.3f}", totalCpu), std::to_string(totalDraws), std::to_string(totalDispatches)});
+    std::fputs(formatTable(rows).c_str(), stdout);
+}
+
+void printProbeUpdates(const std::vector<renderer::ProbeUpdateReport>& updates) {
+    if (updates.empty()) return;
+    std::vector<std::vector<std::string>> rows{
+        {"probe", "update", "step", "shown", "GPU ms", "draws", "dispatches", "update draws", "prefilter draws", "prefilter dispatches"}};
+    for (const renderer::ProbeUpdateReport& u : updates)
+        rows.push_back({u.probe, std::to_string(u.update), fmt::format("{}/{}", u.step, u.steps), u.shown ? "yes" : "no",
+                        u.gpuMs ? fmt::format("{:.3f}", *u.gpuMs) : "-", std::to_string(u.draws), std::to_string(u.dispatches),
+                        std::to_string(u.updateDraws), std::to_string(u.prefilterDraws), std::to_string(u.prefilterDispatches)});
+    std::printf("\nreflection probe updates (one row per probe per frame):\n");
     std::fputs(formatTable(rows).c_str(), stdout);
 }
 

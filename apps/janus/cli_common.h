@@ -85,6 +85,7 @@ void checkOutputFile(const std::filesystem::path& file, std::string_view optionN
 // The scene file given on the command line, the built-in many-lights scene ("many-lights" or
 // "many-lights:N", N local lights, default 128; a file of that name wins), or the default scene.
 inline constexpr std::string_view kManyLightsSceneName = "many-lights";
+inline constexpr std::string_view kProbesSceneName = "probes";   // renderer::probesScene()
 std::optional<uint32_t> parseManyLightsSceneName(std::string_view text);   // nullopt: not that name; throws UsageError for a bad N
 renderer::Scene loadSceneOrDefault(const std::optional<std::filesystem::path>& scenePath);
 std::string sceneLabel(const std::optional<std::filesystem::path>& scenePath);
@@ -142,10 +143,13 @@ struct RenderOutcome {
     renderer::ImageRGBA8 display;
     std::optional<renderer::ImageRGBAF> hdr;
     std::vector<rhi::DebugMessage> debugMessages;   // with validation: warnings and errors
+    uint32_t frames = 1;   // frames rendered: more than one while reflection probes were first updating
 };
+inline constexpr uint32_t kMaxWarmUpFrames = 64;
 
 // Opens the device, checks it can honour the request (UnavailableError naming the capability or
-// limit otherwise), renders one frame and reads the images back.
+// limit otherwise), renders one frame (more while reflection probes are not yet shown, at most
+// kMaxWarmUpFrames) and reads the images back.
 RenderOutcome renderConfiguration(const renderer::Scene& scene, const RenderRequest& request);
 
 // Prints each validation / debug message to stderr, prefixed with `label`; true when any is an error.
@@ -157,6 +161,8 @@ std::string configurationFileStem(rhi::Backend backend, renderer::FeaturePath pa
 
 // Prints the per-pass table (name, GPU ms, CPU ms, draws, dispatches).
 void printPassSummary(const renderer::FrameReport& report);
+// The probe updates of the frames rendered, one row per probe per frame (nothing without any).
+void printProbeUpdates(const std::vector<renderer::ProbeUpdateReport>& updates);
 // One line on how the frame culled its local lights (mode, builder, lights, tiles, overflow);
 // "" when the scene had no local lights.
 std::string lightCullingLine(const renderer::FrameReport& report);

@@ -87,8 +87,11 @@ int run(const RenderOptions& options) {
     if (hdrPath) std::printf("  hdr:    %s\n", hdrPath->c_str());
     if (reportPath) std::printf("  report: %s\n", reportPath->c_str());
     if (const std::string culling = lightCullingLine(outcome.report); !culling.empty()) std::printf("  %s\n", culling.c_str());
+    if (outcome.frames > 1)
+        std::printf("  frames: %u (until every reflection probe was shown; passes below are the last frame's)\n", outcome.frames);
     std::printf("\n");
     printPassSummary(outcome.report);
+    printProbeUpdates(outcome.report.probeUpdates);
 
     if (validationFailed)
         throw std::runtime_error("the validation layer / GL debug output reported errors (listed above); "

@@ -4,6 +4,7 @@
 //   shadow-map     (shadows/)   main directional light, when there is one and shadows are on
 //   depth-prepass  (forward/)   tiled light culling only: meshes -> D32F depth
 //   light-cull-*   (forward/)   tiled only. compute: light_cull.comp | fallback: CPU builder -> tile lists
+//   probe updates  (probes/)    before the frame: due reflection probes capture (six views with these passes), prefilter, show
 //   forward        (forward/)   meshes -> RGBA16F HDR radiance (+ depth, or tested against the prepass depth)
 //   tonemap-*      (tonemap/)   HDR -> RGBA8 display (compute: storage-image dispatch | fallback: fullscreen triangle)
 //   tile-heatmap   (debug_views/) DebugView::Tiles: lights per tile blended over the display image
@@ -43,10 +44,15 @@ void Renderer::Impl::createFeatures(const Scene& scene) {
     auto shadows = std::make_unique<MainLightShadows>(device, scene, *gpuScene, lighting.shadows, lighting.shadowMapSize,
                                                       kMaxDirectionalLights);
     auto imageBasedLighting = std::make_unique<ImageBasedLighting>(device, scene.environment, settings.path, gpuScene->pointSampler());
-    auto forward = std::make_unique<ForwardShading>(device, scene, *gpuScene, *localLights, *shadows, *imageBasedLighting, settings.path);
+    auto probes = std::make_unique<ReflectionProbes>(device, scene, settings.path, mainView.position,
+                                                     [this](const CubeCaptureDesc& capture) { return renderCubeCapture(capture); });
+    reflectionProbes = probes.get();
+    auto forward = std::make_unique<ForwardShading>(device, scene, *gpuScene, *localLights, *shadows, *imageBasedLighting, *probes,
+                                                    settings.path);
     auto sky = std::make_unique<SkyBackground>(device, *imageBasedLighting);
     features.push_back(std::move(shadows));
     features.push_back(std::move(imageBasedLighting));
+    features.push_back(std::move(probes));
     features.push_back(std::move(forward));
     features.push_back(std::move(sky));
     features.push_back(std::make_unique<Tonemap>(device, scene.environment.exposure, settings.path, gpuScene->pointSampler()));
@@ -136,6 +142,8 @@ FrameReport Renderer::Impl::renderFrame() {
     // Work done once when the renderer was made (e.g. the sky's filtering) opens the first report.
     for (const std::unique_ptr<RenderFeature>& feature : features)
         for (PassReport& pass : feature->takeStartupReports()) frame.passes.push_back(std::move(pass));
+    // Then what features do before the frame (reflection-probe updates), then the frame.
+    for (const std::unique_ptr<RenderFeature>& feature : features) feature->beginFrame(frame);
     for (PassReport& pass : frameGraph.execute(device, commandList)) frame.passes.push_back(std::move(pass));
     frameRendered = true;
     frame.lightCulling = localLights->finishFrame();
@@ -173,20 +181,24 @@ FrameReport Renderer::Impl::renderCubeCapture(const CubeCaptureDesc& capture) {
     if (capture.mipLevel >= desc.mipLevels)
         throw RendererError(fmt::format("cube capture: target '{}' has {} mip level(s); mip {} does not exist", desc.debugName,
                                         desc.mipLevels, capture.mipLevel));
+    if (capture.faces == 0 || capture.faces > 0x3f)
+        throw RendererError(fmt::format("cube capture: faces mask {:#x} must name at least one of the six faces (bits 0..5)", capture.faces));
     if (capture.mipLevel > 0) device.require(rhi::Capability::RenderToCubeFaceMip, "cube capture into a mip level other than 0");
     const uint32_t size = rhi::mipExtent(desc.width, capture.mipLevel);
 
     PassGraph graph;
     const ViewTarget depth{graph.importResource("capture depth"), captureDepth(size), {}};
     FrameReport frame = newReport(size, size);
-    std::array<SceneView, 6> views = makeCubeFaceViews(capture.position, size, capture.nearPlane, capture.farPlane);
+    std::array<SceneView, 6> views = makeCubeFaceViews(capture.position, size, capture.nearPlane, capture.farPlane, capture.viewPrefix);
     for (uint32_t face = 0; face < 6; ++face) {
+        if ((capture.faces & (1u << face)) == 0) continue;
         SceneView& view = views[face];
         view.colorFormat = desc.format;
         view.renderingLayers = capture.renderingLayers;
         view.passes.shadows = capture.shadows;
         view.passes.lightCulling = false;
         view.passes.tonemap = false;
+        view.passes.reflectionProbes = false;
         const ViewTarget color{graph.importResource(fmt::format("capture {}", cubeFaceName(face))), capture.target,
                                rhi::TextureSubresource{capture.mipLevel, capture.cube * 6 + face}};
         addView(graph, view, color, depth, nullptr);
@@ -236,6 +248,8 @@ Renderer::Renderer(rhi::IDevice& device, const Scene& scene, const RenderSetting
 Renderer::~Renderer() = default;
 FrameReport Renderer::renderFrame() { return m_impl->renderFrame(); }
 FrameReport Renderer::renderCubeCapture(const CubeCaptureDesc& capture) { return m_impl->renderCubeCapture(capture); }
+void Renderer::requestProbeUpdate(std::string_view probeName) { m_impl->reflectionProbes->requestUpdate(probeName); }
+bool Renderer::probesPending() const { return m_impl->reflectionProbes->pending(); }
 ImageRGBA8 Renderer::readDisplayImage() { return m_impl->readDisplayImage(); }
 ImageRGBAF Renderer::readHdrImage() { return m_impl->readHdrImage(); }
 TileLists Renderer::readTileLists() {

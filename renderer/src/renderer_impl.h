@@ -6,6 +6,8 @@
 //   forward/       lighting settings, local lights + tile lists + culling, forward shading
 //   shadows/       the main directional light's shadow map
 //   tonemap/       HDR -> display image
+//   ibl/           the sky: cube, GGX prefilter, SH irradiance, background
+//   probes/        reflection probes: capture, time-sliced updates, what shading reads
 //   debug_views/   the tile heat map
 //   scene/, io/    loading scenes, reading and writing images
 #pragma once
@@ -23,6 +25,7 @@
 #include "ibl/image_based_lighting.h"
 #include "ibl/sky_background.h"
 #include "janus/renderer/renderer.h"
+#include "probes/reflection_probes.h"
 #include "shadows/main_light_shadows.h"
 #include "tonemap/tonemap.h"
 
@@ -37,6 +40,7 @@ struct Renderer::Impl {
 
     std::unique_ptr<GpuScene> gpuScene;
     std::unique_ptr<LocalLights> localLights;   // forward/'s light data; also behind readTileLists()
+    ReflectionProbes* reflectionProbes = nullptr;   // one of `features`; behind requestProbeUpdate()
     // The features in the order their passes are added for each view (core/render_feature.h).
     std::vector<std::unique_ptr<RenderFeature>> features;
 

@@ -10,6 +10,7 @@
 #include "renderer/light_access.glsl"
 #include "renderer/shadow_sampling.glsl"
 #include "renderer/sky_access.glsl"
+#include "renderer/probe_access.glsl"
 
 layout(set = JANUS_SET_VIEW, binding = JANUS_BINDING_SHADOW_MAP) uniform sampler2DShadow shadowMap;
 
@@ -163,17 +164,23 @@ void main() {
     }
 
     float occlusion = mix(1.0, texture(occlusionTexture, vUv).r, draw.materialParams.w);
+    float NoV = clamp(abs(dot(s.normal, s.view)), 1e-4, 1.0);
+    vec3 reflected = reflect(-s.view, s.normal);
+    // Reflection probes first (docs/PROBES.md); the sky or the ambient colour fills what they leave.
+    float remaining = 1.0;
+    vec3 probeSpecular = vec3(0.0);
+    if (reflectionProbes.probeCount.x > 0) probeSpecular = reflectionProbeRadiance(vWorldPosition, reflected, perceptualRoughness, remaining);
     if (frame.skyParams.x > 0.0) {
         // The sky: SH9 diffuse and split-sum specular (docs/IBL.md).
-        float NoV = clamp(abs(dot(s.normal, s.view)), 1e-4, 1.0);
-        vec3 reflected = reflect(-s.view, s.normal);
-        vec3 sky = s.diffuseColor * skyIrradianceOverPi(s.normal) * occlusion +
-                   skySpecularRadiance(reflected, NoV, perceptualRoughness, s.f0, frame.skyParams.y) *
-                       specularOcclusion(NoV, occlusion, perceptualRoughness);
-        radiance += sky * frame.skyParams.z;
+        vec3 specularLight = skyPrefilteredRadiance(reflected, perceptualRoughness, frame.skyParams.y) * frame.skyParams.z;
+        specularLight = probeSpecular + remaining * specularLight;
+        radiance += s.diffuseColor * skyIrradianceOverPi(s.normal) * (occlusion * frame.skyParams.z) +
+                    specularLight * splitSumScale(NoV, perceptualRoughness, s.f0) * specularOcclusion(NoV, occlusion, perceptualRoughness);
     } else {
-        // Uniform ambient: diffuse plus a rough specular term.
-        radiance += frame.ambientColor.rgb * (s.diffuseColor + s.f0) * occlusion;
+        // Uniform ambient: diffuse plus a rough specular term (where no probe reflects).
+        radiance += frame.ambientColor.rgb * (s.diffuseColor + s.f0 * remaining) * occlusion;
+        if (remaining < 1.0)
+            radiance += probeSpecular * splitSumScale(NoV, perceptualRoughness, s.f0) * specularOcclusion(NoV, occlusion, perceptualRoughness);
     }
     radiance += draw.emissiveFactor.rgb * texture(emissiveTexture, vUv).rgb;
 

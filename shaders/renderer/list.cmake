@@ -4,7 +4,11 @@ janus_add_shader(janus_shaders NAME forward_vert SOURCE ${CMAKE_CURRENT_LIST_DIR
 # Compute path: light array and tile lists in storage buffers (no SSBOs on ES 3.0).
 janus_add_shader(janus_shaders NAME forward_frag SOURCE ${CMAKE_CURRENT_LIST_DIR}/forward.frag NO_ES)
 # Fallback path: the same words in integer textures (docs/LIGHTING.md).
-janus_add_shader(janus_shaders NAME forward_textures_frag SOURCE ${CMAKE_CURRENT_LIST_DIR}/forward.frag DEFINES LIGHTS_IN_TEXTURES=1)
+# Both sample reflection probes from a cube array (no cube arrays on ES 3.0: NO_ES)...
+janus_add_shader(janus_shaders NAME forward_textures_frag SOURCE ${CMAKE_CURRENT_LIST_DIR}/forward.frag DEFINES LIGHTS_IN_TEXTURES=1 NO_ES)
+# ...and devices without cube arrays (GLES 3.0) bind two probe cubes (probe_access.glsl).
+janus_add_shader(janus_shaders NAME forward_textures_cubes_frag SOURCE ${CMAKE_CURRENT_LIST_DIR}/forward.frag
+                 DEFINES LIGHTS_IN_TEXTURES=1 PROBES_AS_CUBES=1)
 janus_add_shader(janus_shaders NAME depth_prepass_frag SOURCE ${CMAKE_CURRENT_LIST_DIR}/depth_prepass.frag)
 janus_add_shader(janus_shaders NAME tile_heatmap_frag SOURCE ${CMAKE_CURRENT_LIST_DIR}/tile_heatmap.frag NO_ES)
 janus_add_shader(janus_shaders NAME tile_heatmap_textures_frag SOURCE ${CMAKE_CURRENT_LIST_DIR}/tile_heatmap.frag DEFINES LIGHTS_IN_TEXTURES=1)

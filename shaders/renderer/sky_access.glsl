@@ -29,12 +29,14 @@ vec3 skyIrradianceOverPi(vec3 n) {
     return max(sum, vec3(0.0));
 }
 
-// Split-sum specular: prefiltered radiance along the reflection at the roughness's mip, times
-// f0 * A + B from the DFG table.
-vec3 skySpecularRadiance(vec3 reflected, float NoV, float perceptualRoughness, vec3 f0, float lastMip) {
-    vec3 prefiltered = textureLod(skySpecular, reflected, perceptualRoughness * lastMip).rgb;
+// Split-sum specular (docs/IBL.md): prefiltered radiance along the reflection at the roughness's
+// mip, times f0 * A + B from the DFG table.
+vec3 skyPrefilteredRadiance(vec3 reflected, float perceptualRoughness, float lastMip) {
+    return textureLod(skySpecular, reflected, perceptualRoughness * lastMip).rgb;
+}
+vec3 splitSumScale(float NoV, float perceptualRoughness, vec3 f0) {
     vec2 dfg = texture(dfgTable, vec2(NoV, perceptualRoughness)).rg;
-    return prefiltered * (f0 * dfg.x + dfg.y);
+    return f0 * dfg.x + dfg.y;
 }
 
 // Specular occlusion from the material's ambient occlusion (Lagarde & de Rousiers 2014).

@@ -144,6 +144,18 @@ TEST_P(RenderTest, MatchesVulkanComputeAndReportsItsPasses) {
     const bool sky = !scene.environment.map.empty();
     std::vector<std::string> expected;
     if (sky) expected = {"equirect-to-cube" + path, "ggx-prefilter" + path, "sh-irradiance" + path};   // once, at start-up
+    // Reflection probes (a "ReflectionCubemap" marker places one in the cornell box) update in
+    // the first frame, before it: six faces with the reduced pass set, the prefilter, the copy.
+    for (const ReflectionProbe& probe : scene.reflectionProbes) {
+        ASSERT_EQ(probe.timeSlicing, ProbeTimeSlicing::None);
+        if (shadows && probe.shadows) expected.push_back("shadow-map");
+        for (int face = 0; face < 6; ++face) {
+            expected.push_back("forward");
+            if (sky) expected.push_back("sky");
+        }
+        expected.push_back("probe-prefilter" + path);
+        expected.push_back("probe-show");
+    }
     if (shadows) expected.push_back("shadow-map");
     expected.push_back("forward");
     if (sky) expected.push_back("sky");
@@ -156,6 +168,14 @@ TEST_P(RenderTest, MatchesVulkanComputeAndReportsItsPasses) {
     };
     if (shadows) EXPECT_EQ(pass("shadow-map").draws, scene.instances.size());
     EXPECT_EQ(pass("forward").draws, scene.instances.size());
+    ASSERT_EQ(report.probeUpdates.size(), scene.reflectionProbes.size());
+    for (const ProbeUpdateReport& update : report.probeUpdates) {
+        // 6 prefiltered mips: one dispatch each | one draw per face and mip (36), then 7 x 6 copies.
+        EXPECT_TRUE(update.shown) << update.probe;
+        EXPECT_EQ(update.prefilterDispatches, compute ? 6u : 0u) << update.probe;
+        EXPECT_EQ(update.prefilterDraws, compute ? 0u : 36u) << update.probe;
+        EXPECT_EQ(update.copies, 42u) << update.probe;
+    }
     EXPECT_EQ(pass("forward").dispatches, 0u);
     EXPECT_EQ(pass("tonemap" + path).dispatches, compute ? 1u : 0u);
     EXPECT_EQ(pass("tonemap" + path).draws, compute ? 0u : 1u);

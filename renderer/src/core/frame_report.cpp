@@ -59,6 +59,24 @@ nlohmann::json FrameReport::toJson() const {
                                 {"overflowTiles", c.overflowTiles},
                                 {"droppedLights", c.droppedLights}};
     }
+    if (!probeUpdates.empty()) {
+        nlohmann::json probes = nlohmann::json::array();
+        for (const ProbeUpdateReport& u : probeUpdates)
+            probes.push_back({{"probe", u.probe},
+                              {"update", u.update},
+                              {"step", u.step},
+                              {"steps", u.steps},
+                              {"shown", u.shown},
+                              {"draws", u.draws},
+                              {"dispatches", u.dispatches},
+                              {"gpuMs", u.gpuMs ? nlohmann::json(*u.gpuMs) : nlohmann::json(nullptr)},
+                              {"updateDraws", u.updateDraws},
+                              {"updateDispatches", u.updateDispatches},
+                              {"prefilterDraws", u.prefilterDraws},
+                              {"prefilterDispatches", u.prefilterDispatches},
+                              {"copies", u.copies}});
+        json["probeUpdates"] = std::move(probes);
+    }
     return json;
 }
 

@@ -30,6 +30,9 @@ public:
     // Work the feature did once while the renderer was made (e.g. filtering a static sky), for
     // the first frame's report; returned once, then empty.
     virtual std::vector<PassReport> takeStartupReports() { return {}; }
+    // Work of this frame that runs before the frame's graph, on its own submissions (e.g. a time
+    // slice of reflection-probe updates): it appends its passes and its report to `frame`.
+    virtual void beginFrame(FrameReport& frame) { (void)frame; }
 };
 
 }  // namespace janus::renderer

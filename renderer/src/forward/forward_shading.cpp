@@ -13,12 +13,14 @@
 namespace janus::renderer {
 
 ForwardShading::ForwardShading(rhi::IDevice& device, const Scene& scene, const GpuScene& gpuScene, LocalLights& localLights,
-                               MainLightShadows& shadows, const ImageBasedLighting& imageBasedLighting, FeaturePath path)
+                               MainLightShadows& shadows, const ImageBasedLighting& imageBasedLighting,
+                               const ReflectionProbes& reflectionProbes, FeaturePath path)
     : m_device(device),
       m_gpuScene(gpuScene),
       m_localLights(localLights),
       m_shadows(shadows),
       m_imageBasedLighting(imageBasedLighting),
+      m_reflectionProbes(reflectionProbes),
       m_path(path) {
     const glm::vec3 ambient = scene.environment.ambientColor;
     m_background = {ambient.r, ambient.g, ambient.b, 1.0f};
@@ -42,7 +44,9 @@ ForwardShading::ForwardShading(rhi::IDevice& device, const Scene& scene, const G
     m_sceneUniforms.lightCounts.x = int(directional.size());
 
     m_vertexShader = makeShader(device, rhi::ShaderStage::Vertex, "forward_vert");
-    m_forwardShader = makeShader(device, rhi::ShaderStage::Fragment, path == FeaturePath::Compute ? "forward_frag" : "forward_textures_frag");
+    m_forwardShader = makeShader(device, rhi::ShaderStage::Fragment, path == FeaturePath::Compute        ? "forward_frag"
+                                                            : reflectionProbes.separateCubes() ? "forward_textures_cubes_frag"
+                                                                                                : "forward_textures_frag");
 }
 
 void ForwardShading::addPasses(PassGraph& graph, const SceneView& view) {
@@ -85,6 +89,8 @@ void ForwardShading::addPasses(PassGraph& graph, const SceneView& view) {
     if (state.tiled) forward.reads = {depth.resource, *tileLists};
     if (state.shadowed) forward.reads.push_back(*shadowMap);
     if (const ViewTarget* sky = graph.find(view.name, ibl_resources::kSkyLight)) forward.reads.push_back(sky->resource);
+    if (view.passes.reflectionProbes)
+        if (const ViewTarget* probes = graph.find(view.name, probe_resources::kReflectionProbes)) forward.reads.push_back(probes->resource);
     forward.writes = {color.resource, depth.resource};
     forward.setup = [this, &state] { setupView(state); };
     forward.record = [this, &state](rhi::ICommandList& cmd, PassReport& report) { recordForward(state, cmd, report); };
@@ -113,6 +119,7 @@ void ForwardShading::setupView(ViewState& state) {
     m_localLights.addViewBindings(set);
     set.add(map ? map->binding(JANUS_BINDING_SHADOW_MAP) : m_shadows.binding(JANUS_BINDING_SHADOW_MAP));
     m_imageBasedLighting.addViewBindings(set);
+    m_reflectionProbes.addViewBindings(set, view);
     state.bindings = m_device.createBindingSet(set);
     pipelines(false, state);
 }

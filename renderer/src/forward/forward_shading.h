@@ -23,6 +23,7 @@
 #include "forward/lighting_settings.h"
 #include "forward/local_lights.h"
 #include "ibl/image_based_lighting.h"
+#include "probes/reflection_probes.h"
 #include "shadows/main_light_shadows.h"
 
 namespace janus::renderer {
@@ -49,7 +50,8 @@ static_assert(sizeof(FrameUniforms) == 208 + 32 * kMaxDirectionalLights + 16, "F
 class ForwardShading final : public RenderFeature {
 public:
     ForwardShading(rhi::IDevice& device, const Scene& scene, const GpuScene& gpuScene, LocalLights& localLights,
-                   MainLightShadows& shadows, const ImageBasedLighting& imageBasedLighting, FeaturePath path);
+                   MainLightShadows& shadows, const ImageBasedLighting& imageBasedLighting,
+                   const ReflectionProbes& reflectionProbes, FeaturePath path);
 
     // Adds, for `view`: depth-prepass and the tile-list builder (when the view is tiled), then
     // forward, which writes the view's kHdr target (RGBA16F radiance, cleared to the ambient
@@ -80,6 +82,7 @@ private:
     LocalLights& m_localLights;
     MainLightShadows& m_shadows;
     const ImageBasedLighting& m_imageBasedLighting;
+    const ReflectionProbes& m_reflectionProbes;
     FeaturePath m_path;
     std::array<float, 4> m_background{};
     FrameUniforms m_sceneUniforms{};   // the view-independent part: ambient and directional lights

@@ -51,8 +51,8 @@ float GgxPrefilter::roughnessForMip(uint32_t mip) const {
     return ggxRoughnessForMip(mip, m_mipCount);
 }
 
-ViewTarget GgxPrefilter::addPasses(PassGraph& graph, const ViewTarget& source) {
-    const rhi::TextureDesc& desc = source.texture->desc();
+void GgxPrefilter::bindSource(const rhi::TextureHandle& source) {
+    const rhi::TextureDesc& desc = source->desc();
     if (desc.dimension != rhi::TextureDimension::TextureCube)
         throw RendererError("GGX prefilter: the source must be a cube map");
     const uint32_t full = rhi::fullMipCount(desc.width, desc.width);
@@ -62,10 +62,10 @@ ViewTarget GgxPrefilter::addPasses(PassGraph& graph, const ViewTarget& source) {
     if (mipCount > full)
         throw RendererError(fmt::format("GGX prefilter: {} mips asked for, a {}^2 cube has at most {}", mipCount, desc.width, full));
     const bool reuse = m_target && m_target->desc().width == desc.width && m_target->desc().format == desc.format &&
-                       m_mipCount == mipCount && m_source == source.texture;
+                       m_mipCount == mipCount && m_source == source;
     if (!reuse) {
         m_pipeline.reset();
-        m_source = source.texture;
+        m_source = source;
         m_mipCount = mipCount;
         const rhi::TextureUsage usage =
             rhi::TextureUsage::Sampled | (m_path == FeaturePath::Compute ? rhi::TextureUsage::Storage : rhi::TextureUsage::RenderTarget);
@@ -75,12 +75,21 @@ ViewTarget GgxPrefilter::addPasses(PassGraph& graph, const ViewTarget& source) {
                                               .setSize(desc.width, desc.width)
                                               .setMipLevels(mipCount)
                                               .setUsage(usage)
-                                              .setDebugName("environment ggx"));
+                                              .setDebugName(m_settings.debugName));
         m_sets.assign(mipCount, GgxSampleSet{});
         for (uint32_t mip = 1; mip < mipCount; ++mip)
             m_sets[mip] = makeGgxSampleSet(roughnessForMip(mip), ggxSamplesForMip(m_settings.samplesPerMip, mip), desc.width,
                                            desc.mipLevels, m_settings.lodBias);
     }
+}
+
+void GgxPrefilter::prepare(const rhi::TextureHandle& source) {
+    bindSource(source);
+    setup();
+}
+
+ViewTarget GgxPrefilter::addPasses(PassGraph& graph, const ViewTarget& source) {
+    bindSource(source.texture);
     ViewTarget target;
     target.resource = graph.addResource(ibl_resources::kPrefilteredEnvironment);
     target.texture = m_target;
@@ -133,11 +142,23 @@ void GgxPrefilter::setup() {
     }
 }
 
-void GgxPrefilter::record(rhi::ICommandList& cmd, PassReport& report) {
-    if (m_source->desc().mipLevels > 1) cmd.generateMips(m_source);
-    for (uint32_t face = 0; face < 6; ++face) cmd.copyTexture(m_target, {0, face}, m_source, {0, face});
+void GgxPrefilter::record(rhi::ICommandList& cmd, PassReport& report) { recordMips(cmd, report, 0, m_mipCount); }
+
+double GgxPrefilter::mipCost(uint32_t mip) const {
+    if (mip == 0 || mip >= m_mipCount) return 0.0;
+    const double size = std::max(1u, m_target->desc().width >> mip);
+    return size * size * 6.0 * double(m_sets[mip].samples.size());
+}
+
+void GgxPrefilter::recordMips(rhi::ICommandList& cmd, PassReport& report, uint32_t firstMip, uint32_t endMip) {
+    if (!m_pipeline) throw RendererError("GGX prefilter: recordMips() before prepare() or the pass's setup");
+    endMip = std::min(endMip, m_mipCount);
+    if (firstMip == 0) {
+        if (m_source->desc().mipLevels > 1) cmd.generateMips(m_source);
+        for (uint32_t face = 0; face < 6; ++face) cmd.copyTexture(m_target, {0, face}, m_source, {0, face});
+    }
     const uint32_t size0 = m_target->desc().width;
-    for (uint32_t mip = 1; mip < m_mipCount; ++mip) {
+    for (uint32_t mip = std::max(1u, firstMip); mip < endMip; ++mip) {
         const uint32_t size = std::max(1u, size0 >> mip);
         if (m_path == FeaturePath::Compute) {
             cmd.setPipeline(m_pipeline);

@@ -15,6 +15,7 @@
 
 #include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -35,6 +36,7 @@ struct GgxPrefilterSettings {
     std::vector<float> roughness;
     // Added to every sample's source lod, 0.5 log2(Omega_s / Omega_p) (docs/IBL.md); finite.
     float lodBias = kDefaultGgxLodBias;
+    std::string debugName = "environment ggx";   // of the destination cube
 };
 
 class GgxPrefilter {
@@ -48,6 +50,16 @@ public:
     // is made at compile() (and kept while the source's face size stays the same).
     ViewTarget addPasses(PassGraph& graph, const ViewTarget& source);
 
+    // Without a graph (reflection probes spread one prefilter over frames): prepare() makes the
+    // destination and the pipeline for `source`; recordMips() records destination mips
+    // [firstMip, endMip). firstMip 0 also regenerates the source's chain and copies mip 0, so a
+    // split run starts with 0 and continues where the last part ended.
+    void prepare(const rhi::TextureHandle& source);
+    void recordMips(rhi::ICommandList& cmd, PassReport& report, uint32_t firstMip, uint32_t endMip);
+    // Relative GPU work of destination mip `mip` (texels x samples; 0 for mip 0), valid after
+    // prepare(): what time slicing balances.
+    double mipCost(uint32_t mip) const;
+
     // Prefilters `source` now (its own graph and command list); returns the pass's report.
     PassReport run(const rhi::TextureHandle& source);
 
@@ -58,6 +70,7 @@ public:
     const std::vector<GgxSampleSet>& sampleSets() const { return m_sets; }   // index = mip (0: empty)
 
 private:
+    void bindSource(const rhi::TextureHandle& source);
     void setup();
     void record(rhi::ICommandList& cmd, PassReport& report);
 

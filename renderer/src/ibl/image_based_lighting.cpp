@@ -38,7 +38,7 @@ ImageBasedLighting::ImageBasedLighting(rhi::IDevice& device, const Environment& 
     m_cubeSampler = device.createSampler(rhi::SamplerDesc{}.setFilter(rhi::Filter::Linear).setAddress(rhi::AddressMode::ClampToEdge));
     m_dfgSampler = device.createSampler(
         rhi::SamplerDesc{}.setFilter(rhi::Filter::Linear).setAddress(rhi::AddressMode::ClampToEdge).setLodRange(0.0f, 0.0f));
-    if (environment.map.empty()) {
+    if (environment.map.empty() && !environment.image) {
         // Stand-ins keep the view bindings valid; frame.skyParams.x = 0 keeps them unread.
         m_standInCube = device.createTexture(rhi::TextureDesc{}
                                                  .setDimension(rhi::TextureDimension::TextureCube)
@@ -55,7 +55,7 @@ ImageBasedLighting::ImageBasedLighting(rhi::IDevice& device, const Environment& 
         return;
     }
 
-    const ImageRGBAF sky = readSky(environment.map);
+    const ImageRGBAF sky = environment.map.empty() ? *environment.image : readSky(environment.map);
     m_environment = std::make_unique<EnvironmentMap>(device, sky, kSkyFaceSize, path);
     m_prefilter = std::make_unique<GgxPrefilter>(device, path);
     m_sh = std::make_unique<ShIrradiance>(device, path);

@@ -252,6 +252,8 @@ Scene loadSceneFile(const std::filesystem::path& path) {
                                                glm::translate(glm::mat4(1.0f), vec3(path, m, "position", glm::vec3(0.0f)))});
             }
         }
+        if (root.contains("reflectionProbes")) scene.reflectionProbes = detail::parseReflectionProbes(path, root["reflectionProbes"], scene);
+        detail::addProbesFromMarkers(scene);
         if (root.contains("quality")) scene.quality = objectAt(path, root, "quality");
         return scene;
     } catch (const json::exception& e) {
@@ -287,6 +289,7 @@ Scene loadScene(const std::filesystem::path& path) {
         scene = detail::loadGltf(path, hasCamera);
         if (!hasCamera) detail::frameSceneBounds(scene);
         if (scene.lights.empty()) scene.lights.push_back(detail::defaultKeyLight());
+        detail::addProbesFromMarkers(scene);
     } else {
         std::error_code ec;
         if (!std::filesystem::exists(path, ec)) fail(path, "no such file");
@@ -376,6 +379,15 @@ void validateScene(const Scene& scene) {
         throw SceneError(fmt::format("environment intensity {} must be finite and >= 0", scene.environment.intensity));
     if (!scene.environment.map.empty())
         if (const std::string problem = environmentMapProblem(scene.environment.map); !problem.empty()) throw SceneError(problem);
+    if (const std::shared_ptr<const ImageRGBAF>& sky = scene.environment.image; sky && scene.environment.map.empty()) {
+        if (sky->width < 2 || sky->height < 1 || sky->pixels.size() != size_t(sky->width) * sky->height * 4)
+            throw SceneError(fmt::format("environment image is {}x{} with {} floats; an equirectangular sky needs at least 2x1 texels "
+                                         "and width * height * 4 floats", sky->width, sky->height, sky->pixels.size()));
+        for (float v : sky->pixels)
+            if (!std::isfinite(v) || v < 0.0f)
+                throw SceneError(fmt::format("environment image holds {}; sky radiance must be finite and >= 0", v));
+    }
+    detail::validateReflectionProbes(scene);
 }
 
 }  // namespace janus::renderer

@@ -3,6 +3,8 @@
 
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "janus/renderer/scene.h"
 
 namespace janus::renderer::detail {
@@ -32,5 +34,13 @@ Mesh makeBox(int32_t material);                                    // -1..1 cube
 Mesh makeSphere(int32_t material, uint32_t slices = 32, uint32_t stacks = 16);   // radius 1
 int32_t addMaterial(Scene& scene, std::string name, glm::vec3 color, float metallic, float roughness, glm::vec3 emissive = {});
 uint32_t addMesh(Scene& scene, Mesh mesh);
+
+// Reflection probes (reflection_probe_scene.cpp): the scene file's "reflectionProbes" array;
+// one probe per "ReflectionCubemap..." marker when the scene has none (influence and parallax
+// box: the scene's bounds grown by 1%); validation (called by validateScene).
+Box sceneBounds(const Scene& scene);   // world AABB of every instance; an empty box when there is none
+std::vector<ReflectionProbe> parseReflectionProbes(const std::filesystem::path& file, const nlohmann::json& probes, const Scene& scene);
+void addProbesFromMarkers(Scene& scene);
+void validateReflectionProbes(const Scene& scene);
 
 }  // namespace janus::renderer::detail

@@ -41,6 +41,21 @@ struct LightCullingReport {
     uint64_t droppedLights = 0;                // light references lost to the cap (never silent: also warned on stderr)
 };
 
+// One frame's share of a reflection probe's update (docs/PROBES.md, "Cost of an update"): an
+// update is spread over `steps` frames by the probe's time slicing.
+struct ProbeUpdateReport {
+    std::string probe;
+    uint32_t update = 0;                  // 1 for the probe's first update
+    uint32_t step = 0, steps = 0;         // this frame ran step `step` (1-based) of `steps`
+    bool shown = false;                   // the update finished this frame: shading reads it from now on
+    uint32_t draws = 0, dispatches = 0;   // this frame's share (capture, prefilter)
+    std::optional<double> gpuMs;          // this frame's share; nullopt without timers
+    // The update so far (all of it once shown), and of that the GGX prefilter alone.
+    uint32_t updateDraws = 0, updateDispatches = 0;
+    uint32_t prefilterDraws = 0, prefilterDispatches = 0;
+    uint32_t copies = 0;                  // texture copies that showed it (faces x mips)
+};
+
 struct FrameReport {
     std::string backend;           // "vulkan", "gl", "gles"
     std::string path;              // "compute", "fallback"
@@ -48,6 +63,7 @@ struct FrameReport {
     std::vector<ViewReport> views;     // in the order they were rendered; views[0] is "main" for renderFrame()
     std::vector<PassReport> passes;    // in execution order; PassReport::view names the view
     std::optional<LightCullingReport> lightCulling;
+    std::vector<ProbeUpdateReport> probeUpdates;   // probes whose update ran a step this frame
     nlohmann::json toJson() const;
 };
 

@@ -39,6 +39,8 @@ struct CubeCaptureDesc {
     uint32_t mipLevel = 0;
     bool shadows = true;                // the main light's shadow map (the pass is left out without)
     uint32_t renderingLayers = ~0u;     // meshes the capture sees
+    uint32_t faces = 0x3f;              // bit f: render face f (+X, -X, +Y, -Y, +Z, -Z); at least one
+    std::string viewPrefix = "cube";    // views are named "<prefix> +X" ... in reports
 };
 
 class Renderer {
@@ -55,6 +57,14 @@ public:
     // Throws RendererError for a target that is not a cube, lacks RenderTarget usage or a float
     // format, or has no such mip. The report lists six views, "cube +X" ... "cube -Z".
     FrameReport renderCubeCapture(const CubeCaptureDesc& capture);
+    // Starts an update of the named reflection probe (every probe when empty) at the next frame,
+    // whatever its update mode (docs/PROBES.md). Throws RendererError for an unknown name.
+    void requestProbeUpdate(std::string_view probeName = {});
+    // True while a reflection probe has its first update due or under way: frames rendered now
+    // lack its reflections (time slicing spreads an update over up to 8 frames). Render until it
+    // is false for a complete image (what `janus render` does).
+    bool probesPending() const;
+
     ImageRGBA8 readDisplayImage();   // tonemapped, sRGB-encoded: what PNGs and parity use
     ImageRGBAF readHdrImage();       // linear scene radiance before tonemapping: EXR / PFM
     // For tests and analysis (they wait for the GPU). readTileLists throws RendererError when the

@@ -10,8 +10,12 @@
 #include <string>
 #include <vector>
 
+#include <memory>
+
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
+
+#include "janus/renderer/image.h"
 
 namespace janus::renderer {
 
@@ -116,6 +120,9 @@ struct Environment {
     // colour lights the scene. With one, it replaces the ambient colour: image-based diffuse (SH)
     // and specular (GGX-prefiltered) light, and the background (docs/IBL.md).
     std::filesystem::path map;
+    // The same, already in memory (a procedural sky; the built-in probes scene's): used when
+    // `map` is empty. Linear radiance, at least 2x1 texels, finite and >= 0.
+    std::shared_ptr<const ImageRGBAF> image;
     float intensity = 1.0f;           // multiplies the map's radiance
 };
 
@@ -126,6 +133,54 @@ struct Marker {
     glm::mat4 world{1.0f};
 };
 
+// An axis-aligned box in world space.
+struct Box {
+    glm::vec3 min{0.0f}, max{0.0f};
+    glm::vec3 center() const { return (min + max) * 0.5f; }
+    glm::vec3 size() const { return max - min; }
+    bool operator==(const Box&) const = default;
+};
+
+// When a reflection probe captures its surroundings (docs/PROBES.md).
+enum class ProbeUpdate {
+    Once,        // the first frames after the renderer is made, then never again
+    EveryFrame,  // a new update starts as soon as the last one is shown
+    OnRequest,   // when Renderer::requestProbeUpdate asks (the first update, too)
+};
+// How one update is spread over frames. Whatever the mode, shading sees a probe's new contents
+// only when every face and mip of the update is done.
+enum class ProbeTimeSlicing {
+    None,               // capture, mips and prefilter in one frame
+    AllFacesThenMips,   // 3 frames: the six faces; the first part of the prefiltered mips; the rest
+    IndividualFaces,    // 8 frames: one face per frame, then the mips over two frames
+};
+const char* toString(ProbeUpdate update);             // "once", "every-frame", "on-request"
+const char* toString(ProbeTimeSlicing slicing);       // "none", "all-faces-then-mips", "individual-faces"
+
+inline constexpr size_t kMaxSceneReflectionProbes = 64;
+
+// A realtime reflection probe: a cube capture of the scene at `position`, GGX-prefiltered, that
+// gives glossy reflections to the surfaces inside its influence box (docs/PROBES.md).
+struct ReflectionProbe {
+    std::string name;
+    glm::vec3 position{0.0f};
+    // Surfaces inside this box use the probe; the weight falls linearly to 0 over the last
+    // `blendDistance` inside each face, so overlapping probes blend (smaller boxes in front).
+    Box influence{glm::vec3(-1.0f), glm::vec3(1.0f)};
+    float blendDistance = 0.25f;
+    // Box projection (parallax correction): reflections are looked up where the reflected ray
+    // leaves this box, as if the room were this box. Empty: the probe is at infinity.
+    std::optional<Box> parallax;
+    uint32_t resolution = 128;       // face size of mip 0: a power of two in [8, 1024]
+    float nearPlane = 0.05f, farPlane = 100.0f;
+    ProbeUpdate update = ProbeUpdate::Once;
+    ProbeTimeSlicing timeSlicing = ProbeTimeSlicing::None;
+    // The capture's passes: the main light's shadow map (left out when false) and the meshes it
+    // sees (rendering layers).
+    bool shadows = true;
+    uint32_t renderingLayers = ~0u;
+};
+
 struct Scene {
     std::string name;
     std::vector<Mesh> meshes;
@@ -134,6 +189,9 @@ struct Scene {
     std::vector<Instance> instances;
     std::vector<Light> lights;
     std::vector<Marker> markers;
+    // From the scene file's "reflectionProbes", or one per glTF node named "ReflectionCubemap..."
+    // (covering the scene's bounds) when the scene file gives none.
+    std::vector<ReflectionProbe> reflectionProbes;
     Camera camera;
     Environment environment;
     // Free-form settings from the scene file's "quality" object, kept for features that read
@@ -163,6 +221,12 @@ struct ManyLightsOptions {
     float intensity = 1.5f;        // candela of each local light
 };
 Scene manyLightsScene(const ManyLightsOptions& options = {});
+
+// The built-in reflection-probe scene (`janus render probes`): an open alcove with red and green
+// walls on a glossy ground, chrome, gold and blue spheres, a sun and a procedural sky, and two
+// overlapping probes: "left" (64^2, every frame, all faces then mips over 3 frames) and "right"
+// (128^2, once, in one frame). The ground in front of the alcove is outside both: sky only.
+Scene probesScene();
 
 // Throws SceneError when the scene holds NaN/Inf or out-of-range values (checked by loadScene
 // and by the Renderer for scenes built in code). A light with range <= 0 is valid: it lights

@@ -21,6 +21,7 @@ struct ViewPasses {
     bool shadows = true;           // the main directional light's shadow map
     bool lightCulling = true;      // tiled local-light culling when the lighting settings choose it; else every light is looped
     bool tonemap = true;           // HDR -> display image (views that capture radiance leave it out)
+    bool reflectionProbes = true;  // glossy reflections from the scene's probes (captures leave them out: no feedback)
 };
 
 struct SceneView {

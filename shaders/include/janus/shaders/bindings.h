@@ -18,6 +18,9 @@
 #define JANUS_BINDING_SKY_SPECULAR 10       // samplerCube: the sky, GGX-prefiltered (mip = roughness * (mips - 1))
 #define JANUS_BINDING_DFG 11                // sampler2D: split-sum (A, B) at (NoV, roughness)
 #define JANUS_BINDING_SKY_SH 12             // the sky's SH9 irradiance / pi: 9 vec4 SSBO (compute path) | 9x1 RGBA32F (fallback)
+#define JANUS_BINDING_PROBE_CUBES 13        // reflection probes: samplerCubeArray (cube = probe slot) | without cube arrays (GLES 3.0): samplerCube of slot 0
+#define JANUS_BINDING_PROBE_CUBE_1 14       // without cube arrays only: samplerCube of slot 1
+#define JANUS_BINDING_REFLECTION_PROBES 15  // ReflectionProbeUniforms (probe_access.glsl): the shown probes in blend order
 // Set 1: per draw.
 #define JANUS_SET_DRAW 1
 #define JANUS_BINDING_DRAW_UNIFORMS 1       // DrawUniforms (forward_common.glsl)
