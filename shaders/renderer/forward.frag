@@ -29,9 +29,13 @@ layout(location = 0) out vec4 outRadiance;
 
 const float PI = 3.14159265358979;
 
-float distributionGGX(float NoH, float alpha) {
+// 1 - NoH^2 as |n x h|^2: for a near-mirror (alpha^2 ~ 4e-6) at the highlight's peak, 1 - NoH^2
+// computed from NoH loses most of its bits in fp32, and two drivers' roundings then give peaks
+// percent apart (Filament computes D the same way for the same reason).
+float distributionGGX(float NoH, vec3 n, vec3 h, float alpha) {
     float a2 = alpha * alpha;
-    float f = (NoH * a2 - NoH) * NoH + 1.0;
+    vec3 nxh = cross(n, h);
+    float f = NoH * NoH * a2 + dot(nxh, nxh);
     return a2 / (PI * f * f);
 }
 
@@ -73,7 +77,7 @@ vec3 shade(Surface s, vec3 toLight, vec3 irradiance) {
     float NoH = clamp(dot(s.normal, h), 0.0, 1.0);
     float VoH = clamp(dot(s.view, h), 0.0, 1.0);
     vec3 F = fresnelSchlick(s.f0, VoH);
-    vec3 specular = F * (distributionGGX(NoH, s.alpha) * visibilitySmithGGXCorrelated(NoV, NoL, s.alpha));
+    vec3 specular = F * (distributionGGX(NoH, s.normal, h, s.alpha) * visibilitySmithGGXCorrelated(NoV, NoL, s.alpha));
     vec3 diffuse = (vec3(1.0) - F) * s.diffuseColor / PI;
     return (diffuse + specular) * irradiance * NoL;
 }
@@ -167,9 +171,10 @@ void main() {
     float NoV = clamp(abs(dot(s.normal, s.view)), 1e-4, 1.0);
     vec3 reflected = reflect(-s.view, s.normal);
     // Reflection probes first (docs/PROBES.md); the sky or the ambient colour fills what they leave.
-    float remaining = 1.0;
-    vec3 probeSpecular = vec3(0.0);
-    if (reflectionProbes.probeCount.x > 0) probeSpecular = reflectionProbeRadiance(vWorldPosition, reflected, perceptualRoughness, remaining);
+    vec4 probes = vec4(0.0, 0.0, 0.0, 1.0);
+    if (reflectionProbes.probeCount.x > 0) probes = reflectionProbeRadiance(vWorldPosition, reflected, perceptualRoughness);
+    vec3 probeSpecular = probes.rgb;
+    float remaining = probes.a;
     if (frame.skyParams.x > 0.0) {
         // The sky: SH9 diffuse and split-sum specular (docs/IBL.md).
         vec3 specularLight = skyPrefilteredRadiance(reflected, perceptualRoughness, frame.skyParams.y) * frame.skyParams.z;

@@ -42,21 +42,24 @@ float probeInfluence(vec3 p, vec3 boxMin, vec3 boxMax, float blend) {
 }
 
 // Box projection: the direction from the capture point to where the ray p + t r leaves the
-// box. A point outside the box, or on it leaving, keeps r. No component of r divides as 0.
+// box. p is first clamped into the box, so surfaces lying on a face of the box (walls the box was
+// fitted to) project the same whether interpolation puts them a hair inside or outside; t >= 0
+// keeps the result continuous there. No component of r divides as 0.
 vec3 boxProjectedDirection(vec3 p, vec3 r, vec3 boxMin, vec3 boxMax, vec3 capturePosition) {
+    p = clamp(p, boxMin, boxMax);
     vec3 safeR = vec3(r.x >= 0.0 ? max(r.x, 1e-6) : min(r.x, -1e-6), r.y >= 0.0 ? max(r.y, 1e-6) : min(r.y, -1e-6),
                       r.z >= 0.0 ? max(r.z, 1e-6) : min(r.z, -1e-6));
     vec3 farthest = max((boxMax - p) / safeR, (boxMin - p) / safeR);
-    float t = min(min(farthest.x, farthest.y), farthest.z);
-    if (!(t > 0.0) || any(greaterThan(p, boxMax)) || any(lessThan(p, boxMin))) return r;
+    float t = max(min(min(farthest.x, farthest.y), farthest.z), 0.0);
     vec3 d = p + r * t - capturePosition;
     return dot(d, d) > 1e-12 ? d : r;
 }
 
-// Prefiltered radiance of the probes along r at perceptual roughness; `remaining` is the weight
-// they leave to the sky (1 where no probe reaches).
-vec3 reflectionProbeRadiance(vec3 p, vec3 r, float perceptualRoughness, out float remaining) {
-    remaining = 1.0;
+// rgb: prefiltered radiance of the probes along r at perceptual roughness; a: the weight they
+// leave to the sky (1 where no probe reaches). (Returned, not an out parameter: SPIRV-Cross's
+// copy of an out parameter makes Mesa's GLSL compiler warn that it is used uninitialised.)
+vec4 reflectionProbeRadiance(vec3 p, vec3 r, float perceptualRoughness) {
+    float remaining = 1.0;
     vec3 sum = vec3(0.0);
     int count = min(reflectionProbes.probeCount.x, kMaxShownProbes);
     for (int i = 0; i < count; ++i) {
@@ -71,7 +74,7 @@ vec3 reflectionProbeRadiance(vec3 p, vec3 r, float perceptualRoughness, out floa
         remaining *= 1.0 - w;
         if (remaining <= 0.0) break;
     }
-    return sum;
+    return vec4(sum, remaining);
 }
 
 #endif

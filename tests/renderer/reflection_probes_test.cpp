@@ -1,0 +1,399 @@
+// Reflection probes (docs/PROBES.md): the time-slicing plans (CPU), the probes of scene files and
+// glTF markers, and on every configuration: parity of the built-in `probes` scene, updates that
+// are shown only whole, update modes, what a capture leaves out, and hard cases that must stay
+// finite.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <fstream>
+#include <set>
+
+#include <fmt/format.h>
+
+#include "janus/renderer/renderer.h"
+#include "probes/probe_update_plan.h"
+#include "renderer/renderer_test_support.h"
+
+namespace janus::renderer {
+namespace {
+
+namespace fs = std::filesystem;
+using test_support::Config;
+
+// ---- Time-slicing plans -------------------------------------------------------------------
+
+// Every face captured exactly once, before any prefiltering; mips 0..N-1 prefiltered exactly once,
+// in order; only the last step shows.
+void expectCompletePlan(const std::vector<ProbeUpdateStep>& plan, uint32_t mips, const std::string& label) {
+    ASSERT_FALSE(plan.empty()) << label;
+    uint32_t faces = 0, nextMip = 0;
+    for (size_t i = 0; i < plan.size(); ++i) {
+        const ProbeUpdateStep& step = plan[i];
+        EXPECT_EQ(faces & step.captureFaces, 0u) << label << " step " << i << " captures a face twice";
+        faces |= step.captureFaces;
+        if (step.firstMip < step.endMip) {
+            EXPECT_EQ(faces, kAllCubeFaces) << label << " step " << i << " prefilters before every face is captured";
+            EXPECT_EQ(step.firstMip, nextMip) << label << " step " << i;
+            nextMip = step.endMip;
+        }
+        EXPECT_EQ(step.show, i + 1 == plan.size()) << label << " step " << i;
+    }
+    EXPECT_EQ(faces, kAllCubeFaces) << label;
+    EXPECT_EQ(nextMip, mips) << label;
+}
+
+TEST(ProbeUpdatePlan, EachModeHasItsFrameCountAndCoversEveryFaceAndMipOnce) {
+    const std::vector<double> costs = {0, 6 * 32 * 32 * 21, 6 * 16 * 16 * 34, 6 * 8 * 8 * 55, 6 * 4 * 4 * 89, 6 * 2 * 2 * 89, 6 * 89};
+    const std::vector<ProbeUpdateStep> none = planProbeUpdate(ProbeTimeSlicing::None, costs);
+    ASSERT_EQ(none.size(), 1u);
+    EXPECT_EQ(none[0], (ProbeUpdateStep{kAllCubeFaces, 0, 7, true}));
+    expectCompletePlan(none, 7, "none");
+
+    const std::vector<ProbeUpdateStep> allFaces = planProbeUpdate(ProbeTimeSlicing::AllFacesThenMips, costs);
+    ASSERT_EQ(allFaces.size(), 3u);
+    EXPECT_EQ(allFaces[0].captureFaces, kAllCubeFaces);
+    expectCompletePlan(allFaces, 7, "all faces then mips");
+
+    const std::vector<ProbeUpdateStep> individual = planProbeUpdate(ProbeTimeSlicing::IndividualFaces, costs);
+    ASSERT_EQ(individual.size(), 8u);
+    for (uint32_t face = 0; face < 6; ++face) EXPECT_EQ(individual[face].captureFaces, 1u << face);
+    expectCompletePlan(individual, 7, "individual faces");
+}
+
+TEST(ProbeUpdatePlan, TheTwoMipStepsSplitThePrefilterWorkEvenly) {
+    // Mip 1 alone is 86016, mips 2..6 together 78568: the split after mip 1 is the most even.
+    const std::vector<double> costs = {0, 6 * 32 * 32 * 14, 6 * 16 * 16 * 34, 6 * 8 * 8 * 55, 6 * 4 * 4 * 89, 6 * 2 * 2 * 89, 6 * 89};
+    const std::vector<ProbeUpdateStep> plan = planProbeUpdate(ProbeTimeSlicing::AllFacesThenMips, costs);
+    ASSERT_EQ(plan.size(), 3u);
+    EXPECT_EQ(plan[1].endMip, 2u);
+    // Equal costs per mip: three and three.
+    const std::vector<ProbeUpdateStep> even = planProbeUpdate(ProbeTimeSlicing::AllFacesThenMips, {0, 1, 1, 1, 1, 1, 1});
+    EXPECT_EQ(even[1].endMip, 4u);
+    // A probe with a single level (nothing to prefilter) still copies its mip 0 and shows.
+    expectCompletePlan(planProbeUpdate(ProbeTimeSlicing::IndividualFaces, {0}), 1, "one level");
+}
+
+// ---- Scenes -------------------------------------------------------------------------------
+
+fs::path writeSceneFile(const std::string& name, const std::string& probesJson) {
+    const fs::path dir = fs::temp_directory_path() / "janus-probe-scenes";
+    fs::create_directories(dir);
+    const fs::path path = dir / (name + ".json");
+    std::ofstream(path) << fmt::format(R"({{ "gltf": "{}", "reflectionProbes": {} }})",
+                                       (fs::path(JANUS_SHARED_SCENES_DIR) / "cornell-box" / "cornellBox.gltf").string(), probesJson);
+    return path;
+}
+
+TEST(ReflectionProbeScenes, ASceneFileGivesEveryFieldAndReplacesTheMarkersProbe) {
+    const Scene scene = loadScene(writeSceneFile("full", R"([{
+        "name": "hall", "position": [0, 1, 0], "influence": {"min": [-1, 0, -1], "max": [1, 2, 1]}, "blendDistance": 0.3,
+        "parallax": {"center": [0, 1.5, 0], "size": [4, 3, 4]}, "resolution": 64, "near": 0.1, "far": 20,
+        "update": "on-request", "timeSlicing": "individual-faces", "shadows": false, "layers": 6 }, {}])"));
+    ASSERT_EQ(scene.reflectionProbes.size(), 2u);   // the cornell box's marker adds none: the file has probes
+    const ReflectionProbe& p = scene.reflectionProbes[0];
+    EXPECT_EQ(p.name, "hall");
+    EXPECT_EQ(p.position, glm::vec3(0, 1, 0));
+    EXPECT_EQ(p.influence, (Box{{-1, 0, -1}, {1, 2, 1}}));
+    EXPECT_FLOAT_EQ(p.blendDistance, 0.3f);
+    ASSERT_TRUE(p.parallax.has_value());
+    EXPECT_EQ(*p.parallax, (Box{{-2, 0, -2}, {2, 3, 2}}));
+    EXPECT_EQ(p.resolution, 64u);
+    EXPECT_FLOAT_EQ(p.nearPlane, 0.1f);
+    EXPECT_FLOAT_EQ(p.farPlane, 20.0f);
+    EXPECT_EQ(p.update, ProbeUpdate::OnRequest);
+    EXPECT_EQ(p.timeSlicing, ProbeTimeSlicing::IndividualFaces);
+    EXPECT_FALSE(p.shadows);
+    EXPECT_EQ(p.renderingLayers, 6u);
+    // Defaults: the scene's bounds, at their centre, at infinity, once, all at once.
+    const ReflectionProbe& d = scene.reflectionProbes[1];
+    EXPECT_EQ(d.name, "probe 1");
+    EXPECT_EQ(d.position, d.influence.center());
+    EXPECT_FALSE(d.parallax.has_value());
+    EXPECT_EQ(d.update, ProbeUpdate::Once);
+    EXPECT_EQ(d.timeSlicing, ProbeTimeSlicing::None);
+    EXPECT_GT(d.influence.size().x, 1.0f);
+}
+
+TEST(ReflectionProbeScenes, AReflectionCubemapMarkerPlacesAProbeCoveringTheScene) {
+    const Scene scene = loadScene(fs::path(JANUS_SHARED_SCENES_DIR) / "cornell-box" / "cornellBox.gltf");
+    ASSERT_EQ(scene.reflectionProbes.size(), 1u);
+    const ReflectionProbe& probe = scene.reflectionProbes[0];
+    EXPECT_EQ(probe.name, "ReflectionCubemap");
+    EXPECT_NEAR(probe.position.y, 1.5f, 1e-5f);   // the marker's translation
+    ASSERT_TRUE(probe.parallax.has_value());
+    EXPECT_EQ(*probe.parallax, probe.influence);
+    for (const Instance& instance : scene.instances)
+        for (const Vertex& v : scene.meshes[instance.mesh].vertices) {
+            const glm::vec3 p = glm::vec3(instance.world * glm::vec4(v.position, 1.0f));
+            ASSERT_TRUE(glm::all(glm::greaterThanEqual(p, probe.influence.min)) && glm::all(glm::lessThanEqual(p, probe.influence.max)));
+        }
+}
+
+TEST(ReflectionProbeScenes, BadProbesAreSceneErrorsNamingTheProblem) {
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {R"([{"resolution": 100}])", "power of two"},
+        {R"([{"resolution": 2048}])", "power of two"},
+        {R"([{"influence": {"min": [1, 0, 0], "max": [0, 1, 1]}}])", "above max"},
+        {R"([{"influence": [0, 1]}])", "must be a box"},
+        {R"([{"update": "sometimes"}])", "\"once\" | \"every-frame\" | \"on-request\""},
+        {R"([{"timeSlicing": 3}])", "\"individual-faces\""},
+        {R"([{"near": 5, "far": 1}])", "0 < near < far"},
+        {R"([{"blendDistance": -1}])", "blend distance"},
+        {R"([{"layers": -2}])", "layer mask"},
+        {R"({"name": "x"})", "must be an array"},
+    };
+    for (size_t i = 0; i < cases.size(); ++i) {
+        try {
+            loadScene(writeSceneFile(fmt::format("bad{}", i), cases[i].first));
+            ADD_FAILURE() << cases[i].first << " was accepted";
+        } catch (const SceneError& e) {
+            EXPECT_NE(std::string(e.what()).find(cases[i].second), std::string::npos) << e.what();
+        }
+    }
+    Scene scene = probesScene();
+    scene.reflectionProbes[0].position.x = std::numeric_limits<float>::quiet_NaN();
+    EXPECT_THROW(validateScene(scene), SceneError);
+    // A zero-size box is valid (it reaches no surface); hard cases below render it.
+    scene = probesScene();
+    scene.reflectionProbes[0].influence = Box{glm::vec3(1.0f), glm::vec3(1.0f)};
+    EXPECT_NO_THROW(validateScene(scene));
+}
+
+// ---- On every configuration ---------------------------------------------------------------
+
+class ReflectionProbesTest : public testing::TestWithParam<Config> {
+protected:
+    rhi::IDevice& device() { return test_support::deviceFor(GetParam().backend); }
+    RenderSettings settings(uint32_t width = 128, uint32_t height = 96) const {
+        RenderSettings s;
+        s.width = width;
+        s.height = height;
+        s.path = GetParam().path;
+        return s;
+    }
+    void expectNoMessages() {
+        const std::vector<rhi::DebugMessage> messages = device().takeDebugMessages();
+        EXPECT_TRUE(messages.empty()) << GetParam().name() << ":" << test_support::joinMessages(messages);
+    }
+};
+
+// Renders until every probe is shown (at most 16 frames); returns the last frame.
+test_support::FrameOutput renderSettled(rhi::IDevice& device, const Scene& scene, const RenderSettings& settings) {
+    test_support::FrameOutput output;
+    Renderer renderer(device, scene, settings);
+    for (int frame = 0; frame < 16; ++frame) {
+        output.report = renderer.renderFrame();
+        if (!renderer.probesPending()) break;
+    }
+    EXPECT_FALSE(renderer.probesPending());
+    output.display = renderer.readDisplayImage();
+    output.hdr = renderer.readHdrImage();
+    return output;
+}
+
+TEST_P(ReflectionProbesTest, TheProbesSceneMatchesVulkanCompute) {
+    device().takeDebugMessages();
+    const Scene scene = probesScene();
+    static const test_support::FrameOutput reference = renderSettled(test_support::deviceFor(rhi::Backend::Vulkan), scene, [] {
+        RenderSettings s;
+        s.width = 128, s.height = 96, s.path = FeaturePath::Compute;
+        return s;
+    }());
+    const test_support::FrameOutput result = renderSettled(device(), scene, settings());
+    expectNoMessages();
+    test_support::expectFiniteHdr(result.hdr, GetParam().name());
+    // As the other parity tests: at most one 8-bit step, except a handful of silhouette pixels
+    // (GL and Vulkan break rasterisation ties with opposite y). A probe shown from a different
+    // update, a wrong face or a missing blend changes whole regions.
+    constexpr uint64_t kMaxSilhouettePixels = 4;
+    const ImageDifference diff = compareImages(reference.display, result.display, 1);
+    if (diff.differingPixels > kMaxSilhouettePixels) {
+        const fs::path dir = test_support::outputDir();
+        writePNG(dir / fmt::format("probes-{}.png", GetParam().name()), result.display);
+        writePNG(dir / "probes-vulkan_compute.png", reference.display);
+        writePNG(dir / fmt::format("probes-{}-diff.png", GetParam().name()), differenceHeatmap(reference.display, result.display));
+        ADD_FAILURE() << GetParam().name() << " differs from vulkan/compute by more than 1 step in " << diff.differingPixels
+                      << " pixels (up to " << diff.maxChannelDifference << " steps); images in " << dir;
+    }
+}
+
+TEST_P(ReflectionProbesTest, ProbesChangeTheImageWhereTheyReachAndNowhereElse) {
+    device().takeDebugMessages();
+    const Scene withProbes = probesScene();
+    Scene without = withProbes;
+    without.reflectionProbes.clear();
+    const test_support::FrameOutput a = renderSettled(device(), withProbes, settings());
+    const test_support::FrameOutput b = renderSettled(device(), without, settings());
+    expectNoMessages();
+    // The chrome spheres inside the alcove reflect its walls instead of the sky; the sky above
+    // the walls (no surface) is the same.
+    const ImageDifference diff = compareImages(a.display, b.display, 1);
+    EXPECT_GT(diff.differingPixels, 200u);
+    const size_t topRow = 0;
+    for (uint32_t x = 0; x < a.display.width; ++x)
+        for (uint32_t c = 0; c < 3; ++c)
+            EXPECT_EQ(a.display.pixels[(topRow * a.display.width + x) * 4 + c], b.display.pixels[(topRow * b.display.width + x) * 4 + c]);
+}
+
+// One probe, one face per frame: frames 1-7 show no probe (bit for bit the image without it),
+// frame 8 shows it, and a requested second update shows nothing new until its own frame 8.
+TEST_P(ReflectionProbesTest, AnUpdateIsShownOnlyWhenAllItsFacesAndMipsAreDone) {
+    device().takeDebugMessages();
+    Scene scene = probesScene();
+    scene.reflectionProbes.resize(1);
+    ReflectionProbe& probe = scene.reflectionProbes[0];
+    probe.update = ProbeUpdate::Once;
+    probe.timeSlicing = ProbeTimeSlicing::IndividualFaces;
+    Scene without = scene;
+    without.reflectionProbes.clear();
+    const test_support::FrameOutput noProbe = renderSettled(device(), without, settings());
+
+    Renderer renderer(device(), scene, settings());
+    ImageRGBA8 shown;
+    for (uint32_t frame = 1; frame <= 17; ++frame) {
+        if (frame == 10) renderer.requestProbeUpdate(probe.name);
+        const FrameReport report = renderer.renderFrame();
+        const ImageRGBA8 image = renderer.readDisplayImage();
+        const std::string label = fmt::format("{} frame {}", GetParam().name(), frame);
+        if (frame == 9) {
+            EXPECT_TRUE(report.probeUpdates.empty()) << label << ": a 'once' probe updated again";
+            EXPECT_EQ(image.pixels, shown.pixels) << label;
+            continue;
+        }
+        const uint32_t step = frame <= 8 ? frame : frame - 9;
+        ASSERT_EQ(report.probeUpdates.size(), 1u) << label;
+        const ProbeUpdateReport& update = report.probeUpdates[0];
+        EXPECT_EQ(update.update, frame <= 8 ? 1u : 2u) << label;
+        EXPECT_EQ(update.step, step) << label;
+        EXPECT_EQ(update.steps, 8u) << label;
+        EXPECT_EQ(update.shown, step == 8) << label;
+        // Steps 1-6 render exactly face step - 1.
+        std::set<std::string> faceViews;
+        for (const ViewReport& view : report.views)
+            if (view.name.rfind("probe ", 0) == 0) faceViews.insert(view.name);
+        if (step <= 6)
+            EXPECT_EQ(faceViews, std::set<std::string>{fmt::format("probe {} {}", probe.name, cubeFaceName(step - 1))}) << label;
+        else
+            EXPECT_TRUE(faceViews.empty()) << label;
+        if (frame < 8) {
+            EXPECT_EQ(image.pixels, noProbe.display.pixels) << label << ": a probe was sampled before its update was done";
+            EXPECT_TRUE(renderer.probesPending()) << label;
+        } else if (frame == 8) {
+            EXPECT_NE(image.pixels, noProbe.display.pixels) << label << ": the finished probe is not shown";
+            EXPECT_FALSE(renderer.probesPending()) << label;
+            shown = image;
+        } else {
+            EXPECT_EQ(image.pixels, shown.pixels) << label << ": the second update changed what is shown before it was done";
+        }
+    }
+    expectNoMessages();
+    EXPECT_THROW(renderer.requestProbeUpdate("no such probe"), RendererError);
+}
+
+TEST_P(ReflectionProbesTest, EveryFrameProbesUpdateContinuouslyAndOnRequestProbesWait) {
+    device().takeDebugMessages();
+    Scene scene = probesScene();
+    scene.reflectionProbes[0].update = ProbeUpdate::EveryFrame;
+    scene.reflectionProbes[0].timeSlicing = ProbeTimeSlicing::AllFacesThenMips;
+    scene.reflectionProbes[1].update = ProbeUpdate::OnRequest;
+    Renderer renderer(device(), scene, settings(64, 48));
+    std::vector<std::string> sequence;
+    for (int frame = 0; frame < 7; ++frame) {
+        if (frame == 4) renderer.requestProbeUpdate("right");
+        for (const ProbeUpdateReport& u : renderer.renderFrame().probeUpdates)
+            sequence.push_back(fmt::format("{}#{}:{}/{}{}", u.probe, u.update, u.step, u.steps, u.shown ? "!" : ""));
+    }
+    expectNoMessages();
+    const std::vector<std::string> expected = {"left#1:1/3", "left#1:2/3", "left#1:3/3!", "left#2:1/3", "left#2:2/3", "right#1:1/1!",
+                                               "left#2:3/3!", "left#3:1/3"};
+    EXPECT_EQ(sequence, expected);
+}
+
+TEST_P(ReflectionProbesTest, ACaptureRunsOnlyThePassesItsProbeAsksFor) {
+    device().takeDebugMessages();
+    Scene scene = probesScene();
+    scene.reflectionProbes.resize(1);
+    scene.reflectionProbes[0].shadows = false;
+    scene.reflectionProbes[0].renderingLayers = 2;   // sees only the spheres
+    for (Instance& instance : scene.instances) instance.renderingLayers = scene.meshes[instance.mesh].vertices.size() > 100 ? 3u : 1u;
+    Renderer renderer(device(), scene, settings(64, 48));
+    const FrameReport report = renderer.renderFrame();
+    expectNoMessages();
+    uint32_t captureForward = 0, spheres = 0;
+    for (const Instance& instance : scene.instances) spheres += (instance.renderingLayers & 2u) ? 1 : 0;
+    for (const PassReport& pass : report.passes) {
+        if (pass.view.rfind("probe ", 0) != 0) continue;
+        EXPECT_NE(pass.name, "depth-prepass") << "captures do not cull lights by tiles";
+        EXPECT_EQ(pass.name.find("tonemap"), std::string::npos);
+        if (pass.name == "forward") {
+            ++captureForward;
+            EXPECT_EQ(pass.draws, spheres) << pass.view;
+        }
+    }
+    EXPECT_EQ(captureForward, 6u);
+    // Only the main frame renders the shadow map: the capture asked for none.
+    EXPECT_EQ(std::count_if(report.passes.begin(), report.passes.end(), [](const PassReport& p) { return p.name == "shadow-map"; }), 1);
+}
+
+TEST_P(ReflectionProbesTest, HardCasesStayFinite) {
+    device().takeDebugMessages();
+    struct Case {
+        const char* name;
+        void (*edit)(Scene&);
+    };
+    const Case cases[] = {
+        {"probe inside a sphere", [](Scene& s) { s.reflectionProbes[0].position = glm::vec3(-1.8f, 0.45f, -1.0f); }},
+        {"zero-size influence box",
+         [](Scene& s) { s.reflectionProbes[0].influence = Box{glm::vec3(0.0f, 0.45f, -1.0f), glm::vec3(0.0f, 0.45f, -1.0f)}; }},
+        {"zero-size parallax box, no blend",
+         [](Scene& s) {
+             s.reflectionProbes[1].parallax = Box{glm::vec3(1.5f, 1.0f, -0.75f), glm::vec3(1.5f, 1.0f, -0.75f)};
+             s.reflectionProbes[1].blendDistance = 0.0f;
+         }},
+        {"camera at a probe's centre",
+         [](Scene& s) {
+             s.camera.position = s.reflectionProbes[0].position;
+             s.camera.target = s.camera.position + glm::vec3(0.3f, -0.5f, -1.0f);
+         }},
+        {"roughness 0 and 1",
+         [](Scene& s) {
+             for (Material& m : s.materials) m.roughnessFactor = (&m - s.materials.data()) % 2 == 0 ? 0.0f : 1.0f;
+         }},
+        {"a sun 1e5 times the sky", [](Scene& s) {
+             auto sky = std::make_shared<ImageRGBAF>(*s.environment.image);
+             sky->pixels[0] = sky->pixels[1] = sky->pixels[2] = 60000.0f;
+             s.environment.image = sky;
+         }},
+    };
+    for (const Case& c : cases) {
+        Scene scene = probesScene();
+        c.edit(scene);
+        const test_support::FrameOutput output = renderSettled(device(), scene, settings(64, 48));
+        test_support::expectFiniteHdr(output.hdr, fmt::format("{} {}", GetParam().name(), c.name));
+    }
+    expectNoMessages();
+}
+
+TEST_P(ReflectionProbesTest, WithoutCubeArraysTwoProbesAreShownAndTheRestLeftOut) {
+    device().takeDebugMessages();
+    Scene scene = probesScene();
+    ReflectionProbe far = scene.reflectionProbes[1];
+    far.name = "far away";
+    far.position = glm::vec3(0.0f, 1.0f, -40.0f);
+    far.influence = Box{glm::vec3(-2.0f, 0.0f, -42.0f), glm::vec3(2.0f, 2.0f, -38.0f)};
+    scene.reflectionProbes.push_back(far);
+    Renderer renderer(device(), scene, settings(64, 48));
+    std::set<std::string> updated;
+    for (const ProbeUpdateReport& u : renderer.renderFrame().probeUpdates) updated.insert(u.probe);
+    expectNoMessages();
+    if (device().capabilities().cubeArrays)
+        EXPECT_EQ(updated, (std::set<std::string>{"left", "right", "far away"}));
+    else
+        EXPECT_EQ(updated, (std::set<std::string>{"left", "right"}));   // the farthest from the camera is left out
+}
+
+INSTANTIATE_TEST_SUITE_P(Configs, ReflectionProbesTest, testing::ValuesIn(test_support::allConfigs()),
+                         [](const testing::TestParamInfo<Config>& info) { return info.param.name(); });
+
+}  // namespace
+}  // namespace janus::renderer
