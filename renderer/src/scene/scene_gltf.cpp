@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstring>
 #include <map>
-#include <set>
 #include <tuple>
 
 #include <fmt/format.h>
@@ -372,13 +371,10 @@ private:
         return true;
     }
 
-    void visitNode(int index, const glm::mat4& parent, Scene& scene, std::set<int>& path) {
-        if (index < 0 || size_t(index) >= m_model.nodes.size())
-            fail(fmt::format("node {} does not exist (the file has {})", index, m_model.nodes.size()));
-        if (!path.insert(index).second) fail(fmt::format("node {} is its own ancestor (cycle in 'children')", index));
+    // What one node brings (instances, camera, light, marker), given its world matrix.
+    void readNode(int index, const glm::mat4& world, Scene& scene) {
         const tinygltf::Node& node = m_model.nodes[size_t(index)];
-        const std::string name = node.name.empty() ? fmt::format("#{}", index) : node.name;
-        const glm::mat4 world = parent * localMatrix(node);
+        const std::string name = nodeLabel(index);
         if (!finite(world)) fail(fmt::format("node '{}' has a NaN or infinite transform", name));
 
         if (node.mesh >= 0) {
@@ -404,8 +400,11 @@ private:
         // Empty leaf nodes are placement markers (probe volumes, cubemap centres...).
         if (node.mesh < 0 && node.camera < 0 && !hasLight && node.children.empty())
             scene.markers.push_back(Marker{node.name, world});
-        for (int child : node.children) visitNode(child, world, scene, path);
-        path.erase(index);
+    }
+
+    std::string nodeLabel(int index) const {
+        const std::string& name = m_model.nodes[size_t(index)].name;
+        return name.empty() ? fmt::format("#{}", index) : name;
     }
 
     void readCamera(const tinygltf::Node& node, const glm::mat4& world, const std::string& name) {
@@ -443,6 +442,11 @@ private:
         scene.lights.push_back(light);
     }
 
+    // Walks the default scene's node trees depth first, parents before children in file order,
+    // with an explicit stack: a hierarchy 100000 nodes deep must not overflow the call stack.
+    // glTF node hierarchies are disjoint trees, so every node is reached at most once: a node
+    // that is its own ancestor (a cycle) or has two parents is an error, which also keeps a
+    // crafted file from multiplying instances exponentially through shared children.
     void readNodes(Scene& scene) {
         std::vector<int> roots;
         if (!m_model.scenes.empty()) {
@@ -458,8 +462,58 @@ private:
             for (size_t n = 0; n < m_model.nodes.size(); ++n)
                 if (!isChild[n]) roots.push_back(int(n));
         }
-        std::set<int> path;
-        for (int root : roots) visitNode(root, glm::mat4(1.0f), scene, path);
+        enum : uint8_t { Unvisited, OnPath, Done };
+        std::vector<uint8_t> state(m_model.nodes.size(), Unvisited);
+        struct Frame {
+            int node;
+            glm::mat4 world;
+            size_t nextChild;
+        };
+        std::vector<Frame> stack;
+        // Reaches `index` from `parent` (-1 for a root): checks it, reads it and makes it the top of the stack.
+        auto enter = [&](int index, int parent, const glm::mat4& parentWorld) {
+            if (index < 0 || size_t(index) >= m_model.nodes.size())
+                fail(parent < 0 ? fmt::format("scene root node {} does not exist (the file has {})", index, m_model.nodes.size())
+                                : fmt::format("node '{}' has child {}, which does not exist (the file has {} nodes)", nodeLabel(parent),
+                                              index, m_model.nodes.size()));
+            if (state[size_t(index)] == OnPath)
+                fail(fmt::format("node {} ('{}') is its own ancestor (cycle in 'children', through node '{}'); glTF node hierarchies must "
+                                 "be trees",
+                                 index, nodeLabel(index), nodeLabel(parent)));
+            if (state[size_t(index)] == Done)
+                fail(fmt::format("node {} ('{}') is reached twice ({}); glTF nodes have at most one parent and are not also scene roots",
+                                 index, nodeLabel(index),
+                                 parent < 0 ? std::string("listed as a root after being reached")
+                                            : fmt::format("again as a child of '{}'", nodeLabel(parent))));
+            state[size_t(index)] = OnPath;
+            const glm::mat4 world = parentWorld * localMatrix(m_model.nodes[size_t(index)]);
+            readNode(index, world, scene);
+            stack.push_back(Frame{index, world, 0});
+        };
+        for (int root : roots) {
+            enter(root, -1, glm::mat4(1.0f));
+            while (!stack.empty()) {
+                Frame& top = stack.back();
+                const std::vector<int>& children = m_model.nodes[size_t(top.node)].children;
+                if (top.nextChild < children.size()) {
+                    const int child = children[top.nextChild++];
+                    const int parent = top.node;
+                    const glm::mat4 parentWorld = top.world;   // `top` dies when enter() grows the stack
+                    enter(child, parent, parentWorld);
+                } else {
+                    state[size_t(top.node)] = Done;
+                    stack.pop_back();
+                }
+            }
+        }
+        // Without a scene list every node is reached from a root unless it lies on (or under) a
+        // cycle, which then has no root.
+        if (m_model.scenes.empty())
+            for (size_t n = 0; n < m_model.nodes.size(); ++n)
+                if (state[n] == Unvisited)
+                    fail(fmt::format("node {} ('{}') is on or below a cycle in 'children' (no node of the cycle is a root); glTF node "
+                                     "hierarchies must be trees",
+                                     n, nodeLabel(int(n))));
     }
 
     std::filesystem::path m_path;
