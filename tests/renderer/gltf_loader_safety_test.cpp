@@ -84,5 +84,70 @@ TEST(GltfNodes, ChildThatDoesNotExistIsNamed) {
     EXPECT_TRUE(contains(message, "node 'triangle node' has child 7, which does not exist")) << message;
 }
 
+// --- vertex attributes: normalised integers and KHR_mesh_quantization ---------------------------
+
+TEST(GltfAttributes, NormalizedIntegersAreNormalised) {
+    TinyGltf file;
+    const uint8_t uvs[3][4] = {{255, 0}, {51, 255}, {0, 102}};   // UNSIGNED_BYTE VEC2, stride 4
+    const int8_t normals[3][4] = {{0, 0, 127}, {0, -128, 0}, {127, 0, 0}};   // BYTE VEC3, stride 4
+    const int16_t tangents[3][4] = {{32767, 0, 0, -32767}, {0, 32767, 0, 32767}, {0, 0, -32768, 32767}};
+    auto& attributes = file.gltf["meshes"][0]["primitives"][0]["attributes"];
+    attributes["TEXCOORD_0"] = file.addAccessor(uvs, sizeof(uvs), {{"componentType", 5121}, {"normalized", true}, {"count", 3}, {"type", "VEC2"}}, 4);
+    attributes["NORMAL"] = file.addAccessor(normals, sizeof(normals), {{"componentType", 5120}, {"normalized", true}, {"count", 3}, {"type", "VEC3"}}, 4);
+    attributes["TANGENT"] = file.addAccessor(tangents, sizeof(tangents), {{"componentType", 5122}, {"normalized", true}, {"count", 3}, {"type", "VEC4"}});
+    const Scene scene = loadScene(file.write());
+    const std::vector<Vertex>& v = scene.meshes.at(0).vertices;
+    EXPECT_EQ(v[0].uv, glm::vec2(1.0f, 0.0f));
+    EXPECT_FLOAT_EQ(v[1].uv.x, 0.2f);
+    EXPECT_FLOAT_EQ(v[2].uv.y, 0.4f);
+    EXPECT_EQ(v[0].normal, glm::vec3(0, 0, 1));
+    EXPECT_EQ(v[1].normal, glm::vec3(0, -1, 0));   // -128 / 127 clamps to -1
+    EXPECT_EQ(v[0].tangent, glm::vec4(1, 0, 0, -1));
+    EXPECT_EQ(v[2].tangent, glm::vec4(0, 0, -1, 1));
+}
+
+TEST(GltfAttributes, QuantizedPositionsAndTexcoordsKeepTheirIntegerValues) {
+    TinyGltf file;
+    file.gltf["extensionsUsed"] = {"KHR_mesh_quantization"};
+    file.gltf["extensionsRequired"] = {"KHR_mesh_quantization"};
+    const int16_t positions[3][4] = {{0, 0, 0}, {100, 0, 0}, {0, -100, 0}};   // SHORT VEC3, stride 8
+    const uint16_t uvs[3][2] = {{3, 0}, {0, 65535}, {1, 1}};                  // UNSIGNED_SHORT VEC2
+    auto& attributes = file.gltf["meshes"][0]["primitives"][0]["attributes"];
+    attributes["POSITION"] = file.addAccessor(positions, sizeof(positions), {{"componentType", 5122}, {"count", 3}, {"type", "VEC3"}}, 8);
+    attributes["TEXCOORD_0"] = file.addAccessor(uvs, sizeof(uvs), {{"componentType", 5123}, {"count", 3}, {"type", "VEC2"}});
+    file.gltf["nodes"][0]["scale"] = {0.01, 0.01, 0.01};   // how quantized files dequantize
+    const Scene scene = loadScene(file.write());
+    const std::vector<Vertex>& v = scene.meshes.at(0).vertices;
+    EXPECT_EQ(v[1].position, glm::vec3(100, 0, 0));
+    EXPECT_EQ(v[2].position, glm::vec3(0, -100, 0));
+    EXPECT_EQ(v[0].uv, glm::vec2(3, 0));
+    EXPECT_EQ(v[1].uv, glm::vec2(0, 65535));
+}
+
+TEST(GltfAttributes, ComponentTypesGltfDoesNotAllowAreRefusedByName) {
+    struct Case {
+        const char* attribute;
+        json accessor;
+        std::string expected;
+    };
+    const uint8_t bytes[3][4] = {};
+    const Case cases[] = {
+        {"NORMAL", {{"componentType", 5121}, {"normalized", true}, {"type", "VEC3"}}, "NORMAL accessor 2 is normalized UNSIGNED_BYTE"},
+        {"NORMAL", {{"componentType", 5120}, {"type", "VEC3"}}, "NORMAL accessor 2 is BYTE"},
+        {"TANGENT", {{"componentType", 5122}, {"type", "VEC4"}}, "TANGENT accessor 2 is SHORT"},
+        {"TEXCOORD_0", {{"componentType", 5125}, {"type", "VEC2"}}, "TEXCOORD_0 accessor 2 is UNSIGNED_INT"},
+        {"POSITION", {{"componentType", 5126}, {"normalized", true}, {"type", "VEC3"}}, "POSITION accessor 2 is normalized FLOAT"},
+    };
+    for (const Case& c : cases) {
+        TinyGltf file;
+        json accessor = c.accessor;
+        accessor["count"] = 1;
+        file.gltf["meshes"][0]["primitives"][0]["attributes"][c.attribute] = file.addAccessor(bytes, sizeof(bytes), accessor, 16);
+        if (std::string(c.attribute) == "POSITION") file.gltf["meshes"][0]["primitives"][0].erase("indices");
+        const std::string message = sceneErrorOf([&] { loadScene(file.write()); });
+        EXPECT_TRUE(contains(message, c.expected + ", which glTF does not allow here")) << message;
+    }
+}
+
 }  // namespace
 }  // namespace janus::renderer

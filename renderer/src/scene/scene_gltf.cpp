@@ -23,7 +23,7 @@ namespace {
 constexpr uint64_t kMaxAccessorBytes = uint64_t(1) << 30;
 
 // glTF extensions the loader implements.
-constexpr std::string_view kSupportedExtensions[] = {"KHR_lights_punctual"};
+constexpr std::string_view kSupportedExtensions[] = {"KHR_lights_punctual", "KHR_mesh_quantization"};
 
 bool isSupportedExtension(std::string_view name) {
     for (std::string_view supported : kSupportedExtensions)
@@ -179,15 +179,50 @@ private:
         }
     }
 
-    // Reads accessor `index` as `width` floats per element (normalised integers are mapped to
-    // [0, 1] as glTF specifies). Every offset is bounds-checked: a bad file must not crash us.
-    std::vector<float> readFloats(int index, int width, const std::string& what) const {
+    // The vertex attributes Janus reads, for the component types each may have.
+    enum class Attribute { Position, Normal, Tangent, TexCoord };
+
+    static const char* componentTypeName(int type) {
+        switch (type) {
+            case TINYGLTF_COMPONENT_TYPE_BYTE: return "BYTE";
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return "UNSIGNED_BYTE";
+            case TINYGLTF_COMPONENT_TYPE_SHORT: return "SHORT";
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return "UNSIGNED_SHORT";
+            case TINYGLTF_COMPONENT_TYPE_INT: return "INT";
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: return "UNSIGNED_INT";
+            case TINYGLTF_COMPONENT_TYPE_FLOAT: return "FLOAT";
+            default: return "an unknown component type";
+        }
+    }
+
+    // glTF 2.0 with KHR_mesh_quantization: positions and texture coordinates may be FLOAT or 8/16-bit
+    // integers, normalised or not; normals and tangents FLOAT or normalised BYTE / SHORT.
+    // `normalized` is meaningless (and not allowed) on FLOAT.
+    static bool allowedComponentType(Attribute attribute, int type, bool normalized) {
+        if (type == TINYGLTF_COMPONENT_TYPE_FLOAT) return !normalized;
+        const bool signedType = type == TINYGLTF_COMPONENT_TYPE_BYTE || type == TINYGLTF_COMPONENT_TYPE_SHORT;
+        const bool unsignedType = type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE || type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
+        if (attribute == Attribute::Normal || attribute == Attribute::Tangent) return signedType && normalized;
+        return signedType || unsignedType;
+    }
+
+    // Reads accessor `index` of vertex attribute `attribute` as `width` floats per element. Integer
+    // components are normalised as glTF specifies when the accessor is `normalized` (unsigned: c / max;
+    // signed: max(c / max, -1)) and converted as they are otherwise (KHR_mesh_quantization).
+    // Every offset is bounds-checked: a bad file must not crash us.
+    std::vector<float> readFloats(int index, int width, Attribute attribute, const std::string& what) const {
         const tinygltf::Accessor& accessor = accessorAt(index, what);
         if (tinygltf::GetNumComponentsInType(uint32_t(accessor.type)) != width)
             fail(fmt::format("{} accessor {} has {} components per element, expected {}", what, index,
                              tinygltf::GetNumComponentsInType(uint32_t(accessor.type)), width));
+        const bool normalized = accessor.normalized;
+        if (!allowedComponentType(attribute, accessor.componentType, normalized))
+            fail(fmt::format("{} accessor {} is {}{}, which glTF does not allow here; allowed: {}", what, index,
+                             normalized ? "normalized " : "", componentTypeName(accessor.componentType),
+                             attribute == Attribute::Normal || attribute == Attribute::Tangent
+                                 ? "FLOAT, or normalized BYTE or SHORT (KHR_mesh_quantization)"
+                                 : "FLOAT, or BYTE, UNSIGNED_BYTE, SHORT or UNSIGNED_SHORT, normalized or not (KHR_mesh_quantization)"));
         const int componentSize = tinygltf::GetComponentSizeInBytes(uint32_t(accessor.componentType));
-        if (componentSize <= 0) fail(fmt::format("{} accessor {} has an invalid component type", what, index));
         const size_t count = checkedElementCount(accessor, index, what, size_t(componentSize) * size_t(width), sizeof(float) * size_t(width));
         std::vector<float> out(count * size_t(width));
         forEachElement(accessor, index, what, size_t(componentSize) * size_t(width), [&](const uint8_t* src, size_t e) {
@@ -196,11 +231,24 @@ private:
                 float value = 0.0f;
                 switch (accessor.componentType) {
                     case TINYGLTF_COMPONENT_TYPE_FLOAT: std::memcpy(&value, p, 4); break;
-                    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: value = float(*p) / 255.0f; break;
-                    case TINYGLTF_COMPONENT_TYPE_BYTE: value = std::max(float(int8_t(*p)) / 127.0f, -1.0f); break;
-                    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { uint16_t v; std::memcpy(&v, p, 2); value = float(v) / 65535.0f; break; }
-                    case TINYGLTF_COMPONENT_TYPE_SHORT: { int16_t v; std::memcpy(&v, p, 2); value = std::max(float(v) / 32767.0f, -1.0f); break; }
-                    default: fail(fmt::format("{} accessor {} has component type {}, which glTF does not allow here", what, index, accessor.componentType));
+                    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: value = normalized ? float(*p) / 255.0f : float(*p); break;
+                    case TINYGLTF_COMPONENT_TYPE_BYTE: {
+                        const float v = float(int8_t(*p));
+                        value = normalized ? std::max(v / 127.0f, -1.0f) : v;
+                        break;
+                    }
+                    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+                        uint16_t v;
+                        std::memcpy(&v, p, 2);
+                        value = normalized ? float(v) / 65535.0f : float(v);
+                        break;
+                    }
+                    default: {   // SHORT (allowedComponentType admits nothing else)
+                        int16_t v;
+                        std::memcpy(&v, p, 2);
+                        value = normalized ? std::max(float(v) / 32767.0f, -1.0f) : float(v);
+                        break;
+                    }
                 }
                 out[e * size_t(width) + size_t(c)] = value;
             }
@@ -298,7 +346,7 @@ private:
                 };
                 if (attribute("POSITION") < 0) fail(fmt::format("{} has no POSITION attribute", where));
                 Mesh mesh;
-                const std::vector<float> positions = readFloats(attribute("POSITION"), 3, where + " POSITION");
+                const std::vector<float> positions = readFloats(attribute("POSITION"), 3, Attribute::Position, where + " POSITION");
                 const size_t vertexCount = positions.size() / 3;
                 mesh.vertices.resize(vertexCount);
                 for (size_t v = 0; v < vertexCount; ++v) {
@@ -308,19 +356,21 @@ private:
                     vertex.uv = glm::vec2(0.0f);
                     vertex.tangent = glm::vec4(0.0f);
                 }
-                auto readInto = [&](const char* name, int width, auto&& store) {
+                auto readInto = [&](const char* name, int width, Attribute kind, auto&& store) {
                     if (attribute(name) < 0) return false;
-                    const std::vector<float> values = readFloats(attribute(name), width, where + " " + name);
+                    const std::vector<float> values = readFloats(attribute(name), width, kind, where + " " + name);
                     if (values.size() / size_t(width) != vertexCount)
                         fail(fmt::format("{} {} has {} elements but POSITION has {}", where, name,
                                          values.size() / size_t(width), vertexCount));
                     for (size_t v = 0; v < vertexCount; ++v) store(mesh.vertices[v], &values[v * size_t(width)]);
                     return true;
                 };
-                const bool hasNormals = readInto("NORMAL", 3, [](Vertex& v, const float* f) { v.normal = glm::vec3(f[0], f[1], f[2]); });
-                const bool hasUvs = readInto("TEXCOORD_0", 2, [](Vertex& v, const float* f) { v.uv = glm::vec2(f[0], f[1]); });
-                const bool hasTangents =
-                    readInto("TANGENT", 4, [](Vertex& v, const float* f) { v.tangent = glm::vec4(f[0], f[1], f[2], f[3]); });
+                const bool hasNormals =
+                    readInto("NORMAL", 3, Attribute::Normal, [](Vertex& v, const float* f) { v.normal = glm::vec3(f[0], f[1], f[2]); });
+                const bool hasUvs =
+                    readInto("TEXCOORD_0", 2, Attribute::TexCoord, [](Vertex& v, const float* f) { v.uv = glm::vec2(f[0], f[1]); });
+                const bool hasTangents = readInto("TANGENT", 4, Attribute::Tangent,
+                                                  [](Vertex& v, const float* f) { v.tangent = glm::vec4(f[0], f[1], f[2], f[3]); });
 
                 if (primitive.indices >= 0) {
                     mesh.indices = readIndices(primitive.indices);
