@@ -149,5 +149,28 @@ TEST(GltfAttributes, ComponentTypesGltfDoesNotAllowAreRefusedByName) {
     }
 }
 
+// --- KHR_lights_punctual range -----------------------------------------------------------------
+
+// docs/SCENES.md: a light range <= 0 lights nothing (the renderer skips it with a warning). A
+// glTF light that gives one keeps it; one without a range is infinite.
+TEST(GltfLights, RangeZeroOrNegativeIsKeptAndNoRangeIsInfinite) {
+    TinyGltf file;
+    file.gltf["extensionsUsed"] = {"KHR_lights_punctual"};
+    file.gltf["extensions"] = {{"KHR_lights_punctual",
+                                {{"lights", json::array({{{"type", "point"}, {"intensity", 5}, {"range", 0}},
+                                                         {{"type", "point"}, {"intensity", 5}, {"range", -2.5}},
+                                                         {{"type", "point"}, {"intensity", 5}}})}}}};
+    for (int i = 0; i < 3; ++i)
+        file.gltf["nodes"].push_back({{"name", fmt::format("lamp {}", i)}, {"extensions", {{"KHR_lights_punctual", {{"light", i}}}}}});
+    file.gltf["scenes"][0]["nodes"] = {0, 1, 2, 3};
+    const Scene scene = loadScene(file.write());
+    ASSERT_EQ(scene.lights.size(), 3u);
+    ASSERT_TRUE(scene.lights[0].range.has_value());
+    EXPECT_EQ(*scene.lights[0].range, 0.0f);
+    ASSERT_TRUE(scene.lights[1].range.has_value());
+    EXPECT_EQ(*scene.lights[1].range, -2.5f);
+    EXPECT_FALSE(scene.lights[2].range.has_value());
+}
+
 }  // namespace
 }  // namespace janus::renderer

@@ -471,6 +471,15 @@ private:
         m_cameraFound = true;
     }
 
+    bool hasExplicitRange(int index) const {
+        auto it = m_model.extensions.find("KHR_lights_punctual");
+        if (it == m_model.extensions.end() || !it->second.IsObject() || !it->second.Has("lights")) return false;
+        const tinygltf::Value& lights = it->second.Get("lights");
+        if (!lights.IsArray() || size_t(index) >= lights.ArrayLen()) return false;
+        const tinygltf::Value& light = lights.Get(index);
+        return light.IsObject() && light.Has("range");
+    }
+
     void readLight(int index, const glm::mat4& world, const std::string& nodeName, Scene& scene) {
         if (index < 0 || size_t(index) >= m_model.lights.size())
             fail(fmt::format("node '{}' references KHR_lights_punctual light {} but the file has {}", nodeName, index,
@@ -486,7 +495,11 @@ private:
         light.position = glm::vec3(world[3]);
         const glm::vec3 forward = -glm::vec3(world[2]);   // lights shine down their local -Z
         light.direction = glm::length(forward) > 0.0f ? glm::normalize(forward) : glm::vec3(0, 0, -1);
-        if (gltfLight.range > 0.0) light.range = float(gltfLight.range);
+        // KHR_lights_punctual: no range means infinite. tinygltf reads a missing range as 0, so
+        // whether the file gave one comes from the extension's JSON. A range it gives is kept as
+        // it is, also <= 0 (which the extension forbids): such a light lights nothing, as
+        // docs/SCENES.md says for every light, rather than becoming infinite.
+        if (hasExplicitRange(index)) light.range = float(gltfLight.range);
         light.innerConeAngle = float(gltfLight.spot.innerConeAngle);
         light.outerConeAngle = float(gltfLight.spot.outerConeAngle);
         scene.lights.push_back(light);
