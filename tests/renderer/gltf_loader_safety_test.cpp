@@ -28,6 +28,185 @@ using test_support::TinyGltf;
 
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
+SceneLoadOptions allowingOutsidePaths() {
+    SceneLoadOptions options;
+    options.allowPathsOutsideSceneFolder = true;
+    return options;
+}
+
+std::string base64(const std::vector<uint8_t>& bytes) {
+    static const char* const kAlphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    std::string out;
+    for (size_t i = 0; i < bytes.size(); i += 3) {
+        const uint32_t b0 = bytes[i], b1 = i + 1 < bytes.size() ? bytes[i + 1] : 0, b2 = i + 2 < bytes.size() ? bytes[i + 2] : 0;
+        const uint32_t triple = (b0 << 16) | (b1 << 8) | b2;
+        out += kAlphabet[(triple >> 18) & 63];
+        out += kAlphabet[(triple >> 12) & 63];
+        out += i + 1 < bytes.size() ? kAlphabet[(triple >> 6) & 63] : '=';
+        out += i + 2 < bytes.size() ? kAlphabet[triple & 63] : '=';
+    }
+    return out;
+}
+
+std::vector<uint8_t> fileBytes(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::vector<uint8_t>(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// Points the material's base colour at image 0, whose "uri" is `uri`.
+void useImage(TinyGltf& file, const std::string& uri) {
+    file.gltf["images"] = json::array({{{"uri", uri}}});
+    file.gltf["textures"] = json::array({{{"source", 0}}});
+    file.gltf["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+}
+
+// --- URIs: the glTF's folder and below, unless allowed ----------------------------------------
+
+TEST(GltfUris, BufferUriLeavingTheFolderIsRefusedByNameUnlessAllowed) {
+    TinyGltf file;
+    file.gltf["buffers"][0]["uri"] = "../tri.bin";   // tri.bin is in dir(), the glTF one folder below
+    const fs::path path = file.write("models/tri.gltf");
+    const std::string message = sceneErrorOf([&] { loadScene(path); });
+    EXPECT_TRUE(contains(message, path.string())) << message;
+    EXPECT_TRUE(contains(message, "buffer 0")) << message;
+    EXPECT_TRUE(contains(message, "'../tri.bin' leaves the glTF's folder")) << message;
+    EXPECT_TRUE(contains(message, "--allow-outside-paths")) << "the message says how to allow it: " << message;
+
+    const Scene scene = loadScene(path, allowingOutsidePaths());
+    ASSERT_EQ(scene.meshes.size(), 1u);
+    EXPECT_EQ(scene.meshes[0].vertices[1].position, glm::vec3(1, 0, 0));
+}
+
+TEST(GltfUris, ImageUriEscapingToEtcPasswdIsRefusedBeforeAnythingIsRead) {
+    TinyGltf file;
+    useImage(file, "../../../../../../../../../../etc/passwd");
+    const std::string message = sceneErrorOf([&] { loadScene(file.write()); });
+    EXPECT_TRUE(contains(message, "image 0")) << message;
+    EXPECT_TRUE(contains(message, "'../../../../../../../../../../etc/passwd' leaves the glTF's folder")) << message;
+}
+
+TEST(GltfUris, PercentEncodedDotsAreDecodedBeforeTheCheck) {
+    TinyGltf file;
+    file.gltf["buffers"][0]["uri"] = "%2E%2E/tri.bin";
+    const std::string message = sceneErrorOf([&] { loadScene(file.write("models/tri.gltf")); });
+    EXPECT_TRUE(contains(message, "leaves the glTF's folder")) << message;
+}
+
+TEST(GltfUris, DotDotThatStaysInsideTheFolderIsFine) {
+    TinyGltf file;
+    file.gltf["buffers"][0]["uri"] = "models/../tri.bin";
+    EXPECT_EQ(loadScene(file.write()).meshes.size(), 1u);
+}
+
+TEST(GltfUris, AbsolutePathsAreRefusedUnlessAllowed) {
+    TinyGltf file;
+    const fs::path bin = fs::absolute(file.dir() / "tri.bin");
+    file.gltf["buffers"][0]["uri"] = bin.string();   // even one that names a file inside the folder
+    const fs::path path = file.write();
+    const std::string message = sceneErrorOf([&] { loadScene(path); });
+    EXPECT_TRUE(contains(message, fmt::format("'{}' is an absolute path", bin.string()))) << message;
+    EXPECT_EQ(loadScene(path, allowingOutsidePaths()).meshes.size(), 1u);
+}
+
+TEST(GltfUris, OtherSchemesThanDataAreRefusedEvenWhenAllowed) {
+    for (const std::string uri : {"file:///etc/passwd", "http://example.com/tri.bin"}) {
+        TinyGltf file;
+        file.gltf["buffers"][0]["uri"] = uri;
+        const fs::path path = file.write();
+        for (const SceneLoadOptions& options : {SceneLoadOptions{}, allowingOutsidePaths()}) {
+            const std::string message = sceneErrorOf([&] { loadScene(path, options); });
+            EXPECT_TRUE(contains(message, fmt::format("'{}' uses the '{}:' scheme", uri, uri.substr(0, uri.find(':'))))) << message;
+        }
+    }
+}
+
+// tinygltf also looks for a relative URI in the working directory when it is not next to the
+// glTF; a file there must not be read in its place.
+TEST(GltfUris, TheWorkingDirectoryIsNotSearched) {
+    TinyGltf elsewhere;   // a folder holding tri.bin, made the working directory
+    elsewhere.write();
+    TinyGltf file;
+    file.gltf["buffers"][0]["uri"] = "only-in-the-working-directory.bin";
+    fs::copy_file(elsewhere.dir() / "tri.bin", elsewhere.dir() / "only-in-the-working-directory.bin");
+    const fs::path path = file.write();
+    const fs::path cwd = fs::current_path();
+    fs::current_path(elsewhere.dir());
+    const std::string message = sceneErrorOf([&] { loadScene(path); });
+    fs::current_path(cwd);
+    EXPECT_TRUE(contains(message, "only-in-the-working-directory.bin")) << message;
+}
+
+// A scene file is the user's own: its "gltf" (and environment map) may point anywhere, as the
+// repository's tests/renderer/data/cornell.json does with ../../../../shared.
+TEST(GltfUris, SceneFileReferencesAreNotSubjectToTheRule) {
+    TinyGltf file;
+    file.write();
+    fs::create_directories(file.dir() / "scenes" / "deeper");
+    const fs::path scene = file.writeText("scenes/deeper/scene.json", R"({"gltf": "../../tri.gltf"})");
+    EXPECT_EQ(loadScene(scene).meshes.size(), 1u);
+}
+
+// --- data: URIs --------------------------------------------------------------------------------
+
+TEST(GltfDataUris, Base64BufferIsDecoded) {
+    TinyGltf file;
+    file.gltf["buffers"][0]["uri"] = "data:application/octet-stream;base64," + base64(file.bin());
+    const fs::path path = file.write();
+    fs::remove(file.dir() / "tri.bin");
+    const Scene scene = loadScene(path);
+    ASSERT_EQ(scene.meshes.size(), 1u);
+    EXPECT_EQ(scene.meshes[0].vertices[2].position, glm::vec3(0, 1, 0));
+    EXPECT_EQ(scene.meshes[0].indices, (std::vector<uint32_t>{0, 1, 2}));
+}
+
+TEST(GltfDataUris, Base64ImageIsDecoded) {
+    TinyGltf file;
+    writePNG(file.dir() / "red.png", ImageRGBA8{1, 1, {200, 10, 20, 255}});
+    useImage(file, "data:image/png;base64," + base64(fileBytes(file.dir() / "red.png")));
+    const Scene scene = loadScene(file.write());
+    ASSERT_EQ(scene.textures.size(), 1u);
+    EXPECT_EQ(scene.textures[0].rgba, (std::vector<uint8_t>{200, 10, 20, 255}));
+}
+
+TEST(GltfDataUris, MalformedDataUrisAreRefusedWithTheReason) {
+    const std::string valid = base64(TinyGltf().bin());
+    struct Case {
+        std::string uri;
+        std::string reason;
+    };
+    const Case cases[] = {
+        {"data:application/octet-stream;base64," + valid.substr(0, 20) + "!" + valid.substr(21),
+         "is not valid base64: character '!' at offset 20"},
+        {"data:application/octet-stream;base64," + valid.substr(0, valid.size() - 1), "not a multiple of 4"},
+        {"data:application/octet-stream;base64," + valid.substr(0, 16), "decodes to 12 bytes, but the buffer's byteLength is 44"},
+        {"data:application/octet-stream;base64,", "holds no data"},
+        {"data:application/octet-stream," + valid, "is not base64-encoded"},
+        {"data:application/json;base64," + valid, "media type 'application/json'"},
+        {"data:application/octet-stream;base64", "has no ','"},
+    };
+    for (const Case& c : cases) {
+        TinyGltf file;
+        file.gltf["buffers"][0]["uri"] = c.uri;
+        const std::string message = sceneErrorOf([&] { loadScene(file.write()); });
+        EXPECT_TRUE(contains(message, "buffer 0: data: URI")) << c.uri << ": " << message;
+        EXPECT_TRUE(contains(message, c.reason)) << c.uri << ": " << message;
+        EXPECT_LT(message.size(), 400u) << "a long data: URI is shortened in the message: " << message;
+    }
+}
+
+// tinygltf hands the loader an embedded image's bytes without checking its buffer view against
+// the buffer (a read past the end of the buffer).
+TEST(GltfDataUris, ImageBufferViewOutsideItsBufferIsRefused) {
+    TinyGltf file;
+    file.gltf["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", 40}, {"byteLength", 4000}});
+    file.gltf["images"] = json::array({{{"bufferView", 2}, {"mimeType", "image/png"}}});
+    file.gltf["textures"] = json::array({{{"source", 0}}});
+    file.gltf["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+    const std::string message = sceneErrorOf([&] { loadScene(file.writeGlb()); });
+    EXPECT_TRUE(contains(message, "image 0: its buffer view 2")) << message;
+    EXPECT_TRUE(contains(message, "does not lie inside its buffer")) << message;
+}
+
 // --- node hierarchies --------------------------------------------------------------------------
 
 TEST(GltfNodes, HundredThousandNestedNodesDoNotOverflowTheStack) {

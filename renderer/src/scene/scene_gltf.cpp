@@ -1,15 +1,20 @@
 // glTF 2.0 (.gltf / .glb) -> Scene, through Debian's libtinygltf (the .so carries the
 // implementation and stb_image, so we only include the header).
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstring>
+#include <fstream>
 #include <map>
+#include <optional>
+#include <string_view>
 #include <tuple>
 
 #include <fmt/format.h>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
+#include <nlohmann/json.hpp>
 #include <tiny_gltf.h>
 
 #include "scene_internal.h"
@@ -35,6 +40,192 @@ std::string supportedExtensionList() {
     std::string list;
     for (std::string_view supported : kSupportedExtensions) list += (list.empty() ? "" : ", ") + std::string(supported);
     return list;
+}
+
+// --- what a glTF may read: URIs and data: URIs --------------------------------------------------
+
+// What tinygltf's file-system callbacks share while one file loads.
+struct LoadContext {
+    std::filesystem::path folder;   // the glTF's folder, absolute and normalised
+    std::string uriPrefix;          // how tinygltf joins that folder and a URI: folder + '/'
+    bool allowOutside = false;      // SceneLoadOptions::allowPathsOutsideSceneFolder
+    std::string refusal;            // the first URI refused (a SceneError message without the file)
+
+    void refuse(std::string why) {
+        if (refusal.empty()) refusal = std::move(why);
+    }
+};
+
+// A URI for a message: data: URIs can be megabytes long, so only their start is shown.
+std::string shown(std::string_view uri) {
+    constexpr size_t kShown = 48;
+    return uri.size() <= kShown ? std::string(uri) : std::string(uri.substr(0, kShown)) + "...";
+}
+
+bool startsWithNoCase(std::string_view text, std::string_view prefix) {
+    if (text.size() < prefix.size()) return false;
+    for (size_t i = 0; i < prefix.size(); ++i)
+        if (std::tolower(static_cast<unsigned char>(text[i])) != std::tolower(static_cast<unsigned char>(prefix[i]))) return false;
+    return true;
+}
+
+// The URI's scheme ("http", "file", "data"), or "" for a path. RFC 3986: a letter, then letters,
+// digits, '+', '-', '.', then ':'. One letter is a Windows drive ("C:"), not a scheme.
+std::string schemeOf(std::string_view uri) {
+    if (uri.empty() || !std::isalpha(static_cast<unsigned char>(uri[0]))) return {};
+    for (size_t i = 1; i < uri.size(); ++i) {
+        const char c = uri[i];
+        if (c == ':') return i >= 2 ? std::string(uri.substr(0, i)) : std::string();
+        if (!std::isalnum(static_cast<unsigned char>(c)) && c != '+' && c != '-' && c != '.') return {};
+    }
+    return {};
+}
+
+const char* const kAllowHint =
+    "Janus reads buffers and images only from the glTF's folder and the folders below it; if you trust the file, allow "
+    "it with SceneLoadOptions::allowPathsOutsideSceneFolder (janus: --allow-outside-paths)";
+
+// Why the file-path URI `uri` (already percent-decoded) may not be read, or "" when it may. The
+// rule is lexical: ".." and absolute paths are refused, symbolic links are not looked at.
+std::string pathUriProblem(std::string_view uri, const LoadContext& context) {
+    if (uri.empty()) return {};
+    if (startsWithNoCase(uri, "data:"))
+        return fmt::format("'{}' is a data: URI Janus cannot decode (see the base64 data: URI rules in docs/SCENES.md)", shown(uri));
+    if (const std::string scheme = schemeOf(uri); !scheme.empty())
+        return fmt::format("URI '{}' uses the '{}:' scheme; Janus reads relative file paths and base64 data: URIs only", shown(uri),
+                           scheme);
+    if (context.allowOutside) return {};
+    const std::filesystem::path path(uri);
+    if (path.has_root_path() || uri.front() == '/' || uri.front() == '\\')
+        return fmt::format("URI '{}' is an absolute path; {}", uri, kAllowHint);
+    const std::filesystem::path relative = (context.folder / path).lexically_normal().lexically_relative(context.folder);
+    if (relative.empty() || *relative.begin() == "..")
+        return fmt::format("URI '{}' leaves the glTF's folder '{}'; {}", uri, context.folder.string(), kAllowHint);
+    return {};
+}
+
+// tinygltf looks a file up as ExpandFilePath(JoinPath(dir, uri)) for dir = the glTF's folder,
+// then the working directory. This applies the URI rule to the first and never searches the
+// second; the path it returns (empty: refused) is what FileExists and ReadWholeFile get.
+std::string expandFilePath(const std::string& joined, void* user) {
+    LoadContext& context = *static_cast<LoadContext*>(user);
+    if (joined.compare(0, context.uriPrefix.size(), context.uriPrefix) != 0) return {};   // the working directory
+    const std::string uri = joined.substr(context.uriPrefix.size());
+    if (std::string problem = pathUriProblem(uri, context); !problem.empty()) {
+        context.refuse(std::move(problem));
+        return {};
+    }
+    const std::filesystem::path path(uri);
+    return (path.has_root_path() ? path : context.folder / path).lexically_normal().string();
+}
+
+bool fileExists(const std::string& path, void*) {
+    std::error_code ec;
+    return !path.empty() && std::filesystem::is_regular_file(path, ec);   // not directories, devices or pipes
+}
+
+// Why the data: URI `uri` cannot be decoded, or "" when tinygltf will decode it exactly.
+// `byteLength` is the buffer's (buffers must decode to exactly that many bytes); none for images.
+std::string dataUriProblem(std::string_view uri, std::optional<uint64_t> byteLength) {
+    // The headers tinygltf decodes (tinygltf::IsDataURI), each followed by the base64 data.
+    static constexpr std::string_view kHeaders[] = {
+        "data:application/octet-stream;base64,", "data:application/gltf-buffer;base64,", "data:image/png;base64,",
+        "data:image/jpeg;base64,",                "data:image/bmp;base64,",               "data:image/gif;base64,",
+        "data:text/plain;base64,"};
+    const size_t comma = uri.find(',');
+    if (comma == std::string_view::npos) return fmt::format("data: URI '{}' has no ',' before its data", shown(uri));
+    const std::string_view header = uri.substr(0, comma + 1);
+    if (header.size() < 8 || !startsWithNoCase(header.substr(header.size() - 8), ";base64,"))
+        return fmt::format("data: URI '{}' is not base64-encoded; Janus decodes only ';base64,' data: URIs", shown(uri));
+    if (std::find(std::begin(kHeaders), std::end(kHeaders), header) == std::end(kHeaders))
+        return fmt::format("data: URI '{}' has media type '{}', which Janus does not decode; use application/octet-stream or "
+                           "application/gltf-buffer for buffers, image/png or image/jpeg for images",
+                           shown(uri), header.substr(5, header.size() - 13));
+    const std::string_view data = uri.substr(comma + 1);
+    size_t padding = 0;
+    for (size_t i = 0; i < data.size(); ++i) {
+        const unsigned char c = static_cast<unsigned char>(data[i]);
+        if (c == '=' && i + 2 >= data.size()) {
+            ++padding;
+            continue;
+        }
+        if (padding > 0 || !(std::isalnum(c) || c == '+' || c == '/'))
+            return fmt::format("data: URI '{}' is not valid base64: {} at offset {} of its data", shown(uri),
+                               std::isprint(c) ? fmt::format("character '{}'", char(c)) : fmt::format("byte 0x{:02x}", c), i);
+    }
+    if (data.empty()) return fmt::format("data: URI '{}' holds no data", shown(uri));
+    if (data.size() % 4 != 0)
+        return fmt::format("data: URI '{}' is not valid base64: {} characters of data, not a multiple of 4 (padding missing or data "
+                           "cut short)",
+                           shown(uri), data.size());
+    const uint64_t decoded = data.size() / 4 * 3 - padding;
+    if (byteLength && decoded != *byteLength)
+        return fmt::format("data: URI '{}' decodes to {} bytes, but the buffer's byteLength is {}", shown(uri), decoded, *byteLength);
+    return {};
+}
+
+// The JSON of a .glb (its first chunk), or nothing when the header is not one: tinygltf then
+// reports what is wrong.
+std::optional<std::string_view> glbJson(const std::vector<char>& bytes) {
+    auto u32 = [&](size_t at) {
+        uint32_t v;
+        std::memcpy(&v, bytes.data() + at, 4);
+        return v;
+    };
+    if (bytes.size() < 20 || std::memcmp(bytes.data(), "glTF", 4) != 0 || u32(16) != 0x4E4F534Au) return std::nullopt;
+    const uint64_t length = u32(12);
+    if (20 + length > bytes.size()) return std::nullopt;
+    return std::string_view(bytes.data() + 20, size_t(length));
+}
+
+// A non-negative integer member (also written as 44.0), or nothing.
+std::optional<uint64_t> unsignedAt(const nlohmann::json& object, const char* key) {
+    if (!object.is_object() || !object.contains(key)) return std::nullopt;
+    const nlohmann::json& value = object[key];
+    if (value.is_number_unsigned()) return value.get<uint64_t>();
+    if (value.is_number_float()) {
+        const double d = value.get<double>();
+        if (d >= 0.0 && d < 1.8e19 && d == std::floor(d)) return uint64_t(d);
+    }
+    return std::nullopt;
+}
+
+// Checks what tinygltf would read before it reads anything, so each problem is refused by name:
+// every buffer and image URI (path rule, data: URIs) and the bytes of images stored in buffer
+// views (tinygltf does not bounds-check them). A JSON that does not parse is left to tinygltf.
+void checkReferences(std::string_view text, LoadContext& context) {
+    const nlohmann::json root = nlohmann::json::parse(text.begin(), text.end(), nullptr, /*allow_exceptions=*/false);
+    if (!root.is_object()) return;
+    auto array = [&](const char* key) -> const nlohmann::json& {
+        static const nlohmann::json empty = nlohmann::json::array();
+        return root.contains(key) && root[key].is_array() ? root[key] : empty;
+    };
+    const nlohmann::json& buffers = array("buffers");
+    const nlohmann::json& views = array("bufferViews");
+    auto checkUri = [&](const nlohmann::json& object, const std::string& what, std::optional<uint64_t> byteLength) {
+        if (!object.is_object() || !object.contains("uri") || !object["uri"].is_string()) return;
+        const std::string& uri = object["uri"].get_ref<const std::string&>();
+        std::string problem = startsWithNoCase(uri, "data:") ? dataUriProblem(uri, byteLength) : pathUriProblem(uri, context);
+        if (!problem.empty()) context.refuse(fmt::format("{}: {}", what, problem));
+    };
+    for (size_t i = 0; i < buffers.size(); ++i) checkUri(buffers[i], fmt::format("buffer {}", i), unsignedAt(buffers[i], "byteLength"));
+    const nlohmann::json& images = array("images");
+    for (size_t i = 0; i < images.size(); ++i) {
+        const nlohmann::json& image = images[i];
+        checkUri(image, fmt::format("image {}", i), std::nullopt);
+        if (!image.is_object() || !image.contains("bufferView")) continue;
+        const uint64_t view = unsignedAt(image, "bufferView").value_or(UINT64_MAX);
+        if (view >= views.size()) continue;   // tinygltf names it
+        const uint64_t buffer = unsignedAt(views[size_t(view)], "buffer").value_or(UINT64_MAX);
+        const uint64_t offset = unsignedAt(views[size_t(view)], "byteOffset").value_or(0);
+        const uint64_t length = unsignedAt(views[size_t(view)], "byteLength").value_or(0);
+        uint64_t end = 0;
+        if (buffer >= buffers.size() || __builtin_add_overflow(offset, length, &end) ||
+            end > unsignedAt(buffers[size_t(buffer)], "byteLength").value_or(0) || length == 0 || length > uint64_t(INT32_MAX))
+            context.refuse(fmt::format("image {}: its buffer view {} (byteOffset {}, byteLength {}, buffer {}) is empty or does not lie "
+                                       "inside its buffer",
+                                       i, view, offset, length, buffer));
+    }
 }
 
 // Everything the loader throws names the file, so errors from a scene file that references a
@@ -589,18 +780,45 @@ private:
 
 }  // namespace
 
-Scene loadGltf(const std::filesystem::path& path, bool& hasCamera) {
+Scene loadGltf(const std::filesystem::path& path, bool& hasCamera, const SceneLoadOptions& options) {
     std::error_code ec;
     if (!std::filesystem::is_regular_file(path, ec))
         throw SceneError(fmt::format("{}: no such file (check the path; scene files resolve 'gltf' relative to themselves)",
                                      path.string()));
+    std::vector<char> bytes;
+    {
+        std::ifstream in(path, std::ios::binary);
+        const uint64_t size = std::filesystem::file_size(path, ec);
+        if (!in || ec) throw SceneError(fmt::format("{}: cannot be read", path.string()));
+        if (size > UINT32_MAX) throw SceneError(fmt::format("{}: is larger than 4 GiB, which glTF files cannot be", path.string()));
+        bytes.resize(size_t(size));
+        if (!in.read(bytes.data(), std::streamsize(size))) throw SceneError(fmt::format("{}: cannot be read", path.string()));
+    }
+    const std::string extension = path.extension().string();
+    const bool binary = extension == ".glb" || extension == ".GLB";
+
+    LoadContext context;
+    context.folder = std::filesystem::absolute(path, ec).parent_path().lexically_normal();
+    // lexically_normal keeps a trailing separator on some folders; tinygltf adds its own '/'.
+    std::string folder = context.folder.string();
+    while (folder.size() > 1 && folder.back() == '/') folder.pop_back();
+    context.folder = folder;
+    context.uriPrefix = folder == "/" ? folder : folder + "/";
+    context.allowOutside = options.allowPathsOutsideSceneFolder;
+    if (std::optional<std::string_view> text = binary ? glbJson(bytes) : std::string_view(bytes.data(), bytes.size()))
+        checkReferences(*text, context);
+    if (!context.refusal.empty()) throw SceneError(fmt::format("{}: {}", path.string(), context.refusal));
+
     tinygltf::Model model;
     tinygltf::TinyGLTF loader;
+    loader.SetFsCallbacks(
+        tinygltf::FsCallbacks{&fileExists, &expandFilePath, &tinygltf::ReadWholeFile, &tinygltf::WriteWholeFile, &context});
     std::string error, warning;
-    const std::string extension = path.extension().string();
-    bool ok = false;
-    if (extension == ".glb" || extension == ".GLB") ok = loader.LoadBinaryFromFile(&model, &error, &warning, path.string());
-    else ok = loader.LoadASCIIFromFile(&model, &error, &warning, path.string());
+    const bool ok = binary ? loader.LoadBinaryFromMemory(&model, &error, &warning, reinterpret_cast<const unsigned char*>(bytes.data()),
+                                                         unsigned(bytes.size()), folder)
+                           : loader.LoadASCIIFromString(&model, &error, &warning, bytes.data(), unsigned(bytes.size()), folder);
+    // A refused URI makes tinygltf fail (or, for images, only warn): say why.
+    if (!context.refusal.empty()) throw SceneError(fmt::format("{}: {}", path.string(), context.refusal));
     if (!ok) {
         std::string reason = error.empty() ? warning : error;
         while (!reason.empty() && (reason.back() == '\n' || reason.back() == ' ')) reason.pop_back();
