@@ -14,6 +14,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "core/texture_fit.h"
 #include "janus/renderer/image.h"
 #include "janus/renderer/scene.h"
 #include "renderer/gltf_test_file.h"
@@ -51,6 +52,25 @@ std::string base64(const std::vector<uint8_t>& bytes) {
 std::vector<uint8_t> fileBytes(const fs::path& path) {
     std::ifstream in(path, std::ios::binary);
     return std::vector<uint8_t>(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// A PNG with only its signature, an IHDR claiming width x height (RGBA8) and IEND: enough for
+// a header read, nothing to decode. stb does not check chunk CRCs.
+std::vector<uint8_t> pngHeaderOnly(uint32_t width, uint32_t height) {
+    std::vector<uint8_t> png = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    auto u32 = [&](uint32_t v) {
+        for (int shift : {24, 16, 8, 0}) png.push_back(uint8_t(v >> shift));
+    };
+    u32(13);
+    png.insert(png.end(), {'I', 'H', 'D', 'R'});
+    u32(width);
+    u32(height);
+    png.insert(png.end(), {8, 6, 0, 0, 0});   // 8 bits, RGBA, deflate, no filter, no interlace
+    u32(0);                                   // CRC (not checked)
+    u32(0);
+    png.insert(png.end(), {'I', 'E', 'N', 'D'});
+    u32(0);
+    return png;
 }
 
 // Points the material's base colour at image 0, whose "uri" is `uri`.
@@ -205,6 +225,66 @@ TEST(GltfDataUris, ImageBufferViewOutsideItsBufferIsRefused) {
     const std::string message = sceneErrorOf([&] { loadScene(file.writeGlb()); });
     EXPECT_TRUE(contains(message, "image 0: its buffer view 2")) << message;
     EXPECT_TRUE(contains(message, "does not lie inside its buffer")) << message;
+}
+
+// --- image sizes -------------------------------------------------------------------------------
+
+TEST(GltfImages, ImageWiderThanTheLimitIsRefusedNamingItsSize) {
+    TinyGltf file;
+    writePNG(file.dir() / "wide.png", ImageRGBA8{16385, 1, std::vector<uint8_t>(16385 * 4, 255)});
+    useImage(file, "wide.png");
+    const std::string message = sceneErrorOf([&] { loadScene(file.write()); });
+    EXPECT_TRUE(contains(message, "image 0 ('wide.png') is 16385x1 pixels")) << message;
+    EXPECT_TRUE(contains(message, "at most 16384 on a side")) << message;
+}
+
+TEST(GltfImages, ImageBeyondThePixelBudgetIsRefusedFromItsHeaderAlone) {
+    TinyGltf file;
+    const std::vector<uint8_t> header = pngHeaderOnly(8193, 8193);   // 256 MiB RGBA8 if decoded: over 64 Mi pixels
+    std::ofstream(file.dir() / "huge.png", std::ios::binary).write(reinterpret_cast<const char*>(header.data()), std::streamsize(header.size()));
+    useImage(file, "huge.png");
+    const std::string message = sceneErrorOf([&] { loadScene(file.write()); });
+    EXPECT_TRUE(contains(message, "image 0 ('huge.png') is 8193x8193 pixels")) << message;
+    EXPECT_TRUE(contains(message, "64 Mi pixels in all")) << message;
+}
+
+TEST(GltfImages, ImageAtTheSideLimitIsRead) {
+    TinyGltf file;
+    writePNG(file.dir() / "edge.png", ImageRGBA8{16384, 1, std::vector<uint8_t>(16384 * 4, 255)});
+    useImage(file, "edge.png");
+    const Scene scene = loadScene(file.write());
+    ASSERT_EQ(scene.textures.size(), 1u);
+    EXPECT_EQ(scene.textures[0].width, 16384u);
+}
+
+// What GpuScene does with a texture larger than the device's largest 2D texture (the GPU side
+// is TextureLimitTest in texture_limit_test.cpp).
+TEST(TextureFit, LargerTexturesAreDownscaledKeepingTheirAspect) {
+    TextureImage image;
+    image.name = "big";
+    image.width = 16;
+    image.height = 4;
+    image.srgb = true;
+    for (uint32_t i = 0; i < image.width * image.height; ++i) image.rgba.insert(image.rgba.end(), {30, 120, 240, 255});
+    const TextureImage fitted = fitTextureToSize(image, 8);
+    EXPECT_EQ(fitted.width, 8u);
+    EXPECT_EQ(fitted.height, 2u);
+    EXPECT_EQ(fitted.name, "big");
+    EXPECT_TRUE(fitted.srgb);
+    ASSERT_EQ(fitted.rgba.size(), 8u * 2u * 4u);
+    for (size_t i = 0; i < fitted.rgba.size(); ++i)
+        EXPECT_NEAR(int(fitted.rgba[i]), int(image.rgba[i % 4]), 1) << "a uniform texture keeps its colour, byte " << i;
+
+    image.width = 5;
+    image.height = 1;
+    image.rgba.resize(5 * 4);
+    const TextureImage thin = fitTextureToSize(image, 4);
+    EXPECT_EQ(thin.width, 4u);
+    EXPECT_EQ(thin.height, 1u);   // never below one texel
+
+    const TextureImage same = fitTextureToSize(image, 5);
+    EXPECT_EQ(same.width, 5u);
+    EXPECT_EQ(same.rgba, image.rgba);
 }
 
 // --- node hierarchies --------------------------------------------------------------------------

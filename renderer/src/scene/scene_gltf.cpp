@@ -15,6 +15,7 @@
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
 #include <nlohmann/json.hpp>
+#include <stb/stb_image.h>
 #include <tiny_gltf.h>
 
 #include "scene_internal.h"
@@ -26,6 +27,12 @@ namespace {
 // vertices) with room to spare; a count beyond it is a wrong or hostile file, refused before
 // anything is allocated.
 constexpr uint64_t kMaxAccessorBytes = uint64_t(1) << 30;
+
+// The largest image a glTF may bring: at most this many pixels on a side and in all (64 Mi
+// pixels, 256 MiB as RGBA8: an 8192x8192 texture fits). Checked from the image header before
+// anything is decoded; a larger image is a SceneError.
+constexpr int kMaxImageSide = 16384;
+constexpr uint64_t kMaxImagePixels = uint64_t(1) << 26;
 
 // glTF extensions the loader implements.
 constexpr std::string_view kSupportedExtensions[] = {"KHR_lights_punctual", "KHR_mesh_quantization"};
@@ -42,14 +49,14 @@ std::string supportedExtensionList() {
     return list;
 }
 
-// --- what a glTF may read: URIs and data: URIs --------------------------------------------------
+// --- what a glTF may read: URIs, data: URIs, image sizes ---------------------------------------
 
-// What tinygltf's file-system callbacks share while one file loads.
+// What tinygltf's file-system callbacks and image loader share while one file loads.
 struct LoadContext {
     std::filesystem::path folder;   // the glTF's folder, absolute and normalised
     std::string uriPrefix;          // how tinygltf joins that folder and a URI: folder + '/'
     bool allowOutside = false;      // SceneLoadOptions::allowPathsOutsideSceneFolder
-    std::string refusal;            // the first URI refused (a SceneError message without the file)
+    std::string refusal;            // the first URI or image refused (a SceneError message without the file)
 
     void refuse(std::string why) {
         if (refusal.empty()) refusal = std::move(why);
@@ -226,6 +233,40 @@ void checkReferences(std::string_view text, LoadContext& context) {
                                        "inside its buffer",
                                        i, view, offset, length, buffer));
     }
+}
+
+// tinygltf's image loader: reads the size from the header and refuses an image beyond
+// kMaxImageSide / kMaxImagePixels before decoding it; decodes the rest to 8-bit RGBA (16-bit
+// images keep their high byte).
+bool loadImage(tinygltf::Image* image, const int index, std::string* err, std::string*, int, int, const unsigned char* bytes,
+               int size, void* user) {
+    LoadContext& context = *static_cast<LoadContext*>(user);
+    const std::string label =
+        fmt::format("image {} ('{}')", index, !image->uri.empty() ? shown(image->uri) : !image->name.empty() ? image->name : "embedded");
+    int width = 0, height = 0, channels = 0;
+    if (!stbi_info_from_memory(bytes, size, &width, &height, &channels)) {
+        if (err) *err += fmt::format("{} is not a PNG or JPEG image Janus can decode ({})\n", label, stbi_failure_reason());
+        return false;
+    }
+    if (width > kMaxImageSide || height > kMaxImageSide || uint64_t(width) * uint64_t(height) > kMaxImagePixels) {
+        context.refuse(fmt::format("{} is {}x{} pixels, larger than Janus loads (at most {} on a side and {} Mi pixels in all); "
+                                   "scale it down",
+                                   label, width, height, kMaxImageSide, kMaxImagePixels >> 20));
+        return false;
+    }
+    stbi_uc* pixels = stbi_load_from_memory(bytes, size, &width, &height, &channels, 4);
+    if (!pixels) {
+        if (err) *err += fmt::format("{} could not be decoded ({})\n", label, stbi_failure_reason());
+        return false;
+    }
+    image->width = width;
+    image->height = height;
+    image->component = 4;
+    image->bits = 8;
+    image->pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
+    image->image.assign(pixels, pixels + size_t(width) * size_t(height) * 4);
+    stbi_image_free(pixels);
+    return true;
 }
 
 // Everything the loader throws names the file, so errors from a scene file that references a
@@ -813,11 +854,12 @@ Scene loadGltf(const std::filesystem::path& path, bool& hasCamera, const SceneLo
     tinygltf::TinyGLTF loader;
     loader.SetFsCallbacks(
         tinygltf::FsCallbacks{&fileExists, &expandFilePath, &tinygltf::ReadWholeFile, &tinygltf::WriteWholeFile, &context});
+    loader.SetImageLoader(&loadImage, &context);
     std::string error, warning;
     const bool ok = binary ? loader.LoadBinaryFromMemory(&model, &error, &warning, reinterpret_cast<const unsigned char*>(bytes.data()),
                                                          unsigned(bytes.size()), folder)
                            : loader.LoadASCIIFromString(&model, &error, &warning, bytes.data(), unsigned(bytes.size()), folder);
-    // A refused URI makes tinygltf fail (or, for images, only warn): say why.
+    // A refused URI or image makes tinygltf fail (or, for images, only warn): say why.
     if (!context.refusal.empty()) throw SceneError(fmt::format("{}: {}", path.string(), context.refusal));
     if (!ok) {
         std::string reason = error.empty() ? warning : error;
