@@ -161,6 +161,11 @@ void addSceneArgument(CLI::App& app, std::string& scene) {
     app.add_option("scene", scene, ".gltf, .glb or .json scene file (default: the built-in scene)")->type_name("SCENE");
 }
 
+void addAllowOutsidePathsFlag(CLI::App& app, bool& allow) {
+    app.add_flag("--allow-outside-paths", allow,
+                 "Let the glTF read buffers and images outside its folder (../ or absolute URIs); refused by default");
+}
+
 void addSizeOption(CLI::App& app, std::string& size) {
     app.add_option("--size,-s", size, fmt::format("Image size WIDTHxHEIGHT, each side 1..{}", kMaxRenderSide))
         ->default_str("256x256")
@@ -187,7 +192,7 @@ std::optional<uint32_t> parseManyLightsSceneName(std::string_view text) {
     return count;
 }
 
-renderer::Scene loadSceneOrDefault(const std::optional<std::filesystem::path>& scenePath) {
+renderer::Scene loadSceneOrDefault(const std::optional<std::filesystem::path>& scenePath, bool allowOutsidePaths) {
     if (!scenePath) return renderer::defaultScene();
     std::error_code ec;
     if (!std::filesystem::exists(*scenePath, ec)) {
@@ -204,7 +209,9 @@ renderer::Scene loadSceneOrDefault(const std::optional<std::filesystem::path>& s
     if (std::filesystem::is_directory(*scenePath, ec))
         throw InputError(fmt::format("scene '{}' is a directory; give the .gltf, .glb or .json file inside it",
                                      scenePath->string()));
-    return renderer::loadScene(*scenePath);
+    renderer::SceneLoadOptions options;
+    options.allowPathsOutsideSceneFolder = allowOutsidePaths;
+    return renderer::loadScene(*scenePath, options);
 }
 
 std::string sceneLabel(const std::optional<std::filesystem::path>& scenePath) {

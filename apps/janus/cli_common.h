@@ -87,11 +87,14 @@ void checkOutputFile(const std::filesystem::path& file, std::string_view optionN
 inline constexpr std::string_view kManyLightsSceneName = "many-lights";
 inline constexpr std::string_view kProbesSceneName = "probes";   // renderer::probesScene()
 std::optional<uint32_t> parseManyLightsSceneName(std::string_view text);   // nullopt: not that name; throws UsageError for a bad N
-renderer::Scene loadSceneOrDefault(const std::optional<std::filesystem::path>& scenePath);
+// `allowOutsidePaths`: --allow-outside-paths (renderer::SceneLoadOptions::allowPathsOutsideSceneFolder).
+renderer::Scene loadSceneOrDefault(const std::optional<std::filesystem::path>& scenePath, bool allowOutsidePaths = false);
 std::string sceneLabel(const std::optional<std::filesystem::path>& scenePath);
 
 // Options several commands share, declared once so their names, defaults and help agree.
 void addSceneArgument(CLI::App& app, std::string& scene);
+// --allow-outside-paths: a glTF may read buffers and images outside its folder.
+void addAllowOutsidePathsFlag(CLI::App& app, bool& allow);
 void addSizeOption(CLI::App& app, std::string& size);
 void addGLPlatformOption(CLI::App& app, std::string& glPlatform);
 

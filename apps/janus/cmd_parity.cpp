@@ -20,6 +20,7 @@ struct ParityOptions {
     std::string tolerance = "1";
     std::string glPlatform = "egl";
     bool validation = false;
+    bool allowOutsidePaths = false;
     LightingOptions lighting;
     EnvironmentOptions environment;
 };
@@ -100,7 +101,7 @@ int run(const ParityOptions& options) {
     // The scene is loaded before the directory is created, so a bad scene leaves nothing behind.
     std::optional<std::filesystem::path> scenePath;
     if (!options.scene.empty()) scenePath = options.scene;
-    renderer::Scene scene = loadSceneOrDefault(scenePath);
+    renderer::Scene scene = loadSceneOrDefault(scenePath, options.allowOutsidePaths);
     applyEnvironmentOverride(scene, environment);
 
     std::filesystem::create_directories(outDir, ec);
@@ -206,6 +207,7 @@ Command addParityCommand(CLI::App& parent) {
     app->footer(std::string("Configurations: vulkan/compute, vulkan/fallback, gl/compute, gl/fallback, gles/fallback.\n\n") +
                 kExitCodeHelp);
     addSceneArgument(*app, options->scene);
+    addAllowOutsidePathsFlag(*app, options->allowOutsidePaths);
     addSizeOption(*app, options->size);
     app->add_option("--out,-o", options->out,
                     "Directory for <backend>-<path>.png, diff-<a>-vs-<b>.png and parity.json (created if missing); required")

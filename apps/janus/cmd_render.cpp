@@ -20,6 +20,7 @@ struct RenderOptions {
     std::string report;
     std::string glPlatform = "egl";
     bool validation = false;
+    bool allowOutsidePaths = false;
     std::string debug;
     LightingOptions lighting;
     EnvironmentOptions environment;
@@ -64,7 +65,7 @@ int run(const RenderOptions& options) {
     std::optional<std::filesystem::path> scenePath;
     if (!options.scene.empty()) scenePath = options.scene;
 
-    renderer::Scene scene = loadSceneOrDefault(scenePath);
+    renderer::Scene scene = loadSceneOrDefault(scenePath, options.allowOutsidePaths);
     applyEnvironmentOverride(scene, environment);
     const RenderOutcome outcome = renderConfiguration(scene, request);
 
@@ -106,6 +107,7 @@ Command addRenderCommand(CLI::App& parent) {
     CLI::App* app = parent.add_subcommand("render", "Render a scene with one backend and feature path to a PNG "
                                                     "(+ optional HDR image and JSON frame report)");
     addSceneArgument(*app, options->scene);
+    addAllowOutsidePathsFlag(*app, options->allowOutsidePaths);
     app->add_option("--backend,-b", options->backend, "vulkan, gl or gles")->default_str("vulkan")->type_name("BACKEND");
     app->add_option("--path,-p", options->path, "compute or fallback (compute needs the 'compute' capability)")
         ->default_str("compute")

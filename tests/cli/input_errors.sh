@@ -30,6 +30,17 @@ expect_error 3 "--env '.*' is a directory"                render --env "$TMP/dir
 expect_error 3 "nosky.json.*$TMP/skies/missing-sky.hdr' does not exist" render "$TMP/nosky.json" --out "$out"
 expect_error 3 "scene file '.*no-such-scene.gltf' does not exist" render "$TMP/no-such-scene.gltf" --env "$sky" --out "$out"
 
+# A glTF whose buffer lies outside its folder is refused, naming the URI and the flag that allows
+# it (render.sh renders it with --allow-outside-paths).
+boxdir="$REPO_ROOT/../shared/scenes/BoxTextured/glTF"
+mkdir "$TMP/models"
+cp "$boxdir/BoxTextured0.bin" "$TMP/"
+cp "$boxdir/CesiumLogoFlat.png" "$TMP/models/"
+sed 's|"BoxTextured0.bin"|"../BoxTextured0.bin"|' "$boxdir/BoxTextured.gltf" >"$TMP/models/outside.gltf"
+expect_error 3 "outside.gltf: buffer 0: URI '../BoxTextured0.bin' leaves the glTF's folder.*--allow-outside-paths" \
+  render "$TMP/models/outside.gltf" --out "$out"
+expect_error 3 "outside.gltf: buffer 0: URI '../BoxTextured0.bin' leaves the glTF's folder" parity "$TMP/models/outside.gltf" --out "$TMP/parity"
+
 # Unwritable outputs: missing directory, a file where a directory should be, a directory as file.
 expect_error 3 "cannot write --out '.*missing/out.png': directory '.*missing' does not exist" render --out "$TMP/missing/out.png"
 expect_error 3 "cannot write --out '.*a-file/out.png'.*not a directory" render --out "$TMP/a-file/out.png"

@@ -27,6 +27,15 @@ for config in vulkan:fallback gl:compute gl:fallback gles:fallback; do
   json_check "$TMP/$backend-$path.json" "j['backend'] == '$backend' and j['path'] == '$path'" "report names the wrong configuration"
 done
 
+# --allow-outside-paths lets a glTF read a buffer outside its folder (input_errors.sh: refused without).
+boxdir="$REPO_ROOT/../shared/scenes/BoxTextured/glTF"
+mkdir "$TMP/models"
+cp "$boxdir/BoxTextured0.bin" "$TMP/"
+cp "$boxdir/CesiumLogoFlat.png" "$TMP/models/"
+sed 's|"BoxTextured0.bin"|"../BoxTextured0.bin"|' "$boxdir/BoxTextured.gltf" >"$TMP/models/outside.gltf"
+expect_success render "$TMP/models/outside.gltf" --allow-outside-paths --size 16x16 --out "$TMP/outside.png"
+check_png "$TMP/outside.png" 16 16
+
 # PFM: "PF", the size, a negative (little-endian) scale, then 3 floats per pixel.
 expect_success render --backend gl --path fallback --size 16x8 --out "$TMP/pfm.png" --hdr "$TMP/hdr.pfm"
 problem=$(python3 - "$TMP/hdr.pfm" <<'PY'

@@ -11,6 +11,7 @@
 #include <glm/gtc/matrix_inverse.hpp>
 
 #include "core/gpu_util.h"
+#include "core/texture_fit.h"
 #include "janus/shaders/bindings.h"
 
 namespace janus::renderer {
@@ -139,8 +140,19 @@ void GpuScene::uploadTextures(const Scene& scene) {
     m_flatNormalTexture = createTexture("default normal", 1, 1, {128, 128, 255, 255}, false);
     m_materialSampler = m_device.createSampler(rhi::SamplerDesc{});
     std::vector<std::pair<TextureSampling, rhi::SamplerHandle>> samplers{{TextureSampling{}, m_materialSampler}};
+    const uint32_t maxSide = m_device.capabilities().limits.maxTextureSize2D;
     for (const TextureImage& image : scene.textures) {
-        m_textures.push_back(createTexture(image.name, image.width, image.height, image.rgba, image.srgb));
+        if (maxSide > 0 && (image.width > maxSide || image.height > maxSide)) {
+            // Larger than the device can hold: downscaled rather than refused (docs/SCENES.md).
+            const TextureImage fitted = fitTextureToSize(image, maxSide);
+            fmt::print(stderr,
+                       "janus: warning: texture '{}' is {}x{}, larger than the device's largest 2D texture ({}); uploading it "
+                       "downscaled to {}x{}\n",
+                       image.name, image.width, image.height, maxSide, fitted.width, fitted.height);
+            m_textures.push_back(createTexture(fitted.name, fitted.width, fitted.height, fitted.rgba, fitted.srgb));
+        } else {
+            m_textures.push_back(createTexture(image.name, image.width, image.height, image.rgba, image.srgb));
+        }
         auto it = std::find_if(samplers.begin(), samplers.end(), [&](const auto& s) { return s.first == image.sampling; });
         if (it == samplers.end()) it = samplers.insert(samplers.end(), {image.sampling, createSampler(image.sampling)});
         m_textureSamplers.push_back(it->second);

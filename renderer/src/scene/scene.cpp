@@ -175,7 +175,7 @@ Light parseLight(const std::filesystem::path& file, const json& j, size_t index)
     return light;
 }
 
-Scene loadSceneFile(const std::filesystem::path& path) {
+Scene loadSceneFile(const std::filesystem::path& path, const SceneLoadOptions& options) {
     std::ifstream in(path);
     if (!in) fail(path, "no such file or not readable");
     json root;
@@ -192,7 +192,7 @@ Scene loadSceneFile(const std::filesystem::path& path) {
         bool hasCamera = false;
         Scene scene;
         try {
-            scene = detail::loadGltf(gltfPath, hasCamera);
+            scene = detail::loadGltf(gltfPath, hasCamera, options);
         } catch (const SceneError& e) {
             fail(path, fmt::format("its \"gltf\" could not be loaded: {}", e.what()));   // name both files
         }
@@ -280,13 +280,13 @@ std::string label(const std::string& name, size_t index) { return name.empty() ?
 
 }  // namespace
 
-Scene loadScene(const std::filesystem::path& path) {
+Scene loadScene(const std::filesystem::path& path, const SceneLoadOptions& options) {
     Scene scene;
     if (path.extension() == ".json") {
-        scene = loadSceneFile(path);
+        scene = loadSceneFile(path, options);
     } else if (path.extension() == ".gltf" || path.extension() == ".glb") {
         bool hasCamera = false;
-        scene = detail::loadGltf(path, hasCamera);
+        scene = detail::loadGltf(path, hasCamera, options);
         if (!hasCamera) detail::frameSceneBounds(scene);
         if (scene.lights.empty()) scene.lights.push_back(detail::defaultKeyLight());
         detail::addProbesFromMarkers(scene);

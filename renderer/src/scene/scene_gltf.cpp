@@ -1,16 +1,21 @@
 // glTF 2.0 (.gltf / .glb) -> Scene, through Debian's libtinygltf (the .so carries the
 // implementation and stb_image, so we only include the header).
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstring>
+#include <fstream>
 #include <map>
-#include <set>
+#include <optional>
+#include <string_view>
 #include <tuple>
 
 #include <fmt/format.h>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
+#include <nlohmann/json.hpp>
+#include <stb/stb_image.h>
 #include <tiny_gltf.h>
 
 #include "scene_internal.h"
@@ -23,8 +28,14 @@ namespace {
 // anything is allocated.
 constexpr uint64_t kMaxAccessorBytes = uint64_t(1) << 30;
 
+// The largest image a glTF may bring: at most this many pixels on a side and in all (64 Mi
+// pixels, 256 MiB as RGBA8: an 8192x8192 texture fits). Checked from the image header before
+// anything is decoded; a larger image is a SceneError.
+constexpr int kMaxImageSide = 16384;
+constexpr uint64_t kMaxImagePixels = uint64_t(1) << 26;
+
 // glTF extensions the loader implements.
-constexpr std::string_view kSupportedExtensions[] = {"KHR_lights_punctual"};
+constexpr std::string_view kSupportedExtensions[] = {"KHR_lights_punctual", "KHR_mesh_quantization"};
 
 bool isSupportedExtension(std::string_view name) {
     for (std::string_view supported : kSupportedExtensions)
@@ -36,6 +47,226 @@ std::string supportedExtensionList() {
     std::string list;
     for (std::string_view supported : kSupportedExtensions) list += (list.empty() ? "" : ", ") + std::string(supported);
     return list;
+}
+
+// --- what a glTF may read: URIs, data: URIs, image sizes ---------------------------------------
+
+// What tinygltf's file-system callbacks and image loader share while one file loads.
+struct LoadContext {
+    std::filesystem::path folder;   // the glTF's folder, absolute and normalised
+    std::string uriPrefix;          // how tinygltf joins that folder and a URI: folder + '/'
+    bool allowOutside = false;      // SceneLoadOptions::allowPathsOutsideSceneFolder
+    std::string refusal;            // the first URI or image refused (a SceneError message without the file)
+
+    void refuse(std::string why) {
+        if (refusal.empty()) refusal = std::move(why);
+    }
+};
+
+// A URI for a message: data: URIs can be megabytes long, so only their start is shown.
+std::string shown(std::string_view uri) {
+    constexpr size_t kShown = 48;
+    return uri.size() <= kShown ? std::string(uri) : std::string(uri.substr(0, kShown)) + "...";
+}
+
+bool startsWithNoCase(std::string_view text, std::string_view prefix) {
+    if (text.size() < prefix.size()) return false;
+    for (size_t i = 0; i < prefix.size(); ++i)
+        if (std::tolower(static_cast<unsigned char>(text[i])) != std::tolower(static_cast<unsigned char>(prefix[i]))) return false;
+    return true;
+}
+
+// The URI's scheme ("http", "file", "data"), or "" for a path. RFC 3986: a letter, then letters,
+// digits, '+', '-', '.', then ':'. One letter is a Windows drive ("C:"), not a scheme.
+std::string schemeOf(std::string_view uri) {
+    if (uri.empty() || !std::isalpha(static_cast<unsigned char>(uri[0]))) return {};
+    for (size_t i = 1; i < uri.size(); ++i) {
+        const char c = uri[i];
+        if (c == ':') return i >= 2 ? std::string(uri.substr(0, i)) : std::string();
+        if (!std::isalnum(static_cast<unsigned char>(c)) && c != '+' && c != '-' && c != '.') return {};
+    }
+    return {};
+}
+
+const char* const kAllowHint =
+    "Janus reads buffers and images only from the glTF's folder and the folders below it; if you trust the file, allow "
+    "it with SceneLoadOptions::allowPathsOutsideSceneFolder (janus: --allow-outside-paths)";
+
+// Why the file-path URI `uri` (already percent-decoded) may not be read, or "" when it may. The
+// rule is lexical: ".." and absolute paths are refused, symbolic links are not looked at.
+std::string pathUriProblem(std::string_view uri, const LoadContext& context) {
+    if (uri.empty()) return {};
+    if (startsWithNoCase(uri, "data:"))
+        return fmt::format("'{}' is a data: URI Janus cannot decode (see the base64 data: URI rules in docs/SCENES.md)", shown(uri));
+    if (const std::string scheme = schemeOf(uri); !scheme.empty())
+        return fmt::format("URI '{}' uses the '{}:' scheme; Janus reads relative file paths and base64 data: URIs only", shown(uri),
+                           scheme);
+    if (context.allowOutside) return {};
+    const std::filesystem::path path(uri);
+    if (path.has_root_path() || uri.front() == '/' || uri.front() == '\\')
+        return fmt::format("URI '{}' is an absolute path; {}", uri, kAllowHint);
+    const std::filesystem::path relative = (context.folder / path).lexically_normal().lexically_relative(context.folder);
+    if (relative.empty() || *relative.begin() == "..")
+        return fmt::format("URI '{}' leaves the glTF's folder '{}'; {}", uri, context.folder.string(), kAllowHint);
+    return {};
+}
+
+// tinygltf looks a file up as ExpandFilePath(JoinPath(dir, uri)) for dir = the glTF's folder,
+// then the working directory. This applies the URI rule to the first and never searches the
+// second; the path it returns (empty: refused) is what FileExists and ReadWholeFile get.
+std::string expandFilePath(const std::string& joined, void* user) {
+    LoadContext& context = *static_cast<LoadContext*>(user);
+    if (joined.compare(0, context.uriPrefix.size(), context.uriPrefix) != 0) return {};   // the working directory
+    const std::string uri = joined.substr(context.uriPrefix.size());
+    if (std::string problem = pathUriProblem(uri, context); !problem.empty()) {
+        context.refuse(std::move(problem));
+        return {};
+    }
+    const std::filesystem::path path(uri);
+    return (path.has_root_path() ? path : context.folder / path).lexically_normal().string();
+}
+
+bool fileExists(const std::string& path, void*) {
+    std::error_code ec;
+    return !path.empty() && std::filesystem::is_regular_file(path, ec);   // not directories, devices or pipes
+}
+
+// Why the data: URI `uri` cannot be decoded, or "" when tinygltf will decode it exactly.
+// `byteLength` is the buffer's (buffers must decode to exactly that many bytes); none for images.
+std::string dataUriProblem(std::string_view uri, std::optional<uint64_t> byteLength) {
+    // The headers tinygltf decodes (tinygltf::IsDataURI), each followed by the base64 data.
+    static constexpr std::string_view kHeaders[] = {
+        "data:application/octet-stream;base64,", "data:application/gltf-buffer;base64,", "data:image/png;base64,",
+        "data:image/jpeg;base64,",                "data:image/bmp;base64,",               "data:image/gif;base64,",
+        "data:text/plain;base64,"};
+    const size_t comma = uri.find(',');
+    if (comma == std::string_view::npos) return fmt::format("data: URI '{}' has no ',' before its data", shown(uri));
+    const std::string_view header = uri.substr(0, comma + 1);
+    if (header.size() < 8 || !startsWithNoCase(header.substr(header.size() - 8), ";base64,"))
+        return fmt::format("data: URI '{}' is not base64-encoded; Janus decodes only ';base64,' data: URIs", shown(uri));
+    if (std::find(std::begin(kHeaders), std::end(kHeaders), header) == std::end(kHeaders))
+        return fmt::format("data: URI '{}' has media type '{}', which Janus does not decode; use application/octet-stream or "
+                           "application/gltf-buffer for buffers, image/png or image/jpeg for images",
+                           shown(uri), header.substr(5, header.size() - 13));
+    const std::string_view data = uri.substr(comma + 1);
+    size_t padding = 0;
+    for (size_t i = 0; i < data.size(); ++i) {
+        const unsigned char c = static_cast<unsigned char>(data[i]);
+        if (c == '=' && i + 2 >= data.size()) {
+            ++padding;
+            continue;
+        }
+        if (padding > 0 || !(std::isalnum(c) || c == '+' || c == '/'))
+            return fmt::format("data: URI '{}' is not valid base64: {} at offset {} of its data", shown(uri),
+                               std::isprint(c) ? fmt::format("character '{}'", char(c)) : fmt::format("byte 0x{:02x}", c), i);
+    }
+    if (data.empty()) return fmt::format("data: URI '{}' holds no data", shown(uri));
+    if (data.size() % 4 != 0)
+        return fmt::format("data: URI '{}' is not valid base64: {} characters of data, not a multiple of 4 (padding missing or data "
+                           "cut short)",
+                           shown(uri), data.size());
+    const uint64_t decoded = data.size() / 4 * 3 - padding;
+    if (byteLength && decoded != *byteLength)
+        return fmt::format("data: URI '{}' decodes to {} bytes, but the buffer's byteLength is {}", shown(uri), decoded, *byteLength);
+    return {};
+}
+
+// The JSON of a .glb (its first chunk), or nothing when the header is not one: tinygltf then
+// reports what is wrong.
+std::optional<std::string_view> glbJson(const std::vector<char>& bytes) {
+    auto u32 = [&](size_t at) {
+        uint32_t v;
+        std::memcpy(&v, bytes.data() + at, 4);
+        return v;
+    };
+    if (bytes.size() < 20 || std::memcmp(bytes.data(), "glTF", 4) != 0 || u32(16) != 0x4E4F534Au) return std::nullopt;
+    const uint64_t length = u32(12);
+    if (20 + length > bytes.size()) return std::nullopt;
+    return std::string_view(bytes.data() + 20, size_t(length));
+}
+
+// A non-negative integer member (also written as 44.0), or nothing.
+std::optional<uint64_t> unsignedAt(const nlohmann::json& object, const char* key) {
+    if (!object.is_object() || !object.contains(key)) return std::nullopt;
+    const nlohmann::json& value = object[key];
+    if (value.is_number_unsigned()) return value.get<uint64_t>();
+    if (value.is_number_float()) {
+        const double d = value.get<double>();
+        if (d >= 0.0 && d < 1.8e19 && d == std::floor(d)) return uint64_t(d);
+    }
+    return std::nullopt;
+}
+
+// Checks what tinygltf would read before it reads anything, so each problem is refused by name:
+// every buffer and image URI (path rule, data: URIs) and the bytes of images stored in buffer
+// views (tinygltf does not bounds-check them). A JSON that does not parse is left to tinygltf.
+void checkReferences(std::string_view text, LoadContext& context) {
+    const nlohmann::json root = nlohmann::json::parse(text.begin(), text.end(), nullptr, /*allow_exceptions=*/false);
+    if (!root.is_object()) return;
+    auto array = [&](const char* key) -> const nlohmann::json& {
+        static const nlohmann::json empty = nlohmann::json::array();
+        return root.contains(key) && root[key].is_array() ? root[key] : empty;
+    };
+    const nlohmann::json& buffers = array("buffers");
+    const nlohmann::json& views = array("bufferViews");
+    auto checkUri = [&](const nlohmann::json& object, const std::string& what, std::optional<uint64_t> byteLength) {
+        if (!object.is_object() || !object.contains("uri") || !object["uri"].is_string()) return;
+        const std::string& uri = object["uri"].get_ref<const std::string&>();
+        std::string problem = startsWithNoCase(uri, "data:") ? dataUriProblem(uri, byteLength) : pathUriProblem(uri, context);
+        if (!problem.empty()) context.refuse(fmt::format("{}: {}", what, problem));
+    };
+    for (size_t i = 0; i < buffers.size(); ++i) checkUri(buffers[i], fmt::format("buffer {}", i), unsignedAt(buffers[i], "byteLength"));
+    const nlohmann::json& images = array("images");
+    for (size_t i = 0; i < images.size(); ++i) {
+        const nlohmann::json& image = images[i];
+        checkUri(image, fmt::format("image {}", i), std::nullopt);
+        if (!image.is_object() || !image.contains("bufferView")) continue;
+        const uint64_t view = unsignedAt(image, "bufferView").value_or(UINT64_MAX);
+        if (view >= views.size()) continue;   // tinygltf names it
+        const uint64_t buffer = unsignedAt(views[size_t(view)], "buffer").value_or(UINT64_MAX);
+        const uint64_t offset = unsignedAt(views[size_t(view)], "byteOffset").value_or(0);
+        const uint64_t length = unsignedAt(views[size_t(view)], "byteLength").value_or(0);
+        uint64_t end = 0;
+        if (buffer >= buffers.size() || __builtin_add_overflow(offset, length, &end) ||
+            end > unsignedAt(buffers[size_t(buffer)], "byteLength").value_or(0) || length == 0 || length > uint64_t(INT32_MAX))
+            context.refuse(fmt::format("image {}: its buffer view {} (byteOffset {}, byteLength {}, buffer {}) is empty or does not lie "
+                                       "inside its buffer",
+                                       i, view, offset, length, buffer));
+    }
+}
+
+// tinygltf's image loader: reads the size from the header and refuses an image beyond
+// kMaxImageSide / kMaxImagePixels before decoding it; decodes the rest to 8-bit RGBA (16-bit
+// images keep their high byte).
+bool loadImage(tinygltf::Image* image, const int index, std::string* err, std::string*, int, int, const unsigned char* bytes,
+               int size, void* user) {
+    LoadContext& context = *static_cast<LoadContext*>(user);
+    const std::string label =
+        fmt::format("image {} ('{}')", index, !image->uri.empty() ? shown(image->uri) : !image->name.empty() ? image->name : "embedded");
+    int width = 0, height = 0, channels = 0;
+    if (!stbi_info_from_memory(bytes, size, &width, &height, &channels)) {
+        if (err) *err += fmt::format("{} is not a PNG or JPEG image Janus can decode ({})\n", label, stbi_failure_reason());
+        return false;
+    }
+    if (width > kMaxImageSide || height > kMaxImageSide || uint64_t(width) * uint64_t(height) > kMaxImagePixels) {
+        context.refuse(fmt::format("{} is {}x{} pixels, larger than Janus loads (at most {} on a side and {} Mi pixels in all); "
+                                   "scale it down",
+                                   label, width, height, kMaxImageSide, kMaxImagePixels >> 20));
+        return false;
+    }
+    stbi_uc* pixels = stbi_load_from_memory(bytes, size, &width, &height, &channels, 4);
+    if (!pixels) {
+        if (err) *err += fmt::format("{} could not be decoded ({})\n", label, stbi_failure_reason());
+        return false;
+    }
+    image->width = width;
+    image->height = height;
+    image->component = 4;
+    image->bits = 8;
+    image->pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
+    image->image.assign(pixels, pixels + size_t(width) * size_t(height) * 4);
+    stbi_image_free(pixels);
+    return true;
 }
 
 // Everything the loader throws names the file, so errors from a scene file that references a
@@ -180,15 +411,50 @@ private:
         }
     }
 
-    // Reads accessor `index` as `width` floats per element (normalised integers are mapped to
-    // [0, 1] as glTF specifies). Every offset is bounds-checked: a bad file must not crash us.
-    std::vector<float> readFloats(int index, int width, const std::string& what) const {
+    // The vertex attributes Janus reads, for the component types each may have.
+    enum class Attribute { Position, Normal, Tangent, TexCoord };
+
+    static const char* componentTypeName(int type) {
+        switch (type) {
+            case TINYGLTF_COMPONENT_TYPE_BYTE: return "BYTE";
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return "UNSIGNED_BYTE";
+            case TINYGLTF_COMPONENT_TYPE_SHORT: return "SHORT";
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return "UNSIGNED_SHORT";
+            case TINYGLTF_COMPONENT_TYPE_INT: return "INT";
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: return "UNSIGNED_INT";
+            case TINYGLTF_COMPONENT_TYPE_FLOAT: return "FLOAT";
+            default: return "an unknown component type";
+        }
+    }
+
+    // glTF 2.0 with KHR_mesh_quantization: positions and texture coordinates may be FLOAT or 8/16-bit
+    // integers, normalised or not; normals and tangents FLOAT or normalised BYTE / SHORT.
+    // `normalized` is meaningless (and not allowed) on FLOAT.
+    static bool allowedComponentType(Attribute attribute, int type, bool normalized) {
+        if (type == TINYGLTF_COMPONENT_TYPE_FLOAT) return !normalized;
+        const bool signedType = type == TINYGLTF_COMPONENT_TYPE_BYTE || type == TINYGLTF_COMPONENT_TYPE_SHORT;
+        const bool unsignedType = type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE || type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
+        if (attribute == Attribute::Normal || attribute == Attribute::Tangent) return signedType && normalized;
+        return signedType || unsignedType;
+    }
+
+    // Reads accessor `index` of vertex attribute `attribute` as `width` floats per element. Integer
+    // components are normalised as glTF specifies when the accessor is `normalized` (unsigned: c / max;
+    // signed: max(c / max, -1)) and converted as they are otherwise (KHR_mesh_quantization).
+    // Every offset is bounds-checked: a bad file must not crash us.
+    std::vector<float> readFloats(int index, int width, Attribute attribute, const std::string& what) const {
         const tinygltf::Accessor& accessor = accessorAt(index, what);
         if (tinygltf::GetNumComponentsInType(uint32_t(accessor.type)) != width)
             fail(fmt::format("{} accessor {} has {} components per element, expected {}", what, index,
                              tinygltf::GetNumComponentsInType(uint32_t(accessor.type)), width));
+        const bool normalized = accessor.normalized;
+        if (!allowedComponentType(attribute, accessor.componentType, normalized))
+            fail(fmt::format("{} accessor {} is {}{}, which glTF does not allow here; allowed: {}", what, index,
+                             normalized ? "normalized " : "", componentTypeName(accessor.componentType),
+                             attribute == Attribute::Normal || attribute == Attribute::Tangent
+                                 ? "FLOAT, or normalized BYTE or SHORT (KHR_mesh_quantization)"
+                                 : "FLOAT, or BYTE, UNSIGNED_BYTE, SHORT or UNSIGNED_SHORT, normalized or not (KHR_mesh_quantization)"));
         const int componentSize = tinygltf::GetComponentSizeInBytes(uint32_t(accessor.componentType));
-        if (componentSize <= 0) fail(fmt::format("{} accessor {} has an invalid component type", what, index));
         const size_t count = checkedElementCount(accessor, index, what, size_t(componentSize) * size_t(width), sizeof(float) * size_t(width));
         std::vector<float> out(count * size_t(width));
         forEachElement(accessor, index, what, size_t(componentSize) * size_t(width), [&](const uint8_t* src, size_t e) {
@@ -197,11 +463,24 @@ private:
                 float value = 0.0f;
                 switch (accessor.componentType) {
                     case TINYGLTF_COMPONENT_TYPE_FLOAT: std::memcpy(&value, p, 4); break;
-                    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: value = float(*p) / 255.0f; break;
-                    case TINYGLTF_COMPONENT_TYPE_BYTE: value = std::max(float(int8_t(*p)) / 127.0f, -1.0f); break;
-                    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { uint16_t v; std::memcpy(&v, p, 2); value = float(v) / 65535.0f; break; }
-                    case TINYGLTF_COMPONENT_TYPE_SHORT: { int16_t v; std::memcpy(&v, p, 2); value = std::max(float(v) / 32767.0f, -1.0f); break; }
-                    default: fail(fmt::format("{} accessor {} has component type {}, which glTF does not allow here", what, index, accessor.componentType));
+                    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: value = normalized ? float(*p) / 255.0f : float(*p); break;
+                    case TINYGLTF_COMPONENT_TYPE_BYTE: {
+                        const float v = float(int8_t(*p));
+                        value = normalized ? std::max(v / 127.0f, -1.0f) : v;
+                        break;
+                    }
+                    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+                        uint16_t v;
+                        std::memcpy(&v, p, 2);
+                        value = normalized ? float(v) / 65535.0f : float(v);
+                        break;
+                    }
+                    default: {   // SHORT (allowedComponentType admits nothing else)
+                        int16_t v;
+                        std::memcpy(&v, p, 2);
+                        value = normalized ? std::max(float(v) / 32767.0f, -1.0f) : float(v);
+                        break;
+                    }
                 }
                 out[e * size_t(width) + size_t(c)] = value;
             }
@@ -299,7 +578,7 @@ private:
                 };
                 if (attribute("POSITION") < 0) fail(fmt::format("{} has no POSITION attribute", where));
                 Mesh mesh;
-                const std::vector<float> positions = readFloats(attribute("POSITION"), 3, where + " POSITION");
+                const std::vector<float> positions = readFloats(attribute("POSITION"), 3, Attribute::Position, where + " POSITION");
                 const size_t vertexCount = positions.size() / 3;
                 mesh.vertices.resize(vertexCount);
                 for (size_t v = 0; v < vertexCount; ++v) {
@@ -309,19 +588,21 @@ private:
                     vertex.uv = glm::vec2(0.0f);
                     vertex.tangent = glm::vec4(0.0f);
                 }
-                auto readInto = [&](const char* name, int width, auto&& store) {
+                auto readInto = [&](const char* name, int width, Attribute kind, auto&& store) {
                     if (attribute(name) < 0) return false;
-                    const std::vector<float> values = readFloats(attribute(name), width, where + " " + name);
+                    const std::vector<float> values = readFloats(attribute(name), width, kind, where + " " + name);
                     if (values.size() / size_t(width) != vertexCount)
                         fail(fmt::format("{} {} has {} elements but POSITION has {}", where, name,
                                          values.size() / size_t(width), vertexCount));
                     for (size_t v = 0; v < vertexCount; ++v) store(mesh.vertices[v], &values[v * size_t(width)]);
                     return true;
                 };
-                const bool hasNormals = readInto("NORMAL", 3, [](Vertex& v, const float* f) { v.normal = glm::vec3(f[0], f[1], f[2]); });
-                const bool hasUvs = readInto("TEXCOORD_0", 2, [](Vertex& v, const float* f) { v.uv = glm::vec2(f[0], f[1]); });
-                const bool hasTangents =
-                    readInto("TANGENT", 4, [](Vertex& v, const float* f) { v.tangent = glm::vec4(f[0], f[1], f[2], f[3]); });
+                const bool hasNormals =
+                    readInto("NORMAL", 3, Attribute::Normal, [](Vertex& v, const float* f) { v.normal = glm::vec3(f[0], f[1], f[2]); });
+                const bool hasUvs =
+                    readInto("TEXCOORD_0", 2, Attribute::TexCoord, [](Vertex& v, const float* f) { v.uv = glm::vec2(f[0], f[1]); });
+                const bool hasTangents = readInto("TANGENT", 4, Attribute::Tangent,
+                                                  [](Vertex& v, const float* f) { v.tangent = glm::vec4(f[0], f[1], f[2], f[3]); });
 
                 if (primitive.indices >= 0) {
                     mesh.indices = readIndices(primitive.indices);
@@ -372,13 +653,10 @@ private:
         return true;
     }
 
-    void visitNode(int index, const glm::mat4& parent, Scene& scene, std::set<int>& path) {
-        if (index < 0 || size_t(index) >= m_model.nodes.size())
-            fail(fmt::format("node {} does not exist (the file has {})", index, m_model.nodes.size()));
-        if (!path.insert(index).second) fail(fmt::format("node {} is its own ancestor (cycle in 'children')", index));
+    // What one node brings (instances, camera, light, marker), given its world matrix.
+    void readNode(int index, const glm::mat4& world, Scene& scene) {
         const tinygltf::Node& node = m_model.nodes[size_t(index)];
-        const std::string name = node.name.empty() ? fmt::format("#{}", index) : node.name;
-        const glm::mat4 world = parent * localMatrix(node);
+        const std::string name = nodeLabel(index);
         if (!finite(world)) fail(fmt::format("node '{}' has a NaN or infinite transform", name));
 
         if (node.mesh >= 0) {
@@ -404,8 +682,11 @@ private:
         // Empty leaf nodes are placement markers (probe volumes, cubemap centres...).
         if (node.mesh < 0 && node.camera < 0 && !hasLight && node.children.empty())
             scene.markers.push_back(Marker{node.name, world});
-        for (int child : node.children) visitNode(child, world, scene, path);
-        path.erase(index);
+    }
+
+    std::string nodeLabel(int index) const {
+        const std::string& name = m_model.nodes[size_t(index)].name;
+        return name.empty() ? fmt::format("#{}", index) : name;
     }
 
     void readCamera(const tinygltf::Node& node, const glm::mat4& world, const std::string& name) {
@@ -420,6 +701,15 @@ private:
         // zfar 0 means an infinite projection in glTF; a large finite far plane keeps ours simple.
         m_camera.farPlane = camera.perspective.zfar > 0.0 ? float(camera.perspective.zfar) : m_camera.nearPlane * 1.0e5f;
         m_cameraFound = true;
+    }
+
+    bool hasExplicitRange(int index) const {
+        auto it = m_model.extensions.find("KHR_lights_punctual");
+        if (it == m_model.extensions.end() || !it->second.IsObject() || !it->second.Has("lights")) return false;
+        const tinygltf::Value& lights = it->second.Get("lights");
+        if (!lights.IsArray() || size_t(index) >= lights.ArrayLen()) return false;
+        const tinygltf::Value& light = lights.Get(index);
+        return light.IsObject() && light.Has("range");
     }
 
     void readLight(int index, const glm::mat4& world, const std::string& nodeName, Scene& scene) {
@@ -437,12 +727,21 @@ private:
         light.position = glm::vec3(world[3]);
         const glm::vec3 forward = -glm::vec3(world[2]);   // lights shine down their local -Z
         light.direction = glm::length(forward) > 0.0f ? glm::normalize(forward) : glm::vec3(0, 0, -1);
-        if (gltfLight.range > 0.0) light.range = float(gltfLight.range);
+        // KHR_lights_punctual: no range means infinite. tinygltf reads a missing range as 0, so
+        // whether the file gave one comes from the extension's JSON. A range it gives is kept as
+        // it is, also <= 0 (which the extension forbids): such a light lights nothing, as
+        // docs/SCENES.md says for every light, rather than becoming infinite.
+        if (hasExplicitRange(index)) light.range = float(gltfLight.range);
         light.innerConeAngle = float(gltfLight.spot.innerConeAngle);
         light.outerConeAngle = float(gltfLight.spot.outerConeAngle);
         scene.lights.push_back(light);
     }
 
+    // Walks the default scene's node trees depth first, parents before children in file order,
+    // with an explicit stack: a hierarchy 100000 nodes deep must not overflow the call stack.
+    // glTF node hierarchies are disjoint trees, so every node is reached at most once: a node
+    // that is its own ancestor (a cycle) or has two parents is an error, which also keeps a
+    // crafted file from multiplying instances exponentially through shared children.
     void readNodes(Scene& scene) {
         std::vector<int> roots;
         if (!m_model.scenes.empty()) {
@@ -458,8 +757,58 @@ private:
             for (size_t n = 0; n < m_model.nodes.size(); ++n)
                 if (!isChild[n]) roots.push_back(int(n));
         }
-        std::set<int> path;
-        for (int root : roots) visitNode(root, glm::mat4(1.0f), scene, path);
+        enum : uint8_t { Unvisited, OnPath, Done };
+        std::vector<uint8_t> state(m_model.nodes.size(), Unvisited);
+        struct Frame {
+            int node;
+            glm::mat4 world;
+            size_t nextChild;
+        };
+        std::vector<Frame> stack;
+        // Reaches `index` from `parent` (-1 for a root): checks it, reads it and makes it the top of the stack.
+        auto enter = [&](int index, int parent, const glm::mat4& parentWorld) {
+            if (index < 0 || size_t(index) >= m_model.nodes.size())
+                fail(parent < 0 ? fmt::format("scene root node {} does not exist (the file has {})", index, m_model.nodes.size())
+                                : fmt::format("node '{}' has child {}, which does not exist (the file has {} nodes)", nodeLabel(parent),
+                                              index, m_model.nodes.size()));
+            if (state[size_t(index)] == OnPath)
+                fail(fmt::format("node {} ('{}') is its own ancestor (cycle in 'children', through node '{}'); glTF node hierarchies must "
+                                 "be trees",
+                                 index, nodeLabel(index), nodeLabel(parent)));
+            if (state[size_t(index)] == Done)
+                fail(fmt::format("node {} ('{}') is reached twice ({}); glTF nodes have at most one parent and are not also scene roots",
+                                 index, nodeLabel(index),
+                                 parent < 0 ? std::string("listed as a root after being reached")
+                                            : fmt::format("again as a child of '{}'", nodeLabel(parent))));
+            state[size_t(index)] = OnPath;
+            const glm::mat4 world = parentWorld * localMatrix(m_model.nodes[size_t(index)]);
+            readNode(index, world, scene);
+            stack.push_back(Frame{index, world, 0});
+        };
+        for (int root : roots) {
+            enter(root, -1, glm::mat4(1.0f));
+            while (!stack.empty()) {
+                Frame& top = stack.back();
+                const std::vector<int>& children = m_model.nodes[size_t(top.node)].children;
+                if (top.nextChild < children.size()) {
+                    const int child = children[top.nextChild++];
+                    const int parent = top.node;
+                    const glm::mat4 parentWorld = top.world;   // `top` dies when enter() grows the stack
+                    enter(child, parent, parentWorld);
+                } else {
+                    state[size_t(top.node)] = Done;
+                    stack.pop_back();
+                }
+            }
+        }
+        // Without a scene list every node is reached from a root unless it lies on (or under) a
+        // cycle, which then has no root.
+        if (m_model.scenes.empty())
+            for (size_t n = 0; n < m_model.nodes.size(); ++n)
+                if (state[n] == Unvisited)
+                    fail(fmt::format("node {} ('{}') is on or below a cycle in 'children' (no node of the cycle is a root); glTF node "
+                                     "hierarchies must be trees",
+                                     n, nodeLabel(int(n))));
     }
 
     std::filesystem::path m_path;
@@ -472,18 +821,46 @@ private:
 
 }  // namespace
 
-Scene loadGltf(const std::filesystem::path& path, bool& hasCamera) {
+Scene loadGltf(const std::filesystem::path& path, bool& hasCamera, const SceneLoadOptions& options) {
     std::error_code ec;
     if (!std::filesystem::is_regular_file(path, ec))
         throw SceneError(fmt::format("{}: no such file (check the path; scene files resolve 'gltf' relative to themselves)",
                                      path.string()));
+    std::vector<char> bytes;
+    {
+        std::ifstream in(path, std::ios::binary);
+        const uint64_t size = std::filesystem::file_size(path, ec);
+        if (!in || ec) throw SceneError(fmt::format("{}: cannot be read", path.string()));
+        if (size > UINT32_MAX) throw SceneError(fmt::format("{}: is larger than 4 GiB, which glTF files cannot be", path.string()));
+        bytes.resize(size_t(size));
+        if (!in.read(bytes.data(), std::streamsize(size))) throw SceneError(fmt::format("{}: cannot be read", path.string()));
+    }
+    const std::string extension = path.extension().string();
+    const bool binary = extension == ".glb" || extension == ".GLB";
+
+    LoadContext context;
+    context.folder = std::filesystem::absolute(path, ec).parent_path().lexically_normal();
+    // lexically_normal keeps a trailing separator on some folders; tinygltf adds its own '/'.
+    std::string folder = context.folder.string();
+    while (folder.size() > 1 && folder.back() == '/') folder.pop_back();
+    context.folder = folder;
+    context.uriPrefix = folder == "/" ? folder : folder + "/";
+    context.allowOutside = options.allowPathsOutsideSceneFolder;
+    if (std::optional<std::string_view> text = binary ? glbJson(bytes) : std::string_view(bytes.data(), bytes.size()))
+        checkReferences(*text, context);
+    if (!context.refusal.empty()) throw SceneError(fmt::format("{}: {}", path.string(), context.refusal));
+
     tinygltf::Model model;
     tinygltf::TinyGLTF loader;
+    loader.SetFsCallbacks(
+        tinygltf::FsCallbacks{&fileExists, &expandFilePath, &tinygltf::ReadWholeFile, &tinygltf::WriteWholeFile, &context});
+    loader.SetImageLoader(&loadImage, &context);
     std::string error, warning;
-    const std::string extension = path.extension().string();
-    bool ok = false;
-    if (extension == ".glb" || extension == ".GLB") ok = loader.LoadBinaryFromFile(&model, &error, &warning, path.string());
-    else ok = loader.LoadASCIIFromFile(&model, &error, &warning, path.string());
+    const bool ok = binary ? loader.LoadBinaryFromMemory(&model, &error, &warning, reinterpret_cast<const unsigned char*>(bytes.data()),
+                                                         unsigned(bytes.size()), folder)
+                           : loader.LoadASCIIFromString(&model, &error, &warning, bytes.data(), unsigned(bytes.size()), folder);
+    // A refused URI or image makes tinygltf fail (or, for images, only warn): say why.
+    if (!context.refusal.empty()) throw SceneError(fmt::format("{}: {}", path.string(), context.refusal));
     if (!ok) {
         std::string reason = error.empty() ? warning : error;
         while (!reason.empty() && (reason.back() == '\n' || reason.back() == ' ')) reason.pop_back();

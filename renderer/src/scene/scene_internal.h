@@ -23,7 +23,7 @@ void generateTangents(Mesh& mesh);
 void frameSceneBounds(Scene& scene);
 
 // Loads the glTF part of a scene (.gltf / .glb). `hasCamera` tells whether it had a camera.
-Scene loadGltf(const std::filesystem::path& path, bool& hasCamera);
+Scene loadGltf(const std::filesystem::path& path, bool& hasCamera, const SceneLoadOptions& options);
 
 // Lighting added to scenes that bring none, so glTF sample models are not black.
 Light defaultKeyLight();

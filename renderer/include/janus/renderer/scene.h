@@ -199,9 +199,19 @@ struct Scene {
     nlohmann::json quality = nlohmann::json::object();
 };
 
+// How loadScene treats what a glTF references (docs/SCENES.md, "Files a glTF may read").
+struct SceneLoadOptions {
+    // A glTF reads its buffers and images from its own folder and the folders below it: a URI
+    // that leaves that folder ("../../etc/passwd") or is an absolute path is a SceneError naming
+    // the URI. True allows both (for assets the user trusts). A scene file's own "gltf" and
+    // environment "map" are not subject to the rule: the user wrote them.
+    bool allowPathsOutsideSceneFolder = false;
+};
+
 // Loads a .gltf / .glb file or a .json scene file. Throws SceneError naming the file and the
-// problem (missing file, malformed glTF, missing texture, NaN in a transform or colour, ...).
-Scene loadScene(const std::filesystem::path& path);
+// problem (missing file, malformed glTF, missing texture, NaN in a transform or colour, a URI
+// outside the glTF's folder, an image too large, ...).
+Scene loadScene(const std::filesystem::path& path, const SceneLoadOptions& options = {});
 
 // The built-in default scene: a closed room with coloured walls and objects of varied
 // roughness and metalness, lit by a directional light. `janus render` with no scene uses it.
