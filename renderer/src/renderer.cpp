@@ -196,6 +196,7 @@ FrameReport Renderer::Impl::renderCubeCapture(const CubeCaptureDesc& capture) {
         view.colorFormat = desc.format;
         view.renderingLayers = capture.renderingLayers;
         view.passes.shadows = capture.shadows;
+        view.passes.shadowMapSize = capture.shadowMapSize;
         view.passes.lightCulling = false;
         view.passes.tonemap = false;
         view.passes.reflectionProbes = false;

@@ -88,7 +88,7 @@ TEST(ReflectionProbeScenes, ASceneFileGivesEveryFieldAndReplacesTheMarkersProbe)
     const Scene scene = loadScene(writeSceneFile("full", R"([{
         "name": "hall", "position": [0, 1, 0], "influence": {"min": [-1, 0, -1], "max": [1, 2, 1]}, "blendDistance": 0.3,
         "parallax": {"center": [0, 1.5, 0], "size": [4, 3, 4]}, "resolution": 64, "near": 0.1, "far": 20,
-        "update": "on-request", "timeSlicing": "individual-faces", "shadows": false, "layers": 6 }, {}])"));
+        "update": "on-request", "timeSlicing": "individual-faces", "shadows": false, "shadowMapSize": 256, "layers": 6 }, {}])"));
     ASSERT_EQ(scene.reflectionProbes.size(), 2u);   // the cornell box's marker adds none: the file has probes
     const ReflectionProbe& p = scene.reflectionProbes[0];
     EXPECT_EQ(p.name, "hall");
@@ -103,6 +103,7 @@ TEST(ReflectionProbeScenes, ASceneFileGivesEveryFieldAndReplacesTheMarkersProbe)
     EXPECT_EQ(p.update, ProbeUpdate::OnRequest);
     EXPECT_EQ(p.timeSlicing, ProbeTimeSlicing::IndividualFaces);
     EXPECT_FALSE(p.shadows);
+    EXPECT_EQ(p.shadowMapSize, 256u);
     EXPECT_EQ(p.renderingLayers, 6u);
     // Defaults: the scene's bounds, at their centre, at infinity, once, all at once.
     const ReflectionProbe& d = scene.reflectionProbes[1];
@@ -140,6 +141,7 @@ TEST(ReflectionProbeScenes, BadProbesAreSceneErrorsNamingTheProblem) {
         {R"([{"near": 5, "far": 1}])", "0 < near < far"},
         {R"([{"blendDistance": -1}])", "blend distance"},
         {R"([{"layers": -2}])", "layer mask"},
+        {R"([{"shadowMapSize": 100}])", "shadow map size 100"},
         {R"({"name": "x"})", "must be an array"},
     };
     for (size_t i = 0; i < cases.size(); ++i) {
@@ -333,6 +335,40 @@ TEST_P(ReflectionProbesTest, ACaptureRunsOnlyThePassesItsProbeAsksFor) {
     EXPECT_EQ(captureForward, 6u);
     // Only the main frame renders the shadow map: the capture asked for none.
     EXPECT_EQ(std::count_if(report.passes.begin(), report.passes.end(), [](const PassReport& p) { return p.name == "shadow-map"; }), 1);
+}
+
+// A probe's shadow-map size reaches its capture: the renderer's size gives the very faces the
+// default does, a 16^2 map gives other (blockier) shadows.
+TEST_P(ReflectionProbesTest, ACaptureUsesItsOwnShadowMapSize) {
+    device().takeDebugMessages();
+    const Scene scene = probesScene();
+    RenderSettings s = settings(64, 48);
+    s.lighting.shadowMapSize = 512;
+    Renderer renderer(device(), scene, s);
+    auto capture = [&](uint32_t shadowMapSize) {
+        const rhi::TextureHandle cube = device().createTexture(rhi::TextureDesc{}
+                                                                    .setDimension(rhi::TextureDimension::TextureCube)
+                                                                    .setFormat(rhi::Format::RGBA16_FLOAT)
+                                                                    .setSize(32, 32)
+                                                                    .setUsage(rhi::TextureUsage::RenderTarget | rhi::TextureUsage::Sampled));
+        CubeCaptureDesc desc;
+        desc.position = glm::vec3(0.0f, 1.2f, 0.2f);
+        desc.farPlane = 60.0f;
+        desc.target = cube;
+        desc.shadowMapSize = shadowMapSize;
+        const FrameReport report = renderer.renderCubeCapture(desc);
+        EXPECT_EQ(std::count_if(report.passes.begin(), report.passes.end(), [](const PassReport& p) { return p.name == "shadow-map"; }), 1);
+        std::vector<std::byte> faces;
+        for (uint32_t face = 0; face < 6; ++face) {
+            const std::vector<std::byte> bytes = device().readTexture(cube, {0, face});
+            faces.insert(faces.end(), bytes.begin(), bytes.end());
+        }
+        return faces;
+    };
+    const std::vector<std::byte> byDefault = capture(0), same = capture(512), coarse = capture(16);
+    expectNoMessages();
+    EXPECT_EQ(byDefault, same);
+    EXPECT_NE(byDefault, coarse);
 }
 
 TEST_P(ReflectionProbesTest, HardCasesStayFinite) {

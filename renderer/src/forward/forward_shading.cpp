@@ -102,7 +102,7 @@ void ForwardShading::setupView(ViewState& state) {
     FrameUniforms frame = m_sceneUniforms;
     frame.viewProjection = view.viewProjection();   // for the tiled view, the matrices the culling uses
     frame.cameraPosition = glm::vec4(view.position, 1.0f);
-    const DirectionalShadowMap* map = state.shadowed ? m_shadows.map() : nullptr;
+    const DirectionalShadowMap* map = state.shadowed ? m_shadows.map(view.passes.shadowMapSize) : nullptr;
     if (map) {
         frame.worldToShadow = map->worldToShadow();
         frame.shadowParams = glm::vec4(1.0f, map->texelSize(), map->normalOffset(), 0.0f);

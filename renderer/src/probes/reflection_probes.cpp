@@ -213,6 +213,7 @@ void ReflectionProbes::runStep(Probe& probe, FrameReport& frame) {
         capture.farPlane = probe.desc.farPlane;
         capture.target = probe.capture;
         capture.shadows = probe.desc.shadows;
+        capture.shadowMapSize = probe.desc.shadowMapSize;
         capture.renderingLayers = probe.desc.renderingLayers;
         capture.faces = step.captureFaces;
         capture.viewPrefix = view;

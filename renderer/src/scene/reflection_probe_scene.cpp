@@ -124,6 +124,12 @@ std::vector<ReflectionProbe> parseReflectionProbes(const std::filesystem::path& 
             if (!p["shadows"].is_boolean()) fail(file, fmt::format("{}.shadows must be true or false", where));
             probe.shadows = p["shadows"].get<bool>();
         }
+        if (p.contains("shadowMapSize")) {
+            if (!p["shadowMapSize"].is_number_unsigned())
+                fail(file, fmt::format("{}.shadowMapSize must be 0 (the renderer's) or a power of two in [16, 8192], got {}", where,
+                                       p["shadowMapSize"].dump()));
+            probe.shadowMapSize = uint32_t(std::min<uint64_t>(p["shadowMapSize"].get<uint64_t>(), UINT32_MAX));
+        }
         if (p.contains("layers")) {
             const json& layers = p["layers"];
             if (!layers.is_number_integer() || layers.get<int64_t>() < 0 || layers.get<int64_t>() > int64_t(UINT32_MAX))
@@ -175,6 +181,9 @@ void validateReflectionProbes(const Scene& scene) {
             throw SceneError(fmt::format("reflection probe {}: blend distance {} must be finite and >= 0", name, p.blendDistance));
         if (p.resolution < 8 || p.resolution > 1024 || (p.resolution & (p.resolution - 1)) != 0)
             throw SceneError(fmt::format("reflection probe {}: resolution {} must be a power of two in [8, 1024]", name, p.resolution));
+        if (p.shadowMapSize != 0 && (p.shadowMapSize < 16 || p.shadowMapSize > 8192 || (p.shadowMapSize & (p.shadowMapSize - 1)) != 0))
+            throw SceneError(fmt::format("reflection probe {}: shadow map size {} must be 0 (the renderer's) or a power of two in [16, 8192]",
+                                         name, p.shadowMapSize));
         if (!(std::isfinite(p.nearPlane) && std::isfinite(p.farPlane) && p.nearPlane > 0.0f && p.nearPlane < p.farPlane))
             throw SceneError(fmt::format("reflection probe {}: planes near {} and far {} must satisfy 0 < near < far", name, p.nearPlane,
                                          p.farPlane));

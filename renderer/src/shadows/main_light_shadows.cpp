@@ -1,5 +1,7 @@
 #include "shadows/main_light_shadows.h"
 
+#include <fmt/format.h>
+
 namespace janus::renderer {
 
 MainLightShadows::MainLightShadows(rhi::IDevice& device, const Scene& scene, const GpuScene& gpuScene, bool enabled, uint32_t mapSize,
@@ -30,27 +32,46 @@ MainLightShadows::MainLightShadows(rhi::IDevice& device, const Scene& scene, con
     }
 }
 
-void MainLightShadows::createMap() {
-    if (m_map) return;
-    m_map = std::make_unique<DirectionalShadowMap>(m_device, m_mapSize);
-    m_map->fit(m_lightDirection, m_bounds.min, m_bounds.max);
-    m_map->setCasters(m_casters);
+DirectionalShadowMap& MainLightShadows::createMap(uint32_t size) {
+    std::unique_ptr<DirectionalShadowMap>& map = m_maps[size];
+    if (!map) {
+        map = std::make_unique<DirectionalShadowMap>(m_device, size);
+        map->fit(m_lightDirection, m_bounds.min, m_bounds.max);
+        map->setCasters(m_casters);
+    }
+    return *map;
 }
 
-void MainLightShadows::addPasses(PassGraph& graph, const SceneView&) {
-    if (!active() || graph.find("", frame_resources::kShadowMap)) return;
-    const PassGraph::ResourceId shadowMap = graph.addResource(frame_resources::kShadowMap);
-    PassGraph::PassDesc pass;
-    pass.name = "shadow-map";
-    pass.writes = {shadowMap};
-    pass.setup = [this] { createMap(); };
-    pass.record = [this](rhi::ICommandList& cmd, PassReport& report) { m_map->record(cmd, m_casters, report.draws); };
-    graph.addPass(std::move(pass));
-    graph.publish("", frame_resources::kShadowMap, ViewTarget{shadowMap, nullptr, {}});
+const DirectionalShadowMap* MainLightShadows::map(uint32_t size) const {
+    auto it = m_maps.find(size == 0 ? m_mapSize : size);
+    return it == m_maps.end() ? nullptr : it->second.get();
+}
+
+void MainLightShadows::addPasses(PassGraph& graph, const SceneView& view) {
+    if (!active()) return;
+    const uint32_t size = view.passes.shadowMapSize == 0 ? m_mapSize : view.passes.shadowMapSize;
+    const bool shared = size == m_mapSize;
+    // One pass per size and graph; a non-default size is found by the views that asked for it.
+    const std::string sizeKey = fmt::format("{}@{}", frame_resources::kShadowMap, size);
+    const ViewTarget* existing = graph.find("", sizeKey);
+    if (!existing) {
+        const PassGraph::ResourceId shadowMap = graph.addResource(shared ? std::string(frame_resources::kShadowMap) : sizeKey);
+        PassGraph::PassDesc pass;
+        pass.name = "shadow-map";
+        pass.writes = {shadowMap};
+        pass.setup = [this, size] { createMap(size); };
+        pass.record = [this, size](rhi::ICommandList& cmd, PassReport& report) { m_maps.at(size)->record(cmd, m_casters, report.draws); };
+        graph.addPass(std::move(pass));
+        graph.publish("", sizeKey, ViewTarget{shadowMap, nullptr, {}});
+        if (shared) graph.publish("", frame_resources::kShadowMap, ViewTarget{shadowMap, nullptr, {}});
+        existing = graph.find("", sizeKey);
+    }
+    if (!shared) graph.publish(view.name, frame_resources::kShadowMap, *existing);
 }
 
 rhi::BindingItem MainLightShadows::binding(uint32_t slot) const {
-    return m_map ? m_map->binding(slot) : rhi::BindingItem::sampledTexture(slot, m_standInTexture, m_standInSampler);
+    const DirectionalShadowMap* shared = map();
+    return shared ? shared->binding(slot) : rhi::BindingItem::sampledTexture(slot, m_standInTexture, m_standInSampler);
 }
 
 }  // namespace janus::renderer

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -27,26 +28,30 @@ public:
     // and meshes with geometry.
     bool active() const { return !m_casters.empty(); }
 
-    // Adds the "shadow-map" pass once per frame graph (the map does not depend on the view) and
-    // publishes it as frame_resources::kShadowMap; views that want shadows read it, and when none
-    // does the graph culls the pass. Its setup creates and fits the map (once, however many
-    // graphs add the pass). Adds nothing when not active().
+    // Adds the "shadow-map" pass once per frame graph and map size (the map does not depend on
+    // the view) and publishes it as frame_resources::kShadowMap: frame-wide for the renderer's
+    // size, under the view's name for a view that asks for another (ViewPasses::shadowMapSize, a
+    // reflection probe's setting). Views that want shadows read it, and when none does the graph
+    // culls the pass. Its setup creates and fits that size's map (once, however many graphs add
+    // the pass). Adds nothing when not active().
     void addPasses(PassGraph& graph, const SceneView& view) override;
 
-    // Valid once the pass setup ran (null before, and when the pass was culled).
-    const DirectionalShadowMap* map() const { return m_map.get(); }
+    // The map of `size` (0 = the renderer's); valid once its pass setup ran (null before, and when
+    // the pass was culled).
+    const DirectionalShadowMap* map(uint32_t size = 0) const;
+    uint32_t mapSize() const { return m_mapSize; }
     // The map (when made) or the stand-in, as the sampler2DShadow at `slot`.
     rhi::BindingItem binding(uint32_t slot) const;
 
 private:
-    void createMap();
+    DirectionalShadowMap& createMap(uint32_t size);
 
     rhi::IDevice& m_device;
     uint32_t m_mapSize = 0;
     glm::vec3 m_lightDirection{0.0f, -1.0f, 0.0f};
     WorldBounds m_bounds;
     std::vector<ShadowCaster> m_casters;
-    std::unique_ptr<DirectionalShadowMap> m_map;
+    std::map<uint32_t, std::unique_ptr<DirectionalShadowMap>> m_maps;   // by size
     rhi::TextureHandle m_standInTexture;   // bound when nothing casts shadows
     rhi::SamplerHandle m_standInSampler;
 };

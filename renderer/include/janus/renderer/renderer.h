@@ -38,6 +38,7 @@ struct CubeCaptureDesc {
     uint32_t cube = 0;
     uint32_t mipLevel = 0;
     bool shadows = true;                // the main light's shadow map (the pass is left out without)
+    uint32_t shadowMapSize = 0;         // its size for the capture; 0 = the renderer's
     uint32_t renderingLayers = ~0u;     // meshes the capture sees
     uint32_t faces = 0x3f;              // bit f: render face f (+X, -X, +Y, -Y, +Z, -Z); at least one
     std::string viewPrefix = "cube";    // views are named "<prefix> +X" ... in reports

@@ -178,6 +178,7 @@ struct ReflectionProbe {
     // The capture's passes: the main light's shadow map (left out when false) and the meshes it
     // sees (rendering layers).
     bool shadows = true;
+    uint32_t shadowMapSize = 0;      // 0 = the renderer's; else a power of two in [16, 8192]
     uint32_t renderingLayers = ~0u;
 };
 

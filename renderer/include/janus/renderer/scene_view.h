@@ -19,6 +19,7 @@ namespace janus::renderer {
 // no view wants it, its resources are not created).
 struct ViewPasses {
     bool shadows = true;           // the main directional light's shadow map
+    uint32_t shadowMapSize = 0;    // its size for this view; 0 = the renderer's (lighting settings)
     bool lightCulling = true;      // tiled local-light culling when the lighting settings choose it; else every light is looped
     bool tonemap = true;           // HDR -> display image (views that capture radiance leave it out)
     bool reflectionProbes = true;  // glossy reflections from the scene's probes (captures leave them out: no feedback)
