@@ -3,6 +3,8 @@ janus_add_shader(janus_shaders NAME fullscreen_vert SOURCE ${CMAKE_CURRENT_LIST_
 janus_add_shader(janus_shaders NAME forward_vert SOURCE ${CMAKE_CURRENT_LIST_DIR}/forward.vert)
 # Compute path: light array and tile lists in storage buffers (no SSBOs on ES 3.0).
 janus_add_shader(janus_shaders NAME forward_frag SOURCE ${CMAKE_CURRENT_LIST_DIR}/forward.frag NO_ES)
+# The same for a compute-capable device without cube arrays: two probe cubes (probe_access.glsl).
+janus_add_shader(janus_shaders NAME forward_cubes_frag SOURCE ${CMAKE_CURRENT_LIST_DIR}/forward.frag DEFINES PROBES_AS_CUBES=1 NO_ES)
 # Fallback path: the same words in integer textures (docs/LIGHTING.md).
 # Both sample reflection probes from a cube array (no cube arrays on ES 3.0: NO_ES)...
 janus_add_shader(janus_shaders NAME forward_textures_frag SOURCE ${CMAKE_CURRENT_LIST_DIR}/forward.frag DEFINES LIGHTS_IN_TEXTURES=1 NO_ES)

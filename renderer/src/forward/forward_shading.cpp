@@ -12,6 +12,17 @@
 
 namespace janus::renderer {
 
+namespace {
+
+// forward.frag's variants: lights in storage buffers (compute path) or textures (fallback), and
+// reflection probes in a cube array or, without cube arrays, two cubes.
+const char* forwardShaderName(FeaturePath path, bool probeCubes) {
+    if (path == FeaturePath::Compute) return probeCubes ? "forward_cubes_frag" : "forward_frag";
+    return probeCubes ? "forward_textures_cubes_frag" : "forward_textures_frag";
+}
+
+}  // namespace
+
 ForwardShading::ForwardShading(rhi::IDevice& device, const Scene& scene, const GpuScene& gpuScene, LocalLights& localLights,
                                MainLightShadows& shadows, const ImageBasedLighting& imageBasedLighting,
                                const ReflectionProbes& reflectionProbes, FeaturePath path)
@@ -44,9 +55,7 @@ ForwardShading::ForwardShading(rhi::IDevice& device, const Scene& scene, const G
     m_sceneUniforms.lightCounts.x = int(directional.size());
 
     m_vertexShader = makeShader(device, rhi::ShaderStage::Vertex, "forward_vert");
-    m_forwardShader = makeShader(device, rhi::ShaderStage::Fragment, path == FeaturePath::Compute        ? "forward_frag"
-                                                            : reflectionProbes.separateCubes() ? "forward_textures_cubes_frag"
-                                                                                                : "forward_textures_frag");
+    m_forwardShader = makeShader(device, rhi::ShaderStage::Fragment, forwardShaderName(path, reflectionProbes.separateCubes()));
 }
 
 void ForwardShading::addPasses(PassGraph& graph, const SceneView& view) {
