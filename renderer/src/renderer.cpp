@@ -5,7 +5,9 @@
 //   depth-prepass  (forward/)   tiled light culling only: meshes -> D32F depth
 //   light-cull-*   (forward/)   tiled only. compute: light_cull.comp | fallback: CPU builder -> tile lists
 //   probe updates  (probes/)    before the frame: due reflection probes capture (six views with these passes), prefilter, show
-//   forward        (forward/)   meshes -> RGBA16F HDR radiance (+ depth, or tested against the prepass depth)
+//   forward        (forward/)   opaque and masked meshes -> RGBA16F HDR radiance (+ depth, or tested against the prepass depth)
+//   sky            (ibl/)       with a sky: its radiance where no surface is
+//   transparent    (forward/)   alphaMode BLEND meshes, back to front, blended over the HDR radiance (only with such meshes)
 //   tonemap-*      (tonemap/)   HDR -> RGBA8 display (compute: storage-image dispatch | fallback: fullscreen triangle)
 //   tile-heatmap   (debug_views/) DebugView::Tiles: lights per tile blended over the display image
 // The pass graph keeps only passes whose output the frame needs. renderCubeCapture() renders six
@@ -50,11 +52,15 @@ void Renderer::Impl::createFeatures(const Scene& scene) {
     auto forward = std::make_unique<ForwardShading>(device, scene, *gpuScene, *localLights, *shadows, *imageBasedLighting, *probes,
                                                     settings.path);
     auto sky = std::make_unique<SkyBackground>(device, *imageBasedLighting);
+    // Blended surfaces composite over the sky, so their pass comes after it.
+    std::unique_ptr<TransparentShading> transparent;
+    if (!gpuScene->blendedDraws().empty()) transparent = std::make_unique<TransparentShading>(device, scene, *gpuScene, *forward);
     features.push_back(std::move(shadows));
     features.push_back(std::move(imageBasedLighting));
     features.push_back(std::move(probes));
     features.push_back(std::move(forward));
     features.push_back(std::move(sky));
+    if (transparent) features.push_back(std::move(transparent));
     features.push_back(std::make_unique<Tonemap>(device, scene.environment.exposure, settings.path, gpuScene->pointSampler()));
     if (settings.debugView == DebugView::Tiles) features.push_back(std::make_unique<TileHeatmap>(device, *localLights, settings.path));
 }

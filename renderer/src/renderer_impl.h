@@ -3,7 +3,8 @@
 // lets the features add their passes to a pass graph (core/pass_graph.h), which culls what no
 // output needs and runs the rest. Everything a feature does lives in its folder:
 //   core/          pass graph, scene views, the uploaded scene and how meshes are drawn, helpers
-//   forward/       lighting settings, local lights + tile lists + culling, forward shading
+//   forward/       lighting settings, local lights + tile lists + culling, forward shading,
+//                  transparent (alphaMode BLEND) shading
 //   shadows/       the main directional light's shadow map
 //   tonemap/       HDR -> display image
 //   ibl/           the sky: cube, GGX prefilter, SH irradiance, background
@@ -22,6 +23,7 @@
 #include "forward/forward_shading.h"
 #include "forward/lighting_settings.h"
 #include "forward/local_lights.h"
+#include "forward/transparent_shading.h"
 #include "ibl/image_based_lighting.h"
 #include "ibl/sky_background.h"
 #include "janus/renderer/renderer.h"

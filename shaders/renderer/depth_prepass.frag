@@ -11,7 +11,7 @@ layout(set = JANUS_SET_DRAW, binding = JANUS_BINDING_BASE_COLOR) uniform sampler
 layout(location = 2) in vec2 vUv;
 
 void main() {
-    if (draw.flags.z != 0) {
+    if (draw.flags.z == kAlphaModeMask) {
         vec4 baseColor = draw.baseColorFactor * texture(baseColorTexture, vUv);
         if (baseColor.a < draw.emissiveFactor.w) discard;
     }

@@ -107,7 +107,7 @@ vec3 shadeLocalLight(Surface s, vec3 worldPosition, int index, uint meshLayers) 
 
 void main() {
     vec4 baseColor = draw.baseColorFactor * texture(baseColorTexture, vUv);
-    if (draw.flags.z != 0 && baseColor.a < draw.emissiveFactor.w) discard;
+    if (draw.flags.z == kAlphaModeMask && baseColor.a < draw.emissiveFactor.w) discard;
     vec4 metallicRoughness = texture(metallicRoughnessTexture, vUv);
     float metallic = clamp(draw.materialParams.x * metallicRoughness.b, 0.0, 1.0);
     float perceptualRoughness = clamp(draw.materialParams.y * metallicRoughness.g, 0.045, 1.0);
@@ -191,5 +191,9 @@ void main() {
 
     // Whatever went wrong upstream, no NaN reaches the target (min() would not stop it).
     radiance = mix(radiance, vec3(0.0), isnan(radiance));
-    outRadiance = vec4(min(radiance, vec3(kMaxRadiance)), 1.0);
+    // alphaMode BLEND (the transparent pass, docs/LIGHTING.md "Transparent surfaces"): alpha is
+    // coverage, and the output is premultiplied, blended as One, OneMinusSrcAlpha. Everything
+    // else is opaque: alpha 1.
+    float alpha = draw.flags.z == kAlphaModeBlend ? clamp(baseColor.a, 0.0, 1.0) : 1.0;
+    outRadiance = vec4(min(radiance, vec3(kMaxRadiance)) * alpha, alpha);
 }

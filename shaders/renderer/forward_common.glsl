@@ -29,5 +29,10 @@ layout(set = JANUS_SET_DRAW, binding = JANUS_BINDING_DRAW_UNIFORMS, std140) unif
     vec4 baseColorFactor;
     vec4 emissiveFactor;   // rgb emissive, w alpha cutoff
     vec4 materialParams;   // x metallic, y roughness, z normal scale, w occlusion strength
-    ivec4 flags;           // x double-sided, y has tangents, z alpha mask, w renderingLayers (uint bits)
+    ivec4 flags;           // x double-sided, y has tangents, z alpha mode (kAlphaMode*), w renderingLayers (uint bits)
 } draw;
+
+// draw.flags.z: glTF alphaMode.
+const int kAlphaModeOpaque = 0;
+const int kAlphaModeMask = 1;    // discard below the cutoff (emissiveFactor.w)
+const int kAlphaModeBlend = 2;   // the transparent pass: premultiplied alpha out

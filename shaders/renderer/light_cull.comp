@@ -14,7 +14,7 @@ layout(set = 0, binding = JANUS_BINDING_CULL_UNIFORMS, std140) uniform CullUnifo
     mat4 inverseProjection;
     uvec4 grid;     // x width, y height, z tileSize, w maxLightsPerTile
     uvec4 counts;   // x tilesX, y tilesY, z lightCount, w mode (1 Tiles2D, 2 TilesDepth)
-    vec4 planes;    // x near, y far
+    vec4 planes;    // x near, y far, z 1 = ranges from the near plane (transparent surfaces; TileGrid::rangeFromNearPlane)
 } cull;
 layout(set = 0, binding = JANUS_BINDING_CULL_DEPTH) uniform sampler2D depthTexture;
 layout(set = 0, binding = JANUS_BINDING_CULL_LIGHTS, std430) readonly buffer LocalLights { uvec4 lightWords[]; };
@@ -66,6 +66,15 @@ void main() {
         region.hasGeometry = minDepth <= maxDepth;
         region.dMin = linearViewDepth(cull.projection, minDepth) * (1.0 - kDepthRelativeMargin);
         region.dMax = linearViewDepth(cull.projection, maxDepth) * (1.0 + kDepthRelativeMargin);
+        if (cull.planes.z != 0.0) {
+            // Transparent surfaces lie in front of the depth: from the near plane on, and
+            // anywhere where no depth was written.
+            region.dMin = cull.planes.x;
+            if (!region.hasGeometry) {
+                region.hasGeometry = true;
+                region.dMax = cull.planes.y;
+            }
+        }
     }
     if (region.hasGeometry) {
         for (uint i = local; i < lightCount; i += kThreads) {

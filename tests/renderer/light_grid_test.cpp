@@ -430,5 +430,48 @@ TEST(LightGrid, TileDataRoundTrips) {
     EXPECT_THROW(unflattenTileData(std::span(data).first(data.size() - 1), 16, grid.tilesX(), grid.tilesY(), 5), RendererError);
 }
 
+// Transparent surfaces are not in the prepass depth (docs/LIGHTING.md, "Culling"): with
+// rangeFromNearPlane, TilesDepth lists lights between the camera and the depth, and lights in
+// tiles without depth; the side planes still cull.
+TEST(LightGrid, RangesFromTheNearPlaneListLightsInFrontOfTheDepthAndWhereThereIsNone) {
+    Camera camera;
+    camera.position = {0.0f, 0.0f, 4.0f};
+    camera.target = {0.0f, 0.0f, 0.0f};
+    camera.fovYRadians = 0.8726646f;   // 50 degrees
+    camera.nearPlane = 0.1f;
+    camera.farPlane = 50.0f;
+    const TileGrid base = makeTileGrid(camera, 64, 64, 16, 32);
+    // Depth: the left half holds a wall 10 units away, the right half nothing.
+    const glm::vec4 clip = base.projection * glm::vec4(0.0f, 0.0f, -10.0f, 1.0f);
+    std::vector<float> depth(64 * 64, 1.0f);
+    for (uint32_t y = 0; y < 64; ++y)
+        for (uint32_t x = 0; x < 32; ++x) depth[y * 64 + x] = clip.z / clip.w;
+    // Two short-range lights 2 units in front of the camera, in front of tile columns 0 (wall
+    // behind) and 3 (nothing behind); tile columns span view slopes x/d of about 0.233 each.
+    PackedLight left, right;
+    left.position = {-0.7f, 0.0f, 2.0f};
+    right.position = {0.7f, 0.0f, 2.0f};
+    left.invRangeSq = right.invRangeSq = 1.0f / (0.2f * 0.2f);
+    const std::vector<PackedLight> lights = {left, right};
+    auto listed = [&](const TileLists& lists, uint32_t tx, uint32_t ty, uint32_t light) {
+        const size_t tile = size_t(ty) * lists.tilesX + tx;
+        for (uint32_t k = 0; k < lists.counts[tile]; ++k)
+            if (lists.indices[tile * lists.maxLightsPerTile + k] == light) return true;
+        return false;
+    };
+    const TileLists opaqueOnly = buildTileListsCpu(base, lights, depth);
+    EXPECT_FALSE(listed(opaqueOnly, 0, 1, 0)) << "the wall is far behind the light";
+    EXPECT_FALSE(listed(opaqueOnly, 3, 1, 1)) << "no depth, no list";
+    TileGrid fromNear = base;
+    fromNear.rangeFromNearPlane = true;
+    const TileLists withGlass = buildTileListsCpu(fromNear, lights, depth);
+    EXPECT_TRUE(listed(withGlass, 0, 1, 0));
+    EXPECT_TRUE(listed(withGlass, 3, 1, 1));
+    EXPECT_FALSE(listed(withGlass, 0, 1, 1)) << "still culled sideways";
+    EXPECT_FALSE(listed(withGlass, 3, 1, 0)) << "still culled sideways";
+    EXPECT_EQ(makeCullUniforms(fromNear, 2, LightCulling::TilesDepth).planes.z, 1.0f);
+    EXPECT_EQ(makeCullUniforms(base, 2, LightCulling::TilesDepth).planes.z, 0.0f);
+}
+
 }  // namespace
 }  // namespace janus::renderer

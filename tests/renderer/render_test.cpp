@@ -7,6 +7,7 @@
 #include <memory>
 
 #include <fmt/format.h>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "janus/renderer/image.h"
 #include "janus/renderer/renderer.h"
@@ -70,7 +71,57 @@ const SceneCase kScenes[] = {
          scene.environment.map = fs::path(JANUS_SHARED_SCENES_DIR) / "env" / "chinese_garden_1k.hdr";
          return scene;
      }},
+    // alphaMode BLEND: the front row of spheres as tinted glass (the glossiest one double-sided),
+    // composited back to front over the room by the transparent pass.
+    {"TransparentRoom",
+     [] {
+         Scene scene = defaultScene();
+         for (Material& material : scene.materials)
+             if (material.name.starts_with("plastic ")) {
+                 material.alphaMode = AlphaMode::Blend;
+                 material.baseColorFactor.a = 0.4f;
+                 material.doubleSided = material.name == "plastic 0";
+             }
+         return scene;
+     }},
+    // A double-sided glass pane in front of the helmet and the sky: blended over both.
+    {"GlassPaneUnderSky",
+     [] {
+         Scene scene = sharedScene("DamagedHelmet/glTF/DamagedHelmet.gltf");
+         scene.environment.map = fs::path(JANUS_SHARED_SCENES_DIR) / "env" / "chinese_garden_1k.hdr";
+         Material glass;
+         glass.name = "glass";
+         glass.baseColorFactor = {0.5f, 0.8f, 0.6f, 0.3f};
+         glass.metallicFactor = 0.0f;
+         glass.roughnessFactor = 0.1f;
+         glass.alphaMode = AlphaMode::Blend;
+         glass.doubleSided = true;
+         scene.materials.push_back(glass);
+         Mesh pane;
+         const glm::vec4 tangent(0.0f);
+         pane.vertices = {Vertex{{-1, -1, 0}, {0, 0, 1}, {0, 1}, tangent}, Vertex{{1, -1, 0}, {0, 0, 1}, {1, 1}, tangent},
+                          Vertex{{1, 1, 0}, {0, 0, 1}, {1, 0}, tangent}, Vertex{{-1, 1, 0}, {0, 0, 1}, {0, 0}, tangent}};
+         pane.indices = {0, 1, 2, 0, 2, 3};
+         pane.material = int32_t(scene.materials.size() - 1);
+         scene.meshes.push_back(pane);
+         // Between the camera and the helmet, off to the right, over helmet and sky, turned a little.
+         const glm::vec3 toCamera = scene.camera.position - scene.camera.target;
+         const float distance = glm::length(toCamera);
+         const glm::vec3 right = glm::normalize(glm::cross(-toCamera, scene.camera.up));
+         const glm::vec3 centre = scene.camera.target + 0.35f * toCamera + 0.25f * distance * right;
+         const glm::mat4 world = glm::inverse(glm::lookAt(centre, centre - toCamera, scene.camera.up)) *
+                                 glm::rotate(glm::mat4(1.0f), 0.5f, glm::vec3(0, 1, 0)) * glm::scale(glm::mat4(1.0f), glm::vec3(0.25f * distance));
+         scene.instances.push_back(Instance{uint32_t(scene.meshes.size() - 1), world});
+         return scene;
+     }},
 };
+
+size_t blendedInstances(const Scene& scene) {
+    return size_t(std::count_if(scene.instances.begin(), scene.instances.end(), [&](const Instance& instance) {
+        const int32_t material = scene.meshes[instance.mesh].material;
+        return material >= 0 && scene.materials[size_t(material)].alphaMode == AlphaMode::Blend;
+    }));
+}
 
 // The reference (vulkan/compute) render of each scene, made once per process.
 const Render& reference(const SceneCase& sceneCase) {
@@ -142,6 +193,8 @@ TEST_P(RenderTest, MatchesVulkanComputeAndReportsItsPasses) {
     const bool compute = config().path == FeaturePath::Compute;
     const std::string path = compute ? "-compute" : "-fallback";
     const bool sky = !scene.environment.map.empty();
+    // BLEND materials add the transparent pass after the sky, and leave the shadow map and forward.
+    const size_t blended = blendedInstances(scene);
     std::vector<std::string> expected;
     if (sky) expected = {"equirect-to-cube" + path, "ggx-prefilter" + path, "sh-irradiance" + path};   // once, at start-up
     // Reflection probes (a "ReflectionCubemap" marker places one in the cornell box) update in
@@ -152,6 +205,7 @@ TEST_P(RenderTest, MatchesVulkanComputeAndReportsItsPasses) {
         for (int face = 0; face < 6; ++face) {
             expected.push_back("forward");
             if (sky) expected.push_back("sky");
+            if (blended > 0) expected.push_back("transparent");
         }
         expected.push_back("probe-prefilter" + path);
         expected.push_back("probe-show");
@@ -159,6 +213,7 @@ TEST_P(RenderTest, MatchesVulkanComputeAndReportsItsPasses) {
     if (shadows) expected.push_back("shadow-map");
     expected.push_back("forward");
     if (sky) expected.push_back("sky");
+    if (blended > 0) expected.push_back("transparent");
     expected.push_back("tonemap" + path);
     std::vector<std::string> names;
     for (const PassReport& pass : report.passes) names.push_back(pass.name);
@@ -166,8 +221,9 @@ TEST_P(RenderTest, MatchesVulkanComputeAndReportsItsPasses) {
     auto pass = [&](const std::string& name) -> const PassReport& {
         return *std::find_if(report.passes.begin(), report.passes.end(), [&](const PassReport& p) { return p.name == name; });
     };
-    if (shadows) EXPECT_EQ(pass("shadow-map").draws, scene.instances.size());
-    EXPECT_EQ(pass("forward").draws, scene.instances.size());
+    if (shadows) EXPECT_EQ(pass("shadow-map").draws, scene.instances.size() - blended);
+    EXPECT_EQ(pass("forward").draws, scene.instances.size() - blended);
+    if (blended > 0) EXPECT_GE(pass("transparent").draws, blended);   // double-sided ones draw twice
     ASSERT_EQ(report.probeUpdates.size(), scene.reflectionProbes.size());
     for (const ProbeUpdateReport& update : report.probeUpdates) {
         // 6 prefiltered mips: one dispatch each | one draw per face and mip (36), then 7 x 6 copies.

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstring>
+#include <limits>
 #include <utility>
 
 #include <fmt/format.h>
@@ -201,8 +202,10 @@ void GpuScene::createDraws(const Scene& scene) {
         uniforms.emissiveFactor = glm::vec4(material.emissiveFactor, material.alphaCutoff);
         uniforms.materialParams = glm::vec4(material.metallicFactor, material.roughnessFactor, 1.0f, 1.0f);
         // Normal maps need tangents; meshes without them shade with their vertex normals.
-        uniforms.flags = glm::ivec4(material.doubleSided ? 1 : 0, hasTangents && material.normalTexture >= 0 ? 1 : 0,
-                                    material.alphaMode == AlphaMode::Mask ? 1 : 0, int32_t(instance.renderingLayers));
+        // flags.z is the alpha mode as forward.frag reads it: 0 opaque, 1 mask, 2 blend.
+        const int32_t alphaMode = material.alphaMode == AlphaMode::Mask ? 1 : material.alphaMode == AlphaMode::Blend ? 2 : 0;
+        uniforms.flags = glm::ivec4(material.doubleSided ? 1 : 0, hasTangents && material.normalTexture >= 0 ? 1 : 0, alphaMode,
+                                    int32_t(instance.renderingLayers));
         std::memcpy(drawData.data() + i * stride, &uniforms, sizeof(uniforms));
 
         auto texture = [&](uint32_t binding, int32_t index, const rhi::TextureHandle& fallback) {
@@ -214,8 +217,17 @@ void GpuScene::createDraws(const Scene& scene) {
         draw.instance = uint32_t(i);
         draw.doubleSided = material.doubleSided;
         draw.mirrored = glm::determinant(glm::mat3(instance.world)) < 0.0f;
+        draw.blended = material.alphaMode == AlphaMode::Blend;
         draw.renderingLayers = instance.renderingLayers;
         draw.world = instance.world;
+        // The centre of the world-space box around the transformed local box is the transformed
+        // centre of the local box.
+        glm::vec3 localMin(std::numeric_limits<float>::max()), localMax(-std::numeric_limits<float>::max());
+        for (const Vertex& v : mesh.vertices) {
+            localMin = glm::min(localMin, v.position);
+            localMax = glm::max(localMax, v.position);
+        }
+        draw.boundsCenter = glm::vec3(instance.world * glm::vec4((localMin + localMax) * 0.5f, 1.0f));
         draw.bindings = m_device.createBindingSet(
             rhi::BindingSetDesc{}
                 .add(rhi::BindingItem::uniformBuffer(JANUS_BINDING_DRAW_UNIFORMS, m_drawUniforms, i * stride, sizeof(DrawUniforms)))
@@ -224,9 +236,10 @@ void GpuScene::createDraws(const Scene& scene) {
                 .add(texture(JANUS_BINDING_NORMAL, material.normalTexture, m_flatNormalTexture))
                 .add(texture(JANUS_BINDING_OCCLUSION, material.occlusionTexture, m_whiteTexture))
                 .add(texture(JANUS_BINDING_EMISSIVE, material.emissiveTexture, m_whiteTexture)));
-        m_draws.push_back(std::move(draw));
+        (draw.blended ? m_blendedDraws : m_draws).push_back(std::move(draw));
     }
     m_device.writeBuffer(m_drawUniforms, drawData.data(), drawData.size());
+    for (const Draw& draw : m_blendedDraws) m_hasBlendedKind[draw.doubleSided][draw.mirrored] = true;
 
     // Fewer pipeline switches: single-sided draws first, then double-sided ones; mirrored ones
     // after the others of their kind.
@@ -236,25 +249,32 @@ void GpuScene::createDraws(const Scene& scene) {
     for (const Draw& draw : m_draws) m_hasKind[draw.doubleSided][draw.mirrored] = true;
 }
 
+rhi::PipelineHandle GpuScene::createMeshPipeline(const rhi::ShaderHandle& vertexShader, const rhi::ShaderHandle& fragmentShader,
+                                                 rhi::CullMode cull, bool clockwise, rhi::DepthState depth, rhi::BlendAttachment blend,
+                                                 rhi::Format colorFormat, rhi::Format depthFormat, const std::string& name) const {
+    rhi::GraphicsPipelineDesc desc;
+    desc.setShaders(vertexShader, fragmentShader)
+        .addVertexBuffer({0, sizeof(Vertex), false})
+        .addVertexAttribute({0, rhi::VertexFormat::Float3, 0, offsetof(Vertex, position)})
+        .addVertexAttribute({1, rhi::VertexFormat::Float3, 0, offsetof(Vertex, normal)})
+        .addVertexAttribute({2, rhi::VertexFormat::Float2, 0, offsetof(Vertex, uv)})
+        .addVertexAttribute({3, rhi::VertexFormat::Float4, 0, offsetof(Vertex, tangent)})
+        // glTF front faces are counter-clockwise; an ordinary projection keeps that as seen in
+        // the image, a mirrored one (cube faces) or a mirrored instance turns it clockwise.
+        .setRaster(rhi::RasterState{cull, clockwise ? rhi::FrontFace::Clockwise : rhi::FrontFace::CounterClockwise})
+        .setDepth(depth)
+        .setDepthFormat(depthFormat)
+        .setDebugName(name);
+    if (colorFormat != rhi::Format::Unknown) desc.addColorFormat(colorFormat, blend);
+    return m_device.createGraphicsPipeline(desc);
+}
+
 GpuScene::MeshPipelines GpuScene::createMeshPipelines(const rhi::ShaderHandle& vertexShader, const rhi::ShaderHandle& fragmentShader,
                                                       rhi::DepthState depth, rhi::Format colorFormat, rhi::Format depthFormat,
                                                       bool mirrored, const std::string& name) const {
     auto pipeline = [&](rhi::CullMode cull, bool clockwise, const char* variant) {
-        rhi::GraphicsPipelineDesc desc;
-        desc.setShaders(vertexShader, fragmentShader)
-            .addVertexBuffer({0, sizeof(Vertex), false})
-            .addVertexAttribute({0, rhi::VertexFormat::Float3, 0, offsetof(Vertex, position)})
-            .addVertexAttribute({1, rhi::VertexFormat::Float3, 0, offsetof(Vertex, normal)})
-            .addVertexAttribute({2, rhi::VertexFormat::Float2, 0, offsetof(Vertex, uv)})
-            .addVertexAttribute({3, rhi::VertexFormat::Float4, 0, offsetof(Vertex, tangent)})
-            // glTF front faces are counter-clockwise; an ordinary projection keeps that as seen in
-            // the image, a mirrored one (cube faces) or a mirrored instance turns it clockwise.
-            .setRaster(rhi::RasterState{cull, clockwise ? rhi::FrontFace::Clockwise : rhi::FrontFace::CounterClockwise})
-            .setDepth(depth)
-            .setDepthFormat(depthFormat)
-            .setDebugName(fmt::format("{} ({})", name, variant));
-        if (colorFormat != rhi::Format::Unknown) desc.addColorFormat(colorFormat);
-        return m_device.createGraphicsPipeline(desc);
+        return createMeshPipeline(vertexShader, fragmentShader, cull, clockwise, depth, {}, colorFormat, depthFormat,
+                                  fmt::format("{} ({})", name, variant));
     };
     MeshPipelines pipelines;
     pipelines.culled = pipeline(rhi::CullMode::Back, mirrored, "back-face culled");
@@ -264,12 +284,41 @@ GpuScene::MeshPipelines GpuScene::createMeshPipelines(const rhi::ShaderHandle& v
     return pipelines;
 }
 
+GpuScene::BlendedPipelines GpuScene::createBlendedPipelines(const rhi::ShaderHandle& vertexShader,
+                                                            const rhi::ShaderHandle& fragmentShader, rhi::DepthState depth,
+                                                            rhi::BlendAttachment blend, rhi::Format colorFormat,
+                                                            rhi::Format depthFormat, bool mirrored, const std::string& name) const {
+    auto pipeline = [&](rhi::CullMode cull, bool clockwise, const char* variant) {
+        return createMeshPipeline(vertexShader, fragmentShader, cull, clockwise, depth, blend, colorFormat, depthFormat,
+                                  fmt::format("{} ({})", name, variant));
+    };
+    BlendedPipelines pipelines;
+    // Every blended draw uses a back-culled pipeline (a double-sided one for its front faces).
+    if (m_hasBlendedKind[0][0] || m_hasBlendedKind[1][0]) pipelines.backCulled = pipeline(rhi::CullMode::Back, mirrored, "front faces");
+    if (m_hasBlendedKind[1][0]) pipelines.frontCulled = pipeline(rhi::CullMode::Front, mirrored, "back faces of double-sided");
+    if (m_hasBlendedKind[0][1] || m_hasBlendedKind[1][1])
+        pipelines.backCulledMirrored = pipeline(rhi::CullMode::Back, !mirrored, "front faces, mirrored instances");
+    if (m_hasBlendedKind[1][1])
+        pipelines.frontCulledMirrored = pipeline(rhi::CullMode::Front, !mirrored, "back faces of double-sided, mirrored instances");
+    return pipelines;
+}
+
+namespace {
+// A view of every layer draws everything, including meshes in no layer (lit by ambient only).
+bool viewSees(const SceneView& view, const GpuScene::Draw& draw) {
+    return view.renderingLayers == ~0u || (draw.renderingLayers & view.renderingLayers) != 0;
+}
+}  // namespace
+
+bool GpuScene::viewSeesBlended(const SceneView& view) const {
+    return std::any_of(m_blendedDraws.begin(), m_blendedDraws.end(), [&](const Draw& draw) { return viewSees(view, draw); });
+}
+
 void GpuScene::drawMeshes(rhi::ICommandList& cmd, const SceneView& view, const MeshPipelines& pipelines,
                           const rhi::BindingSetHandle& viewBindings, PassReport& report) const {
     const rhi::IPipeline* bound = nullptr;
     for (const Draw& draw : m_draws) {
-        // A view of every layer draws everything, including meshes in no layer (lit by ambient only).
-        if (view.renderingLayers != ~0u && (draw.renderingLayers & view.renderingLayers) == 0) continue;
+        if (!viewSees(view, draw)) continue;
         const rhi::PipelineHandle& pipeline = pipelines.forDraw(draw);
         if (pipeline.get() != bound) {
             cmd.setPipeline(pipeline);
@@ -282,6 +331,44 @@ void GpuScene::drawMeshes(rhi::ICommandList& cmd, const SceneView& view, const M
         cmd.setIndexBuffer(mesh.indices, rhi::IndexType::UInt32);
         cmd.drawIndexed(mesh.indexCount);
         ++report.draws;
+    }
+}
+
+std::vector<uint32_t> GpuScene::sortBlendedBackToFront(const SceneView& view) const {
+    std::vector<std::pair<float, uint32_t>> keyed;   // (view-space depth along the view axis, index)
+    for (uint32_t i = 0; i < m_blendedDraws.size(); ++i) {
+        const Draw& draw = m_blendedDraws[i];
+        if (!viewSees(view, draw)) continue;
+        // View space looks down -z: the distance along the view axis is -z.
+        keyed.emplace_back(-(view.view * glm::vec4(draw.boundsCenter, 1.0f)).z, i);
+    }
+    std::stable_sort(keyed.begin(), keyed.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+    std::vector<uint32_t> order;
+    order.reserve(keyed.size());
+    for (const auto& entry : keyed) order.push_back(entry.second);
+    return order;
+}
+
+void GpuScene::drawBlended(rhi::ICommandList& cmd, const std::vector<uint32_t>& order, const BlendedPipelines& pipelines,
+                           const rhi::BindingSetHandle& viewBindings, PassReport& report) const {
+    const rhi::IPipeline* bound = nullptr;
+    auto drawWith = [&](const rhi::PipelineHandle& pipeline, const Draw& draw) {
+        if (pipeline.get() != bound) {
+            cmd.setPipeline(pipeline);
+            cmd.setBindingSet(JANUS_SET_VIEW, viewBindings);
+            bound = pipeline.get();
+        }
+        const Mesh& mesh = m_meshes[draw.mesh];
+        cmd.setBindingSet(JANUS_SET_DRAW, draw.bindings);
+        cmd.setVertexBuffer(0, mesh.vertices);
+        cmd.setIndexBuffer(mesh.indices, rhi::IndexType::UInt32);
+        cmd.drawIndexed(mesh.indexCount);
+        ++report.draws;
+    };
+    for (uint32_t index : order) {
+        const Draw& draw = m_blendedDraws.at(index);
+        if (draw.doubleSided) drawWith(draw.mirrored ? pipelines.frontCulledMirrored : pipelines.frontCulled, draw);
+        drawWith(draw.mirrored ? pipelines.backCulledMirrored : pipelines.backCulled, draw);
     }
 }
 

@@ -1,7 +1,8 @@
 // The scene on the GPU, uploaded once (internal to the renderer): meshes, material textures and
 // samplers, and one draw per instance with its per-draw bindings (set JANUS_SET_DRAW: draw
 // uniforms and the five material textures). Every feature that draws meshes for a view uses
-// drawMeshes(), so views and features share one way of drawing the scene.
+// drawMeshes() (opaque and alpha-masked instances) or drawBlended() (alphaMode BLEND, back to
+// front), so views and features share one way of drawing the scene.
 #pragma once
 
 #include <cstdint>
@@ -31,8 +32,12 @@ public:
         // The world matrix flips handedness (negative determinant, e.g. a mirrored node): its
         // counter-clockwise front faces appear clockwise, so it draws with the opposite winding.
         bool mirrored = false;
+        // alphaMode BLEND: not in draws() (so not in the prepass, the forward pass or the shadow
+        // map) but in blendedDraws(), drawn by the transparent pass.
+        bool blended = false;
         uint32_t renderingLayers = 1u;
         glm::mat4 world{1.0f};
+        glm::vec3 boundsCenter{0.0f};     // world-space centre of the mesh's bounding box (sorting)
         rhi::BindingSetHandle bindings;   // set JANUS_SET_DRAW
     };
     // The pipelines of one kind of mesh pass: back-face culled, and without culling for
@@ -48,11 +53,26 @@ public:
         }
     };
 
+    // The pipelines of the transparent pass (alpha blending, no depth writes). A double-sided
+    // blended instance draws twice: its back faces (frontCulled) first, then its front faces
+    // (backCulled), so a closed convex mesh composites its far side under its near side.
+    struct BlendedPipelines {
+        rhi::PipelineHandle backCulled;
+        rhi::PipelineHandle frontCulled;           // double-sided draws' back faces
+        rhi::PipelineHandle backCulledMirrored;
+        rhi::PipelineHandle frontCulledMirrored;
+    };
+
     GpuScene(rhi::IDevice& device, const Scene& scene);
 
     const std::vector<Mesh>& meshes() const { return m_meshes; }
-    // Instances with geometry, single-sided first, unmirrored first (fewer pipeline switches).
+    // Opaque and alpha-masked instances with geometry, single-sided first, unmirrored first
+    // (fewer pipeline switches).
     const std::vector<Draw>& draws() const { return m_draws; }
+    // alphaMode BLEND instances with geometry, in scene (instance) order.
+    const std::vector<Draw>& blendedDraws() const { return m_blendedDraws; }
+    // Whether `view` (its rendering layers) sees any blended instance.
+    bool viewSeesBlended(const SceneView& view) const;
     // Nearest, clamp: for targets and data textures read with texelFetch (filtering never applies).
     const rhi::SamplerHandle& pointSampler() const { return m_pointSampler; }
 
@@ -63,12 +83,29 @@ public:
                                       rhi::DepthState depth, rhi::Format colorFormat, rhi::Format depthFormat, bool mirrored,
                                       const std::string& name) const;
 
-    // Draws every instance the view sees (its rendering layers) inside the current render pass:
-    // set JANUS_SET_VIEW = viewBindings, set JANUS_SET_DRAW = each draw's bindings.
+    // The same for the transparent pass: `blend` on the one colour attachment, and the culling
+    // of BlendedPipelines (null where the scene has no such blended draw).
+    BlendedPipelines createBlendedPipelines(const rhi::ShaderHandle& vertexShader, const rhi::ShaderHandle& fragmentShader,
+                                            rhi::DepthState depth, rhi::BlendAttachment blend, rhi::Format colorFormat,
+                                            rhi::Format depthFormat, bool mirrored, const std::string& name) const;
+
+    // Draws every opaque or alpha-masked instance the view sees (its rendering layers) inside the
+    // current render pass: set JANUS_SET_VIEW = viewBindings, set JANUS_SET_DRAW = each draw's bindings.
     void drawMeshes(rhi::ICommandList& cmd, const SceneView& view, const MeshPipelines& pipelines,
                     const rhi::BindingSetHandle& viewBindings, PassReport& report) const;
 
+    // The blended instances `view` sees, back to front: by the view-space depth of their bounds
+    // centre, farthest first; ties keep scene order. Indices into blendedDraws().
+    std::vector<uint32_t> sortBlendedBackToFront(const SceneView& view) const;
+    // Draws blendedDraws()[i] for each i of `order`, in that order (a double-sided one as two
+    // draws: back faces, then front faces), inside the current render pass.
+    void drawBlended(rhi::ICommandList& cmd, const std::vector<uint32_t>& order, const BlendedPipelines& pipelines,
+                     const rhi::BindingSetHandle& viewBindings, PassReport& report) const;
+
 private:
+    rhi::PipelineHandle createMeshPipeline(const rhi::ShaderHandle& vertexShader, const rhi::ShaderHandle& fragmentShader,
+                                           rhi::CullMode cull, bool clockwise, rhi::DepthState depth, rhi::BlendAttachment blend,
+                                           rhi::Format colorFormat, rhi::Format depthFormat, const std::string& name) const;
     rhi::TextureHandle createTexture(const std::string& name, uint32_t width, uint32_t height, std::vector<uint8_t> rgba, bool srgb);
     rhi::SamplerHandle createSampler(const TextureSampling& sampling);
     void uploadTextures(const Scene& scene);
@@ -77,8 +114,9 @@ private:
 
     rhi::IDevice& m_device;
     std::vector<Mesh> m_meshes;
-    std::vector<Draw> m_draws;
-    bool m_hasKind[2][2] = {};   // [doubleSided][mirrored]: which pipelines are needed
+    std::vector<Draw> m_draws, m_blendedDraws;
+    bool m_hasKind[2][2] = {};          // [doubleSided][mirrored]: which pipelines draws() needs
+    bool m_hasBlendedKind[2][2] = {};   // the same for blendedDraws()
     std::vector<rhi::TextureHandle> m_textures;
     std::vector<rhi::SamplerHandle> m_textureSamplers;   // per scene texture, shared between equal samplings
     rhi::TextureHandle m_whiteTexture, m_flatNormalTexture;

@@ -92,18 +92,43 @@ void ForwardShading::addPasses(PassGraph& graph, const SceneView& view) {
         graph.publish(view.name, frame_resources::kTileLists, ViewTarget{*tileLists, nullptr, {}});
     }
 
+    if (state.tiled) state.lightingInputs.push_back(*tileLists);
+    if (state.shadowed) state.lightingInputs.push_back(*shadowMap);
+    if (const ViewTarget* sky = graph.find(view.name, ibl_resources::kSkyLight)) state.lightingInputs.push_back(sky->resource);
+    if (view.passes.reflectionProbes)
+        if (const ViewTarget* probes = graph.find(view.name, probe_resources::kReflectionProbes))
+            state.lightingInputs.push_back(probes->resource);
+
     PassGraph::PassDesc forward;
     forward.name = "forward";
     forward.view = view.name;
-    if (state.tiled) forward.reads = {depth.resource, *tileLists};
-    if (state.shadowed) forward.reads.push_back(*shadowMap);
-    if (const ViewTarget* sky = graph.find(view.name, ibl_resources::kSkyLight)) forward.reads.push_back(sky->resource);
-    if (view.passes.reflectionProbes)
-        if (const ViewTarget* probes = graph.find(view.name, probe_resources::kReflectionProbes)) forward.reads.push_back(probes->resource);
+    if (state.tiled) forward.reads = {depth.resource};
+    forward.reads.insert(forward.reads.end(), state.lightingInputs.begin(), state.lightingInputs.end());
     forward.writes = {color.resource, depth.resource};
     forward.setup = [this, &state] { setupView(state); };
     forward.record = [this, &state](rhi::ICommandList& cmd, PassReport& report) { recordForward(state, cmd, report); };
     graph.addPass(std::move(forward));
+}
+
+const ForwardShading::ViewState& ForwardShading::stateOf(const std::string& viewName) const {
+    auto it = std::find_if(m_views.begin(), m_views.end(), [&](const auto& s) { return s->view.name == viewName; });
+    if (it == m_views.end())
+        throw RendererError(fmt::format("forward shading: view '{}' has no forward pass; add the forward shading feature before the "
+                                        "features that shade with it",
+                                        viewName));
+    return **it;
+}
+
+const std::vector<PassGraph::ResourceId>& ForwardShading::lightingInputs(const std::string& viewName) const {
+    return stateOf(viewName).lightingInputs;
+}
+
+const rhi::BindingSetHandle& ForwardShading::viewBindings(const std::string& viewName) const {
+    const ViewState& state = stateOf(viewName);
+    if (!state.bindings)
+        throw RendererError(fmt::format("forward shading: view '{}' is not set up yet (its forward pass was culled or not compiled)",
+                                        viewName));
+    return state.bindings;
 }
 
 void ForwardShading::setupView(ViewState& state) {

@@ -60,18 +60,29 @@ public:
     // view's kTileLists when it is tiled (the tile heat map reads them).
     void addPasses(PassGraph& graph, const SceneView& view) override;
 
+    // What the transparent pass (TransparentShading) shades a view with, the same as `forward`:
+    // the resources forward reads besides the targets (tile lists, shadow map, sky, probes) once
+    // addPasses ran for the view, and the view's set JANUS_SET_VIEW once forward's setup ran.
+    // Throw RendererError for a view forward shading has not seen (or not set up).
+    const std::vector<PassGraph::ResourceId>& lightingInputs(const std::string& viewName) const;
+    const rhi::BindingSetHandle& viewBindings(const std::string& viewName) const;
+    const rhi::ShaderHandle& vertexShader() const { return m_vertexShader; }
+    const rhi::ShaderHandle& fragmentShader() const { return m_forwardShader; }
+
 private:
     struct ViewState {
         SceneView view;
         bool tiled = false;
         bool shadowed = false;
         ViewTarget color, depth;
+        std::vector<PassGraph::ResourceId> lightingInputs;
         rhi::BufferHandle frameUniforms;
         rhi::BindingSetHandle bindings;
         GpuScene::MeshPipelines forward, prepass;
     };
     using PipelineKey = std::tuple<bool /*prepass*/, bool /*tiled*/, rhi::Format, rhi::Format, bool /*mirrored*/>;
 
+    const ViewState& stateOf(const std::string& viewName) const;
     void setupView(ViewState& state);
     const GpuScene::MeshPipelines& pipelines(bool prepass, const ViewState& state);
     void recordPrepass(const ViewState& state, rhi::ICommandList& cmd, PassReport& report);

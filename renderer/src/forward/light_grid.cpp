@@ -128,7 +128,7 @@ CullUniforms makeCullUniforms(const TileGrid& grid, uint32_t lightCount, LightCu
     u.grid = glm::uvec4(grid.width, grid.height, grid.tileSize, grid.maxLightsPerTile);
     u.counts = glm::uvec4(grid.tilesX(), grid.tilesY(), lightCount,
                           mode == LightCulling::TilesDepth ? kCullModeTilesDepth : kCullModeTiles2D);
-    u.planes = glm::vec4(grid.nearPlane, grid.farPlane, 0.0f, 0.0f);
+    u.planes = glm::vec4(grid.nearPlane, grid.farPlane, grid.rangeFromNearPlane ? 1.0f : 0.0f, 0.0f);
     return u;
 }
 

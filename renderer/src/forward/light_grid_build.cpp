@@ -247,6 +247,15 @@ TileLists buildTileListsCpu(const TileGrid& grid, std::span<const PackedLight> l
                 region.hasGeometry = minDepth <= maxDepth;
                 region.dMin = linearDepth(grid.projection, minDepth) * (1.0f - kDepthRelativeMargin);
                 region.dMax = linearDepth(grid.projection, maxDepth) * (1.0f + kDepthRelativeMargin);
+                if (grid.rangeFromNearPlane) {
+                    // Transparent surfaces lie in front of the depth: from the near plane on, and
+                    // anywhere where no depth was written.
+                    region.dMin = grid.nearPlane;
+                    if (!region.hasGeometry) {
+                        region.hasGeometry = true;
+                        region.dMax = grid.farPlane;
+                    }
+                }
             }
         }
         // Speed only: the row's region contains each of its tiles' regions, so lights that miss

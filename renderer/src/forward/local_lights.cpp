@@ -29,6 +29,11 @@ LocalLights::LocalLights(rhi::IDevice& device, const Scene& scene, const Resolve
         fmt::print(stderr, "janus renderer: warning: scene '{}' has {} directional lights; the first {} are shaded\n", scene.name,
                    directional, kMaxDirectionalLights);
     m_grid = makeTileGrid(tiledView, m_lighting.tileSize, m_lighting.maxLightsPerTile);
+    // Blended surfaces are not in the prepass depth but read the same tile lists.
+    m_grid.rangeFromNearPlane = std::any_of(scene.instances.begin(), scene.instances.end(), [&](const Instance& instance) {
+        const Mesh& mesh = scene.meshes[instance.mesh];
+        return !mesh.indices.empty() && mesh.material >= 0 && scene.materials[size_t(mesh.material)].alphaMode == AlphaMode::Blend;
+    });
 
     // The culling mode this scene renders with.
     m_mode = m_lighting.culling;

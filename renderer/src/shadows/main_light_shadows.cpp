@@ -28,6 +28,8 @@ MainLightShadows::MainLightShadows(rhi::IDevice& device, const Scene& scene, con
         if (mesh.indexCount == 0) continue;
         const Mesh& sceneMesh = scene.meshes[instance.mesh];
         const Material& material = sceneMesh.material >= 0 ? scene.materials[size_t(sceneMesh.material)] : defaultMaterial;
+        // Blended (transparent) surfaces cast no shadow (docs/LIGHTING.md, "Transparent surfaces").
+        if (material.alphaMode == AlphaMode::Blend) continue;
         m_casters.push_back(ShadowCaster{mesh.vertices, mesh.indices, mesh.indexCount, instance.world, material.doubleSided});
     }
 }

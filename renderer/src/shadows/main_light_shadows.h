@@ -25,7 +25,7 @@ public:
                      uint32_t shadedDirectionalLights);
 
     // True when the scene has something to shadow: shadows on, a main light that gives light,
-    // and meshes with geometry.
+    // and meshes with geometry that cast shadows (alphaMode BLEND ones do not).
     bool active() const { return !m_casters.empty(); }
 
     // Adds the "shadow-map" pass once per frame graph and map size (the map does not depend on

@@ -65,7 +65,7 @@ struct CullUniforms {
     glm::mat4 inverseProjection{1.0f};
     glm::uvec4 grid{0u};     // x width, y height, z tileSize, w maxLightsPerTile
     glm::uvec4 counts{0u};   // x tilesX, y tilesY, z lightCount, w mode (1 Tiles2D, 2 TilesDepth)
-    glm::vec4 planes{0.0f};  // x near, y far
+    glm::vec4 planes{0.0f};  // x near, y far, z 1 = TileGrid::rangeFromNearPlane
 };
 static_assert(sizeof(CullUniforms) == 240);
 inline constexpr uint32_t kCullModeTiles2D = 1;
@@ -77,6 +77,11 @@ struct TileGrid {
     glm::mat4 view{1.0f};
     glm::mat4 projection{1.0f};   // perspectiveRH_ZO with [1][1] negated: NDC y = -1 is row 0
     float nearPlane = 0.05f, farPlane = 100.0f;
+    // TilesDepth only: each tile's depth range starts at the near plane (not at its nearest
+    // depth) and tiles without depth cover near to far, so the lists also hold every light that
+    // reaches a surface in front of the depth buffer's: the transparent (alphaMode BLEND)
+    // surfaces, which the depth prepass leaves out. The renderer sets it when the scene has them.
+    bool rangeFromNearPlane = false;
 
     uint32_t tilesX() const { return (width + tileSize - 1) / tileSize; }
     uint32_t tilesY() const { return (height + tileSize - 1) / tileSize; }
@@ -102,7 +107,7 @@ struct TileBuildStats {
 };
 
 // CPU builder (fallback path). depth: D32F values, width*height, row 0 on top; empty = Tiles2D
-// (tile frustum from near to far), otherwise TilesDepth. threads 0 = hardware concurrency.
+// (tile frustum from near to far), otherwise TilesDepth (see TileGrid::rangeFromNearPlane). threads 0 = hardware concurrency.
 // The output does not depend on the thread count.
 TileLists buildTileListsCpu(const TileGrid& grid, std::span<const PackedLight> lights,
                             std::span<const float> depth, TileBuildStats* stats = nullptr,

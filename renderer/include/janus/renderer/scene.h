@@ -60,7 +60,9 @@ struct TextureImage {
     std::string name;
 };
 
-// glTF alphaMode. Blend is drawn like Opaque until a transparent pass exists.
+// glTF alphaMode. Mask discards fragments below alphaCutoff; Blend is drawn by the transparent
+// pass, back to front, premultiplied alpha, casting no shadow (docs/LIGHTING.md, "Transparent
+// surfaces").
 enum class AlphaMode { Opaque, Mask, Blend };
 
 struct Material {
