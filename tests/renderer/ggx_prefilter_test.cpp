@@ -136,7 +136,8 @@ TEST(GgxReference, HardCasesAreFinite) {
 // The reference for every texel of mips 1..mipCount-1 (roughness m / (mipCount - 1)) of a cube of
 // `source.size`, index [mip][(face * size + y) * size + x].
 using ReferenceMips = std::vector<std::vector<glm::dvec3>>;
-ReferenceMips referenceMips(const CubeImage& source, uint32_t mipCount) {
+ReferenceMips referenceMips(const CubeImage& source, uint32_t mipCount,
+                            GgxReference::Normalization normalization = GgxReference::Normalization::TexelSum) {
     const GgxReference reference(source);
     ReferenceMips mips(mipCount);
     for (uint32_t mip = 1; mip < mipCount; ++mip) {
@@ -144,7 +145,8 @@ ReferenceMips referenceMips(const CubeImage& source, uint32_t mipCount) {
         for (uint32_t face = 0; face < 6; ++face)
             for (uint32_t y = 0; y < size; ++y)
                 for (uint32_t x = 0; x < size; ++x)
-                    mips[mip].push_back(reference.radiance(cubeTexelDirection(face, x, y, size), ggxRoughnessForMip(mip, mipCount)));
+                    mips[mip].push_back(
+                        reference.radiance(cubeTexelDirection(face, x, y, size), ggxRoughnessForMip(mip, mipCount), normalization));
     }
     return mips;
 }
@@ -260,6 +262,17 @@ glm::dvec3 testSky(const glm::dvec3& d) {
            glm::dvec3(4.0, 3.0, 2.0) * lobe;
 }
 
+// The test sky plus a sun: four texels at 3e4 on +Z and one at 1e4 on -X, 1e4..1e5 times the
+// rest (0.2..4.5). They hold about 90 % of the sky's energy.
+bool sunTexel(uint32_t face, uint32_t x, uint32_t y) {
+    return (face == 4 && x >= 9 && x < 11 && y >= 20 && y < 22) || (face == 1 && x == 25 && y == 6);
+}
+glm::dvec3 sunSky(const glm::dvec3& d, uint32_t face, uint32_t x, uint32_t y) {
+    if (face == 4 && x >= 9 && x < 11 && y >= 20 && y < 22) return glm::dvec3(3e4, 2.9e4, 2.6e4);
+    if (face == 1 && x == 25 && y == 6) return glm::dvec3(1e4);
+    return testSky(d);
+}
+
 TEST_P(GgxPrefilterTest, MatchesTheCpuReferenceAndMip0IsTheSource) {
     device().takeDebugMessages();
     const rhi::TextureHandle source = upload(makeCube(kFace, [](const glm::dvec3& d, uint32_t, uint32_t, uint32_t) { return testSky(d); }));
@@ -293,15 +306,28 @@ TEST_P(GgxPrefilterTest, MatchesTheCpuReferenceAndMip0IsTheSource) {
     expectNoMessages();
 }
 
-// The accuracy-vs-samples table of docs/IBL.md ("GGX prefiltering"): samples per mip 8..128 at
-// 32^2 faces, relative RMSE / max relative per mip against the reference and the pass's GPU time
-// (the second of two runs). Disabled: run with --gtest_also_run_disabled_tests. GGX_TABLE_BIASES
-// (comma-separated lod biases) and GGX_TABLE_SAMPLES ("default" or counts) override the rows.
+// The accuracy-vs-samples tables of docs/IBL.md ("GGX prefiltering", "Bright texels"): samples per
+// mip 8..128 at 32^2 faces, relative RMSE / max relative per mip against the reference and the
+// pass's GPU time (the second of two runs), without and with the bright-texel split. Disabled: run
+// with --gtest_also_run_disabled_tests. GGX_TABLE_BIASES (comma-separated lod biases),
+// GGX_TABLE_SAMPLES ("default" or counts) and GGX_TABLE_BRIGHT (split capacities, 0 = off)
+// override the rows; GGX_TABLE_EXACT_Z=1 compares with the reference normalised by the lobe's exact
+// integral instead of its texel sum (the diagnostic of docs/IBL.md, "Bright texels").
 TEST_P(GgxPrefilterTest, DISABLED_AccuracyTable) {
     device().takeDebugMessages();
     std::vector<std::pair<std::string, CubeImage>> skies;
     skies.emplace_back("test sky", makeCube(kFace, [](const glm::dvec3& d, uint32_t, uint32_t, uint32_t) { return testSky(d); }));
+    skies.emplace_back("sun sky", makeCube(kFace, sunSky));
     if (std::optional<CubeImage> garden = sharedSkyCube(kFace)) skies.emplace_back("chinese_garden_1k", std::move(*garden));
+    std::vector<uint32_t> brights = {0, kDefaultGgxBrightTexels};
+    if (const char* env = std::getenv("GGX_TABLE_BRIGHT")) {
+        brights.clear();
+        for (std::string rest = env; !rest.empty();) {
+            const size_t comma = rest.find(',');
+            brights.push_back(uint32_t(std::stoul(rest.substr(0, comma))));
+            rest = comma == std::string::npos ? "" : rest.substr(comma + 1);
+        }
+    }
     std::vector<float> biases = {kDefaultGgxLodBias};
     if (const char* env = std::getenv("GGX_TABLE_BIASES")) {
         biases.clear();
@@ -324,41 +350,35 @@ TEST_P(GgxPrefilterTest, DISABLED_AccuracyTable) {
     for (const auto& [skyName, image] : skies) {
         const rhi::TextureHandle source = upload(image);
         const CubeImage source0 = readCube(device(), source, 0);
-        const ReferenceMips reference = referenceMips(source0, kMips);
-        for (float bias : biases)
-            for (const std::vector<uint32_t>& samples : rows) {
-                GgxPrefilterSettings settings;
-                settings.samplesPerMip = samples;
-                settings.lodBias = bias;
-                GgxPrefilter prefilter(device(), GetParam().path, settings);
-                prefilter.run(source);
-                const PassReport report = prefilter.run(source);
-                const std::vector<MipError> errors = measureErrors(device(), prefilter, reference);
-                std::string line = fmt::format("| {} | {} | bias {} | {} |", GetParam().name(), skyName, bias,
-                                               samples.size() == 1 ? std::to_string(samples[0]) : std::string("default"));
-                double worstRmse = 0, worstMax = 0;
-                for (uint32_t mip = 1; mip < kMips; ++mip) {
-                    line += fmt::format(" {:.1f} / {:.1f} |", 100.0 * errors[mip].rmse, 100.0 * errors[mip].maxRelative);
-                    worstRmse = std::max(worstRmse, errors[mip].rmse);
-                    worstMax = std::max(worstMax, errors[mip].maxRelative);
+        const ReferenceMips reference = referenceMips(
+            source0, kMips, std::getenv("GGX_TABLE_EXACT_Z") ? GgxReference::Normalization::Exact : GgxReference::Normalization::TexelSum);
+        for (uint32_t bright : brights) {
+            for (float bias : biases)
+                for (const std::vector<uint32_t>& samples : rows) {
+                    GgxPrefilterSettings settings;
+                    settings.samplesPerMip = samples;
+                    settings.lodBias = bias;
+                    settings.brightTexels = bright;
+                    GgxPrefilter prefilter(device(), GetParam().path, settings);
+                    prefilter.run(source);
+                    const PassReport report = prefilter.run(source);
+                    const std::vector<MipError> errors = measureErrors(device(), prefilter, reference);
+                    std::string line = fmt::format("| {} | {} | bright {} ({} found) | bias {} | {} |", GetParam().name(), skyName, bright,
+                                                   prefilter.readBrightTexels().found, bias,
+                                                   samples.size() == 1 ? std::to_string(samples[0]) : std::string("default"));
+                    double worstRmse = 0, worstMax = 0;
+                    for (uint32_t mip = 1; mip < kMips; ++mip) {
+                        line += fmt::format(" {:.1f} / {:.1f} |", 100.0 * errors[mip].rmse, 100.0 * errors[mip].maxRelative);
+                        worstRmse = std::max(worstRmse, errors[mip].rmse);
+                        worstMax = std::max(worstMax, errors[mip].maxRelative);
+                    }
+                    line += fmt::format(" worst {:.1f} / {:.1f} | {} ms |\n", 100.0 * worstRmse, 100.0 * worstMax,
+                                        report.gpuMs ? fmt::format("{:.2f}", *report.gpuMs) : std::string("-"));
+                    std::cout << line;
                 }
-                line += fmt::format(" worst {:.1f} / {:.1f} | {} ms |\n", 100.0 * worstRmse, 100.0 * worstMax,
-                                    report.gpuMs ? fmt::format("{:.2f}", *report.gpuMs) : std::string("-"));
-                std::cout << line;
-            }
+        }
     }
     expectNoMessages();
-}
-
-// The test sky plus a sun: four texels at 3e4 on +Z and one at 1e4 on -X, 1e4..1e5 times the
-// rest (0.2..4.5). They hold about 90 % of the sky's energy.
-bool sunTexel(uint32_t face, uint32_t x, uint32_t y) {
-    return (face == 4 && x >= 9 && x < 11 && y >= 20 && y < 22) || (face == 1 && x == 25 && y == 6);
-}
-glm::dvec3 sunSky(const glm::dvec3& d, uint32_t face, uint32_t x, uint32_t y) {
-    if (face == 4 && x >= 9 && x < 11 && y >= 20 && y < 22) return glm::dvec3(3e4, 2.9e4, 2.6e4);
-    if (face == 1 && x == 25 && y == 6) return glm::dvec3(1e4);
-    return testSky(d);
 }
 
 // A cube as the GPU holds it after upload(): every value rounded to half.

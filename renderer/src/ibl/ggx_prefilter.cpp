@@ -369,7 +369,7 @@ GgxReference::GgxReference(const CubeImage& cube) {
                     Texel{cubeTexelDirection(face, x, y, cube.size), cubeTexelSolidAngle(x, y, cube.size), cube.texel(face, x, y)});
 }
 
-glm::dvec3 GgxReference::radiance(const glm::dvec3& normal, double roughness) const {
+glm::dvec3 GgxReference::radiance(const glm::dvec3& normal, double roughness, Normalization normalization) const {
     const glm::dvec3 n = glm::normalize(normal);
     const double alpha = roughness * roughness;
     if (alpha < 1e-6) {
@@ -392,6 +392,7 @@ glm::dvec3 GgxReference::radiance(const glm::dvec3& normal, double roughness) co
         sum += t.radiance * w;
         weight += w;
     }
+    if (normalization == Normalization::Exact) weight = ggxLobeNormalization(alpha);
     return weight > 0.0 ? sum / weight : glm::dvec3(0.0);
 }
 

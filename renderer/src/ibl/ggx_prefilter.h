@@ -140,10 +140,14 @@ CubeImage readCube(rhi::IDevice& device, const rhi::TextureHandle& cube, uint32_
 //   sum_t L(t) D(n.h) max(n.l, 0) Omega_t / sum_t D(n.h) max(n.l, 0) Omega_t,  h = normalize(n + l)
 // (the expectation of the GPU's NdotL-weighted GGX importance sampling). Roughness 0 (alpha below
 // 1e-6): the texel whose centre is nearest to n. A zero weight sum gives 0, never 0/0.
+// Normalization::Exact divides by the lobe's exact integral Z = ggxLobeNormalization(alpha) instead
+// of its texel-centre sum: a diagnostic only (docs/IBL.md, "Bright texels": for lobes a few texels
+// wide the two differ by ~0.3 %, which is all of the error left near a sun).
 class GgxReference {
 public:
+    enum class Normalization { TexelSum, Exact };
     explicit GgxReference(const CubeImage& cube);
-    glm::dvec3 radiance(const glm::dvec3& n, double roughness) const;
+    glm::dvec3 radiance(const glm::dvec3& n, double roughness, Normalization normalization = Normalization::TexelSum) const;
 
 private:
     struct Texel {
