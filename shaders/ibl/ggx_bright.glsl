@@ -49,20 +49,23 @@ int brightCount(int face, ivec2 texel, int level) {
     return int(round(marker * float(1 << (2 * level)) / brightLimits.y));
 }
 
-// List texel (column, row): column 0 = the header (entries, 1 if more bright texels than K, all of
-// them); column k + 1 = the k-th bright texel in the order face, then down the quadtree (children
-// (0,0), (1,0), (0,1), (1,1)): row 0 its radiance and 1, row 1 (face, x, y, 1); zeros past the end.
-vec4 listTexel(int column, int row) {
+// List texel `column` of one row, two per entry: columns 0, 1 = the header (entries, 1 if more bright
+// texels than K, all of them; then zeros); columns 2k + 2, 2k + 3 = the k-th bright texel in the order
+// face, then down the quadtree (children (0,0), (1,0), (0,1), (1,1)): its radiance and 1, then
+// (face, x, y, 1); zeros past the end.
+vec4 listTexel(int column) {
     int top = brightParams.z;
     int capacity = brightParams.w;
+    int entry = column / 2;
+    bool second = column - 2 * entry == 1;
     int counts[6];
     int total = 0;
     for (int face = 0; face < 6; ++face) {
         counts[face] = brightCount(face, ivec2(0), top);
         total += counts[face];
     }
-    if (column == 0) return vec4(float(min(total, capacity)), total > capacity ? 1.0 : 0.0, float(min(total, 65504)), 0.0);
-    int k = column - 1;
+    if (entry == 0) return second ? vec4(0.0) : vec4(float(min(total, capacity)), total > capacity ? 1.0 : 0.0, float(min(total, 65504)), 0.0);
+    int k = entry - 1;
     if (total > capacity || k >= total) return vec4(0.0);
     int face = 0;
     for (; face < 5 && k >= counts[face]; ++face) k -= counts[face];
@@ -84,7 +87,7 @@ vec4 listTexel(int column, int row) {
     }
     if (brightCount(face, texel, 0) != 1) return vec4(0.0);
     vec3 radiance = textureLod(brightSource, cubeTexelDirection(face, texel, brightParams.y), 0.0).rgb;
-    return row == 0 ? vec4(radiance, 1.0) : vec4(float(face), vec2(texel), 1.0);
+    return second ? vec4(float(face), vec2(texel), 1.0) : vec4(radiance, 1.0);
 }
 #endif
 

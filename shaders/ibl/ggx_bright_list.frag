@@ -1,6 +1,6 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// GGX prefilter, bright-texel list, fallback path: one fullscreen triangle into the (K + 1) x 2 list
+// GGX prefilter, bright-texel list, fallback path: one fullscreen triangle into the 2(K + 1) x 1 list
 // (renderer/src/ibl/ggx_prefilter.cpp).
 #define JANUS_IBL_BRIGHT_LIST 1
 #include "ibl/ggx_bright.glsl"
@@ -9,6 +9,5 @@ layout(location = 0) in vec2 vUv;
 layout(location = 0) out vec4 outColor;
 
 void main() {
-    ivec2 pixel = ivec2(gl_FragCoord.xy);
-    outColor = listTexel(pixel.x, pixel.y);
+    outColor = listTexel(int(gl_FragCoord.x));
 }

@@ -40,10 +40,23 @@ layout(set = 0, binding = JANUS_BINDING_PREFILTER_SOURCE) uniform samplerCube pr
 #ifdef JANUS_IBL_PREFILTER_BRIGHT
 // The bright-texel split (renderer/src/ibl/ggx_prefilter.cpp, docs/IBL.md "Bright texels"): the
 // source without its bright texels (same size, its own box-filtered chain) and the list of those
-// texels. List texel (0, 0): x entries, y 1 = more bright texels than entries (the split is off: read
-// the source, add nothing); column k + 1: row 0 (radiance rgb, 1 = valid), row 1 (face, x, y, 1).
+// texels, copied from the list texture (one row of RGBA16F texels, 2 per entry) into a uniform
+// block: element i holds texels 2i and 2i + 1 as packed halves. Element 0 = the header (x entries,
+// y 1 = more bright texels than entries: the split is off, read the source, add nothing); element
+// k + 1 = entry k: (radiance rgb, 1 = valid), (face, x, y, 1).
 layout(set = 0, binding = JANUS_BINDING_PREFILTER_REST) uniform samplerCube prefilterRest;
-layout(set = 0, binding = JANUS_BINDING_PREFILTER_BRIGHT_LIST) uniform sampler2D prefilterBrightList;
+// 1024 uvec4 = 16 KiB, the minimum uniform block size: up to 1023 entries.
+layout(std140, set = 0, binding = JANUS_BINDING_PREFILTER_BRIGHT_LIST) uniform PrefilterBrightList {
+    uvec4 prefilterBrightData[1024];
+};
+vec4 brightListFirst(int element) {
+    uvec4 p = prefilterBrightData[element];
+    return vec4(unpackHalf2x16(p.x), unpackHalf2x16(p.y));
+}
+vec4 brightListSecond(int element) {
+    uvec4 p = prefilterBrightData[element];
+    return vec4(unpackHalf2x16(p.z), unpackHalf2x16(p.w));
+}
 
 // sum_k L_k D(n.h_k) max(n.l_k, 0) Omega_k / Z over the listed texels: exactly the terms the CPU
 // reference (GgxReference) has for them. Each texel's weight is at most 1 (a texel cannot hold more
@@ -54,20 +67,19 @@ vec3 brightTexelSum(vec3 n, int count) {
     float size = prefilterLobe.z;
     vec3 sum = vec3(0.0);
     for (int k = 0; k < count; ++k) {
-        vec4 radiance = texelFetch(prefilterBrightList, ivec2(k + 1, 0), 0);
-        vec4 where = texelFetch(prefilterBrightList, ivec2(k + 1, 1), 0);
+        vec4 radiance = brightListFirst(k + 1);
+        vec4 where = brightListSecond(k + 1);
         if (radiance.w < 0.5) continue;
         vec3 c = cubeDirection(int(where.x + 0.5), (where.yz + 0.5) / size);   // major axis 1
-        float len2 = dot(c, c);
-        vec3 l = c * inversesqrt(len2);
+        float invLength = inversesqrt(dot(c, c));
+        vec3 l = c * invLength;
         float nDotL = dot(n, l);
         if (nDotL <= 0.0) continue;
-        float solidAngle = 4.0 / (size * size * len2 * sqrt(len2));   // texel area / r^3 at its centre
-        vec3 h = normalize(n + l);
-        float nDotH = dot(n, h);
-        vec3 nxh = cross(n, h);
-        // 1 - NdotH^2 as |n x h|^2: no fp32 cancellation for near-mirror lobes.
-        float d = dot(nxh, nxh) + nDotH * nDotH * a2;
+        float solidAngle = 4.0 / (size * size) * invLength * invLength * invLength;   // texel area / r^3 at its centre
+        // With h = normalize(n + l): |n x h|^2 = (1 - n.l) / 2, (n.h)^2 = (1 + n.l) / 2; 1 - n.l as
+        // |n x l|^2 / (1 + n.l), without fp32 cancellation for near-mirror lobes.
+        vec3 nxl = cross(n, l);
+        float d = 0.5 * (dot(nxl, nxl) / (1.0 + nDotL) + a2 * (1.0 + nDotL));
         float ggx = a2 / (kPi * d * d);
         sum += radiance.rgb * min(ggx * nDotL * solidAngle / z, 1.0);
     }
@@ -87,7 +99,7 @@ vec4 prefilterTexel(int face, ivec2 texel) {
     int count = min(prefilterParams.w, JANUS_GGX_MAX_SAMPLES);
 #ifdef JANUS_IBL_PREFILTER_BRIGHT
     // The same for every invocation: the list's header and this mip's flag.
-    vec4 header = texelFetch(prefilterBrightList, ivec2(0, 0), 0);
+    vec4 header = brightListFirst(0);
     bool split = prefilterLobe.w > 0.5 && header.y < 0.5;
     if (split) {
         for (int i = 0; i < count; ++i) {

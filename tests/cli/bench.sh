@@ -31,7 +31,7 @@ expect_error 2 "--samples '8,2000' must be a comma-separated list of integers 1.
 expect_error 2 "--sizes '48' must be a comma-separated list of power-of-two integers" bench probes --sizes 48 --out "$TMP/probes"
 expect_error 2 "unknown --path 'warp'" bench probes --quick --paths compute,warp --out "$TMP/probes"
 expect_error 3 "--env '.*nope.hdr' does not exist" bench probes --quick --env "$TMP/nope.hdr" --out "$TMP/probes"
-expect_error 2 "--bright-texels 2000 must be 0..1024" bench probes --bright-texels 2000 --out "$TMP/probes"
+expect_error 2 "--bright-texels 2000 must be 0..1023" bench probes --bright-texels 2000 --out "$TMP/probes"
 
 # vulkan: compute and fallback; gles: fallback only (compute is skipped and says why).
 expect_success bench probes --quick --backends vulkan,gles --paths compute,fallback --out "$TMP/probes"

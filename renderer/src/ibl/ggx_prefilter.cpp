@@ -30,7 +30,8 @@ struct BrightParams {
 // exactly in half floats (powers of two; a 2048^2 face's top level still holds 1 texel as 2^-14, a
 // normal half).
 constexpr float kBrightMarker = 256.0f;
-constexpr uint32_t kListGroupX = 8;   // ggx_bright_list.comp local size (8 x 2)
+constexpr uint32_t kListGroupX = 64;   // ggx_bright_list.comp local size
+constexpr uint64_t kBrightListBlockBytes = 16384;   // ggx_common.glsl PrefilterBrightList: 1024 uvec4
 
 bool isPowerOfTwo(uint32_t v) { return v != 0 && (v & (v - 1)) == 0; }
 uint32_t log2u(uint32_t v) {
@@ -110,6 +111,7 @@ void GgxPrefilter::bindSource(const rhi::TextureHandle& source) {
         m_brightSplit = m_settings.brightTexels > 0 && isPowerOfTwo(desc.width);
         m_rest.reset();
         m_brightList.reset();
+        m_brightListBuffer.reset();
         if (m_brightSplit) {
             m_rest = m_device.createTexture(rhi::TextureDesc{}
                                                 .setDimension(rhi::TextureDimension::TextureCube)
@@ -120,9 +122,16 @@ void GgxPrefilter::bindSource(const rhi::TextureHandle& source) {
                                                 .setDebugName(m_settings.debugName + " bright-texel rest"));
             m_brightList = m_device.createTexture(rhi::TextureDesc{}
                                                       .setFormat(rhi::Format::RGBA16_FLOAT)
-                                                      .setSize(m_settings.brightTexels + 1, 2)
+                                                      .setSize(2 * (m_settings.brightTexels + 1), 1)
                                                       .setUsage(usage)
                                                       .setDebugName(m_settings.debugName + " bright-texel list"));
+            // The whole block, so the binding covers what the shader declares; the copy fills the front.
+            m_brightListBuffer = m_device.createBuffer(rhi::BufferDesc{}
+                                                           .setSize(kBrightListBlockBytes)
+                                                           .setUsage(rhi::BufferUsage::Uniform)
+                                                           .setDebugName(m_settings.debugName + " bright-texel list"));
+            const std::vector<std::byte> zeros(kBrightListBlockBytes);
+            m_device.writeBuffer(m_brightListBuffer, zeros.data(), zeros.size());
         }
     }
 }
@@ -224,7 +233,7 @@ void GgxPrefilter::setup() {
                 .add(rhi::BindingItem::sampledTexture(JANUS_BINDING_PREFILTER_SOURCE, m_source, m_sampler));
             if (m_brightSplit)
                 bindings.add(rhi::BindingItem::sampledTexture(JANUS_BINDING_PREFILTER_REST, m_rest, m_sampler))
-                    .add(rhi::BindingItem::sampledTexture(JANUS_BINDING_PREFILTER_BRIGHT_LIST, m_brightList, m_nearest));
+                    .add(rhi::BindingItem::uniformBuffer(JANUS_BINDING_PREFILTER_BRIGHT_LIST, m_brightListBuffer));
             if (compute) bindings.add(rhi::BindingItem::storageImage(JANUS_BINDING_PREFILTER_TARGET, m_target, mip));
             m_bindings.push_back(m_device.createBindingSet(bindings));
         }
@@ -288,37 +297,40 @@ void GgxPrefilter::recordBrightSplit(rhi::ICommandList& cmd, PassReport& report)
     if (m_path == FeaturePath::Compute) {
         cmd.setPipeline(m_listPipeline);
         cmd.setBindingSet(0, m_listBindings);
-        cmd.dispatch((m_settings.brightTexels + 1 + kListGroupX - 1) / kListGroupX, 1, 1);
+        cmd.dispatch((2 * (m_settings.brightTexels + 1) + kListGroupX - 1) / kListGroupX, 1, 1);
         ++report.dispatches;
     } else {
         rhi::Attachment target = rhi::Attachment::clear(m_brightList, {0, 0, 0, 0}, {0, 0});
         target.loadOp = rhi::LoadOp::DontCare;
         drawFullscreenTriangle(cmd, target, m_listPipeline, m_listBindings, report);
     }
+    // 4. Into a uniform block: every prefiltered texel reads all of it (a copy, not a draw).
+    cmd.copyTextureToBuffer(m_brightListBuffer, 0, m_brightList, {0, 0});
 }
 
 GgxBrightTexels GgxPrefilter::readBrightTexels() const {
     GgxBrightTexels result;
     if (!m_brightSplit || !m_brightList) return result;
-    const uint32_t width = m_brightList->desc().width;
+    const uint32_t width = m_brightList->desc().width;   // 2 texels per entry, the header first
     const std::vector<std::byte> bytes = m_device.readTexture(m_brightList, {0, 0});
-    if (bytes.size() != size_t(width) * 2 * 4 * 2)
+    if (bytes.size() != size_t(width) * 4 * 2)
         throw RendererError(fmt::format("GGX prefilter: the bright-texel list read back as {} bytes", bytes.size()));
-    auto value = [&](uint32_t x, uint32_t y, uint32_t c) {
+    auto value = [&](uint32_t column, uint32_t c) {
         uint16_t half;
-        std::memcpy(&half, bytes.data() + ((size_t(y) * width + x) * 4 + c) * 2, 2);
+        std::memcpy(&half, bytes.data() + (size_t(column) * 4 + c) * 2, 2);
         return glm::unpackHalf1x16(half);
     };
-    result.found = uint32_t(value(0, 0, 2) + 0.5f);
-    result.overflow = value(0, 0, 1) > 0.5f;
-    const uint32_t count = uint32_t(value(0, 0, 0) + 0.5f);
-    for (uint32_t k = 0; k < count && k + 1 < width && !result.overflow; ++k) {
-        if (value(k + 1, 0, 3) < 0.5f) continue;
+    result.found = uint32_t(value(0, 2) + 0.5f);
+    result.overflow = value(0, 1) > 0.5f;
+    const uint32_t count = uint32_t(value(0, 0) + 0.5f);
+    for (uint32_t k = 0; k < count && 2 * k + 3 < width && !result.overflow; ++k) {
+        const uint32_t column = 2 * k + 2;
+        if (value(column, 3) < 0.5f) continue;
         GgxBrightTexels::Texel t;
-        t.radiance = {value(k + 1, 0, 0), value(k + 1, 0, 1), value(k + 1, 0, 2)};
-        t.face = uint32_t(value(k + 1, 1, 0) + 0.5f);
-        t.x = uint32_t(value(k + 1, 1, 1) + 0.5f);
-        t.y = uint32_t(value(k + 1, 1, 2) + 0.5f);
+        t.radiance = {value(column, 0), value(column, 1), value(column, 2)};
+        t.face = uint32_t(value(column + 1, 0) + 0.5f);
+        t.x = uint32_t(value(column + 1, 1) + 0.5f);
+        t.y = uint32_t(value(column + 1, 2) + 0.5f);
         result.texels.push_back(t);
     }
     return result;

@@ -113,10 +113,11 @@ private:
     std::vector<rhi::BufferHandle> m_buffers;
     // Compute: one set per mip (index mip - 1); fallback: one per mip and face ((mip - 1) * 6 + face).
     std::vector<rhi::BindingSetHandle> m_bindings;
-    // The bright-texel split: the rest cube (full chain), the (K + 1) x 2 list, their passes' pipelines
-    // and sets (split: 1 | one per face; list: 1).
+    // The bright-texel split: the rest cube (full chain), the 2(K + 1) x 1 list and its copy as a
+    // uniform buffer, their passes' pipelines and sets (split: 1 | one per face; list: 1).
     bool m_brightSplit = false;
     rhi::TextureHandle m_rest, m_brightList;
+    rhi::BufferHandle m_brightListBuffer;
     rhi::PipelineHandle m_splitPipeline, m_listPipeline;
     std::vector<rhi::BindingSetHandle> m_splitBindings;
     rhi::BindingSetHandle m_listBindings;

@@ -51,7 +51,7 @@ inline constexpr float kDefaultGgxLodBias = 0.0f;
 // capacity the environment uses, the most a prefilter takes, and the default threshold (a texel is
 // bright when its r + g + b is at least this many times the cube's mean).
 inline constexpr uint32_t kDefaultGgxBrightTexels = 64;
-inline constexpr uint32_t kMaxGgxBrightTexels = 1024;
+inline constexpr uint32_t kMaxGgxBrightTexels = 1023;   // + the header: 1024 uvec4, a 16 KiB uniform block
 inline constexpr float kDefaultGgxBrightThreshold = 64.0f;
 
 // r(m) = m / (mipCount - 1); 0 for a single mip.

@@ -28,7 +28,7 @@ inline constexpr uint32_t kMaxProbeSamplesPerMip = 1024;
 // The prefilter's bright-texel split (docs/IBL.md, "Bright texels"): the list capacity the sky's
 // prefilter uses (the bench's default) and the most it takes; 0 = off.
 inline constexpr uint32_t kDefaultProbeBrightTexels = 64;
-inline constexpr uint32_t kMaxProbeBrightTexels = 1024;
+inline constexpr uint32_t kMaxProbeBrightTexels = 1023;
 // The prefilter's default samples per mip (mips 1, 2, ...; the last entry repeats): 21, 34, 55, 89, 89, 89.
 const std::vector<uint32_t>& defaultProbeSamplesPerMip();
 
