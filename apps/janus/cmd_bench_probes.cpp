@@ -29,6 +29,7 @@ struct ProbesOptions {
     uint32_t runs = 5;
     uint32_t grid = 8;
     std::string glPlatform = "egl";
+    uint32_t brightTexels = renderer::kDefaultProbeBrightTexels;
     bool quick = false;
     bool pathsGiven = false, backendsGiven = false;
 };
@@ -52,14 +53,31 @@ std::vector<uint32_t> parseCounts(const std::string& text, const char* option, u
 
 struct Row {
     std::string backend, path;
-    uint32_t faceSize = 0, samples = 0;
+    uint32_t faceSize = 0, samples = 0;   // 0: the default ramp
     double referenceCpuMs = 0.0;
     renderer::ProbeMeasurement m;
 };
 
 int runProbes(const ProbesOptions& options) {
-    const std::vector<uint32_t> samples =
-        parseCounts(options.quick ? "16,64" : options.samples, "--samples", 1, renderer::kMaxProbeSamplesPerMip, false);
+    // "default" in --samples: the prefilter's default ramp (21, 34, 55, 89, 89, 89; the last repeats), listed first.
+    std::string counts;
+    bool withDefault = false;
+    {
+        std::stringstream stream(options.quick ? std::string("16,64") : options.samples);
+        for (std::string item; std::getline(stream, item, ',');) {
+            if (item == "default") {
+                withDefault = true;
+                continue;
+            }
+            counts += (counts.empty() ? "" : ",") + item;
+        }
+    }
+    std::vector<uint32_t> samples;
+    if (!counts.empty() || !withDefault)
+        samples = parseCounts(counts.empty() ? options.samples : counts, "--samples", 1, renderer::kMaxProbeSamplesPerMip, false);
+    if (withDefault) samples.insert(samples.begin(), 0u);
+    if (options.brightTexels > renderer::kMaxProbeBrightTexels)
+        throw UsageError(fmt::format("--bright-texels {} must be 0..{}", options.brightTexels, renderer::kMaxProbeBrightTexels));
     const std::vector<uint32_t> sizes = parseCounts(options.quick ? "32" : options.sizes, "--sizes", 4, 2048, true);
     std::vector<renderer::FeaturePath> paths;
     for (const std::string& item : splitList(options.quick && !options.pathsGiven ? "compute" : options.paths))
@@ -113,9 +131,12 @@ int runProbes(const ProbesOptions& options) {
                 }
                 renderer::ProbeAccuracyBench bench(*device, sky, size, path, options.grid);
                 for (uint32_t n : samples) {
-                    Row row{rhi::toString(backend), renderer::toString(path), size, n, bench.referenceCpuMs(), bench.measure({n}, runs)};
-                    std::fprintf(stderr, "  %s %4u^2 %5u samples: %8.3f ms, mip 1 RMSE %.2f %%\n", configurationLabel(backend, path).c_str(),
-                                 size, n, row.m.gpuMs, row.m.mips.empty() ? 0.0 : 100.0 * row.m.mips[0].rmse);
+                    Row row{rhi::toString(backend), renderer::toString(path), size, n, bench.referenceCpuMs(),
+                            bench.measure(n == 0 ? renderer::defaultProbeSamplesPerMip() : std::vector<uint32_t>{n}, runs, 1, options.brightTexels)};
+                    std::fprintf(stderr, "  %s %4u^2 %7s samples: %8.3f ms, mip 1 RMSE %.2f %%, %u bright texels%s\n",
+                                 configurationLabel(backend, path).c_str(), size, n == 0 ? "default" : std::to_string(n).c_str(), row.m.gpuMs,
+                                 row.m.mips.empty() ? 0.0 : 100.0 * row.m.mips[0].rmse, row.m.brightFound,
+                                 row.m.brightOverflow ? " (too many: no split)" : "");
                     rows.push_back(std::move(row));
                 }
             }
@@ -131,14 +152,22 @@ int runProbes(const ProbesOptions& options) {
         "the same samples on every mip; {} = median of {} runs after one warm-up{}.\n"
         "Errors per mip against the double-precision CPU reference (GgxReference over every texel of the converted cube's mip 0), "
         "on up to {}x{} texels per face (a regular grid; every texel of smaller mips): relative RMSE / max relative error in %.\n"
-        "Samples per mip are capped at {} (the sample block is 16 KiB, the minimum uniform block size of GLES 3.0 / GL / Vulkan).\n",
+        "Samples per mip are capped at {} (the sample block is 16 KiB, the minimum uniform block size of GLES 3.0 / GL / Vulkan); "
+        "\"default\" = the prefilter's default ramp 21, 34, 55, 89, 89, 89 (the last repeats).\n"
+        "Bright texels (docs/IBL.md): {}.\n",
         envLabel, timed ? "GPU ms" : "ms", runs, timed ? "" : " (CPU recording ms where the device has no timers)", options.grid,
-        options.grid, renderer::kMaxProbeSamplesPerMip);
+        options.grid, renderer::kMaxProbeSamplesPerMip,
+        options.brightTexels == 0
+            ? std::string("off (--bright-texels 0): plain filtered importance sampling")
+            : fmt::format("up to {} texels at least 64x the mean taken out and summed exactly (--bright-texels {}); \"bright\" = how many "
+                          "the source has",
+                          options.brightTexels, options.brightTexels));
     nlohmann::json json = {{"environment", envLabel},
                            {"synthetic", !env.map},
                            {"runs", runs},
                            {"gridPerFace", options.grid},
                            {"sampleCap", renderer::kMaxProbeSamplesPerMip},
+                           {"brightTexels", options.brightTexels},
                            {"configurations", nlohmann::json::array()},
                            {"skipped", skipped}};
     for (uint32_t size : sizes) {
@@ -153,10 +182,17 @@ int runProbes(const ProbesOptions& options) {
             md += fmt::format(" mip {} (r {:.2f}) |", e.mip, e.roughness);
             rule += "---:|";
         }
+        if (options.brightTexels) {
+            md += " bright |";
+            rule += "---:|";
+        }
         md += "\n" + rule + "\n";
         for (const Row* row : sized) {
-            md += fmt::format("| {} | {} | {} | {:.3f} |", row->backend, row->path, row->samples, row->m.gpuMs);
+            md += fmt::format("| {} | {} | {} | {:.3f} |", row->backend, row->path, row->samples == 0 ? std::string("default") : std::to_string(row->samples),
+                              row->m.gpuMs);
             for (const renderer::ProbeMipError& e : row->m.mips) md += fmt::format(" {:.2f} / {:.2f} |", 100.0 * e.rmse, 100.0 * e.maxRel);
+            if (options.brightTexels)
+                md += row->m.brightOverflow ? fmt::format(" {} (over) |", row->m.brightFound) : fmt::format(" {} |", row->m.brightFound);
             md += "\n";
         }
     }
@@ -174,9 +210,12 @@ int runProbes(const ProbesOptions& options) {
                             {"maxRel", std::isfinite(e.maxRel) ? e.maxRel : 1e30}});
             worst = std::max(worst, e.rmse);
         }
-        json["configurations"].push_back({{"backend", row.backend}, {"path", row.path}, {"faceSize", row.faceSize},
-                                          {"samplesPerMip", row.samples}, {"gpuMs", row.m.gpuMs}, {"gpuMsRuns", row.m.gpuMsRuns},
-                                          {"gpuTimed", row.m.gpuTimed}, {"referenceCpuMs", row.referenceCpuMs}, {"mips", mips}});
+        json["configurations"].push_back(
+            {{"backend", row.backend}, {"path", row.path}, {"faceSize", row.faceSize},
+             {"samplesPerMip", row.samples == 0 ? nlohmann::json("default") : nlohmann::json(row.samples)},
+             {"samplesPerMipList", row.samples == 0 ? renderer::defaultProbeSamplesPerMip() : std::vector<uint32_t>{row.samples}}, {"gpuMs", row.m.gpuMs},
+             {"gpuMsRuns", row.m.gpuMsRuns}, {"gpuTimed", row.m.gpuTimed}, {"referenceCpuMs", row.referenceCpuMs},
+             {"brightFound", row.m.brightFound}, {"brightOverflow", row.m.brightOverflow}, {"mips", mips}});
         // Plot: worst-mip relative RMSE (%) vs GPU ms, one line per backend/path/size.
         const std::string name = fmt::format("{}/{} {}", row.backend, row.path, row.faceSize);
         auto it = std::find_if(series.begin(), series.end(), [&](const PlotSeries& s) { return s.name == name; });
@@ -199,13 +238,17 @@ std::function<int()> addBenchProbesCommand(CLI::App& bench) {
     CLI::App* probes = bench.add_subcommand(
         "probes", "GGX prefilter (reflection probe update): error against the CPU reference vs GPU time, per samples per mip, "
                   "face size, path and backend; writes probes.md, probes.json, probes.png to --out");
-    probes->add_option("--samples", options->samples, "Comma-separated samples per mip (1..1024)")->default_str(options->samples);
+    probes->add_option("--samples", options->samples, "Comma-separated samples per mip (1..1024, or 'default': 21,34,55,89,89,89)")
+        ->default_str(options->samples);
     probes->add_option("--sizes", options->sizes, "Comma-separated probe face sizes (powers of two, 4..2048)")->default_str(options->sizes);
     probes->add_option("--paths", options->paths, "Comma-separated feature paths")->default_str(options->paths);
     probes->add_option("--backends", options->backends, "Comma-separated backends")->default_str(options->backends);
     probes->add_option("--env", options->env, "Equirectangular .hdr/.exr sky; default: a synthetic smooth sky")->type_name("FILE");
     probes->add_option("--runs", options->runs, "Timed prefilter runs per configuration (median)")->default_str("5");
     probes->add_option("--grid", options->grid, "Reference texels per face and mip: a grid of at most N x N")->default_str("8");
+    probes->add_option("--bright-texels", options->brightTexels,
+                       "The prefilter's bright-texel split: at most N texels taken out and summed exactly (0 = off)")
+        ->default_str(std::to_string(renderer::kDefaultProbeBrightTexels));
     probes->add_option("--out,-o", options->out, "Output directory; required")->type_name("DIR");
     probes->add_flag("--quick", options->quick,
                      "Tiny run for tests: samples 16,64 at 32^2, 3 runs, vulkan/compute unless --backends/--paths are given");

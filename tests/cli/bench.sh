@@ -31,6 +31,7 @@ expect_error 2 "--samples '8,2000' must be a comma-separated list of integers 1.
 expect_error 2 "--sizes '48' must be a comma-separated list of power-of-two integers" bench probes --sizes 48 --out "$TMP/probes"
 expect_error 2 "unknown --path 'warp'" bench probes --quick --paths compute,warp --out "$TMP/probes"
 expect_error 3 "--env '.*nope.hdr' does not exist" bench probes --quick --env "$TMP/nope.hdr" --out "$TMP/probes"
+expect_error 2 "--bright-texels 2000 must be 0..1023" bench probes --bright-texels 2000 --out "$TMP/probes"
 
 # vulkan: compute and fallback; gles: fallback only (compute is skipped and says why).
 expect_success bench probes --quick --backends vulkan,gles --paths compute,fallback --out "$TMP/probes"
@@ -52,5 +53,21 @@ json_check "$P" 'all(
   next(c for c in j["configurations"] if (c["backend"], c["path"], c["samplesPerMip"]) == (b, p, 64))["mips"][0]["rmse"] <
   next(c for c in j["configurations"] if (c["backend"], c["path"], c["samplesPerMip"]) == (b, p, 16))["mips"][0]["rmse"]
   for b, p in [("vulkan", "compute"), ("vulkan", "fallback"), ("gles", "fallback")])' "mip 1 error does not fall from 16 to 64 samples"
+# The synthetic sky has no bright texels: the split (on by default) finds none.
+json_check "$P" 'j["brightTexels"] == 64 and all(c["brightFound"] == 0 and not c["brightOverflow"] for c in j["configurations"])' \
+  "probes.json: the synthetic sky should have no bright texels"
 check_png "$TMP/probes/probes.png" 900 560
+
+# The shared sky (a sun) at the default samples ("default": 21, 34, 55, 89, 89, 89): the split finds
+# the sun and every mip stays within a few % of the reference (docs/IBL.md, "Bright texels").
+SKY=$REPO_ROOT/../shared/scenes/env/chinese_garden_1k.hdr
+if [[ -f $SKY ]]; then
+  expect_success bench probes --backends vulkan --paths compute --sizes 32 --samples default,16 --runs 1 --env "$SKY" --out "$TMP/garden"
+  G=$TMP/garden/probes.json
+  json_check "$G" 'sorted(str(c["samplesPerMip"]) for c in j["configurations"]) == ["16", "default"]' "garden: rows 16 and default"
+  json_check "$G" 'all(c["brightFound"] >= 1 and not c["brightOverflow"] for c in j["configurations"])' "garden: the sun was not found"
+  json_check "$G" 'all(m["rmse"] < 0.05 for c in j["configurations"] if c["samplesPerMip"] == "default" and
+    c["samplesPerMipList"] == [21, 34, 55, 89, 89, 89] for m in c["mips"])' "garden: default samples above 5 % RMSE on some mip"
+  grep -q "^| vulkan | compute | default |" "$TMP/garden/probes.md" || fail "garden probes.md has no default row"
+fi
 finish

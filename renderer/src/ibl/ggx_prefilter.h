@@ -5,10 +5,14 @@
 // probe capture) and writes a separate destination cube of the same face size:
 //   1. generateMips(source) rebuilds the source's box-filtered chain from its mip 0;
 //   2. destination mip 0 = copy of source mip 0 (six copyTexture: the mirror, roughness 0);
-//   3. destination mips 1..N-1: the split-sum prefilter (N = V = R) with roughness r(m) from the
-//      precomputed sample sets (ggx_samples.h), reading the source's whole chain. Compute path:
-//      one dispatch per mip writing all six faces (storage imageCube of that mip); fallback: one
-//      fullscreen draw per face per mip into that face/mip as the attachment.
+//   3. (with settings.brightTexels > 0) the bright-texel split: a "rest" cube = the source without
+//      its few brightest texels (a sun), with its own box-filtered chain, and a list of those texels
+//      (one dispatch | one draw per face, generateMips, one dispatch | one draw);
+//   4. destination mips 1..N-1: the split-sum prefilter (N = V = R) with roughness r(m) from the
+//      precomputed sample sets (ggx_samples.h), reading the source's whole chain (the rest's with
+//      the split, plus the exact sum over the listed texels). Compute path: one dispatch per mip
+//      writing all six faces (storage imageCube of that mip); fallback: one fullscreen draw per
+//      face per mip into that face/mip as the attachment.
 // A separate destination keeps every read and write apart on every backend (GLES emulates views
 // with base/max level, one range per texture per draw), so no view of the written texture exists.
 #pragma once
@@ -36,7 +40,25 @@ struct GgxPrefilterSettings {
     std::vector<float> roughness;
     // Added to every sample's source lod, 0.5 log2(Omega_s / Omega_p) (docs/IBL.md); finite.
     float lodBias = kDefaultGgxLodBias;
+    // Bright texels (docs/IBL.md, "Bright texels"): at most this many source texels whose r + g + b is
+    // at least `brightThreshold` times the cube's mean are taken out of what the samples read and
+    // added exactly (their reference terms). 0 = off (plain filtered importance sampling, no extra
+    // passes); at most kMaxGgxBrightTexels. More bright texels than this in a source: that update
+    // runs without the split. Only for power-of-two faces (others: off).
+    uint32_t brightTexels = 0;
+    float brightThreshold = kDefaultGgxBrightThreshold;   // finite, >= 1
     std::string debugName = "environment ggx";   // of the destination cube
+};
+
+// What the bright-texel list of the last update holds (GgxPrefilter::readBrightTexels()).
+struct GgxBrightTexels {
+    struct Texel {
+        uint32_t face = 0, x = 0, y = 0;   // source mip 0
+        glm::vec3 radiance{0.0f};
+    };
+    uint32_t found = 0;          // bright texels in the source (saturates at 65504)
+    bool overflow = false;       // found > capacity: the update ran without the split
+    std::vector<Texel> texels;   // those listed (none on overflow)
 };
 
 class GgxPrefilter {
@@ -64,6 +86,11 @@ public:
     PassReport run(const rhi::TextureHandle& source);
 
     const rhi::TextureHandle& prefiltered() const { return m_target; }
+    // Whether the bright-texel split runs for the last source (settings.brightTexels > 0 and a
+    // power-of-two face), and the list of the last update (reads it back: waits for the GPU; empty
+    // without the split).
+    bool brightSplit() const { return m_brightSplit; }
+    GgxBrightTexels readBrightTexels() const;
     // Resolved for the last source: destination levels, roughness and sample set of each mip.
     uint32_t mipCount() const { return m_mipCount; }
     float roughnessForMip(uint32_t mip) const;
@@ -73,6 +100,7 @@ private:
     void bindSource(const rhi::TextureHandle& source);
     void setup();
     void record(rhi::ICommandList& cmd, PassReport& report);
+    void recordBrightSplit(rhi::ICommandList& cmd, PassReport& report);
 
     rhi::IDevice& m_device;
     FeaturePath m_path;
@@ -80,11 +108,19 @@ private:
     rhi::TextureHandle m_source, m_target;
     uint32_t m_mipCount = 0;
     std::vector<GgxSampleSet> m_sets;
-    rhi::SamplerHandle m_sampler;
+    rhi::SamplerHandle m_sampler, m_nearest;
     rhi::PipelineHandle m_pipeline;
     std::vector<rhi::BufferHandle> m_buffers;
     // Compute: one set per mip (index mip - 1); fallback: one per mip and face ((mip - 1) * 6 + face).
     std::vector<rhi::BindingSetHandle> m_bindings;
+    // The bright-texel split: the rest cube (full chain), the 2(K + 1) x 1 list and its copy as a
+    // uniform buffer, their passes' pipelines and sets (split: 1 | one per face; list: 1).
+    bool m_brightSplit = false;
+    rhi::TextureHandle m_rest, m_brightList;
+    rhi::BufferHandle m_brightListBuffer;
+    rhi::PipelineHandle m_splitPipeline, m_listPipeline;
+    std::vector<rhi::BindingSetHandle> m_splitBindings;
+    rhi::BindingSetHandle m_listBindings;
 };
 
 // A cube map on the CPU: six faces of size^2 RGBA floats (row 0 first), faces +X .. -Z.
@@ -105,10 +141,14 @@ CubeImage readCube(rhi::IDevice& device, const rhi::TextureHandle& cube, uint32_
 //   sum_t L(t) D(n.h) max(n.l, 0) Omega_t / sum_t D(n.h) max(n.l, 0) Omega_t,  h = normalize(n + l)
 // (the expectation of the GPU's NdotL-weighted GGX importance sampling). Roughness 0 (alpha below
 // 1e-6): the texel whose centre is nearest to n. A zero weight sum gives 0, never 0/0.
+// Normalization::Exact divides by the lobe's exact integral Z = ggxLobeNormalization(alpha) instead
+// of its texel-centre sum: a diagnostic only (docs/IBL.md, "Bright texels": for lobes a few texels
+// wide the two differ by ~0.3 %, which is all of the error left near a sun).
 class GgxReference {
 public:
+    enum class Normalization { TexelSum, Exact };
     explicit GgxReference(const CubeImage& cube);
-    glm::dvec3 radiance(const glm::dvec3& n, double roughness) const;
+    glm::dvec3 radiance(const glm::dvec3& n, double roughness, Normalization normalization = Normalization::TexelSum) const;
 
 private:
     struct Texel {

@@ -27,6 +27,22 @@ double ggxDistribution(double nDotH, double alpha) {
     return a2 / (kPi * d * d);
 }
 
+double ggxLobeNormalization(double alpha) {
+    if (!(alpha >= 1e-6)) return 0.0;
+    const double a2 = alpha * alpha;
+    // cos^2 theta_h(u) = (1 - u) / (1 + (a2 - 1) u); n.l = 2 cos^2 - 1 = (1 - (1 + a2) u) / (1 + (a2 - 1) u),
+    // > 0 for u < u0 = 1 / (1 + a2). Its integral over [0, u0] in closed form, 1 / (1 - a2) +
+    // 2 a2 / (1 - a2)^2 ln(2 a2 / (1 + a2)), cancels as a2 -> 1; there the integrand is smooth: Simpson.
+    if (a2 < 0.5) return 4.0 * (1.0 / (1.0 - a2) + 2.0 * a2 / ((1.0 - a2) * (1.0 - a2)) * std::log(2.0 * a2 / (1.0 + a2)));
+    const double u0 = 1.0 / (1.0 + a2);
+    auto f = [&](double u) { return std::max(0.0, (1.0 - (1.0 + a2) * u) / (1.0 + (a2 - 1.0) * u)); };
+    constexpr int kIntervals = 4096;   // even
+    const double step = u0 / kIntervals;
+    double sum = f(0.0) + f(u0);
+    for (int i = 1; i < kIntervals; ++i) sum += (i % 2 ? 4.0 : 2.0) * f(i * step);
+    return 4.0 * sum * step / 3.0;
+}
+
 double radicalInverse(uint32_t bits) {
     bits = (bits << 16u) | (bits >> 16u);
     bits = ((bits & 0x55555555u) << 1u) | ((bits & 0xAAAAAAAAu) >> 1u);
@@ -48,6 +64,7 @@ GgxSampleSet makeGgxSampleSet(float roughness, uint32_t count, uint32_t sourceFa
     set.roughness = roughness;
     set.requested = count;
     const double alpha = double(roughness) * double(roughness);
+    set.normalization = ggxLobeNormalization(alpha);
     const double maxLod = double(sourceMipCount - 1);
     // Below this alpha D is a spike narrower than float can sample: the mirror direction itself.
     if (alpha < 1e-6) {

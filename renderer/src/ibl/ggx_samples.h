@@ -29,6 +29,8 @@ struct GgxSampleSet {
     float roughness = 0.0f;          // perceptual
     uint32_t requested = 0;          // Hammersley points generated
     std::vector<GgxSample> samples;  // those above the horizon (at most `requested`)
+    // ggxLobeNormalization(roughness^2): what the bright-texel sum divides by (0 for the mirror).
+    double normalization = 0.0;
 };
 
 // Default samples per prefiltered mip (mips 1, 2, ...; the last entry repeats): few where the
@@ -45,6 +47,12 @@ inline constexpr uint32_t kMaxGgxSamples = 1024;
 // box-filtered mips already blur enough; Karis' +1 gives 3-4x the error against GgxReference
 // (docs/IBL.md, "GGX prefiltering").
 inline constexpr float kDefaultGgxLodBias = 0.0f;
+// The bright-texel split (GgxPrefilterSettings::brightTexels, docs/IBL.md "Bright texels"): list
+// capacity the environment uses, the most a prefilter takes, and the default threshold (a texel is
+// bright when its r + g + b is at least this many times the cube's mean).
+inline constexpr uint32_t kDefaultGgxBrightTexels = 64;
+inline constexpr uint32_t kMaxGgxBrightTexels = 1023;   // + the header: 1024 uvec4, a 16 KiB uniform block
+inline constexpr float kDefaultGgxBrightThreshold = 64.0f;
 
 // r(m) = m / (mipCount - 1); 0 for a single mip.
 float ggxRoughnessForMip(uint32_t mip, uint32_t mipCount);
@@ -52,6 +60,11 @@ float ggxRoughnessForMip(uint32_t mip, uint32_t mipCount);
 uint32_t ggxSamplesForMip(const std::vector<uint32_t>& samplesPerMip, uint32_t mip);
 // GGX normal distribution D(NdotH) for alpha = roughness^2 (alpha > 0).
 double ggxDistribution(double nDotH, double alpha);
+// Z(alpha) = integral over the sphere of D(n.h) max(n.l, 0) dl with N = V (h = normalize(n + l)): the
+// weight sum of the split-sum prefilter, so that sum_t L_t D max(n.l, 0) Omega_t / Z is the share
+// texels t take of the prefiltered value. 4 E[max(0, 2 cos^2 theta_h - 1)] over H ~ D NdotH (closed form
+// in the Hammersley coordinate u, Simpson for alpha^2 >= 0.5); 1 at alpha = 1, -> 4 as alpha -> 0; 0 below 1e-6.
+double ggxLobeNormalization(double alpha);
 // Van der Corput radical inverse in base 2 (the second Hammersley coordinate).
 double radicalInverse(uint32_t bits);
 

@@ -17,6 +17,8 @@
 namespace janus::renderer {
 
 static_assert(kMaxProbeSamplesPerMip == kMaxGgxSamples, "ibl_bench.h mirrors ggx_samples.h");
+static_assert(kDefaultProbeBrightTexels == kDefaultGgxBrightTexels && kMaxProbeBrightTexels == kMaxGgxBrightTexels,
+              "ibl_bench.h mirrors ggx_samples.h");
 
 namespace {
 
@@ -44,6 +46,8 @@ double medianOf(std::vector<double> values) {
 }
 
 }  // namespace
+
+const std::vector<uint32_t>& defaultProbeSamplesPerMip() { return defaultGgxSamplesPerMip(); }
 
 ImageRGBAF syntheticProbeSky(uint32_t width, uint32_t height) {
     ImageRGBAF image;
@@ -124,10 +128,12 @@ uint32_t ProbeAccuracyBench::faceSize() const { return m_impl->faceSize; }
 uint32_t ProbeAccuracyBench::mipCount() const { return m_impl->mipCount; }
 double ProbeAccuracyBench::referenceCpuMs() const { return m_impl->referenceMs; }
 
-ProbeMeasurement ProbeAccuracyBench::measure(const std::vector<uint32_t>& samplesPerMip, uint32_t runs, uint32_t warmup) {
+ProbeMeasurement ProbeAccuracyBench::measure(const std::vector<uint32_t>& samplesPerMip, uint32_t runs, uint32_t warmup,
+                                             uint32_t brightTexels) {
     Impl& m = *m_impl;
     GgxPrefilterSettings settings;
     settings.samplesPerMip = samplesPerMip;   // the constructor checks 1..kMaxGgxSamples
+    settings.brightTexels = brightTexels;     // and 0..kMaxGgxBrightTexels
     GgxPrefilter prefilter(m.device, m.path, settings);
     ProbeMeasurement result;
     runs = std::max(runs, 1u);
@@ -142,6 +148,12 @@ ProbeMeasurement ProbeAccuracyBench::measure(const std::vector<uint32_t>& sample
         }
     }
     result.gpuMs = medianOf(result.gpuMsRuns);
+    if (prefilter.brightSplit()) {
+        const GgxBrightTexels bright = prefilter.readBrightTexels();
+        result.brightTexels = brightTexels;
+        result.brightFound = bright.found;
+        result.brightOverflow = bright.overflow;
+    }
     for (uint32_t mip = 1; mip < prefilter.mipCount(); ++mip) {
         const CubeImage got = readCube(m.device, prefilter.prefiltered(), mip);
         double squared = 0.0, magnitude = 0.0, maxRel = 0.0;
@@ -167,8 +179,8 @@ ProbeMeasurement ProbeAccuracyBench::measure(const std::vector<uint32_t>& sample
 }
 
 ProbeMeasurement measureProbePrefilter(rhi::IDevice& device, const ImageRGBAF& environment, uint32_t faceSize, FeaturePath path,
-                                       const std::vector<uint32_t>& samplesPerMip, uint32_t runs) {
-    return ProbeAccuracyBench(device, environment, faceSize, path).measure(samplesPerMip, runs);
+                                       const std::vector<uint32_t>& samplesPerMip, uint32_t runs, uint32_t brightTexels) {
+    return ProbeAccuracyBench(device, environment, faceSize, path).measure(samplesPerMip, runs, 1, brightTexels);
 }
 
 }  // namespace janus::renderer

@@ -57,7 +57,10 @@ ImageBasedLighting::ImageBasedLighting(rhi::IDevice& device, const Environment& 
 
     const ImageRGBAF sky = environment.map.empty() ? *environment.image : readSky(environment.map);
     m_environment = std::make_unique<EnvironmentMap>(device, sky, kSkyFaceSize, path);
-    m_prefilter = std::make_unique<GgxPrefilter>(device, path);
+    // Skies have suns: their brightest texels are summed exactly, not sampled (docs/IBL.md, "Bright texels").
+    GgxPrefilterSettings prefilterSettings;
+    prefilterSettings.brightTexels = kDefaultGgxBrightTexels;
+    m_prefilter = std::make_unique<GgxPrefilter>(device, path, prefilterSettings);
     m_sh = std::make_unique<ShIrradiance>(device, path);
     // Once, now: the sky does not change while the renderer lives. The passes are reported in the
     // first frame's report (takeStartupReports).

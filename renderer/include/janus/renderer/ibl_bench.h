@@ -25,6 +25,12 @@ namespace janus::renderer {
 // Largest samples per mip the prefilter takes (its sample block is 16 KiB, the minimum uniform
 // block size of GLES 3.0 / GL / Vulkan).
 inline constexpr uint32_t kMaxProbeSamplesPerMip = 1024;
+// The prefilter's bright-texel split (docs/IBL.md, "Bright texels"): the list capacity the sky's
+// prefilter uses (the bench's default) and the most it takes; 0 = off.
+inline constexpr uint32_t kDefaultProbeBrightTexels = 64;
+inline constexpr uint32_t kMaxProbeBrightTexels = 1023;
+// The prefilter's default samples per mip (mips 1, 2, ...; the last entry repeats): 21, 34, 55, 89, 89, 89.
+const std::vector<uint32_t>& defaultProbeSamplesPerMip();
 
 struct ProbeMipError {
     uint32_t mip = 0;
@@ -41,6 +47,9 @@ struct ProbeMeasurement {
     double gpuMs = 0.0;                // median over runs of the prefilter pass's GPU time (CPU ms without timers)
     std::vector<double> gpuMsRuns;
     bool gpuTimed = true;              // false: the device has no timers, the times are CPU recording ms
+    uint32_t brightTexels = 0;         // the split's list capacity (0: off)
+    uint32_t brightFound = 0;          // bright texels the split found in the source
+    bool brightOverflow = false;       // more than the capacity: that update ran without the split
 };
 
 // The default synthetic sky, equirect `width` x `height`: a smooth gradient 0.2 + 0.3 (0.5 + 0.5 d)
@@ -63,8 +72,10 @@ public:
     ProbeAccuracyBench& operator=(const ProbeAccuracyBench&) = delete;
 
     // Prefilters `warmup` + `runs` times with `samplesPerMip` (mip 1, 2, ...; the last entry repeats;
-    // each 1..kMaxProbeSamplesPerMip, else RendererError) and measures the last result.
-    ProbeMeasurement measure(const std::vector<uint32_t>& samplesPerMip, uint32_t runs = 5, uint32_t warmup = 1);
+    // each 1..kMaxProbeSamplesPerMip, else RendererError) and `brightTexels` (the split's capacity,
+    // 0..kMaxProbeBrightTexels; 0 = off) and measures the last result.
+    ProbeMeasurement measure(const std::vector<uint32_t>& samplesPerMip, uint32_t runs = 5, uint32_t warmup = 1,
+                             uint32_t brightTexels = kDefaultProbeBrightTexels);
 
     uint32_t faceSize() const;
     uint32_t mipCount() const;             // of the prefiltered cube (full chain)
@@ -77,6 +88,7 @@ private:
 
 // One measurement without keeping the reference: ProbeAccuracyBench(...).measure(...).
 ProbeMeasurement measureProbePrefilter(rhi::IDevice& device, const ImageRGBAF& environment, uint32_t faceSize, FeaturePath path,
-                                       const std::vector<uint32_t>& samplesPerMip, uint32_t runs = 5);
+                                       const std::vector<uint32_t>& samplesPerMip, uint32_t runs = 5,
+                                       uint32_t brightTexels = kDefaultProbeBrightTexels);
 
 }  // namespace janus::renderer

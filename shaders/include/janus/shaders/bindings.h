@@ -70,5 +70,12 @@
 #define JANUS_BINDING_PREFILTER_SAMPLES 1   // PrefilterSamples: GGX directions + source lod of one mip
 #define JANUS_BINDING_PREFILTER_SOURCE 2    // samplerCube: the source cube with its mip chain
 #define JANUS_BINDING_PREFILTER_TARGET 3    // compute path: rgba16f imageCube, one mip, all faces
+#define JANUS_BINDING_PREFILTER_REST 4      // bright-texel variant: samplerCube, the source without its bright texels
+#define JANUS_BINDING_PREFILTER_BRIGHT_LIST 5   // bright-texel variant: PrefilterBrightList, the list as a uniform block
+// ggx_bright_split.comp / .frag, ggx_bright_list.comp / .frag (the bright-texel passes of the prefilter)
+#define JANUS_BINDING_BRIGHT_PARAMS 0       // BrightParams (face, size, top level, capacity; threshold)
+#define JANUS_BINDING_BRIGHT_SOURCE 1       // samplerCube (nearest): the source with its box-filtered chain
+#define JANUS_BINDING_BRIGHT_REST 2         // list pass: samplerCube (nearest), the rest's chain (alpha: bright counts)
+#define JANUS_BINDING_BRIGHT_TARGET 3       // compute path: rgba16f imageCube of the rest's mip 0 (split) | image2D 2(K + 1) x 1 list (list)
 
 #endif
