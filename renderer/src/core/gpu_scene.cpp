@@ -314,23 +314,28 @@ bool GpuScene::viewSeesBlended(const SceneView& view) const {
     return std::any_of(m_blendedDraws.begin(), m_blendedDraws.end(), [&](const Draw& draw) { return viewSees(view, draw); });
 }
 
+// One mesh draw; binds the pipeline and the view set only when the pipeline changes.
+void GpuScene::recordDraw(rhi::ICommandList& cmd, const rhi::PipelineHandle& pipeline, const Draw& draw,
+                          const rhi::BindingSetHandle& viewBindings, const rhi::IPipeline*& bound, PassReport& report) const {
+    if (pipeline.get() != bound) {
+        cmd.setPipeline(pipeline);
+        cmd.setBindingSet(JANUS_SET_VIEW, viewBindings);
+        bound = pipeline.get();
+    }
+    const Mesh& mesh = m_meshes[draw.mesh];
+    cmd.setBindingSet(JANUS_SET_DRAW, draw.bindings);
+    cmd.setVertexBuffer(0, mesh.vertices);
+    cmd.setIndexBuffer(mesh.indices, rhi::IndexType::UInt32);
+    cmd.drawIndexed(mesh.indexCount);
+    ++report.draws;
+}
+
 void GpuScene::drawMeshes(rhi::ICommandList& cmd, const SceneView& view, const MeshPipelines& pipelines,
                           const rhi::BindingSetHandle& viewBindings, PassReport& report) const {
     const rhi::IPipeline* bound = nullptr;
     for (const Draw& draw : m_draws) {
         if (!viewSees(view, draw)) continue;
-        const rhi::PipelineHandle& pipeline = pipelines.forDraw(draw);
-        if (pipeline.get() != bound) {
-            cmd.setPipeline(pipeline);
-            cmd.setBindingSet(JANUS_SET_VIEW, viewBindings);
-            bound = pipeline.get();
-        }
-        const Mesh& mesh = m_meshes[draw.mesh];
-        cmd.setBindingSet(JANUS_SET_DRAW, draw.bindings);
-        cmd.setVertexBuffer(0, mesh.vertices);
-        cmd.setIndexBuffer(mesh.indices, rhi::IndexType::UInt32);
-        cmd.drawIndexed(mesh.indexCount);
-        ++report.draws;
+        recordDraw(cmd, pipelines.forDraw(draw), draw, viewBindings, bound, report);
     }
 }
 
@@ -353,17 +358,7 @@ void GpuScene::drawBlended(rhi::ICommandList& cmd, const std::vector<uint32_t>& 
                            const rhi::BindingSetHandle& viewBindings, PassReport& report) const {
     const rhi::IPipeline* bound = nullptr;
     auto drawWith = [&](const rhi::PipelineHandle& pipeline, const Draw& draw) {
-        if (pipeline.get() != bound) {
-            cmd.setPipeline(pipeline);
-            cmd.setBindingSet(JANUS_SET_VIEW, viewBindings);
-            bound = pipeline.get();
-        }
-        const Mesh& mesh = m_meshes[draw.mesh];
-        cmd.setBindingSet(JANUS_SET_DRAW, draw.bindings);
-        cmd.setVertexBuffer(0, mesh.vertices);
-        cmd.setIndexBuffer(mesh.indices, rhi::IndexType::UInt32);
-        cmd.drawIndexed(mesh.indexCount);
-        ++report.draws;
+        recordDraw(cmd, pipeline, draw, viewBindings, bound, report);
     };
     for (uint32_t index : order) {
         const Draw& draw = m_blendedDraws.at(index);

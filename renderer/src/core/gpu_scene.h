@@ -103,6 +103,8 @@ public:
                      const rhi::BindingSetHandle& viewBindings, PassReport& report) const;
 
 private:
+    void recordDraw(rhi::ICommandList& cmd, const rhi::PipelineHandle& pipeline, const Draw& draw,
+                    const rhi::BindingSetHandle& viewBindings, const rhi::IPipeline*& bound, PassReport& report) const;
     rhi::PipelineHandle createMeshPipeline(const rhi::ShaderHandle& vertexShader, const rhi::ShaderHandle& fragmentShader,
                                            rhi::CullMode cull, bool clockwise, rhi::DepthState depth, rhi::BlendAttachment blend,
                                            rhi::Format colorFormat, rhi::Format depthFormat, const std::string& name) const;

@@ -70,16 +70,9 @@ void generateTangents(Mesh& mesh) {
 }
 
 void frameSceneBounds(Scene& scene) {
-    glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
-    for (const Instance& instance : scene.instances) {
-        if (instance.mesh >= scene.meshes.size()) continue;
-        for (const Vertex& v : scene.meshes[instance.mesh].vertices) {
-            const glm::vec3 p = glm::vec3(instance.world * glm::vec4(v.position, 1.0f));
-            lo = glm::min(lo, p);
-            hi = glm::max(hi, p);
-        }
-    }
-    if (lo.x > hi.x) return;   // nothing to frame: keep the default camera
+    const Box bounds = sceneBounds(scene);
+    if (bounds == Box{}) return;   // nothing to frame: keep the default camera
+    const glm::vec3 lo = bounds.min, hi = bounds.max;
     const glm::vec3 center = (lo + hi) * 0.5f;
     const float radius = std::max(glm::length(hi - lo) * 0.5f, 1e-3f);
     Camera& camera = scene.camera;
