@@ -88,7 +88,8 @@ TEST(ReflectionProbeScenes, ASceneFileGivesEveryFieldAndReplacesTheMarkersProbe)
     const Scene scene = loadScene(writeSceneFile("full", R"([{
         "name": "hall", "position": [0, 1, 0], "influence": {"min": [-1, 0, -1], "max": [1, 2, 1]}, "blendDistance": 0.3,
         "parallax": {"center": [0, 1.5, 0], "size": [4, 3, 4]}, "resolution": 64, "near": 0.1, "far": 20,
-        "update": "on-request", "timeSlicing": "individual-faces", "shadows": false, "shadowMapSize": 256, "layers": 6 }, {}])"));
+        "update": "on-request", "timeSlicing": "individual-faces", "shadows": false, "shadowMapSize": 256, "layers": 6,
+        "samplesPerMip": [21, 34, 55], "brightTexels": 32 }, {"samplesPerMip": 8}])"));
     ASSERT_EQ(scene.reflectionProbes.size(), 2u);   // the cornell box's marker adds none: the file has probes
     const ReflectionProbe& p = scene.reflectionProbes[0];
     EXPECT_EQ(p.name, "hall");
@@ -105,6 +106,8 @@ TEST(ReflectionProbeScenes, ASceneFileGivesEveryFieldAndReplacesTheMarkersProbe)
     EXPECT_FALSE(p.shadows);
     EXPECT_EQ(p.shadowMapSize, 256u);
     EXPECT_EQ(p.renderingLayers, 6u);
+    EXPECT_EQ(p.samplesPerMip, (std::vector<uint32_t>{21, 34, 55}));
+    EXPECT_EQ(p.brightTexels, 32u);
     // Defaults: the scene's bounds, at their centre, at infinity, once, all at once.
     const ReflectionProbe& d = scene.reflectionProbes[1];
     EXPECT_EQ(d.name, "probe 1");
@@ -112,6 +115,8 @@ TEST(ReflectionProbeScenes, ASceneFileGivesEveryFieldAndReplacesTheMarkersProbe)
     EXPECT_FALSE(d.parallax.has_value());
     EXPECT_EQ(d.update, ProbeUpdate::Once);
     EXPECT_EQ(d.timeSlicing, ProbeTimeSlicing::None);
+    EXPECT_EQ(d.samplesPerMip, std::vector<uint32_t>{8});   // one number: every mip
+    EXPECT_EQ(d.brightTexels, 0u);
     EXPECT_GT(d.influence.size().x, 1.0f);
 }
 
@@ -142,6 +147,12 @@ TEST(ReflectionProbeScenes, BadProbesAreSceneErrorsNamingTheProblem) {
         {R"([{"blendDistance": -1}])", "blend distance"},
         {R"([{"layers": -2}])", "layer mask"},
         {R"([{"shadowMapSize": 100}])", "shadow map size 100"},
+        {R"([{"samplesPerMip": []}])", "samplesPerMip must be a sample count"},
+        {R"([{"samplesPerMip": [34, -1]}])", "samplesPerMip must be a sample count"},
+        {R"([{"samplesPerMip": [34, 0]}])", "0 GGX samples per mip"},
+        {R"([{"samplesPerMip": 5000}])", "5000 GGX samples per mip"},
+        {R"([{"brightTexels": 4096}])", "4096 bright texels"},
+        {R"([{"brightTexels": true}])", "brightTexels must be 0 (off)"},
         {R"({"name": "x"})", "must be an array"},
     };
     for (size_t i = 0; i < cases.size(); ++i) {
@@ -408,6 +419,43 @@ TEST_P(ReflectionProbesTest, HardCasesStayFinite) {
         test_support::expectFiniteHdr(output.hdr, fmt::format("{} {}", GetParam().name(), c.name));
     }
     expectNoMessages();
+}
+
+// A probe's prefilter settings reach its updates: the bright-texel split costs its 7 draws | 2
+// dispatches and adds the sun exactly (the probe changes where it reflects the sky); fewer samples
+// change the prefiltered mips, not the draw count.
+TEST_P(ReflectionProbesTest, AProbesPrefilterSettingsReachItsUpdates) {
+    device().takeDebugMessages();
+    Scene scene = probesScene();
+    scene.reflectionProbes.resize(1);
+    scene.reflectionProbes[0].timeSlicing = ProbeTimeSlicing::None;   // the whole update in the first frame
+    auto sky = std::make_shared<ImageRGBAF>(*scene.environment.image);
+    for (uint32_t y = sky->height / 4; y < sky->height / 4 + 2; ++y)   // a sun 1e4 x the sky, above the horizon
+        for (uint32_t x = sky->width / 3; x < sky->width / 3 + 2; ++x)
+            for (uint32_t c = 0; c < 3; ++c) sky->pixels[(size_t(y) * sky->width + x) * 4 + c] = 5000.0f;
+    scene.environment.image = sky;
+    const bool compute = GetParam().path == FeaturePath::Compute;
+    auto render = [&](uint32_t brightTexels, std::vector<uint32_t> samples) {
+        Scene s = scene;
+        s.reflectionProbes[0].brightTexels = brightTexels;
+        s.reflectionProbes[0].samplesPerMip = std::move(samples);
+        Renderer renderer(device(), s, settings(64, 48));
+        const FrameReport report = renderer.renderFrame();
+        EXPECT_EQ(report.probeUpdates.size(), 1u);
+        if (report.probeUpdates.empty()) return ImageRGBA8{};
+        const ProbeUpdateReport& update = report.probeUpdates[0];
+        const std::string label = fmt::format("{} bright texels {}", GetParam().name(), brightTexels);
+        EXPECT_TRUE(update.shown) << label;
+        EXPECT_EQ(update.prefilterDraws, compute ? 0u : (brightTexels > 0 ? 43u : 36u)) << label;
+        EXPECT_EQ(update.prefilterDispatches, compute ? (brightTexels > 0 ? 8u : 6u) : 0u) << label;
+        const ImageRGBAF hdr = renderer.readHdrImage();
+        test_support::expectFiniteHdr(hdr, label);
+        return renderer.readDisplayImage();
+    };
+    const ImageRGBA8 plain = render(0, {}), split = render(64, {}), fewSamples = render(0, {4});
+    expectNoMessages();
+    EXPECT_GT(compareImages(plain, split, 0).differingPixels, 0u) << "the split did not change the probe";
+    EXPECT_GT(compareImages(plain, fewSamples, 0).differingPixels, 0u) << "4 samples per mip gave the default's image";
 }
 
 TEST_P(ReflectionProbesTest, WithoutCubeArraysTwoProbesAreShownAndTheRestLeftOut) {

@@ -92,6 +92,8 @@ ReflectionProbes::ReflectionProbes(rhi::IDevice& device, const Scene& scene, Fea
         GgxPrefilterSettings settings;
         settings.mipCount = std::min(kPrefilteredMips, rhi::fullMipCount(probe.desc.resolution, probe.desc.resolution));
         settings.debugName = fmt::format("probe '{}' staging", probe.desc.name);
+        if (!probe.desc.samplesPerMip.empty()) settings.samplesPerMip = probe.desc.samplesPerMip;
+        settings.brightTexels = probe.desc.brightTexels;
         probe.prefilter = std::make_unique<GgxPrefilter>(device, path, settings);
         probe.prefilter->prepare(probe.capture);
         std::vector<double> costs(probe.prefilter->mipCount());

@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "ibl/ggx_samples.h"
 #include "scene/scene_internal.h"
 
 namespace janus::renderer {
@@ -136,6 +137,27 @@ std::vector<ReflectionProbe> parseReflectionProbes(const std::filesystem::path& 
                 fail(file, fmt::format("{}.layers must be an integer layer mask in [0, 4294967295], got {}", where, layers.dump()));
             probe.renderingLayers = uint32_t(layers.get<int64_t>());
         }
+        if (p.contains("samplesPerMip")) {
+            const json& samples = p["samplesPerMip"];
+            const std::string expected = fmt::format("{}.samplesPerMip must be a sample count in [1, {}] or a non-empty array of them", where,
+                                                     kMaxGgxSamples);
+            if (samples.is_number_unsigned()) {
+                probe.samplesPerMip = {uint32_t(std::min<uint64_t>(samples.get<uint64_t>(), UINT32_MAX))};
+            } else if (samples.is_array() && !samples.empty()) {
+                for (const json& count : samples) {
+                    if (!count.is_number_unsigned()) fail(file, fmt::format("{}, got {}", expected, samples.dump()));
+                    probe.samplesPerMip.push_back(uint32_t(std::min<uint64_t>(count.get<uint64_t>(), UINT32_MAX)));
+                }
+            } else {
+                fail(file, fmt::format("{}, got {}", expected, samples.dump()));
+            }
+        }
+        if (p.contains("brightTexels")) {
+            if (!p["brightTexels"].is_number_unsigned())
+                fail(file, fmt::format("{}.brightTexels must be 0 (off) or a count up to {}, got {}", where, kMaxGgxBrightTexels,
+                                       p["brightTexels"].dump()));
+            probe.brightTexels = uint32_t(std::min<uint64_t>(p["brightTexels"].get<uint64_t>(), UINT32_MAX));
+        }
         result.push_back(std::move(probe));
     }
     return result;
@@ -184,6 +206,13 @@ void validateReflectionProbes(const Scene& scene) {
         if (p.shadowMapSize != 0 && (p.shadowMapSize < 16 || p.shadowMapSize > 8192 || (p.shadowMapSize & (p.shadowMapSize - 1)) != 0))
             throw SceneError(fmt::format("reflection probe {}: shadow map size {} must be 0 (the renderer's) or a power of two in [16, 8192]",
                                          name, p.shadowMapSize));
+        for (uint32_t count : p.samplesPerMip)
+            if (count < 1 || count > kMaxGgxSamples)
+                throw SceneError(fmt::format("reflection probe {}: {} GGX samples per mip; each entry must be in [1, {}]", name, count,
+                                             kMaxGgxSamples));
+        if (p.brightTexels > kMaxGgxBrightTexels)
+            throw SceneError(fmt::format("reflection probe {}: {} bright texels is above the most, {} (0 turns the split off)", name,
+                                         p.brightTexels, kMaxGgxBrightTexels));
         if (!(std::isfinite(p.nearPlane) && std::isfinite(p.farPlane) && p.nearPlane > 0.0f && p.nearPlane < p.farPlane))
             throw SceneError(fmt::format("reflection probe {}: planes near {} and far {} must satisfy 0 < near < far", name, p.nearPlane,
                                          p.farPlane));

@@ -182,6 +182,12 @@ struct ReflectionProbe {
     bool shadows = true;
     uint32_t shadowMapSize = 0;      // 0 = the renderer's; else a power of two in [16, 8192]
     uint32_t renderingLayers = ~0u;
+    // The prefilter (docs/PROBES.md, docs/IBL.md): GGX samples of mip 1, 2, ... (the last entry
+    // repeats; empty = the renderer's default table), each in [1, 1024]; and the bright-texel split's
+    // capacity (0 = off: 36 draws | 6 dispatches per update; on: a sun the capture sees is added
+    // exactly instead of ghosting, for 7 draws | 2 dispatches more), at most 1023.
+    std::vector<uint32_t> samplesPerMip;
+    uint32_t brightTexels = 0;
 };
 
 struct Scene {
