@@ -5,6 +5,7 @@
 //   depth-prepass  (forward/)   tiled light culling only: meshes -> D32F depth
 //   light-cull-*   (forward/)   tiled only. compute: light_cull.comp | fallback: CPU builder -> tile lists
 //   probe updates  (probes/)    before the frame: due reflection probes capture (six views with these passes), prefilter, show
+//   gi relight     (gi/)        before the frame, while due: shadow map, brick radiance, probe SH -> the irradiance volume
 //   forward        (forward/)   opaque and masked meshes -> RGBA16F HDR radiance (+ depth, or tested against the prepass depth)
 //   sky            (ibl/)       with a sky: its radiance where no surface is
 //   transparent    (forward/)   alphaMode BLEND meshes, back to front, blended over the HDR radiance (only with such meshes)
@@ -49,7 +50,10 @@ void Renderer::Impl::createFeatures(const Scene& scene) {
     auto probes = std::make_unique<ReflectionProbes>(device, scene, settings.path, mainView.position,
                                                      [this](const CubeCaptureDesc& capture) { return renderCubeCapture(capture); });
     reflectionProbes = probes.get();
-    auto forward = std::make_unique<ForwardShading>(device, scene, *gpuScene, *localLights, *shadows, *imageBasedLighting, *probes,
+    auto gi = std::make_unique<ProbeGi>(device, scene, *gpuScene, *localLights, *shadows, *imageBasedLighting, settings.path,
+                                        mainView.position);
+    probeGi = gi.get();
+    auto forward = std::make_unique<ForwardShading>(device, scene, *gpuScene, *localLights, *shadows, *imageBasedLighting, *probes, *gi,
                                                     settings.path);
     auto sky = std::make_unique<SkyBackground>(device, *imageBasedLighting);
     // Blended surfaces composite over the sky, so their pass comes after it.
@@ -57,6 +61,8 @@ void Renderer::Impl::createFeatures(const Scene& scene) {
     if (!gpuScene->blendedDraws().empty()) transparent = std::make_unique<TransparentShading>(device, scene, *gpuScene, *forward);
     features.push_back(std::move(shadows));
     features.push_back(std::move(imageBasedLighting));
+    // The GI relight runs before probe captures, so captures see the bounced light.
+    features.push_back(std::move(gi));
     features.push_back(std::move(probes));
     features.push_back(std::move(forward));
     features.push_back(std::move(sky));
@@ -257,6 +263,19 @@ FrameReport Renderer::renderFrame() { return m_impl->renderFrame(); }
 FrameReport Renderer::renderCubeCapture(const CubeCaptureDesc& capture) { return m_impl->renderCubeCapture(capture); }
 void Renderer::requestProbeUpdate(std::string_view probeName) { m_impl->reflectionProbes->requestUpdate(probeName); }
 bool Renderer::probesPending() const { return m_impl->reflectionProbes->pending(); }
+std::vector<IrradianceProbe> Renderer::readIrradianceProbes() {
+    const GiBake& bake = m_impl->probeGi->bake();
+    const std::vector<GiProbeSh> stored = m_impl->probeGi->readProbes();
+    std::vector<IrradianceProbe> probes(stored.size());
+    for (size_t i = 0; i < stored.size(); ++i) {
+        probes[i].position = bake.probePositions[i];
+        probes[i].sh = stored[i].coefficients;
+        probes[i].valid = stored[i].valid;
+        probes[i].backFaceFraction = bake.backFaceFraction[i];
+    }
+    return probes;
+}
+void Renderer::markIrradianceDirty() { m_impl->probeGi->markDirty(); }
 ImageRGBA8 Renderer::readDisplayImage() { return m_impl->readDisplayImage(); }
 ImageRGBAF Renderer::readHdrImage() { return m_impl->readHdrImage(); }
 TileLists Renderer::readTileLists() {

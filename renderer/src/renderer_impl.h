@@ -9,6 +9,7 @@
 //   tonemap/       HDR -> display image
 //   ibl/           the sky: cube, GGX prefilter, SH irradiance, background
 //   probes/        reflection probes: capture, time-sliced updates, what shading reads
+//   gi/            probe GI: the irradiance volume's bake, relight and what shading reads
 //   debug_views/   the tile heat map
 //   scene/, io/    loading scenes, reading and writing images
 #pragma once
@@ -24,6 +25,7 @@
 #include "forward/lighting_settings.h"
 #include "forward/local_lights.h"
 #include "forward/transparent_shading.h"
+#include "gi/probe_gi.h"
 #include "ibl/image_based_lighting.h"
 #include "ibl/sky_background.h"
 #include "janus/renderer/renderer.h"
@@ -43,6 +45,7 @@ struct Renderer::Impl {
     std::unique_ptr<GpuScene> gpuScene;
     std::unique_ptr<LocalLights> localLights;   // forward/'s light data; also behind readTileLists()
     ReflectionProbes* reflectionProbes = nullptr;   // one of `features`; behind requestProbeUpdate()
+    ProbeGi* probeGi = nullptr;                     // one of `features`
     // The features in the order their passes are added for each view (core/render_feature.h).
     std::vector<std::unique_ptr<RenderFeature>> features;
 

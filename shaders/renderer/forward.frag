@@ -11,6 +11,7 @@
 #include "renderer/shadow_sampling.glsl"
 #include "renderer/sky_access.glsl"
 #include "renderer/probe_access.glsl"
+#include "gi/gi_access.glsl"
 
 layout(set = JANUS_SET_VIEW, binding = JANUS_BINDING_SHADOW_MAP) uniform sampler2DShadow shadowMap;
 
@@ -85,24 +86,11 @@ vec3 shade(Surface s, vec3 toLight, vec3 irradiance) {
 // Radiance can reach fp16's maximum (65504) and turn into Inf there; the HDR target holds less.
 const float kMaxRadiance = 65000.0;
 
-// One point or spot light (words per docs/LIGHTING.md): inverse square with a window that reaches
-// zero with zero slope at the range, times the squared spot cone.
+// One point or spot light (light_access.glsl), if it lights the mesh's rendering layers.
 vec3 shadeLocalLight(Surface s, vec3 worldPosition, int index, uint meshLayers) {
-    uvec4 w0 = localLightWord(index, 0);
-    uvec4 w1 = localLightWord(index, 1);
-    uvec4 w2 = localLightWord(index, 2);
-    uvec4 w3 = localLightWord(index, 3);
-    if ((w2.w & meshLayers) == 0u) return vec3(0.0);
-    vec3 toLight = uintBitsToFloat(w0.xyz) - worldPosition;
-    float distanceSq = dot(toLight, toLight);
-    toLight *= inversesqrt(max(distanceSq, 1e-12));
-    float ratioSq = distanceSq * uintBitsToFloat(w0.w);
-    float window = clamp(1.0 - ratioSq * ratioSq, 0.0, 1.0);
-    float attenuation = window * window / max(distanceSq, 1e-4);
-    vec2 spot = uintBitsToFloat(w3.xy);
-    float cone = clamp(dot(uintBitsToFloat(w2.xyz), -toLight) * spot.x + spot.y, 0.0, 1.0);
-    attenuation *= cone * cone;
-    return shade(s, toLight, uintBitsToFloat(w1.rgb) * attenuation);
+    LocalLightSample light = localLightIrradiance(index, worldPosition);
+    if ((light.layers & meshLayers) == 0u) return vec3(0.0);
+    return shade(s, light.toLight, light.irradiance);
 }
 
 void main() {
@@ -174,13 +162,31 @@ void main() {
     vec4 probes = vec4(0.0, 0.0, 0.0, 1.0);
     if (reflectionProbes.probeCount.x > 0) probes = reflectionProbeRadiance(vWorldPosition, reflected, perceptualRoughness);
     vec3 probeSpecular = probes.rgb;
+    vec4 gi = giIrradianceOverPi(vWorldPosition, s.normal);   // coverage 0 without a volume
+    if (frame.skyParams.w > 0.5) {
+        // --debug gi: the volume's irradiance / pi where it reaches, times its coverage.
+        outRadiance = vec4(min(gi.rgb * gi.a, vec3(kMaxRadiance)), 1.0);
+        return;
+    }
     float remaining = probes.a;
     if (frame.skyParams.x > 0.0) {
         // The sky: SH9 diffuse and split-sum specular (docs/IBL.md).
         vec3 specularLight = skyPrefilteredRadiance(reflected, perceptualRoughness, frame.skyParams.y) * frame.skyParams.z;
         specularLight = probeSpecular + remaining * specularLight;
-        radiance += s.diffuseColor * skyIrradianceOverPi(s.normal) * (occlusion * frame.skyParams.z) +
+        // Diffuse: the irradiance volume where it reaches (docs/GI.md), the sky's SH elsewhere.
+        vec3 diffuseIrradiance = skyIrradianceOverPi(s.normal);
+        float diffuseScale = occlusion * frame.skyParams.z;
+        if (gi.a > 0.0) {
+            diffuseIrradiance = mix(diffuseIrradiance * frame.skyParams.z, gi.rgb, gi.a);
+            diffuseScale = occlusion;
+        }
+        radiance += s.diffuseColor * diffuseIrradiance * diffuseScale +
                     specularLight * splitSumScale(NoV, perceptualRoughness, s.f0) * specularOcclusion(NoV, occlusion, perceptualRoughness);
+    } else if (gi.a > 0.0) {
+        // The irradiance volume's diffuse light, the ambient colour's rough specular term.
+        radiance += (mix(frame.ambientColor.rgb, gi.rgb, gi.a) * s.diffuseColor + frame.ambientColor.rgb * s.f0 * remaining) * occlusion;
+        if (remaining < 1.0)
+            radiance += probeSpecular * splitSumScale(NoV, perceptualRoughness, s.f0) * specularOcclusion(NoV, occlusion, perceptualRoughness);
     } else {
         // Uniform ambient: diffuse plus a rough specular term (where no probe reflects).
         radiance += frame.ambientColor.rgb * (s.diffuseColor + s.f0 * remaining) * occlusion;

@@ -20,9 +20,11 @@ layout(set = JANUS_SET_VIEW, binding = JANUS_BINDING_FRAME_UNIFORMS, std140) uni
     ivec4 lightCounts;     // x directional, y local, z 1 = read tile lists (tiled culling), 0 = loop every local light
     ivec4 tileGrid;        // x tileSize, y tilesX, z maxLightsPerTile, w tileCount
     DirectionalLight directionalLights[kMaxDirectionalLights];
-    vec4 skyParams;        // x 1 = the sky lights the scene (else the ambient colour), y prefiltered cube's last mip, z intensity
+    vec4 skyParams;        // x 1 = the sky lights the scene (else the ambient colour), y prefiltered cube's last mip, z intensity, w 1 = --debug gi
 } frame;
 
+// Passes that draw no meshes (the GI relight) define FRAME_UNIFORMS_ONLY: no per-draw set.
+#ifndef FRAME_UNIFORMS_ONLY
 layout(set = JANUS_SET_DRAW, binding = JANUS_BINDING_DRAW_UNIFORMS, std140) uniform DrawUniforms {
     mat4 world;
     mat4 normalMatrix;     // inverse transpose of world (upper 3x3 used)
@@ -31,6 +33,7 @@ layout(set = JANUS_SET_DRAW, binding = JANUS_BINDING_DRAW_UNIFORMS, std140) unif
     vec4 materialParams;   // x metallic, y roughness, z normal scale, w occlusion strength
     ivec4 flags;           // x double-sided, y has tangents, z alpha mode (kAlphaMode*), w renderingLayers (uint bits)
 } draw;
+#endif
 
 // draw.flags.z: glTF alphaMode.
 const int kAlphaModeOpaque = 0;

@@ -31,4 +31,37 @@ layout(set = JANUS_SET_VIEW, binding = JANUS_BINDING_TILE_LISTS, std430) readonl
 uint tileDataAt(int e) { return tileData[e]; }
 #endif
 
+#ifndef TILE_DATA_ONLY
+// What local light `index` (a point or spot light; words per docs/LIGHTING.md) delivers at a
+// world position: irradiance at normal incidence (inverse square with a window that reaches zero
+// with zero slope at the range, times the squared spot cone), the unit direction towards it, and
+// its rendering layers. Forward shading and the GI relight (shaders/gi/) light with this. (A
+// struct, not out parameters: Mesa's GLSL compiler warns about the copies SPIRV-Cross makes of them.)
+struct LocalLightSample {
+    vec3 irradiance;
+    vec3 toLight;
+    uint layers;
+};
+LocalLightSample localLightIrradiance(int index, vec3 worldPosition) {
+    uvec4 w0 = localLightWord(index, 0);
+    uvec4 w1 = localLightWord(index, 1);
+    uvec4 w2 = localLightWord(index, 2);
+    uvec4 w3 = localLightWord(index, 3);
+    vec3 toLight = uintBitsToFloat(w0.xyz) - worldPosition;
+    float distanceSq = dot(toLight, toLight);
+    toLight *= inversesqrt(max(distanceSq, 1e-12));
+    float ratioSq = distanceSq * uintBitsToFloat(w0.w);
+    float window = clamp(1.0 - ratioSq * ratioSq, 0.0, 1.0);
+    float attenuation = window * window / max(distanceSq, 1e-4);
+    vec2 spot = uintBitsToFloat(w3.xy);
+    float cone = clamp(dot(uintBitsToFloat(w2.xyz), -toLight) * spot.x + spot.y, 0.0, 1.0);
+    attenuation *= cone * cone;
+    LocalLightSample result;
+    result.irradiance = uintBitsToFloat(w1.rgb) * attenuation;
+    result.toLight = toLight;
+    result.layers = w2.w;
+    return result;
+}
+#endif
+
 #endif

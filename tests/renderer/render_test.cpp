@@ -197,6 +197,17 @@ TEST_P(RenderTest, MatchesVulkanComputeAndReportsItsPasses) {
     const size_t blended = blendedInstances(scene);
     std::vector<std::string> expected;
     if (sky) expected = {"equirect-to-cube" + path, "ggx-prefilter" + path, "sh-irradiance" + path};   // once, at start-up
+    // An irradiance volume (the cornell box's "IrradianceVolume" marker) is baked at start-up and
+    // relit in the first frame before the probes capture: its shadow map, then per bounce the
+    // bricks' radiance and the probes' SH (docs/GI.md).
+    if (scene.irradianceVolume) {
+        expected.push_back("gi-bake");
+        if (shadows) expected.push_back("shadow-map");
+        for (uint32_t bounce = 0; bounce < scene.irradianceVolume->bounces; ++bounce) {
+            expected.push_back("gi-brick-radiance" + path);
+            expected.push_back("gi-probe-sh" + path);
+        }
+    }
     // Reflection probes (a "ReflectionCubemap" marker places one in the cornell box) update in
     // the first frame, before it: six faces with the reduced pass set, the prefilter, the copy.
     for (const ReflectionProbe& probe : scene.reflectionProbes) {
@@ -222,6 +233,13 @@ TEST_P(RenderTest, MatchesVulkanComputeAndReportsItsPasses) {
         return *std::find_if(report.passes.begin(), report.passes.end(), [&](const PassReport& p) { return p.name == name; });
     };
     if (shadows) EXPECT_EQ(pass("shadow-map").draws, scene.instances.size() - blended);
+    if (scene.irradianceVolume) {
+        // One dispatch each | one draw for the bricks, one per volume slice (Y x 9) for the SH.
+        EXPECT_EQ(pass("gi-brick-radiance" + path).dispatches, compute ? 1u : 0u);
+        EXPECT_EQ(pass("gi-brick-radiance" + path).draws, compute ? 0u : 1u);
+        EXPECT_EQ(pass("gi-probe-sh" + path).dispatches, compute ? 1u : 0u);
+        EXPECT_EQ(pass("gi-probe-sh" + path).draws, compute ? 0u : scene.irradianceVolume->probeCounts.y * 9);
+    }
     EXPECT_EQ(pass("forward").draws, scene.instances.size() - blended);
     if (blended > 0) EXPECT_GE(pass("transparent").draws, blended);   // double-sided ones draw twice
     ASSERT_EQ(report.probeUpdates.size(), scene.reflectionProbes.size());

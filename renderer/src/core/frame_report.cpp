@@ -26,11 +26,19 @@ std::optional<LightCulling> parseLightCulling(std::string_view name) {
     return std::nullopt;
 }
 
-const char* toString(DebugView view) { return view == DebugView::Tiles ? "tiles" : "none"; }
+const char* toString(DebugView view) {
+    switch (view) {
+        case DebugView::Tiles: return "tiles";
+        case DebugView::Gi: return "gi";
+        case DebugView::None: break;
+    }
+    return "none";
+}
 
 std::optional<DebugView> parseDebugView(std::string_view name) {
     if (name == "none") return DebugView::None;
     if (name == "tiles") return DebugView::Tiles;
+    if (name == "gi") return DebugView::Gi;
     return std::nullopt;
 }
 

@@ -251,7 +251,8 @@ void GpuScene::createDraws(const Scene& scene) {
 
 rhi::PipelineHandle GpuScene::createMeshPipeline(const rhi::ShaderHandle& vertexShader, const rhi::ShaderHandle& fragmentShader,
                                                  rhi::CullMode cull, bool clockwise, rhi::DepthState depth, rhi::BlendAttachment blend,
-                                                 rhi::Format colorFormat, rhi::Format depthFormat, const std::string& name) const {
+                                                 const std::vector<rhi::Format>& colorFormats, rhi::Format depthFormat,
+                                                 const std::string& name) const {
     rhi::GraphicsPipelineDesc desc;
     desc.setShaders(vertexShader, fragmentShader)
         .addVertexBuffer({0, sizeof(Vertex), false})
@@ -265,15 +266,35 @@ rhi::PipelineHandle GpuScene::createMeshPipeline(const rhi::ShaderHandle& vertex
         .setDepth(depth)
         .setDepthFormat(depthFormat)
         .setDebugName(name);
-    if (colorFormat != rhi::Format::Unknown) desc.addColorFormat(colorFormat, blend);
+    for (rhi::Format format : colorFormats) desc.addColorFormat(format, blend);
     return m_device.createGraphicsPipeline(desc);
+}
+
+namespace {
+std::vector<rhi::Format> formatList(rhi::Format colorFormat) {
+    return colorFormat == rhi::Format::Unknown ? std::vector<rhi::Format>{} : std::vector<rhi::Format>{colorFormat};
+}
+}  // namespace
+
+GpuScene::MeshPipelines GpuScene::createUnculledPipelines(const rhi::ShaderHandle& vertexShader, const rhi::ShaderHandle& fragmentShader,
+                                                          rhi::DepthState depth, const std::vector<rhi::Format>& colorFormats,
+                                                          rhi::Format depthFormat, bool mirrored, const std::string& name) const {
+    auto pipeline = [&](bool clockwise, const char* variant) {
+        return createMeshPipeline(vertexShader, fragmentShader, rhi::CullMode::None, clockwise, depth, {}, colorFormats, depthFormat,
+                                  fmt::format("{} ({})", name, variant));
+    };
+    MeshPipelines pipelines;
+    pipelines.culled = pipelines.doubleSided = pipeline(mirrored, "no culling");
+    if (m_hasKind[0][1] || m_hasKind[1][1])
+        pipelines.culledMirrored = pipelines.doubleSidedMirrored = pipeline(!mirrored, "no culling, mirrored instances");
+    return pipelines;
 }
 
 GpuScene::MeshPipelines GpuScene::createMeshPipelines(const rhi::ShaderHandle& vertexShader, const rhi::ShaderHandle& fragmentShader,
                                                       rhi::DepthState depth, rhi::Format colorFormat, rhi::Format depthFormat,
                                                       bool mirrored, const std::string& name) const {
     auto pipeline = [&](rhi::CullMode cull, bool clockwise, const char* variant) {
-        return createMeshPipeline(vertexShader, fragmentShader, cull, clockwise, depth, {}, colorFormat, depthFormat,
+        return createMeshPipeline(vertexShader, fragmentShader, cull, clockwise, depth, {}, formatList(colorFormat), depthFormat,
                                   fmt::format("{} ({})", name, variant));
     };
     MeshPipelines pipelines;
@@ -289,7 +310,7 @@ GpuScene::BlendedPipelines GpuScene::createBlendedPipelines(const rhi::ShaderHan
                                                             rhi::BlendAttachment blend, rhi::Format colorFormat,
                                                             rhi::Format depthFormat, bool mirrored, const std::string& name) const {
     auto pipeline = [&](rhi::CullMode cull, bool clockwise, const char* variant) {
-        return createMeshPipeline(vertexShader, fragmentShader, cull, clockwise, depth, blend, colorFormat, depthFormat,
+        return createMeshPipeline(vertexShader, fragmentShader, cull, clockwise, depth, blend, formatList(colorFormat), depthFormat,
                                   fmt::format("{} ({})", name, variant));
     };
     BlendedPipelines pipelines;

@@ -83,6 +83,12 @@ public:
                                       rhi::DepthState depth, rhi::Format colorFormat, rhi::Format depthFormat, bool mirrored,
                                       const std::string& name) const;
 
+    // Pipelines without face culling (every field set; gl_FrontFacing tells the sides apart) into
+    // the given colour targets: the GI bake's G-buffer.
+    MeshPipelines createUnculledPipelines(const rhi::ShaderHandle& vertexShader, const rhi::ShaderHandle& fragmentShader,
+                                          rhi::DepthState depth, const std::vector<rhi::Format>& colorFormats, rhi::Format depthFormat,
+                                          bool mirrored, const std::string& name) const;
+
     // The same for the transparent pass: `blend` on the one colour attachment, and the culling
     // of BlendedPipelines (null where the scene has no such blended draw).
     BlendedPipelines createBlendedPipelines(const rhi::ShaderHandle& vertexShader, const rhi::ShaderHandle& fragmentShader,
@@ -107,7 +113,8 @@ private:
                     const rhi::BindingSetHandle& viewBindings, const rhi::IPipeline*& bound, PassReport& report) const;
     rhi::PipelineHandle createMeshPipeline(const rhi::ShaderHandle& vertexShader, const rhi::ShaderHandle& fragmentShader,
                                            rhi::CullMode cull, bool clockwise, rhi::DepthState depth, rhi::BlendAttachment blend,
-                                           rhi::Format colorFormat, rhi::Format depthFormat, const std::string& name) const;
+                                           const std::vector<rhi::Format>& colorFormats, rhi::Format depthFormat,
+                                           const std::string& name) const;
     rhi::TextureHandle createTexture(const std::string& name, uint32_t width, uint32_t height, std::vector<uint8_t> rgba, bool srgb);
     rhi::SamplerHandle createSampler(const TextureSampling& sampling);
     void uploadTextures(const Scene& scene);

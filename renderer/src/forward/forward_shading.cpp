@@ -23,19 +23,9 @@ const char* forwardShaderName(FeaturePath path, bool probeCubes) {
 
 }  // namespace
 
-ForwardShading::ForwardShading(rhi::IDevice& device, const Scene& scene, const GpuScene& gpuScene, LocalLights& localLights,
-                               MainLightShadows& shadows, const ImageBasedLighting& imageBasedLighting,
-                               const ReflectionProbes& reflectionProbes, FeaturePath path)
-    : m_device(device),
-      m_gpuScene(gpuScene),
-      m_localLights(localLights),
-      m_shadows(shadows),
-      m_imageBasedLighting(imageBasedLighting),
-      m_reflectionProbes(reflectionProbes),
-      m_path(path) {
-    const glm::vec3 ambient = scene.environment.ambientColor;
-    m_background = {ambient.r, ambient.g, ambient.b, 1.0f};
-    m_sceneUniforms.ambientColor = glm::vec4(ambient, 0.0f);
+FrameUniforms sceneFrameUniforms(const Scene& scene) {
+    FrameUniforms uniforms{};
+    uniforms.ambientColor = glm::vec4(scene.environment.ambientColor, 0.0f);
     // The main directional light goes first: the shader shadows directional light 0.
     std::vector<const Light*> directional;
     for (const Light& light : scene.lights)
@@ -49,10 +39,27 @@ ForwardShading::ForwardShading(rhi::IDevice& device, const Scene& scene, const G
         const uint32_t layers = light.renderingLayers;
         float layerBits;
         std::memcpy(&layerBits, &layers, sizeof(layerBits));
-        m_sceneUniforms.directionalLights[i].direction = glm::vec4(glm::normalize(light.direction), 0.0f);
-        m_sceneUniforms.directionalLights[i].colorIntensity = glm::vec4(light.color * light.intensity, layerBits);
+        uniforms.directionalLights[i].direction = glm::vec4(glm::normalize(light.direction), 0.0f);
+        uniforms.directionalLights[i].colorIntensity = glm::vec4(light.color * light.intensity, layerBits);
     }
-    m_sceneUniforms.lightCounts.x = int(directional.size());
+    uniforms.lightCounts.x = int(directional.size());
+    return uniforms;
+}
+
+ForwardShading::ForwardShading(rhi::IDevice& device, const Scene& scene, const GpuScene& gpuScene, LocalLights& localLights,
+                               MainLightShadows& shadows, const ImageBasedLighting& imageBasedLighting,
+                               const ReflectionProbes& reflectionProbes, const ProbeGi& probeGi, FeaturePath path)
+    : m_device(device),
+      m_gpuScene(gpuScene),
+      m_localLights(localLights),
+      m_shadows(shadows),
+      m_imageBasedLighting(imageBasedLighting),
+      m_reflectionProbes(reflectionProbes),
+      m_probeGi(probeGi),
+      m_path(path) {
+    const glm::vec3 ambient = scene.environment.ambientColor;
+    m_background = {ambient.r, ambient.g, ambient.b, 1.0f};
+    m_sceneUniforms = sceneFrameUniforms(scene);
 
     m_vertexShader = makeShader(device, rhi::ShaderStage::Vertex, "forward_vert");
     m_forwardShader = makeShader(device, rhi::ShaderStage::Fragment, forwardShaderName(path, reflectionProbes.separateCubes()));
@@ -98,6 +105,7 @@ void ForwardShading::addPasses(PassGraph& graph, const SceneView& view) {
     if (view.passes.reflectionProbes)
         if (const ViewTarget* probes = graph.find(view.name, probe_resources::kReflectionProbes))
             state.lightingInputs.push_back(probes->resource);
+    if (const ViewTarget* volume = graph.find(view.name, gi_resources::kIrradianceVolume)) state.lightingInputs.push_back(volume->resource);
 
     PassGraph::PassDesc forward;
     forward.name = "forward";
@@ -146,6 +154,7 @@ void ForwardShading::setupView(ViewState& state) {
     frame.tileGrid = glm::ivec4(int(lighting.tileSize), state.tiled ? int(m_localLights.tilesX()) : 0, int(lighting.maxLightsPerTile),
                                 state.tiled ? int(m_localLights.tileCount()) : 0);
     frame.skyParams = m_imageBasedLighting.shadingParams();
+    frame.skyParams.w = view.debugView == DebugView::Gi ? 1.0f : 0.0f;   // forward.frag shows the volume's light
     state.frameUniforms = makeUniformBuffer(m_device, frame, fmt::format("frame uniforms ({})", view.name).c_str());
 
     rhi::BindingSetDesc set;
@@ -154,6 +163,7 @@ void ForwardShading::setupView(ViewState& state) {
     set.add(map ? map->binding(JANUS_BINDING_SHADOW_MAP) : m_shadows.binding(JANUS_BINDING_SHADOW_MAP));
     m_imageBasedLighting.addViewBindings(set);
     m_reflectionProbes.addViewBindings(set, view);
+    m_probeGi.addViewBindings(set);
     state.bindings = m_device.createBindingSet(set);
     pipelines(false, state);
 }

@@ -20,38 +20,23 @@
 #include "core/gpu_scene.h"
 #include "core/pass_graph.h"
 #include "core/render_feature.h"
+#include "forward/frame_uniforms.h"
 #include "forward/lighting_settings.h"
 #include "forward/local_lights.h"
+#include "gi/probe_gi.h"
 #include "ibl/image_based_lighting.h"
 #include "probes/reflection_probes.h"
 #include "shadows/main_light_shadows.h"
 
 namespace janus::renderer {
 
-// std140 mirrors of forward_common.glsl's frame block (set JANUS_SET_VIEW).
-struct DirectionalLightData {
-    glm::vec4 direction;        // w unused
-    glm::vec4 colorIntensity;   // w renderingLayers as uint bits
-};
-struct FrameUniforms {
-    glm::mat4 viewProjection;
-    glm::mat4 worldToShadow;
-    glm::vec4 cameraPosition;
-    glm::vec4 ambientColor;
-    glm::vec4 shadowParams;
-    glm::ivec4 lightCounts;
-    glm::ivec4 tileGrid;
-    DirectionalLightData directionalLights[kMaxDirectionalLights];
-    glm::vec4 skyParams;        // ImageBasedLighting::shadingParams()
-};
-static_assert(sizeof(FrameUniforms) == 208 + 32 * kMaxDirectionalLights + 16, "FrameUniforms must match std140");
 
 
 class ForwardShading final : public RenderFeature {
 public:
     ForwardShading(rhi::IDevice& device, const Scene& scene, const GpuScene& gpuScene, LocalLights& localLights,
                    MainLightShadows& shadows, const ImageBasedLighting& imageBasedLighting,
-                   const ReflectionProbes& reflectionProbes, FeaturePath path);
+                   const ReflectionProbes& reflectionProbes, const ProbeGi& probeGi, FeaturePath path);
 
     // Adds, for `view`: depth-prepass and the tile-list builder (when the view is tiled), then
     // forward, which writes the view's kHdr target (RGBA16F radiance, cleared to the ambient
@@ -94,6 +79,7 @@ private:
     MainLightShadows& m_shadows;
     const ImageBasedLighting& m_imageBasedLighting;
     const ReflectionProbes& m_reflectionProbes;
+    const ProbeGi& m_probeGi;
     FeaturePath m_path;
     std::array<float, 4> m_background{};
     FrameUniforms m_sceneUniforms{};   // the view-independent part: ambient and directional lights

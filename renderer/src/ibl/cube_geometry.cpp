@@ -1,5 +1,6 @@
 #include "ibl/cube_geometry.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -37,6 +38,27 @@ double cubeTexelSolidAngle(uint32_t x, uint32_t y, uint32_t size) {
     const double x0 = 2.0 * x / size - 1.0, x1 = 2.0 * (x + 1.0) / size - 1.0;
     const double y0 = 2.0 * y / size - 1.0, y1 = 2.0 * (y + 1.0) / size - 1.0;
     return areaElement(x0, y0) - areaElement(x0, y1) - areaElement(x1, y0) + areaElement(x1, y1);
+}
+
+CubeTexel cubeTexelOf(const glm::dvec3& d, uint32_t size) {
+    const glm::dvec3 a = glm::abs(d);
+    uint32_t face;
+    double sc, tc, ma;
+    if (a.x >= a.y && a.x >= a.z) {
+        face = d.x >= 0.0 ? 0 : 1;
+        ma = a.x, sc = d.x >= 0.0 ? -d.z : d.z, tc = -d.y;
+    } else if (a.y >= a.z) {
+        face = d.y >= 0.0 ? 2 : 3;
+        ma = a.y, sc = d.x, tc = d.y >= 0.0 ? d.z : -d.z;
+    } else {
+        face = d.z >= 0.0 ? 4 : 5;
+        ma = a.z, sc = d.z >= 0.0 ? d.x : -d.x, tc = -d.y;
+    }
+    auto texel = [&](double c) {
+        const double s = 0.5 * (c / std::max(ma, 1e-300) + 1.0);
+        return uint32_t(std::clamp(std::floor(s * size), 0.0, double(size - 1)));
+    };
+    return CubeTexel{face, texel(sc), texel(tc)};
 }
 
 }  // namespace janus::renderer

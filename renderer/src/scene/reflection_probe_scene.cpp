@@ -29,7 +29,6 @@ const char* toString(ProbeTimeSlicing slicing) {
 }
 
 namespace detail {
-namespace {
 
 using nlohmann::json;
 
@@ -55,6 +54,8 @@ Box readBox(const std::filesystem::path& file, const json& value, const std::str
     fail(file, fmt::format("{} must be a box: {{\"min\": [x,y,z], \"max\": [x,y,z]}} or {{\"center\": [x,y,z], \"size\": [x,y,z]}}; got {}",
                            where, value.dump()));
 }
+
+namespace {
 
 template <typename Enum, size_t N>
 Enum readEnum(const std::filesystem::path& file, const json& value, const std::string& where, const std::array<Enum, N>& options) {

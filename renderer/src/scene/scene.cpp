@@ -247,6 +247,8 @@ Scene loadSceneFile(const std::filesystem::path& path, const SceneLoadOptions& o
         }
         if (root.contains("reflectionProbes")) scene.reflectionProbes = detail::parseReflectionProbes(path, root["reflectionProbes"], scene);
         detail::addProbesFromMarkers(scene);
+        if (root.contains("irradianceVolume")) scene.irradianceVolume = detail::parseIrradianceVolume(path, root["irradianceVolume"], scene);
+        detail::addIrradianceVolumeFromMarkers(scene);
         if (root.contains("quality")) scene.quality = objectAt(path, root, "quality");
         return scene;
     } catch (const json::exception& e) {
@@ -283,6 +285,7 @@ Scene loadScene(const std::filesystem::path& path, const SceneLoadOptions& optio
         if (!hasCamera) detail::frameSceneBounds(scene);
         if (scene.lights.empty()) scene.lights.push_back(detail::defaultKeyLight());
         detail::addProbesFromMarkers(scene);
+        detail::addIrradianceVolumeFromMarkers(scene);
     } else {
         std::error_code ec;
         if (!std::filesystem::exists(path, ec)) fail(path, "no such file");
@@ -381,6 +384,7 @@ void validateScene(const Scene& scene) {
                 throw SceneError(fmt::format("environment image holds {}; sky radiance must be finite and >= 0", v));
     }
     detail::validateReflectionProbes(scene);
+    detail::validateIrradianceVolume(scene);
 }
 
 }  // namespace janus::renderer

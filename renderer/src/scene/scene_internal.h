@@ -35,6 +35,12 @@ Mesh makeSphere(int32_t material, uint32_t slices = 32, uint32_t stacks = 16);  
 int32_t addMaterial(Scene& scene, std::string name, glm::vec3 color, float metallic, float roughness, glm::vec3 emissive = {});
 uint32_t addMesh(Scene& scene, Mesh mesh);
 
+// Scene-file helpers (reflection_probe_scene.cpp): SceneError "<file>: <what>"; a 3-vector; a box
+// given as {"min", "max"} or {"center", "size"}. `where` names the value in messages.
+[[noreturn]] void fail(const std::filesystem::path& file, const std::string& what);
+glm::vec3 readVec3(const std::filesystem::path& file, const nlohmann::json& value, const std::string& where);
+Box readBox(const std::filesystem::path& file, const nlohmann::json& value, const std::string& where);
+
 // Reflection probes (reflection_probe_scene.cpp): the scene file's "reflectionProbes" array;
 // one probe per "ReflectionCubemap..." marker when the scene has none (influence and parallax
 // box: the scene's bounds grown by 1%); validation (called by validateScene).
@@ -42,5 +48,11 @@ Box sceneBounds(const Scene& scene);   // world AABB of every instance; an empty
 std::vector<ReflectionProbe> parseReflectionProbes(const std::filesystem::path& file, const nlohmann::json& probes, const Scene& scene);
 void addProbesFromMarkers(Scene& scene);
 void validateReflectionProbes(const Scene& scene);
+
+// The irradiance volume (irradiance_volume_scene.cpp): the scene file's "irradianceVolume"; one
+// over the scene's bounds for an "IrradianceVolume..." marker when the scene has none; validation.
+IrradianceVolume parseIrradianceVolume(const std::filesystem::path& file, const nlohmann::json& volume, const Scene& scene);
+void addIrradianceVolumeFromMarkers(Scene& scene);
+void validateIrradianceVolume(const Scene& scene);
 
 }  // namespace janus::renderer::detail

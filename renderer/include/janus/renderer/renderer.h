@@ -5,6 +5,7 @@
 // and both run on every backend that can run them.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -44,6 +45,15 @@ struct CubeCaptureDesc {
     std::string viewPrefix = "cube";    // views are named "<prefix> +X" ... in reports
 };
 
+// One probe of the scene's irradiance volume as the last relight left it (docs/GI.md).
+struct IrradianceProbe {
+    glm::vec3 position{0.0f};
+    // SH9 of irradiance / pi (what Lambert multiplies albedo by), basis order of docs/IBL.md.
+    std::array<glm::vec3, 9> sh{};
+    bool valid = false;              // shading gives an invalid probe (inside geometry) no weight
+    float backFaceFraction = 0.0f;   // of its bake samples
+};
+
 class Renderer {
 public:
     // Uploads the scene. Throws RendererError for settings the device cannot honour (absurd
@@ -65,6 +75,11 @@ public:
     // lack its reflections (time slicing spreads an update over up to 8 frames). Render until it
     // is false for a complete image (what `janus render` does).
     bool probesPending() const;
+    // The irradiance volume's probes (grid order x + X (y + Y z)); empty without a volume. Waits
+    // for the GPU. A probe not yet relit reads as zero and invalid.
+    std::vector<IrradianceProbe> readIrradianceProbes();
+    // The scene's lights or sky changed: the irradiance volume relights (docs/GI.md).
+    void markIrradianceDirty();
 
     ImageRGBA8 readDisplayImage();   // tonemapped, sRGB-encoded: what PNGs and parity use
     ImageRGBAF readHdrImage();       // linear scene radiance before tonemapping: EXR / PFM

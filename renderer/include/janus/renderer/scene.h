@@ -190,6 +190,33 @@ struct ReflectionProbe {
     uint32_t brightTexels = 0;
 };
 
+// Probe-based diffuse GI (docs/GI.md): a grid of irradiance probes over `bounds`. A bake renders a
+// G-buffer cube at each probe and keeps `surfelsPerProbe` surface samples (surfels); surfels are
+// grouped into bricks (cells of `brickSize` metres, split by normal direction), and a probe keeps
+// per brick it sees the brick's SH transfer to it. A relight lights the bricks (direct light, the
+// main light's shadow, emission, the sky for sky samples, and the last relight's irradiance for
+// further bounces) and sums each probe's SH from its bricks; forward shading reads the probes'
+// irradiance instead of the sky's or the ambient colour's diffuse term.
+struct IrradianceVolume {
+    std::string name = "irradiance volume";
+    Box bounds{glm::vec3(-1.0f), glm::vec3(1.0f)};
+    // Probes per axis, at the centres of the grid's cells (a 1x1x1 volume has one probe at the
+    // centre); each in [1, 64], at most 4096 probes in all.
+    glm::uvec3 probeCounts{4, 4, 4};
+    uint32_t surfelsPerProbe = 256;    // stratified directions per probe, in [16, 4096]
+    float brickSize = 0.5f;            // metres, > 0
+    bool bricks = true;                // false: the per-surfel path (each surfel its own brick), for comparison
+    uint32_t bounces = 2;              // light bounces (1 = direct light reflected once), in [1, 8]
+    uint32_t shOrder = 2;              // 1 (L1, 4 coefficients) or 2 (L2, 9)
+    uint32_t probesPerFrame = 0;       // relit per frame, nearest to the camera first; 0 = all
+    float normalBias = 0.1f;           // shading looks the volume up this far along the normal (metres, >= 0)
+    // A probe with more than this fraction of its surface samples on back faces is inside
+    // geometry: shading gives it no weight. In (0, 1].
+    float invalidBackFaceFraction = 0.5f;
+    float nearPlane = 0.01f, farPlane = 100.0f;   // of the bake's G-buffer cubes
+};
+inline constexpr uint32_t kMaxIrradianceProbes = 4096;
+
 struct Scene {
     std::string name;
     std::vector<Mesh> meshes;
@@ -201,6 +228,9 @@ struct Scene {
     // From the scene file's "reflectionProbes", or one per glTF node named "ReflectionCubemap..."
     // (covering the scene's bounds) when the scene file gives none.
     std::vector<ReflectionProbe> reflectionProbes;
+    // From the scene file's "irradianceVolume", or one over the scene's bounds for a glTF node
+    // named "IrradianceVolume..." when the file gives none. Empty: no GI, no GI work.
+    std::optional<IrradianceVolume> irradianceVolume;
     Camera camera;
     Environment environment;
     // Free-form settings from the scene file's "quality" object, kept for features that read

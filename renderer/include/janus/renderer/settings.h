@@ -26,8 +26,9 @@ std::optional<LightCulling> parseLightCulling(std::string_view name);
 enum class DebugView {
     None,
     Tiles,   // heat map of local lights per tile (blue = few, red = many) over the image; tiles at the cap are marked
+    Gi,      // the irradiance volume's diffuse light (irradiance / pi x coverage) instead of the shaded image (docs/GI.md)
 };
-const char* toString(DebugView view);             // "none", "tiles"
+const char* toString(DebugView view);             // "none", "tiles", "gi"
 std::optional<DebugView> parseDebugView(std::string_view name);
 
 // Lighting knobs. Unset fields take the scene file's "quality" value, then the default shown.

@@ -4,7 +4,9 @@
 //
 // Binding numbers are unique across all sets of one pipeline (docs/ARCHITECTURE.md, "Binding
 // model"): the GL backend uses them as UBO binding points, texture units, SSBO bindings and
-// image units directly. Keep every number below 16.
+// image units directly. So: storage images and storage buffers below 8 (GL 4.3's minimum image
+// units and SSBO bindings per stage), uniform blocks below 24 (GLES 3.0's binding points),
+// textures below 30 (units 30 and 31 are the GL backend's own).
 #ifndef JANUS_SHADERS_BINDINGS_H
 #define JANUS_SHADERS_BINDINGS_H
 
@@ -21,6 +23,8 @@
 #define JANUS_BINDING_PROBE_CUBES 13        // reflection probes: samplerCubeArray (cube = probe slot) | without cube arrays (GLES 3.0): samplerCube of slot 0
 #define JANUS_BINDING_PROBE_CUBE_1 14       // without cube arrays only: samplerCube of slot 1
 #define JANUS_BINDING_REFLECTION_PROBES 15  // ReflectionProbeUniforms (probe_access.glsl): the shown probes in blend order
+#define JANUS_BINDING_GI_VOLUME 16          // irradiance volume (gi_access.glsl): RGBA16F 3D texture of the probes' SH
+#define JANUS_BINDING_GI_UNIFORMS 17        // GiVolumeUniforms (gi_access.glsl): grid, normal bias, on/off
 // Set 1: per draw.
 #define JANUS_SET_DRAW 1
 #define JANUS_BINDING_DRAW_UNIFORMS 1       // DrawUniforms (forward_common.glsl)
@@ -77,5 +81,17 @@
 #define JANUS_BINDING_BRIGHT_SOURCE 1       // samplerCube (nearest): the source with its box-filtered chain
 #define JANUS_BINDING_BRIGHT_REST 2         // list pass: samplerCube (nearest), the rest's chain (alpha: bright counts)
 #define JANUS_BINDING_BRIGHT_TARGET 3       // compute path: rgba16f imageCube of the rest's mip 0 (split) | image2D 2(K + 1) x 1 list (list)
+
+
+// ---- GI relight (shaders/gi/, renderer/src/gi/), set 0; also the scene-pass bindings 0 (frame
+// uniforms: lights, shadow), 7-8 (local lights), 9 (shadow map), 10-12 (sky), 16-17 (the volume).
+#define JANUS_BINDING_GI_TARGET 1           // compute path: rgba32f image2D brick radiance | rgba16f image3D volume
+#define JANUS_BINDING_GI_SURFELS 2          // RGBA32F data texture: 4 texels per surfel (gi_relight_common.glsl)
+#define JANUS_BINDING_GI_BRICKS 3           // RGBA32F: 2 texels per brick
+#define JANUS_BINDING_GI_TRANSFERS 4        // RGBA32F: 3 texels per (probe, brick) SH transfer
+#define JANUS_BINDING_GI_PROBES 5           // RGBA32F: per probe (grid order) its transfers, validity, relight rank; then rank -> probe
+#define JANUS_BINDING_GI_BRICK_RADIANCE 6   // RGBA32F: the bricks' radiance (the SH pass reads it)
+#define JANUS_BINDING_GI_RELIGHT_PARAMS 13  // GiRelightParams (gi_relight_common.glsl)
+// ---- GI bake (shaders/gi/gi_gbuffer.frag): the forward pass's sets 0 and 1 (frame + draw uniforms, material textures).
 
 #endif

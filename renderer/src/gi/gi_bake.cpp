@@ -1,0 +1,249 @@
+// The GI bake (gi_bake.h, docs/GI.md "Bake").
+#include "gi/gi_bake.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <optional>
+#include <tuple>
+
+#include <fmt/format.h>
+#include <glm/gtc/packing.hpp>
+
+#include "core/gpu_util.h"
+#include "forward/frame_uniforms.h"
+#include "ibl/cube_geometry.h"
+#include "ibl/spherical_harmonics.h"
+#include "janus/renderer/scene_view.h"
+#include "janus/shaders/bindings.h"
+
+namespace janus::renderer {
+
+glm::vec3 giProbeSpacing(const IrradianceVolume& volume) {
+    return glm::max(volume.bounds.size() / glm::vec3(volume.probeCounts), glm::vec3(1e-6f));
+}
+
+std::vector<glm::vec3> giProbePositions(const IrradianceVolume& volume) {
+    const glm::vec3 cell = volume.bounds.size() / glm::vec3(volume.probeCounts);
+    std::vector<glm::vec3> positions;
+    positions.reserve(size_t(volume.probeCounts.x) * volume.probeCounts.y * volume.probeCounts.z);
+    for (uint32_t z = 0; z < volume.probeCounts.z; ++z)
+        for (uint32_t y = 0; y < volume.probeCounts.y; ++y)
+            for (uint32_t x = 0; x < volume.probeCounts.x; ++x)
+                positions.push_back(volume.bounds.min + (glm::vec3(x, y, z) + 0.5f) * cell);
+    return positions;
+}
+
+std::vector<glm::vec3> giSampleDirections(uint32_t count) {
+    // Spherical Fibonacci: equal-area bands in z, golden-angle turns in longitude.
+    const double goldenAngle = 3.14159265358979323846 * (3.0 - std::sqrt(5.0));
+    std::vector<glm::vec3> directions(count);
+    for (uint32_t i = 0; i < count; ++i) {
+        const double z = 1.0 - (2.0 * i + 1.0) / count;
+        const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
+        const double phi = goldenAngle * i;
+        directions[i] = glm::vec3(glm::normalize(glm::dvec3(r * std::cos(phi), r * std::sin(phi), z)));
+    }
+    return directions;
+}
+
+namespace {
+
+// The brick a surfel belongs to: its cell and the axis direction closest to its normal (so a
+// thin wall's two sides, and a corner's two walls, are different bricks).
+using BrickKey = std::tuple<int64_t, int64_t, int64_t, int>;
+
+BrickKey brickKey(const IrradianceVolume& volume, const GiSample& s) {
+    const glm::dvec3 cell = glm::floor((glm::dvec3(s.position) - glm::dvec3(volume.bounds.min)) / double(volume.brickSize));
+    const glm::vec3 a = glm::abs(s.normal);
+    const int axis = a.x >= a.y && a.x >= a.z ? 0 : a.y >= a.z ? 1 : 2;
+    const int direction = axis * 2 + (s.normal[axis] < 0.0f ? 1 : 0);
+    auto clampCell = [](double c) { return int64_t(std::clamp(c, -1e15, 1e15)); };
+    return {clampCell(cell.x), clampCell(cell.y), clampCell(cell.z), direction};
+}
+
+void addTransfer(std::array<double, 9>& sum, const glm::vec3& direction, double weight) {
+    const std::array<double, 9> y = shBasis(glm::dvec3(direction));
+    for (size_t k = 0; k < 9; ++k) sum[k] += y[k] * weight;
+}
+
+}  // namespace
+
+GiBake buildGiBake(const IrradianceVolume& volume, const std::vector<std::vector<GiSample>>& samples) {
+    GiBake bake;
+    bake.probeCounts = volume.probeCounts;
+    bake.probePositions = giProbePositions(volume);
+    if (samples.size() != bake.probePositions.size())
+        throw RendererError(fmt::format("GI bake: {} probes' samples for a {}x{}x{} volume", samples.size(), volume.probeCounts.x,
+                                        volume.probeCounts.y, volume.probeCounts.z));
+    bake.samplesPerProbe = samples.empty() ? 0 : uint32_t(samples[0].size());
+
+    // Surface bricks (every probe's surfels in a brick share its radiance), then one brick per
+    // sky sample. Surfels are kept in brick order.
+    std::map<BrickKey, uint32_t> brickOf;
+    std::vector<std::vector<GiSurfel>> brickSurfels;
+    struct Pending {
+        uint32_t brick;
+        glm::vec3 direction;
+    };
+    std::vector<std::vector<Pending>> probeHits(samples.size());
+    bake.backFaceFraction.assign(samples.size(), 0.0f);
+    bake.valid.assign(samples.size(), true);
+    for (size_t p = 0; p < samples.size(); ++p) {
+        uint32_t backFaces = 0;
+        for (const GiSample& s : samples[p]) {
+            if (s.kind == GiSample::Kind::BackFace) {
+                ++backFaces;   // the inside of something: it sends the probe no light
+                continue;
+            }
+            uint32_t brick;
+            if (s.kind == GiSample::Kind::Sky) {
+                brick = uint32_t(brickSurfels.size());
+                brickSurfels.emplace_back();
+                bake.bricks.push_back(GiBrick{0, 0, true, s.direction});
+            } else {
+                auto it = volume.bricks ? brickOf.find(brickKey(volume, s)) : brickOf.end();
+                if (it == brickOf.end()) {
+                    brick = uint32_t(brickSurfels.size());
+                    brickSurfels.emplace_back();
+                    bake.bricks.push_back(GiBrick{});
+                    if (volume.bricks) brickOf.emplace(brickKey(volume, s), brick);
+                } else {
+                    brick = it->second;
+                }
+                brickSurfels[brick].push_back(GiSurfel{s.position, s.normal, s.albedo, s.emission});
+            }
+            probeHits[p].push_back(Pending{brick, s.direction});
+        }
+        const size_t count = samples[p].size();
+        bake.backFaceFraction[p] = count ? float(backFaces) / float(count) : 0.0f;
+        bake.valid[p] = count > 0 && bake.backFaceFraction[p] <= volume.invalidBackFaceFraction;
+    }
+    for (size_t b = 0; b < bake.bricks.size(); ++b) {
+        bake.bricks[b].firstSurfel = uint32_t(bake.surfels.size());
+        bake.bricks[b].surfelCount = uint32_t(brickSurfels[b].size());
+        bake.surfels.insert(bake.surfels.end(), brickSurfels[b].begin(), brickSurfels[b].end());
+    }
+
+    // Transfers: per probe, per brick it sees, the sum of its samples' SH weights.
+    bake.probeFirstTransfer.resize(samples.size());
+    bake.probeTransferCount.resize(samples.size());
+    for (size_t p = 0; p < samples.size(); ++p) {
+        const double weight = 4.0 * 3.14159265358979323846 / double(std::max<size_t>(samples[p].size(), 1));
+        std::map<uint32_t, std::array<double, 9>> sums;
+        for (const Pending& hit : probeHits[p]) addTransfer(sums[hit.brick], hit.direction, weight);
+        bake.probeFirstTransfer[p] = uint32_t(bake.transfers.size());
+        bake.probeTransferCount[p] = uint32_t(sums.size());
+        for (const auto& [brick, sum] : sums) {
+            GiTransfer transfer;
+            transfer.brick = brick;
+            for (size_t k = 0; k < 9; ++k) transfer.sh[k] = float(sum[k]);
+            bake.transfers.push_back(transfer);
+        }
+    }
+    return bake;
+}
+
+std::vector<std::vector<GiSample>> captureGiSamples(rhi::IDevice& device, const GpuScene& gpuScene, const IrradianceVolume& volume,
+                                                    uint32_t faceSize, PassReport* report) {
+    constexpr rhi::Format kFormat = rhi::Format::RGBA16_FLOAT;
+    std::array<rhi::TextureHandle, 3> targets;
+    const char* names[3] = {"gi bake albedo+distance", "gi bake normal+facing", "gi bake emission"};
+    for (size_t i = 0; i < 3; ++i)
+        targets[i] = device.createTexture(rhi::TextureDesc{}
+                                              .setDimension(rhi::TextureDimension::TextureCube)
+                                              .setFormat(kFormat)
+                                              .setSize(faceSize, faceSize)
+                                              .setUsage(rhi::TextureUsage::RenderTarget | rhi::TextureUsage::Sampled)
+                                              .setDebugName(names[i]));
+    const rhi::TextureHandle depth = device.createTexture(rhi::TextureDesc{}
+                                                               .setFormat(rhi::Format::D32_FLOAT)
+                                                               .setSize(faceSize, faceSize)
+                                                               .setUsage(rhi::TextureUsage::RenderTarget)
+                                                               .setDebugName("gi bake depth"));
+    const rhi::ShaderHandle vertex = makeShader(device, rhi::ShaderStage::Vertex, "forward_vert");
+    const rhi::ShaderHandle fragment = makeShader(device, rhi::ShaderStage::Fragment, "gi_gbuffer_frag");
+    // Cube faces are mirrored views (scene_view.h): the pipelines' winding says so, so
+    // gl_FrontFacing tells front from back.
+    const GpuScene::MeshPipelines pipelines = gpuScene.createUnculledPipelines(
+        vertex, fragment, rhi::DepthState{true, true, rhi::CompareOp::Less}, {kFormat, kFormat, kFormat}, rhi::Format::D32_FLOAT, true,
+        "gi bake g-buffer");
+    const std::vector<glm::vec3> positions = giProbePositions(volume);
+    const std::vector<glm::vec3> directions = giSampleDirections(volume.surfelsPerProbe);
+    std::vector<CubeTexel> texels(directions.size());
+    for (size_t i = 0; i < directions.size(); ++i) texels[i] = cubeTexelOf(glm::dvec3(directions[i]), faceSize);
+
+    const rhi::CommandListHandle cmd = device.createCommandList();
+    std::vector<std::vector<GiSample>> result(positions.size());
+    std::array<rhi::BufferHandle, 6> uniforms;
+    for (uint32_t face = 0; face < 6; ++face)
+        uniforms[face] = device.createBuffer(
+            rhi::BufferDesc{}.setSize(sizeof(FrameUniforms)).setUsage(rhi::BufferUsage::Uniform).setDebugName("gi bake face"));
+    std::array<rhi::BindingSetHandle, 6> bindings;
+    for (uint32_t face = 0; face < 6; ++face)
+        bindings[face] = device.createBindingSet(
+            rhi::BindingSetDesc{}.add(rhi::BindingItem::uniformBuffer(JANUS_BINDING_FRAME_UNIFORMS, uniforms[face])));
+    const rhi::TimerQueryHandle timer = device.capabilities().timestampQueries ? device.createTimerQuery() : nullptr;
+    for (size_t p = 0; p < positions.size(); ++p) {
+        const std::array<SceneView, 6> views = makeCubeFaceViews(positions[p], faceSize, volume.nearPlane, volume.farPlane, "gi bake");
+        cmd->begin();
+        if (timer) cmd->beginTimer(timer);
+        for (uint32_t face = 0; face < 6; ++face) {
+            FrameUniforms frame{};
+            frame.viewProjection = views[face].viewProjection();
+            frame.cameraPosition = glm::vec4(positions[p], 1.0f);
+            cmd->writeBuffer(uniforms[face], &frame, sizeof(frame));
+            rhi::RenderPassDesc pass;
+            pass.addColor(rhi::Attachment::clear(targets[0], {0.0f, 0.0f, 0.0f, -1.0f}, {0, face}))
+                .addColor(rhi::Attachment::clear(targets[1], {0.0f, 0.0f, 0.0f, 0.0f}, {0, face}))
+                .addColor(rhi::Attachment::clear(targets[2], {0.0f, 0.0f, 0.0f, 0.0f}, {0, face}))
+                .setDepth(rhi::Attachment::clearDepthTo(depth, 1.0f));
+            cmd->beginRenderPass(pass);
+            PassReport faceReport;
+            gpuScene.drawMeshes(*cmd, views[face], pipelines, bindings[face], faceReport);
+            if (report) report->draws += faceReport.draws;
+            cmd->endRenderPass();
+        }
+        if (timer) cmd->endTimer(timer);
+        cmd->end();
+        device.execute(cmd);
+        if (timer && report)
+            if (const std::optional<double> seconds = device.timerSeconds(timer)) report->gpuMs = report->gpuMs.value_or(0.0) + *seconds * 1e3;
+        // Six faces of three targets back as halves.
+        std::array<std::array<std::vector<uint16_t>, 6>, 3> data;
+        for (size_t t = 0; t < 3; ++t)
+            for (uint32_t face = 0; face < 6; ++face) {
+                const std::vector<std::byte> bytes = device.readTexture(targets[t], {0, face});
+                data[t][face].resize(bytes.size() / 2);
+                std::memcpy(data[t][face].data(), bytes.data(), bytes.size());
+            }
+        auto texel = [&](size_t target, const CubeTexel& c) {
+            const uint16_t* h = data[target][c.face].data() + (size_t(c.y) * faceSize + c.x) * 4;
+            return glm::vec4(glm::unpackHalf1x16(h[0]), glm::unpackHalf1x16(h[1]), glm::unpackHalf1x16(h[2]), glm::unpackHalf1x16(h[3]));
+        };
+        std::vector<GiSample>& out = result[p];
+        out.resize(directions.size());
+        for (size_t i = 0; i < directions.size(); ++i) {
+            GiSample& s = out[i];
+            s.direction = directions[i];
+            const glm::vec4 albedoDistance = texel(0, texels[i]);
+            if (!(albedoDistance.w >= 0.0f)) {
+                s.kind = GiSample::Kind::Sky;
+                continue;
+            }
+            const glm::vec4 normalFacing = texel(1, texels[i]);
+            s.kind = normalFacing.w < 0.0f ? GiSample::Kind::BackFace : GiSample::Kind::Surface;
+            // Along the sample's own direction at the texel's distance: the surfel lies where
+            // that direction meets the surface (to the texel's precision).
+            s.position = positions[p] + directions[i] * albedoDistance.w;
+            const glm::vec3 n(normalFacing);
+            s.normal = glm::dot(n, n) > 1e-12f ? glm::normalize(n) : -directions[i];
+            s.albedo = glm::clamp(glm::vec3(albedoDistance), glm::vec3(0.0f), glm::vec3(1.0f));
+            s.emission = glm::max(glm::vec3(texel(2, texels[i])), glm::vec3(0.0f));
+        }
+    }
+    return result;
+}
+
+}  // namespace janus::renderer

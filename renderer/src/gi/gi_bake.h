@@ -1,0 +1,78 @@
+// The GI bake (internal to the renderer; docs/GI.md, "Bake"): what a relight needs, made once per
+// scene.
+//
+//   1. Each probe of the volume's grid renders a G-buffer cube (gi_gbuffer.frag: albedo and
+//      distance, normal and facing, emission) with the scene's meshes, no face culling.
+//   2. `surfelsPerProbe` stratified directions (a spherical Fibonacci set) read it: each becomes a
+//      sample — a surfel on a front face, a back-face hit (the probe is inside something), or sky.
+//   3. buildGiBake groups the surfels into bricks (cells of `brickSize` metres x the six axis
+//      directions of the normal; or one brick per surfel on the per-surfel path), gives every sky
+//      sample a brick of its own (its radiance is the sky's along its direction), and keeps per
+//      (probe, brick) the SH9 transfer T_k = sum over the probe's samples in the brick of
+//      Y_k(direction) * 4 pi / N. Probe SH = sum over its bricks of radiance(brick) * T.
+//   4. A probe with more than `invalidBackFaceFraction` of its samples on back faces is invalid.
+// Steps 3-4 are CPU functions of the samples, so tests can feed them analytic surfels.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "core/gpu_scene.h"
+#include "janus/renderer/scene.h"
+
+namespace janus::renderer {
+
+// One direction of one probe's G-buffer.
+struct GiSample {
+    enum class Kind : uint8_t { Surface, BackFace, Sky };
+    Kind kind = Kind::Sky;
+    glm::vec3 direction{0.0f, 0.0f, 1.0f};   // unit, from the probe
+    glm::vec3 position{0.0f}, normal{0.0f, 0.0f, 1.0f}, albedo{0.0f}, emission{0.0f};   // surfaces
+};
+
+struct GiSurfel {
+    glm::vec3 position{0.0f}, normal{0.0f, 0.0f, 1.0f}, albedo{0.0f}, emission{0.0f};
+};
+
+struct GiBrick {
+    uint32_t firstSurfel = 0, surfelCount = 0;
+    bool sky = false;
+    glm::vec3 skyDirection{0.0f};
+};
+
+struct GiTransfer {
+    uint32_t brick = 0;
+    std::array<float, 9> sh{};
+};
+
+struct GiBake {
+    glm::uvec3 probeCounts{1, 1, 1};
+    std::vector<glm::vec3> probePositions;   // grid order: x + X (y + Y z)
+    std::vector<float> backFaceFraction;     // per probe
+    std::vector<bool> valid;                 // per probe
+    std::vector<GiSurfel> surfels;           // grouped by brick
+    std::vector<GiBrick> bricks;
+    std::vector<GiTransfer> transfers;       // grouped by probe
+    std::vector<uint32_t> probeFirstTransfer, probeTransferCount;
+    uint32_t samplesPerProbe = 0;
+};
+
+// Probe i of the grid sits at the centre of cell i of `bounds` split into probeCounts cells.
+std::vector<glm::vec3> giProbePositions(const IrradianceVolume& volume);
+glm::vec3 giProbeSpacing(const IrradianceVolume& volume);
+// N unit directions, evenly spread over the sphere (spherical Fibonacci).
+std::vector<glm::vec3> giSampleDirections(uint32_t count);
+
+// Steps 3-4 above. `samples[p]` are probe p's samples (all of the same count).
+GiBake buildGiBake(const IrradianceVolume& volume, const std::vector<std::vector<GiSample>>& samples);
+
+// Steps 1-2 on the GPU: renders every probe's G-buffer cube and reads the samples back.
+// `faceSize` is the cube's face size (32 gives 6144 texels for up to 4096 directions). With
+// timestamp queries, `report` gets the G-buffer draws' GPU time and their draw count.
+std::vector<std::vector<GiSample>> captureGiSamples(rhi::IDevice& device, const GpuScene& gpuScene, const IrradianceVolume& volume,
+                                                    uint32_t faceSize = 32, PassReport* report = nullptr);
+
+}  // namespace janus::renderer

@@ -1,0 +1,322 @@
+// Probe GI feature (probe_gi.h, docs/GI.md).
+#include "gi/probe_gi.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+#include <numeric>
+
+#include <fmt/format.h>
+#include <glm/gtc/packing.hpp>
+
+#include "core/gpu_util.h"
+#include "forward/forward_shading.h"
+#include "janus/shaders/bindings.h"
+
+namespace janus::renderer {
+
+namespace {
+
+constexpr uint32_t kDataWidth = 1024;   // gi_relight_common.glsl kGiDataWidth
+constexpr uint32_t kGroupSize = 64;     // gi_brick_radiance.comp, gi_probe_sh.comp
+
+// std140 mirror of gi_relight_common.glsl's GiRelightParams.
+struct GiRelightParams {
+    glm::ivec4 counts{0};
+    glm::ivec4 schedule{0};
+    glm::ivec4 grid{1};
+};
+
+// An RGBA32F data texture 1024 texels wide holding `texels` (padded with zeros).
+rhi::TextureHandle makeDataTexture(rhi::IDevice& device, std::vector<glm::vec4> texels, const char* name) {
+    const uint32_t rows = std::max<uint32_t>(1, uint32_t((texels.size() + kDataWidth - 1) / kDataWidth));
+    texels.resize(size_t(rows) * kDataWidth, glm::vec4(0.0f));
+    rhi::TextureHandle texture = device.createTexture(
+        rhi::TextureDesc{}.setFormat(rhi::Format::RGBA32_FLOAT).setSize(kDataWidth, rows).setUsage(rhi::TextureUsage::Sampled).setDebugName(name));
+    device.writeTexture(texture, {}, texels.data(), texels.size() * sizeof(glm::vec4));
+    return texture;
+}
+
+}  // namespace
+
+ProbeGi::ProbeGi(rhi::IDevice& device, const Scene& scene, const GpuScene& gpuScene, const LocalLights& localLights,
+                 MainLightShadows& shadows, const ImageBasedLighting& imageBasedLighting, FeaturePath path,
+                 const glm::vec3& cameraPosition)
+    : m_device(device), m_localLights(localLights), m_shadows(shadows), m_imageBasedLighting(imageBasedLighting), m_path(path) {
+    m_pointSampler = device.createSampler(rhi::SamplerDesc{}.setFilter(rhi::Filter::Nearest).setAddress(rhi::AddressMode::ClampToEdge));
+    m_standInUniforms = makeUniformBuffer(device, GiVolumeUniforms{}, "no irradiance volume");   // origin.w 0: off
+    if (!scene.irradianceVolume) {
+        m_standInVolume = device.createTexture(rhi::TextureDesc{}
+                                                   .setDimension(rhi::TextureDimension::Texture3D)
+                                                   .setFormat(rhi::Format::RGBA16_FLOAT)
+                                                   .setSize(1, 1, 9)
+                                                   .setUsage(rhi::TextureUsage::Sampled)
+                                                   .setDebugName("no irradiance volume"));
+        return;
+    }
+    if (path == FeaturePath::Compute) device.require(rhi::Capability::StorageImages, "the GI relight's compute path");
+    m_active = true;
+    m_volume = *scene.irradianceVolume;
+    m_relightFrame = sceneFrameUniforms(scene);
+    m_relightFrame.lightCounts = glm::ivec4(m_relightFrame.lightCounts.x, int(localLights.count()), 0, 0);
+    m_relightFrame.skyParams = imageBasedLighting.shadingParams();
+    m_bounces = m_volume.bounces;
+
+    // The bake's report: its G-buffer draws and their GPU time, and the whole bake's CPU time
+    // (readbacks, surfels, bricks, transfers).
+    const auto start = std::chrono::steady_clock::now();
+    PassReport bakeReport;
+    bakeReport.name = "gi-bake";
+    m_bake = buildGiBake(m_volume, captureGiSamples(device, gpuScene, m_volume, 32, &bakeReport));
+    bakeReport.cpuMs = millisecondsSince(start);
+    m_startupReports.push_back(bakeReport);
+
+    m_probeCount = uint32_t(m_bake.probePositions.size());
+    m_probesPerStep = m_volume.probesPerFrame == 0 ? m_probeCount : std::min(m_volume.probesPerFrame, m_probeCount);
+    // Relight order: nearest the camera first (ties in grid order).
+    m_rankToProbe.resize(m_probeCount);
+    std::iota(m_rankToProbe.begin(), m_rankToProbe.end(), 0u);
+    std::stable_sort(m_rankToProbe.begin(), m_rankToProbe.end(), [&](uint32_t a, uint32_t b) {
+        return glm::distance(m_bake.probePositions[a], cameraPosition) < glm::distance(m_bake.probePositions[b], cameraPosition);
+    });
+    upload();
+    m_commandList = device.createCommandList();
+}
+
+void ProbeGi::upload() {
+    std::vector<glm::vec4> surfels, bricks, transfers, probes;
+    surfels.reserve(m_bake.surfels.size() * 4);
+    for (const GiSurfel& s : m_bake.surfels) {
+        surfels.push_back(glm::vec4(s.position, 0.0f));
+        surfels.push_back(glm::vec4(s.normal, 0.0f));
+        surfels.push_back(glm::vec4(s.albedo, 0.0f));
+        surfels.push_back(glm::vec4(s.emission, 0.0f));
+    }
+    for (const GiBrick& b : m_bake.bricks) {
+        bricks.push_back(glm::vec4(float(b.firstSurfel), float(b.surfelCount), b.sky ? 1.0f : 0.0f, 0.0f));
+        bricks.push_back(glm::vec4(b.skyDirection, 0.0f));
+    }
+    for (const GiTransfer& t : m_bake.transfers) {
+        transfers.push_back(glm::vec4(float(t.brick), t.sh[0], t.sh[1], t.sh[2]));
+        transfers.push_back(glm::vec4(t.sh[3], t.sh[4], t.sh[5], t.sh[6]));
+        transfers.push_back(glm::vec4(t.sh[7], t.sh[8], 0.0f, 0.0f));
+    }
+    std::vector<uint32_t> rankOf(m_probeCount);
+    for (uint32_t r = 0; r < m_probeCount; ++r) rankOf[m_rankToProbe[r]] = r;
+    for (uint32_t p = 0; p < m_probeCount; ++p)
+        probes.push_back(glm::vec4(float(m_bake.probeFirstTransfer[p]), float(m_bake.probeTransferCount[p]), m_bake.valid[p] ? 1.0f : 0.0f,
+                                   float(rankOf[p])));
+    for (uint32_t r = 0; r < m_probeCount; ++r) probes.push_back(glm::vec4(float(m_rankToProbe[r]), 0.0f, 0.0f, 0.0f));
+    m_surfels = makeDataTexture(m_device, std::move(surfels), "gi surfels");
+    m_bricks = makeDataTexture(m_device, std::move(bricks), "gi bricks");
+    m_transfers = makeDataTexture(m_device, std::move(transfers), "gi transfers");
+    m_probes = makeDataTexture(m_device, std::move(probes), "gi probes");
+
+    const bool compute = m_path == FeaturePath::Compute;
+    const uint32_t brickRows = std::max<uint32_t>(1, uint32_t((m_bake.bricks.size() + kDataWidth - 1) / kDataWidth));
+    // RGBA32F where the device renders to it (ES 3.0 needs EXT_color_buffer_float), else RGBA16F.
+    const bool float32Target = compute || m_device.formatCapabilities(rhi::Format::RGBA32_FLOAT).has(rhi::FormatCapability::RenderTarget);
+    m_brickRadiance = m_device.createTexture(rhi::TextureDesc{}
+                                                 .setFormat(float32Target ? rhi::Format::RGBA32_FLOAT : rhi::Format::RGBA16_FLOAT)
+                                                 .setSize(kDataWidth, brickRows)
+                                                 .setUsage(rhi::TextureUsage::Sampled |
+                                                           (compute ? rhi::TextureUsage::Storage : rhi::TextureUsage::RenderTarget))
+                                                 .setDebugName("gi brick radiance"));
+    const glm::uvec3 counts = m_volume.probeCounts;
+    m_volumeTexture = m_device.createTexture(rhi::TextureDesc{}
+                                                 .setDimension(rhi::TextureDimension::Texture3D)
+                                                 .setFormat(rhi::Format::RGBA16_FLOAT)
+                                                 .setSize(counts.x, counts.z, counts.y * 9)
+                                                 .setUsage(rhi::TextureUsage::Sampled |
+                                                           (compute ? rhi::TextureUsage::Storage : rhi::TextureUsage::RenderTarget))
+                                                 .setDebugName("irradiance volume"));
+    // Zero: every probe invalid (no weight) until its first relight.
+    const std::vector<uint16_t> zeros(size_t(counts.x) * counts.z * 4, 0);
+    for (uint32_t slice = 0; slice < counts.y * 9; ++slice)
+        m_device.writeTexture(m_volumeTexture, {0, slice}, zeros.data(), zeros.size() * sizeof(uint16_t));
+
+    GiVolumeUniforms uniforms;
+    const glm::vec3 spacing = giProbeSpacing(m_volume);
+    uniforms.origin = glm::vec4(m_bake.probePositions[0], 1.0f);
+    uniforms.spacing = glm::vec4(spacing, m_volume.normalBias);
+    uniforms.counts = glm::ivec4(glm::ivec3(counts), 0);
+    m_volumeUniforms = makeUniformBuffer(m_device, uniforms, "irradiance volume");
+}
+
+void ProbeGi::addPasses(PassGraph& graph, const SceneView&) {
+    if (!m_active || graph.find("", gi_resources::kIrradianceVolume)) return;
+    graph.publish("", gi_resources::kIrradianceVolume, ViewTarget{graph.importResource(gi_resources::kIrradianceVolume), m_volumeTexture, {}});
+}
+
+void ProbeGi::addViewBindings(rhi::BindingSetDesc& set) const {
+    set.add(rhi::BindingItem::sampledTexture(JANUS_BINDING_GI_VOLUME, m_active ? m_volumeTexture : m_standInVolume, m_pointSampler))
+        .add(rhi::BindingItem::uniformBuffer(JANUS_BINDING_GI_UNIFORMS, m_active ? m_volumeUniforms : m_standInUniforms));
+}
+
+void ProbeGi::markDirty() {
+    if (!m_active) return;
+    m_cyclesDone = 0;
+    m_nextRank = 0;
+}
+
+void ProbeGi::setupRelight() {
+    if (m_brickPipeline) return;
+    const bool compute = m_path == FeaturePath::Compute;
+    auto computePipeline = [&](const char* shader, const char* name) {
+        return m_device.createComputePipeline(
+            rhi::ComputePipelineDesc{}.setShader(makeShader(m_device, rhi::ShaderStage::Compute, shader)).setDebugName(name));
+    };
+    auto graphicsPipeline = [&](const char* shader, const char* name, rhi::Format format) {
+        return m_device.createGraphicsPipeline(rhi::GraphicsPipelineDesc{}
+                                                   .setShaders(makeShader(m_device, rhi::ShaderStage::Vertex, "fullscreen_vert"),
+                                                               makeShader(m_device, rhi::ShaderStage::Fragment, shader))
+                                                   .addColorFormat(format)
+                                                   .setDebugName(name));
+    };
+    m_brickPipeline = compute ? computePipeline("gi_brick_radiance_comp", "gi brick radiance")
+                              : graphicsPipeline("gi_brick_radiance_frag", "gi brick radiance", m_brickRadiance->desc().format);
+    m_shPipeline = compute ? computePipeline("gi_probe_sh_comp", "gi probe sh")
+                           : graphicsPipeline("gi_probe_sh_frag", "gi probe sh", rhi::Format::RGBA16_FLOAT);
+
+    // The relight lights surfels as forward shading lights surfaces: the scene's directional
+    // lights (the main one shadowed), every local light (no tiles), the sky.
+    FrameUniforms frame = m_relightFrame;
+    if (const DirectionalShadowMap* map = m_shadows.map()) {   // made by this relight's shadow-map pass setup
+        frame.worldToShadow = map->worldToShadow();
+        frame.shadowParams = glm::vec4(1.0f, map->texelSize(), map->normalOffset(), 0.0f);
+    }
+    m_frameUniforms = makeUniformBuffer(m_device, frame, "gi relight frame");
+    m_relightParams = m_device.createBuffer(
+        rhi::BufferDesc{}.setSize(sizeof(GiRelightParams)).setUsage(rhi::BufferUsage::Uniform).setDebugName("gi relight params"));
+
+    rhi::BindingSetDesc brick;
+    brick.add(rhi::BindingItem::uniformBuffer(JANUS_BINDING_FRAME_UNIFORMS, m_frameUniforms))
+        .add(rhi::BindingItem::uniformBuffer(JANUS_BINDING_GI_RELIGHT_PARAMS, m_relightParams))
+        .add(rhi::BindingItem::sampledTexture(JANUS_BINDING_GI_SURFELS, m_surfels, m_pointSampler))
+        .add(rhi::BindingItem::sampledTexture(JANUS_BINDING_GI_BRICKS, m_bricks, m_pointSampler))
+        .add(m_shadows.binding(JANUS_BINDING_SHADOW_MAP));
+    m_localLights.addViewBindings(brick);
+    m_imageBasedLighting.addViewBindings(brick);
+    addViewBindings(brick);
+    if (compute) brick.add(rhi::BindingItem::storageImage(JANUS_BINDING_GI_TARGET, m_brickRadiance, 0));
+    m_brickBindings = m_device.createBindingSet(brick);
+
+    rhi::BindingSetDesc sh;
+    sh.add(rhi::BindingItem::uniformBuffer(JANUS_BINDING_GI_RELIGHT_PARAMS, m_relightParams))
+        .add(rhi::BindingItem::sampledTexture(JANUS_BINDING_GI_TRANSFERS, m_transfers, m_pointSampler))
+        .add(rhi::BindingItem::sampledTexture(JANUS_BINDING_GI_PROBES, m_probes, m_pointSampler))
+        .add(rhi::BindingItem::sampledTexture(JANUS_BINDING_GI_BRICK_RADIANCE, m_brickRadiance, m_pointSampler));
+    if (compute) sh.add(rhi::BindingItem::storageImage(JANUS_BINDING_GI_TARGET, m_volumeTexture, 0));
+    m_shBindings = m_device.createBindingSet(sh);
+}
+
+void ProbeGi::recordBrickRadiance(rhi::ICommandList& cmd, PassReport& report, bool bounce) {
+    GiRelightParams params;
+    params.counts = glm::ivec4(int(m_bake.bricks.size()), int(m_probeCount), bounce ? 1 : 0, m_volume.shOrder == 1 ? 4 : 9);
+    params.grid = glm::ivec4(glm::ivec3(m_volume.probeCounts), 0);
+    cmd.writeBuffer(m_relightParams, &params, sizeof(params));
+    if (m_path == FeaturePath::Compute) {
+        cmd.setPipeline(m_brickPipeline);
+        cmd.setBindingSet(0, m_brickBindings);
+        cmd.dispatch(std::max<uint32_t>(1, uint32_t((m_bake.bricks.size() + kGroupSize - 1) / kGroupSize)), 1, 1);
+        ++report.dispatches;
+        return;
+    }
+    rhi::Attachment target = rhi::Attachment::clear(m_brickRadiance, {0, 0, 0, 0});
+    target.loadOp = rhi::LoadOp::DontCare;   // every texel is written
+    drawFullscreenTriangle(cmd, target, m_brickPipeline, m_brickBindings, report);
+}
+
+void ProbeGi::recordProbeSh(rhi::ICommandList& cmd, PassReport& report, uint32_t firstRank, uint32_t count, bool bounce) {
+    GiRelightParams params;
+    params.counts = glm::ivec4(int(m_bake.bricks.size()), int(m_probeCount), bounce ? 1 : 0, m_volume.shOrder == 1 ? 4 : 9);
+    params.schedule = glm::ivec4(int(firstRank), int(count), 0, 0);
+    params.grid = glm::ivec4(glm::ivec3(m_volume.probeCounts), 0);
+    if (m_path == FeaturePath::Compute) {
+        cmd.writeBuffer(m_relightParams, &params, sizeof(params));
+        cmd.setPipeline(m_shPipeline);
+        cmd.setBindingSet(0, m_shBindings);
+        cmd.dispatch(count, 1, 1);
+        ++report.dispatches;
+        return;
+    }
+    // One draw per slice y * 9 + k; fragments of probes not relit now are discarded (Load keeps them).
+    for (uint32_t slice = 0; slice < m_volume.probeCounts.y * 9; ++slice) {
+        params.schedule.z = int(slice);
+        cmd.writeBuffer(m_relightParams, &params, sizeof(params));
+        drawFullscreenTriangle(cmd, rhi::Attachment::load(m_volumeTexture, {0, slice}), m_shPipeline, m_shBindings, report);
+    }
+}
+
+void ProbeGi::beginFrame(FrameReport& frame) {
+    if (!relightPending()) return;
+    PassGraph graph;
+    SceneView view;
+    view.name = "gi relight";
+    m_shadows.addPasses(graph, view);
+    std::vector<PassGraph::ResourceId> lightInputs;
+    if (const ViewTarget* shadowMap = graph.find(view.name, frame_resources::kShadowMap)) lightInputs.push_back(shadowMap->resource);
+    const PassGraph::ResourceId volume = graph.importResource(gi_resources::kIrradianceVolume);
+    const bool compute = m_path == FeaturePath::Compute;
+    const char* suffix = compute ? "-compute" : "-fallback";
+
+    // A step relights m_probesPerStep probes; with every probe per step, all cycles run now.
+    const uint32_t cycles = m_probesPerStep >= m_probeCount ? m_bounces - m_cyclesDone : 1;
+    for (uint32_t c = 0; c < cycles; ++c) {
+        const bool bounce = m_volumeHasLight || c > 0;
+        const uint32_t firstRank = m_nextRank;
+        const uint32_t count = std::min(m_probesPerStep, m_probeCount - firstRank);
+        const PassGraph::ResourceId brickRadiance = graph.addResource(fmt::format("gi brick radiance {}", c));
+        PassGraph::PassDesc bricks;
+        bricks.name = std::string("gi-brick-radiance") + suffix;
+        bricks.view = view.name;
+        bricks.reads = lightInputs;
+        bricks.reads.push_back(volume);
+        bricks.writes = {brickRadiance};
+        bricks.setup = [this] { setupRelight(); };
+        bricks.record = [this, bounce](rhi::ICommandList& cmd, PassReport& report) { recordBrickRadiance(cmd, report, bounce); };
+        graph.addPass(std::move(bricks));
+        PassGraph::PassDesc sh;
+        sh.name = std::string("gi-probe-sh") + suffix;
+        sh.view = view.name;
+        sh.reads = {brickRadiance};
+        sh.writes = {volume};
+        sh.record = [this, firstRank, count, bounce](rhi::ICommandList& cmd, PassReport& report) {
+            recordProbeSh(cmd, report, firstRank, count, bounce);
+        };
+        graph.addPass(std::move(sh));
+        m_nextRank = firstRank + count;
+        if (m_nextRank >= m_probeCount) {
+            m_nextRank = 0;
+            ++m_cyclesDone;
+            m_volumeHasLight = true;
+        }
+    }
+    graph.markOutput(volume);
+    graph.compile(m_device);
+    for (PassReport& pass : graph.execute(m_device, m_commandList)) frame.passes.push_back(std::move(pass));
+    frame.views.push_back(ViewReport{view.name, 0, 0});
+}
+
+std::vector<GiProbeSh> ProbeGi::readProbes() const {
+    std::vector<GiProbeSh> result(m_probeCount);
+    if (!m_active) return result;
+    const glm::uvec3 counts = m_volume.probeCounts;
+    std::vector<uint16_t> halves;
+    for (uint32_t slice = 0; slice < counts.y * 9; ++slice) {
+        const std::vector<std::byte> bytes = m_device.readTexture(m_volumeTexture, {0, slice});
+        halves.resize(bytes.size() / 2);
+        std::memcpy(halves.data(), bytes.data(), bytes.size());
+        const uint32_t y = slice / 9, k = slice % 9;
+        for (uint32_t z = 0; z < counts.z; ++z)
+            for (uint32_t x = 0; x < counts.x; ++x) {
+                const uint16_t* h = halves.data() + (size_t(z) * counts.x + x) * 4;
+                GiProbeSh& probe = result[x + counts.x * (y + counts.y * z)];
+                probe.coefficients[k] = glm::vec3(glm::unpackHalf1x16(h[0]), glm::unpackHalf1x16(h[1]), glm::unpackHalf1x16(h[2]));
+                if (k == 0) probe.valid = glm::unpackHalf1x16(h[3]) > 0.5f;
+            }
+    }
+    return result;
+}
+
+}  // namespace janus::renderer

@@ -1,0 +1,59 @@
+// The irradiance volume as shading reads it (docs/GI.md): forward shading and the relight's
+// further bounces. Probes sit at origin + i * spacing (i in [0, counts)); the volume texture holds
+// probe i's SH9 irradiance / pi at texel (i.x, i.z, i.y * 9 + k), k the coefficient (basis order
+// of ibl/sh_basis.glsl); coefficient 0's alpha is the probe's validity (0 inside geometry).
+#ifndef JANUS_GI_ACCESS_GLSL
+#define JANUS_GI_ACCESS_GLSL
+#include "janus/shaders/bindings.h"
+#include "ibl/sh_basis.glsl"
+
+layout(set = JANUS_SET_VIEW, binding = JANUS_BINDING_GI_VOLUME) uniform highp sampler3D giVolumeTexture;
+layout(set = JANUS_SET_VIEW, binding = JANUS_BINDING_GI_UNIFORMS, std140) uniform GiVolumeUniforms {
+    vec4 origin;    // xyz probe (0, 0, 0), w 1 when the volume lights the scene (0: no volume, stand-ins bound)
+    vec4 spacing;   // xyz between probes (> 0), w normal bias (world units)
+    ivec4 counts;   // xyz probes per axis, w unused
+} giVolume;
+
+// Irradiance / pi at `position` for `normal` (rgb, clamped at 0), and how much the volume covers
+// the point (a): 1 inside the grid of probes, falling to 0 one probe spacing outside it, and 0 where
+// every probe around is invalid. Trilinear over the 8 surrounding probes, each weighted by its
+// validity, weights renormalised.
+vec4 giIrradianceOverPi(vec3 position, vec3 normal) {
+    if (giVolume.origin.w <= 0.0) return vec4(0.0);
+    ivec3 counts = giVolume.counts.xyz;
+    vec3 g = (position + normal * giVolume.spacing.w - giVolume.origin.xyz) / giVolume.spacing.xyz;
+    vec3 last = vec3(counts - 1);
+    vec3 outside = max(max(-g, g - last), vec3(0.0));
+    float coverage = clamp(1.0 - max(outside.x, max(outside.y, outside.z)), 0.0, 1.0);
+    if (coverage <= 0.0) return vec4(0.0);
+    g = clamp(g, vec3(0.0), last);
+    ivec3 base = min(ivec3(floor(g)), max(counts - 2, ivec3(0)));
+    vec3 f = g - vec3(base);
+    vec3 c0 = vec3(0.0), c1 = vec3(0.0), c2 = vec3(0.0), c3 = vec3(0.0), c4 = vec3(0.0), c5 = vec3(0.0), c6 = vec3(0.0),
+         c7 = vec3(0.0), c8 = vec3(0.0);
+    float weightSum = 0.0;
+    for (int corner = 0; corner < 8; ++corner) {
+        ivec3 o = ivec3(corner & 1, (corner >> 1) & 1, (corner >> 2) & 1);
+        ivec3 p = min(base + o, counts - 1);
+        vec3 w3 = mix(vec3(1.0) - f, f, vec3(o));
+        int z0 = p.y * 9;
+        vec4 first = texelFetch(giVolumeTexture, ivec3(p.x, p.z, z0), 0);
+        float w = w3.x * w3.y * w3.z * first.a;
+        if (w <= 0.0) continue;
+        weightSum += w;
+        c0 += w * first.rgb;
+        c1 += w * texelFetch(giVolumeTexture, ivec3(p.x, p.z, z0 + 1), 0).rgb;
+        c2 += w * texelFetch(giVolumeTexture, ivec3(p.x, p.z, z0 + 2), 0).rgb;
+        c3 += w * texelFetch(giVolumeTexture, ivec3(p.x, p.z, z0 + 3), 0).rgb;
+        c4 += w * texelFetch(giVolumeTexture, ivec3(p.x, p.z, z0 + 4), 0).rgb;
+        c5 += w * texelFetch(giVolumeTexture, ivec3(p.x, p.z, z0 + 5), 0).rgb;
+        c6 += w * texelFetch(giVolumeTexture, ivec3(p.x, p.z, z0 + 6), 0).rgb;
+        c7 += w * texelFetch(giVolumeTexture, ivec3(p.x, p.z, z0 + 7), 0).rgb;
+        c8 += w * texelFetch(giVolumeTexture, ivec3(p.x, p.z, z0 + 8), 0).rgb;
+    }
+    if (weightSum < 1e-6) return vec4(0.0);
+    ShBasis y = shEvalBasis(normal);
+    vec3 sum = c0 * y.a.x + c1 * y.a.y + c2 * y.a.z + c3 * y.a.w + c4 * y.b.x + c5 * y.b.y + c6 * y.b.z + c7 * y.b.w + c8 * y.c;
+    return vec4(max(sum / weightSum, vec3(0.0)), coverage);
+}
+#endif

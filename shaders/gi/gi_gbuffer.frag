@@ -1,0 +1,37 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// The GI bake's G-buffer (docs/GI.md, "Bake"): one shader for every material, three RGBA16F
+// targets of a probe's cube face, drawn with forward.vert and no face culling:
+//   0: diffuse albedo (base colour x (1 - metallic)), distance from the probe (cleared to -1: sky)
+//   1: the normal of the side seen, +1 when that side is a front face (or the material is
+//      double-sided), -1 for a back face (the probe looks at the inside of something)
+//   2: emission, 0
+#include "renderer/forward_common.glsl"
+
+layout(set = JANUS_SET_DRAW, binding = JANUS_BINDING_BASE_COLOR) uniform sampler2D baseColorTexture;
+layout(set = JANUS_SET_DRAW, binding = JANUS_BINDING_METALLIC_ROUGHNESS) uniform sampler2D metallicRoughnessTexture;
+layout(set = JANUS_SET_DRAW, binding = JANUS_BINDING_EMISSIVE) uniform sampler2D emissiveTexture;
+
+layout(location = 0) in vec3 vWorldPosition;
+layout(location = 1) in vec3 vNormal;
+layout(location = 2) in vec2 vUv;
+layout(location = 3) in vec4 vTangent;
+
+layout(location = 0) out vec4 outAlbedoDistance;
+layout(location = 1) out vec4 outNormalFacing;
+layout(location = 2) out vec4 outEmission;
+
+void main() {
+    vec4 baseColor = draw.baseColorFactor * texture(baseColorTexture, vUv);
+    if (draw.flags.z == kAlphaModeMask && baseColor.a < draw.emissiveFactor.w) discard;
+    float metallic = clamp(draw.materialParams.x * texture(metallicRoughnessTexture, vUv).b, 0.0, 1.0);
+    vec3 toSurface = vWorldPosition - frame.cameraPosition.xyz;
+    float lengthSq = dot(vNormal, vNormal);
+    vec3 normal = lengthSq > 1e-24 ? normalize(vNormal) : -normalize(toSurface);
+    if (!gl_FrontFacing) normal = -normal;
+    bool front = gl_FrontFacing || draw.flags.x != 0;
+    outAlbedoDistance = vec4(clamp(baseColor.rgb, 0.0, 1.0) * (1.0 - metallic), length(toSurface));
+    outNormalFacing = vec4(normal, front ? 1.0 : -1.0);
+    vec3 emission = draw.emissiveFactor.rgb * texture(emissiveTexture, vUv).rgb;
+    outEmission = vec4(min(mix(emission, vec3(0.0), isnan(emission)), vec3(65000.0)), 0.0);
+}

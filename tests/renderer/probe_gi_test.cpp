@@ -1,0 +1,533 @@
+// Probe GI (docs/GI.md): scene parsing, the bake's SH transfer math (CPU), and on every
+// configuration: analytic irradiance in an emissive box, bricks = per-surfel, negative
+// coefficients survive the volume's encoding, colour bleeding and parity on the cornell box,
+// relight only when needed, the multi-frame schedule, hard cases that must stay finite.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+
+#include <fmt/format.h>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "core/gpu_scene.h"
+#include "gi/gi_bake.h"
+#include "ibl/cube_geometry.h"
+#include "ibl/spherical_harmonics.h"
+#include "janus/renderer/renderer.h"
+#include "renderer/renderer_test_support.h"
+#include "scene/scene_internal.h"
+
+namespace janus::renderer {
+namespace {
+
+namespace fs = std::filesystem;
+using test_support::Config;
+
+const fs::path kCornellBox = fs::path(JANUS_SHARED_SCENES_DIR) / "cornell-box" / "cornellBox.gltf";
+
+fs::path writeSceneFile(const std::string& name, const std::string& volume) {
+    const fs::path path = test_support::outputDir() / fmt::format("gi-{}.json", name);
+    std::ofstream(path) << fmt::format(R"({{"gltf": "{}", "irradianceVolume": {}}})", kCornellBox.generic_string(), volume);
+    return path;
+}
+
+// ---- Scenes -------------------------------------------------------------------------------
+
+TEST(IrradianceVolumeScenes, ASceneFileGivesEveryField) {
+    const Scene scene = loadScene(writeSceneFile("full", R"({"name": "hall", "bounds": {"min": [-1, 0, -1], "max": [1, 2, 1]},
+        "probes": [2, 3, 4], "surfelsPerProbe": 128, "brickSize": 0.25, "bricks": false, "bounces": 3, "shOrder": 1,
+        "probesPerFrame": 5, "normalBias": 0.05, "invalidBackFaceFraction": 0.3, "near": 0.02, "far": 9})"));
+    ASSERT_TRUE(scene.irradianceVolume.has_value());
+    const IrradianceVolume& v = *scene.irradianceVolume;
+    EXPECT_EQ(v.name, "hall");
+    EXPECT_EQ(v.bounds, (Box{{-1, 0, -1}, {1, 2, 1}}));
+    EXPECT_EQ(v.probeCounts, glm::uvec3(2, 3, 4));
+    EXPECT_EQ(v.surfelsPerProbe, 128u);
+    EXPECT_FLOAT_EQ(v.brickSize, 0.25f);
+    EXPECT_FALSE(v.bricks);
+    EXPECT_EQ(v.bounces, 3u);
+    EXPECT_EQ(v.shOrder, 1u);
+    EXPECT_EQ(v.probesPerFrame, 5u);
+    EXPECT_FLOAT_EQ(v.normalBias, 0.05f);
+    EXPECT_FLOAT_EQ(v.invalidBackFaceFraction, 0.3f);
+    EXPECT_FLOAT_EQ(v.nearPlane, 0.02f);
+    EXPECT_FLOAT_EQ(v.farPlane, 9.0f);
+    // Spacing instead of counts: ceil(size / spacing) per axis.
+    const Scene spaced = loadScene(writeSceneFile("spacing", R"({"bounds": {"min": [0, 0, 0], "max": [3, 1, 2]}, "spacing": 0.75})"));
+    EXPECT_EQ(spaced.irradianceVolume->probeCounts, glm::uvec3(4, 2, 3));
+}
+
+TEST(IrradianceVolumeScenes, TheCornellBoxMarkerPlacesAVolumeOverTheScene) {
+    const Scene scene = loadScene(kCornellBox);
+    ASSERT_TRUE(scene.irradianceVolume.has_value());
+    EXPECT_EQ(scene.irradianceVolume->name, "IrradianceVolume");
+    const Box bounds = detail::sceneBounds(scene);
+    EXPECT_TRUE(glm::all(glm::greaterThan(scene.irradianceVolume->bounds.min, bounds.min)));
+    EXPECT_TRUE(glm::all(glm::lessThan(scene.irradianceVolume->bounds.max, bounds.max)));
+}
+
+TEST(IrradianceVolumeScenes, BadVolumesAreSceneErrorsNamingTheProblem) {
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {R"({"probes": [0, 2, 2]})", "probes along x"},
+        {R"({"probes": 65})", "each axis needs 1 to 64"},
+        {R"({"probes": [2, 2]})", "[x, y, z] counts"},
+        {R"({"probes": 2, "spacing": 1})", "not both"},
+        {R"({"spacing": 0})", "spacing must be"},
+        {R"({"surfelsPerProbe": 8})", "8 surfels per probe"},
+        {R"({"brickSize": -1})", "brick size -1"},
+        {R"({"bounces": 0})", "0 bounces"},
+        {R"({"shOrder": 3})", "SH order 3"},
+        {R"({"normalBias": -0.1})", "normal bias"},
+        {R"({"invalidBackFaceFraction": 0})", "invalidBackFaceFraction"},
+        {R"({"bounds": {"min": [1, 0, 0], "max": [0, 1, 1]}})", "above max"},
+        {R"({"near": 2, "far": 1})", "0 < near < far"},
+        {R"([1])", "must be an object"},
+    };
+    for (size_t i = 0; i < cases.size(); ++i) {
+        try {
+            loadScene(writeSceneFile(fmt::format("bad{}", i), cases[i].first));
+            ADD_FAILURE() << cases[i].first << " was accepted";
+        } catch (const SceneError& e) {
+            EXPECT_NE(std::string(e.what()).find(cases[i].second), std::string::npos) << e.what();
+        }
+    }
+}
+
+// ---- Bake math (CPU) ------------------------------------------------------------------------
+
+TEST(GiBake, SampleDirectionsAreUnitAndBalanced) {
+    const std::vector<glm::vec3> directions = giSampleDirections(256);
+    glm::dvec3 sum(0.0);
+    for (const glm::vec3& d : directions) {
+        EXPECT_NEAR(glm::length(d), 1.0f, 1e-5f);
+        sum += glm::dvec3(d);
+    }
+    EXPECT_LT(glm::length(sum) / 256.0, 0.01);   // evenly spread: no direction favoured
+}
+
+TEST(GiBake, CubeTexelOfInvertsTexelDirections) {
+    for (uint32_t face = 0; face < 6; ++face)
+        for (uint32_t y = 0; y < 8; ++y)
+            for (uint32_t x = 0; x < 8; ++x) {
+                const CubeTexel t = cubeTexelOf(cubeTexelDirection(face, x, y, 8), 8);
+                EXPECT_EQ(t.face, face);
+                EXPECT_EQ(t.x, x);
+                EXPECT_EQ(t.y, y);
+            }
+}
+
+IrradianceVolume oneProbeVolume(bool bricks) {
+    IrradianceVolume v;
+    v.bounds = Box{glm::vec3(-1.0f), glm::vec3(1.0f)};
+    v.probeCounts = glm::uvec3(1);
+    v.surfelsPerProbe = 1024;
+    v.bricks = bricks;
+    v.brickSize = 0.5f;
+    return v;
+}
+
+// The probe's irradiance / pi SH from the bake with every brick at its surfels' mean emission:
+// what the relight computes with no lights and no bounce.
+ShRgb cpuIrradianceOverPi(const GiBake& bake, uint32_t probe) {
+    ShRgb radiance{};
+    for (uint32_t t = bake.probeFirstTransfer[probe]; t < bake.probeFirstTransfer[probe] + bake.probeTransferCount[probe]; ++t) {
+        const GiTransfer& transfer = bake.transfers[t];
+        const GiBrick& brick = bake.bricks[transfer.brick];
+        glm::dvec3 mean(0.0);
+        for (uint32_t s = brick.firstSurfel; s < brick.firstSurfel + brick.surfelCount; ++s) mean += glm::dvec3(bake.surfels[s].emission);
+        if (brick.surfelCount) mean /= double(brick.surfelCount);
+        for (size_t k = 0; k < 9; ++k) radiance[k] += mean * double(transfer.sh[k]);
+    }
+    return shConvolveIrradiance(radiance);
+}
+
+TEST(GiBake, OneBrightSurfelGivesTheClampedCosineLobe) {
+    const IrradianceVolume volume = oneProbeVolume(true);
+    const std::vector<glm::vec3> directions = giSampleDirections(volume.surfelsPerProbe);
+    std::vector<GiSample> samples(directions.size());
+    for (size_t i = 0; i < samples.size(); ++i) samples[i].direction = directions[i];   // sky (black: no brick radiance here)
+    GiSample& bright = samples[37];
+    bright.kind = GiSample::Kind::Surface;
+    bright.position = bright.direction * 0.8f;
+    bright.normal = -bright.direction;
+    bright.emission = glm::vec3(1000.0f);
+    const GiBake bake = buildGiBake(volume, {samples});
+    const ShRgb sh = cpuIrradianceOverPi(bake, 0);
+    // A radiance L over the sample's solid angle 4 pi / N from direction d: irradiance / pi =
+    // L (4 pi / N) / pi * max(0, n.d), whose SH is (L (4 pi / N) / pi) * the clamped-cosine SH.
+    const double scale = 1000.0 * (4.0 * 3.14159265358979 / volume.surfelsPerProbe) / 3.14159265358979;
+    const ShRgb lobe = shClampedCosineRadiance(glm::dvec3(bright.direction), glm::dvec3(scale));
+    for (size_t k = 0; k < 9; ++k) EXPECT_NEAR(sh[k].x, lobe[k].x, 1e-4 * scale) << "coefficient " << k;
+}
+
+TEST(GiBake, BricksAndPerSurfelGiveTheSameShForTheSameSurfels) {
+    // A uniformly emissive closed room: every surfel of a brick has the same radiance, so
+    // grouping changes nothing but the number of terms.
+    std::vector<GiSample> samples;
+    for (const glm::vec3& d : giSampleDirections(512)) {
+        GiSample s;
+        s.kind = GiSample::Kind::Surface;
+        s.direction = d;
+        s.position = d / glm::max(glm::abs(d.x), glm::max(glm::abs(d.y), glm::abs(d.z)));   // on the cube |p| = 1
+        s.normal = -d;
+        s.emission = glm::vec3(2.0f, 1.0f, 0.5f);
+        samples.push_back(s);
+    }
+    IrradianceVolume bricks = oneProbeVolume(true), perSurfel = oneProbeVolume(false);
+    bricks.surfelsPerProbe = perSurfel.surfelsPerProbe = 512;
+    const GiBake a = buildGiBake(bricks, {samples}), b = buildGiBake(perSurfel, {samples});
+    EXPECT_LT(a.bricks.size(), b.bricks.size());
+    EXPECT_EQ(b.bricks.size(), 512u);
+    const ShRgb shA = cpuIrradianceOverPi(a, 0), shB = cpuIrradianceOverPi(b, 0);
+    for (size_t k = 0; k < 9; ++k)
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(shA[k][c], shB[k][c], 1e-5) << "coefficient " << k;
+    // And the closed form: constant radiance E gives irradiance / pi = E for every normal.
+    for (const glm::dvec3 n : {glm::dvec3(1, 0, 0), glm::dvec3(0, -1, 0), glm::normalize(glm::dvec3(1, 2, 3))})
+        EXPECT_NEAR(shEvaluate(shA, n).x, 2.0, 0.02);
+}
+
+TEST(GiBake, ProbesSeeingMostlyBackFacesAreInvalid) {
+    const IrradianceVolume volume = oneProbeVolume(true);
+    std::vector<GiSample> samples(volume.surfelsPerProbe);
+    for (size_t i = 0; i < samples.size(); ++i) samples[i].kind = i % 3 == 0 ? GiSample::Kind::Surface : GiSample::Kind::BackFace;
+    const GiBake bake = buildGiBake(volume, {samples});
+    EXPECT_FALSE(bake.valid[0]);
+    EXPECT_NEAR(bake.backFaceFraction[0], 2.0f / 3.0f, 0.01f);
+    for (GiSample& s : samples) s.kind = GiSample::Kind::Sky;
+    EXPECT_TRUE(buildGiBake(volume, {samples}).valid[0]);
+}
+
+// ---- On every configuration ---------------------------------------------------------------
+
+class ProbeGiTest : public testing::TestWithParam<Config> {
+protected:
+    rhi::IDevice& device() { return test_support::deviceFor(GetParam().backend); }
+    RenderSettings settings(uint32_t width = 96, uint32_t height = 96) const {
+        RenderSettings s;
+        s.width = width;
+        s.height = height;
+        s.path = GetParam().path;
+        return s;
+    }
+    void expectNoMessages() {
+        const std::vector<rhi::DebugMessage> messages = device().takeDebugMessages();
+        EXPECT_TRUE(messages.empty()) << GetParam().name() << ":" << test_support::joinMessages(messages);
+    }
+};
+
+// Mean HDR red / green over a rectangle of the image.
+glm::dvec3 meanHdr(const ImageRGBAF& image, uint32_t x0, uint32_t y0, uint32_t x1, uint32_t y1) {
+    glm::dvec3 sum(0.0);
+    for (uint32_t y = y0; y < y1; ++y)
+        for (uint32_t x = x0; x < x1; ++x) {
+            const float* p = &image.pixels[(size_t(y) * image.width + x) * 4];
+            sum += glm::dvec3(p[0], p[1], p[2]);
+        }
+    return sum / double((x1 - x0) * (y1 - y0));
+}
+
+// A closed 2 m box whose double-sided inside emits `emission` per face (+X, -X, +Y, -Y, +Z, -Z
+// walls), black albedo, no lights, one probe at the centre.
+Scene emissiveRoom(const std::array<glm::vec3, 6>& emission, bool bricks = true) {
+    Scene scene;
+    scene.name = "emissive room";
+    scene.environment.ambientColor = glm::vec3(0.0f);
+    const glm::vec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    for (int face = 0; face < 6; ++face) {
+        const int32_t material = detail::addMaterial(scene, fmt::format("wall {}", face), glm::vec3(0.0f), 0.0f, 1.0f, emission[face]);
+        scene.materials[material].doubleSided = true;
+        const uint32_t mesh = detail::addMesh(scene, detail::makeQuad(material));   // 2x2 in XY facing +Z
+        // Move the quad to the wall at axis * 1, facing inwards.
+        const glm::vec3 n = -axes[face];
+        const glm::vec3 up = std::abs(n.y) > 0.5f ? glm::vec3(0, 0, 1) : glm::vec3(0, 1, 0);
+        const glm::vec3 right = glm::normalize(glm::cross(up, n));
+        glm::mat4 world(1.0f);
+        world[0] = glm::vec4(right, 0.0f);
+        world[1] = glm::vec4(glm::cross(n, right), 0.0f);
+        world[2] = glm::vec4(n, 0.0f);
+        world[3] = glm::vec4(axes[face], 1.0f);
+        scene.instances.push_back(Instance{mesh, world, 1u, fmt::format("wall {}", face)});
+    }
+    scene.camera.position = glm::vec3(0.0f, 0.0f, 0.8f);
+    scene.camera.target = glm::vec3(0.0f, -0.2f, -1.0f);
+    IrradianceVolume volume;
+    volume.bounds = Box{glm::vec3(-0.1f), glm::vec3(0.1f)};
+    volume.probeCounts = glm::uvec3(1);
+    volume.surfelsPerProbe = 1024;
+    volume.bricks = bricks;
+    volume.bounces = 1;
+    scene.irradianceVolume = volume;
+    return scene;
+}
+
+// Every sample of the bake's G-buffer sees the wall its direction points at (six walls, six
+// emissions): no face, and no face's mirror image, is mixed up.
+TEST_P(ProbeGiTest, BakeSamplesSeeTheWallTheirDirectionPointsAt) {
+    device().takeDebugMessages();
+    const std::array<glm::vec3, 6> colours = {glm::vec3(1, 0, 0), glm::vec3(0, 1, 0), glm::vec3(0, 0, 1),
+                                              glm::vec3(1, 1, 0), glm::vec3(0, 1, 1), glm::vec3(1, 0, 1)};
+    const Scene scene = emissiveRoom(colours);
+    const GpuScene gpuScene(device(), scene);
+    IrradianceVolume volume = *scene.irradianceVolume;
+    volume.surfelsPerProbe = 512;
+    const std::vector<std::vector<GiSample>> samples = captureGiSamples(device(), gpuScene, volume, 32);
+    expectNoMessages();
+    ASSERT_EQ(samples.size(), 1u);
+    uint32_t wrong = 0;
+    for (const GiSample& s : samples[0]) {
+        const glm::vec3 a = glm::abs(s.direction);
+        // Skip directions within 2 degrees of an edge of the cube (a texel may hold the neighbour).
+        const float major = std::max(a.x, std::max(a.y, a.z));
+        const float second = a.x + a.y + a.z - major - std::min(a.x, std::min(a.y, a.z));
+        if (major - second < 0.035f * major) continue;
+        const int axis = a.x == major ? 0 : a.y == major ? 1 : 2;
+        const int face = axis * 2 + (s.direction[axis] < 0.0f ? 1 : 0);
+        EXPECT_EQ(s.kind, GiSample::Kind::Surface);
+        if (glm::distance(s.emission, colours[face]) > 0.01f) ++wrong;
+        // A 32^2 face's texel spans up to ~3 % of the distance towards the face's edges.
+        EXPECT_NEAR(glm::length(s.position), 1.0f / major, 0.035f / major);
+        EXPECT_GT(glm::dot(s.normal, -s.direction), 0.5f);
+    }
+    EXPECT_EQ(wrong, 0u) << GetParam().name();
+}
+
+TEST_P(ProbeGiTest, AUniformlyEmissiveRoomGivesTheAnalyticIrradiance) {
+    device().takeDebugMessages();
+    const glm::vec3 e(1.5f, 1.0f, 0.25f);
+    for (bool bricks : {true, false}) {
+        Renderer renderer(device(), emissiveRoom({e, e, e, e, e, e}, bricks), settings(32, 32));
+        renderer.renderFrame();
+        const std::vector<IrradianceProbe> probes = renderer.readIrradianceProbes();
+        ASSERT_EQ(probes.size(), 1u);
+        EXPECT_TRUE(probes[0].valid);
+        ShRgb sh{};
+        for (size_t k = 0; k < 9; ++k) sh[k] = glm::dvec3(probes[0].sh[k]);
+        // Constant radiance E: irradiance / pi = E for every normal. 1024 surfels and half floats:
+        // within 1 %.
+        for (const glm::dvec3 n : {glm::dvec3(1, 0, 0), glm::dvec3(0, 0, -1), glm::normalize(glm::dvec3(-1, 2, 1))}) {
+            const glm::dvec3 value = shEvaluate(sh, n);
+            for (int c = 0; c < 3; ++c) EXPECT_NEAR(value[c], e[c], 0.01 * e[c] + 1e-3) << GetParam().name() << " bricks " << bricks;
+        }
+    }
+    expectNoMessages();
+}
+
+// A white floor between a red glowing wall (-X) and a green one (+X), lit only through the
+// volume (4 probes along x): shading must read the probes where the floor is.
+TEST_P(ProbeGiTest, ShadingReadsTheProbesWhereTheSurfaceIs) {
+    device().takeDebugMessages();
+    std::array<glm::vec3, 6> emission{};
+    emission[0] = glm::vec3(0.0f, 2.0f, 0.0f);   // +X green
+    emission[1] = glm::vec3(2.0f, 0.0f, 0.0f);   // -X red
+    Scene scene = emissiveRoom(emission);
+    scene.materials[3].baseColorFactor = glm::vec4(1.0f);   // the floor (-Y) reflects
+    scene.irradianceVolume->bounds = Box{glm::vec3(-0.9f, -0.9f, -0.9f), glm::vec3(0.9f, 0.9f, 0.9f)};
+    scene.irradianceVolume->probeCounts = glm::uvec3(4, 3, 2);   // every axis, so no two are mixed up
+    scene.camera.position = glm::vec3(0.0f, 0.9f, 0.0f);
+    scene.camera.target = glm::vec3(0.0f, -1.0f, 0.0f);
+    scene.camera.up = glm::vec3(0.0f, 0.0f, -1.0f);   // +X to the right of the image
+    Renderer renderer(device(), scene, settings(32, 32));
+    renderer.renderFrame();
+    const ImageRGBAF hdr = renderer.readHdrImage();
+    expectNoMessages();
+    const glm::dvec3 left = meanHdr(hdr, 2, 12, 8, 20), right = meanHdr(hdr, 24, 12, 30, 20);
+    EXPECT_GT(left.r, 1.5 * left.g) << GetParam().name() << " left " << left.r << " " << left.g;
+    EXPECT_GT(right.g, 1.5 * right.r) << GetParam().name() << " right " << right.r << " " << right.g;
+}
+
+TEST_P(ProbeGiTest, NegativeCoefficientsSurviveTheVolume) {
+    device().takeDebugMessages();
+    // Only the -X wall glows: the x coefficient (index 3) is negative, and so is (2, 2)... of the
+    // lobe's SH; the stored values match the CPU bake's.
+    std::array<glm::vec3, 6> emission{};
+    emission[1] = glm::vec3(4.0f);
+    const Scene scene = emissiveRoom(emission);
+    Renderer renderer(device(), scene, settings(32, 32));
+    renderer.renderFrame();
+    const std::vector<IrradianceProbe> probes = renderer.readIrradianceProbes();
+    expectNoMessages();
+    ASSERT_EQ(probes.size(), 1u);
+    EXPECT_LT(probes[0].sh[3].x, -0.1f) << "L1 x of a light from -X must be negative";
+    // Bright from -X, dark towards +X.
+    ShRgb sh{};
+    for (size_t k = 0; k < 9; ++k) sh[k] = glm::dvec3(probes[0].sh[k]);
+    EXPECT_GT(shEvaluate(sh, glm::dvec3(-1, 0, 0)).x, 1.0);
+    EXPECT_LT(std::abs(shEvaluate(sh, glm::dvec3(1, 0, 0)).x), 0.2);
+}
+
+// Renders until the volume has no relight left (at most 32 frames).
+test_support::FrameOutput renderSettled(rhi::IDevice& device, const Scene& scene, const RenderSettings& settings) {
+    test_support::FrameOutput output;
+    Renderer renderer(device, scene, settings);
+    for (int frame = 0; frame < 32; ++frame) {
+        output.report = renderer.renderFrame();
+        if (!renderer.probesPending() && frame > 0 && !test_support::hasPassStartingWith(output.report, "gi-")) break;
+    }
+    output.display = renderer.readDisplayImage();
+    output.hdr = renderer.readHdrImage();
+    return output;
+}
+
+
+TEST_P(ProbeGiTest, TheRedWallBleedsOntoTheFloor) {
+    device().takeDebugMessages();
+    Scene withGi = loadScene(kCornellBox);
+    withGi.reflectionProbes.clear();   // GI alone: the probe's glossy light would differ between the two
+    // A plain grey floor facing straight up. The shared file's floor has a test texture with
+    // coloured patches near its edges, and smooth normals that lean away from each wall (45 degrees
+    // at the edges: the floor next to the red wall faces the green one, and is rightly lit by it).
+    int32_t ground = -1;
+    for (size_t i = 0; i < withGi.materials.size(); ++i)
+        if (withGi.materials[i].name == "cornellBox.ground.000") ground = int32_t(i);
+    ASSERT_GE(ground, 0);
+    withGi.materials[size_t(ground)].baseColorTexture = -1;
+    withGi.materials[size_t(ground)].baseColorFactor = glm::vec4(0.8f, 0.8f, 0.8f, 1.0f);
+    for (Mesh& mesh : withGi.meshes)
+        if (mesh.material == ground)
+            for (Vertex& v : mesh.vertices) v.normal = glm::vec3(0.0f, 1.0f, 0.0f);
+    Scene without = withGi;
+    without.irradianceVolume.reset();
+    const RenderSettings s = settings(96, 96);
+    const test_support::FrameOutput a = renderSettled(device(), withGi, s);
+    const test_support::FrameOutput b = renderSettled(device(), without, s);
+    expectNoMessages();
+    test_support::expectFiniteHdr(a.hdr, GetParam().name());
+    // The floor next to the red wall (left) and next to the green wall (right): what GI changes
+    // there, per channel (with / without; the floor's texture and the light's colour cancel).
+    const uint32_t y0 = 66, y1 = 80;
+    const glm::dvec3 gainLeft = meanHdr(a.hdr, 20, y0, 28, y1) / glm::max(meanHdr(b.hdr, 20, y0, 28, y1), glm::dvec3(1e-6));
+    const glm::dvec3 gainRight = meanHdr(a.hdr, 70, y0, 78, y1) / glm::max(meanHdr(b.hdr, 70, y0, 78, y1), glm::dvec3(1e-6));
+    const glm::dvec3 l = meanHdr(a.hdr, 20, y0, 28, y1), lw = meanHdr(b.hdr, 20, y0, 28, y1);
+    const glm::dvec3 r = meanHdr(a.hdr, 70, y0, 78, y1), rw = meanHdr(b.hdr, 70, y0, 78, y1);
+    const std::string values = fmt::format("{}: gain left ({:.3f}, {:.3f}, {:.3f}) right ({:.3f}, {:.3f}, {:.3f})", GetParam().name(),
+                                           gainLeft.r, gainLeft.g, gainLeft.b, gainRight.r, gainRight.g, gainRight.b);
+    // Next to the red wall GI adds more red than green, next to the green wall more green than red.
+    EXPECT_GT(gainLeft.r / gainLeft.g, 1.02) << values;
+    EXPECT_GT(gainRight.g / gainRight.r, 1.02) << values;
+    EXPECT_GT(gainLeft.r / gainLeft.g, gainRight.r / gainRight.g * 1.05) << values;
+    if (HasFailure()) {
+        writePNG(test_support::outputDir() / fmt::format("gi-cornell-{}.png", GetParam().name()), a.display);
+        writePNG(test_support::outputDir() / fmt::format("gi-cornell-{}-without.png", GetParam().name()), b.display);
+    }
+}
+
+TEST_P(ProbeGiTest, TheCornellBoxWithGiMatchesVulkanCompute) {
+    device().takeDebugMessages();
+    const Scene scene = loadScene(kCornellBox);
+    static const test_support::FrameOutput reference = renderSettled(test_support::deviceFor(rhi::Backend::Vulkan), scene, [] {
+        RenderSettings s;
+        s.width = 96, s.height = 96, s.path = FeaturePath::Compute;
+        return s;
+    }());
+    const test_support::FrameOutput result = renderSettled(device(), scene, settings());
+    expectNoMessages();
+    // As the other parity tests: at most one 8-bit step, except a handful of silhouette pixels.
+    constexpr uint64_t kMaxSilhouettePixels = 4;
+    const ImageDifference diff = compareImages(reference.display, result.display, 1);
+    if (diff.differingPixels > kMaxSilhouettePixels) {
+        const fs::path dir = test_support::outputDir();
+        writePNG(dir / fmt::format("gi-parity-{}.png", GetParam().name()), result.display);
+        writePNG(dir / "gi-parity-vulkan_compute.png", reference.display);
+        writePNG(dir / fmt::format("gi-parity-{}-diff.png", GetParam().name()), differenceHeatmap(reference.display, result.display));
+        ADD_FAILURE() << GetParam().name() << " differs from vulkan/compute by more than 1 step in " << diff.differingPixels
+                      << " pixels (up to " << diff.maxChannelDifference << " steps); images in " << dir;
+    }
+}
+
+uint32_t countPasses(const FrameReport& report, const std::string& prefix) {
+    return uint32_t(std::count_if(report.passes.begin(), report.passes.end(),
+                                  [&](const PassReport& p) { return p.name.rfind(prefix, 0) == 0; }));
+}
+
+TEST_P(ProbeGiTest, AStaticSceneRelightsOnceAndADirtyVolumeRelightsAgain) {
+    device().takeDebugMessages();
+    Scene scene = loadScene(kCornellBox);
+    scene.irradianceVolume->probeCounts = glm::uvec3(2);
+    scene.irradianceVolume->bounces = 2;
+    scene.reflectionProbes.clear();
+    Renderer renderer(device(), scene, settings(48, 48));
+    const FrameReport first = renderer.renderFrame();
+    EXPECT_EQ(countPasses(first, "gi-bake"), 1u);
+    EXPECT_EQ(countPasses(first, "gi-brick-radiance"), 2u) << "two bounces: two cycles";
+    EXPECT_EQ(countPasses(first, "gi-probe-sh"), 2u);
+    for (int frame = 0; frame < 3; ++frame) EXPECT_EQ(countPasses(renderer.renderFrame(), "gi-"), 0u) << "frame " << frame + 2;
+    renderer.markIrradianceDirty();
+    EXPECT_EQ(countPasses(renderer.renderFrame(), "gi-probe-sh"), 2u);
+    EXPECT_EQ(countPasses(renderer.renderFrame(), "gi-"), 0u);
+    expectNoMessages();
+}
+
+TEST_P(ProbeGiTest, KProbesPerFrameRelightNearestTheCameraFirstAndEveryProbeWithinCeilPOverK) {
+    device().takeDebugMessages();
+    Scene scene = loadScene(kCornellBox);
+    scene.irradianceVolume->probeCounts = glm::uvec3(3, 2, 2);   // 12 probes
+    scene.irradianceVolume->probesPerFrame = 5;                  // 3 frames per cycle
+    scene.irradianceVolume->bounces = 1;
+    scene.reflectionProbes.clear();
+    Renderer renderer(device(), scene, settings(32, 32));
+    std::vector<bool> relit(12, false);
+    const glm::vec3 camera = scene.camera.position;
+    float farthestRelit = 0.0f;
+    for (int frame = 1; frame <= 3; ++frame) {
+        const FrameReport report = renderer.renderFrame();
+        EXPECT_EQ(countPasses(report, "gi-probe-sh"), 1u) << "frame " << frame;
+        const std::vector<IrradianceProbe> probes = renderer.readIrradianceProbes();
+        uint32_t count = 0;
+        float nearestNew = 1e30f;
+        for (size_t i = 0; i < probes.size(); ++i) {
+            const bool lit = probes[i].valid || glm::length(probes[i].sh[0]) > 0.0f;
+            if (lit && !relit[i]) nearestNew = std::min(nearestNew, glm::distance(probes[i].position, camera));
+            relit[i] = relit[i] || lit;
+            count += relit[i] ? 1 : 0;
+        }
+        EXPECT_EQ(count, std::min(12u, 5u * frame)) << "frame " << frame;
+        EXPECT_GE(nearestNew + 1e-4f, farthestRelit) << "frame " << frame << " relit a probe nearer than one of an earlier frame";
+        for (size_t i = 0; i < probes.size(); ++i)
+            if (relit[i]) farthestRelit = std::max(farthestRelit, glm::distance(probes[i].position, camera));
+    }
+    EXPECT_EQ(countPasses(renderer.renderFrame(), "gi-"), 0u) << "one bounce: done after ceil(12 / 5) = 3 frames";
+    expectNoMessages();
+}
+
+TEST_P(ProbeGiTest, HardCasesStayFinite) {
+    device().takeDebugMessages();
+    struct Case {
+        const char* name;
+        void (*edit)(Scene&);
+    };
+    const Case cases[] = {
+        {"a probe inside the block", [](Scene& s) { s.irradianceVolume->bounds = Box{{-1.1f, 0.2f, -1.1f}, {-0.9f, 0.4f, -0.9f}}; s.irradianceVolume->probeCounts = glm::uvec3(1); }},
+        {"probes that see only sky", [](Scene& s) { s.irradianceVolume->bounds = Box{{50, 50, 50}, {60, 60, 60}}; s.irradianceVolume->probeCounts = glm::uvec3(2); }},
+        {"black albedo", [](Scene& s) { for (Material& m : s.materials) m.baseColorFactor = glm::vec4(0, 0, 0, 1); }},
+        {"an emission of 1e4", [](Scene& s) { for (Material& m : s.materials) m.emissiveFactor = glm::vec3(1e4f); }},
+        {"one probe", [](Scene& s) { s.irradianceVolume->probeCounts = glm::uvec3(1); }},
+        {"a light exactly at a probe",
+         [](Scene& s) {
+             s.irradianceVolume->probeCounts = glm::uvec3(1);
+             s.lights.push_back(test_support::pointLight(s.irradianceVolume->bounds.center(), glm::vec3(1.0f), 50.0f, std::nullopt));
+         }},
+        {"the camera outside the volume", [](Scene& s) { s.camera.position = glm::vec3(0, 1.5f, 30.0f); }},
+        {"every probe inside geometry",
+         [](Scene& s) {
+             s.irradianceVolume->invalidBackFaceFraction = 1e-6f;
+             s.irradianceVolume->bounds = Box{{-1.1f, 0.2f, -1.1f}, {-0.9f, 0.4f, -0.9f}};
+         }},
+    };
+    for (const Case& c : cases) {
+        Scene scene = loadScene(kCornellBox);
+        scene.reflectionProbes.clear();
+        scene.irradianceVolume->probeCounts = glm::uvec3(2);
+        c.edit(scene);
+        const test_support::FrameOutput output = renderSettled(device(), scene, settings(32, 32));
+        test_support::expectFiniteHdr(output.hdr, fmt::format("{} {}", GetParam().name(), c.name));
+    }
+    expectNoMessages();
+}
+
+INSTANTIATE_TEST_SUITE_P(Configs, ProbeGiTest, testing::ValuesIn(test_support::allConfigs()),
+                         [](const testing::TestParamInfo<Config>& info) { return info.param.name(); });
+
+}  // namespace
+}  // namespace janus::renderer
