@@ -14,6 +14,8 @@ packages=(
   # Libraries
   libglm-dev libtinygltf-dev libstb-dev nlohmann-json3-dev libtinyexr-dev
   libgtest-dev libgmock-dev libbenchmark-dev libfmt-dev
+  # xxHash (header-only use, XXH_INLINE_ALL): scene content hashes and checksums of GI bake files
+  libxxhash-dev
   # CLI: command-line parsing for apps/janus
   libcli11-dev
 )

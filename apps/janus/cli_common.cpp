@@ -75,6 +75,9 @@ int runCommand(const std::function<int()>& body) {
     } catch (const renderer::ImageIOError& e) {
         printError(e.what());
         return exitStatus(ExitCode::InputError);
+    } catch (const renderer::GiBakeFileError& e) {
+        printError(e.what());
+        return exitStatus(ExitCode::InputError);
     } catch (const renderer::RendererError& e) {
         // The renderer throws this for settings the device cannot honour.
         printError(e.what());
@@ -362,6 +365,7 @@ RenderOutcome renderConfiguration(const renderer::Scene& scene, const RenderRequ
     settings.path = request.path;
     settings.lighting = request.lighting;
     settings.debugView = request.debugView;
+    settings.giBakeFile = request.giBakeFile;
 
     RenderOutcome outcome;
     outcome.device = device->info();
@@ -373,7 +377,7 @@ RenderOutcome renderConfiguration(const renderer::Scene& scene, const RenderRequ
         // is shown; the report keeps the last frame's passes and every frame's probe updates.
         std::vector<renderer::ProbeUpdateReport> probeUpdates = outcome.report.probeUpdates;
         outcome.frames = 1;
-        while (frameRenderer.probesPending() && outcome.frames < kMaxWarmUpFrames) {
+        while ((frameRenderer.probesPending() || frameRenderer.irradiancePending()) && outcome.frames < kMaxWarmUpFrames) {
             outcome.report = frameRenderer.renderFrame();
             probeUpdates.insert(probeUpdates.end(), outcome.report.probeUpdates.begin(), outcome.report.probeUpdates.end());
             ++outcome.frames;

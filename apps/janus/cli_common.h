@@ -138,6 +138,7 @@ struct RenderRequest {
     bool wantHdr = false;
     renderer::LightingSettings lighting;
     renderer::DebugView debugView = renderer::DebugView::None;
+    std::filesystem::path giBakeFile;   // empty: the irradiance volume (if any) is baked at start-up
 };
 
 struct RenderOutcome {
@@ -190,6 +191,7 @@ Command addInfoCommand(CLI::App& parent);
 Command addRenderCommand(CLI::App& parent);
 Command addParityCommand(CLI::App& parent);
 Command addBenchCommand(CLI::App& parent);
+Command addBakeCommand(CLI::App& parent);
 // `janus bench probes`, registered under `bench` by addBenchCommand; returns what runs it.
 std::function<int()> addBenchProbesCommand(CLI::App& bench);
 

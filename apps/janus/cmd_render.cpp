@@ -22,6 +22,7 @@ struct RenderOptions {
     bool validation = false;
     bool allowOutsidePaths = false;
     std::string debug;
+    std::string giBake;
     LightingOptions lighting;
     EnvironmentOptions environment;
 };
@@ -42,6 +43,12 @@ int run(const RenderOptions& options) {
     request.validation = options.validation;
     request.lighting = parseLightingOptions(options.lighting);
     if (!options.debug.empty()) request.debugView = parseDebugOption(options.debug);
+    if (!options.giBake.empty()) {
+        request.giBakeFile = options.giBake;
+        std::error_code ec;
+        if (!std::filesystem::is_regular_file(request.giBakeFile, ec))
+            throw UsageError(fmt::format("--gi-bake '{}' is not a file; make one with janus bake SCENE --out FILE", options.giBake));
+    }
 
     if (options.out.empty()) throw UsageError("--out FILE.png is required: where to write the rendered image");
     const std::filesystem::path outPath = options.out;
@@ -67,6 +74,9 @@ int run(const RenderOptions& options) {
 
     renderer::Scene scene = loadSceneOrDefault(scenePath, options.allowOutsidePaths);
     applyEnvironmentOverride(scene, environment);
+    if (scene.irradianceVolume && request.giBakeFile.empty())
+        std::fprintf(stderr, "janus: note: baking the scene's irradiance volume now (the gi-bake pass); janus bake SCENE --out FILE "
+                             "saves a bake that --gi-bake FILE reuses\n");
     const RenderOutcome outcome = renderConfiguration(scene, request);
 
     const bool validationFailed =
@@ -119,9 +129,11 @@ Command addRenderCommand(CLI::App& parent) {
     addGLPlatformOption(*app, options->glPlatform);
     addLightingOptions(*app, options->lighting);
     addEnvironmentOptions(*app, options->environment);
-    app->add_option("--debug", options->debug, "Debug view: none, or tiles (heat map of lights per tile, blue to red; "
-                                               "tiles at the cap white-hatched)")
+    app->add_option("--debug", options->debug, "Debug view: none, tiles (heat map of lights per tile, blue to red; "
+                                               "tiles at the cap white-hatched) or gi (the irradiance volume's light alone)")
         ->type_name("VIEW");
+    app->add_option("--gi-bake", options->giBake, "The scene's irradiance volume from this file (janus bake); default: bake at start-up")
+        ->type_name("FILE");
     app->add_flag("--validation", options->validation,
                   "Enable Vulkan validation layers / GL debug output; errors make the command fail (exit 5)");
     app->footer(kExitCodeHelp);

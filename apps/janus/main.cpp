@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
         janus::cli::addRenderCommand(app),
         janus::cli::addParityCommand(app),
         janus::cli::addBenchCommand(app),
+        janus::cli::addBakeCommand(app),
     };
     app.set_version_flag("--version", "janus " JANUS_VERSION);
     app.require_subcommand(0, 1);

@@ -15,6 +15,7 @@
 // more views with the same features into a cube map.
 #include "janus/renderer/renderer.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstddef>
 #include <cstring>
@@ -23,6 +24,7 @@
 #include <glm/gtc/packing.hpp>
 
 #include "core/gpu_util.h"
+#include "gi/gi_bake_file.h"
 #include "renderer_impl.h"
 
 namespace janus::renderer {
@@ -51,7 +53,7 @@ void Renderer::Impl::createFeatures(const Scene& scene) {
                                                      [this](const CubeCaptureDesc& capture) { return renderCubeCapture(capture); });
     reflectionProbes = probes.get();
     auto gi = std::make_unique<ProbeGi>(device, scene, *gpuScene, *localLights, *shadows, *imageBasedLighting, settings.path,
-                                        mainView.position);
+                                        mainView.position, settings.giBakeFile);
     probeGi = gi.get();
     auto forward = std::make_unique<ForwardShading>(device, scene, *gpuScene, *localLights, *shadows, *imageBasedLighting, *probes, *gi,
                                                     settings.path);
@@ -263,6 +265,7 @@ FrameReport Renderer::renderFrame() { return m_impl->renderFrame(); }
 FrameReport Renderer::renderCubeCapture(const CubeCaptureDesc& capture) { return m_impl->renderCubeCapture(capture); }
 void Renderer::requestProbeUpdate(std::string_view probeName) { m_impl->reflectionProbes->requestUpdate(probeName); }
 bool Renderer::probesPending() const { return m_impl->reflectionProbes->pending(); }
+bool Renderer::irradiancePending() const { return m_impl->probeGi->relightPending(); }
 std::vector<IrradianceProbe> Renderer::readIrradianceProbes() {
     const GiBake& bake = m_impl->probeGi->bake();
     const std::vector<GiProbeSh> stored = m_impl->probeGi->readProbes();
@@ -276,6 +279,25 @@ std::vector<IrradianceProbe> Renderer::readIrradianceProbes() {
     return probes;
 }
 void Renderer::markIrradianceDirty() { m_impl->probeGi->markDirty(); }
+
+IrradianceBakeSummary bakeIrradianceVolume(rhi::IDevice& device, const Scene& scene, const std::filesystem::path& path) {
+    validateScene(scene);
+    if (!scene.irradianceVolume)
+        throw RendererError("the scene has no irradiance volume to bake; give it an \"irradianceVolume\" (docs/SCENES.md) or a glTF node "
+                            "named IrradianceVolume...");
+    const auto start = std::chrono::steady_clock::now();
+    const GpuScene gpuScene(device, scene);
+    const GiBake bake = buildGiBake(*scene.irradianceVolume, captureGiSamples(device, gpuScene, *scene.irradianceVolume));
+    writeGiBakeFile(path, bake, *scene.irradianceVolume, giSceneHash(scene));
+    IrradianceBakeSummary summary;
+    summary.probes = uint32_t(bake.probePositions.size());
+    summary.validProbes = uint32_t(std::count(bake.valid.begin(), bake.valid.end(), true));
+    summary.surfels = bake.surfels.size();
+    summary.bricks = bake.bricks.size();
+    summary.transfers = bake.transfers.size();
+    summary.milliseconds = millisecondsSince(start);
+    return summary;
+}
 ImageRGBA8 Renderer::readDisplayImage() { return m_impl->readDisplayImage(); }
 ImageRGBAF Renderer::readHdrImage() { return m_impl->readHdrImage(); }
 TileLists Renderer::readTileLists() {

@@ -13,6 +13,7 @@
 
 #include "core/gpu_scene.h"
 #include "gi/gi_bake.h"
+#include "gi/gi_bake_file.h"
 #include "ibl/cube_geometry.h"
 #include "ibl/spherical_harmonics.h"
 #include "janus/renderer/renderer.h"
@@ -197,6 +198,114 @@ TEST(GiBake, ProbesSeeingMostlyBackFacesAreInvalid) {
     EXPECT_NEAR(bake.backFaceFraction[0], 2.0f / 3.0f, 0.01f);
     for (GiSample& s : samples) s.kind = GiSample::Kind::Sky;
     EXPECT_TRUE(buildGiBake(volume, {samples}).valid[0]);
+}
+
+// ---- Bake files ---------------------------------------------------------------------------
+
+GiBake smallBake(const IrradianceVolume& volume) {
+    std::vector<std::vector<GiSample>> samples(size_t(volume.probeCounts.x) * volume.probeCounts.y * volume.probeCounts.z);
+    const std::vector<glm::vec3> directions = giSampleDirections(volume.surfelsPerProbe);
+    for (size_t p = 0; p < samples.size(); ++p)
+        for (size_t i = 0; i < directions.size(); ++i) {
+            GiSample s;
+            s.direction = directions[i];
+            s.kind = i % 3 == 0 ? GiSample::Kind::Sky : i % 7 == 0 ? GiSample::Kind::BackFace : GiSample::Kind::Surface;
+            s.position = directions[i] * (1.0f + float(p));
+            s.normal = -directions[i];
+            s.albedo = glm::vec3(0.5f, 0.25f, float(i % 5) / 5.0f);
+            s.emission = glm::vec3(float(i % 11));
+            samples[p].push_back(s);
+        }
+    return buildGiBake(volume, samples);
+}
+
+TEST(GiBakeFiles, ABakeReadsBackAsWritten) {
+    IrradianceVolume volume = oneProbeVolume(true);
+    volume.probeCounts = glm::uvec3(2, 1, 1);
+    volume.surfelsPerProbe = 64;
+    const GiBake bake = smallBake(volume);
+    const fs::path path = test_support::outputDir() / "gi-roundtrip.bake";
+    writeGiBakeFile(path, bake, volume, 42);
+    const GiBake read = readGiBakeFile(path, volume, 42);
+    EXPECT_EQ(read.probePositions, bake.probePositions);
+    EXPECT_EQ(read.backFaceFraction, bake.backFaceFraction);
+    EXPECT_EQ(read.valid, bake.valid);
+    EXPECT_EQ(read.probeFirstTransfer, bake.probeFirstTransfer);
+    EXPECT_EQ(read.probeTransferCount, bake.probeTransferCount);
+    ASSERT_EQ(read.surfels.size(), bake.surfels.size());
+    for (size_t i = 0; i < bake.surfels.size(); ++i) {
+        EXPECT_EQ(read.surfels[i].position, bake.surfels[i].position);
+        EXPECT_EQ(read.surfels[i].emission, bake.surfels[i].emission);
+    }
+    ASSERT_EQ(read.bricks.size(), bake.bricks.size());
+    for (size_t i = 0; i < bake.bricks.size(); ++i) {
+        EXPECT_EQ(read.bricks[i].firstSurfel, bake.bricks[i].firstSurfel);
+        EXPECT_EQ(read.bricks[i].sky, bake.bricks[i].sky);
+        EXPECT_EQ(read.bricks[i].skyDirection, bake.bricks[i].skyDirection);
+    }
+    ASSERT_EQ(read.transfers.size(), bake.transfers.size());
+    for (size_t i = 0; i < bake.transfers.size(); ++i) {
+        EXPECT_EQ(read.transfers[i].brick, bake.transfers[i].brick);
+        EXPECT_EQ(read.transfers[i].sh, bake.transfers[i].sh);
+    }
+}
+
+TEST(GiBakeFiles, BadBakeFilesAreClearErrors) {
+    IrradianceVolume volume = oneProbeVolume(true);
+    volume.surfelsPerProbe = 64;
+    const fs::path dir = test_support::outputDir();
+    const fs::path good = dir / "gi-good.bake";
+    writeGiBakeFile(good, smallBake(volume), volume, 7);
+    std::ifstream in(good, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    auto write = [&](const std::string& name, const std::string& content) {
+        const fs::path path = dir / name;
+        std::ofstream(path, std::ios::binary) << content;
+        return path;
+    };
+    auto expectError = [&](const fs::path& path, uint64_t hash, const IrradianceVolume& v, const std::string& words) {
+        try {
+            readGiBakeFile(path, v, hash);
+            ADD_FAILURE() << path << " was accepted";
+        } catch (const GiBakeFileError& e) {
+            EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find(path.string()), std::string::npos) << e.what();
+        }
+    };
+    expectError(dir / "gi-no-such.bake", 7, volume, "cannot open");
+    expectError(write("gi-text.bake", "hello, this is not a bake"), 7, volume, "not a Janus GI bake");
+    std::string version = bytes;
+    version[8] = char(99);
+    expectError(write("gi-version.bake", version), 7, volume, "format version 99");
+    expectError(write("gi-truncated.bake", bytes.substr(0, bytes.size() / 2)), 7, volume, "truncated");
+    expectError(write("gi-header-only.bake", bytes.substr(0, 20)), 7, volume, "truncated");
+    std::string flipped = bytes;
+    flipped[bytes.size() / 2] = char(flipped[bytes.size() / 2] ^ 0x10);
+    expectError(write("gi-flipped.bake", flipped), 7, volume, "checksum");
+    expectError(good, 8, volume, "another scene");
+    IrradianceVolume other = volume;
+    other.probeCounts = glm::uvec3(2, 2, 2);
+    expectError(good, 7, other, "the scene asks for 2x2x2");
+    EXPECT_NO_THROW(readGiBakeFile(good, volume, 7));
+}
+
+TEST(GiBakeFiles, TheSceneHashFollowsWhatTheBakeDependsOn) {
+    const Scene scene = loadScene(kCornellBox);
+    const uint64_t hash = giSceneHash(scene);
+    EXPECT_EQ(giSceneHash(loadScene(kCornellBox)), hash) << "the same file must hash the same";
+    Scene moved = scene;
+    moved.instances[0].world[3].x += 0.01f;
+    EXPECT_NE(giSceneHash(moved), hash);
+    Scene recoloured = scene;
+    recoloured.materials[0].baseColorFactor.r *= 0.5f;
+    EXPECT_NE(giSceneHash(recoloured), hash);
+    Scene denser = scene;
+    denser.irradianceVolume->surfelsPerProbe = 512;
+    EXPECT_NE(giSceneHash(denser), hash);
+    Scene relit = scene;   // lights and relight settings do not change a bake
+    relit.lights.clear();
+    relit.irradianceVolume->bounces = 3;
+    EXPECT_EQ(giSceneHash(relit), hash);
 }
 
 // ---- On every configuration ---------------------------------------------------------------
@@ -488,6 +597,29 @@ TEST_P(ProbeGiTest, KProbesPerFrameRelightNearestTheCameraFirstAndEveryProbeWith
             if (relit[i]) farthestRelit = std::max(farthestRelit, glm::distance(probes[i].position, camera));
     }
     EXPECT_EQ(countPasses(renderer.renderFrame(), "gi-"), 0u) << "one bounce: done after ceil(12 / 5) = 3 frames";
+    expectNoMessages();
+}
+
+TEST_P(ProbeGiTest, ABakeFileGivesTheImageOfABakeAtStartUp) {
+    device().takeDebugMessages();
+    Scene scene = loadScene(kCornellBox);
+    scene.reflectionProbes.clear();
+    scene.irradianceVolume->probeCounts = glm::uvec3(2);
+    const fs::path file = test_support::outputDir() / fmt::format("gi-cornell-{}.bake", GetParam().name());
+    const IrradianceBakeSummary summary = bakeIrradianceVolume(device(), scene, file);
+    EXPECT_EQ(summary.probes, 8u);
+    EXPECT_GT(summary.bricks, 0u);
+    RenderSettings fromFile = settings(48, 48);
+    fromFile.giBakeFile = file;
+    const test_support::FrameOutput baked = renderSettled(device(), scene, settings(48, 48));
+    Renderer renderer(device(), scene, fromFile);
+    const FrameReport report = renderer.renderFrame();
+    EXPECT_EQ(countPasses(report, "gi-bake"), 0u) << "a bake file means no bake at start-up";
+    EXPECT_EQ(renderer.readDisplayImage().pixels, baked.display.pixels) << GetParam().name();
+    // Another scene's file is refused.
+    Scene other = scene;
+    other.irradianceVolume->surfelsPerProbe = 128;
+    EXPECT_THROW(Renderer(device(), other, fromFile), GiBakeFileError);
     expectNoMessages();
 }
 

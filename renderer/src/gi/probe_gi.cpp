@@ -10,7 +10,8 @@
 #include <glm/gtc/packing.hpp>
 
 #include "core/gpu_util.h"
-#include "forward/forward_shading.h"
+#include "forward/frame_uniforms.h"
+#include "gi/gi_bake_file.h"
 #include "janus/shaders/bindings.h"
 
 namespace janus::renderer {
@@ -41,7 +42,7 @@ rhi::TextureHandle makeDataTexture(rhi::IDevice& device, std::vector<glm::vec4> 
 
 ProbeGi::ProbeGi(rhi::IDevice& device, const Scene& scene, const GpuScene& gpuScene, const LocalLights& localLights,
                  MainLightShadows& shadows, const ImageBasedLighting& imageBasedLighting, FeaturePath path,
-                 const glm::vec3& cameraPosition)
+                 const glm::vec3& cameraPosition, const std::filesystem::path& bakeFile)
     : m_device(device), m_localLights(localLights), m_shadows(shadows), m_imageBasedLighting(imageBasedLighting), m_path(path) {
     m_pointSampler = device.createSampler(rhi::SamplerDesc{}.setFilter(rhi::Filter::Nearest).setAddress(rhi::AddressMode::ClampToEdge));
     m_standInUniforms = makeUniformBuffer(device, GiVolumeUniforms{}, "no irradiance volume");   // origin.w 0: off
@@ -64,12 +65,16 @@ ProbeGi::ProbeGi(rhi::IDevice& device, const Scene& scene, const GpuScene& gpuSc
 
     // The bake's report: its G-buffer draws and their GPU time, and the whole bake's CPU time
     // (readbacks, surfels, bricks, transfers).
-    const auto start = std::chrono::steady_clock::now();
-    PassReport bakeReport;
-    bakeReport.name = "gi-bake";
-    m_bake = buildGiBake(m_volume, captureGiSamples(device, gpuScene, m_volume, 32, &bakeReport));
-    bakeReport.cpuMs = millisecondsSince(start);
-    m_startupReports.push_back(bakeReport);
+    if (!bakeFile.empty()) {
+        m_bake = readGiBakeFile(bakeFile, m_volume, giSceneHash(scene));   // no GPU work: no report entry
+    } else {
+        const auto start = std::chrono::steady_clock::now();
+        PassReport bakeReport;
+        bakeReport.name = "gi-bake";
+        m_bake = buildGiBake(m_volume, captureGiSamples(device, gpuScene, m_volume, 32, &bakeReport));
+        bakeReport.cpuMs = millisecondsSince(start);
+        m_startupReports.push_back(bakeReport);
+    }
 
     m_probeCount = uint32_t(m_bake.probePositions.size());
     m_probesPerStep = m_volume.probesPerFrame == 0 ? m_probeCount : std::min(m_volume.probesPerFrame, m_probeCount);

@@ -16,6 +16,7 @@
 #pragma once
 
 #include <array>
+#include <filesystem>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -50,10 +51,12 @@ struct GiProbeSh {
 
 class ProbeGi final : public RenderFeature {
 public:
-    // Bakes the scene's volume (nothing without one). Throws RendererError when the path cannot
-    // relight on this device.
+    // Bakes the scene's volume, or reads it from `bakeFile` when one is given (nothing without a
+    // volume). Throws RendererError when the path cannot relight on this device or the file does
+    // not fit the scene (gi_bake_file.h).
     ProbeGi(rhi::IDevice& device, const Scene& scene, const GpuScene& gpuScene, const LocalLights& localLights,
-            MainLightShadows& shadows, const ImageBasedLighting& imageBasedLighting, FeaturePath path, const glm::vec3& cameraPosition);
+            MainLightShadows& shadows, const ImageBasedLighting& imageBasedLighting, FeaturePath path, const glm::vec3& cameraPosition,
+            const std::filesystem::path& bakeFile = {});
 
     bool active() const { return m_active; }
     // Publishes kIrradianceVolume (frame-wide, imported) so forward passes declare the read.

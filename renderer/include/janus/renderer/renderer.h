@@ -54,6 +54,17 @@ struct IrradianceProbe {
     float backFaceFraction = 0.0f;   // of its bake samples
 };
 
+// What bakeIrradianceVolume made.
+struct IrradianceBakeSummary {
+    uint32_t probes = 0, validProbes = 0;
+    uint64_t surfels = 0, bricks = 0, transfers = 0;
+    double milliseconds = 0.0;
+};
+// Bakes the scene's irradiance volume (docs/GI.md) on `device` and writes it atomically to `path`
+// for RenderSettings::giBakeFile. Throws RendererError when the scene has no volume or the file
+// cannot be written.
+IrradianceBakeSummary bakeIrradianceVolume(rhi::IDevice& device, const Scene& scene, const std::filesystem::path& path);
+
 class Renderer {
 public:
     // Uploads the scene. Throws RendererError for settings the device cannot honour (absurd
@@ -75,6 +86,9 @@ public:
     // lack its reflections (time slicing spreads an update over up to 8 frames). Render until it
     // is false for a complete image (what `janus render` does).
     bool probesPending() const;
+    // True while the irradiance volume has relight work due (probesPerFrame spreads a relight over
+    // frames): render until it is false for a settled image.
+    bool irradiancePending() const;
     // The irradiance volume's probes (grid order x + X (y + Y z)); empty without a volume. Waits
     // for the GPU. A probe not yet relit reads as zero and invalid.
     std::vector<IrradianceProbe> readIrradianceProbes();

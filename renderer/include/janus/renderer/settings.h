@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <filesystem>
 #include <optional>
 #include <stdexcept>
 #include <string_view>
@@ -51,11 +52,22 @@ struct RenderSettings {
     FeaturePath path = FeaturePath::Compute;
     LightingSettings lighting;
     DebugView debugView = DebugView::None;
+    // The scene's irradiance volume from a file `bakeIrradianceVolume` (janus bake) wrote; empty:
+    // baked when the renderer is made (docs/GI.md). A file of another scene, version or volume is
+    // a RendererError.
+    std::filesystem::path giBakeFile;
 };
 
 class RendererError : public std::runtime_error {
 public:
     using std::runtime_error::runtime_error;
+};
+
+// A GI bake file that cannot be used: missing, not a bake, another format version, truncated,
+// damaged (checksum), or made for another scene or volume (docs/GI.md, "Bake files").
+class GiBakeFileError : public RendererError {
+public:
+    using RendererError::RendererError;
 };
 
 }  // namespace janus::renderer
