@@ -198,17 +198,18 @@ void writePNG(const std::filesystem::path& path, const ImageRGBA8& image) {
     writeFileAtomically(path, encoded);
 }
 
-ImageRGBA8 readPNG(const std::filesystem::path& path) {
-    const std::string bytes = readWholeFile(path, "PNG");
+ImageRGBA8 readPNG(const std::filesystem::path& path) { return decodePNG(readWholeFile(path, "PNG"), path.string()); }
+
+ImageRGBA8 decodePNG(std::string_view bytes, const std::string& name) {
     if (bytes.size() > size_t(std::numeric_limits<int>::max()))
-        throw ImageIOError(fmt::format("cannot read PNG '{}': the file is too large", path.string()));
+        throw ImageIOError(fmt::format("cannot read PNG '{}': the file is too large", name));
     int width = 0, height = 0, channelsInFile = 0;
     std::unique_ptr<stbi_uc, void (*)(void*)> decoded(
         stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(bytes.data()), int(bytes.size()), &width, &height,
                               &channelsInFile, 4),
         stbi_image_free);
     if (!decoded)
-        throw ImageIOError(fmt::format("cannot read PNG '{}': {}", path.string(), stbi_failure_reason()));
+        throw ImageIOError(fmt::format("cannot read PNG '{}': {}", name, stbi_failure_reason()));
     ImageRGBA8 image;
     image.width = uint32_t(width);
     image.height = uint32_t(height);
@@ -230,24 +231,25 @@ void writePFM(const std::filesystem::path& path, const ImageRGBAF& image) {
     writeFileAtomically(path, out);
 }
 
-ImageRGBAF readPFM(const std::filesystem::path& path) {
-    const std::string bytes = readWholeFile(path, "PFM");
-    std::istringstream header(bytes);
+ImageRGBAF readPFM(const std::filesystem::path& path) { return decodePFM(readWholeFile(path, "PFM"), path.string()); }
+
+ImageRGBAF decodePFM(std::string_view bytes, const std::string& name) {
+    std::istringstream header{std::string(bytes)};
     std::string magic;
     long long width = 0, height = 0;
     double scale = 0.0;
     header >> magic >> width >> height >> scale;
     if (!header || (magic != "PF" && magic != "Pf"))
-        throw ImageIOError(fmt::format("cannot read PFM '{}': not a PFM file (bad header)", path.string()));
+        throw ImageIOError(fmt::format("cannot read PFM '{}': not a PFM file (bad header)", name));
     if (width <= 0 || height <= 0 || width > kMaxImageSide || height > kMaxImageSide || scale == 0.0)
-        throw ImageIOError(fmt::format("cannot read PFM '{}': bad size {}x{} or scale {}", path.string(), width, height, scale));
+        throw ImageIOError(fmt::format("cannot read PFM '{}': bad size {}x{} or scale {}", name, width, height, scale));
     header.get();   // exactly one whitespace character separates the header from the samples
     const size_t offset = size_t(header.tellg());
     const int channels = magic == "PF" ? 3 : 1;
     const size_t needed = size_t(width) * size_t(height) * size_t(channels) * sizeof(float);
     if (bytes.size() < offset + needed)
         throw ImageIOError(fmt::format("cannot read PFM '{}': truncated ({} bytes of samples, {} needed)",
-                                       path.string(), bytes.size() - offset, needed));
+                                       name, bytes.size() - offset, needed));
 
     ImageRGBAF image;
     image.width = uint32_t(width);
@@ -316,8 +318,9 @@ void writeEXR(const std::filesystem::path& path, const ImageRGBAF& image) {
     writeFileAtomically(path, std::string(reinterpret_cast<const char*>(memory), size));
 }
 
-ImageRGBAF readEXR(const std::filesystem::path& path) {
-    const std::string bytes = readWholeFile(path, "EXR");
+ImageRGBAF readEXR(const std::filesystem::path& path) { return decodeEXR(readWholeFile(path, "EXR"), path.string()); }
+
+ImageRGBAF decodeEXR(std::string_view bytes, const std::string& name) {
     float* rgba = nullptr;
     int width = 0, height = 0;
     const char* error = nullptr;
@@ -327,7 +330,7 @@ ImageRGBAF readEXR(const std::filesystem::path& path) {
     if (result != TINYEXR_SUCCESS || !rgba) {
         const std::string reason = error ? error : fmt::format("tinyexr error {}", result);
         if (error) FreeEXRErrorMessage(error);
-        throw ImageIOError(fmt::format("cannot read EXR '{}': {}", path.string(), reason));
+        throw ImageIOError(fmt::format("cannot read EXR '{}': {}", name, reason));
     }
     ImageRGBAF image;
     image.width = uint32_t(width);
@@ -337,22 +340,25 @@ ImageRGBAF readEXR(const std::filesystem::path& path) {
 }
 
 ImageRGBAF readRadianceHDR(const std::filesystem::path& path) {
-    const std::string bytes = readWholeFile(path, "Radiance HDR");
+    return decodeRadianceHDR(readWholeFile(path, "Radiance HDR"), path.string());
+}
+
+ImageRGBAF decodeRadianceHDR(std::string_view bytes, const std::string& name) {
     if (bytes.size() > size_t(std::numeric_limits<int>::max()))
-        throw ImageIOError(fmt::format("cannot read Radiance HDR '{}': the file is too large", path.string()));
+        throw ImageIOError(fmt::format("cannot read Radiance HDR '{}': the file is too large", name));
     const auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());
     const int length = int(bytes.size());
     if (!stbi_is_hdr_from_memory(data, length))
-        throw ImageIOError(fmt::format("cannot read Radiance HDR '{}': not a Radiance HDR (.hdr, RGBE) file", path.string()));
+        throw ImageIOError(fmt::format("cannot read Radiance HDR '{}': not a Radiance HDR (.hdr, RGBE) file", name));
     int width = 0, height = 0, channelsInFile = 0;
     if (!stbi_info_from_memory(data, length, &width, &height, &channelsInFile))
-        throw ImageIOError(fmt::format("cannot read Radiance HDR '{}': {}", path.string(), stbi_failure_reason()));
+        throw ImageIOError(fmt::format("cannot read Radiance HDR '{}': {}", name, stbi_failure_reason()));
     if (width <= 0 || height <= 0 || uint32_t(width) > kMaxImageSide || uint32_t(height) > kMaxImageSide)
-        throw ImageIOError(fmt::format("cannot read Radiance HDR '{}': size {}x{} is outside 1..{} per side", path.string(), width,
+        throw ImageIOError(fmt::format("cannot read Radiance HDR '{}': size {}x{} is outside 1..{} per side", name, width,
                                        height, kMaxImageSide));
     std::unique_ptr<float, void (*)(void*)> decoded(stbi_loadf_from_memory(data, length, &width, &height, &channelsInFile, 4),
                                                     stbi_image_free);
-    if (!decoded) throw ImageIOError(fmt::format("cannot read Radiance HDR '{}': {}", path.string(), stbi_failure_reason()));
+    if (!decoded) throw ImageIOError(fmt::format("cannot read Radiance HDR '{}': {}", name, stbi_failure_reason()));
     ImageRGBAF image;
     image.width = uint32_t(width);
     image.height = uint32_t(height);
@@ -363,7 +369,7 @@ ImageRGBAF readRadianceHDR(const std::filesystem::path& path) {
             const size_t pixel = i / 4;
             throw ImageIOError(fmt::format("cannot read Radiance HDR '{}': pixel ({}, {}) channel {} is {}; radiance must be finite "
                                            "and non-negative (the file is corrupt)",
-                                           path.string(), pixel % image.width, pixel / image.width, i % 4, value));
+                                           name, pixel % image.width, pixel / image.width, i % 4, value));
         }
     }
     return image;

@@ -173,7 +173,7 @@ std::string dataUriProblem(std::string_view uri, std::optional<uint64_t> byteLen
 
 // The JSON of a .glb (its first chunk), or nothing when the header is not one: tinygltf then
 // reports what is wrong.
-std::optional<std::string_view> glbJson(const std::vector<char>& bytes) {
+std::optional<std::string_view> glbJson(std::string_view bytes) {
     auto u32 = [&](size_t at) {
         uint32_t v;
         std::memcpy(&v, bytes.data() + at, 4);
@@ -835,6 +835,12 @@ Scene loadGltf(const std::filesystem::path& path, bool& hasCamera, const SceneLo
         bytes.resize(size_t(size));
         if (!in.read(bytes.data(), std::streamsize(size))) throw SceneError(fmt::format("{}: cannot be read", path.string()));
     }
+    return loadGltfFromMemory(std::string_view(bytes.data(), bytes.size()), path, hasCamera, options);
+}
+
+Scene loadGltfFromMemory(std::string_view bytes, const std::filesystem::path& path, bool& hasCamera, const SceneLoadOptions& options) {
+    std::error_code ec;
+    if (bytes.size() > UINT32_MAX) throw SceneError(fmt::format("{}: is larger than 4 GiB, which glTF files cannot be", path.string()));
     const std::string extension = path.extension().string();
     const bool binary = extension == ".glb" || extension == ".GLB";
 

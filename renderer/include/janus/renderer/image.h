@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace janus::renderer {
@@ -43,6 +44,13 @@ ImageRGBAF readEXR(const std::filesystem::path& path);
 // (refused, naming the pixel: radiance must be finite and >= 0; RGBE cannot encode them, so such a
 // file is corrupt).
 ImageRGBAF readRadianceHDR(const std::filesystem::path& path);
+
+// The readers above for a file's bytes already in memory; `name` stands for the path in messages
+// ("cannot read EXR '<name>': ..."). Same checks, same errors.
+ImageRGBA8 decodePNG(std::string_view bytes, const std::string& name);
+ImageRGBAF decodePFM(std::string_view bytes, const std::string& name);
+ImageRGBAF decodeEXR(std::string_view bytes, const std::string& name);
+ImageRGBAF decodeRadianceHDR(std::string_view bytes, const std::string& name);
 
 // Writes `bytes` to `path` atomically (temporary file + rename). Throws ImageIOError.
 void writeFileAtomically(const std::filesystem::path& path, const std::string& bytes);
