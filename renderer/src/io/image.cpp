@@ -32,6 +32,9 @@ namespace {
 // Largest side we accept for any image file: far beyond any render target, small enough that
 // width * height * 4 channels * sizeof(float) cannot overflow and that stb's int sizes hold.
 constexpr uint32_t kMaxImageSide = 1u << 15;
+// Largest float image a reader decodes: 32 Mi pixels (8192x4096, a 512 MiB RGBA32F sky). Checked
+// from the header: a few bytes claiming 32768x32768 must not make the decoder allocate 16 GiB.
+constexpr uint64_t kMaxFloatImagePixels = uint64_t(1) << 25;
 
 std::string describeErrno(int error) { return std::strerror(error); }
 
@@ -321,21 +324,88 @@ void writeEXR(const std::filesystem::path& path, const ImageRGBAF& image) {
 ImageRGBAF readEXR(const std::filesystem::path& path) { return decodeEXR(readWholeFile(path, "EXR"), path.string()); }
 
 ImageRGBAF decodeEXR(std::string_view bytes, const std::string& name) {
-    float* rgba = nullptr;
-    int width = 0, height = 0;
-    const char* error = nullptr;
-    const int result = LoadEXRFromMemory(&rgba, &width, &height, reinterpret_cast<const unsigned char*>(bytes.data()),
-                                         bytes.size(), &error);
-    std::unique_ptr<float, void (*)(void*)> owned(rgba, std::free);
-    if (result != TINYEXR_SUCCESS || !rgba) {
-        const std::string reason = error ? error : fmt::format("tinyexr error {}", result);
+    // Not tinyexr's LoadEXRFromMemory: it leaks its header and image on most error paths (found
+    // by fuzz/fuzz_image.cpp) and allocates whatever size a header claims. Its lower-level calls
+    // let every exit free what was allocated, and the size be refused before anything is decoded.
+    auto fail = [&](const std::string& why) { return ImageIOError(fmt::format("cannot read EXR '{}': {}", name, why)); };
+    auto tinyexrError = [&](const char* error, int code) {
+        const std::string reason = error ? error : fmt::format("tinyexr error {}", code);
         if (error) FreeEXRErrorMessage(error);
-        throw ImageIOError(fmt::format("cannot read EXR '{}': {}", name, reason));
+        return fail(reason);
+    };
+    const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
+    EXRVersion version;
+    if (ParseEXRVersionFromMemory(&version, data, bytes.size()) != TINYEXR_SUCCESS) throw fail("not an OpenEXR file");
+    if (version.multipart || version.non_image)
+        throw fail("multi-part and deep EXR files are not supported; save a single-part scanline or tiled image");
+    EXRHeader header;
+    InitEXRHeader(&header);
+    std::unique_ptr<EXRHeader, int (*)(EXRHeader*)> headerOwner(&header, FreeEXRHeader);
+    const char* error = nullptr;
+    if (const int code = ParseEXRHeaderFromMemory(&header, &version, data, bytes.size(), &error); code != TINYEXR_SUCCESS)
+        throw tinyexrError(error, code);
+    const int64_t width = int64_t(header.data_window.max_x) - header.data_window.min_x + 1;
+    const int64_t height = int64_t(header.data_window.max_y) - header.data_window.min_y + 1;
+    if (width < 1 || height < 1 || width > kMaxImageSide || height > kMaxImageSide || width * height > int64_t(kMaxFloatImagePixels))
+        throw fail(fmt::format("size {}x{} is outside 1..{} per side and {} Mi pixels in all", width, height, kMaxImageSide,
+                               kMaxFloatImagePixels >> 20));
+    constexpr std::array<const char*, 4> kNames = {"R", "G", "B", "A"};
+    std::array<int, 4> source = {-1, -1, -1, -1};
+    for (int c = 0; c < header.num_channels; ++c) {
+        if (header.pixel_types[c] == TINYEXR_PIXELTYPE_HALF) header.requested_pixel_types[c] = TINYEXR_PIXELTYPE_FLOAT;
+        for (size_t k = 0; k < 4; ++k)
+            if (std::strcmp(header.channels[c].name, kNames[k]) == 0) source[k] = c;
     }
+    if (header.num_channels == 1) {
+        source = {0, 0, 0, -1};   // grey: the one channel in R, G and B; alpha 1
+    } else if (source[0] < 0 || source[1] < 0 || source[2] < 0) {
+        throw fail(fmt::format("it has no R, G and B channels ({} channels); Janus reads RGB(A) and single-channel images",
+                               header.num_channels));
+    }
+
+    EXRImage exr;
+    InitEXRImage(&exr);
+    // When a chunk fails to decode, tinyexr frees the image itself (FreeEXRImage) but with
+    // num_channels still 0, so the channels it allocated leaked (found by fuzzing). Set here, it
+    // frees them too. Its pointers then dangle: the image is ours to free only after success.
+    exr.num_channels = header.num_channels;
+    if (const int code = LoadEXRImageFromMemory(&exr, &header, data, bytes.size(), &error); code != TINYEXR_SUCCESS)
+        throw tinyexrError(error, code);
+    std::unique_ptr<EXRImage, int (*)(EXRImage*)> imageOwner(&exr, FreeEXRImage);
+    if (int64_t(exr.width) != width || int64_t(exr.height) != height)
+        throw fail(fmt::format("the decoder returned {}x{} pixels for a {}x{} data window", exr.width, exr.height, width, height));
+
     ImageRGBAF image;
     image.width = uint32_t(width);
     image.height = uint32_t(height);
-    image.pixels.assign(rgba, rgba + size_t(width) * size_t(height) * 4);
+    image.pixels.assign(size_t(width) * size_t(height) * 4, 1.0f);
+    // One sample of channel `c` of a decoded block; UINT channels are converted, not reinterpreted.
+    auto sample = [&](unsigned char* const* planes, int c, size_t at) {
+        if (header.requested_pixel_types[c] == TINYEXR_PIXELTYPE_UINT) return float(reinterpret_cast<const uint32_t*>(planes[c])[at]);
+        return reinterpret_cast<const float*>(planes[c])[at];
+    };
+    // Copies a block of `blockWidth` x `blockHeight` samples (rows `stride` apart) to (x0, y0),
+    // clipped to the image: tiles on the right and bottom edges overhang it.
+    auto copyBlock = [&](unsigned char* const* planes, int64_t x0, int64_t y0, int64_t blockWidth, int64_t blockHeight, size_t stride) {
+        if (!planes) throw fail("the decoder returned a tile without data");
+        for (int64_t y = 0; y < blockHeight && y0 + y < height; ++y)
+            for (int64_t x = 0; x < blockWidth && x0 + x < width; ++x) {
+                if (x0 + x < 0 || y0 + y < 0) continue;
+                float* out = &image.pixels[(size_t(y0 + y) * size_t(width) + size_t(x0 + x)) * 4];
+                for (size_t k = 0; k < 4; ++k)
+                    if (source[k] >= 0) out[k] = sample(planes, source[k], size_t(y) * stride + size_t(x));
+            }
+    };
+    if (header.tiled) {
+        if (!exr.tiles) throw fail("the decoder returned no tiles for a tiled image");
+        for (int t = 0; t < exr.num_tiles; ++t) {
+            const EXRTile& tile = exr.tiles[t];
+            copyBlock(tile.images, int64_t(tile.offset_x) * header.tile_size_x, int64_t(tile.offset_y) * header.tile_size_y,
+                      std::min(tile.width, header.tile_size_x), std::min(tile.height, header.tile_size_y), size_t(header.tile_size_x));
+        }
+    } else {
+        copyBlock(exr.images, 0, 0, width, height, size_t(width));
+    }
     return image;
 }
 
@@ -353,9 +423,10 @@ ImageRGBAF decodeRadianceHDR(std::string_view bytes, const std::string& name) {
     int width = 0, height = 0, channelsInFile = 0;
     if (!stbi_info_from_memory(data, length, &width, &height, &channelsInFile))
         throw ImageIOError(fmt::format("cannot read Radiance HDR '{}': {}", name, stbi_failure_reason()));
-    if (width <= 0 || height <= 0 || uint32_t(width) > kMaxImageSide || uint32_t(height) > kMaxImageSide)
-        throw ImageIOError(fmt::format("cannot read Radiance HDR '{}': size {}x{} is outside 1..{} per side", name, width,
-                                       height, kMaxImageSide));
+    if (width <= 0 || height <= 0 || uint32_t(width) > kMaxImageSide || uint32_t(height) > kMaxImageSide ||
+        uint64_t(width) * uint64_t(height) > kMaxFloatImagePixels)
+        throw ImageIOError(fmt::format("cannot read Radiance HDR '{}': size {}x{} is outside 1..{} per side and {} Mi pixels in all",
+                                       name, width, height, kMaxImageSide, kMaxFloatImagePixels >> 20));
     std::unique_ptr<float, void (*)(void*)> decoded(stbi_loadf_from_memory(data, length, &width, &height, &channelsInFile, 4),
                                                     stbi_image_free);
     if (!decoded) throw ImageIOError(fmt::format("cannot read Radiance HDR '{}': {}", name, stbi_failure_reason()));
