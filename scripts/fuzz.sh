@@ -52,7 +52,7 @@ ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1} UBSAN_OPTIONS=${UBSAN_OPTIONS:-prin
   "$build/fuzz/janus_fuzz_$target" "$corpus" "$seeds/$target" "$root/fuzz/corpus/$target" \
   ${dict:+-dict="$dict"} -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=10 \
   -artifact_prefix="$build/findings/$target/" -print_final_stats=1 -close_fd_mask=3 "$@" 2>&1 | tee "$log" |
-  grep -v '^\(#[0-9]*[[:space:]]*\(NEW\|REDUCE\|pulse\)\|[[:space:]]NEW_FUNC\)'
+  grep --line-buffered -v '^\(#[0-9]*[[:space:]]*\(NEW\|REDUCE\|pulse\)\|[[:space:]]NEW_FUNC\)'
 rc=${PIPESTATUS[0]}
 set -e
 execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)

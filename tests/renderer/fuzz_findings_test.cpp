@@ -15,6 +15,7 @@
 #include "janus/renderer/image.h"
 #include "janus/renderer/scene.h"
 
+#include <nlohmann/json.hpp>
 
 namespace fs = std::filesystem;
 using namespace janus::renderer;
@@ -39,6 +40,39 @@ std::string errorOf(Load&& load) {
     ADD_FAILURE() << "nothing was thrown";
     return {};
 }
+
+void appendU32(std::string& out, uint32_t v) {
+    for (int shift = 0; shift < 32; shift += 8) out.push_back(char((v >> shift) & 0xFF));
+}
+
+// A GLB whose only image is `image` (in the BIN chunk), used as a material's base colour: what
+// fuzz/fuzz_image.cpp feeds the loader.
+std::string glbWithImage(std::string_view image) {
+    const nlohmann::json gltf = {
+        {"asset", {{"version", "2.0"}}},
+        {"buffers", {{{"byteLength", image.size()}}}},
+        {"bufferViews", {{{"buffer", 0}, {"byteLength", image.size()}}}},
+        {"images", {{{"bufferView", 0}, {"mimeType", "image/png"}}}},
+        {"textures", {{{"source", 0}}}},
+        {"materials", {{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}}},
+    };
+    std::string json = gltf.dump();
+    json.resize((json.size() + 3) & ~size_t(3), ' ');
+    std::string bin(image);
+    bin.resize((bin.size() + 3) & ~size_t(3), '\0');
+    std::string glb = "glTF";
+    appendU32(glb, 2);
+    appendU32(glb, uint32_t(12 + 8 + json.size() + 8 + bin.size()));
+    appendU32(glb, uint32_t(json.size()));
+    appendU32(glb, 0x4E4F534Au);
+    glb += json;
+    appendU32(glb, uint32_t(bin.size()));
+    appendU32(glb, 0x004E4942u);
+    glb += bin;
+    return glb;
+}
+
+Scene loadTexture(std::string_view image) { return loadSceneFromMemory(glbWithImage(image), fs::temp_directory_path() / "texture.glb"); }
 
 // A valid 2x2 RGBA float EXR (scanline, ZIP) from our writer, in memory.
 std::string smallExr() {
@@ -85,3 +119,41 @@ TEST(FuzzFindings, ExrClaimingMoreThan32MiPixelsIsRefusedFromItsHeader) {
     EXPECT_NE(message.find("8192x8192 is outside"), std::string::npos) << message;
 }
 
+// stb_image (Debian's, 2022) writes past its 257-entry Huffman arrays when a JPEG's DHT table
+// declares more than 256 codes (UBSan in fuzz_image: index 257 out of bounds in
+// stbi__build_huffman, then up to 4 KiB written over the decoder's state). The loader now checks
+// the tables before stb sees the file. In a plain build stb failed on this file with a generic
+// "could not be read", so the test failed before the fix too.
+TEST(FuzzFindings, JpegWithAHuffmanTableOfMoreThan256CodesIsRefusedBeforeDecoding) {
+    const std::string message = errorOf<SceneError>([] { loadTexture(readFile(kCorpus / "image" / "jpeg-dht-more-than-256-codes.jpg")); });
+    EXPECT_NE(message.find("Huffman table"), std::string::npos) << message;
+    EXPECT_NE(message.find("at most 256"), std::string::npos) << message;
+}
+
+TEST(FuzzFindings, ValidJpegAndPngTexturesStillLoad) {
+    const fs::path jpeg = fs::path(JANUS_SHARED_SCENES_DIR) / "khronos/Fox/screenshot/screenshot.jpg";
+    const fs::path png = fs::path(JANUS_SHARED_SCENES_DIR) / "BoxTextured/glTF/CesiumLogoFlat.png";
+    for (const fs::path& file : {jpeg, png}) {
+        SCOPED_TRACE(file.string());
+        const Scene scene = loadTexture(readFile(file));
+        ASSERT_EQ(scene.textures.size(), 1u);
+        EXPECT_GT(scene.textures[0].width, 0u);
+    }
+}
+
+// glTF textures are PNG or JPEG; stb's other decoders (BMP here, GIF, PSD, TGA, PIC, PNM, HDR)
+// are no longer reachable from a glTF. Before, this 2x1 BMP loaded.
+TEST(FuzzFindings, TexturesOtherThanPngOrJpegAreRefused) {
+    std::string bmp = "BM";
+    appendU32(bmp, 62);   // file size
+    appendU32(bmp, 0);
+    appendU32(bmp, 54);   // pixel data offset
+    appendU32(bmp, 40);   // BITMAPINFOHEADER
+    appendU32(bmp, 2);
+    appendU32(bmp, 1);
+    bmp += std::string("\x01\x00\x18\x00", 4);   // 1 plane, 24 bits
+    for (int i = 0; i < 6; ++i) appendU32(bmp, 0);
+    bmp += std::string("\x00\x00\xff\xff\x00\x00\x00\x00", 8);   // two pixels, row padded to 4 bytes
+    const std::string message = errorOf<SceneError>([&] { loadTexture(bmp); });
+    EXPECT_NE(message.find("neither a PNG nor a JPEG"), std::string::npos) << message;
+}
