@@ -157,3 +157,16 @@ TEST(FuzzFindings, TexturesOtherThanPngOrJpegAreRefused) {
     const std::string message = errorOf<SceneError>([&] { loadTexture(bmp); });
     EXPECT_NE(message.find("neither a PNG nor a JPEG"), std::string::npos) << message;
 }
+
+// nlohmann::json reports a number beyond double's range as out_of_range, not parse_error, so it
+// escaped the scene-file loader as a foreign exception (fuzz_scene_file: std::terminate).
+TEST(FuzzFindings, SceneFileWithANumberBeyondDoubleIsMalformedJson) {
+    const std::string json = R"({"gltf": "triangle.gltf", "camera": {"near": 1e400}})";
+    const std::string message =
+        errorOf<SceneError>([&] { loadSceneFromMemory(json, fs::temp_directory_path() / "overflow.json"); });
+    EXPECT_NE(message.find("overflow.json: malformed JSON"), std::string::npos) << message;
+    EXPECT_NE(message.find("1e400"), std::string::npos) << message;
+    // The file the fuzzer found, through the file API.
+    const fs::path file = kCorpus / "scene_file" / "number-overflow-1e390.json";
+    EXPECT_NE(errorOf<SceneError>([&] { loadScene(file); }).find("malformed JSON"), std::string::npos);
+}

@@ -173,7 +173,8 @@ Scene loadSceneFile(std::string_view bytes, const std::filesystem::path& path, c
     json root;
     try {
         root = json::parse(bytes);
-    } catch (const json::parse_error& e) {
+    } catch (const json::exception& e) {
+        // Not only parse_error: a number beyond double's range (1e400) is an out_of_range.
         fail(path, fmt::format("malformed JSON: {}", e.what()));
     }
     try {
