@@ -237,7 +237,7 @@ void checkReferences(std::string_view text, LoadContext& context) {
 
 // Why a JPEG's Huffman tables would make stb_image write out of bounds, or "" when they would not.
 // stb (Debian's, of 2022) copies a DHT table's code counts into 257-entry arrays without checking
-// that they add up to at most 256, as JPEG requires (found by fuzzing; fixed upstream in 2023).
+// that they add up to at most 256, as JPEG requires (found by fuzzing).
 // stb finds DHT segments between scans too, so the whole file is walked as stb reads it: segments
 // by their length, entropy-coded data byte by byte up to the next marker. Where this walk and stb's
 // could differ (stb stops at an unknown marker or a bad length), this one goes on: it checks every
