@@ -1,7 +1,20 @@
 #!/usr/bin/env bash
 # Installs every Debian package Janus needs to build, render and test. Idempotent: packages
 # already present are not touched, so a second run costs one dpkg query.
+#
+#   scripts/setup.sh          what build, test and CI need
+#   scripts/setup.sh --fuzz   also clang and libFuzzer (scripts/fuzz.sh). Only fuzzing needs them, so
+#                             CI's setup does not install them. scripts/sanitize.sh needs nothing
+#                             extra: it builds with gcc, whose ASan/UBSan runtimes come with gcc.
 set -euo pipefail
+
+fuzz=0
+for arg in "$@"; do
+  case $arg in
+    --fuzz) fuzz=1 ;;
+    *) echo "usage: scripts/setup.sh [--fuzz]" >&2; exit 2 ;;
+  esac
+done
 
 packages=(
   build-essential cmake ninja-build pkg-config ccache
@@ -19,6 +32,11 @@ packages=(
   # CLI: command-line parsing for apps/janus
   libcli11-dev
 )
+if ((fuzz)); then
+  # clang with libFuzzer and the ASan/UBSan runtimes (libclang-rt-dev), llvm-symbolizer (llvm) for
+  # readable reports, zlib for the EXR decoder the fuzz build compiles from source (fuzz/CMakeLists.txt).
+  packages+=(clang libclang-rt-dev llvm zlib1g-dev)
+fi
 
 missing=()
 for p in "${packages[@]}"; do

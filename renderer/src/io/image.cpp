@@ -32,6 +32,9 @@ namespace {
 // Largest side we accept for any image file: far beyond any render target, small enough that
 // width * height * 4 channels * sizeof(float) cannot overflow and that stb's int sizes hold.
 constexpr uint32_t kMaxImageSide = 1u << 15;
+// Largest float image a reader decodes: 32 Mi pixels (8192x4096, a 512 MiB RGBA32F sky). Checked
+// from the header: a few bytes claiming 32768x32768 must not make the decoder allocate 16 GiB.
+constexpr uint64_t kMaxFloatImagePixels = uint64_t(1) << 25;
 
 std::string describeErrno(int error) { return std::strerror(error); }
 
@@ -198,17 +201,18 @@ void writePNG(const std::filesystem::path& path, const ImageRGBA8& image) {
     writeFileAtomically(path, encoded);
 }
 
-ImageRGBA8 readPNG(const std::filesystem::path& path) {
-    const std::string bytes = readWholeFile(path, "PNG");
+ImageRGBA8 readPNG(const std::filesystem::path& path) { return decodePNG(readWholeFile(path, "PNG"), path.string()); }
+
+ImageRGBA8 decodePNG(std::string_view bytes, const std::string& name) {
     if (bytes.size() > size_t(std::numeric_limits<int>::max()))
-        throw ImageIOError(fmt::format("cannot read PNG '{}': the file is too large", path.string()));
+        throw ImageIOError(fmt::format("cannot read PNG '{}': the file is too large", name));
     int width = 0, height = 0, channelsInFile = 0;
     std::unique_ptr<stbi_uc, void (*)(void*)> decoded(
         stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(bytes.data()), int(bytes.size()), &width, &height,
                               &channelsInFile, 4),
         stbi_image_free);
     if (!decoded)
-        throw ImageIOError(fmt::format("cannot read PNG '{}': {}", path.string(), stbi_failure_reason()));
+        throw ImageIOError(fmt::format("cannot read PNG '{}': {}", name, stbi_failure_reason()));
     ImageRGBA8 image;
     image.width = uint32_t(width);
     image.height = uint32_t(height);
@@ -230,24 +234,25 @@ void writePFM(const std::filesystem::path& path, const ImageRGBAF& image) {
     writeFileAtomically(path, out);
 }
 
-ImageRGBAF readPFM(const std::filesystem::path& path) {
-    const std::string bytes = readWholeFile(path, "PFM");
-    std::istringstream header(bytes);
+ImageRGBAF readPFM(const std::filesystem::path& path) { return decodePFM(readWholeFile(path, "PFM"), path.string()); }
+
+ImageRGBAF decodePFM(std::string_view bytes, const std::string& name) {
+    std::istringstream header{std::string(bytes)};
     std::string magic;
     long long width = 0, height = 0;
     double scale = 0.0;
     header >> magic >> width >> height >> scale;
     if (!header || (magic != "PF" && magic != "Pf"))
-        throw ImageIOError(fmt::format("cannot read PFM '{}': not a PFM file (bad header)", path.string()));
+        throw ImageIOError(fmt::format("cannot read PFM '{}': not a PFM file (bad header)", name));
     if (width <= 0 || height <= 0 || width > kMaxImageSide || height > kMaxImageSide || scale == 0.0)
-        throw ImageIOError(fmt::format("cannot read PFM '{}': bad size {}x{} or scale {}", path.string(), width, height, scale));
+        throw ImageIOError(fmt::format("cannot read PFM '{}': bad size {}x{} or scale {}", name, width, height, scale));
     header.get();   // exactly one whitespace character separates the header from the samples
     const size_t offset = size_t(header.tellg());
     const int channels = magic == "PF" ? 3 : 1;
     const size_t needed = size_t(width) * size_t(height) * size_t(channels) * sizeof(float);
     if (bytes.size() < offset + needed)
         throw ImageIOError(fmt::format("cannot read PFM '{}': truncated ({} bytes of samples, {} needed)",
-                                       path.string(), bytes.size() - offset, needed));
+                                       name, bytes.size() - offset, needed));
 
     ImageRGBAF image;
     image.width = uint32_t(width);
@@ -316,43 +321,115 @@ void writeEXR(const std::filesystem::path& path, const ImageRGBAF& image) {
     writeFileAtomically(path, std::string(reinterpret_cast<const char*>(memory), size));
 }
 
-ImageRGBAF readEXR(const std::filesystem::path& path) {
-    const std::string bytes = readWholeFile(path, "EXR");
-    float* rgba = nullptr;
-    int width = 0, height = 0;
-    const char* error = nullptr;
-    const int result = LoadEXRFromMemory(&rgba, &width, &height, reinterpret_cast<const unsigned char*>(bytes.data()),
-                                         bytes.size(), &error);
-    std::unique_ptr<float, void (*)(void*)> owned(rgba, std::free);
-    if (result != TINYEXR_SUCCESS || !rgba) {
-        const std::string reason = error ? error : fmt::format("tinyexr error {}", result);
+ImageRGBAF readEXR(const std::filesystem::path& path) { return decodeEXR(readWholeFile(path, "EXR"), path.string()); }
+
+ImageRGBAF decodeEXR(std::string_view bytes, const std::string& name) {
+    // Not tinyexr's LoadEXRFromMemory: it leaks its header and image on most error paths (found
+    // by fuzz/fuzz_image.cpp) and allocates whatever size a header claims. Its lower-level calls
+    // let every exit free what was allocated, and the size be refused before anything is decoded.
+    auto fail = [&](const std::string& why) { return ImageIOError(fmt::format("cannot read EXR '{}': {}", name, why)); };
+    auto tinyexrError = [&](const char* error, int code) {
+        const std::string reason = error ? error : fmt::format("tinyexr error {}", code);
         if (error) FreeEXRErrorMessage(error);
-        throw ImageIOError(fmt::format("cannot read EXR '{}': {}", path.string(), reason));
+        return fail(reason);
+    };
+    const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
+    EXRVersion version;
+    if (ParseEXRVersionFromMemory(&version, data, bytes.size()) != TINYEXR_SUCCESS) throw fail("not an OpenEXR file");
+    if (version.multipart || version.non_image)
+        throw fail("multi-part and deep EXR files are not supported; save a single-part scanline or tiled image");
+    EXRHeader header;
+    InitEXRHeader(&header);
+    std::unique_ptr<EXRHeader, int (*)(EXRHeader*)> headerOwner(&header, FreeEXRHeader);
+    const char* error = nullptr;
+    if (const int code = ParseEXRHeaderFromMemory(&header, &version, data, bytes.size(), &error); code != TINYEXR_SUCCESS)
+        throw tinyexrError(error, code);
+    const int64_t width = int64_t(header.data_window.max_x) - header.data_window.min_x + 1;
+    const int64_t height = int64_t(header.data_window.max_y) - header.data_window.min_y + 1;
+    if (width < 1 || height < 1 || width > kMaxImageSide || height > kMaxImageSide || width * height > int64_t(kMaxFloatImagePixels))
+        throw fail(fmt::format("size {}x{} is outside 1..{} per side and {} Mi pixels in all", width, height, kMaxImageSide,
+                               kMaxFloatImagePixels >> 20));
+    constexpr std::array<const char*, 4> kNames = {"R", "G", "B", "A"};
+    std::array<int, 4> source = {-1, -1, -1, -1};
+    for (int c = 0; c < header.num_channels; ++c) {
+        if (header.pixel_types[c] == TINYEXR_PIXELTYPE_HALF) header.requested_pixel_types[c] = TINYEXR_PIXELTYPE_FLOAT;
+        for (size_t k = 0; k < 4; ++k)
+            if (std::strcmp(header.channels[c].name, kNames[k]) == 0) source[k] = c;
     }
+    if (header.num_channels == 1) {
+        source = {0, 0, 0, -1};   // grey: the one channel in R, G and B; alpha 1
+    } else if (source[0] < 0 || source[1] < 0 || source[2] < 0) {
+        throw fail(fmt::format("it has no R, G and B channels ({} channels); Janus reads RGB(A) and single-channel images",
+                               header.num_channels));
+    }
+
+    EXRImage exr;
+    InitEXRImage(&exr);
+    // When a chunk fails to decode, tinyexr frees the image itself (FreeEXRImage) but with
+    // num_channels still 0, so the channels it allocated leaked (found by fuzzing). Set here, it
+    // frees them too. Its pointers then dangle: the image is ours to free only after success.
+    exr.num_channels = header.num_channels;
+    if (const int code = LoadEXRImageFromMemory(&exr, &header, data, bytes.size(), &error); code != TINYEXR_SUCCESS)
+        throw tinyexrError(error, code);
+    std::unique_ptr<EXRImage, int (*)(EXRImage*)> imageOwner(&exr, FreeEXRImage);
+    if (int64_t(exr.width) != width || int64_t(exr.height) != height)
+        throw fail(fmt::format("the decoder returned {}x{} pixels for a {}x{} data window", exr.width, exr.height, width, height));
+
     ImageRGBAF image;
     image.width = uint32_t(width);
     image.height = uint32_t(height);
-    image.pixels.assign(rgba, rgba + size_t(width) * size_t(height) * 4);
+    image.pixels.assign(size_t(width) * size_t(height) * 4, 1.0f);
+    // One sample of channel `c` of a decoded block; UINT channels are converted, not reinterpreted.
+    auto sample = [&](unsigned char* const* planes, int c, size_t at) {
+        if (header.requested_pixel_types[c] == TINYEXR_PIXELTYPE_UINT) return float(reinterpret_cast<const uint32_t*>(planes[c])[at]);
+        return reinterpret_cast<const float*>(planes[c])[at];
+    };
+    // Copies a block of `blockWidth` x `blockHeight` samples (rows `stride` apart) to (x0, y0),
+    // clipped to the image: tiles on the right and bottom edges overhang it.
+    auto copyBlock = [&](unsigned char* const* planes, int64_t x0, int64_t y0, int64_t blockWidth, int64_t blockHeight, size_t stride) {
+        if (!planes) throw fail("the decoder returned a tile without data");
+        for (int64_t y = 0; y < blockHeight && y0 + y < height; ++y)
+            for (int64_t x = 0; x < blockWidth && x0 + x < width; ++x) {
+                if (x0 + x < 0 || y0 + y < 0) continue;
+                float* out = &image.pixels[(size_t(y0 + y) * size_t(width) + size_t(x0 + x)) * 4];
+                for (size_t k = 0; k < 4; ++k)
+                    if (source[k] >= 0) out[k] = sample(planes, source[k], size_t(y) * stride + size_t(x));
+            }
+    };
+    if (header.tiled) {
+        if (!exr.tiles) throw fail("the decoder returned no tiles for a tiled image");
+        for (int t = 0; t < exr.num_tiles; ++t) {
+            const EXRTile& tile = exr.tiles[t];
+            copyBlock(tile.images, int64_t(tile.offset_x) * header.tile_size_x, int64_t(tile.offset_y) * header.tile_size_y,
+                      std::min(tile.width, header.tile_size_x), std::min(tile.height, header.tile_size_y), size_t(header.tile_size_x));
+        }
+    } else {
+        copyBlock(exr.images, 0, 0, width, height, size_t(width));
+    }
     return image;
 }
 
 ImageRGBAF readRadianceHDR(const std::filesystem::path& path) {
-    const std::string bytes = readWholeFile(path, "Radiance HDR");
+    return decodeRadianceHDR(readWholeFile(path, "Radiance HDR"), path.string());
+}
+
+ImageRGBAF decodeRadianceHDR(std::string_view bytes, const std::string& name) {
     if (bytes.size() > size_t(std::numeric_limits<int>::max()))
-        throw ImageIOError(fmt::format("cannot read Radiance HDR '{}': the file is too large", path.string()));
+        throw ImageIOError(fmt::format("cannot read Radiance HDR '{}': the file is too large", name));
     const auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());
     const int length = int(bytes.size());
     if (!stbi_is_hdr_from_memory(data, length))
-        throw ImageIOError(fmt::format("cannot read Radiance HDR '{}': not a Radiance HDR (.hdr, RGBE) file", path.string()));
+        throw ImageIOError(fmt::format("cannot read Radiance HDR '{}': not a Radiance HDR (.hdr, RGBE) file", name));
     int width = 0, height = 0, channelsInFile = 0;
     if (!stbi_info_from_memory(data, length, &width, &height, &channelsInFile))
-        throw ImageIOError(fmt::format("cannot read Radiance HDR '{}': {}", path.string(), stbi_failure_reason()));
-    if (width <= 0 || height <= 0 || uint32_t(width) > kMaxImageSide || uint32_t(height) > kMaxImageSide)
-        throw ImageIOError(fmt::format("cannot read Radiance HDR '{}': size {}x{} is outside 1..{} per side", path.string(), width,
-                                       height, kMaxImageSide));
+        throw ImageIOError(fmt::format("cannot read Radiance HDR '{}': {}", name, stbi_failure_reason()));
+    if (width <= 0 || height <= 0 || uint32_t(width) > kMaxImageSide || uint32_t(height) > kMaxImageSide ||
+        uint64_t(width) * uint64_t(height) > kMaxFloatImagePixels)
+        throw ImageIOError(fmt::format("cannot read Radiance HDR '{}': size {}x{} is outside 1..{} per side and {} Mi pixels in all",
+                                       name, width, height, kMaxImageSide, kMaxFloatImagePixels >> 20));
     std::unique_ptr<float, void (*)(void*)> decoded(stbi_loadf_from_memory(data, length, &width, &height, &channelsInFile, 4),
                                                     stbi_image_free);
-    if (!decoded) throw ImageIOError(fmt::format("cannot read Radiance HDR '{}': {}", path.string(), stbi_failure_reason()));
+    if (!decoded) throw ImageIOError(fmt::format("cannot read Radiance HDR '{}': {}", name, stbi_failure_reason()));
     ImageRGBAF image;
     image.width = uint32_t(width);
     image.height = uint32_t(height);
@@ -363,7 +440,7 @@ ImageRGBAF readRadianceHDR(const std::filesystem::path& path) {
             const size_t pixel = i / 4;
             throw ImageIOError(fmt::format("cannot read Radiance HDR '{}': pixel ({}, {}) channel {} is {}; radiance must be finite "
                                            "and non-negative (the file is corrupt)",
-                                           path.string(), pixel % image.width, pixel / image.width, i % 4, value));
+                                           name, pixel % image.width, pixel / image.width, i % 4, value));
         }
     }
     return image;

@@ -3,6 +3,7 @@
 #include <cctype>
 #include <cmath>
 #include <fstream>
+#include <iterator>
 #include <limits>
 
 #include <fmt/format.h>
@@ -168,13 +169,12 @@ Light parseLight(const std::filesystem::path& file, const json& j, size_t index)
     return light;
 }
 
-Scene loadSceneFile(const std::filesystem::path& path, const SceneLoadOptions& options) {
-    std::ifstream in(path);
-    if (!in) fail(path, "no such file or not readable");
+Scene loadSceneFile(std::string_view bytes, const std::filesystem::path& path, const SceneLoadOptions& options) {
     json root;
     try {
-        root = json::parse(in);
-    } catch (const json::parse_error& e) {
+        root = json::parse(bytes);
+    } catch (const json::exception& e) {
+        // Not only parse_error: a number beyond double's range (1e400) is an out_of_range.
         fail(path, fmt::format("malformed JSON: {}", e.what()));
     }
     try {
@@ -273,29 +273,58 @@ bool allFinite(const Values&... values) {
 
 std::string label(const std::string& name, size_t index) { return name.empty() ? fmt::format("#{}", index) : fmt::format("'{}'", name); }
 
-}  // namespace
+// What a .gltf / .glb loaded on its own lacks and a scene file would give: a camera, a light, probes,
+// an irradiance volume.
+void finishGltfScene(Scene& scene, bool hasCamera) {
+    if (!hasCamera) detail::frameSceneBounds(scene);
+    if (scene.lights.empty()) scene.lights.push_back(detail::defaultKeyLight());
+    detail::addProbesFromMarkers(scene);
+    detail::addIrradianceVolumeFromMarkers(scene);
+}
 
-Scene loadScene(const std::filesystem::path& path, const SceneLoadOptions& options) {
-    Scene scene;
-    if (path.extension() == ".json") {
-        scene = loadSceneFile(path, options);
-    } else if (path.extension() == ".gltf" || path.extension() == ".glb") {
-        bool hasCamera = false;
-        scene = detail::loadGltf(path, hasCamera, options);
-        if (!hasCamera) detail::frameSceneBounds(scene);
-        if (scene.lights.empty()) scene.lights.push_back(detail::defaultKeyLight());
-        detail::addProbesFromMarkers(scene);
-        detail::addIrradianceVolumeFromMarkers(scene);
-    } else {
-        std::error_code ec;
-        if (!std::filesystem::exists(path, ec)) fail(path, "no such file");
-        fail(path, "unknown scene type; use a .gltf, .glb or .json scene file (see docs/SCENES.md)");
-    }
+void validateLoaded(const std::filesystem::path& path, const Scene& scene) {
     try {
         validateScene(scene);
     } catch (const SceneError& e) {
         fail(path, e.what());
     }
+}
+
+}  // namespace
+
+Scene loadSceneFromMemory(std::string_view bytes, const std::filesystem::path& path, const SceneLoadOptions& options) {
+    Scene scene;
+    if (path.extension() == ".json") {
+        scene = loadSceneFile(bytes, path, options);
+    } else if (path.extension() == ".gltf" || path.extension() == ".glb") {
+        bool hasCamera = false;
+        scene = detail::loadGltfFromMemory(bytes, path, hasCamera, options);
+        finishGltfScene(scene, hasCamera);
+    } else {
+        fail(path, "unknown scene type; use a .gltf, .glb or .json scene file (see docs/SCENES.md)");
+    }
+    validateLoaded(path, scene);
+    return scene;
+}
+
+Scene loadScene(const std::filesystem::path& path, const SceneLoadOptions& options) {
+    Scene scene;
+    if (path.extension() == ".json") {
+        std::ifstream in(path, std::ios::binary);
+        if (!in) fail(path, "no such file or not readable");
+        const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        if (in.bad()) fail(path, "no such file or not readable");
+        scene = loadSceneFile(bytes, path, options);
+    } else if (path.extension() == ".gltf" || path.extension() == ".glb") {
+        bool hasCamera = false;
+        scene = detail::loadGltf(path, hasCamera, options);
+        finishGltfScene(scene, hasCamera);
+    } else {
+        std::error_code ec;
+        if (!std::filesystem::exists(path, ec)) fail(path, "no such file");
+        fail(path, "unknown scene type; use a .gltf, .glb or .json scene file (see docs/SCENES.md)");
+    }
+    validateLoaded(path, scene);
     return scene;
 }
 

@@ -173,7 +173,7 @@ std::string dataUriProblem(std::string_view uri, std::optional<uint64_t> byteLen
 
 // The JSON of a .glb (its first chunk), or nothing when the header is not one: tinygltf then
 // reports what is wrong.
-std::optional<std::string_view> glbJson(const std::vector<char>& bytes) {
+std::optional<std::string_view> glbJson(std::string_view bytes) {
     auto u32 = [&](size_t at) {
         uint32_t v;
         std::memcpy(&v, bytes.data() + at, 4);
@@ -235,6 +235,57 @@ void checkReferences(std::string_view text, LoadContext& context) {
     }
 }
 
+// Why a JPEG's Huffman tables would make stb_image write out of bounds, or "" when they would not.
+// stb (Debian's, of 2022) copies a DHT table's code counts into 257-entry arrays without checking
+// that they add up to at most 256, as JPEG requires (found by fuzzing).
+// stb finds DHT segments between scans too, so the whole file is walked as stb reads it: segments
+// by their length, entropy-coded data byte by byte up to the next marker. Where this walk and stb's
+// could differ (stb stops at an unknown marker or a bad length), this one goes on: it checks every
+// table stb could reach, and more.
+std::string jpegHuffmanProblem(const unsigned char* bytes, size_t size) {
+    size_t at = 2;   // after SOI
+    while (at + 4 <= size) {
+        if (bytes[at] != 0xFF || bytes[at + 1] == 0xFF) {   // data between markers, or fill bytes
+            ++at;
+            continue;
+        }
+        const unsigned marker = bytes[at + 1];
+        if (marker == 0x00 || marker == 0x01 || (marker >= 0xD0 && marker <= 0xD9)) {   // stuffed 0, TEM, RSTn, SOI, EOI: no length
+            at += 2;
+            continue;
+        }
+        const size_t length = size_t(bytes[at + 2]) << 8 | bytes[at + 3];
+        if (length < 2) return {};   // stb stops here
+        if (marker == 0xC4) {
+            size_t table = at + 4;
+            for (size_t left = length - 2; left > 0 && table + 17 <= size;) {
+                if ((bytes[table] >> 4) > 1 || (bytes[table] & 15) > 3) break;   // stb refuses the table
+                size_t codes = 0;
+                for (size_t i = 1; i <= 16; ++i) codes += bytes[table + i];
+                if (codes > 256)
+                    return fmt::format("its Huffman table at byte {} declares {} codes; JPEG allows at most 256 (the file is corrupt)",
+                                       table, codes);
+                if (17 + codes > left) break;
+                left -= 17 + codes;
+                table += 17 + codes;
+            }
+        }
+        at += 2 + length;
+    }
+    return {};
+}
+
+// Why the image bytes must not reach stb_image, or "" when they may. glTF 2.0 textures are PNG or
+// JPEG; stb would also decode GIF, BMP, PSD, TGA, PIC, PNM and Radiance files, decoders no glTF
+// needs and whose versions in Debian's stb have known memory-safety bugs, so other formats are
+// refused by their signature.
+std::string textureBytesProblem(const unsigned char* bytes, size_t size) {
+    static constexpr unsigned char kPng[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
+    if (size >= 8 && std::memcmp(bytes, kPng, 8) == 0) return {};
+    if (size >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8 && bytes[2] == 0xFF) return jpegHuffmanProblem(bytes, size);
+    return "is neither a PNG nor a JPEG (glTF 2.0 textures are one or the other)";
+}
+
 // tinygltf's image loader: reads the size from the header and refuses an image beyond
 // kMaxImageSide / kMaxImagePixels before decoding it; decodes the rest to 8-bit RGBA (16-bit
 // images keep their high byte).
@@ -243,6 +294,10 @@ bool loadImage(tinygltf::Image* image, const int index, std::string* err, std::s
     LoadContext& context = *static_cast<LoadContext*>(user);
     const std::string label =
         fmt::format("image {} ('{}')", index, !image->uri.empty() ? shown(image->uri) : !image->name.empty() ? image->name : "embedded");
+    if (std::string problem = textureBytesProblem(bytes, size_t(std::max(size, 0))); !problem.empty()) {
+        context.refuse(fmt::format("{} {}", label, problem));
+        return false;
+    }
     int width = 0, height = 0, channels = 0;
     if (!stbi_info_from_memory(bytes, size, &width, &height, &channels)) {
         if (err) *err += fmt::format("{} is not a PNG or JPEG image Janus can decode ({})\n", label, stbi_failure_reason());
@@ -835,6 +890,12 @@ Scene loadGltf(const std::filesystem::path& path, bool& hasCamera, const SceneLo
         bytes.resize(size_t(size));
         if (!in.read(bytes.data(), std::streamsize(size))) throw SceneError(fmt::format("{}: cannot be read", path.string()));
     }
+    return loadGltfFromMemory(std::string_view(bytes.data(), bytes.size()), path, hasCamera, options);
+}
+
+Scene loadGltfFromMemory(std::string_view bytes, const std::filesystem::path& path, bool& hasCamera, const SceneLoadOptions& options) {
+    std::error_code ec;
+    if (bytes.size() > UINT32_MAX) throw SceneError(fmt::format("{}: is larger than 4 GiB, which glTF files cannot be", path.string()));
     const std::string extension = path.extension().string();
     const bool binary = extension == ".glb" || extension == ".GLB";
 

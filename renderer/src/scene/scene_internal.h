@@ -2,6 +2,7 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 
 #include <nlohmann/json.hpp>
 
@@ -24,6 +25,10 @@ void frameSceneBounds(Scene& scene);
 
 // Loads the glTF part of a scene (.gltf / .glb). `hasCamera` tells whether it had a camera.
 Scene loadGltf(const std::filesystem::path& path, bool& hasCamera, const SceneLoadOptions& options);
+// The same for the bytes of such a file already in memory: `path` is where they would be (its
+// extension picks .glb or .gltf, its folder anchors relative URIs, errors name it); nothing is
+// read at `path` itself.
+Scene loadGltfFromMemory(std::string_view bytes, const std::filesystem::path& path, bool& hasCamera, const SceneLoadOptions& options);
 
 // Lighting added to scenes that bring none, so glTF sample models are not black.
 Light defaultKeyLight();

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace janus::renderer {
@@ -36,13 +37,24 @@ void writeEXR(const std::filesystem::path& path, const ImageRGBAF& image);   // 
 ImageRGBA8 readPNG(const std::filesystem::path& path);
 // Readers for the HDR outputs, so tools and tests can check what was written. Throw ImageIOError.
 ImageRGBAF readPFM(const std::filesystem::path& path);   // alpha reads as 1
+// OpenEXR, single-part scanline or tiled: R, G, B and optional A channels (alpha 1 without one), or
+// one channel read as grey; half, float and uint samples. Refused before decoding: a side above
+// 32768 or more than 32 Mi pixels (8192x4096) in all.
 ImageRGBAF readEXR(const std::filesystem::path& path);
 // Radiance RGBE (.hdr) through stb_image, alpha 1, row 0 on top. Throws ImageIOError naming the
 // path for a missing file, a file that is not Radiance HDR (stb would convert an LDR file; that is
-// refused), a side above 32768 (checked before decoding), or a NaN, infinite or negative sample
+// refused), a side above 32768 or more than 32 Mi pixels in all (checked before decoding), or a
+// NaN, infinite or negative sample
 // (refused, naming the pixel: radiance must be finite and >= 0; RGBE cannot encode them, so such a
 // file is corrupt).
 ImageRGBAF readRadianceHDR(const std::filesystem::path& path);
+
+// The readers above for a file's bytes already in memory; `name` stands for the path in messages
+// ("cannot read EXR '<name>': ..."). Same checks, same errors.
+ImageRGBA8 decodePNG(std::string_view bytes, const std::string& name);
+ImageRGBAF decodePFM(std::string_view bytes, const std::string& name);
+ImageRGBAF decodeEXR(std::string_view bytes, const std::string& name);
+ImageRGBAF decodeRadianceHDR(std::string_view bytes, const std::string& name);
 
 // Writes `bytes` to `path` atomically (temporary file + rename). Throws ImageIOError.
 void writeFileAtomically(const std::filesystem::path& path, const std::string& bytes);

@@ -8,6 +8,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <memory>
@@ -251,6 +252,12 @@ struct SceneLoadOptions {
 // problem (missing file, malformed glTF, missing texture, NaN in a transform or colour, a URI
 // outside the glTF's folder, an image too large, ...).
 Scene loadScene(const std::filesystem::path& path, const SceneLoadOptions& options = {});
+
+// loadScene for a file's bytes already in memory (for loaders that get scenes from elsewhere, and
+// for fuzzing without a file per input): `bytes` are loaded as if they were the file at `path`,
+// whose extension picks the format and whose folder is where the buffers, images and glTF they
+// reference are looked up (by the same rules). Nothing is read at `path` itself; errors name it.
+Scene loadSceneFromMemory(std::string_view bytes, const std::filesystem::path& path, const SceneLoadOptions& options = {});
 
 // The built-in default scene: a closed room with coloured walls and objects of varied
 // roughness and metalness, lit by a directional light. `janus render` with no scene uses it.

@@ -1,0 +1,222 @@
+// Builds the seed corpus from the shared scenes at fuzz time (scripts/fuzz.sh), so that no scene
+// is committed: janus_fuzz_seeds SCENES_DIR SCENE_FILES_DIR OUT_DIR writes
+//   OUT/gltf        every small .gltf, its buffers embedded as data: URIs (the fuzzer mutates one
+//                   input, not a folder) and its images replaced by fuzz/assets/tex.png (decoding
+//                   large textures would only slow every execution; fuzz_image covers decoders);
+//                   a .glb twin with the buffer as BIN chunk when it has a single buffer
+//   OUT/image       small .png / .jpg files, and the first .hdr sky shrunk to 32x16 and 4x2 and
+//                   written as Radiance HDR (RLE and flat), EXR (each compression, half and float)
+//                   and PFM
+//   OUT/scene_file  every .json scene file in SCENE_FILES_DIR, its "gltf" pointed at triangle.gltf
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+#include <stb_image_write.h>
+#include <tinyexr.h>
+
+#include "janus/renderer/image.h"
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+// Larger seeds would slow every execution they are picked for; the structure of a small glTF
+// exercises the same code.
+constexpr uintmax_t kMaxSeedBytes = 16 * 1024;
+
+std::string readFile(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+void writeFile(const fs::path& path, const std::string& bytes) {
+    std::ofstream(path, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size()));
+}
+
+std::string base64(const std::string& bytes) {
+    static const char* digits = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    std::string out;
+    for (size_t i = 0; i < bytes.size(); i += 3) {
+        uint32_t v = uint32_t(uint8_t(bytes[i])) << 16;
+        if (i + 1 < bytes.size()) v |= uint32_t(uint8_t(bytes[i + 1])) << 8;
+        if (i + 2 < bytes.size()) v |= uint32_t(uint8_t(bytes[i + 2]));
+        out += digits[(v >> 18) & 63];
+        out += digits[(v >> 12) & 63];
+        out += i + 1 < bytes.size() ? digits[(v >> 6) & 63] : '=';
+        out += i + 2 < bytes.size() ? digits[v & 63] : '=';
+    }
+    return out;
+}
+
+void appendU32(std::string& out, uint32_t v) {
+    for (int shift = 0; shift < 32; shift += 8) out.push_back(char((v >> shift) & 0xFF));
+}
+
+std::string glb(std::string jsonText, std::string bin) {
+    jsonText.resize((jsonText.size() + 3) & ~size_t(3), ' ');
+    bin.resize((bin.size() + 3) & ~size_t(3), '\0');
+    std::string out = "glTF";
+    appendU32(out, 2);
+    appendU32(out, uint32_t(12 + 8 + jsonText.size() + 8 + bin.size()));
+    appendU32(out, uint32_t(jsonText.size()));
+    appendU32(out, 0x4E4F534Au);
+    out += jsonText;
+    appendU32(out, uint32_t(bin.size()));
+    appendU32(out, 0x004E4942u);
+    out += bin;
+    return out;
+}
+
+bool isUri(const json& object) { return object.is_object() && object.contains("uri") && object["uri"].is_string(); }
+
+// Returns how many seeds it wrote (0 or more) for one glTF.
+int gltfSeeds(const fs::path& path, const fs::path& out) {
+    json gltf = json::parse(readFile(path), nullptr, false);
+    if (!gltf.is_object()) return 0;
+    std::vector<std::string> buffers;
+    for (json& buffer : gltf.value("buffers", json::array())) {
+        if (!isUri(buffer)) return 0;
+        const std::string uri = buffer["uri"];
+        if (uri.rfind("data:", 0) == 0) return 0;
+        const fs::path file = path.parent_path() / uri;
+        std::error_code ec;
+        if (!fs::is_regular_file(file, ec) || fs::file_size(file, ec) > kMaxSeedBytes) return 0;
+        buffers.push_back(readFile(file));
+    }
+    if (gltf.contains("images"))
+        for (json& image : gltf["images"])
+            if (isUri(image)) image["uri"] = "tex.png";
+    const std::string name = path.stem().string();
+    json embedded = gltf;
+    for (size_t i = 0; i < buffers.size(); ++i)
+        embedded["buffers"][i]["uri"] = "data:application/octet-stream;base64," + base64(buffers[i]);
+    const std::string text = embedded.dump();
+    if (text.size() > kMaxSeedBytes) return 0;
+    writeFile(out / "gltf" / (name + ".gltf"), text);
+    if (buffers.size() != 1) return 1;
+    gltf["buffers"][0].erase("uri");
+    writeFile(out / "gltf" / (name + ".glb"), glb(gltf.dump(), buffers[0]));
+    return 2;
+}
+
+janus::renderer::ImageRGBAF shrink(const janus::renderer::ImageRGBAF& image, uint32_t width, uint32_t height) {
+    janus::renderer::ImageRGBAF out;
+    out.width = width;
+    out.height = height;
+    out.pixels.resize(size_t(width) * height * 4);
+    for (uint32_t y = 0; y < height; ++y)
+        for (uint32_t x = 0; x < width; ++x)
+            for (int c = 0; c < 4; ++c)
+                out.pixels[(size_t(y) * width + x) * 4 + size_t(c)] =
+                    image.pixels[(size_t(y * image.height / height) * image.width + x * image.width / width) * 4 + size_t(c)];
+    return out;
+}
+
+void appendToString(void* context, void* data, int size) { static_cast<std::string*>(context)->append(static_cast<char*>(data), size_t(size)); }
+
+std::string exr(const janus::renderer::ImageRGBAF& image, int compression, int pixelType) {
+    const size_t count = size_t(image.width) * image.height;
+    std::vector<float> planes[3];
+    const char* names[3] = {"B", "G", "R"};
+    unsigned char* pointers[3];
+    for (int i = 0; i < 3; ++i) {
+        planes[i].resize(count);
+        for (size_t p = 0; p < count; ++p) planes[i][p] = image.pixels[p * 4 + size_t(2 - i)];
+        pointers[i] = reinterpret_cast<unsigned char*>(planes[i].data());
+    }
+    EXRImage exrImage;
+    InitEXRImage(&exrImage);
+    exrImage.num_channels = 3;
+    exrImage.images = pointers;
+    exrImage.width = int(image.width);
+    exrImage.height = int(image.height);
+    EXRHeader header;
+    InitEXRHeader(&header);
+    EXRChannelInfo channels[3] = {};
+    int inputTypes[3], storedTypes[3];
+    for (int i = 0; i < 3; ++i) {
+        channels[i].name[0] = names[i][0];
+        inputTypes[i] = TINYEXR_PIXELTYPE_FLOAT;
+        storedTypes[i] = pixelType;
+    }
+    header.num_channels = 3;
+    header.channels = channels;
+    header.pixel_types = inputTypes;
+    header.requested_pixel_types = storedTypes;
+    header.compression_type = compression;
+    unsigned char* memory = nullptr;
+    const char* error = nullptr;
+    const size_t size = SaveEXRImageToMemory(&exrImage, &header, &memory, &error);
+    if (error) FreeEXRErrorMessage(error);
+    std::string bytes(reinterpret_cast<char*>(memory), size);
+    std::free(memory);
+    return bytes;
+}
+
+void imageSeeds(const fs::path& scenes, const fs::path& out, int& written) {
+    bool skyDone = false;
+    for (const fs::directory_entry& entry : fs::recursive_directory_iterator(scenes)) {
+        if (!entry.is_regular_file()) continue;
+        const fs::path& path = entry.path();
+        const std::string extension = path.extension().string();
+        if ((extension == ".png" || extension == ".jpg") && entry.file_size() <= 16 * 1024) {
+            fs::copy_file(path, out / "image" / (path.parent_path().parent_path().filename().string() + "-" + path.filename().string()),
+                          fs::copy_options::overwrite_existing);
+            ++written;
+        }
+        if (extension != ".hdr" || skyDone) continue;
+        skyDone = true;
+        const janus::renderer::ImageRGBAF sky = janus::renderer::readRadianceHDR(path);
+        for (auto [width, height] : {std::pair{32u, 16u}, std::pair{4u, 2u}}) {
+            const janus::renderer::ImageRGBAF small = shrink(sky, width, height);
+            const std::string stem = "sky-" + std::to_string(width) + "x" + std::to_string(height);
+            std::string hdr;
+            stbi_write_hdr_to_func(appendToString, &hdr, int(width), int(height), 4, small.pixels.data());
+            writeFile(out / "image" / (stem + ".hdr"), hdr);   // RLE scanlines at width 32, flat at 4
+            janus::renderer::writePFM(out / "image" / (stem + ".pfm"), small);
+            written += 2;
+            for (int compression : {TINYEXR_COMPRESSIONTYPE_NONE, TINYEXR_COMPRESSIONTYPE_RLE, TINYEXR_COMPRESSIONTYPE_ZIPS,
+                                    TINYEXR_COMPRESSIONTYPE_ZIP, TINYEXR_COMPRESSIONTYPE_PIZ})
+                for (int type : {TINYEXR_PIXELTYPE_HALF, TINYEXR_PIXELTYPE_FLOAT}) {
+                    writeFile(out / "image" / (stem + "-c" + std::to_string(compression) + "-t" + std::to_string(type) + ".exr"),
+                              exr(small, compression, type));
+                    ++written;
+                }
+        }
+    }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    if (argc != 4) {
+        std::cerr << "usage: janus_fuzz_seeds SCENES_DIR SCENE_FILES_DIR OUT_DIR\n";
+        return 2;
+    }
+    const fs::path scenes = argv[1], sceneFiles = argv[2], out = argv[3];
+    for (const char* dir : {"gltf", "image", "scene_file"}) fs::create_directories(out / dir);
+    int gltfCount = 0, imageCount = 0, sceneCount = 0;
+    for (const fs::directory_entry& entry : fs::recursive_directory_iterator(scenes))
+        if (entry.is_regular_file() && entry.path().extension() == ".gltf" && entry.file_size() <= kMaxSeedBytes)
+            gltfCount += gltfSeeds(entry.path(), out);
+    imageSeeds(scenes, out, imageCount);
+    for (const fs::path& dir : {scenes, sceneFiles})
+        for (const fs::directory_entry& entry : fs::recursive_directory_iterator(dir)) {
+            if (!entry.is_regular_file() || entry.path().extension() != ".json") continue;
+            json scene = json::parse(readFile(entry.path()), nullptr, false);
+            if (!scene.is_object() || !scene.contains("gltf")) continue;
+            scene["gltf"] = "triangle.gltf";
+            writeFile(out / "scene_file" / entry.path().filename(), scene.dump(2));
+            ++sceneCount;
+        }
+    std::cout << "seeds: " << gltfCount << " glTF/GLB, " << imageCount << " images, " << sceneCount << " scene files in " << out.string()
+              << "\n";
+    return 0;
+}
