@@ -130,6 +130,15 @@ TEST(FuzzFindings, JpegWithAHuffmanTableOfMoreThan256CodesIsRefusedBeforeDecodin
     EXPECT_NE(message.find("at most 256"), std::string::npos) << message;
 }
 
+// The same overflow through a DHT table whose 16 code counts run past the end of the file: stb
+// reads the missing bytes as 0 and still builds the table, which the first check skipped
+// (UBSan in fuzz_image, session 5). Before the fix the check passed the file on to stb.
+TEST(FuzzFindings, JpegWithAHuffmanTableCutByTheEndOfTheFileIsRefusedBeforeDecoding) {
+    const std::string message = errorOf<SceneError>([] { loadTexture(readFile(kCorpus / "image" / "jpeg-dht-cut-by-end-of-file.jpg")); });
+    EXPECT_NE(message.find("Huffman table"), std::string::npos) << message;
+    EXPECT_NE(message.find("at most 256"), std::string::npos) << message;
+}
+
 TEST(FuzzFindings, ValidJpegAndPngTexturesStillLoad) {
     const fs::path jpeg = fs::path(JANUS_SHARED_SCENES_DIR) / "khronos/Fox/screenshot/screenshot.jpg";
     const fs::path png = fs::path(JANUS_SHARED_SCENES_DIR) / "BoxTextured/glTF/CesiumLogoFlat.png";

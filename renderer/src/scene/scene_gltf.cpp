@@ -257,11 +257,15 @@ std::string jpegHuffmanProblem(const unsigned char* bytes, size_t size) {
         const size_t length = size_t(bytes[at + 2]) << 8 | bytes[at + 3];
         if (length < 2) return {};   // stb stops here
         if (marker == 0xC4) {
+            // stb reads 0 past the end of the data, so a table cut short by the end of the file
+            // still gets its counts, the missing ones as 0 (found by fuzzing: such a table was
+            // skipped here and overflowed in stb).
+            auto byteAt = [&](size_t i) -> size_t { return i < size ? bytes[i] : 0u; };
             size_t table = at + 4;
-            for (size_t left = length - 2; left > 0 && table + 17 <= size;) {
-                if ((bytes[table] >> 4) > 1 || (bytes[table] & 15) > 3) break;   // stb refuses the table
+            for (size_t left = length - 2; left > 0 && table < size;) {
+                if ((byteAt(table) >> 4) > 1 || (byteAt(table) & 15) > 3) break;   // stb refuses the table
                 size_t codes = 0;
-                for (size_t i = 1; i <= 16; ++i) codes += bytes[table + i];
+                for (size_t i = 1; i <= 16; ++i) codes += byteAt(table + i);
                 if (codes > 256)
                     return fmt::format("its Huffman table at byte {} declares {} codes; JPEG allows at most 256 (the file is corrupt)",
                                        table, codes);
