@@ -14,12 +14,14 @@
 #include <iostream>
 #include <iterator>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 #include <stb_image_write.h>
 #include <tinyexr.h>
 
+#include "glb_with_image.h"
 #include "janus/renderer/image.h"
 
 namespace fs = std::filesystem;
@@ -55,24 +57,7 @@ std::string base64(const std::string& bytes) {
     return out;
 }
 
-void appendU32(std::string& out, uint32_t v) {
-    for (int shift = 0; shift < 32; shift += 8) out.push_back(char((v >> shift) & 0xFF));
-}
-
-std::string glb(std::string jsonText, std::string bin) {
-    jsonText.resize((jsonText.size() + 3) & ~size_t(3), ' ');
-    bin.resize((bin.size() + 3) & ~size_t(3), '\0');
-    std::string out = "glTF";
-    appendU32(out, 2);
-    appendU32(out, uint32_t(12 + 8 + jsonText.size() + 8 + bin.size()));
-    appendU32(out, uint32_t(jsonText.size()));
-    appendU32(out, 0x4E4F534Au);
-    out += jsonText;
-    appendU32(out, uint32_t(bin.size()));
-    appendU32(out, 0x004E4942u);
-    out += bin;
-    return out;
-}
+std::string glb(std::string jsonText, std::string bin) { return janus::fuzz::makeGlb(std::move(jsonText), std::move(bin)); }
 
 bool isUri(const json& object) { return object.is_object() && object.contains("uri") && object["uri"].is_string(); }
 

@@ -12,6 +12,7 @@
 
 #include <unistd.h>
 
+#include "../../fuzz/glb_with_image.h"
 #include "janus/renderer/image.h"
 #include "janus/renderer/scene.h"
 
@@ -21,6 +22,8 @@ namespace fs = std::filesystem;
 using namespace janus::renderer;
 
 namespace {
+
+using janus::fuzz::appendU32;
 
 const fs::path kCorpus = JANUS_FUZZ_CORPUS_DIR;
 
@@ -41,38 +44,8 @@ std::string errorOf(Load&& load) {
     return {};
 }
 
-void appendU32(std::string& out, uint32_t v) {
-    for (int shift = 0; shift < 32; shift += 8) out.push_back(char((v >> shift) & 0xFF));
-}
 
-// A GLB whose only image is `image` (in the BIN chunk), used as a material's base colour: what
-// fuzz/fuzz_image.cpp feeds the loader.
-std::string glbWithImage(std::string_view image) {
-    const nlohmann::json gltf = {
-        {"asset", {{"version", "2.0"}}},
-        {"buffers", {{{"byteLength", image.size()}}}},
-        {"bufferViews", {{{"buffer", 0}, {"byteLength", image.size()}}}},
-        {"images", {{{"bufferView", 0}, {"mimeType", "image/png"}}}},
-        {"textures", {{{"source", 0}}}},
-        {"materials", {{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}}},
-    };
-    std::string json = gltf.dump();
-    json.resize((json.size() + 3) & ~size_t(3), ' ');
-    std::string bin(image);
-    bin.resize((bin.size() + 3) & ~size_t(3), '\0');
-    std::string glb = "glTF";
-    appendU32(glb, 2);
-    appendU32(glb, uint32_t(12 + 8 + json.size() + 8 + bin.size()));
-    appendU32(glb, uint32_t(json.size()));
-    appendU32(glb, 0x4E4F534Au);
-    glb += json;
-    appendU32(glb, uint32_t(bin.size()));
-    appendU32(glb, 0x004E4942u);
-    glb += bin;
-    return glb;
-}
-
-Scene loadTexture(std::string_view image) { return loadSceneFromMemory(glbWithImage(image), fs::temp_directory_path() / "texture.glb"); }
+Scene loadTexture(std::string_view image) { return loadSceneFromMemory(janus::fuzz::glbWithImage(image), fs::temp_directory_path() / "texture.glb"); }
 
 // A valid 2x2 RGBA float EXR (scanline, ZIP) from our writer, in memory.
 std::string smallExr() {

@@ -310,21 +310,17 @@ TEST(GiBakeFiles, TheSceneHashFollowsWhatTheBakeDependsOn) {
 
 // ---- On every configuration ---------------------------------------------------------------
 
-class ProbeGiTest : public testing::TestWithParam<Config> {
+class ProbeGiTest : public test_support::ConfigTest {
 protected:
-    rhi::IDevice& device() { return test_support::deviceFor(GetParam().backend); }
-    RenderSettings settings(uint32_t width = 96, uint32_t height = 96) const {
-        RenderSettings s;
-        s.width = width;
-        s.height = height;
-        s.path = GetParam().path;
-        return s;
-    }
-    void expectNoMessages() {
-        const std::vector<rhi::DebugMessage> messages = device().takeDebugMessages();
-        EXPECT_TRUE(messages.empty()) << GetParam().name() << ":" << test_support::joinMessages(messages);
-    }
+    RenderSettings settings(uint32_t width = 96, uint32_t height = 96) const { return settingsOfSize(width, height); }
 };
+
+// A read-back probe's SH in the CPU's double type.
+ShRgb shOf(const IrradianceProbe& probe) {
+    ShRgb sh{};
+    for (size_t k = 0; k < 9; ++k) sh[k] = glm::dvec3(probe.sh[k]);
+    return sh;
+}
 
 // Mean HDR red / green over a rectangle of the image.
 glm::dvec3 meanHdr(const ImageRGBAF& image, uint32_t x0, uint32_t y0, uint32_t x1, uint32_t y1) {
@@ -411,8 +407,7 @@ TEST_P(ProbeGiTest, AUniformlyEmissiveRoomGivesTheAnalyticIrradiance) {
         const std::vector<IrradianceProbe> probes = renderer.readIrradianceProbes();
         ASSERT_EQ(probes.size(), 1u);
         EXPECT_TRUE(probes[0].valid);
-        ShRgb sh{};
-        for (size_t k = 0; k < 9; ++k) sh[k] = glm::dvec3(probes[0].sh[k]);
+        const ShRgb sh = shOf(probes[0]);
         // Constant radiance E: irradiance / pi = E for every normal. 1024 surfels and half floats:
         // within 1 %.
         for (const glm::dvec3 n : {glm::dvec3(1, 0, 0), glm::dvec3(0, 0, -1), glm::normalize(glm::dvec3(-1, 2, 1))}) {
@@ -460,8 +455,7 @@ TEST_P(ProbeGiTest, NegativeCoefficientsSurviveTheVolume) {
     ASSERT_EQ(probes.size(), 1u);
     EXPECT_LT(probes[0].sh[3].x, -0.1f) << "L1 x of a light from -X must be negative";
     // Bright from -X, dark towards +X.
-    ShRgb sh{};
-    for (size_t k = 0; k < 9; ++k) sh[k] = glm::dvec3(probes[0].sh[k]);
+    const ShRgb sh = shOf(probes[0]);
     EXPECT_GT(shEvaluate(sh, glm::dvec3(-1, 0, 0)).x, 1.0);
     EXPECT_LT(std::abs(shEvaluate(sh, glm::dvec3(1, 0, 0)).x), 0.2);
 }
@@ -532,17 +526,7 @@ TEST_P(ProbeGiTest, TheCornellBoxWithGiMatchesVulkanCompute) {
     }());
     const test_support::FrameOutput result = renderSettled(device(), scene, settings());
     expectNoMessages();
-    // As the other parity tests: at most one 8-bit step, except a handful of silhouette pixels.
-    constexpr uint64_t kMaxSilhouettePixels = 4;
-    const ImageDifference diff = compareImages(reference.display, result.display, 1);
-    if (diff.differingPixels > kMaxSilhouettePixels) {
-        const fs::path dir = test_support::outputDir();
-        writePNG(dir / fmt::format("gi-parity-{}.png", GetParam().name()), result.display);
-        writePNG(dir / "gi-parity-vulkan_compute.png", reference.display);
-        writePNG(dir / fmt::format("gi-parity-{}-diff.png", GetParam().name()), differenceHeatmap(reference.display, result.display));
-        ADD_FAILURE() << GetParam().name() << " differs from vulkan/compute by more than 1 step in " << diff.differingPixels
-                      << " pixels (up to " << diff.maxChannelDifference << " steps); images in " << dir;
-    }
+    test_support::expectMatchesVulkanCompute(reference.display, result.display, "gi-parity", GetParam().name());
 }
 
 uint32_t countPasses(const FrameReport& report, const std::string& prefix) {

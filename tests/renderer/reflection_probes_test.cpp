@@ -174,20 +174,9 @@ TEST(ReflectionProbeScenes, BadProbesAreSceneErrorsNamingTheProblem) {
 
 // ---- On every configuration ---------------------------------------------------------------
 
-class ReflectionProbesTest : public testing::TestWithParam<Config> {
+class ReflectionProbesTest : public test_support::ConfigTest {
 protected:
-    rhi::IDevice& device() { return test_support::deviceFor(GetParam().backend); }
-    RenderSettings settings(uint32_t width = 128, uint32_t height = 96) const {
-        RenderSettings s;
-        s.width = width;
-        s.height = height;
-        s.path = GetParam().path;
-        return s;
-    }
-    void expectNoMessages() {
-        const std::vector<rhi::DebugMessage> messages = device().takeDebugMessages();
-        EXPECT_TRUE(messages.empty()) << GetParam().name() << ":" << test_support::joinMessages(messages);
-    }
+    RenderSettings settings(uint32_t width = 128, uint32_t height = 96) const { return settingsOfSize(width, height); }
 };
 
 // Renders until every probe is shown (at most 16 frames); returns the last frame.
@@ -215,19 +204,8 @@ TEST_P(ReflectionProbesTest, TheProbesSceneMatchesVulkanCompute) {
     const test_support::FrameOutput result = renderSettled(device(), scene, settings());
     expectNoMessages();
     test_support::expectFiniteHdr(result.hdr, GetParam().name());
-    // As the other parity tests: at most one 8-bit step, except a handful of silhouette pixels
-    // (GL and Vulkan break rasterisation ties with opposite y). A probe shown from a different
-    // update, a wrong face or a missing blend changes whole regions.
-    constexpr uint64_t kMaxSilhouettePixels = 4;
-    const ImageDifference diff = compareImages(reference.display, result.display, 1);
-    if (diff.differingPixels > kMaxSilhouettePixels) {
-        const fs::path dir = test_support::outputDir();
-        writePNG(dir / fmt::format("probes-{}.png", GetParam().name()), result.display);
-        writePNG(dir / "probes-vulkan_compute.png", reference.display);
-        writePNG(dir / fmt::format("probes-{}-diff.png", GetParam().name()), differenceHeatmap(reference.display, result.display));
-        ADD_FAILURE() << GetParam().name() << " differs from vulkan/compute by more than 1 step in " << diff.differingPixels
-                      << " pixels (up to " << diff.maxChannelDifference << " steps); images in " << dir;
-    }
+    // A probe shown from a different update, a wrong face or a missing blend changes whole regions.
+    test_support::expectMatchesVulkanCompute(reference.display, result.display, "probes", GetParam().name());
 }
 
 TEST_P(ReflectionProbesTest, ProbesChangeTheImageWhereTheyReachAndNowhereElse) {

@@ -11,6 +11,8 @@
 #include <string_view>
 #include <vector>
 
+#include <gtest/gtest.h>
+
 #include "janus/renderer/image.h"
 #include "janus/renderer/renderer.h"
 #include "janus/renderer/scene.h"
@@ -77,5 +79,29 @@ void expectWellFormedTileLists(const TileLists& tiles, const LightCullingReport&
 // Display images within 1 step and HDR within 1e-3 relative (see the definition for why);
 // failing images are written to outputDir() with `label` in their names.
 void expectSameImage(const FrameOutput& expected, const FrameOutput& actual, const std::string& label);
+
+// Cross-configuration parity against vulkan/compute: at most one 8-bit step, except up to 4
+// silhouette pixels (see the definition for why). On failure writes <stem>-<config>.png,
+// <stem>-vulkan_compute.png and <stem>-<config>-diff.png to outputDir().
+void expectMatchesVulkanCompute(const ImageRGBA8& reference, const ImageRGBA8& result, const std::string& stem,
+                                const std::string& configName);
+
+// What the parameterised renderer suites share: the config's device, settings of a size on the
+// config's path, and no debug messages since the last take.
+class ConfigTest : public testing::TestWithParam<Config> {
+protected:
+    rhi::IDevice& device() const { return deviceFor(GetParam().backend); }
+    RenderSettings settingsOfSize(uint32_t width, uint32_t height) const {
+        RenderSettings s;
+        s.width = width;
+        s.height = height;
+        s.path = GetParam().path;
+        return s;
+    }
+    void expectNoMessages() const {
+        const std::vector<rhi::DebugMessage> messages = device().takeDebugMessages();
+        EXPECT_TRUE(messages.empty()) << GetParam().name() << ":" << joinMessages(messages);
+    }
+};
 
 }  // namespace janus::renderer::test_support
