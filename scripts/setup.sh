@@ -29,6 +29,8 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev libfmt-dev
   # xxHash (header-only use, XXH_INLINE_ALL): scene content hashes and checksums of GI bake files
   libxxhash-dev
+  # Embree 3: the CPU ray tracer of the GI reference path tracer (renderer/src/gi/gi_reference.*)
+  libembree-dev
   # CLI: command-line parsing for apps/janus
   libcli11-dev
 )

@@ -194,5 +194,6 @@ Command addBenchCommand(CLI::App& parent);
 Command addBakeCommand(CLI::App& parent);
 // `janus bench probes`, registered under `bench` by addBenchCommand; returns what runs it.
 std::function<int()> addBenchProbesCommand(CLI::App& bench);
+std::function<int()> addBenchGiCommand(CLI::App& bench);   // cmd_bench_gi.cpp
 
 }  // namespace janus::cli

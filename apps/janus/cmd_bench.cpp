@@ -297,7 +297,8 @@ int runForward(const BenchOptions& options) {
 Command addBenchCommand(CLI::App& parent) {
     auto options = std::make_shared<BenchOptions>();
     CLI::App* app = parent.add_subcommand("bench", "Benchmarks; 'janus bench forward' measures Forward+ light culling, "
-                                                   "'janus bench probes' the GGX prefilter's accuracy vs time");
+                                                   "'janus bench probes' the GGX prefilter's accuracy vs time, "
+                                                   "'janus bench gi' the probe GI's accuracy vs time");
     CLI::App* forward = app->add_subcommand("forward", "Many-lights scene: naive / tiles-2d / tiles-depth on each path and backend; "
                                                        "writes forward.md, forward.json, forward.png to --out");
     app->require_subcommand(1);
@@ -315,7 +316,12 @@ Command addBenchCommand(CLI::App& parent) {
     app->footer(kExitCodeHelp);
     forward->footer(kExitCodeHelp);
     std::function<int()> runProbes = addBenchProbesCommand(*app);
-    return {app, [options, forward, runProbes] { return forward->parsed() ? runForward(*options) : runProbes(); }};
+    std::function<int()> runGi = addBenchGiCommand(*app);
+    CLI::App* gi = app->get_subcommand("gi");
+    return {app, [options, forward, gi, runProbes, runGi] {
+                if (forward->parsed()) return runForward(*options);
+                return gi->parsed() ? runGi() : runProbes();
+            }};
 }
 
 }  // namespace janus::cli

@@ -15,15 +15,16 @@ layout(set = JANUS_SET_VIEW, binding = JANUS_BINDING_GI_UNIFORMS, std140) unifor
 } giVolume;
 
 // Irradiance / pi at `position` for `normal` (rgb, clamped at 0), and how much the volume covers
-// the point (a): 1 inside the grid of probes, falling to 0 one probe spacing outside it, and 0 where
+// the point (a): 1 inside the volume's bounds (the probes' cells: half a spacing beyond the outer
+// probes, so a room's walls are covered), falling to 0 one probe spacing outside them, and 0 where
 // every probe around is invalid. Trilinear over the 8 surrounding probes, each weighted by its
-// validity, weights renormalised.
+// validity, weights renormalised; beyond the outer probes, their values.
 vec4 giIrradianceOverPi(vec3 position, vec3 normal) {
     if (giVolume.origin.w <= 0.0) return vec4(0.0);
     ivec3 counts = giVolume.counts.xyz;
     vec3 g = (position + normal * giVolume.spacing.w - giVolume.origin.xyz) / giVolume.spacing.xyz;
     vec3 last = vec3(counts - 1);
-    vec3 outside = max(max(-g, g - last), vec3(0.0));
+    vec3 outside = max(max(-0.5 - g, g - (last + 0.5)), vec3(0.0));
     float coverage = clamp(1.0 - max(outside.x, max(outside.y, outside.z)), 0.0, 1.0);
     if (coverage <= 0.0) return vec4(0.0);
     g = clamp(g, vec3(0.0), last);

@@ -20,9 +20,16 @@ void main() {
     vec4 range = giData(giProbes, probe);
     int first = int(range.x), count = int(range.y);
     uint lane = gl_LocalInvocationID.x;
+    // Serial sum (schedule.w, for comparison): invocation 0 sums every transfer, the others idle.
+    // The branch is uniform (a uniform block value), so the barriers below stay in uniform flow.
+    bool serial = relight.schedule.w != 0;
+    int stride = serial ? 1 : 64;
     vec3 c[9];
     for (int k = 0; k < 9; ++k) c[k] = vec3(0.0);
-    for (int t = first + int(lane); t < first + count; t += 64) {
+    ivec3 grid = ivec3(probe % relight.grid.x, (probe / relight.grid.x) % relight.grid.y,
+                       probe / (relight.grid.x * relight.grid.y));
+    if (serial && lane != 0u) return;
+    for (int t = first + int(lane); t < first + count; t += stride) {
         vec4 a = giData(giTransfers, t * 3), b = giData(giTransfers, t * 3 + 1), d = giData(giTransfers, t * 3 + 2);
         int brick = int(a.x);
         vec3 radiance = giData(giBrickRadiance, brick).rgb;
@@ -30,8 +37,11 @@ void main() {
         c[3] += radiance * b.x; c[4] += radiance * b.y; c[5] += radiance * b.z; c[6] += radiance * b.w;
         c[7] += radiance * d.x; c[8] += radiance * d.y;
     }
-    ivec3 grid = ivec3(probe % relight.grid.x, (probe / relight.grid.x) % relight.grid.y,
-                       probe / (relight.grid.x * relight.grid.y));
+    if (serial) {
+        for (int k = 0; k < 9; ++k)
+            imageStore(volumeImage, ivec3(grid.x, grid.z, grid.y * 9 + k), vec4(c[k] * giCosineLobe(k), k == 0 ? range.z : 0.0));
+        return;
+    }
     for (int k = 0; k < 9; ++k) {
         partial[lane] = c[k];
         barrier();

@@ -15,7 +15,7 @@ const int kGiDataWidth = 1024;
 
 layout(set = 0, binding = JANUS_BINDING_GI_RELIGHT_PARAMS, std140) uniform GiRelightParams {
     ivec4 counts;     // x bricks, y probes, z 1 = add the last relight's irradiance (a further bounce), w SH coefficients kept (4 | 9)
-    ivec4 schedule;   // x first rank relit, y probes relit (ranks first .. first + y - 1, mod probes), z slice (fallback SH pass: y * 9 + k), w unused
+    ivec4 schedule;   // x first rank relit, y probes relit (ranks first .. first + y - 1, mod probes), z slice (fallback SH pass: y * 9 + k), w 1 = serial sum (compute SH pass: one invocation per probe, no reduction; for comparison)
     ivec4 grid;       // xyz probes per axis
 } relight;
 

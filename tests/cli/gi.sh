@@ -32,4 +32,27 @@ expect_error 3 "checksum mismatch" render "$CORNELL" --size 32x32 --gi-bake "$TM
 # Another scene's bake (the default scene has no volume, so give the cornell box a denser one).
 printf '{"gltf": "%s", "irradianceVolume": {"probes": 2}}\n' "$CORNELL" > "$TMP/other.json"
 expect_error 3 "baked from another scene" render "$TMP/other.json" --size 32x32 --gi-bake "$TMP/cornell.bake" --out "$TMP/x.png"
+# bench gi: usage and input errors first; then a quick sweep on the cornell box, checked for what
+# every row must have and for one physical fact: one bounce is further from the converged reference
+# than the default's four (docs/GI.md, "Accuracy vs time").
+expect_error 2 "--sweeps: unknown sweep 'colour'" bench gi "$CORNELL" --sweeps surfels,colour --out "$TMP/gi-bench"
+expect_error 2 "--out DIR is required" bench gi "$CORNELL" --quick
+expect_error 3 "has no irradiance volume" bench gi --quick --out "$TMP/gi-bench"
+expect_success bench gi "$CORNELL" --quick --out "$TMP/gi-bench"
+for file in gi.md gi.json gi.png; do
+  [[ -s $TMP/gi-bench/$file ]] || fail "bench gi wrote no $file"
+done
+B=$TMP/gi-bench/gi.json
+json_check "$B" 'sorted({c["sweep"] for c in j["configurations"]}) == sorted(["default", "surfels", "bricks", "brick-size", "spacing",
+  "order", "bounces", "probes-per-frame", "reduction"])' "gi.json lacks a sweep"
+json_check "$B" 'all(c["relight"]["totalMs"] > 0 and c["relight"]["frames"] >= 1 and c["bakeMs"] > 0 and c["validProbes"] > 0 and
+  0 < c["probeError"]["relativeRmse"] < 1 and 0 < c["imageErrorConverged"]["relativeRmse"] < 2 for c in j["configurations"])' \
+  "a gi.json row lacks times or has an absurd error"
+json_check "$B" 'next(c for c in j["configurations"] if c["sweep"] == "bounces")["probeErrorConverged"]["relativeRmse"] >
+  next(c for c in j["configurations"] if c["sweep"] == "default")["probeErrorConverged"]["relativeRmse"]' \
+  "one bounce should be further from the converged reference than the default bounces"
+json_check "$B" 'all(c["relight"]["frames"] == 4 * c["volume"]["bounces"] for c in j["configurations"] if c["sweep"] == "probes-per-frame")' \
+  "16 probes per frame should spread each bounce cycle of a 64-probe relight over 4 frames"
+grep -q "^## Goals" "$TMP/gi-bench/gi.md" || fail "gi.md has no goals section"
+check_png "$TMP/gi-bench/gi.png" 900 560
 finish

@@ -125,7 +125,7 @@ TEST_P(EnvironmentMapTest, AnAnalyticEquirectLandsOnTheRightCubeTexels) {
         EXPECT_EQ(report.dispatches, 0u);
     }
     EXPECT_EQ(environment.cube()->desc().mipLevels, rhi::fullMipCount(kFace, kFace));
-    const CubeImage cube = readCube(device(), environment.cube(), 0);
+    const FloatCube cube = readCube(device(), environment.cube(), 0);
     // Tolerance: fp16 storage rounds values in [0.5, 1] to 2.4e-4; bilinear interpolation of a
     // unit vector between pixel centres 0.7 degrees apart is off by < 2e-5; within half a row of
     // a pole v is clamped (up to 0.35 degrees, 3e-3), but no 32^2 face texel centre is that close.
@@ -160,7 +160,7 @@ TEST_P(EnvironmentMapTest, TheSharedSkyConvertsAndPrefiltersToFiniteRadiance) {
     const std::vector<PassReport> reports = graph.execute(device(), device().createCommandList());
     ASSERT_EQ(reports.size(), 2u);
     for (uint32_t mip = 0; mip < prefilter.mipCount(); ++mip) {
-        const CubeImage image = readCube(device(), prefilter.prefiltered(), mip);
+        const FloatCube image = readCube(device(), prefilter.prefiltered(), mip);
         for (uint32_t face = 0; face < 6; ++face)
             for (float v : image.faces[face]) ASSERT_TRUE(std::isfinite(v) && v >= 0.0f) << "mip " << mip << " face " << face;
     }

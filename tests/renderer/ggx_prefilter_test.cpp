@@ -98,8 +98,8 @@ TEST(GgxSamples, LobeNormalizationMatchesItsClosedForm) {
 
 using Radiance = std::function<glm::dvec3(const glm::dvec3&, uint32_t face, uint32_t x, uint32_t y)>;
 
-CubeImage makeCube(uint32_t size, const Radiance& radiance) {
-    CubeImage cube;
+FloatCube makeCube(uint32_t size, const Radiance& radiance) {
+    FloatCube cube;
     cube.size = size;
     for (uint32_t face = 0; face < 6; ++face) {
         cube.faces[face].resize(size_t(size) * size * 4);
@@ -114,11 +114,11 @@ CubeImage makeCube(uint32_t size, const Radiance& radiance) {
 }
 
 TEST(GgxReference, HardCasesAreFinite) {
-    const CubeImage black = makeCube(8, [](const glm::dvec3&, uint32_t, uint32_t, uint32_t) { return glm::dvec3(0.0); });
-    const CubeImage hot = makeCube(8, [](const glm::dvec3&, uint32_t face, uint32_t x, uint32_t y) {
+    const FloatCube black = makeCube(8, [](const glm::dvec3&, uint32_t, uint32_t, uint32_t) { return glm::dvec3(0.0); });
+    const FloatCube hot = makeCube(8, [](const glm::dvec3&, uint32_t face, uint32_t x, uint32_t y) {
         return face == 4 && x == 3 && y == 4 ? glm::dvec3(65504.0) : glm::dvec3(0.25);
     });
-    for (const CubeImage* cube : {&black, &hot}) {
+    for (const FloatCube* cube : {&black, &hot}) {
         const GgxReference reference(*cube);
         for (double roughness : {0.0, 1e-5, 0.3, 1.0})
             for (const glm::dvec3& n : {glm::dvec3(0, 0, 1), glm::dvec3(1, 1, 1), glm::dvec3(0, -1, 0)}) {
@@ -136,7 +136,7 @@ TEST(GgxReference, HardCasesAreFinite) {
 // The reference for every texel of mips 1..mipCount-1 (roughness m / (mipCount - 1)) of a cube of
 // `source.size`, index [mip][(face * size + y) * size + x].
 using ReferenceMips = std::vector<std::vector<glm::dvec3>>;
-ReferenceMips referenceMips(const CubeImage& source, uint32_t mipCount,
+ReferenceMips referenceMips(const FloatCube& source, uint32_t mipCount,
                             GgxReference::Normalization normalization = GgxReference::Normalization::TexelSum) {
     const GgxReference reference(source);
     ReferenceMips mips(mipCount);
@@ -160,7 +160,7 @@ struct MipError {
 std::vector<MipError> measureErrors(rhi::IDevice& device, const GgxPrefilter& prefilter, const ReferenceMips& reference) {
     std::vector<MipError> errors(prefilter.mipCount());
     for (uint32_t mip = 1; mip < prefilter.mipCount(); ++mip) {
-        const CubeImage got = readCube(device, prefilter.prefiltered(), mip);
+        const FloatCube got = readCube(device, prefilter.prefiltered(), mip);
         double squared = 0.0, magnitude = 0.0, maxRelative = 0.0;
         size_t i = 0;
         for (uint32_t face = 0; face < 6; ++face)
@@ -179,7 +179,7 @@ std::vector<MipError> measureErrors(rhi::IDevice& device, const GgxPrefilter& pr
 
 // The shared sky (1024 x 512 equirect) box-filtered into a small cube on the CPU: the mean of
 // 8 x 8 nearest equirect texels per cube texel.
-std::optional<CubeImage> sharedSkyCube(uint32_t size) {
+std::optional<FloatCube> sharedSkyCube(uint32_t size) {
     const std::filesystem::path path = std::filesystem::path(JANUS_SHARED_SCENES_DIR) / "env" / "chinese_garden_1k.hdr";
     if (!std::filesystem::exists(path)) return std::nullopt;
     const ImageRGBAF sky = readRadianceHDR(path);
@@ -208,7 +208,7 @@ protected:
         EXPECT_TRUE(messages.empty()) << GetParam().name() << ":" << test_support::joinMessages(messages);
     }
     // An RGBA16F source cube, full chain, mip 0 = `image` (values rounded to half).
-    rhi::TextureHandle upload(const CubeImage& image) {
+    rhi::TextureHandle upload(const FloatCube& image) {
         const rhi::TextureHandle cube = device().createTexture(rhi::TextureDesc{}
                                                                    .setDimension(rhi::TextureDimension::TextureCube)
                                                                    .setFormat(rhi::Format::RGBA16_FLOAT)
@@ -240,7 +240,7 @@ protected:
     float expectFinite(const GgxPrefilter& prefilter, const std::string& label) {
         float largest = 0.0f;
         for (uint32_t mip = 0; mip < prefilter.mipCount(); ++mip) {
-            const CubeImage image = readCube(device(), prefilter.prefiltered(), mip);
+            const FloatCube image = readCube(device(), prefilter.prefiltered(), mip);
             for (uint32_t face = 0; face < 6; ++face)
                 for (size_t i = 0; i < image.faces[face].size(); ++i) {
                     if (i % 4 == 3) continue;   // alpha
@@ -282,8 +282,8 @@ TEST_P(GgxPrefilterTest, MatchesTheCpuReferenceAndMip0IsTheSource) {
     expectCounts(report, kMips);
 
     // Mip 0 is a copy: bit for bit what the source holds.
-    const CubeImage source0 = readCube(device(), source, 0);
-    const CubeImage mip0 = readCube(device(), prefilter.prefiltered(), 0);
+    const FloatCube source0 = readCube(device(), source, 0);
+    const FloatCube mip0 = readCube(device(), prefilter.prefiltered(), 0);
     for (uint32_t face = 0; face < 6; ++face) ASSERT_EQ(mip0.faces[face], source0.faces[face]) << "face " << face;
 
     // Each prefiltered texel against the brute-force reference over the source's mip 0 (as stored,
@@ -315,10 +315,10 @@ TEST_P(GgxPrefilterTest, MatchesTheCpuReferenceAndMip0IsTheSource) {
 // integral instead of its texel sum (the diagnostic of docs/IBL.md, "Bright texels").
 TEST_P(GgxPrefilterTest, DISABLED_AccuracyTable) {
     device().takeDebugMessages();
-    std::vector<std::pair<std::string, CubeImage>> skies;
+    std::vector<std::pair<std::string, FloatCube>> skies;
     skies.emplace_back("test sky", makeCube(kFace, [](const glm::dvec3& d, uint32_t, uint32_t, uint32_t) { return testSky(d); }));
     skies.emplace_back("sun sky", makeCube(kFace, sunSky));
-    if (std::optional<CubeImage> garden = sharedSkyCube(kFace)) skies.emplace_back("chinese_garden_1k", std::move(*garden));
+    if (std::optional<FloatCube> garden = sharedSkyCube(kFace)) skies.emplace_back("chinese_garden_1k", std::move(*garden));
     std::vector<uint32_t> brights = {0, kDefaultGgxBrightTexels};
     if (const char* env = std::getenv("GGX_TABLE_BRIGHT")) {
         brights.clear();
@@ -349,7 +349,7 @@ TEST_P(GgxPrefilterTest, DISABLED_AccuracyTable) {
     }
     for (const auto& [skyName, image] : skies) {
         const rhi::TextureHandle source = upload(image);
-        const CubeImage source0 = readCube(device(), source, 0);
+        const FloatCube source0 = readCube(device(), source, 0);
         const ReferenceMips reference = referenceMips(
             source0, kMips, std::getenv("GGX_TABLE_EXACT_Z") ? GgxReference::Normalization::Exact : GgxReference::Normalization::TexelSum);
         for (uint32_t bright : brights) {
@@ -382,14 +382,14 @@ TEST_P(GgxPrefilterTest, DISABLED_AccuracyTable) {
 }
 
 // A cube as the GPU holds it after upload(): every value rounded to half.
-CubeImage roundedToHalf(CubeImage cube) {
+FloatCube roundedToHalf(FloatCube cube) {
     for (std::vector<float>& face : cube.faces)
         for (float& v : face) v = glm::unpackHalf1x16(glm::packHalf1x16(v));
     return cube;
 }
 
 // The reference for each sky once per process (every configuration compares with the same).
-const ReferenceMips& cachedReference(const std::string& name, const CubeImage& source) {
+const ReferenceMips& cachedReference(const std::string& name, const FloatCube& source) {
     static std::map<std::string, ReferenceMips> cache;
     auto it = cache.find(name);
     if (it == cache.end()) it = cache.emplace(name, referenceMips(source, kMips)).first;
@@ -402,9 +402,9 @@ const ReferenceMips& cachedReference(const std::string& name, const CubeImage& s
 // bright-texel split takes the sun out of what the samples read and adds its texels exactly.
 TEST_P(GgxPrefilterTest, SkiesWithASunMatchTheCpuReferenceWithTheBrightTexelSplit) {
     device().takeDebugMessages();
-    std::vector<std::pair<std::string, CubeImage>> skies;
+    std::vector<std::pair<std::string, FloatCube>> skies;
     skies.emplace_back("sun sky", roundedToHalf(makeCube(kFace, sunSky)));
-    if (std::optional<CubeImage> garden = sharedSkyCube(kFace)) skies.emplace_back("chinese_garden_1k", roundedToHalf(std::move(*garden)));
+    if (std::optional<FloatCube> garden = sharedSkyCube(kFace)) skies.emplace_back("chinese_garden_1k", roundedToHalf(std::move(*garden)));
     for (const auto& [name, image] : skies) {
         SCOPED_TRACE(name);
         const rhi::TextureHandle source = upload(image);
@@ -415,7 +415,7 @@ TEST_P(GgxPrefilterTest, SkiesWithASunMatchTheCpuReferenceWithTheBrightTexelSpli
         expectCounts(prefilter.run(source), kMips, true);
         ASSERT_TRUE(prefilter.brightSplit());
         // Mip 0 stays the source, sun included.
-        const CubeImage mip0 = readCube(device(), prefilter.prefiltered(), 0);
+        const FloatCube mip0 = readCube(device(), prefilter.prefiltered(), 0);
         for (uint32_t face = 0; face < 6; ++face) ASSERT_EQ(mip0.faces[face], image.faces[face]) << "face " << face;
 
         const GgxBrightTexels bright = prefilter.readBrightTexels();
@@ -475,7 +475,7 @@ TEST_P(GgxPrefilterTest, TooManyBrightTexelsRunWithoutTheSplit) {
     EXPECT_FALSE(plain.brightSplit());
     EXPECT_TRUE(plain.readBrightTexels().texels.empty());
     for (uint32_t mip = 1; mip < kMips; ++mip) {
-        const CubeImage a = readCube(device(), split.prefiltered(), mip), b = readCube(device(), plain.prefiltered(), mip);
+        const FloatCube a = readCube(device(), split.prefiltered(), mip), b = readCube(device(), plain.prefiltered(), mip);
         for (uint32_t face = 0; face < 6; ++face)
             for (size_t i = 0; i < a.faces[face].size(); ++i)
                 ASSERT_NEAR(a.faces[face][i], b.faces[face][i], 1e-3f * std::abs(b.faces[face][i])) << "mip " << mip << " face " << face;

@@ -121,9 +121,13 @@ GiBake buildGiBake(const IrradianceVolume& volume, const std::vector<std::vector
         bake.valid[p] = count > 0 && bake.backFaceFraction[p] <= volume.invalidBackFaceFraction;
     }
     for (size_t b = 0; b < bake.bricks.size(); ++b) {
+        // A brick seen by many probes holds many surfels: its radiance is the mean over at most
+        // maxSurfelsPerBrick of them, spread evenly over the list (which is in probe order).
+        const std::vector<GiSurfel>& all = brickSurfels[b];
+        const size_t keep = std::min<size_t>(all.size(), std::max(1u, volume.maxSurfelsPerBrick));
         bake.bricks[b].firstSurfel = uint32_t(bake.surfels.size());
-        bake.bricks[b].surfelCount = uint32_t(brickSurfels[b].size());
-        bake.surfels.insert(bake.surfels.end(), brickSurfels[b].begin(), brickSurfels[b].end());
+        bake.bricks[b].surfelCount = uint32_t(keep);
+        for (size_t i = 0; i < keep; ++i) bake.surfels.push_back(all[(2 * i + 1) * all.size() / (2 * keep)]);
     }
 
     // Transfers: per probe, per brick it sees, the sum of its samples' SH weights.

@@ -49,7 +49,7 @@ void hashBakeSettings(Hasher& h, const IrradianceVolume& v) {
     h.add(v.bounds.min), h.add(v.bounds.max);
     h.add(v.probeCounts.x), h.add(v.probeCounts.y), h.add(v.probeCounts.z);
     h.add(v.surfelsPerProbe), h.add(v.brickSize), h.add(uint8_t(v.bricks)), h.add(v.nearPlane), h.add(v.farPlane);
-    h.add(v.invalidBackFaceFraction);
+    h.add(v.invalidBackFaceFraction), h.add(v.maxSurfelsPerBrick);
 }
 
 class Writer {
@@ -65,7 +65,7 @@ public:
         add(v.bounds.min), add(v.bounds.max);
         add(v.probeCounts.x), add(v.probeCounts.y), add(v.probeCounts.z);
         add(v.surfelsPerProbe), add(v.brickSize), add(uint8_t(v.bricks)), add(v.nearPlane), add(v.farPlane);
-        add(v.invalidBackFaceFraction);
+        add(v.invalidBackFaceFraction), add(v.maxSurfelsPerBrick);
     }
     std::string& bytes() { return m_bytes; }
 
@@ -96,6 +96,7 @@ public:
         v.probeCounts.x = get<uint32_t>(), v.probeCounts.y = get<uint32_t>(), v.probeCounts.z = get<uint32_t>();
         v.surfelsPerProbe = get<uint32_t>(), v.brickSize = get<float>(), v.bricks = get<uint8_t>() != 0;
         v.nearPlane = get<float>(), v.farPlane = get<float>(), v.invalidBackFaceFraction = get<float>();
+        v.maxSurfelsPerBrick = get<uint32_t>();
         return v;
     }
     size_t offset() const { return m_offset; }

@@ -4,7 +4,7 @@
 // Layout (little-endian, no padding between fields):
 //   header   "JANUSGI\0", u32 format version, u64 scene content hash (giSceneHash), the bake
 //            settings (bounds, probe counts, surfels per probe, brick size, bricks on/off, planes,
-//            invalid back-face fraction), u32 counts of probes, surfels, bricks, transfers
+//            invalid back-face fraction, max surfels per brick), u32 counts of probes, surfels, bricks, transfers
 //   body     per probe: position, back-face fraction, valid, first transfer, transfer count;
 //            surfels (position, normal, albedo, emission); bricks (first surfel, count, sky, sky
 //            direction); transfers (brick, 9 SH weights)
@@ -22,7 +22,7 @@
 
 namespace janus::renderer {
 
-inline constexpr uint32_t kGiBakeFileVersion = 1;
+inline constexpr uint32_t kGiBakeFileVersion = 2;   // 2: max surfels per brick in the settings
 
 // A hash of everything a bake depends on: the meshes, instances, materials and their textures,
 // and the volume's bake settings (not its relight or shading settings).

@@ -22,11 +22,6 @@ constexpr uint32_t kDataWidth = 1024;   // gi_relight_common.glsl kGiDataWidth
 constexpr uint32_t kGroupSize = 64;     // gi_brick_radiance.comp, gi_probe_sh.comp
 
 // std140 mirror of gi_relight_common.glsl's GiRelightParams.
-struct GiRelightParams {
-    glm::ivec4 counts{0};
-    glm::ivec4 schedule{0};
-    glm::ivec4 grid{1};
-};
 
 // An RGBA32F data texture 1024 texels wide holding `texels` (padded with zeros).
 rhi::TextureHandle makeDataTexture(rhi::IDevice& device, std::vector<glm::vec4> texels, const char* name) {
@@ -215,10 +210,15 @@ void ProbeGi::setupRelight() {
     m_shBindings = m_device.createBindingSet(sh);
 }
 
-void ProbeGi::recordBrickRadiance(rhi::ICommandList& cmd, PassReport& report, bool bounce) {
+GiRelightParams ProbeGi::relightParams(bool bounce) const {
     GiRelightParams params;
     params.counts = glm::ivec4(int(m_bake.bricks.size()), int(m_probeCount), bounce ? 1 : 0, m_volume.shOrder == 1 ? 4 : 9);
     params.grid = glm::ivec4(glm::ivec3(m_volume.probeCounts), 0);
+    return params;
+}
+
+void ProbeGi::recordBrickRadiance(rhi::ICommandList& cmd, PassReport& report, bool bounce) {
+    const GiRelightParams params = relightParams(bounce);
     cmd.writeBuffer(m_relightParams, &params, sizeof(params));
     if (m_path == FeaturePath::Compute) {
         cmd.setPipeline(m_brickPipeline);
@@ -233,10 +233,8 @@ void ProbeGi::recordBrickRadiance(rhi::ICommandList& cmd, PassReport& report, bo
 }
 
 void ProbeGi::recordProbeSh(rhi::ICommandList& cmd, PassReport& report, uint32_t firstRank, uint32_t count, bool bounce) {
-    GiRelightParams params;
-    params.counts = glm::ivec4(int(m_bake.bricks.size()), int(m_probeCount), bounce ? 1 : 0, m_volume.shOrder == 1 ? 4 : 9);
-    params.schedule = glm::ivec4(int(firstRank), int(count), 0, 0);
-    params.grid = glm::ivec4(glm::ivec3(m_volume.probeCounts), 0);
+    GiRelightParams params = relightParams(bounce);
+    params.schedule = glm::ivec4(int(firstRank), int(count), 0, m_volume.parallelReduction ? 0 : 1);
     if (m_path == FeaturePath::Compute) {
         cmd.writeBuffer(m_relightParams, &params, sizeof(params));
         cmd.setPipeline(m_shPipeline);

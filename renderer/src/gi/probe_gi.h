@@ -36,6 +36,13 @@ namespace gi_resources {
 inline constexpr const char* kIrradianceVolume = "irradiance-volume";   // frame-wide: the probes' SH
 }  // namespace gi_resources
 
+// std140 mirror of gi_relight_common.glsl's relight parameters.
+struct GiRelightParams {
+    glm::ivec4 counts{0};
+    glm::ivec4 schedule{0};
+    glm::ivec4 grid{1};
+};
+
 // std140 mirror of gi_access.glsl's GiVolumeUniforms.
 struct GiVolumeUniforms {
     glm::vec4 origin{0.0f};
@@ -78,6 +85,7 @@ public:
 private:
     void upload();
     void setupRelight();
+    GiRelightParams relightParams(bool bounce) const;   // counts and grid; the schedule is the SH pass's
     void recordBrickRadiance(rhi::ICommandList& cmd, PassReport& report, bool bounce);
     void recordProbeSh(rhi::ICommandList& cmd, PassReport& report, uint32_t firstRank, uint32_t count, bool bounce);
 

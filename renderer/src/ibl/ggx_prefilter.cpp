@@ -348,9 +348,9 @@ PassReport GgxPrefilter::run(const rhi::TextureHandle& source) {
     return reports.empty() ? PassReport{} : reports.front();
 }
 
-CubeImage readCube(rhi::IDevice& device, const rhi::TextureHandle& cube, uint32_t mip) {
+FloatCube readCube(rhi::IDevice& device, const rhi::TextureHandle& cube, uint32_t mip) {
     const rhi::TextureDesc& desc = cube->desc();
-    CubeImage image;
+    FloatCube image;
     image.size = std::max(1u, desc.width >> mip);
     const size_t values = size_t(image.size) * image.size * 4;
     for (uint32_t face = 0; face < 6; ++face) {
@@ -372,7 +372,7 @@ CubeImage readCube(rhi::IDevice& device, const rhi::TextureHandle& cube, uint32_
     return image;
 }
 
-GgxReference::GgxReference(const CubeImage& cube) {
+GgxReference::GgxReference(const FloatCube& cube) {
     m_texels.reserve(size_t(cube.size) * cube.size * 6);
     for (uint32_t face = 0; face < 6; ++face)
         for (uint32_t y = 0; y < cube.size; ++y)

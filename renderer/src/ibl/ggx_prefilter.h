@@ -123,8 +123,9 @@ private:
     rhi::BindingSetHandle m_listBindings;
 };
 
-// A cube map on the CPU: six faces of size^2 RGBA floats (row 0 first), faces +X .. -Z.
-struct CubeImage {
+// A cube map read back from the GPU: six faces of size^2 RGBA floats (row 0 first), faces +X .. -Z.
+// (Not spherical_harmonics.h's CubeImage: that one holds vec4 texels for the SH projection.)
+struct FloatCube {
     uint32_t size = 0;
     std::array<std::vector<float>, 6> faces;
     glm::dvec3 texel(uint32_t face, uint32_t x, uint32_t y) const {
@@ -134,7 +135,7 @@ struct CubeImage {
 };
 
 // Reads back one mip of an RGBA16F / RGBA32F cube (waits for the GPU).
-CubeImage readCube(rhi::IDevice& device, const rhi::TextureHandle& cube, uint32_t mip);
+FloatCube readCube(rhi::IDevice& device, const rhi::TextureHandle& cube, uint32_t mip);
 
 // The CPU reference, in double precision: the split-sum prefiltered radiance along `n` for
 // perceptual `roughness`, brute force over every texel of `cube` with its exact solid angle:
@@ -147,7 +148,7 @@ CubeImage readCube(rhi::IDevice& device, const rhi::TextureHandle& cube, uint32_
 class GgxReference {
 public:
     enum class Normalization { TexelSum, Exact };
-    explicit GgxReference(const CubeImage& cube);
+    explicit GgxReference(const FloatCube& cube);
     glm::dvec3 radiance(const glm::dvec3& n, double roughness, Normalization normalization = Normalization::TexelSum) const;
 
 private:

@@ -95,7 +95,7 @@ ProbeAccuracyBench::ProbeAccuracyBench(rhi::IDevice& device, const ImageRGBAF& s
     m.environment = std::make_unique<EnvironmentMap>(device, sky, faceSize, path);
     m.environment->convert();
     m.mipCount = m.environment->cube()->desc().mipLevels;
-    const CubeImage source = readCube(device, m.environment->cube(), 0);
+    const FloatCube source = readCube(device, m.environment->cube(), 0);
 
     const auto start = std::chrono::steady_clock::now();
     const GgxReference reference(source);
@@ -155,7 +155,7 @@ ProbeMeasurement ProbeAccuracyBench::measure(const std::vector<uint32_t>& sample
         result.brightOverflow = bright.overflow;
     }
     for (uint32_t mip = 1; mip < prefilter.mipCount(); ++mip) {
-        const CubeImage got = readCube(m.device, prefilter.prefiltered(), mip);
+        const FloatCube got = readCube(m.device, prefilter.prefiltered(), mip);
         double squared = 0.0, magnitude = 0.0, maxRel = 0.0;
         for (const ReferenceTexel& texel : m.reference[mip]) {
             const glm::dvec3 error = got.texel(texel.face, texel.x, texel.y) - texel.value;

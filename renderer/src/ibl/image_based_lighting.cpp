@@ -17,7 +17,9 @@ const DfgTable& sharedDfgTable() {
     return table;
 }
 
-ImageRGBAF readSky(const std::filesystem::path& path) {
+}  // namespace
+
+ImageRGBAF readEnvironmentMap(const std::filesystem::path& path) {
     std::string extension = path.extension().string();
     std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return char(std::tolower(c)); });
     try {
@@ -29,8 +31,6 @@ ImageRGBAF readSky(const std::filesystem::path& path) {
     throw RendererError(fmt::format("environment map {}: unsupported file type '{}'; use an equirectangular .hdr or .exr",
                                     path.string(), extension));
 }
-
-}  // namespace
 
 ImageBasedLighting::ImageBasedLighting(rhi::IDevice& device, const Environment& environment, FeaturePath path,
                                        rhi::SamplerHandle pointSampler)
@@ -55,7 +55,7 @@ ImageBasedLighting::ImageBasedLighting(rhi::IDevice& device, const Environment& 
         return;
     }
 
-    const ImageRGBAF sky = environment.map.empty() ? *environment.image : readSky(environment.map);
+    const ImageRGBAF sky = environment.map.empty() ? *environment.image : readEnvironmentMap(environment.map);
     m_environment = std::make_unique<EnvironmentMap>(device, sky, kSkyFaceSize, path);
     // Skies have suns: their brightest texels are summed exactly, not sampled (docs/IBL.md, "Bright texels").
     GgxPrefilterSettings prefilterSettings;

@@ -5,6 +5,7 @@
 // the feature makes only 1x1 stand-ins and the forward pass keeps the ambient colour.
 #pragma once
 
+#include <filesystem>
 #include <memory>
 #include <vector>
 
@@ -21,6 +22,10 @@ namespace janus::renderer {
 namespace ibl_resources {
 inline constexpr const char* kSkyLight = "sky-light";
 }  // namespace ibl_resources
+
+// An equirectangular sky file (.hdr Radiance RGBE or .exr) as linear radiance. Throws RendererError
+// naming the file when it cannot be read or has another extension.
+ImageRGBAF readEnvironmentMap(const std::filesystem::path& path);
 
 class ImageBasedLighting final : public RenderFeature {
 public:

@@ -59,6 +59,12 @@ IrradianceVolume parseIrradianceVolume(const std::filesystem::path& file, const 
         if (!v["bricks"].is_boolean()) fail(file, fmt::format("{}.bricks must be true or false", where));
         volume.bricks = v["bricks"].get<bool>();
     }
+    if (v.contains("maxSurfelsPerBrick"))
+        volume.maxSurfelsPerBrick = readCount(file, v["maxSurfelsPerBrick"], where + ".maxSurfelsPerBrick", "[1, 4096]");
+    if (v.contains("parallelReduction")) {
+        if (!v["parallelReduction"].is_boolean()) fail(file, fmt::format("{}.parallelReduction must be true or false", where));
+        volume.parallelReduction = v["parallelReduction"].get<bool>();
+    }
     if (v.contains("bounces")) volume.bounces = readCount(file, v["bounces"], where + ".bounces", "[1, 8]");
     if (v.contains("shOrder")) volume.shOrder = readCount(file, v["shOrder"], where + ".shOrder", "{1, 2}");
     if (v.contains("probesPerFrame")) volume.probesPerFrame = readCount(file, v["probesPerFrame"], where + ".probesPerFrame", "[0, 4096]");
@@ -107,6 +113,8 @@ void validateIrradianceVolume(const Scene& scene) {
                                      v.probeCounts.z, probes, kMaxIrradianceProbes));
     if (v.surfelsPerProbe < 16 || v.surfelsPerProbe > 4096)
         throw SceneError(fmt::format("{}: {} surfels per probe; give 16 to 4096", name, v.surfelsPerProbe));
+    if (v.maxSurfelsPerBrick < 1 || v.maxSurfelsPerBrick > 4096)
+        throw SceneError(fmt::format("{}: maxSurfelsPerBrick {}; give 1 to 4096", name, v.maxSurfelsPerBrick));
     if (!(std::isfinite(v.brickSize) && v.brickSize > 0.0f))
         throw SceneError(fmt::format("{}: brick size {} must be a finite number of metres > 0", name, v.brickSize));
     if (v.bounces < 1 || v.bounces > 8) throw SceneError(fmt::format("{}: {} bounces; give 1 to 8", name, v.bounces));

@@ -207,9 +207,15 @@ struct IrradianceVolume {
     uint32_t surfelsPerProbe = 256;    // stratified directions per probe, in [16, 4096]
     float brickSize = 0.5f;            // metres, > 0
     bool bricks = true;                // false: the per-surfel path (each surfel its own brick), for comparison
-    uint32_t bounces = 2;              // light bounces (1 = direct light reflected once), in [1, 8]
+    // A brick's radiance is the mean over at most this many of its surfels (picked evenly): the
+    // relight lights a brick in bounded time however many probes see it. In [1, 4096].
+    uint32_t maxSurfelsPerBrick = 16;
+    uint32_t bounces = 4;              // light bounces (1 = direct light reflected once), in [1, 8]
     uint32_t shOrder = 2;              // 1 (L1, 4 coefficients) or 2 (L2, 9)
     uint32_t probesPerFrame = 0;       // relit per frame, nearest to the camera first; 0 = all
+    // false: the compute path's SH pass sums each probe in one invocation, serially, instead of a
+    // workgroup's shared-memory reduction (for comparison, as `bricks`; the fallback path ignores it).
+    bool parallelReduction = true;
     float normalBias = 0.1f;           // shading looks the volume up this far along the normal (metres, >= 0)
     // A probe with more than this fraction of its surface samples on back faces is inside
     // geometry: shading gives it no weight. In (0, 1].

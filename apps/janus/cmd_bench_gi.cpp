@@ -1,0 +1,444 @@
+// `janus bench gi SCENE`: accuracy vs time of the probe GI (docs/GI.md, "Accuracy vs time").
+// Sweeps one setting at a time around the scene's irradiance volume (surfels per probe with bricks
+// and per-surfel, brick size, probe spacing, L1/L2, bounces, probes per frame, the SH reduction)
+// on each path and backend. Per configuration: the bake's time, the relight's time (all its frames)
+// and per frame, and the error against the Embree reference (GiReference): relative RMSE of the
+// probes' irradiance and of the image's indirect term (a `--debug gi` frame), against the
+// reference with the same bounces and against the converged one. Writes gi.md, gi.json, gi.png.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <memory>
+#include <optional>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "cli_common.h"
+#include "janus/renderer/gi_reference.h"
+#include "janus/renderer/renderer.h"
+#include "plot.h"
+
+namespace janus::cli {
+namespace {
+
+struct GiOptions {
+    std::string scene;
+    std::string sweeps = "surfels,bricks,brick-size,spacing,order,bounces,probes-per-frame,reduction";
+    std::string paths = "compute,fallback";
+    std::string backends = "vulkan";
+    std::string size = "96x96";
+    std::string out;
+    uint32_t runs = 3;
+    uint32_t referenceDirections = 4096;
+    uint32_t referenceSamples = 512;
+    std::string glPlatform = "egl";
+    bool allowOutsidePaths = false;
+    bool quick = false;
+    bool pathsGiven = false, backendsGiven = false;
+};
+
+const std::vector<std::string> kSweeps = {"surfels", "bricks", "brick-size", "spacing", "order", "bounces", "probes-per-frame", "reduction"};
+
+// One configuration of the sweep: the volume to measure and how it differs from the scene's.
+struct Variant {
+    std::string sweep;    // "default" for the scene's own volume
+    std::string label;    // e.g. "surfels 64"
+    renderer::IrradianceVolume volume;
+};
+
+std::vector<Variant> makeVariants(const renderer::IrradianceVolume& base, const std::vector<std::string>& sweeps, bool quick) {
+    std::vector<Variant> variants{{"default", "default", base}};
+    auto add = [&](const std::string& sweep, const std::string& label, auto&& change) {
+        renderer::IrradianceVolume v = base;
+        change(v);
+        variants.push_back({sweep, label, v});
+    };
+    auto wanted = [&](const char* sweep) { return std::find(sweeps.begin(), sweeps.end(), sweep) != sweeps.end(); };
+    const std::vector<uint32_t> surfels = quick ? std::vector<uint32_t>{64} : std::vector<uint32_t>{64, 128, 256, 512, 1024};
+    if (wanted("surfels"))
+        for (uint32_t n : surfels)
+            if (n != base.surfelsPerProbe || !base.bricks) add("surfels", fmt::format("bricks, {} surfels", n), [&](auto& v) { v.surfelsPerProbe = n, v.bricks = true; });
+    if (wanted("bricks"))
+        for (uint32_t n : surfels.size() > 1 ? std::vector<uint32_t>{64, 128, 256, 512, 1024} : surfels)
+            add("bricks", fmt::format("per-surfel, {} surfels", n), [&](auto& v) { v.surfelsPerProbe = n, v.bricks = false; });
+    if (wanted("brick-size"))
+        for (float size : quick ? std::vector<float>{1.0f} : std::vector<float>{0.25f, 1.0f, 2.0f})
+            if (size != base.brickSize) add("brick-size", fmt::format("brick size {} m", size), [&](auto& v) { v.brickSize = size; });
+    if (wanted("spacing"))
+        for (uint32_t n : quick ? std::vector<uint32_t>{2} : std::vector<uint32_t>{2, 3, 6, 8})
+            if (glm::uvec3(n) != base.probeCounts)
+                add("spacing", fmt::format("{0}x{0}x{0} probes", n), [&](auto& v) { v.probeCounts = glm::uvec3(n); });
+    if (wanted("order"))
+        add("order", base.shOrder == 2 ? "L1" : "L2", [&](auto& v) { v.shOrder = base.shOrder == 2 ? 1 : 2; });
+    if (wanted("bounces"))
+        for (uint32_t b : quick ? std::vector<uint32_t>{1} : std::vector<uint32_t>{1, 3, 4, 6})
+            if (b != base.bounces) add("bounces", fmt::format("{} bounce{}", b, b == 1 ? "" : "s"), [&](auto& v) { v.bounces = b; });
+    if (wanted("probes-per-frame"))
+        for (uint32_t k : quick ? std::vector<uint32_t>{16} : std::vector<uint32_t>{4, 16})
+            if (k != base.probesPerFrame) add("probes-per-frame", fmt::format("{} probes per frame", k), [&](auto& v) { v.probesPerFrame = k; });
+    if (wanted("reduction"))
+        add("reduction", base.parallelReduction ? "serial SH sum" : "parallel SH reduction",
+            [&](auto& v) { v.parallelReduction = !base.parallelReduction; });
+    return variants;
+}
+
+struct RelightTime {
+    double totalMs = 0.0;        // a whole relight (every cycle, every frame of it)
+    uint32_t frames = 0;         // frames the relight took
+    double brickMs = 0.0, shMs = 0.0, shadowMs = 0.0;   // the relight's passes, summed over its frames
+};
+
+struct Row {
+    std::string backend, path, sweep, label;
+    renderer::IrradianceVolume volume;
+    double bakeMs = 0.0;           // the gi-bake step: G-buffer cubes, readback, bricks (CPU wall time)
+    RelightTime relight;           // median over runs (by total)
+    std::vector<double> relightRuns;
+    bool gpuTimed = true;
+    uint32_t probes = 0, validProbes = 0;
+    uint64_t bricks = 0;
+    renderer::GiError probeSame, probeConverged, imageSame, imageConverged;
+};
+
+// The relight's passes of one frame (view "gi relight"), in GPU ms (CPU recording ms without timers).
+void addRelight(const renderer::FrameReport& report, RelightTime& time, bool& gpuTimed) {
+    bool any = false;
+    for (const renderer::PassReport& pass : report.passes) {
+        if (pass.view != "gi relight") continue;
+        any = true;
+        if (!pass.gpuMs) gpuTimed = false;
+        const double ms = pass.gpuMs.value_or(pass.cpuMs);
+        time.totalMs += ms;
+        if (pass.name.rfind("gi-brick-radiance", 0) == 0) time.brickMs += ms;
+        else if (pass.name.rfind("gi-probe-sh", 0) == 0) time.shMs += ms;
+        else time.shadowMs += ms;
+    }
+    if (any) ++time.frames;
+}
+
+std::string percent(double value) { return std::isfinite(value) ? fmt::format("{:.1f}", 100.0 * value) : "inf"; }
+
+nlohmann::json errorJson(const renderer::GiError& e) {
+    return {{"relativeRmse", std::isfinite(e.relativeRmse) ? e.relativeRmse : 1e30}, {"maxAbsolute", e.maxAbsolute}, {"compared", e.compared}};
+}
+
+// Time per-surfel needs to reach `error`, interpolated log-log between its measured points
+// (nullopt when no two points bracket it).
+std::optional<double> timeAtError(std::vector<std::pair<double, double>> errorTime, double error) {
+    std::sort(errorTime.begin(), errorTime.end());
+    for (size_t i = 0; i + 1 < errorTime.size(); ++i) {
+        const auto [e0, t0] = errorTime[i];
+        const auto [e1, t1] = errorTime[i + 1];
+        if (error < e0 || error > e1 || !(e0 > 0.0) || !(t0 > 0.0) || !(t1 > 0.0)) continue;
+        if (e1 == e0) return std::min(t0, t1);
+        const double f = std::log(error / e0) / std::log(e1 / e0);
+        return std::exp(std::log(t0) + f * (std::log(t1) - std::log(t0)));
+    }
+    return std::nullopt;
+}
+
+int runGi(const GiOptions& options) {
+    std::vector<std::string> sweeps = splitList(options.sweeps);
+    for (const std::string& s : sweeps)
+        if (std::find(kSweeps.begin(), kSweeps.end(), s) == kSweeps.end())
+            throw UsageError(fmt::format("--sweeps: unknown sweep '{}'; choose from {}", s, fmt::join(kSweeps, ", ")));
+    std::vector<renderer::FeaturePath> paths;
+    for (const std::string& item : splitList(options.quick && !options.pathsGiven ? "compute" : options.paths)) paths.push_back(parsePathOption(item));
+    std::vector<rhi::Backend> backends;
+    for (const std::string& item : splitList(options.backends)) backends.push_back(parseBackendOption(item));
+    if (paths.empty() || backends.empty()) throw UsageError("--paths and --backends need at least one entry each");
+    if (options.runs < 1 || options.runs > 100) throw UsageError(fmt::format("--runs {} must be 1..100", options.runs));
+    if (options.referenceDirections < 64 || options.referenceDirections > 1u << 20)
+        throw UsageError(fmt::format("--reference-directions {} must be 64..1048576", options.referenceDirections));
+    if (options.referenceSamples < 1 || options.referenceSamples > 1u << 16)
+        throw UsageError(fmt::format("--reference-samples {} must be 1..65536", options.referenceSamples));
+    const ImageSize size = options.quick ? ImageSize{32, 32} : parseSize(options.size);
+    if (options.out.empty()) throw UsageError("--out DIR is required: where to write gi.md, gi.json and gi.png");
+    const std::filesystem::path outDir = options.out;
+    std::error_code ec;
+    std::filesystem::create_directories(outDir, ec);
+    if (!std::filesystem::is_directory(outDir, ec)) throw InputError(fmt::format("--out '{}' could not be created as a directory", options.out));
+
+    const std::optional<std::filesystem::path> scenePath =
+        options.scene.empty() ? std::nullopt : std::optional<std::filesystem::path>(options.scene);
+    const renderer::Scene scene = loadSceneOrDefault(scenePath, options.allowOutsidePaths);
+    if (!scene.irradianceVolume)
+        throw InputError(fmt::format("{} has no irradiance volume: give it one (a scene file's \"irradianceVolume\", or a glTF node "
+                                     "named IrradianceVolume...; docs/GI.md)",
+                                     sceneLabel(scenePath)));
+    const uint32_t runs = options.quick ? 1 : options.runs;
+    const uint32_t directions = options.quick ? 256 : options.referenceDirections;
+    const uint32_t samples = options.quick ? 16 : options.referenceSamples;
+    const std::vector<Variant> variants = makeVariants(*scene.irradianceVolume, sweeps, options.quick);
+
+    // The reference: per probe layout and bounce count (0 = converged), computed when first needed.
+    const auto referenceStart = std::chrono::steady_clock::now();
+    const renderer::GiReference reference(scene);   // Embree's BVH over the scene
+    double referenceMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - referenceStart).count();
+    std::map<std::pair<std::string, uint32_t>, std::vector<renderer::GiReferenceProbe>> referenceProbes;
+    std::map<uint32_t, renderer::ImageRGBAF> referenceImages;
+    std::map<uint32_t, double> referenceImageNoise;   // relative RMSE between two seeds' images / sqrt 2
+    auto timed = [&](auto&& body) {
+        const auto start = std::chrono::steady_clock::now();
+        body();
+        referenceMs += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    };
+    auto probesFor = [&](const std::vector<renderer::IrradianceProbe>& probes, const renderer::IrradianceVolume& v, uint32_t bounces)
+        -> const std::vector<renderer::GiReferenceProbe>& {
+        const std::string layout = fmt::format("{} {} {} {} {} {} {} {} {}", v.probeCounts.x, v.probeCounts.y, v.probeCounts.z, v.bounds.min.x,
+                                               v.bounds.min.y, v.bounds.min.z, v.bounds.max.x, v.bounds.max.y, v.bounds.max.z);
+        auto key = std::make_pair(layout, bounces);
+        auto it = referenceProbes.find(key);
+        if (it == referenceProbes.end()) {
+            std::vector<glm::vec3> positions;
+            for (const renderer::IrradianceProbe& p : probes) positions.push_back(p.position);
+            timed([&] {
+                it = referenceProbes.emplace(key, reference.probes(positions, renderer::GiReferenceSettings{}.setBounces(bounces).setDirectionsPerProbe(directions))).first;
+            });
+            std::fprintf(stderr, "  reference: %zu probes, %s, %u directions each\n", positions.size(),
+                         bounces == 0 ? "converged" : fmt::format("{} bounces", bounces).c_str(), directions);
+        }
+        return it->second;
+    };
+    auto imageFor = [&](uint32_t bounces) -> const renderer::ImageRGBAF& {
+        auto it = referenceImages.find(bounces);
+        if (it == referenceImages.end()) {
+            // Two halves with different seeds: their mean is the reference, their difference its noise.
+            renderer::GiReferenceSettings settings = renderer::GiReferenceSettings{}.setBounces(bounces).setSamplesPerPixel(std::max(1u, samples / 2));
+            renderer::ImageRGBAF a, b;
+            timed([&] {
+                a = reference.indirectIrradiance(scene.camera, size.width, size.height, settings.setSeed(1));
+                b = reference.indirectIrradiance(scene.camera, size.width, size.height, settings.setSeed(2));
+            });
+            renderer::ImageRGBAF mean = a;
+            for (size_t i = 0; i < mean.pixels.size(); ++i) mean.pixels[i] = 0.5f * (a.pixels[i] + b.pixels[i]);
+            // RMS(a - b) / sqrt 2 is one half's noise; the mean of two halves has 1 / sqrt 2 of that.
+            referenceImageNoise[bounces] = renderer::compareIndirectImage(a, b).relativeRmse / 2.0;
+            it = referenceImages.emplace(bounces, std::move(mean)).first;
+            std::fprintf(stderr, "  reference: %ux%u indirect image, %s, %u paths per pixel (noise %.1f %%)\n", size.width, size.height,
+                         bounces == 0 ? "converged" : fmt::format("{} bounces", bounces).c_str(), std::max(1u, samples / 2) * 2,
+                         100.0 * referenceImageNoise[bounces]);
+        }
+        return it->second;
+    };
+
+    std::vector<Row> rows;
+    std::vector<std::string> skipped;
+    for (rhi::Backend backend : backends) {
+        rhi::DeviceDesc desc;
+        desc.setBackend(backend).setGLPlatform(parseGLPlatformOption(options.glPlatform));
+        std::unique_ptr<rhi::IDevice> device = rhi::createDevice(desc);
+        for (renderer::FeaturePath path : paths) {
+            if (path == renderer::FeaturePath::Compute && !device->capabilities().has(rhi::Capability::Compute)) {
+                skipped.push_back(fmt::format("{}: no compute", configurationLabel(backend, path)));
+                continue;
+            }
+            for (const Variant& variant : variants) {
+                if (variant.sweep == "reduction" && path != renderer::FeaturePath::Compute) continue;   // a compute-path option
+                renderer::Scene configured = scene;
+                configured.irradianceVolume = variant.volume;
+                renderer::RenderSettings settings;
+                settings.width = size.width, settings.height = size.height;
+                settings.path = path;
+                settings.debugView = renderer::DebugView::Gi;   // the HDR image is the indirect term alone
+                Row row{rhi::toString(backend), renderer::toString(path), variant.sweep, variant.label, variant.volume};
+                renderer::Renderer renderer(*device, configured, settings);
+                // Run 0 is the first relight, from a black volume: after it the volume holds exactly
+                // `bounces` bounces, and its errors are measured then. It is not timed (it pays for
+                // first use: pipeline compiles in the driver). Later runs (markIrradianceDirty) start
+                // from the last one's light, as a relight after a light moves does: the same passes,
+                // the same cost, but their light accumulates further bounces.
+                std::vector<RelightTime> times;
+                std::vector<renderer::IrradianceProbe> probes;
+                renderer::ImageRGBAF image;
+                for (uint32_t run = 0; run <= runs; ++run) {
+                    if (run > 0) renderer.markIrradianceDirty();
+                    RelightTime time;
+                    for (uint32_t frame = 0; frame < 4096; ++frame) {
+                        const renderer::FrameReport report = renderer.renderFrame();
+                        for (const renderer::PassReport& pass : report.passes)
+                            if (pass.name == "gi-bake") row.bakeMs = pass.cpuMs;
+                        addRelight(report, time, row.gpuTimed);
+                        if (!renderer.irradiancePending()) break;
+                    }
+                    if (run == 0) {
+                        probes = renderer.readIrradianceProbes();
+                        image = renderer.readHdrImage();
+                        continue;
+                    }
+                    times.push_back(time);
+                    row.relightRuns.push_back(time.totalMs);
+                }
+                std::sort(times.begin(), times.end(), [](const RelightTime& a, const RelightTime& b) { return a.totalMs < b.totalMs; });
+                row.relight = times[times.size() / 2];
+                row.probes = uint32_t(probes.size());
+                row.validProbes = uint32_t(std::count_if(probes.begin(), probes.end(), [](const auto& p) { return p.valid; }));
+                row.probeSame = renderer::compareProbeIrradiance(probes, probesFor(probes, variant.volume, variant.volume.bounces));
+                row.probeConverged = renderer::compareProbeIrradiance(probes, probesFor(probes, variant.volume, 0));
+                row.imageSame = renderer::compareIndirectImage(image, imageFor(variant.volume.bounces));
+                row.imageConverged = renderer::compareIndirectImage(image, imageFor(0));
+                if (variant.sweep == "default") {
+                    // The pictures behind the default row's image errors, side by side in one PFM each.
+                    renderer::writePFM(outDir / fmt::format("gi-{}-{}.pfm", row.backend, row.path), image);
+                    renderer::writePFM(outDir / "gi-reference.pfm", imageFor(0));
+                    renderer::writePFM(outDir / fmt::format("gi-reference-{}-bounces.pfm", variant.volume.bounces), imageFor(variant.volume.bounces));
+                }
+                std::fprintf(stderr, "  %s %-28s bake %8.1f ms, relight %8.3f ms in %u frame(s); probes %5.1f %% (converged %5.1f %%), image %5.1f %% (converged %5.1f %%)\n",
+                             configurationLabel(backend, path).c_str(), variant.label.c_str(), row.bakeMs, row.relight.totalMs, row.relight.frames,
+                             100.0 * row.probeSame.relativeRmse, 100.0 * row.probeConverged.relativeRmse, 100.0 * row.imageSame.relativeRmse,
+                             100.0 * row.imageConverged.relativeRmse);
+                rows.push_back(std::move(row));
+            }
+        }
+        reportDebugMessages(rhi::toString(backend), device->takeDebugMessages());
+    }
+    if (rows.empty()) throw UnavailableError(fmt::format("bench gi: no configuration could run ({})", fmt::join(skipped, "; ")));
+
+    // ---- Report ----
+    const bool gpuTimed = std::all_of(rows.begin(), rows.end(), [](const Row& r) { return r.gpuTimed; });
+    const char* unit = gpuTimed ? "GPU ms" : "ms";
+    const renderer::IrradianceVolume& base = *scene.irradianceVolume;
+    std::string md = fmt::format(
+        "# Probe GI: accuracy vs time\n\n"
+        "Scene: {}. Its volume: {}x{}x{} probes, {} surfels per probe, {}, brick size {} m, {} bounce(s), L{}, {} probes per frame. "
+        "Each row changes one setting. Image: {}x{}, the `--debug gi` frame's HDR (irradiance / pi of the volume alone).\n\n"
+        "- **bake**: the `gi-bake` step (G-buffer cubes, readback, bricks and transfers), CPU wall ms.\n"
+        "- **relight**: a whole relight (every bounce cycle, over every frame it takes), {} (median of {} run(s) after the first); "
+        "**per frame** = relight / frames; **brick** and **SH**: its two passes.\n"
+        "- **probes**: after the first relight (from a black volume: exactly `bounces` bounces), relative RMSE of the valid probes' irradiance (64 normals each) against the Embree reference with the same bounces "
+        "(the method's own error) and against the converged reference (what the light really is); **image**: the same for the "
+        "image's indirect term, over the pixels the reference sees a surface at.\n"
+        "- Reference (`GiReference`, docs/GI.md): {} directions per probe, {} paths per pixel; image noise (two seeds): {}. "
+        "Reference time: {:.0f} ms.\n\n",
+        sceneLabel(scenePath), base.probeCounts.x, base.probeCounts.y, base.probeCounts.z, base.surfelsPerProbe,
+        base.bricks ? "bricks" : "per-surfel", base.brickSize, base.bounces, base.shOrder, base.probesPerFrame == 0 ? std::string("all") : std::to_string(base.probesPerFrame),
+        size.width, size.height, unit, runs, directions, std::max(1u, samples / 2) * 2,
+        [&] {
+            std::string s;
+            for (const auto& [b, noise] : referenceImageNoise) s += fmt::format("{}{} {:.1f} %", s.empty() ? "" : ", ", b == 0 ? "converged" : fmt::format("{} bounces", b), 100.0 * noise);
+            return s;
+        }(),
+        referenceMs);
+    nlohmann::json json = {{"scene", sceneLabel(scenePath)}, {"width", size.width}, {"height", size.height}, {"runs", runs},
+                           {"gpuTimed", gpuTimed}, {"referenceDirections", directions}, {"referenceSamplesPerPixel", std::max(1u, samples / 2) * 2},
+                           {"referenceMs", referenceMs}, {"configurations", nlohmann::json::array()}, {"skipped", skipped}};
+    for (const auto& [b, noise] : referenceImageNoise) json["referenceImageNoise"][b == 0 ? "converged" : std::to_string(b)] = noise;
+    md += "| backend | path | sweep | configuration | valid probes | bake ms | relight " + std::string(unit) +
+          " | frames | per frame | brick | SH | probes % | probes % (conv.) | image % | image % (conv.) |\n"
+          "|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    std::vector<PlotSeries> series;
+    for (const Row& r : rows) {
+        md += fmt::format("| {} | {} | {} | {} | {} / {} | {:.1f} | {:.3f} | {} | {:.3f} | {:.3f} | {:.3f} | {} | {} | {} | {} |\n", r.backend, r.path,
+                          r.sweep, r.label, r.validProbes, r.probes, r.bakeMs, r.relight.totalMs, r.relight.frames,
+                          r.relight.frames ? r.relight.totalMs / r.relight.frames : 0.0, r.relight.brickMs, r.relight.shMs,
+                          percent(r.probeSame.relativeRmse), percent(r.probeConverged.relativeRmse), percent(r.imageSame.relativeRmse),
+                          percent(r.imageConverged.relativeRmse));
+        json["configurations"].push_back(
+            {{"backend", r.backend}, {"path", r.path}, {"sweep", r.sweep}, {"label", r.label},
+             {"volume", {{"probes", {r.volume.probeCounts.x, r.volume.probeCounts.y, r.volume.probeCounts.z}}, {"surfelsPerProbe", r.volume.surfelsPerProbe},
+                         {"bricks", r.volume.bricks}, {"brickSize", r.volume.brickSize}, {"bounces", r.volume.bounces}, {"shOrder", r.volume.shOrder},
+                         {"probesPerFrame", r.volume.probesPerFrame}, {"parallelReduction", r.volume.parallelReduction}}},
+             {"probes", r.probes}, {"validProbes", r.validProbes}, {"bakeMs", r.bakeMs},
+             {"relight", {{"totalMs", r.relight.totalMs}, {"frames", r.relight.frames}, {"brickMs", r.relight.brickMs}, {"shMs", r.relight.shMs},
+                          {"shadowMs", r.relight.shadowMs}, {"runsMs", r.relightRuns}}},
+             {"probeError", errorJson(r.probeSame)}, {"probeErrorConverged", errorJson(r.probeConverged)},
+             {"imageError", errorJson(r.imageSame)}, {"imageErrorConverged", errorJson(r.imageConverged)}});
+        // Plot: probe error against the converged reference vs relight time, one line per path x sweep.
+        if (r.sweep != "default") {
+            const std::string name = fmt::format("{}/{} {}", r.backend, r.path, r.sweep);
+            auto it = std::find_if(series.begin(), series.end(), [&](const PlotSeries& s) { return s.name == name; });
+            if (it == series.end()) {
+                series.push_back(PlotSeries{name, {}});
+                it = series.end() - 1;
+            }
+            if (r.relight.totalMs > 0.0 && r.probeConverged.relativeRmse > 0.0)
+                it->points.push_back({r.relight.totalMs, 100.0 * r.probeConverged.relativeRmse});
+        }
+    }
+
+    // ---- Goals (docs/GI.md): measured in this run ----
+    md += "\n## Goals\n\n";
+    nlohmann::json goals = nlohmann::json::array();
+    for (const Row& d : rows) {
+        if (d.sweep != "default") continue;
+        auto same = [&](const Row& r) { return r.backend == d.backend && r.path == d.path; };
+        // 1. Bricks vs per-surfel at equal error (probe error against the same-bounce reference).
+        std::vector<std::pair<double, double>> perSurfel;
+        for (const Row& r : rows)
+            if (same(r) && r.sweep == "bricks") perSurfel.push_back({r.probeSame.relativeRmse, r.relight.totalMs});
+        for (const Row& r : rows) {
+            if (!same(r) || !(r.sweep == "surfels" || r.sweep == "default") || !r.volume.bricks) continue;
+            const std::optional<double> t = timeAtError(perSurfel, r.probeSame.relativeRmse);
+            const Row* equalSurfels = nullptr;
+            for (const Row& p : rows)
+                if (same(p) && p.sweep == "bricks" && p.volume.surfelsPerProbe == r.volume.surfelsPerProbe) equalSurfels = &p;
+            std::string line = fmt::format("- {}/{} bricks, {} surfels ({} % error, {:.3f} {}):", d.backend, d.path, r.volume.surfelsPerProbe,
+                                           percent(r.probeSame.relativeRmse), r.relight.totalMs, unit);
+            if (t) line += fmt::format(" per-surfel reaches that error in {:.3f} {}: bricks are **{:.1f}x** faster at equal error;", *t, unit, *t / r.relight.totalMs);
+            else line += " no two per-surfel points bracket that error;";
+            if (equalSurfels)
+                line += fmt::format(" per-surfel with the same surfels: {} % in {:.3f} {} ({:.1f}x the time)", percent(equalSurfels->probeSame.relativeRmse),
+                                    equalSurfels->relight.totalMs, unit, equalSurfels->relight.totalMs / std::max(1e-9, r.relight.totalMs));
+            md += line + "\n";
+            goals.push_back({{"goal", "bricks vs per-surfel"}, {"backend", d.backend}, {"path", d.path}, {"surfels", r.volume.surfelsPerProbe},
+                             {"bricksMs", r.relight.totalMs}, {"perSurfelMsAtEqualError", t ? nlohmann::json(*t) : nlohmann::json(nullptr)}});
+        }
+        // 2. The parallel reduction vs a serial sum (the SH pass alone; compute path).
+        for (const Row& r : rows)
+            if (same(r) && r.sweep == "reduction") {
+                const double parallel = d.volume.parallelReduction ? d.relight.shMs : r.relight.shMs;
+                const double serial = d.volume.parallelReduction ? r.relight.shMs : d.relight.shMs;
+                md += fmt::format("- {}/{} SH pass: parallel reduction {:.3f} {}, serial sum {:.3f} {}: the reduction is **{:.1f}x** faster\n", d.backend,
+                                  d.path, parallel, unit, serial, unit, serial / std::max(1e-9, parallel));
+                goals.push_back({{"goal", "parallel reduction vs serial"}, {"backend", d.backend}, {"path", d.path}, {"parallelMs", parallel}, {"serialMs", serial}});
+            }
+        // 3. The default settings against the converged reference.
+        md += fmt::format("- {}/{} default settings vs the converged reference: probes **{} %**, image **{} %** relative RMSE (goal: within 10 %)\n",
+                          d.backend, d.path, percent(d.probeConverged.relativeRmse), percent(d.imageConverged.relativeRmse));
+        goals.push_back({{"goal", "defaults vs converged reference"}, {"backend", d.backend}, {"path", d.path},
+                         {"probeRmse", d.probeConverged.relativeRmse}, {"imageRmse", d.imageConverged.relativeRmse}});
+    }
+    json["goals"] = goals;
+    if (!skipped.empty()) {
+        md += "\nSkipped:\n\n";
+        for (const std::string& s : skipped) md += "- " + s + "\n";
+    }
+    md += "\nPlot (gi.png): probe irradiance relative RMSE (%) against the converged reference vs relight ms, log-log, one line per "
+          "backend/path and sweep, points in the sweep's order.\n";
+    writeBenchOutputs(outDir, "gi", md, json, drawLogXPlot(series, fmt::format("RELIGHT {}", gpuTimed ? "GPU MS" : "MS"), "PROBE RELATIVE RMSE (PERCENT)"));
+    return 0;
+}
+
+}  // namespace
+
+std::function<int()> addBenchGiCommand(CLI::App& bench) {
+    auto options = std::make_shared<GiOptions>();
+    CLI::App* gi = bench.add_subcommand(
+        "gi", "Probe GI: error against the Embree reference vs bake and relight time, one setting swept at a time around the scene's "
+              "irradiance volume; writes gi.md, gi.json, gi.png to --out");
+    addSceneArgument(*gi, options->scene);
+    gi->add_option("--sweeps", options->sweeps, "Comma-separated sweeps: " + fmt::format("{}", fmt::join(kSweeps, ", ")))->default_str(options->sweeps);
+    gi->add_option("--paths", options->paths, "Comma-separated feature paths")->default_str(options->paths);
+    gi->add_option("--backends", options->backends, "Comma-separated backends")->default_str(options->backends);
+    gi->add_option("--size", options->size, "Image size WxH for the indirect-term error")->default_str(options->size);
+    gi->add_option("--runs", options->runs, "Relights timed per configuration (median)")->default_str("3");
+    gi->add_option("--reference-directions", options->referenceDirections, "Reference: directions (paths) per probe")->default_str("4096");
+    gi->add_option("--reference-samples", options->referenceSamples, "Reference: paths per pixel")->default_str("512");
+    gi->add_option("--out,-o", options->out, "Output directory; required")->type_name("DIR");
+    gi->add_flag("--quick", options->quick,
+                 "Tiny run for tests: 32x32, one value per sweep, 1 run, a coarse reference, the compute path unless --paths is given");
+    addAllowOutsidePathsFlag(*gi, options->allowOutsidePaths);
+    addGLPlatformOption(*gi, options->glPlatform);
+    gi->footer(kExitCodeHelp);
+    return [options, gi] {
+        options->pathsGiven = gi->count("--paths") > 0;
+        options->backendsGiven = gi->count("--backends") > 0;
+        return runGi(*options);
+    };
+}
+
+}  // namespace janus::cli
