@@ -27,7 +27,7 @@ namespace {
 
 struct GiOptions {
     std::string scene;
-    std::string sweeps = "surfels,bricks,brick-size,spacing,order,bounces,probes-per-frame,reduction";
+    std::string sweeps = "surfels,bricks,brick-size,surfels-per-brick,spacing,order,bounces,probes-per-frame,reduction";
     std::string paths = "compute,fallback";
     std::string backends = "vulkan";
     std::string size = "96x96";
@@ -41,7 +41,8 @@ struct GiOptions {
     bool pathsGiven = false, backendsGiven = false;
 };
 
-const std::vector<std::string> kSweeps = {"surfels", "bricks", "brick-size", "spacing", "order", "bounces", "probes-per-frame", "reduction"};
+const std::vector<std::string> kSweeps = {"surfels", "bricks", "brick-size", "surfels-per-brick", "spacing", "order", "bounces",
+                                          "probes-per-frame", "reduction"};
 
 // One configuration of the sweep: the volume to measure and how it differs from the scene's.
 struct Variant {
@@ -68,6 +69,10 @@ std::vector<Variant> makeVariants(const renderer::IrradianceVolume& base, const 
     if (wanted("brick-size"))
         for (float size : quick ? std::vector<float>{1.0f} : std::vector<float>{0.25f, 1.0f, 2.0f})
             if (size != base.brickSize) add("brick-size", fmt::format("brick size {} m", size), [&](auto& v) { v.brickSize = size; });
+    if (wanted("surfels-per-brick"))
+        for (uint32_t n : quick ? std::vector<uint32_t>{4} : std::vector<uint32_t>{4, 8, 64})
+            if (n != base.maxSurfelsPerBrick)
+                add("surfels-per-brick", fmt::format("at most {} surfels per brick", n), [&](auto& v) { v.maxSurfelsPerBrick = n; });
     if (wanted("spacing"))
         for (uint32_t n : quick ? std::vector<uint32_t>{2} : std::vector<uint32_t>{2, 3, 6, 8})
             if (glm::uvec3(n) != base.probeCounts)
@@ -89,7 +94,7 @@ std::vector<Variant> makeVariants(const renderer::IrradianceVolume& base, const 
 struct RelightTime {
     double totalMs = 0.0;        // a whole relight (every cycle, every frame of it)
     uint32_t frames = 0;         // frames the relight took
-    double brickMs = 0.0, shMs = 0.0, shadowMs = 0.0;   // the relight's passes, summed over its frames
+    double brickMs = 0.0, shMs = 0.0;   // the relight's two passes, summed over its frames
 };
 
 struct Row {
@@ -105,6 +110,7 @@ struct Row {
 };
 
 // The relight's passes of one frame (view "gi relight"), in GPU ms (CPU recording ms without timers).
+// The main light's shadow map it reads is the frame's own (not view-specific): not counted.
 void addRelight(const renderer::FrameReport& report, RelightTime& time, bool& gpuTimed) {
     bool any = false;
     for (const renderer::PassReport& pass : report.passes) {
@@ -115,7 +121,6 @@ void addRelight(const renderer::FrameReport& report, RelightTime& time, bool& gp
         time.totalMs += ms;
         if (pass.name.rfind("gi-brick-radiance", 0) == 0) time.brickMs += ms;
         else if (pass.name.rfind("gi-probe-sh", 0) == 0) time.shMs += ms;
-        else time.shadowMs += ms;
     }
     if (any) ++time.frames;
 }
@@ -124,21 +129,6 @@ std::string percent(double value) { return std::isfinite(value) ? fmt::format("{
 
 nlohmann::json errorJson(const renderer::GiError& e) {
     return {{"relativeRmse", std::isfinite(e.relativeRmse) ? e.relativeRmse : 1e30}, {"maxAbsolute", e.maxAbsolute}, {"compared", e.compared}};
-}
-
-// Time per-surfel needs to reach `error`, interpolated log-log between its measured points
-// (nullopt when no two points bracket it).
-std::optional<double> timeAtError(std::vector<std::pair<double, double>> errorTime, double error) {
-    std::sort(errorTime.begin(), errorTime.end());
-    for (size_t i = 0; i + 1 < errorTime.size(); ++i) {
-        const auto [e0, t0] = errorTime[i];
-        const auto [e1, t1] = errorTime[i + 1];
-        if (error < e0 || error > e1 || !(e0 > 0.0) || !(t0 > 0.0) || !(t1 > 0.0)) continue;
-        if (e1 == e0) return std::min(t0, t1);
-        const double f = std::log(error / e0) / std::log(e1 / e0);
-        return std::exp(std::log(t0) + f * (std::log(t1) - std::log(t0)));
-    }
-    return std::nullopt;
 }
 
 int runGi(const GiOptions& options) {
@@ -344,7 +334,7 @@ int runGi(const GiOptions& options) {
                          {"probesPerFrame", r.volume.probesPerFrame}, {"parallelReduction", r.volume.parallelReduction}}},
              {"probes", r.probes}, {"validProbes", r.validProbes}, {"bakeMs", r.bakeMs},
              {"relight", {{"totalMs", r.relight.totalMs}, {"frames", r.relight.frames}, {"brickMs", r.relight.brickMs}, {"shMs", r.relight.shMs},
-                          {"shadowMs", r.relight.shadowMs}, {"runsMs", r.relightRuns}}},
+                          {"runsMs", r.relightRuns}}},
              {"probeError", errorJson(r.probeSame)}, {"probeErrorConverged", errorJson(r.probeConverged)},
              {"imageError", errorJson(r.imageSame)}, {"imageErrorConverged", errorJson(r.imageConverged)}});
         // Plot: probe error against the converged reference vs relight time, one line per path x sweep.
@@ -366,26 +356,30 @@ int runGi(const GiOptions& options) {
     for (const Row& d : rows) {
         if (d.sweep != "default") continue;
         auto same = [&](const Row& r) { return r.backend == d.backend && r.path == d.path; };
-        // 1. Bricks vs per-surfel at equal error (probe error against the same-bounce reference).
-        std::vector<std::pair<double, double>> perSurfel;
-        for (const Row& r : rows)
-            if (same(r) && r.sweep == "bricks") perSurfel.push_back({r.probeSame.relativeRmse, r.relight.totalMs});
+        // 1. Bricks vs per-surfel at equal error (probe error against the same-bounce reference):
+        // the cheapest per-surfel row whose error is at most the bricks' + 0.5 points (the errors
+        // level off at the method's floor, where a strict comparison would pick on noise).
         for (const Row& r : rows) {
-            if (!same(r) || !(r.sweep == "surfels" || r.sweep == "default") || !r.volume.bricks) continue;
-            const std::optional<double> t = timeAtError(perSurfel, r.probeSame.relativeRmse);
-            const Row* equalSurfels = nullptr;
+            if (!same(r) || !(r.sweep == "surfels" || r.sweep == "default") || !r.volume.bricks)
+                continue;
+            const Row* cheapest = nullptr;
             for (const Row& p : rows)
-                if (same(p) && p.sweep == "bricks" && p.volume.surfelsPerProbe == r.volume.surfelsPerProbe) equalSurfels = &p;
-            std::string line = fmt::format("- {}/{} bricks, {} surfels ({} % error, {:.3f} {}):", d.backend, d.path, r.volume.surfelsPerProbe,
+                if (same(p) && p.sweep == "bricks" && p.probeSame.relativeRmse <= r.probeSame.relativeRmse + 0.005 &&
+                    (!cheapest || p.relight.totalMs < cheapest->relight.totalMs))
+                    cheapest = &p;
+            std::string line = fmt::format("- {}/{} bricks, {} surfels: {} % in {:.3f} {};", d.backend, d.path, r.volume.surfelsPerProbe,
                                            percent(r.probeSame.relativeRmse), r.relight.totalMs, unit);
-            if (t) line += fmt::format(" per-surfel reaches that error in {:.3f} {}: bricks are **{:.1f}x** faster at equal error;", *t, unit, *t / r.relight.totalMs);
-            else line += " no two per-surfel points bracket that error;";
-            if (equalSurfels)
-                line += fmt::format(" per-surfel with the same surfels: {} % in {:.3f} {} ({:.1f}x the time)", percent(equalSurfels->probeSame.relativeRmse),
-                                    equalSurfels->relight.totalMs, unit, equalSurfels->relight.totalMs / std::max(1e-9, r.relight.totalMs));
+            if (cheapest)
+                line += fmt::format(" per-surfel needs {} surfels for {} %: {:.3f} {}, **{:.1f}x** the time", cheapest->volume.surfelsPerProbe,
+                                    percent(cheapest->probeSame.relativeRmse), cheapest->relight.totalMs, unit,
+                                    cheapest->relight.totalMs / std::max(1e-9, r.relight.totalMs));
+            else
+                line += " no per-surfel row reaches that error";
             md += line + "\n";
-            goals.push_back({{"goal", "bricks vs per-surfel"}, {"backend", d.backend}, {"path", d.path}, {"surfels", r.volume.surfelsPerProbe},
-                             {"bricksMs", r.relight.totalMs}, {"perSurfelMsAtEqualError", t ? nlohmann::json(*t) : nlohmann::json(nullptr)}});
+            goals.push_back({{"goal", "bricks vs per-surfel at equal error"}, {"backend", d.backend}, {"path", d.path}, {"surfels", r.volume.surfelsPerProbe},
+                             {"bricksMs", r.relight.totalMs}, {"bricksRmse", r.probeSame.relativeRmse},
+                             {"perSurfelMs", cheapest ? nlohmann::json(cheapest->relight.totalMs) : nlohmann::json(nullptr)},
+                             {"perSurfelSurfels", cheapest ? nlohmann::json(cheapest->volume.surfelsPerProbe) : nlohmann::json(nullptr)}});
         }
         // 2. The parallel reduction vs a serial sum (the SH pass alone; compute path).
         for (const Row& r : rows)

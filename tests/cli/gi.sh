@@ -43,8 +43,8 @@ for file in gi.md gi.json gi.png; do
   [[ -s $TMP/gi-bench/$file ]] || fail "bench gi wrote no $file"
 done
 B=$TMP/gi-bench/gi.json
-json_check "$B" 'sorted({c["sweep"] for c in j["configurations"]}) == sorted(["default", "surfels", "bricks", "brick-size", "spacing",
-  "order", "bounces", "probes-per-frame", "reduction"])' "gi.json lacks a sweep"
+json_check "$B" 'sorted({c["sweep"] for c in j["configurations"]}) == sorted(["default", "surfels", "bricks", "brick-size",
+  "surfels-per-brick", "spacing", "order", "bounces", "probes-per-frame", "reduction"])' "gi.json lacks a sweep"
 json_check "$B" 'all(c["relight"]["totalMs"] > 0 and c["relight"]["frames"] >= 1 and c["bakeMs"] > 0 and c["validProbes"] > 0 and
   0 < c["probeError"]["relativeRmse"] < 1 and 0 < c["imageErrorConverged"]["relativeRmse"] < 2 for c in j["configurations"])' \
   "a gi.json row lacks times or has an absurd error"

@@ -195,6 +195,45 @@ TEST(GiBake, BricksAndPerSurfelGiveTheSameShForTheSameSurfels) {
         EXPECT_NEAR(shEvaluate(shA, n).x, 2.0, 0.02);
 }
 
+// Bricks bound the relight's work: sky samples share direction bins, a brick lights at most
+// maxSurfelsPerBrick surfels; the per-surfel path keeps one brick per sample.
+TEST(GiBake, SkySamplesShareDirectionBinsAndBricksKeepAtMostTheirCap) {
+    const IrradianceVolume volume = oneProbeVolume(true);   // 1024 samples
+    std::vector<GiSample> sky(volume.surfelsPerProbe);
+    const std::vector<glm::vec3> directions = giSampleDirections(volume.surfelsPerProbe);
+    for (size_t i = 0; i < sky.size(); ++i) sky[i].direction = directions[i];
+    const GiBake binned = buildGiBake(volume, {sky});
+    EXPECT_LE(binned.bricks.size(), 6u * kGiSkyBinsPerFace * kGiSkyBinsPerFace);
+    EXPECT_GT(binned.bricks.size(), 300u) << "1024 spread directions should reach most of the 384 bins";
+    // Every bin's direction is the unit mean of its samples: within a bin (about 11 degrees) of each.
+    for (const GiTransfer& t : binned.transfers) {
+        const GiBrick& brick = binned.bricks[t.brick];
+        EXPECT_TRUE(brick.sky);
+        EXPECT_NEAR(glm::length(brick.skyDirection), 1.0f, 1e-5f);
+    }
+    EXPECT_EQ(buildGiBake(oneProbeVolume(false), {sky}).bricks.size(), 1024u);
+    // A constant sky still integrates to its radiance: every bin's transfer sums its samples'.
+    ShRgb radiance{};
+    for (const GiTransfer& t : binned.transfers)
+        for (size_t k = 0; k < 9; ++k) radiance[k] += glm::dvec3(3.0) * double(t.sh[k]);
+    EXPECT_NEAR(shEvaluate(shConvolveIrradiance(radiance), glm::dvec3(0, 1, 0)).x, 3.0, 0.03);
+
+    // One wall brick seen by every sample: at most maxSurfelsPerBrick surfels, spread over the list.
+    std::vector<GiSample> wall = sky;
+    for (GiSample& s : wall) {
+        s.kind = GiSample::Kind::Surface;
+        s.position = glm::vec3(0.9f, 0.1f, 0.1f);
+        s.normal = glm::vec3(-1, 0, 0);
+        s.emission = glm::vec3(1.0f);
+    }
+    IrradianceVolume capped = volume;
+    capped.maxSurfelsPerBrick = 7;
+    const GiBake one = buildGiBake(capped, {wall});
+    ASSERT_EQ(one.bricks.size(), 1u);
+    EXPECT_EQ(one.bricks[0].surfelCount, 7u);
+    EXPECT_EQ(one.surfels.size(), 7u);
+}
+
 TEST(GiBake, ProbesSeeingMostlyBackFacesAreInvalid) {
     const IrradianceVolume volume = oneProbeVolume(true);
     std::vector<GiSample> samples(volume.surfelsPerProbe);
@@ -642,6 +681,8 @@ TEST_P(ProbeGiTest, KProbesPerFrameRelightNearestTheCameraFirstAndEveryProbeWith
     for (int frame = 1; frame <= 3; ++frame) {
         const FrameReport report = renderer.renderFrame();
         EXPECT_EQ(countPasses(report, "gi-probe-sh"), 1u) << "frame " << frame;
+        // Bricks are lit once per cycle, in its first frame; later frames only sum their probes.
+        EXPECT_EQ(countPasses(report, "gi-brick-radiance"), frame == 1 ? 1u : 0u) << "frame " << frame;
         const std::vector<IrradianceProbe> probes = renderer.readIrradianceProbes();
         uint32_t count = 0;
         float nearestNew = 1e30f;

@@ -82,6 +82,11 @@ GiBake buildGiBake(const IrradianceVolume& volume, const std::vector<std::vector
     // Surface bricks (every probe's surfels in a brick share its radiance), then one brick per
     // sky sample. Surfels are kept in brick order.
     std::map<BrickKey, uint32_t> brickOf;
+    // With bricks, sky samples share a brick per direction bin (a texel of an 8^2 cube: 384 bins,
+    // about 11 degrees across), lit by the sky along the mean of its samples' directions; the
+    // per-surfel path keeps one brick per sky sample.
+    std::map<std::tuple<uint32_t, uint32_t, uint32_t>, uint32_t> skyBinOf;
+    std::vector<glm::dvec3> skyDirectionSums;   // per brick (sky bins only)
     std::vector<std::vector<GiSurfel>> brickSurfels;
     struct Pending {
         uint32_t brick;
@@ -99,9 +104,18 @@ GiBake buildGiBake(const IrradianceVolume& volume, const std::vector<std::vector
             }
             uint32_t brick;
             if (s.kind == GiSample::Kind::Sky) {
-                brick = uint32_t(brickSurfels.size());
-                brickSurfels.emplace_back();
-                bake.bricks.push_back(GiBrick{0, 0, true, s.direction});
+                const CubeTexel bin = cubeTexelOf(glm::dvec3(s.direction), kGiSkyBinsPerFace);
+                auto it = volume.bricks ? skyBinOf.find({bin.face, bin.x, bin.y}) : skyBinOf.end();
+                if (it == skyBinOf.end()) {
+                    brick = uint32_t(brickSurfels.size());
+                    brickSurfels.emplace_back();
+                    bake.bricks.push_back(GiBrick{0, 0, true, s.direction});
+                    if (volume.bricks) skyBinOf.emplace(std::make_tuple(bin.face, bin.x, bin.y), brick);
+                } else {
+                    brick = it->second;
+                }
+                skyDirectionSums.resize(bake.bricks.size(), glm::dvec3(0.0));
+                skyDirectionSums[brick] += glm::dvec3(s.direction);
             } else {
                 auto it = volume.bricks ? brickOf.find(brickKey(volume, s)) : brickOf.end();
                 if (it == brickOf.end()) {
@@ -120,7 +134,10 @@ GiBake buildGiBake(const IrradianceVolume& volume, const std::vector<std::vector
         bake.backFaceFraction[p] = count ? float(backFaces) / float(count) : 0.0f;
         bake.valid[p] = count > 0 && bake.backFaceFraction[p] <= volume.invalidBackFaceFraction;
     }
+    skyDirectionSums.resize(bake.bricks.size(), glm::dvec3(0.0));
     for (size_t b = 0; b < bake.bricks.size(); ++b) {
+        if (bake.bricks[b].sky && glm::length(skyDirectionSums[b]) > 1e-12)
+            bake.bricks[b].skyDirection = glm::vec3(glm::normalize(skyDirectionSums[b]));
         // A brick seen by many probes holds many surfels: its radiance is the mean over at most
         // maxSurfelsPerBrick of them, spread evenly over the list (which is in probe order).
         const std::vector<GiSurfel>& all = brickSurfels[b];

@@ -6,8 +6,10 @@
 //   2. `surfelsPerProbe` stratified directions (a spherical Fibonacci set) read it: each becomes a
 //      sample — a surfel on a front face, a back-face hit (the probe is inside something), or sky.
 //   3. buildGiBake groups the surfels into bricks (cells of `brickSize` metres x the six axis
-//      directions of the normal; or one brick per surfel on the per-surfel path), gives every sky
-//      sample a brick of its own (its radiance is the sky's along its direction), and keeps per
+//      directions of the normal, each lit from at most maxSurfelsPerBrick of its surfels; or one
+//      brick per surfel on the per-surfel path), groups sky samples into direction bins (a brick
+//      per bin, lit by the sky along the bin's mean direction; per-surfel: a brick per sample),
+//      and keeps per
 //      (probe, brick) the SH9 transfer T_k = sum over the probe's samples in the brick of
 //      Y_k(direction) * 4 pi / N. Probe SH = sum over its bricks of radiance(brick) * T.
 //   4. A probe with more than `invalidBackFaceFraction` of its samples on back faces is invalid.
@@ -59,6 +61,9 @@ struct GiBake {
     std::vector<uint32_t> probeFirstTransfer, probeTransferCount;
     uint32_t samplesPerProbe = 0;
 };
+
+// Sky samples' direction bins on the brick path: texels of a cube this many texels wide.
+inline constexpr uint32_t kGiSkyBinsPerFace = 8;
 
 // Probe i of the grid sits at the centre of cell i of `bounds` split into probeCounts cells.
 std::vector<glm::vec3> giProbePositions(const IrradianceVolume& volume);

@@ -269,19 +269,28 @@ void ProbeGi::beginFrame(FrameReport& frame) {
         const bool bounce = m_volumeHasLight || c > 0;
         const uint32_t firstRank = m_nextRank;
         const uint32_t count = std::min(m_probesPerStep, m_probeCount - firstRank);
-        const PassGraph::ResourceId brickRadiance = graph.addResource(fmt::format("gi brick radiance {}", c));
-        PassGraph::PassDesc bricks;
-        bricks.name = std::string("gi-brick-radiance") + suffix;
-        bricks.view = view.name;
-        bricks.reads = lightInputs;
-        bricks.reads.push_back(volume);
-        bricks.writes = {brickRadiance};
-        bricks.setup = [this] { setupRelight(); };
-        bricks.record = [this, bounce](rhi::ICommandList& cmd, PassReport& report) { recordBrickRadiance(cmd, report, bounce); };
-        graph.addPass(std::move(bricks));
+        // Bricks are lit once per cycle, when it starts; the cycle's later frames (K probes per
+        // frame) sum their probes from the same brick radiance, so every probe of a cycle sees the
+        // same light and a frame costs only its K probes' sums.
+        PassGraph::ResourceId brickRadiance;
+        if (firstRank == 0) {
+            brickRadiance = graph.addResource(fmt::format("gi brick radiance {}", c));
+            PassGraph::PassDesc bricks;
+            bricks.name = std::string("gi-brick-radiance") + suffix;
+            bricks.view = view.name;
+            bricks.reads = lightInputs;
+            bricks.reads.push_back(volume);
+            bricks.writes = {brickRadiance};
+            bricks.setup = [this] { setupRelight(); };
+            bricks.record = [this, bounce](rhi::ICommandList& cmd, PassReport& report) { recordBrickRadiance(cmd, report, bounce); };
+            graph.addPass(std::move(bricks));
+        } else {
+            brickRadiance = graph.importResource("gi brick radiance");   // this cycle's, from an earlier frame
+        }
         PassGraph::PassDesc sh;
         sh.name = std::string("gi-probe-sh") + suffix;
         sh.view = view.name;
+        sh.setup = [this] { setupRelight(); };
         sh.reads = {brickRadiance};
         sh.writes = {volume};
         sh.record = [this, firstRank, count, bounce](rhi::ICommandList& cmd, PassReport& report) {
