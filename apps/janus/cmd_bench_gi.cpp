@@ -80,7 +80,7 @@ std::vector<Variant> makeVariants(const renderer::IrradianceVolume& base, const 
     if (wanted("order"))
         add("order", base.shOrder == 2 ? "L1" : "L2", [&](auto& v) { v.shOrder = base.shOrder == 2 ? 1 : 2; });
     if (wanted("bounces"))
-        for (uint32_t b : quick ? std::vector<uint32_t>{1} : std::vector<uint32_t>{1, 3, 4, 6})
+        for (uint32_t b : quick ? std::vector<uint32_t>{1} : std::vector<uint32_t>{1, 2, 3, 6})
             if (b != base.bounces) add("bounces", fmt::format("{} bounce{}", b, b == 1 ? "" : "s"), [&](auto& v) { v.bounces = b; });
     if (wanted("probes-per-frame"))
         for (uint32_t k : quick ? std::vector<uint32_t>{16} : std::vector<uint32_t>{4, 16})
