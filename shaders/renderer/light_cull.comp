@@ -64,8 +64,9 @@ void main() {
     if (useDepth) {
         float minDepth = uintBitsToFloat(minDepthBits), maxDepth = uintBitsToFloat(maxDepthBits);
         region.hasGeometry = minDepth <= maxDepth;
-        region.dMin = linearViewDepth(cull.projection, minDepth) * (1.0 - kDepthRelativeMargin);
-        region.dMax = linearViewDepth(cull.projection, maxDepth) * (1.0 + kDepthRelativeMargin);
+        float dMin = linearViewDepth(cull.projection, minDepth), dMax = linearViewDepth(cull.projection, maxDepth);
+        region.dMin = dMin - depthMargin(cull.projection, minDepth, dMin);
+        region.dMax = dMax + depthMargin(cull.projection, maxDepth, dMax);
         if (cull.planes.z != 0.0) {
             // Transparent surfaces lie in front of the depth: from the near plane on, and
             // anywhere where no depth was written.

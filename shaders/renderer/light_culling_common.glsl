@@ -8,6 +8,7 @@
 const float kRadiusRelativeMargin = 1e-3;   // float error of the view transform and planes, relative to the radius
 const float kRadiusAbsoluteMargin = 1e-4;   // ...and absolute, for tiny lights (world units)
 const float kDepthRelativeMargin = 1e-5;    // float error of depth linearisation (a few ulps)
+const float kDepthUlps = 1.1920929e-7;      // 2 * 2^-24: a stored depth's error (its rounding plus P22's), in units of max(z, |P22|)
 
 struct TileRegion {
     float x0, x1, y0, y1;   // view-space slopes x/d, y/d of the tile's side planes (d = -z)
@@ -19,6 +20,14 @@ struct TileRegion {
 // D32F (perspectiveRH_ZO) depth -> distance along the view axis.
 float linearViewDepth(mat4 projection, float depth) {
     return projection[3][2] / (depth + projection[2][2]);
+}
+
+// How far a tile's depth bound may be from its surfaces at distance d of stored depth z: the
+// depth's rounding grows into dz * d^2 / |P32| (metres at far / near = 1e5). light_grid_build.cpp's
+// depthMargin is the same formula.
+float depthMargin(mat4 projection, float z, float d) {
+    float zError = kDepthUlps * (abs(z) + abs(projection[2][2]));
+    return d * kDepthRelativeMargin + zError * d * d / abs(projection[3][2]);
 }
 
 TileRegion tileSlopes(mat4 projection, uvec2 tile, uvec2 size, uint tileSize, float nearPlane, float farPlane) {

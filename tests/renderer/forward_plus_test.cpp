@@ -129,6 +129,13 @@ const SceneCase kEqualityScenes[] = {
     // Larger tiles too: the near-plane lights cover many pixels of few tiles.
     {"LightsStraddlingTheNearPlane", lightsStraddlingTheNearPlane, 32},
     {"LightsBehindTheCamera", lightsBehindTheCamera, 16},
+    // Far / near = 1e4: D32F depth steps of up to a millimetre across the room, which tile
+    // depth bounds must allow for (the old 1e-5 relative margin did not).
+    {"FarOverNearOf1e4", [] {
+         Scene scene = roomWithManyLights(64);
+         scene.camera.nearPlane = scene.camera.farPlane * 1e-4f;
+         return scene;
+     }, 16},
 };
 
 using EqualityParam = std::tuple<SceneCase, Config>;

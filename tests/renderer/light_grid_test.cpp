@@ -254,6 +254,39 @@ TEST(LightGrid, ListsAreConservativeOnBothModes) {
     }
 }
 
+// Far / near = 1e5 (near 0.01 m, far 1 km): a wall 600 m away has D32F depth steps of about 2 m,
+// so its stored depth can read back a metre nearer than the wall. A light whose sphere reaches
+// 0.2 m in front of the wall lights it, and the tiles around it must list it; the old margin
+// (1e-5 of the distance: 6 mm) culled it wherever the depth rounded towards the camera.
+TEST(LightGrid, DepthMarginsFollowD32FPrecisionAtFarOverNearOf1e5) {
+    Camera camera;
+    camera.position = glm::vec3(0.0f);
+    camera.target = glm::vec3(0.0f, 0.0f, -1.0f);
+    camera.nearPlane = 0.01f;
+    camera.farPlane = 1000.0f;
+    const TileGrid grid = makeTileGrid(camera, 32, 32, 16, kMaxLocalLights);   // 4 tiles meet on the view axis
+    uint32_t found = 0;
+    for (double wall = 500.0; wall < 700.0 && found < 8; wall += 0.37) {
+        const float z = storedDepth(grid, wall);
+        const double readBack = double(grid.projection[3][2]) / (double(z) + double(grid.projection[2][2]));
+        if (readBack > wall - 0.5) continue;   // only walls whose depth rounds at least 0.5 m nearer
+        ++found;
+        Scene scene;
+        scene.lights.push_back(pointLight({0.0f, 0.0f, float(-(wall + 2.0))}, 2.2f));
+        const PackedLights packed = packLocalLights(scene, 0.01f);
+        const TileLists lists = buildTileListsCpu(grid, packed.lights, std::vector<float>(32 * 32, z));
+        for (uint32_t t = 0; t < grid.tileCount(); ++t)
+            EXPECT_EQ(lists.counts[t], 1u) << "wall at " << wall << " m (its depth reads " << readBack << " m), tile " << t;
+    }
+    EXPECT_GE(found, 4u) << "too few walls whose depth rounds towards the camera: the test checks nothing";
+    // The margin stays small where depth is precise: 1 m away it is well under a millimetre.
+    std::vector<float> near(32 * 32, storedDepth(grid, 1.0));
+    Scene behind;
+    behind.lights.push_back(pointLight({0.0f, 0.0f, -1.01f}, 0.005f));   // 5 mm behind the 1 m wall, 5 mm radius
+    const TileLists lists = buildTileListsCpu(grid, packLocalLights(behind, 0.01f).lights, near);
+    for (uint32_t t = 0; t < grid.tileCount(); ++t) EXPECT_EQ(lists.counts[t], 0u) << "tile " << t << ": a light behind the wall is listed";
+}
+
 TEST(LightGrid, HardLightsAreListedWhereTheyLight) {
     const Camera camera = testCamera();
     const PackedLights packed = packLocalLights(hardLightsScene(camera), 0.01f);

@@ -22,6 +22,7 @@ namespace {
 constexpr float kRadiusRelativeMargin = 1e-3f;   // float error of the view transform and planes, relative to the radius
 constexpr float kRadiusAbsoluteMargin = 1e-4f;   // ...and absolute, for tiny lights (world units)
 constexpr float kDepthRelativeMargin = 1e-5f;    // float error of depth linearisation (a few ulps)
+constexpr float kDepthUlps = 2.0f * 0x1p-24f;     // a stored depth's error: its rounding plus P22's, in units of max(z, |P22|)
 
 struct CullLight {
     glm::vec3 center;   // view space
@@ -68,6 +69,16 @@ struct TileRegion {
 
 float linearDepth(const glm::mat4& projection, float depth) {
     return projection[3][2] / (depth + projection[2][2]);
+}
+
+// How far a tile's depth bound may be from its surfaces, at view distance d of stored depth z. The
+// D32F depth is the surface's rounded to float, and P22 is rounded too; d = P32 / (z + P22) turns
+// an error dz into dz * d^2 / |P32|, which grows with (d / near)^2: at far / near = 1e5 a surface
+// 600 m away has depth steps of 2 m, far beyond a relative margin. Plus the relative term for the
+// division's own rounding. light_culling_common.glsl's depthMargin is the same formula.
+float depthMargin(const glm::mat4& projection, float z, float d) {
+    const float zError = kDepthUlps * (std::abs(z) + std::abs(projection[2][2]));
+    return d * kDepthRelativeMargin + zError * d * d / std::abs(projection[3][2]);
 }
 
 TileRegion tileSlopes(const TileGrid& grid, uint32_t tx, uint32_t ty) {
@@ -245,8 +256,9 @@ TileLists buildTileListsCpu(const TileGrid& grid, std::span<const PackedLight> l
                         }
                     }
                 region.hasGeometry = minDepth <= maxDepth;
-                region.dMin = linearDepth(grid.projection, minDepth) * (1.0f - kDepthRelativeMargin);
-                region.dMax = linearDepth(grid.projection, maxDepth) * (1.0f + kDepthRelativeMargin);
+                const float dMin = linearDepth(grid.projection, minDepth), dMax = linearDepth(grid.projection, maxDepth);
+                region.dMin = dMin - depthMargin(grid.projection, minDepth, dMin);
+                region.dMax = dMax + depthMargin(grid.projection, maxDepth, dMax);
                 if (grid.rangeFromNearPlane) {
                     // Transparent surfaces lie in front of the depth: from the near plane on, and
                     // anywhere where no depth was written.
