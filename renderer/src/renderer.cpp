@@ -9,6 +9,7 @@
 //   forward        (forward/)   opaque and masked meshes -> RGBA16F HDR radiance (+ depth, or tested against the prepass depth)
 //   sky            (ibl/)       with a sky: its radiance where no surface is
 //   transparent    (forward/)   alphaMode BLEND meshes, back to front, blended over the HDR radiance (only with such meshes)
+//   gi-probes      (debug_views/) DebugView::Gi with a volume: the probes as spheres over the HDR image
 //   tonemap-*      (tonemap/)   HDR -> RGBA8 display (compute: storage-image dispatch | fallback: fullscreen triangle)
 //   tile-heatmap   (debug_views/) DebugView::Tiles: lights per tile blended over the display image
 // The pass graph keeps only passes whose output the frame needs. renderCubeCapture() renders six
@@ -73,6 +74,9 @@ void Renderer::Impl::createFeatures(const Scene& scene) {
     features.push_back(std::move(forward));
     features.push_back(std::move(sky));
     if (transparent) features.push_back(std::move(transparent));
+    // The probes go over the finished HDR image, before the tonemap.
+    if (settings.debugView == DebugView::Gi && scene.irradianceVolume)
+        features.push_back(std::make_unique<GiProbeView>(device, *scene.irradianceVolume, *probeGi));
     features.push_back(std::make_unique<Tonemap>(device, scene.environment.exposure, settings.path, gpuScene->pointSampler()));
     if (settings.debugView == DebugView::Tiles) features.push_back(std::make_unique<TileHeatmap>(device, *localLights, settings.path));
 }

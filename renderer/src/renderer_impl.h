@@ -10,7 +10,7 @@
 //   ibl/           the sky: cube, GGX prefilter, SH irradiance, background
 //   probes/        reflection probes: capture, time-sliced updates, what shading reads
 //   gi/            probe GI: the irradiance volume's bake, relight and what shading reads
-//   debug_views/   the tile heat map
+//   debug_views/   the tile heat map, the GI probes
 //   scene/, io/    loading scenes, reading and writing images
 #pragma once
 
@@ -21,6 +21,7 @@
 #include "core/gpu_scene.h"
 #include "core/pass_graph.h"
 #include "core/render_feature.h"
+#include "debug_views/gi_probe_view.h"
 #include "debug_views/tile_heatmap.h"
 #include "forward/forward_shading.h"
 #include "forward/lighting_settings.h"
