@@ -9,6 +9,7 @@
 //   forward        (forward/)   opaque and masked meshes -> RGBA16F HDR radiance (+ depth, or tested against the prepass depth)
 //   sky            (ibl/)       with a sky: its radiance where no surface is
 //   transparent    (forward/)   alphaMode BLEND meshes, back to front, blended over the HDR radiance (only with such meshes)
+//   gi-probes      (debug_views/) DebugView::Gi with a volume: the probes as spheres over the HDR image
 //   tonemap-*      (tonemap/)   HDR -> RGBA8 display (compute: storage-image dispatch | fallback: fullscreen triangle)
 //   tile-heatmap   (debug_views/) DebugView::Tiles: lights per tile blended over the display image
 // The pass graph keeps only passes whose output the frame needs. renderCubeCapture() renders six
@@ -26,6 +27,7 @@
 #include "core/gpu_util.h"
 #include "gi/gi_bake_file.h"
 #include "renderer_impl.h"
+#include "scene/scene_internal.h"
 
 namespace janus::renderer {
 
@@ -38,6 +40,7 @@ Renderer::Impl::Impl(rhi::IDevice& d, const Scene& scene, const RenderSettings& 
     createTargets();
     gpuScene = std::make_unique<GpuScene>(device, scene);
     createFeatures(scene);
+    lights = scene.lights;
     commandList = device.createCommandList();
     buildFrameGraph();
 }
@@ -48,6 +51,7 @@ void Renderer::Impl::createFeatures(const Scene& scene) {
     localLights = std::make_unique<LocalLights>(device, scene, lighting, settings.path, mainView, gpuScene->pointSampler());
     auto shadows = std::make_unique<MainLightShadows>(device, scene, *gpuScene, lighting.shadows, lighting.shadowMapSize,
                                                       kMaxDirectionalLights);
+    this->shadows = shadows.get();
     auto imageBasedLighting = std::make_unique<ImageBasedLighting>(device, scene.environment, settings.path, gpuScene->pointSampler());
     auto probes = std::make_unique<ReflectionProbes>(device, scene, settings.path, mainView.position,
                                                      [this](const CubeCaptureDesc& capture) { return renderCubeCapture(capture); });
@@ -57,6 +61,7 @@ void Renderer::Impl::createFeatures(const Scene& scene) {
     probeGi = gi.get();
     auto forward = std::make_unique<ForwardShading>(device, scene, *gpuScene, *localLights, *shadows, *imageBasedLighting, *probes, *gi,
                                                     settings.path);
+    this->forward = forward.get();
     auto sky = std::make_unique<SkyBackground>(device, *imageBasedLighting);
     // Blended surfaces composite over the sky, so their pass comes after it.
     std::unique_ptr<TransparentShading> transparent;
@@ -69,6 +74,9 @@ void Renderer::Impl::createFeatures(const Scene& scene) {
     features.push_back(std::move(forward));
     features.push_back(std::move(sky));
     if (transparent) features.push_back(std::move(transparent));
+    // The probes go over the finished HDR image, before the tonemap.
+    if (settings.debugView == DebugView::Gi && scene.irradianceVolume)
+        features.push_back(std::make_unique<GiProbeView>(device, *scene.irradianceVolume, *probeGi));
     features.push_back(std::make_unique<Tonemap>(device, scene.environment.exposure, settings.path, gpuScene->pointSampler()));
     if (settings.debugView == DebugView::Tiles) features.push_back(std::make_unique<TileHeatmap>(device, *localLights, settings.path));
 }
@@ -225,6 +233,32 @@ FrameReport Renderer::Impl::renderCubeCapture(const CubeCaptureDesc& capture) {
     return frame;
 }
 
+namespace {
+
+bool sameLight(const Light& a, const Light& b) {
+    return a.type == b.type && a.color == b.color && a.intensity == b.intensity && a.position == b.position &&
+           a.direction == b.direction && a.range == b.range && a.innerConeAngle == b.innerConeAngle &&
+           a.outerConeAngle == b.outerConeAngle && a.renderingLayers == b.renderingLayers;
+}
+
+}  // namespace
+
+// Updates what reads the lights in place; the frame's plan (its passes, the light array's size)
+// stays, so lights that need another plan are refused before anything changes.
+void Renderer::Impl::setLights(std::span<const Light> newLights) {
+    for (size_t i = 0; i < newLights.size(); ++i)
+        if (const char* problem = detail::lightProblem(newLights[i]))
+            throw RendererError(fmt::format("setLights: light {} {}", i, problem));
+    if (std::equal(newLights.begin(), newLights.end(), lights.begin(), lights.end(), sameLight)) return;   // nothing to relight
+    localLights->checkLights(newLights);
+    shadows->checkLights(newLights);
+    lights.assign(newLights.begin(), newLights.end());
+    localLights->setLights(lights);
+    shadows->setLights(lights);   // before forward shading, whose frame uniforms hold the map's matrix
+    forward->setLights(lights);
+    probeGi->setLights(lights);   // relights the volume from scratch before the next frame
+}
+
 void Renderer::Impl::requireFrame(const char* what) const {
     if (!frameRendered) throw RendererError(fmt::format("{} was called before any frame was rendered; call renderFrame() first", what));
 }
@@ -279,6 +313,7 @@ std::vector<IrradianceProbe> Renderer::readIrradianceProbes() {
     return probes;
 }
 void Renderer::markIrradianceDirty() { m_impl->probeGi->markDirty(); }
+void Renderer::setLights(std::span<const Light> lights) { m_impl->setLights(lights); }
 
 IrradianceBakeSummary bakeIrradianceVolume(rhi::IDevice& device, const Scene& scene, const std::filesystem::path& path) {
     validateScene(scene);

@@ -10,16 +10,18 @@
 //   ibl/           the sky: cube, GGX prefilter, SH irradiance, background
 //   probes/        reflection probes: capture, time-sliced updates, what shading reads
 //   gi/            probe GI: the irradiance volume's bake, relight and what shading reads
-//   debug_views/   the tile heat map
+//   debug_views/   the tile heat map, the GI probes
 //   scene/, io/    loading scenes, reading and writing images
 #pragma once
 
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "core/gpu_scene.h"
 #include "core/pass_graph.h"
 #include "core/render_feature.h"
+#include "debug_views/gi_probe_view.h"
 #include "debug_views/tile_heatmap.h"
 #include "forward/forward_shading.h"
 #include "forward/lighting_settings.h"
@@ -46,6 +48,9 @@ struct Renderer::Impl {
     std::unique_ptr<LocalLights> localLights;   // forward/'s light data; also behind readTileLists()
     ReflectionProbes* reflectionProbes = nullptr;   // one of `features`; behind requestProbeUpdate()
     ProbeGi* probeGi = nullptr;                     // one of `features`
+    MainLightShadows* shadows = nullptr;            // one of `features`; setLights refits its map
+    ForwardShading* forward = nullptr;              // one of `features`; setLights updates its frame uniforms
+    std::vector<Light> lights;                      // what the frame is lit with now (setLights compares)
     // The features in the order their passes are added for each view (core/render_feature.h).
     std::vector<std::unique_ptr<RenderFeature>> features;
 
@@ -69,6 +74,7 @@ struct Renderer::Impl {
     FrameReport renderFrame();
     FrameReport renderCubeCapture(const CubeCaptureDesc& capture);
     const rhi::TextureHandle& captureDepth(uint32_t size);
+    void setLights(std::span<const Light> newLights);
     void requireFrame(const char* what) const;
     ImageRGBA8 readDisplayImage();
     ImageRGBAF readHdrImage();

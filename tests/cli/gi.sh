@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Probe GI in the CLI (docs/GI.md): `janus bake` writes a bake `janus render --gi-bake` reuses
-# (the same image as baking at start-up), `--debug gi`, and clear errors for scenes without a
+# (the same image as baking at start-up), `--debug gi` (with its gi-probes pass), and clear errors for scenes without a
 # volume and for bake files that do not fit. Needs the backends and the shared cornell box.
 source "$(dirname "$0")/common.bash" "$@"
 CORNELL="$REPO_ROOT/../shared/scenes/cornell-box/cornellBox.gltf"
@@ -21,8 +21,9 @@ expect_success render "$CORNELL" --size 64x64 --gi-bake "$TMP/cornell.bake" --ou
 cmp -s "$TMP/baked-now.png" "$TMP/from-file.png" || fail "the image from the bake file differs from the one baked at start-up"
 json_check "$TMP/from-file.json" 'not any(p["name"] == "gi-bake" for p in j["passes"])' "a bake file still baked at start-up"
 
-expect_success render "$CORNELL" --size 64x64 --debug gi --out "$TMP/gi.png"
+expect_success render "$CORNELL" --size 64x64 --debug gi --out "$TMP/gi.png" --report "$TMP/gi.json"
 cmp -s "$TMP/gi.png" "$TMP/baked-now.png" && fail "--debug gi wrote the shaded image"
+json_check "$TMP/gi.json" 'any(p["name"] == "gi-probes" for p in j["passes"])' "--debug gi drew no probes"
 
 # A damaged bake: one flipped byte in the middle.
 cp "$TMP/cornell.bake" "$TMP/damaged.bake"

@@ -23,15 +23,17 @@ const char* forwardShaderName(FeaturePath path, bool probeCubes) {
 
 }  // namespace
 
-FrameUniforms sceneFrameUniforms(const Scene& scene) {
+FrameUniforms sceneFrameUniforms(const Scene& scene) { return sceneFrameUniforms(scene.lights, scene.environment.ambientColor); }
+
+FrameUniforms sceneFrameUniforms(std::span<const Light> lights, const glm::vec3& ambientColor) {
     FrameUniforms uniforms{};
-    uniforms.ambientColor = glm::vec4(scene.environment.ambientColor, 0.0f);
+    uniforms.ambientColor = glm::vec4(ambientColor, 0.0f);
     // The main directional light goes first: the shader shadows directional light 0.
     std::vector<const Light*> directional;
-    for (const Light& light : scene.lights)
+    for (const Light& light : lights)
         if (light.type == LightType::Directional && directional.size() < kMaxDirectionalLights) directional.push_back(&light);
-    if (const std::optional<size_t> main = mainDirectionalLight(scene, kMaxDirectionalLights)) {
-        auto it = std::find(directional.begin(), directional.end(), &scene.lights[*main]);
+    if (const std::optional<size_t> main = mainDirectionalLight(lights, kMaxDirectionalLights)) {
+        auto it = std::find(directional.begin(), directional.end(), &lights[*main]);
         if (it != directional.end()) std::rotate(directional.begin(), it, it + 1);
     }
     for (size_t i = 0; i < directional.size(); ++i) {
@@ -139,13 +141,12 @@ const rhi::BindingSetHandle& ForwardShading::viewBindings(const std::string& vie
     return state.bindings;
 }
 
-void ForwardShading::setupView(ViewState& state) {
+FrameUniforms ForwardShading::viewFrameUniforms(const ViewState& state) const {
     const SceneView& view = state.view;
     FrameUniforms frame = m_sceneUniforms;
     frame.viewProjection = view.viewProjection();   // for the tiled view, the matrices the culling uses
     frame.cameraPosition = glm::vec4(view.position, 1.0f);
-    const DirectionalShadowMap* map = state.shadowed ? m_shadows.map(view.passes.shadowMapSize) : nullptr;
-    if (map) {
+    if (const DirectionalShadowMap* map = state.shadowed ? m_shadows.map(view.passes.shadowMapSize) : nullptr) {
         frame.worldToShadow = map->worldToShadow();
         frame.shadowParams = glm::vec4(1.0f, map->texelSize(), map->normalOffset(), 0.0f);
     }
@@ -155,7 +156,24 @@ void ForwardShading::setupView(ViewState& state) {
                                 state.tiled ? int(m_localLights.tileCount()) : 0);
     frame.skyParams = m_imageBasedLighting.shadingParams();
     frame.skyParams.w = view.debugView == DebugView::Gi ? 1.0f : 0.0f;   // forward.frag shows the volume's light
-    state.frameUniforms = makeUniformBuffer(m_device, frame, fmt::format("frame uniforms ({})", view.name).c_str());
+    return frame;
+}
+
+void ForwardShading::setLights(std::span<const Light> lights) {
+    m_sceneUniforms = sceneFrameUniforms(lights, glm::vec3(m_sceneUniforms.ambientColor));
+    // Views set up already keep their buffers (their binding sets hold them): new contents only.
+    // A cube capture's views are set up again at each capture anyway.
+    for (const std::unique_ptr<ViewState>& state : m_views)
+        if (state->frameUniforms) {
+            const FrameUniforms frame = viewFrameUniforms(*state);
+            m_device.writeBuffer(state->frameUniforms, &frame, sizeof(frame));
+        }
+}
+
+void ForwardShading::setupView(ViewState& state) {
+    const SceneView& view = state.view;
+    const DirectionalShadowMap* map = state.shadowed ? m_shadows.map(view.passes.shadowMapSize) : nullptr;
+    state.frameUniforms = makeUniformBuffer(m_device, viewFrameUniforms(state), fmt::format("frame uniforms ({})", view.name).c_str());
 
     rhi::BindingSetDesc set;
     set.add(rhi::BindingItem::uniformBuffer(JANUS_BINDING_FRAME_UNIFORMS, state.frameUniforms));

@@ -13,6 +13,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -45,6 +46,10 @@ public:
     // view's kTileLists when it is tiled (the tile heat map reads them).
     void addPasses(PassGraph& graph, const SceneView& view) override;
 
+    // Renderer::setLights: the directional lights of every view's frame uniforms (and the shadow
+    // matrices, so call it after MainLightShadows::setLights); the local lights are LocalLights'.
+    void setLights(std::span<const Light> lights);
+
     // What the transparent pass (TransparentShading) shades a view with, the same as `forward`:
     // the resources forward reads besides the targets (tile lists, shadow map, sky, probes) once
     // addPasses ran for the view, and the view's set JANUS_SET_VIEW once forward's setup ran.
@@ -68,6 +73,7 @@ private:
     using PipelineKey = std::tuple<bool /*prepass*/, bool /*tiled*/, rhi::Format, rhi::Format, bool /*mirrored*/>;
 
     const ViewState& stateOf(const std::string& viewName) const;
+    FrameUniforms viewFrameUniforms(const ViewState& state) const;
     void setupView(ViewState& state);
     const GpuScene::MeshPipelines& pipelines(bool prepass, const ViewState& state);
     void recordPrepass(const ViewState& state, rhi::ICommandList& cmd, PassReport& report);

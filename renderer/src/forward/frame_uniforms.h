@@ -3,6 +3,8 @@
 // shared by forward shading, the GI bake and the GI relight.
 #pragma once
 
+#include <span>
+
 #include <glm/glm.hpp>
 
 #include "forward/lighting_settings.h"
@@ -32,5 +34,7 @@ static_assert(sizeof(FrameUniforms) == 208 + 32 * kMaxDirectionalLights + 16, "F
 // (the main one first: the shaders shadow directional light 0). Passes that light without a
 // view (the GI relight) start from this too.
 FrameUniforms sceneFrameUniforms(const Scene& scene);
+// The same for a light list and ambient colour (Renderer::setLights).
+FrameUniforms sceneFrameUniforms(std::span<const Light> lights, const glm::vec3& ambientColor);
 
 }  // namespace janus::renderer

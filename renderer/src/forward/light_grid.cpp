@@ -34,17 +34,20 @@ float cullingRadius(const Light& light, float intensityCutoff) {
     return std::sqrt(std::max(maxChannel(light.color), 0.0f) * std::max(light.intensity, 0.0f) / intensityCutoff);
 }
 
-PackedLights packLocalLights(const Scene& scene, float intensityCutoff) {
+PackedLights packLocalLights(const Scene& scene, float intensityCutoff) { return packLocalLights(scene.lights, intensityCutoff); }
+
+PackedLights packLocalLights(std::span<const Light> lights, float intensityCutoff, bool warnSkipped) {
     PackedLights packed;
-    for (size_t i = 0; i < scene.lights.size(); ++i) {
-        const Light& light = scene.lights[i];
+    for (size_t i = 0; i < lights.size(); ++i) {
+        const Light& light = lights[i];
         if (light.type == LightType::Directional) continue;
         const char* why = nullptr;
         if (light.range && !(*light.range > 0.0f)) why = "its range is <= 0";
         else if (!(light.intensity > 0.0f)) why = "its intensity is <= 0";
         else if (!(maxChannel(light.color) > 0.0f)) why = "its colour is black";
         if (why) {
-            std::fprintf(stderr, "janus: warning: %s light %zu lights nothing (%s); skipped\n", lightTypeName(light.type), i, why);
+            if (warnSkipped)
+                std::fprintf(stderr, "janus: warning: %s light %zu lights nothing (%s); skipped\n", lightTypeName(light.type), i, why);
             ++packed.skipped;
             continue;
         }

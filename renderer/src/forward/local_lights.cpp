@@ -16,16 +16,23 @@
 
 namespace janus::renderer {
 
+namespace {
+
+size_t directionalLightCount(std::span<const Light> lights) {
+    return size_t(std::count_if(lights.begin(), lights.end(), [](const Light& light) { return light.type == LightType::Directional; }));
+}
+
+}  // namespace
+
 LocalLights::LocalLights(rhi::IDevice& device, const Scene& scene, const ResolvedLighting& lighting, FeaturePath path,
                          const SceneView& tiledView, rhi::SamplerHandle pointSampler)
     : m_device(device), m_lighting(lighting), m_path(path), m_tiledViewName(tiledView.name), m_pointSampler(std::move(pointSampler)) {
     // Point and spot lights into the GPU light array; directional lights stay in the frame
     // uniforms (forward_shading.cpp).
     m_lights = packLocalLights(scene, m_lighting.intensityCutoff).lights;
-    const auto directional = std::count_if(scene.lights.begin(), scene.lights.end(),
-                                           [](const Light& light) { return light.type == LightType::Directional; });
-    m_directionalCount = uint32_t(std::min<size_t>(size_t(directional), kMaxDirectionalLights));
-    if (size_t(directional) > kMaxDirectionalLights)
+    const size_t directional = directionalLightCount(scene.lights);
+    m_directionalCount = uint32_t(std::min<size_t>(directional, kMaxDirectionalLights));
+    if (directional > kMaxDirectionalLights)
         fmt::print(stderr, "janus renderer: warning: scene '{}' has {} directional lights; the first {} are shaded\n", scene.name,
                    directional, kMaxDirectionalLights);
     m_grid = makeTileGrid(tiledView, m_lighting.tileSize, m_lighting.maxLightsPerTile);
@@ -66,16 +73,47 @@ LocalLights::LocalLights(rhi::IDevice& device, const Scene& scene, const Resolve
     // The light array and the tile lists in the form the path reads them. Without local lights
     // (or without tiles) a one-element stand-in keeps the bindings valid.
     const size_t lightWords = std::max<size_t>(m_lights.size(), 1) * 4;   // uvec4 words
-    if (m_path == FeaturePath::Compute) {
+    if (m_path == FeaturePath::Compute)
         m_lightBuffer = m_device.createBuffer(
             rhi::BufferDesc{}.setSize(lightWords * 16).setUsage(rhi::BufferUsage::Storage).setDebugName("local lights"));
-        if (!m_lights.empty()) m_device.writeBuffer(m_lightBuffer, m_lights.data(), m_lights.size() * sizeof(PackedLight));
-    } else {
+    else
         m_lightTexture = createDataTexture(rhi::Format::RGBA32_UINT, lightWords, "local lights");
-        if (!m_lights.empty()) writeDataTexture(m_lightTexture, m_lights.data(), m_lights.size() * 4, 16);
-    }
+    uploadLights();
     // The full tile lists are made only when the culling pass is kept (createTileStorage).
     if (!tiled()) createTileStorage(1);
+}
+
+void LocalLights::uploadLights() {
+    if (m_lights.empty()) return;
+    if (m_path == FeaturePath::Compute)
+        m_device.writeBuffer(m_lightBuffer, m_lights.data(), m_lights.size() * sizeof(PackedLight));
+    else
+        writeDataTexture(m_lightTexture, m_lights.data(), m_lights.size() * 4, 16);
+}
+
+void LocalLights::checkLights(std::span<const Light> lights) const {
+    const size_t lit = packLocalLights(lights, m_lighting.intensityCutoff, false).lights.size();
+    if (lit <= m_lights.size()) return;
+    throw RendererError(fmt::format("setLights: {} point/spot lights light something, but this renderer was made for at most {}: its "
+                                    "light array, culling mode and passes are planned for that many; give at most {} (dim the others to "
+                                    "intensity 0), or create a new Renderer for a scene with these lights",
+                                    lit, m_lights.size(), m_lights.size()));
+}
+
+void LocalLights::setLights(std::span<const Light> lights) {
+    std::vector<PackedLight> packed = packLocalLights(lights, m_lighting.intensityCutoff, false).lights;
+    // Placeholders keep the array's size, so the culling mode and the light count the passes
+    // were set up with stay true. Radiance 0 and layer mask 0 make their contribution exactly 0
+    // (x + 0 == x), so the image is the one a renderer made with only the lit lights shows.
+    PackedLight dark;
+    dark.radiance = glm::vec3(0.0f);
+    dark.renderingLayers = 0u;
+    dark.invRangeSq = 1.0f / (kMinLightRadius * kMinLightRadius);   // the smallest sphere packing makes: in almost no tile
+    packed.resize(m_lights.size(), dark);
+    m_lights = std::move(packed);
+    m_directionalCount = uint32_t(std::min<size_t>(directionalLightCount(lights), kMaxDirectionalLights));
+    if (m_report) m_report->directionalLights = m_directionalCount;
+    uploadLights();
 }
 
 void LocalLights::createTileStorage(size_t words) {

@@ -10,6 +10,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "core/pass_graph.h"
@@ -27,6 +28,14 @@ public:
     // tile storage in the form `path` reads them.
     LocalLights(rhi::IDevice& device, const Scene& scene, const ResolvedLighting& lighting, FeaturePath path,
                 const SceneView& tiledView, rhi::SamplerHandle pointSampler);
+
+    // Renderer::setLights. The light array keeps the size it was made with (the culling mode,
+    // the tile storage and the frame's passes are planned for it): checkLights throws
+    // RendererError when more point/spot lights light something than it holds; setLights packs
+    // them and fills the rest with dark placeholders (no radiance, no rendering layer: they add
+    // exactly 0), then uploads the array.
+    void checkLights(std::span<const Light> lights) const;
+    void setLights(std::span<const Light> lights);
 
     LightCulling mode() const { return m_mode; }
     bool tiled() const { return m_mode == LightCulling::Tiles2D || m_mode == LightCulling::TilesDepth; }
@@ -57,6 +66,7 @@ public:
     TileLists readTileLists();
 
 private:
+    void uploadLights();
     rhi::TextureHandle createDataTexture(rhi::Format format, size_t elements, const char* name);
     void writeDataTexture(const rhi::TextureHandle& texture, const void* data, size_t elements, size_t texelBytes);
     // The tile lists' storage buffer | R32UI texture of `words` uints (once).

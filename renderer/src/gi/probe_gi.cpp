@@ -159,6 +159,31 @@ void ProbeGi::markDirty() {
     m_nextRank = 0;
 }
 
+void ProbeGi::setLights(std::span<const Light> lights) {
+    if (!m_active) return;
+    const FrameUniforms lit = sceneFrameUniforms(lights, glm::vec3(m_relightFrame.ambientColor));
+    std::copy(std::begin(lit.directionalLights), std::end(lit.directionalLights), std::begin(m_relightFrame.directionalLights));
+    m_relightFrame.lightCounts.x = lit.lightCounts.x;
+    if (m_frameUniforms) {
+        const FrameUniforms frame = relightFrameUniforms();
+        m_device.writeBuffer(m_frameUniforms, &frame, sizeof(frame));
+    }
+    m_cyclesDone = 0;
+    m_nextRank = 0;
+    m_volumeHasLight = false;
+}
+
+// The relight lights surfels as forward shading lights surfaces: the scene's directional lights
+// (the main one shadowed), every local light (no tiles), the sky.
+FrameUniforms ProbeGi::relightFrameUniforms() const {
+    FrameUniforms frame = m_relightFrame;
+    if (const DirectionalShadowMap* map = m_shadows.map()) {   // made by the relight's shadow-map pass setup
+        frame.worldToShadow = map->worldToShadow();
+        frame.shadowParams = glm::vec4(1.0f, map->texelSize(), map->normalOffset(), 0.0f);
+    }
+    return frame;
+}
+
 void ProbeGi::setupRelight() {
     if (m_brickPipeline) return;
     const bool compute = m_path == FeaturePath::Compute;
@@ -178,14 +203,7 @@ void ProbeGi::setupRelight() {
     m_shPipeline = compute ? computePipeline("gi_probe_sh_comp", "gi probe sh")
                            : graphicsPipeline("gi_probe_sh_frag", "gi probe sh", rhi::Format::RGBA16_FLOAT);
 
-    // The relight lights surfels as forward shading lights surfaces: the scene's directional
-    // lights (the main one shadowed), every local light (no tiles), the sky.
-    FrameUniforms frame = m_relightFrame;
-    if (const DirectionalShadowMap* map = m_shadows.map()) {   // made by this relight's shadow-map pass setup
-        frame.worldToShadow = map->worldToShadow();
-        frame.shadowParams = glm::vec4(1.0f, map->texelSize(), map->normalOffset(), 0.0f);
-    }
-    m_frameUniforms = makeUniformBuffer(m_device, frame, "gi relight frame");
+    m_frameUniforms = makeUniformBuffer(m_device, relightFrameUniforms(), "gi relight frame");
     m_relightParams = m_device.createBuffer(
         rhi::BufferDesc{}.setSize(sizeof(GiRelightParams)).setUsage(rhi::BufferUsage::Uniform).setDebugName("gi relight params"));
 

@@ -20,6 +20,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "core/gpu_scene.h"
@@ -76,6 +77,10 @@ public:
 
     // The lights changed: relight (all cycles again, starting from what the volume holds).
     void markDirty();
+    // Renderer::setLights: the relight's directional lights (the local lights are LocalLights',
+    // the shadow MainLightShadows'), and a relight from scratch, as at construction: the old
+    // lights' bounced light must not feed the new lights' bounces.
+    void setLights(std::span<const Light> lights);
     // True while the volume has relight cycles to run.
     bool relightPending() const { return m_active && m_cyclesDone < m_bounces; }
     // The bake, and what the volume holds now (waits for the GPU), grid order.
@@ -86,6 +91,7 @@ private:
     void upload();
     void setupRelight();
     GiRelightParams relightParams(bool bounce) const;   // counts and grid; the schedule is the SH pass's
+    FrameUniforms relightFrameUniforms() const;
     void recordBrickRadiance(rhi::ICommandList& cmd, PassReport& report, bool bounce);
     void recordProbeSh(rhi::ICommandList& cmd, PassReport& report, uint32_t firstRank, uint32_t count, bool bounce);
 

@@ -328,6 +328,20 @@ Scene loadScene(const std::filesystem::path& path, const SceneLoadOptions& optio
     return scene;
 }
 
+namespace detail {
+
+const char* lightProblem(const Light& light) {
+    if (!allFinite(light.color, light.intensity, light.position, light.direction, light.innerConeAngle, light.outerConeAngle) ||
+        (light.range && !std::isfinite(*light.range)))
+        return "has a NaN or infinite colour, intensity, position or direction";
+    if (light.intensity < 0 || light.color.r < 0 || light.color.g < 0 || light.color.b < 0) return "has a negative colour or intensity";
+    // range <= 0 is allowed: such a light lights nothing and the renderer skips it.
+    if (glm::length(light.direction) < 1e-6f) return "has a zero direction";
+    return nullptr;
+}
+
+}  // namespace detail
+
 void validateScene(const Scene& scene) {
     for (size_t m = 0; m < scene.meshes.size(); ++m) {
         const Mesh& mesh = scene.meshes[m];
@@ -371,16 +385,8 @@ void validateScene(const Scene& scene) {
         if (!allFinite(scene.instances[i].world))
             throw SceneError(fmt::format("instance {} (mesh {}) has a NaN or infinite transform", i, scene.instances[i].mesh));
     }
-    for (size_t i = 0; i < scene.lights.size(); ++i) {
-        const Light& light = scene.lights[i];
-        if (!allFinite(light.color, light.intensity, light.position, light.direction, light.innerConeAngle, light.outerConeAngle) ||
-            (light.range && !std::isfinite(*light.range)))
-            throw SceneError(fmt::format("light {} has a NaN or infinite colour, intensity, position or direction", i));
-        if (light.intensity < 0 || light.color.r < 0 || light.color.g < 0 || light.color.b < 0)
-            throw SceneError(fmt::format("light {} has a negative colour or intensity", i));
-        // range <= 0 is allowed: such a light lights nothing and the renderer skips it.
-        if (glm::length(light.direction) < 1e-6f) throw SceneError(fmt::format("light {} has a zero direction", i));
-    }
+    for (size_t i = 0; i < scene.lights.size(); ++i)
+        if (const char* problem = detail::lightProblem(scene.lights[i])) throw SceneError(fmt::format("light {} {}", i, problem));
     for (size_t i = 0; i < scene.markers.size(); ++i)
         if (!allFinite(scene.markers[i].world))
             throw SceneError(fmt::format("marker {} has a NaN or infinite transform", label(scene.markers[i].name, i)));

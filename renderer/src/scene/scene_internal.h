@@ -32,6 +32,9 @@ Scene loadGltfFromMemory(std::string_view bytes, const std::filesystem::path& pa
 
 // Lighting added to scenes that bring none, so glTF sample models are not black.
 Light defaultKeyLight();
+// What is wrong with a light ("has a negative colour or intensity", ...), or nullptr when it can
+// be rendered. One rule for validateScene (SceneError) and Renderer::setLights (RendererError).
+const char* lightProblem(const Light& light);
 
 // Geometry and material helpers for scenes built in code (default_scene.cpp).
 Mesh makeQuad(int32_t material);                                   // 2x2 in XY, facing +Z

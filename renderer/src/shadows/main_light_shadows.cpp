@@ -6,7 +6,7 @@ namespace janus::renderer {
 
 MainLightShadows::MainLightShadows(rhi::IDevice& device, const Scene& scene, const GpuScene& gpuScene, bool enabled, uint32_t mapSize,
                                    uint32_t shadedDirectionalLights)
-    : m_device(device), m_mapSize(mapSize) {
+    : m_device(device), m_mapSize(mapSize), m_shadedDirectionalLights(shadedDirectionalLights) {
     m_standInTexture = device.createTexture(rhi::TextureDesc{}
                                                 .setFormat(DirectionalShadowMap::kDepthFormat)
                                                 .setSize(1, 1)
@@ -17,11 +17,13 @@ MainLightShadows::MainLightShadows(rhi::IDevice& device, const Scene& scene, con
                                                 .setAddress(rhi::AddressMode::ClampToEdge)
                                                 .setCompare(rhi::CompareOp::LessOrEqual));
     if (!enabled) return;
-    const std::optional<size_t> main = mainDirectionalLight(scene, shadedDirectionalLights);
-    if (!main) return;
     m_bounds = sceneWorldBounds(scene);
     if (m_bounds.empty()) return;
-    m_lightDirection = scene.lights[*main].direction;
+    // The casters are gathered even without a main light, so setLights can tell whether a light
+    // that appears later would need the pass (checkLights).
+    const std::optional<size_t> main = mainDirectionalLight(scene, shadedDirectionalLights);
+    m_hasMainLight = main.has_value();
+    if (main) m_lightDirection = scene.lights[*main].direction;
     const Material defaultMaterial;
     for (const Instance& instance : scene.instances) {
         const GpuScene::Mesh& mesh = gpuScene.meshes()[instance.mesh];
@@ -32,6 +34,22 @@ MainLightShadows::MainLightShadows(rhi::IDevice& device, const Scene& scene, con
         if (material.alphaMode == AlphaMode::Blend) continue;
         m_casters.push_back(ShadowCaster{mesh.vertices, mesh.indices, mesh.indexCount, instance.world, material.doubleSided});
     }
+}
+
+void MainLightShadows::checkLights(std::span<const Light> lights) const {
+    if (active() || m_casters.empty() || !mainDirectionalLight(lights, m_shadedDirectionalLights)) return;
+    throw RendererError("setLights: the new lights have a directional light that gives light, but this renderer was made without "
+                        "one, so its frame has no shadow-map pass; create a new Renderer for a scene with these lights");
+}
+
+void MainLightShadows::setLights(std::span<const Light> lights) {
+    if (!active()) return;
+    const std::optional<size_t> main = mainDirectionalLight(lights, m_shadedDirectionalLights);
+    if (!main) return;
+    m_lightDirection = lights[*main].direction;
+    // Maps already made are refitted in place: binding sets that hold them stay valid, and the
+    // next shadow-map pass uploads the new light view-projection.
+    for (auto& [size, map] : m_maps) map->fit(m_lightDirection, m_bounds.min, m_bounds.max);
 }
 
 DirectionalShadowMap& MainLightShadows::createMap(uint32_t size) {

@@ -8,6 +8,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "core/gpu_scene.h"
@@ -26,7 +27,14 @@ public:
 
     // True when the scene has something to shadow: shadows on, a main light that gives light,
     // and meshes with geometry that cast shadows (alphaMode BLEND ones do not).
-    bool active() const { return !m_casters.empty(); }
+    bool active() const { return m_hasMainLight && !m_casters.empty(); }
+
+    // Renderer::setLights. checkLights throws RendererError when `lights` would need the
+    // shadow-map pass this frame was planned without (a main light where there was none, with
+    // shadows on and casters). setLights points the maps at the new main light and refits them;
+    // without a main light in `lights` the pass stays (the plan is kept), shadowing nothing lit.
+    void checkLights(std::span<const Light> lights) const;
+    void setLights(std::span<const Light> lights);
 
     // Adds the "shadow-map" pass once per frame graph and map size (the map does not depend on
     // the view) and publishes it as frame_resources::kShadowMap: frame-wide for the renderer's
@@ -48,6 +56,8 @@ private:
 
     rhi::IDevice& m_device;
     uint32_t m_mapSize = 0;
+    uint32_t m_shadedDirectionalLights = 0;
+    bool m_hasMainLight = false;
     glm::vec3 m_lightDirection{0.0f, -1.0f, 0.0f};
     WorldBounds m_bounds;
     std::vector<ShadowCaster> m_casters;

@@ -49,11 +49,15 @@ WorldBounds sceneWorldBounds(const Scene& scene) {
 }
 
 std::optional<size_t> mainDirectionalLight(const Scene& scene, uint32_t shadedDirectionalLights) {
+    return mainDirectionalLight(std::span<const Light>(scene.lights), shadedDirectionalLights);
+}
+
+std::optional<size_t> mainDirectionalLight(std::span<const Light> lights, uint32_t shadedDirectionalLights) {
     std::optional<size_t> main;
     float brightest = 0.0f;
     uint32_t seen = 0;
-    for (size_t i = 0; i < scene.lights.size() && seen < shadedDirectionalLights; ++i) {
-        const Light& light = scene.lights[i];
+    for (size_t i = 0; i < lights.size() && seen < shadedDirectionalLights; ++i) {
+        const Light& light = lights[i];
         if (light.type != LightType::Directional) continue;
         ++seen;
         const float brightness = std::max({light.color.r, light.color.g, light.color.b}) * light.intensity;

@@ -23,6 +23,7 @@
 namespace janus::renderer {
 
 struct Scene;
+struct Light;
 
 // World-space axis-aligned bounds of every instance's vertices. Empty (min > max) for a scene
 // without vertices.
@@ -37,6 +38,8 @@ WorldBounds sceneWorldBounds(const Scene& scene);
 // intensity) of the first `shadedDirectionalLights` directional lights in scene order, the first
 // of equals. An index into scene.lights; nullopt when none gives any light.
 std::optional<size_t> mainDirectionalLight(const Scene& scene, uint32_t shadedDirectionalLights = 4);
+// The same over a light list (Renderer::setLights); an index into `lights`.
+std::optional<size_t> mainDirectionalLight(std::span<const Light> lights, uint32_t shadedDirectionalLights = 4);
 
 // One mesh drawn into the shadow map. The vertex buffer holds renderer Vertex structs (position
 // at offset 0, stride 48 bytes); the index buffer holds uint32 indices.

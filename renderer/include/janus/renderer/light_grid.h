@@ -57,6 +57,9 @@ float cullingRadius(const Light& light, float intensityCutoff);
 // zero intensity or colour), which are named in a warning on stderr. Throws RendererError past
 // kMaxLocalLights.
 PackedLights packLocalLights(const Scene& scene, float intensityCutoff);
+// The same for a light list (sceneLightIndex indexes it); `warnSkipped` false leaves out the
+// warnings (Renderer::setLights: a light dimmed to zero is deliberate).
+PackedLights packLocalLights(std::span<const Light> lights, float intensityCutoff, bool warnSkipped = true);
 
 // std140 mirror of light_cull.comp's CullUniforms block (set 0, binding 0).
 struct CullUniforms {

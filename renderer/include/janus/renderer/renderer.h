@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -94,6 +95,16 @@ public:
     std::vector<IrradianceProbe> readIrradianceProbes();
     // The scene's lights or sky changed: the irradiance volume relights (docs/GI.md).
     void markIrradianceDirty();
+    // Replaces the scene's lights (Scene::lights) from the next frame on: forward shading, the
+    // main directional light's shadow map (refitted to its direction), light culling, and the
+    // irradiance volume, which relights from scratch (as a new Renderer would light it) only when
+    // a light actually changed. Reflection probes keep their update mode: requestProbeUpdate()
+    // recaptures them. The frame keeps its plan (docs/LIGHTING.md, "Moving lights"), so these
+    // are RendererErrors that change nothing: a light with a NaN or infinite value, a negative
+    // colour or intensity or a zero direction (naming it); more point/spot lights that light
+    // something than the renderer was made with; a directional light that gives light where the
+    // renderer was made without one (and shadows are on). Create a new Renderer for those.
+    void setLights(std::span<const Light> lights);
 
     ImageRGBA8 readDisplayImage();   // tonemapped, sRGB-encoded: what PNGs and parity use
     ImageRGBAF readHdrImage();       // linear scene radiance before tonemapping: EXR / PFM

@@ -94,4 +94,7 @@
 #define JANUS_BINDING_GI_RELIGHT_PARAMS 13  // GiRelightParams (gi_relight_common.glsl)
 // ---- GI bake (shaders/gi/gi_gbuffer.frag): the forward pass's sets 0 and 1 (frame + draw uniforms, material textures).
 
+// ---- GI probe view (--debug gi: shaders/gi/gi_probe_view.*), set 0; also 16-17 (the volume) --
+#define JANUS_BINDING_GI_PROBE_VIEW 0       // GiProbeViewUniforms: view-projection, camera, sphere radius
+
 #endif
