@@ -337,17 +337,23 @@ int runGi(const GiOptions& options) {
                           {"runsMs", r.relightRuns}}},
              {"probeError", errorJson(r.probeSame)}, {"probeErrorConverged", errorJson(r.probeConverged)},
              {"imageError", errorJson(r.imageSame)}, {"imageErrorConverged", errorJson(r.imageConverged)}});
-        // Plot: probe error against the converged reference vs relight time, one line per path x sweep.
-        if (r.sweep != "default") {
-            const std::string name = fmt::format("{}/{} {}", r.backend, r.path, r.sweep);
-            auto it = std::find_if(series.begin(), series.end(), [&](const PlotSeries& s) { return s.name == name; });
-            if (it == series.end()) {
-                series.push_back(PlotSeries{name, {}});
-                it = series.end() - 1;
-            }
-            if (r.relight.totalMs > 0.0 && r.probeConverged.relativeRmse > 0.0)
-                it->points.push_back({r.relight.totalMs, 100.0 * r.probeConverged.relativeRmse});
+    }
+
+    // Plot: probe error against the converged reference vs relight time for the first backend and
+    // path (the others are in the table), one line per sweep through the default row.
+    const Row* defaultRow = nullptr;
+    for (const Row& r : rows)
+        if (r.sweep == "default" && r.backend == rows.front().backend && r.path == rows.front().path) defaultRow = &r;
+    for (const Row& r : rows) {
+        if (r.sweep == "default" || r.backend != rows.front().backend || r.path != rows.front().path) continue;
+        if (!(r.relight.totalMs > 0.0 && r.probeConverged.relativeRmse > 0.0)) continue;
+        auto it = std::find_if(series.begin(), series.end(), [&](const PlotSeries& s) { return s.name == r.sweep; });
+        if (it == series.end()) {
+            series.push_back(PlotSeries{r.sweep, {}});
+            it = series.end() - 1;
+            if (defaultRow) it->points.push_back({defaultRow->relight.totalMs, 100.0 * defaultRow->probeConverged.relativeRmse});
         }
+        it->points.push_back({r.relight.totalMs, 100.0 * r.probeConverged.relativeRmse});
     }
 
     // ---- Goals (docs/GI.md): measured in this run ----
@@ -401,8 +407,9 @@ int runGi(const GiOptions& options) {
         md += "\nSkipped:\n\n";
         for (const std::string& s : skipped) md += "- " + s + "\n";
     }
-    md += "\nPlot (gi.png): probe irradiance relative RMSE (%) against the converged reference vs relight ms, log-log, one line per "
-          "backend/path and sweep, points in the sweep's order.\n";
+    md += fmt::format("\nPlot (gi.png): probe irradiance relative RMSE (%) against the converged reference vs relight ms on {}/{}, "
+                      "log-log, one line per sweep through the default row.\n",
+                      rows.front().backend, rows.front().path);
     writeBenchOutputs(outDir, "gi", md, json, drawLogXPlot(series, fmt::format("RELIGHT {}", gpuTimed ? "GPU MS" : "MS"), "PROBE RELATIVE RMSE (PERCENT)"));
     return 0;
 }

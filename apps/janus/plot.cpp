@@ -34,12 +34,14 @@ const char* glyph(char c) {
     case 'G': return "### #.. #.# #.# ###";
     case 'H': return "#.# #.# ### #.# #.#";
     case 'I': return "### .#. .#. .#. ###";
+    case 'J': return "..# ..# ..# #.# ###";
     case 'K': return "#.# #.# ##. #.# #.#";
     case 'L': return "#.. #.. #.. #.. ###";
     case 'M': return "#.# ### #.# #.# #.#";
     case 'N': return "##. #.# #.# #.# #.#";
     case 'O': return "### #.# #.# #.# ###";
     case 'P': return "### #.# ### #.. #..";
+    case 'Q': return "### #.# #.# ### ..#";
     case 'R': return "### #.# ##. #.# #.#";
     case 'S': return "### #.. ### ..# ###";
     case 'T': return "### .#. .#. .#. .#.";
@@ -48,6 +50,7 @@ const char* glyph(char c) {
     case 'W': return "#.# #.# #.# ### #.#";
     case 'X': return "#.# #.# .#. #.# #.#";
     case 'Y': return "#.# #.# .#. .#. .#.";
+    case 'Z': return "### ..# .#. #.. ###";
     case '.': return "... ... ... ... .#.";
     case '-': return "... ... ### ... ...";
     case '/': return "..# ..# .#. #.. #..";
