@@ -278,7 +278,7 @@ renderer::LightingSettings parseLightingOptions(const LightingOptions& options) 
 
 renderer::DebugView parseDebugOption(std::string_view text) {
     const std::optional<renderer::DebugView> view = renderer::parseDebugView(text);
-    if (!view) throw UsageError(fmt::format("--debug '{}' is not a debug view; use none, tiles or gi", text));
+    if (!view) throw UsageError(fmt::format("--debug '{}' is not a debug view; use none, tiles, gi or gi-light", text));
     return *view;
 }
 

@@ -3,7 +3,7 @@
 // and per-surfel, brick size, probe spacing, L1/L2, bounces, probes per frame, the SH reduction)
 // on each path and backend. Per configuration: the bake's time, the relight's time (all its frames)
 // and per frame, and the error against the Embree reference (GiReference): relative RMSE of the
-// probes' irradiance and of the image's indirect term (a `--debug gi` frame), against the
+// probes' irradiance and of the image's indirect term (a `--debug gi-light` frame), against the
 // reference with the same bounces and against the converged one. Writes gi.md, gi.json, gi.png.
 #include <algorithm>
 #include <chrono>
@@ -234,7 +234,7 @@ int runGi(const GiOptions& options) {
                 renderer::RenderSettings settings;
                 settings.width = size.width, settings.height = size.height;
                 settings.path = path;
-                settings.debugView = renderer::DebugView::Gi;   // the HDR image is the indirect term alone
+                settings.debugView = renderer::DebugView::GiLight;   // the HDR image is the indirect term alone, no probe drawn
                 Row row{rhi::toString(backend), renderer::toString(path), variant.sweep, variant.label, variant.volume};
                 renderer::Renderer renderer(*device, configured, settings);
                 // Run 0 is the first relight, from a black volume: after it the volume holds exactly
@@ -295,7 +295,7 @@ int runGi(const GiOptions& options) {
     std::string md = fmt::format(
         "# Probe GI: accuracy vs time\n\n"
         "Scene: {}. Its volume: {}x{}x{} probes, {} surfels per probe, {}, brick size {} m, {} bounce(s), L{}, {} probes per frame. "
-        "Each row changes one setting. Image: {}x{}, the `--debug gi` frame's HDR (irradiance / pi of the volume alone).\n\n"
+        "Each row changes one setting. Image: {}x{}, the `--debug gi-light` frame's HDR (irradiance / pi of the volume alone).\n\n"
         "- **bake**: the `gi-bake` step (G-buffer cubes, readback, bricks and transfers), CPU wall ms.\n"
         "- **relight**: a whole relight (every bounce cycle, over every frame it takes), {} (median of {} run(s) after the first); "
         "**per frame** = relight / frames; **brick** and **SH**: its two passes.\n"

@@ -130,7 +130,8 @@ Command addRenderCommand(CLI::App& parent) {
     addLightingOptions(*app, options->lighting);
     addEnvironmentOptions(*app, options->environment);
     app->add_option("--debug", options->debug, "Debug view: none, tiles (heat map of lights per tile, blue to red; "
-                                               "tiles at the cap white-hatched) or gi (the irradiance volume's light alone)")
+                                               "tiles at the cap white-hatched), gi (the irradiance volume's light alone and its probes) or "
+                                               "gi-light (the volume's light without the probes)")
         ->type_name("VIEW");
     app->add_option("--gi-bake", options->giBake, "The scene's irradiance volume from this file (janus bake); default: bake at start-up")
         ->type_name("FILE");

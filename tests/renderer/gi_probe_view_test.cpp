@@ -170,7 +170,7 @@ TEST_P(GiProbeViewTest, ThePassExistsOnlyInTheGiViewWithAVolume) {
     scene.reflectionProbes.clear();
     scene.irradianceVolume->probeCounts = glm::uvec3(2);
     RenderSettings settings = settingsOfSize(32, 32);
-    for (DebugView debugView : {DebugView::None, DebugView::Tiles, DebugView::Gi}) {
+    for (DebugView debugView : {DebugView::None, DebugView::Tiles, DebugView::Gi, DebugView::GiLight}) {
         settings.debugView = debugView;
         Renderer renderer(device(), scene, settings);
         const FrameReport report = renderer.renderFrame();

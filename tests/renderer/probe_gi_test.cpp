@@ -500,7 +500,7 @@ TEST_P(ProbeGiTest, TheVolumeCoversItsBoundsUpToTheWalls) {
     scene.irradianceVolume->probeCounts = glm::uvec3(2);
     scene.irradianceVolume->surfelsPerProbe = 512;
     RenderSettings debug = settings(32, 32);
-    debug.debugView = DebugView::Gi;
+    debug.debugView = DebugView::GiLight;
     Renderer renderer(device(), scene, debug);
     renderer.renderFrame();
     const ImageRGBAF hdr = renderer.readHdrImage();

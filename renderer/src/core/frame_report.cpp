@@ -30,6 +30,7 @@ const char* toString(DebugView view) {
     switch (view) {
         case DebugView::Tiles: return "tiles";
         case DebugView::Gi: return "gi";
+        case DebugView::GiLight: return "gi-light";
         case DebugView::None: break;
     }
     return "none";
@@ -39,6 +40,7 @@ std::optional<DebugView> parseDebugView(std::string_view name) {
     if (name == "none") return DebugView::None;
     if (name == "tiles") return DebugView::Tiles;
     if (name == "gi") return DebugView::Gi;
+    if (name == "gi-light") return DebugView::GiLight;
     return std::nullopt;
 }
 

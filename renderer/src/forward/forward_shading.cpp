@@ -155,7 +155,7 @@ FrameUniforms ForwardShading::viewFrameUniforms(const ViewState& state) const {
     frame.tileGrid = glm::ivec4(int(lighting.tileSize), state.tiled ? int(m_localLights.tilesX()) : 0, int(lighting.maxLightsPerTile),
                                 state.tiled ? int(m_localLights.tileCount()) : 0);
     frame.skyParams = m_imageBasedLighting.shadingParams();
-    frame.skyParams.w = view.debugView == DebugView::Gi ? 1.0f : 0.0f;   // forward.frag shows the volume's light
+    frame.skyParams.w = view.debugView == DebugView::Gi || view.debugView == DebugView::GiLight ? 1.0f : 0.0f;   // forward.frag shows the volume's light
     return frame;
 }
 

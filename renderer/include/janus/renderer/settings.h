@@ -27,9 +27,10 @@ std::optional<LightCulling> parseLightCulling(std::string_view name);
 enum class DebugView {
     None,
     Tiles,   // heat map of local lights per tile (blue = few, red = many) over the image; tiles at the cap are marked
-    Gi,      // the irradiance volume's diffuse light (irradiance / pi x coverage) instead of the shaded image (docs/GI.md)
+    Gi,      // the irradiance volume's diffuse light (irradiance / pi x coverage) instead of the shaded image, and its probes (docs/GI.md)
+    GiLight, // the same light without the probes: the image's indirect term alone (what `janus bench gi` compares)
 };
-const char* toString(DebugView view);             // "none", "tiles", "gi"
+const char* toString(DebugView view);             // "none", "tiles", "gi", "gi-light"
 std::optional<DebugView> parseDebugView(std::string_view name);
 
 // Lighting knobs. Unset fields take the scene file's "quality" value, then the default shown.
