@@ -12,7 +12,6 @@
 #include <map>
 #include <memory>
 #include <optional>
-#include <sstream>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -171,7 +170,7 @@ int runGi(const GiOptions& options) {
     double referenceMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - referenceStart).count();
     std::map<std::pair<std::string, uint32_t>, std::vector<renderer::GiReferenceProbe>> referenceProbes;
     std::map<uint32_t, renderer::ImageRGBAF> referenceImages;
-    std::map<uint32_t, double> referenceImageNoise;   // relative RMSE between two seeds' images / sqrt 2
+    std::map<uint32_t, double> referenceImageNoise;   // the reference image's relative noise: RMS of the two seeds' difference / 2
     auto timed = [&](auto&& body) {
         const auto start = std::chrono::steady_clock::now();
         body();
