@@ -429,6 +429,15 @@ std::vector<std::string> splitList(const std::string& text) {
     return items;
 }
 
+std::filesystem::path benchOutputDir(const std::string& out, const std::string& stem) {
+    if (out.empty()) throw UsageError(fmt::format("--out DIR is required: where to write {0}.md, {0}.json and {0}.png", stem));
+    const std::filesystem::path dir = out;
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (!std::filesystem::is_directory(dir, ec)) throw InputError(fmt::format("--out '{}' could not be created as a directory", out));
+    return dir;
+}
+
 void writeBenchOutputs(const std::filesystem::path& dir, const std::string& stem, const std::string& markdown,
                        const nlohmann::json& json, const renderer::ImageRGBA8& plot) {
     renderer::writeFileAtomically(dir / (stem + ".md"), markdown);

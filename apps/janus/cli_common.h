@@ -174,6 +174,9 @@ std::string lightCullingLine(const renderer::FrameReport& report);
 // A left-aligned text table: every column as wide as its widest cell.
 // A benchmark's results in `dir`: STEM.md, STEM.json and STEM.png, each written atomically; the
 // Markdown is also printed, followed by where the files went.
+// The benchmark's --out directory, created if needed: a UsageError without one (naming STEM.md,
+// STEM.json and STEM.png), an InputError when it cannot be created.
+std::filesystem::path benchOutputDir(const std::string& out, const std::string& stem);
 void writeBenchOutputs(const std::filesystem::path& dir, const std::string& stem, const std::string& markdown,
                        const nlohmann::json& json, const renderer::ImageRGBA8& plot);
 

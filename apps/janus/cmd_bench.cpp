@@ -135,11 +135,7 @@ int runForward(const BenchOptions& options) {
     }
     const ImageSize size = parseSize(options.quick ? "64x64" : options.size);
     const uint32_t frames = options.quick ? 1 : std::max(options.frames, 1u), warmup = options.quick ? 1 : options.warmup;
-    if (options.out.empty()) throw UsageError("--out DIR is required: where to write forward.md, forward.json and forward.png");
-    const std::filesystem::path outDir = options.out;
-    std::error_code ec;
-    std::filesystem::create_directories(outDir, ec);
-    if (!std::filesystem::is_directory(outDir, ec)) throw InputError(fmt::format("--out '{}' could not be created as a directory", options.out));
+    const std::filesystem::path outDir = benchOutputDir(options.out, "forward");
 
     std::vector<Row> rows;
     struct CutoffRow {

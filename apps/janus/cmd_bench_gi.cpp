@@ -146,11 +146,7 @@ int runGi(const GiOptions& options) {
     if (options.referenceSamples < 1 || options.referenceSamples > 1u << 16)
         throw UsageError(fmt::format("--reference-samples {} must be 1..65536", options.referenceSamples));
     const ImageSize size = options.quick ? ImageSize{32, 32} : parseSize(options.size);
-    if (options.out.empty()) throw UsageError("--out DIR is required: where to write gi.md, gi.json and gi.png");
-    const std::filesystem::path outDir = options.out;
-    std::error_code ec;
-    std::filesystem::create_directories(outDir, ec);
-    if (!std::filesystem::is_directory(outDir, ec)) throw InputError(fmt::format("--out '{}' could not be created as a directory", options.out));
+    const std::filesystem::path outDir = benchOutputDir(options.out, "gi");
 
     const std::optional<std::filesystem::path> scenePath =
         options.scene.empty() ? std::nullopt : std::optional<std::filesystem::path>(options.scene);

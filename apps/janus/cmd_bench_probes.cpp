@@ -92,11 +92,7 @@ int runProbes(const ProbesOptions& options) {
     EnvironmentOptions envOptions;
     envOptions.map = options.env;
     const EnvironmentOverride env = parseEnvironmentOptions(envOptions);   // exit 2 bad extension, 3 missing
-    if (options.out.empty()) throw UsageError("--out DIR is required: where to write probes.md, probes.json and probes.png");
-    const std::filesystem::path outDir = options.out;
-    std::error_code ec;
-    std::filesystem::create_directories(outDir, ec);
-    if (!std::filesystem::is_directory(outDir, ec)) throw InputError(fmt::format("--out '{}' could not be created as a directory", options.out));
+    const std::filesystem::path outDir = benchOutputDir(options.out, "probes");
 
     std::string envLabel;
     renderer::ImageRGBAF sky;

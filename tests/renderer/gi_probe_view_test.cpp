@@ -27,9 +27,7 @@ const fs::path kCornellBox = fs::path(JANUS_SHARED_SCENES_DIR) / "cornell-box" /
 
 class GiProbeViewTest : public test_support::ConfigTest {};
 
-uint32_t countPasses(const FrameReport& report, const std::string& name) {
-    return uint32_t(std::count_if(report.passes.begin(), report.passes.end(), [&](const PassReport& p) { return p.name == name; }));
-}
+using test_support::countPasses;
 
 constexpr float kSpacing = 0.6f;                      // 3 x 3 x 3 probes at -0.6, 0, 0.6 on each axis
 constexpr float kRadius = 0.1f * kSpacing;            // gi_probe_view.h: 0.1 x the smallest spacing
@@ -42,22 +40,8 @@ Scene probeRoom() {
     Scene scene;
     scene.name = "probe room";
     scene.environment.ambientColor = glm::vec3(0.0f);
-    const glm::vec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-    const glm::vec3 colours[6] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 0}, {0, 1, 1}, {0.5f, 0.5f, 0.5f}};
-    for (int face = 0; face < 6; ++face) {
-        const int32_t material = detail::addMaterial(scene, fmt::format("wall {}", face), glm::vec3(0.0f), 0.0f, 1.0f, colours[face]);
-        scene.materials[size_t(material)].doubleSided = true;
-        const uint32_t mesh = detail::addMesh(scene, detail::makeQuad(material));   // 2x2 in XY facing +Z
-        const glm::vec3 n = -axes[face];
-        const glm::vec3 up = std::abs(n.y) > 0.5f ? glm::vec3(0, 0, 1) : glm::vec3(0, 1, 0);
-        const glm::vec3 right = glm::normalize(glm::cross(up, n));
-        glm::mat4 world(1.0f);
-        world[0] = glm::vec4(right, 0.0f);
-        world[1] = glm::vec4(glm::cross(n, right), 0.0f);
-        world[2] = glm::vec4(n, 0.0f);
-        world[3] = glm::vec4(axes[face], 1.0f);
-        scene.instances.push_back(Instance{mesh, world, 1u, fmt::format("wall {}", face)});
-    }
+    test_support::addGlowingRoom(scene, {glm::vec3(1, 0, 0), glm::vec3(0, 1, 0), glm::vec3(0, 0, 1), glm::vec3(1, 1, 0),
+                                         glm::vec3(0, 1, 1), glm::vec3(0.5f)});
     const int32_t grey = detail::addMaterial(scene, "box", glm::vec3(0.5f), 0.0f, 1.0f);
     const uint32_t box = detail::addMesh(scene, detail::makeBox(grey));   // -1..1, faces outwards
     glm::mat4 world(kBoxHalfSize);

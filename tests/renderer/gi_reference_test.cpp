@@ -11,6 +11,7 @@
 
 #include "ibl/spherical_harmonics.h"
 #include "janus/renderer/gi_reference.h"
+#include "renderer/renderer_test_support.h"
 #include "scene/scene_internal.h"
 
 namespace janus::renderer {
@@ -20,27 +21,15 @@ constexpr double kPi = 3.14159265358979323846;
 
 // A quad of `size` x `size` metres centred at `center`, facing `normal`.
 void addQuad(Scene& scene, int32_t material, const glm::vec3& center, const glm::vec3& normal, float size, bool mirrored = false) {
-    const uint32_t mesh = detail::addMesh(scene, detail::makeQuad(material));   // 2x2 in XY, facing +Z
-    const glm::vec3 n = glm::normalize(normal);
-    const glm::vec3 up = std::abs(n.y) > 0.5f ? glm::vec3(0, 0, 1) : glm::vec3(0, 1, 0);
-    const glm::vec3 right = glm::normalize(glm::cross(up, n));
-    glm::mat4 world(1.0f);
-    world[0] = glm::vec4(right * (size * 0.5f), 0.0f);
-    world[1] = glm::vec4(glm::cross(n, right) * (size * 0.5f), 0.0f);
-    world[2] = glm::vec4(n, 0.0f);
-    world[3] = glm::vec4(center, 1.0f);
-    // Mirrored: x flipped (negative determinant); glTF keeps the same side the front side.
-    if (mirrored) world = world * glm::scale(glm::mat4(1.0f), glm::vec3(-1.0f, 1.0f, 1.0f));
-    scene.instances.push_back(Instance{mesh, world, 1u, fmt::format("quad {}", scene.instances.size())});
+    const uint32_t mesh = detail::addMesh(scene, detail::makeQuad(material));
+    scene.instances.push_back(Instance{mesh, test_support::quadFacing(center, normal, size, mirrored), 1u, fmt::format("quad {}", scene.instances.size())});
 }
 
 // A closed 2 m box around the origin whose inside walls emit `emission` and reflect `albedo`.
 Scene emissiveBox(const glm::vec3& emission, float albedo) {
     Scene scene;
     scene.environment.ambientColor = glm::vec3(0.0f);
-    const int32_t material = detail::addMaterial(scene, "wall", glm::vec3(albedo), 0.0f, 1.0f, emission);
-    const glm::vec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-    for (const glm::vec3& axis : axes) addQuad(scene, material, axis, -axis, 2.0f);
+    test_support::addGlowingRoom(scene, {emission, emission, emission, emission, emission, emission}, albedo, false);
     scene.camera.position = glm::vec3(0.0f, 0.0f, 0.8f);
     scene.camera.target = glm::vec3(0.2f, -0.3f, -1.0f);
     return scene;

@@ -384,22 +384,7 @@ Scene emissiveRoom(const std::array<glm::vec3, 6>& emission, bool bricks = true,
     Scene scene;
     scene.name = "emissive room";
     scene.environment.ambientColor = glm::vec3(0.0f);
-    const glm::vec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-    for (int face = 0; face < 6; ++face) {
-        const int32_t material = detail::addMaterial(scene, fmt::format("wall {}", face), glm::vec3(albedo), 0.0f, 1.0f, emission[face]);
-        scene.materials[material].doubleSided = true;
-        const uint32_t mesh = detail::addMesh(scene, detail::makeQuad(material));   // 2x2 in XY facing +Z
-        // Move the quad to the wall at axis * 1, facing inwards.
-        const glm::vec3 n = -axes[face];
-        const glm::vec3 up = std::abs(n.y) > 0.5f ? glm::vec3(0, 0, 1) : glm::vec3(0, 1, 0);
-        const glm::vec3 right = glm::normalize(glm::cross(up, n));
-        glm::mat4 world(1.0f);
-        world[0] = glm::vec4(right, 0.0f);
-        world[1] = glm::vec4(glm::cross(n, right), 0.0f);
-        world[2] = glm::vec4(n, 0.0f);
-        world[3] = glm::vec4(axes[face], 1.0f);
-        scene.instances.push_back(Instance{mesh, world, 1u, fmt::format("wall {}", face)});
-    }
+    test_support::addGlowingRoom(scene, emission, albedo);
     scene.camera.position = glm::vec3(0.0f, 0.0f, 0.8f);
     scene.camera.target = glm::vec3(0.0f, -0.2f, -1.0f);
     IrradianceVolume volume;
@@ -644,10 +629,7 @@ TEST_P(ProbeGiTest, TheCornellBoxWithGiMatchesVulkanCompute) {
     test_support::expectMatchesVulkanCompute(reference.display, result.display, "gi-parity", GetParam().name());
 }
 
-uint32_t countPasses(const FrameReport& report, const std::string& prefix) {
-    return uint32_t(std::count_if(report.passes.begin(), report.passes.end(),
-                                  [&](const PassReport& p) { return p.name.rfind(prefix, 0) == 0; }));
-}
+using test_support::countPasses;
 
 TEST_P(ProbeGiTest, AStaticSceneRelightsOnceAndADirtyVolumeRelightsAgain) {
     device().takeDebugMessages();

@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
+#include "scene/scene_internal.h"
 
 namespace janus::renderer::test_support {
 
@@ -101,6 +102,32 @@ const char* cullingName(LightCulling mode) {
 
 bool hasPassStartingWith(const FrameReport& report, std::string_view prefix) {
     return std::any_of(report.passes.begin(), report.passes.end(), [&](const PassReport& pass) { return pass.name.starts_with(prefix); });
+}
+
+uint32_t countPasses(const FrameReport& report, std::string_view prefix) {
+    return uint32_t(std::count_if(report.passes.begin(), report.passes.end(), [&](const PassReport& pass) { return pass.name.starts_with(prefix); }));
+}
+
+glm::mat4 quadFacing(const glm::vec3& center, const glm::vec3& normal, float size, bool mirrored) {
+    const glm::vec3 n = glm::normalize(normal);
+    const glm::vec3 up = std::abs(n.y) > 0.5f ? glm::vec3(0, 0, 1) : glm::vec3(0, 1, 0);
+    const glm::vec3 right = glm::normalize(glm::cross(up, n));
+    glm::mat4 world(1.0f);
+    world[0] = glm::vec4(right * (size * 0.5f) * (mirrored ? -1.0f : 1.0f), 0.0f);
+    world[1] = glm::vec4(glm::cross(n, right) * (size * 0.5f), 0.0f);
+    world[2] = glm::vec4(n, 0.0f);
+    world[3] = glm::vec4(center, 1.0f);
+    return world;
+}
+
+void addGlowingRoom(Scene& scene, const std::array<glm::vec3, 6>& emission, float albedo, bool doubleSided) {
+    const glm::vec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    for (int face = 0; face < 6; ++face) {
+        const int32_t material = detail::addMaterial(scene, fmt::format("wall {}", face), glm::vec3(albedo), 0.0f, 1.0f, emission[face]);
+        scene.materials[size_t(material)].doubleSided = doubleSided;
+        const uint32_t mesh = detail::addMesh(scene, detail::makeQuad(material));
+        scene.instances.push_back(Instance{mesh, quadFacing(axes[face], -axes[face]), 1u, fmt::format("wall {}", face)});
+    }
 }
 
 std::string passNames(const FrameReport& report) {

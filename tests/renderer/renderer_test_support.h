@@ -3,6 +3,7 @@
 // fails the current test on any validation / GL debug message.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -66,7 +67,15 @@ RenderSettings settingsFor(LightCulling culling, uint32_t size = kSize);
 const char* cullingName(LightCulling mode);
 
 bool hasPassStartingWith(const FrameReport& report, std::string_view prefix);
+uint32_t countPasses(const FrameReport& report, std::string_view prefix);   // passes whose name starts with it
 std::string passNames(const FrameReport& report);   // for failure messages
+
+// The world matrix that puts detail::makeQuad's 2 x 2 quad (in XY, facing +Z) at `center`, facing
+// `normal`, `size` metres wide; mirrored: x flipped (a negative determinant, the same front side).
+glm::mat4 quadFacing(const glm::vec3& center, const glm::vec3& normal, float size = 2.0f, bool mirrored = false);
+// A closed 2 m room around the origin: six quads facing inwards, wall f (+X, -X, +Y, -Y, +Z, -Z)
+// emitting emission[f] and reflecting `albedo`; named "wall 0".."wall 5".
+void addGlowingRoom(Scene& scene, const std::array<glm::vec3, 6>& emission, float albedo = 0.0f, bool doubleSided = true);
 
 // Every HDR value finite and non-negative (radiance); reports the first bad one.
 void expectFiniteHdr(const ImageRGBAF& hdr, const std::string& label);

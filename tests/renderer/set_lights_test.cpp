@@ -26,10 +26,7 @@ const fs::path kCornellBox = fs::path(JANUS_SHARED_SCENES_DIR) / "cornell-box" /
 
 class SetLightsTest : public test_support::ConfigTest {};
 
-uint32_t countPasses(const FrameReport& report, const std::string& prefix) {
-    return uint32_t(std::count_if(report.passes.begin(), report.passes.end(),
-                                  [&](const PassReport& p) { return p.name.rfind(prefix, 0) == 0; }));
-}
+using test_support::countPasses;
 
 // The cornell box (its glTF brings no light: the default key light, directional) with a small
 // volume relit in one frame, two bounces, and no reflection probe (their update mode decides when
