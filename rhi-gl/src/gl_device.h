@@ -286,6 +286,7 @@ public:
     void endTimer(const TimerQueryHandle& timer) override;
     void pushDebugGroup(std::string_view name) override;
     void popDebugGroup() override;
+    void omitNextBarrierForTesting() override {}   // GL orders commands itself (see rhi.h)
 
     // Called by Device::execute.
     void replay();

@@ -180,8 +180,12 @@ public:
     void access(VkCommandBuffer cmd, std::span<const ResourceAccess> accesses);
     bool hasWrites() const { return m_unknownWrites || m_srcAccess != 0; }
     void barrier(VkCommandBuffer cmd);
+    // The next barrier() forgets what it would order without recording it (tests only).
+    void omitNextBarrier() { m_omitNextBarrier = true; }
 
 private:
+    // After a barrier: nothing earlier needs ordering against later commands.
+    void forget();
     // Sorted, disjoint, non-adjacent ranges (adjacent ones merge, so a run of neighbouring
     // slices stays one range).
     // The fast paths are inline: they are the per-draw / per-dispatch cost.
@@ -223,6 +227,7 @@ private:
     std::vector<Tracked> m_tracked;   // few resources between two barriers: a linear search wins
     size_t m_lastFound = 0;           // consecutive commands mostly touch the same resource
     bool m_unknownWrites = true;
+    bool m_omitNextBarrier = false;
     VkPipelineStageFlags m_srcStages = 0;
     VkAccessFlags m_srcAccess = 0;
 };
@@ -440,6 +445,7 @@ public:
     void endTimer(const TimerQueryHandle& timer) override;
     void pushDebugGroup(std::string_view name) override;
     void popDebugGroup() override;
+    void omitNextBarrierForTesting() override;
 
     // Called by the device: submits the recorded work with this list's fence.
     void submit();

@@ -615,6 +615,11 @@ void CommandList::pushDebugGroup(std::string_view name) {
     m_context->cmdBeginDebugLabel(m_commands, &info);
 }
 
+void CommandList::omitNextBarrierForTesting() {
+    requireRecording("omitNextBarrierForTesting()");
+    m_hazards.omitNextBarrier();
+}
+
 void CommandList::popDebugGroup() {
     requireRecording("popDebugGroup()");
     if (m_debugGroupDepth == 0)

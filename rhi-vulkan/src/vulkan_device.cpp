@@ -97,6 +97,7 @@ void createInstance(Context& ctx, const DeviceDesc& desc) {
         throw Error(ErrorCode::BackendUnavailable,
                     "validation was requested but VK_EXT_debug_utils is missing, so messages cannot be collected");
     if (ctx.debugUtils) extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+    if (desc.enableSynchronizationValidation) extensions.push_back(VK_EXT_VALIDATION_FEATURES_EXTENSION_NAME);
 
     VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
     app.pApplicationName = "janus";
@@ -112,6 +113,16 @@ void createInstance(Context& ctx, const DeviceDesc& desc) {
     // Chained so messages about instance creation and destruction are collected too.
     VkDebugUtilsMessengerCreateInfoEXT debugInfo = messengerInfo(&ctx);
     if (desc.enableValidation) info.pNext = &debugInfo;
+    // VK_EXT_validation_features is an instance extension of the layer itself (the Debian
+    // 1.3.239 layer predates VK_EXT_layer_settings).
+    const VkValidationFeatureEnableEXT synchronization = VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT;
+    VkValidationFeaturesEXT features{VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT};
+    features.enabledValidationFeatureCount = 1;
+    features.pEnabledValidationFeatures = &synchronization;
+    if (desc.enableSynchronizationValidation) {
+        features.pNext = info.pNext;
+        info.pNext = &features;
+    }
 
     VkResult result = vkCreateInstance(&info, nullptr, &ctx.instance);
     if (result != VK_SUCCESS)

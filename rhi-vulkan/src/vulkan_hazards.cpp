@@ -35,10 +35,9 @@ void HazardTracker::RangeSet::insert(KeyRange range) {
 }
 
 void HazardTracker::reset() {
-    m_tracked.clear();
+    forget();
     m_unknownWrites = true;
-    m_srcStages = 0;
-    m_srcAccess = 0;
+    m_omitNextBarrier = false;
 }
 
 HazardTracker::Tracked* HazardTracker::find(const void* resource) {
@@ -92,6 +91,11 @@ void HazardTracker::barrier(VkCommandBuffer cmd) {
     // The second scope is every later command, so everything tracked can be forgotten after it.
     // (A narrower second scope would need to remember which accesses it did not cover.)
     if (!m_unknownWrites && m_srcStages == 0) return;   // nothing to order
+    if (m_omitNextBarrier) {
+        m_omitNextBarrier = false;
+        forget();
+        return;
+    }
     VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
     VkPipelineStageFlags srcStages = m_srcStages;
     barrier.srcAccessMask = m_srcAccess;
@@ -101,6 +105,10 @@ void HazardTracker::barrier(VkCommandBuffer cmd) {
     }
     barrier.dstAccessMask = VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT;
     vkCmdPipelineBarrier(cmd, srcStages, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 1, &barrier, 0, nullptr, 0, nullptr);
+    forget();
+}
+
+void HazardTracker::forget() {
     m_tracked.clear();
     m_unknownWrites = false;
     m_srcStages = 0;

@@ -4,6 +4,10 @@
 namespace janus::rhi {
 
 std::unique_ptr<IDevice> createDevice(const DeviceDesc& desc) {
+    if (desc.enableSynchronizationValidation && !desc.enableValidation)
+        throw Error(ErrorCode::InvalidDescription,
+                    "DeviceDesc::enableSynchronizationValidation needs enableValidation: synchronisation "
+                    "validation is part of the validation layer; set both");
     switch (desc.backend) {
         case Backend::Vulkan: return vulkan::createDevice(desc);
         case Backend::GL:

@@ -27,7 +27,7 @@ const std::vector<Config>& allConfigs() {
 rhi::IDevice& deviceFor(rhi::Backend backend) {
     static std::map<rhi::Backend, std::unique_ptr<rhi::IDevice>> devices;
     std::unique_ptr<rhi::IDevice>& device = devices[backend];
-    if (!device) device = rhi::createDevice(rhi::DeviceDesc{}.setBackend(backend).setEnableValidation(true));
+    if (!device) device = rhi::createDevice(rhi::DeviceDesc{}.setBackend(backend).setEnableValidation(true).setEnableSynchronizationValidation(true));
     return *device;
 }
 

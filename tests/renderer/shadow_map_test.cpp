@@ -221,7 +221,7 @@ class ShadowMapTest : public testing::TestWithParam<rhi::Backend> {
 protected:
     void SetUp() override {
         try {
-            m_device = rhi::createDevice(rhi::DeviceDesc{}.setBackend(GetParam()).setEnableValidation(true));
+            m_device = rhi::createDevice(rhi::DeviceDesc{}.setBackend(GetParam()).setEnableValidation(true).setEnableSynchronizationValidation(true));
         } catch (const rhi::Error& e) {
             // Every backend is expected where the suite runs (CI has all three): not a skip.
             FAIL() << rhi::toString(GetParam()) << " could not start: " << e.what();

@@ -42,7 +42,7 @@ void BackendTest::SetUp() {
     if (!backendSelected(config))
         GTEST_SKIP() << config.name << " is not in JANUS_TEST_BACKENDS=" << std::getenv("JANUS_TEST_BACKENDS");
     DeviceDesc desc;
-    desc.setBackend(config.backend).setGLPlatform(config.glPlatform).setEnableValidation(true);
+    desc.setBackend(config.backend).setGLPlatform(config.glPlatform).setEnableValidation(true).setEnableSynchronizationValidation(true);
     customizeDeviceDesc(desc);
     // Keep the suite's own callback (if a test set one) and also record every message.
     desc.messageCallback = [sink = m_sink, user = desc.messageCallback](const DebugMessage& message) {

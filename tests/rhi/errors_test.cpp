@@ -63,6 +63,17 @@ TEST_P(ErrorTest, ProbingBackendsLeavesTheDeviceWorking) {
     EXPECT_EQ(readTextureAs<Rgba8>(target), std::vector<Rgba8>(16, Rgba8{0, 255, 0, 255}));
 }
 
+// Synchronisation validation is part of the validation layer: asking for it alone is a mistake
+// in the description, the same on every backend (GL ignores the option, not the mistake).
+TEST_P(ErrorTest, SynchronizationValidationWithoutValidationIsInvalid) {
+    const DeviceDesc desc = DeviceDesc()
+                                .setBackend(GetParam().backend)
+                                .setGLPlatform(GetParam().glPlatform)
+                                .setEnableSynchronizationValidation(true);
+    EXPECT_TRUE(throwsRhiError([&] { createDevice(desc); }, ErrorCode::InvalidDescription,
+                               {"enableSynchronizationValidation", "enableValidation"}));
+}
+
 TEST_P(ErrorTest, BufferSizeZeroIsInvalid) {
     EXPECT_TRUE(throwsRhiError([&] { createBuffer(BufferUsage::Vertex, 0); }, ErrorCode::InvalidDescription, {"size"}));
 }

@@ -87,12 +87,17 @@ struct DeviceDesc {
     // Vulkan validation layers / GL debug output. Warnings and errors are collected and can be
     // drained with IDevice::takeDebugMessages(); tests fail on any.
     bool enableValidation = false;
+    // Vulkan: also the layer's synchronisation validation (hazards between commands that no
+    // barrier orders: a missing or too narrow barrier). Slower; needs enableValidation. The GL
+    // backends have no such tool and ignore it.
+    bool enableSynchronizationValidation = false;
     // Called for every collected message as it arrives (optional).
     std::function<void(const DebugMessage&)> messageCallback;
 
     DeviceDesc& setBackend(Backend v) { backend = v; return *this; }
     DeviceDesc& setGLPlatform(GLPlatform v) { glPlatform = v; return *this; }
     DeviceDesc& setEnableValidation(bool v) { enableValidation = v; return *this; }
+    DeviceDesc& setEnableSynchronizationValidation(bool v) { enableSynchronizationValidation = v; return *this; }
 };
 
 enum class Capability {
@@ -608,6 +613,11 @@ public:
 
     virtual void pushDebugGroup(std::string_view name) = 0;
     virtual void popDebugGroup() = 0;
+
+    // Vulkan: the hazard tracker leaves out the next barrier it would record, so a test can show
+    // that synchronisation validation catches a missing one. GL: nothing (the driver orders
+    // commands; the barrier after a dispatch is unconditional and no tool reports its absence).
+    virtual void omitNextBarrierForTesting() = 0;
 
 protected:
     // Called with validated arguments only.
