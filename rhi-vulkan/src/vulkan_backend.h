@@ -140,10 +140,13 @@ Native* native(const std::shared_ptr<Interface>& handle, std::string_view what) 
 
 // The recording that last kept an object alive (CommandList::keep), so each object is kept once
 // per recording instead of once per use, and the objects a list used in its previous recording
-// too are not released and re-kept. Relaxed atomics: two lists recording at once at worst keep
-// an object twice, which is harmless.
+// too are not released and re-kept. `slot` is where the list that retained the object holds it.
+// Several lists may record at once: the mark then says only which of them touched the object
+// last, so a list decides what to release from its own entries (Kept::usedIn), never from the
+// mark. Relaxed atomics: a stale or torn read at worst keeps an object twice, which is harmless.
 struct KeepMark {
     std::atomic<uint64_t> recording{0};
+    std::atomic<uint32_t> slot{0};
 };
 
 // What one command does to one resource, for hazard tracking. Buffers are tracked by byte
@@ -478,8 +481,14 @@ private:
         const uint64_t last = mark.recording.load(std::memory_order_relaxed);
         if (last == m_recordingId) return;
         mark.recording.store(m_recordingId, std::memory_order_relaxed);
-        if (last == m_retainedId) return;   // still held since this list's previous recording
-        m_keepAlive.push_back({handle, &mark});
+        if (last == m_retainedId) {   // held since this list's previous recording
+            const uint32_t slot = mark.slot.load(std::memory_order_relaxed);
+            if (slot < m_keepAlive.size() && m_keepAlive[slot].mark == &mark) {
+                m_keepAlive[slot].usedIn = m_recordingId;
+                return;
+            }
+        }
+        m_keepAlive.push_back({handle, &mark, m_recordingId});
     }
     // end(): releases what this recording did not use, marks the rest as retained.
     void releaseUnused();
@@ -496,7 +505,8 @@ private:
 
     struct Kept {
         std::shared_ptr<void> object;
-        KeepMark* mark;   // inside `object`
+        KeepMark* mark;        // inside `object`
+        uint64_t usedIn = 0;   // the last recording of this list that used it
     };
     std::vector<Kept> m_keepAlive;
     // The mark of the objects kept from the previous recording. Never 0, the mark of an object

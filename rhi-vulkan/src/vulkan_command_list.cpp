@@ -101,9 +101,14 @@ void CommandList::releaseUnused() {
     size_t kept = 0;
     for (size_t i = 0; i < m_keepAlive.size(); ++i) {
         Kept& entry = m_keepAlive[i];
-        // Not used in this recording, or a duplicate of an entry already retained.
-        if (entry.mark->recording.load(std::memory_order_relaxed) != m_recordingId) continue;
+        if (entry.usedIn != m_recordingId) continue;   // not used by this recording
+        // An object kept twice (another list touched its mark in between): one entry holds it.
+        const uint32_t slot = entry.mark->slot.load(std::memory_order_relaxed);
+        if (entry.mark->recording.load(std::memory_order_relaxed) == retained && slot < kept &&
+            m_keepAlive[slot].mark == entry.mark)
+            continue;
         entry.mark->recording.store(retained, std::memory_order_relaxed);
+        entry.mark->slot.store(uint32_t(kept), std::memory_order_relaxed);
         if (kept != i) m_keepAlive[kept] = std::move(entry);
         ++kept;
     }

@@ -98,6 +98,39 @@ TEST_P(BindingTest, FirstRecordingKeepsDroppedHandlesAlive) {
     EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(target), expected, 4));
 }
 
+// Two lists record at once and both use one buffer. The first is executed and not waited for;
+// the second is executed, re-begun without the buffer (so it lets go of it), and the user drops
+// the handle. The first list must still hold the buffer: it is pending until it is re-begun or
+// destroyed. (Vulkan marked each object with the last recording that kept it, so the first
+// list's end() took the second's mark for "not used by me" and released it.)
+TEST_P(BindingTest, ObjectUsedByTwoListsRecordingAtOnceLivesUntilBothAreDone) {
+    const std::vector<uint32_t> values{7, 11, 13, 17};
+    BufferHandle source = createBufferFrom(BufferUsage::Vertex, values);
+    const std::weak_ptr<IBuffer> watch = source;
+    BufferHandle firstCopy = createBuffer(BufferUsage::Vertex, 16);
+    BufferHandle secondCopy = createBuffer(BufferUsage::Vertex, 16);
+    CommandListHandle first = device().createCommandList();
+    CommandListHandle second = device().createCommandList();
+    first->begin();
+    first->copyBuffer(firstCopy, 0, source, 0, 16);
+    second->begin();
+    second->copyBuffer(secondCopy, 0, source, 0, 16);
+    first->end();
+    device().execute(first);
+    second->end();
+    device().execute(second);
+    second->begin();
+    second->end();
+    source.reset();
+    EXPECT_FALSE(watch.expired()) << "the first list, executed but not yet re-begun, let go of a buffer it reads";
+    EXPECT_EQ(readBufferAs<uint32_t>(firstCopy), values);
+    EXPECT_EQ(readBufferAs<uint32_t>(secondCopy), values);
+    first.reset();
+    second.reset();
+    device().waitIdle();
+    EXPECT_TRUE(watch.expired()) << "no list uses the buffer any more, yet it is still held";
+}
+
 // Uniform data written by the command list between passes must be what each pass sees, not the
 // last value written (a backend that applied writes at record time would show the last one).
 TEST_P(BindingTest, CommandListUniformWritesAreOrderedWithDraws) {
