@@ -1,5 +1,6 @@
 // The GL device: context start-up, capabilities, debug output, execution and immediate transfers.
 #include "gl_device.h"
+#include "gl_debug_policy.h"
 
 #include <fmt/format.h>
 
@@ -32,17 +33,11 @@ const char* framebufferStatusName(GLenum status) {
 
 void APIENTRY onDebugMessage(GLenum /*source*/, GLenum type, GLuint id, GLenum severity, GLsizei /*length*/,
                                const GLchar* message, const void* userParam) {
-    MessageSeverity ours;
-    if (type == GL_DEBUG_TYPE_ERROR)
-        ours = MessageSeverity::Error;
-    else if (severity == GL_DEBUG_SEVERITY_HIGH || severity == GL_DEBUG_SEVERITY_MEDIUM)
-        ours = MessageSeverity::Warning;
-    else
-        return;   // notifications and low-severity hints are not problems
+    const std::optional<MessageSeverity> ours = classifyDebugMessage(type, severity);
+    if (!ours) return;
     auto* context = static_cast<Context*>(const_cast<void*>(userParam));
-    context->collectDebugMessage({ours, fmt::format("GL debug (id {}): {}", id, message)});
+    context->collectDebugMessage({*ours, fmt::format("GL debug (id {}): {}", id, message)});
 }
-
 
 template <typename T, typename Interface>
 const T& ownResource(const std::shared_ptr<Interface>& handle, const Context& context, const char* what,
@@ -359,8 +354,8 @@ void Device::setupDebugOutput() {
     f.glEnable(GL_DEBUG_OUTPUT);
     // Synchronous, so the message arrives inside the call that caused it.
     f.glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS);
+    // Every message reaches the callback; classifyDebugMessage (gl_debug_policy.cpp) decides.
     f.glDebugMessageCallback(onDebugMessage, m_context.get());
-    f.glDebugMessageControl(GL_DONT_CARE, GL_DONT_CARE, GL_DEBUG_SEVERITY_NOTIFICATION, 0, nullptr, GL_FALSE);
 }
 
 void Device::setupDefaultState() {
