@@ -16,15 +16,16 @@ layout(location = 0) in vec3 vWorldPosition;
 layout(location = 1) in vec3 vNormal;
 layout(location = 2) in vec2 vUv;
 layout(location = 3) in vec4 vTangent;
+layout(location = 4) in vec2 vUv1;
 
 layout(location = 0) out vec4 outAlbedoDistance;
 layout(location = 1) out vec4 outNormalFacing;
 layout(location = 2) out vec4 outEmission;
 
 void main() {
-    vec4 baseColor = draw.baseColorFactor * texture(baseColorTexture, vUv);
+    vec4 baseColor = draw.baseColorFactor * texture(baseColorTexture, materialUv(kTextureBaseColor, vUv, vUv1));
     if (draw.flags.z == kAlphaModeMask && baseColor.a < draw.emissiveFactor.w) discard;
-    float metallic = clamp(draw.materialParams.x * texture(metallicRoughnessTexture, vUv).b, 0.0, 1.0);
+    float metallic = clamp(draw.materialParams.x * texture(metallicRoughnessTexture, materialUv(kTextureMetallicRoughness, vUv, vUv1)).b, 0.0, 1.0);
     vec3 toSurface = vWorldPosition - frame.cameraPosition.xyz;
     float lengthSq = dot(vNormal, vNormal);
     vec3 normal = lengthSq > 1e-24 ? normalize(vNormal) : -normalize(toSurface);
@@ -32,6 +33,6 @@ void main() {
     bool front = gl_FrontFacing || draw.flags.x != 0;
     outAlbedoDistance = vec4(clamp(baseColor.rgb, 0.0, 1.0) * (1.0 - metallic), length(toSurface));
     outNormalFacing = vec4(normal, front ? 1.0 : -1.0);
-    vec3 emission = draw.emissiveFactor.rgb * texture(emissiveTexture, vUv).rgb;
+    vec3 emission = draw.emissiveFactor.rgb * texture(emissiveTexture, materialUv(kTextureEmissive, vUv, vUv1)).rgb;
     outEmission = vec4(min(mix(emission, vec3(0.0), isnan(emission)), vec3(65000.0)), 0.0);
 }

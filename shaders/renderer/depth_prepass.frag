@@ -9,10 +9,11 @@
 layout(set = JANUS_SET_DRAW, binding = JANUS_BINDING_BASE_COLOR) uniform sampler2D baseColorTexture;
 
 layout(location = 2) in vec2 vUv;
+layout(location = 4) in vec2 vUv1;
 
 void main() {
     if (draw.flags.z == kAlphaModeMask) {
-        vec4 baseColor = draw.baseColorFactor * texture(baseColorTexture, vUv);
+        vec4 baseColor = draw.baseColorFactor * texture(baseColorTexture, materialUv(kTextureBaseColor, vUv, vUv1));
         if (baseColor.a < draw.emissiveFactor.w) discard;
     }
 }

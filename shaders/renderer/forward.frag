@@ -25,6 +25,7 @@ layout(location = 0) in vec3 vWorldPosition;
 layout(location = 1) in vec3 vNormal;
 layout(location = 2) in vec2 vUv;
 layout(location = 3) in vec4 vTangent;
+layout(location = 4) in vec2 vUv1;
 
 layout(location = 0) out vec4 outRadiance;
 
@@ -94,9 +95,9 @@ vec3 shadeLocalLight(Surface s, vec3 worldPosition, int index, uint meshLayers) 
 }
 
 void main() {
-    vec4 baseColor = draw.baseColorFactor * texture(baseColorTexture, vUv);
+    vec4 baseColor = draw.baseColorFactor * texture(baseColorTexture, materialUv(kTextureBaseColor, vUv, vUv1));
     if (draw.flags.z == kAlphaModeMask && baseColor.a < draw.emissiveFactor.w) discard;
-    vec4 metallicRoughness = texture(metallicRoughnessTexture, vUv);
+    vec4 metallicRoughness = texture(metallicRoughnessTexture, materialUv(kTextureMetallicRoughness, vUv, vUv1));
     float metallic = clamp(draw.materialParams.x * metallicRoughness.b, 0.0, 1.0);
     float perceptualRoughness = clamp(draw.materialParams.y * metallicRoughness.g, 0.045, 1.0);
 
@@ -115,7 +116,7 @@ void main() {
         if (dot(tangentDirection, tangentDirection) > 1e-24) {
             vec3 tangent = normalize(tangentDirection);
             vec3 bitangent = cross(normal, tangent) * vTangent.w;
-            vec3 mapped = texture(normalTexture, vUv).xyz * 2.0 - 1.0;
+            vec3 mapped = texture(normalTexture, materialUv(kTextureNormal, vUv, vUv1)).xyz * 2.0 - 1.0;
             mapped.xy *= draw.materialParams.z;
             normal = safeNormalize(mat3(tangent, bitangent, normal) * mapped, normal);
         }
@@ -155,7 +156,7 @@ void main() {
         radiance += shadeLocalLight(s, vWorldPosition, index, meshLayers);
     }
 
-    float occlusion = mix(1.0, texture(occlusionTexture, vUv).r, draw.materialParams.w);
+    float occlusion = mix(1.0, texture(occlusionTexture, materialUv(kTextureOcclusion, vUv, vUv1)).r, draw.materialParams.w);
     float NoV = clamp(abs(dot(s.normal, s.view)), 1e-4, 1.0);
     vec3 reflected = reflect(-s.view, s.normal);
     // Reflection probes first (docs/PROBES.md); the sky or the ambient colour fills what they leave.
@@ -193,7 +194,7 @@ void main() {
         if (remaining < 1.0)
             radiance += probeSpecular * splitSumScale(NoV, perceptualRoughness, s.f0) * specularOcclusion(NoV, occlusion, perceptualRoughness);
     }
-    radiance += draw.emissiveFactor.rgb * texture(emissiveTexture, vUv).rgb;
+    radiance += draw.emissiveFactor.rgb * texture(emissiveTexture, materialUv(kTextureEmissive, vUv, vUv1)).rgb;
 
     // Whatever went wrong upstream, no NaN reaches the target (min() would not stop it).
     radiance = mix(radiance, vec3(0.0), isnan(radiance));

@@ -1,17 +1,19 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// Forward pass: world-space position, normal, tangent and uv for forward.frag.
+// Forward pass: world-space position, normal, tangent and both UV sets for forward.frag.
 #include "renderer/forward_common.glsl"
 
 layout(location = 0) in vec3 inPosition;
 layout(location = 1) in vec3 inNormal;
 layout(location = 2) in vec2 inUv;
 layout(location = 3) in vec4 inTangent;
+layout(location = 4) in vec2 inUv1;
 
 layout(location = 0) out vec3 vWorldPosition;
 layout(location = 1) out vec3 vNormal;
 layout(location = 2) out vec2 vUv;
 layout(location = 3) out vec4 vTangent;
+layout(location = 4) out vec2 vUv1;
 
 
 void main() {
@@ -24,6 +26,7 @@ void main() {
     vNormal = mat3(draw.normalMatrix) * inNormal;
     vTangent = vec4(mat3(draw.world) * inTangent.xyz, inTangent.w);
     vUv = inUv;
+    vUv1 = inUv1;
     precise vec4 position = frame.viewProjection * world;
     gl_Position = position;
 }

@@ -32,7 +32,25 @@ layout(set = JANUS_SET_DRAW, binding = JANUS_BINDING_DRAW_UNIFORMS, std140) unif
     vec4 emissiveFactor;   // rgb emissive, w alpha cutoff
     vec4 materialParams;   // x metallic, y roughness, z normal scale, w occlusion strength
     ivec4 flags;           // x double-sided, y has tangents, z alpha mode (kAlphaMode*), w renderingLayers (uint bits)
+    // Texture t (kTexture*): rows 2t and 2t+1 of its KHR_texture_transform matrix; row 2t's w is
+    // the UV set it reads (0: TEXCOORD_0, 1: TEXCOORD_1).
+    vec4 textureTransforms[10];
 } draw;
+
+const int kTextureBaseColor = 0;
+const int kTextureMetallicRoughness = 1;
+const int kTextureNormal = 2;
+const int kTextureOcclusion = 3;
+const int kTextureEmissive = 4;
+
+// Where material texture `slot` (kTexture*) is sampled, from the fragment's two interpolated UV sets. The
+// transform is affine, so applying it per fragment equals interpolating transformed vertex UVs.
+vec2 materialUv(int slot, vec2 uv0, vec2 uv1) {
+    vec4 row0 = draw.textureTransforms[2 * slot];
+    vec4 row1 = draw.textureTransforms[2 * slot + 1];
+    vec3 uv = vec3(row0.w > 0.5 ? uv1 : uv0, 1.0);
+    return vec2(dot(row0.xyz, uv), dot(row1.xyz, uv));
+}
 #endif
 
 // draw.flags.z: glTF alphaMode.

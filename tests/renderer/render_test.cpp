@@ -62,6 +62,10 @@ const SceneCase kScenes[] = {
     {"BoxTextured", [] { return sharedScene("BoxTextured/glTF/BoxTextured.gltf"); }},
     // Normal, occlusion, emissive and metallic-roughness textures, tangents, a rotated root node.
     {"DamagedHelmet", [] { return sharedScene("DamagedHelmet/glTF/DamagedHelmet.gltf"); }},
+    // KHR_texture_transform (offset, rotation, scale on clamped, unmipped textures) and a second UV
+    // set (the emissive texture reads TEXCOORD_1).
+    {"TextureTransformTest", [] { return sharedScene("khronos/TextureTransformTest/glTF/TextureTransformTest.gltf"); }},
+    {"MultiUVTest", [] { return sharedScene("khronos/MultiUVTest/glTF/MultiUVTest.gltf"); }},
     // A scene file: its camera, a point light, emissive lamp, textured walls.
     {"CornellSceneFile", [] { return loadScene(fs::path(__FILE__).parent_path() / "data" / "cornell.json"); }},
     // Image-based lighting from the shared sky: metals reflect it, the background shows it.

@@ -26,8 +26,18 @@ struct DrawUniforms {
     glm::vec4 emissiveFactor;
     glm::vec4 materialParams;
     glm::ivec4 flags;
+    // Per material texture (kTexture* in forward_common.glsl) two rows of its KHR_texture_transform
+    // matrix; the first row's w is the UV set it reads (0 or 1).
+    glm::vec4 textureTransforms[10];
 };
-static_assert(sizeof(DrawUniforms) == 192, "DrawUniforms must match std140");
+static_assert(sizeof(DrawUniforms) == 352, "DrawUniforms must match std140");
+
+// The two rows of `transform`'s 3x3 matrix that matter (the third is 0 0 1), for textureTransforms.
+void packTextureTransform(const TextureTransform& transform, glm::vec4* rows) {
+    const glm::mat3 m = transform.matrix();   // column-major: m[column][row]
+    rows[0] = glm::vec4(m[0][0], m[1][0], m[2][0], float(transform.texCoord));
+    rows[1] = glm::vec4(m[0][1], m[1][1], m[2][1], 0.0f);
+}
 
 // The matrix that carries normals: the inverse transpose, or, for a world matrix that squashes an
 // axis to zero (no inverse: Inf/NaN), its cofactor matrix, which is the inverse transpose times
@@ -45,7 +55,8 @@ glm::mat4 normalMatrixOf(const glm::mat4& world) {
     cofactor[2] = glm::cross(m[0], m[1]);
     return glm::mat4(cofactor);
 }
-static_assert(sizeof(Vertex) == 48 && offsetof(Vertex, normal) == 12 && offsetof(Vertex, uv) == 24 && offsetof(Vertex, tangent) == 32,
+static_assert(sizeof(Vertex) == 56 && offsetof(Vertex, normal) == 12 && offsetof(Vertex, uv) == 24 && offsetof(Vertex, tangent) == 32 &&
+                  offsetof(Vertex, uv1) == 48,
               "the mesh pipelines' vertex layout assumes a tightly packed Vertex");
 
 float srgbToLinear(uint8_t value) {
@@ -206,6 +217,10 @@ void GpuScene::createDraws(const Scene& scene) {
         const int32_t alphaMode = material.alphaMode == AlphaMode::Mask ? 1 : material.alphaMode == AlphaMode::Blend ? 2 : 0;
         uniforms.flags = glm::ivec4(material.doubleSided ? 1 : 0, hasTangents && material.normalTexture >= 0 ? 1 : 0, alphaMode,
                                     int32_t(instance.renderingLayers));
+        // The order of kTexture* in forward_common.glsl.
+        const TextureTransform* transforms[] = {&material.baseColorTransform, &material.metallicRoughnessTransform,
+                                                &material.normalTransform, &material.occlusionTransform, &material.emissiveTransform};
+        for (size_t t = 0; t < std::size(transforms); ++t) packTextureTransform(*transforms[t], &uniforms.textureTransforms[t * 2]);
         std::memcpy(drawData.data() + i * stride, &uniforms, sizeof(uniforms));
 
         auto texture = [&](uint32_t binding, int32_t index, const rhi::TextureHandle& fallback) {
@@ -260,6 +275,7 @@ rhi::PipelineHandle GpuScene::createMeshPipeline(const rhi::ShaderHandle& vertex
         .addVertexAttribute({1, rhi::VertexFormat::Float3, 0, offsetof(Vertex, normal)})
         .addVertexAttribute({2, rhi::VertexFormat::Float2, 0, offsetof(Vertex, uv)})
         .addVertexAttribute({3, rhi::VertexFormat::Float4, 0, offsetof(Vertex, tangent)})
+        .addVertexAttribute({4, rhi::VertexFormat::Float2, 0, offsetof(Vertex, uv1)})
         // glTF front faces are counter-clockwise; an ordinary projection keeps that as seen in
         // the image, a mirrored one (cube faces) or a mirrored instance turns it clockwise.
         .setRaster(rhi::RasterState{cull, clockwise ? rhi::FrontFace::Clockwise : rhi::FrontFace::CounterClockwise})

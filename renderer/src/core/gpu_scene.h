@@ -21,7 +21,7 @@ namespace janus::renderer {
 class GpuScene {
 public:
     struct Mesh {
-        rhi::BufferHandle vertices;   // renderer Vertex (48 bytes)
+        rhi::BufferHandle vertices;   // renderer Vertex (56 bytes)
         rhi::BufferHandle indices;    // uint32
         uint32_t indexCount = 0;
     };

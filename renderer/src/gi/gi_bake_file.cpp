@@ -125,7 +125,7 @@ uint64_t giSceneHash(const Scene& scene) {
     for (const Mesh& mesh : scene.meshes) {
         h.add(mesh.material);
         h.add(uint64_t(mesh.vertices.size()));
-        for (const Vertex& v : mesh.vertices) h.add(v.position), h.add(v.normal), h.add(v.uv);
+        for (const Vertex& v : mesh.vertices) h.add(v.position), h.add(v.normal), h.add(v.uv), h.add(v.uv1);
         h.bytes(mesh.indices.data(), mesh.indices.size() * sizeof(uint32_t));
     }
     h.add(uint64_t(scene.instances.size()));
@@ -134,6 +134,8 @@ uint64_t giSceneHash(const Scene& scene) {
     for (const Material& m : scene.materials) {
         h.add(m.baseColorFactor), h.add(m.metallicFactor), h.add(m.emissiveFactor);
         h.add(m.baseColorTexture), h.add(m.metallicRoughnessTexture), h.add(m.emissiveTexture);
+        for (const TextureTransform* t : {&m.baseColorTransform, &m.metallicRoughnessTransform, &m.emissiveTransform})
+            h.add(t->offset), h.add(t->rotation), h.add(t->scale), h.add(t->texCoord);
         h.add(uint8_t(m.doubleSided)), h.add(uint8_t(m.alphaMode)), h.add(m.alphaCutoff);
     }
     h.add(uint64_t(scene.textures.size()));

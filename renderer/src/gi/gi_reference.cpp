@@ -113,7 +113,7 @@ struct LinearTexture {
 // One instance's triangles in world space, with what shading needs per vertex.
 struct TraceMesh {
     std::vector<glm::dvec3> normals;   // world, per vertex (may be zero: the geometric normal is used)
-    std::vector<glm::dvec2> uvs;
+    std::vector<glm::dvec2> uvs, uvs1;   // TEXCOORD_0, TEXCOORD_1
     std::vector<uint32_t> indices;
     double frontSign = 1.0;            // -1 for a mirrored instance: its front faces wind clockwise in world space
     uint32_t renderingLayers = 1u;
@@ -231,15 +231,23 @@ struct GiReference::Impl {
         const double normalLength = glm::length(normal);
         normal = normalLength > 1e-12 ? normal / normalLength : front;
         hit.normal = backFace ? -normal : normal;
-        const glm::dvec2 uv = w * mesh.uvs[i0] + u * mesh.uvs[i1] + v * mesh.uvs[i2];
+        const glm::dvec2 uv0 = w * mesh.uvs[i0] + u * mesh.uvs[i1] + v * mesh.uvs[i2];
+        const glm::dvec2 uv1 = w * mesh.uvs1[i0] + u * mesh.uvs1[i1] + v * mesh.uvs1[i2];
+        // The texture's UV set and KHR_texture_transform, as forward_common.glsl's materialUv.
+        auto uvFor = [&](const TextureTransform& transform) {
+            return glm::dvec2(glm::dmat3(transform.matrix()) * glm::dvec3(transform.texCoord == 1 ? uv1 : uv0, 1.0));
+        };
 
         glm::dvec4 base = glm::dvec4(material.baseColorFactor);
-        if (material.baseColorTexture >= 0) base *= textures[size_t(material.baseColorTexture)].sample(uv);
+        if (material.baseColorTexture >= 0)
+            base *= textures[size_t(material.baseColorTexture)].sample(uvFor(material.baseColorTransform));
         double metallic = material.metallicFactor;
-        if (material.metallicRoughnessTexture >= 0) metallic *= textures[size_t(material.metallicRoughnessTexture)].sample(uv).b;
+        if (material.metallicRoughnessTexture >= 0)
+            metallic *= textures[size_t(material.metallicRoughnessTexture)].sample(uvFor(material.metallicRoughnessTransform)).b;
         hit.albedo = glm::clamp(glm::dvec3(base), 0.0, 1.0) * (1.0 - std::clamp(metallic, 0.0, 1.0));
         hit.emission = glm::dvec3(material.emissiveFactor);
-        if (material.emissiveTexture >= 0) hit.emission *= glm::dvec3(textures[size_t(material.emissiveTexture)].sample(uv));
+        if (material.emissiveTexture >= 0)
+            hit.emission *= glm::dvec3(textures[size_t(material.emissiveTexture)].sample(uvFor(material.emissiveTransform)));
         hit.renderingLayers = mesh.renderingLayers;
         return hit;
     }
@@ -380,12 +388,14 @@ GiReference::GiReference(const Scene& scene) : m_impl(std::make_unique<Impl>()) 
         std::vector<glm::dvec3> positions(mesh.vertices.size());
         trace.normals.resize(mesh.vertices.size());
         trace.uvs.resize(mesh.vertices.size());
+        trace.uvs1.resize(mesh.vertices.size());
         for (size_t v = 0; v < mesh.vertices.size(); ++v) {
             positions[v] = glm::dvec3(world * glm::dvec4(glm::dvec3(mesh.vertices[v].position), 1.0));
             const glm::dvec3 n = normalMatrix * glm::dvec3(mesh.vertices[v].normal);
             const double length = glm::length(n);
             trace.normals[v] = length > 1e-30 && std::isfinite(length) ? n / length : glm::dvec3(0.0);
             trace.uvs[v] = glm::dvec2(mesh.vertices[v].uv);
+            trace.uvs1[v] = glm::dvec2(mesh.vertices[v].uv1);
             lo = glm::min(lo, positions[v]);
             hi = glm::max(hi, positions[v]);
         }

@@ -20,6 +20,19 @@ namespace {
 constexpr float kMaxColorValue = 65504.0f;
 }  // namespace
 
+glm::mat3 TextureTransform::matrix() const {
+    const float c = std::cos(rotation), s = std::sin(rotation);
+    // The UVs turn counter-clockwise as seen on the image (v grows downwards), so the image turns
+    // clockwise, as the extension's text and its TextureTransformTest model say: u' = c u + s v,
+    // v' = -s u + c v. The extension's GLSL sample, mat3(c, s, 0, -s, c, 0, 0, 0, 1), gives that
+    // only when read row by row; GLSL's column-major reading turns the other way (the model's red
+    // marker), so glm's columns here are its rows.
+    const glm::mat3 translation(1.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f, offset.x, offset.y, 1.0f);
+    const glm::mat3 turn(c, -s, 0.0f, s, c, 0.0f, 0.0f, 0.0f, 1.0f);
+    const glm::mat3 scaling(scale.x, 0.0f, 0.0f, 0.0f, scale.y, 0.0f, 0.0f, 0.0f, 1.0f);
+    return translation * turn * scaling;
+}
+
 namespace detail {
 
 void generateNormals(Mesh& mesh) {
@@ -40,13 +53,14 @@ void generateNormals(Mesh& mesh) {
     }
 }
 
-void generateTangents(Mesh& mesh) {
+void generateTangents(Mesh& mesh, uint32_t texCoord) {
+    auto uvOf = [texCoord](const Vertex& v) { return texCoord == 1 ? v.uv1 : v.uv; };
     std::vector<glm::vec3> alongU(mesh.vertices.size(), glm::vec3(0.0f)), alongV(mesh.vertices.size(), glm::vec3(0.0f));
     for (size_t i = 0; i + 2 < mesh.indices.size(); i += 3) {
         const uint32_t ia = mesh.indices[i], ib = mesh.indices[i + 1], ic = mesh.indices[i + 2];
         const Vertex &a = mesh.vertices[ia], &b = mesh.vertices[ib], &c = mesh.vertices[ic];
         const glm::vec3 e1 = b.position - a.position, e2 = c.position - a.position;
-        const glm::vec2 d1 = b.uv - a.uv, d2 = c.uv - a.uv;
+        const glm::vec2 d1 = uvOf(b) - uvOf(a), d2 = uvOf(c) - uvOf(a);
         const float det = d1.x * d2.y - d2.x * d1.y;
         if (std::abs(det) < 1e-12f) continue;   // no uv area: says nothing about the tangent
         const glm::vec3 dPdu = (e1 * d2.y - e2 * d1.y) / det;
@@ -350,7 +364,7 @@ void validateScene(const Scene& scene) {
             if (index >= mesh.vertices.size())
                 throw SceneError(fmt::format("mesh {} has bad indices: {} is out of range ({} vertices)", m, index, mesh.vertices.size()));
         for (const Vertex& v : mesh.vertices)
-            if (!allFinite(v.position, v.normal, v.uv, v.tangent))
+            if (!allFinite(v.position, v.normal, v.uv, v.tangent, v.uv1))
                 throw SceneError(fmt::format("mesh {} has a NaN or infinite vertex attribute", m));
         if (mesh.material >= int32_t(scene.materials.size()))
             throw SceneError(fmt::format("mesh {} uses material {} but the scene has {}", m, mesh.material, scene.materials.size()));
@@ -372,6 +386,17 @@ void validateScene(const Scene& scene) {
                                 material.occlusionTexture, material.emissiveTexture})
             if (texture >= int32_t(scene.textures.size()))
                 throw SceneError(fmt::format("material {} uses texture {} but the scene has {}", name, texture, scene.textures.size()));
+        const std::pair<const char*, const TextureTransform*> transforms[] = {
+            {"baseColorTexture", &material.baseColorTransform}, {"metallicRoughnessTexture", &material.metallicRoughnessTransform},
+            {"normalTexture", &material.normalTransform},       {"occlusionTexture", &material.occlusionTransform},
+            {"emissiveTexture", &material.emissiveTransform}};
+        for (const auto& [texture, transform] : transforms) {
+            if (!allFinite(transform->offset, transform->rotation, transform->scale))
+                throw SceneError(fmt::format("material {} {} has a NaN or infinite texture transform", name, texture));
+            if (transform->texCoord > 1)
+                throw SceneError(fmt::format("material {} {} uses texCoord {}; Janus reads TEXCOORD_0 and TEXCOORD_1 only", name, texture,
+                                             transform->texCoord));
+        }
     }
     for (size_t t = 0; t < scene.textures.size(); ++t) {
         const TextureImage& texture = scene.textures[t];

@@ -35,7 +35,7 @@ constexpr int kMaxImageSide = 16384;
 constexpr uint64_t kMaxImagePixels = uint64_t(1) << 26;
 
 // glTF extensions the loader implements.
-constexpr std::string_view kSupportedExtensions[] = {"KHR_lights_punctual", "KHR_mesh_quantization"};
+constexpr std::string_view kSupportedExtensions[] = {"KHR_lights_punctual", "KHR_mesh_quantization", "KHR_texture_transform"};
 
 bool isSupportedExtension(std::string_view name) {
     for (std::string_view supported : kSupportedExtensions)
@@ -445,6 +445,45 @@ private:
         return sampling;
     }
 
+    // A texture reference's UV set and KHR_texture_transform (whose texCoord, when given, replaces
+    // the reference's). Janus reads TEXCOORD_0 and TEXCOORD_1: a higher set is refused by name
+    // rather than sampled from the wrong coordinates.
+    TextureTransform transformOf(int textureIndex, int texCoord, const tinygltf::ExtensionMap& extensions,
+                                 const std::string& materialName, const char* texture) const {
+        TextureTransform transform;
+        if (textureIndex < 0) return transform;
+        const std::string where = fmt::format("material '{}' {}", materialName, texture);
+        int64_t set = texCoord;
+        if (auto it = extensions.find("KHR_texture_transform"); it != extensions.end()) {
+            const tinygltf::Value& extension = it->second;
+            if (!extension.IsObject()) fail(fmt::format("{}: KHR_texture_transform is not an object", where));
+            auto number = [&](const tinygltf::Value& value, const std::string& what) {
+                if (!value.IsNumber() || !std::isfinite(value.GetNumberAsDouble()))
+                    fail(fmt::format("{}: KHR_texture_transform {} is not a finite number", where, what));
+                return float(value.GetNumberAsDouble());
+            };
+            auto pair = [&](const char* key) {
+                const tinygltf::Value& value = extension.Get(key);
+                if (!value.IsArray() || value.ArrayLen() != 2)
+                    fail(fmt::format("{}: KHR_texture_transform {} must be an array of two numbers", where, key));
+                return glm::vec2(number(value.Get(0), key), number(value.Get(1), key));
+            };
+            if (extension.Has("offset")) transform.offset = pair("offset");
+            if (extension.Has("rotation")) transform.rotation = number(extension.Get("rotation"), "rotation");
+            if (extension.Has("scale")) transform.scale = pair("scale");
+            if (extension.Has("texCoord")) {
+                const double value = number(extension.Get("texCoord"), "texCoord");
+                if (value < 0.0 || value != std::floor(value))
+                    fail(fmt::format("{}: KHR_texture_transform texCoord {} is not a non-negative integer", where, value));
+                set = int64_t(std::min(value, 1e9));
+            }
+        }
+        if (set < 0 || set > 1)
+            fail(fmt::format("{} uses texCoord {} (TEXCOORD_{}); Janus reads TEXCOORD_0 and TEXCOORD_1 only", where, set, set));
+        transform.texCoord = uint32_t(set);
+        return transform;
+    }
+
     void readMaterials(Scene& scene) {
         for (const tinygltf::Material& m : m_model.materials) {
             Material material;
@@ -466,8 +505,32 @@ private:
             material.normalTexture = textureFor(m.normalTexture.index, false, scene, m.name);
             material.occlusionTexture = textureFor(m.occlusionTexture.index, false, scene, m.name);
             material.emissiveTexture = textureFor(m.emissiveTexture.index, true, scene, m.name);
+            material.baseColorTransform = transformOf(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord,
+                                                      pbr.baseColorTexture.extensions, m.name, "baseColorTexture");
+            material.metallicRoughnessTransform =
+                transformOf(pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord,
+                            pbr.metallicRoughnessTexture.extensions, m.name, "metallicRoughnessTexture");
+            material.normalTransform =
+                transformOf(m.normalTexture.index, m.normalTexture.texCoord, m.normalTexture.extensions, m.name, "normalTexture");
+            material.occlusionTransform = transformOf(m.occlusionTexture.index, m.occlusionTexture.texCoord,
+                                                      m.occlusionTexture.extensions, m.name, "occlusionTexture");
+            material.emissiveTransform =
+                transformOf(m.emissiveTexture.index, m.emissiveTexture.texCoord, m.emissiveTexture.extensions, m.name, "emissiveTexture");
             scene.materials.push_back(std::move(material));
         }
+    }
+
+    // The first texture of `material` that reads TEXCOORD_1, or nullptr.
+    static const char* textureReadingUv1(const Material& material) {
+        const std::pair<const char*, std::pair<int32_t, const TextureTransform*>> textures[] = {
+            {"baseColorTexture", {material.baseColorTexture, &material.baseColorTransform}},
+            {"metallicRoughnessTexture", {material.metallicRoughnessTexture, &material.metallicRoughnessTransform}},
+            {"normalTexture", {material.normalTexture, &material.normalTransform}},
+            {"occlusionTexture", {material.occlusionTexture, &material.occlusionTransform}},
+            {"emissiveTexture", {material.emissiveTexture, &material.emissiveTransform}}};
+        for (const auto& [name, texture] : textures)
+            if (texture.first >= 0 && texture.second->texCoord == 1) return name;
+        return nullptr;
     }
 
     // The vertex attributes Janus reads, for the component types each may have.
@@ -644,7 +707,7 @@ private:
                     Vertex& vertex = mesh.vertices[v];
                     vertex.position = glm::vec3(positions[v * 3], positions[v * 3 + 1], positions[v * 3 + 2]);
                     vertex.normal = glm::vec3(0.0f);
-                    vertex.uv = glm::vec2(0.0f);
+                    vertex.uv = vertex.uv1 = glm::vec2(0.0f);
                     vertex.tangent = glm::vec4(0.0f);
                 }
                 auto readInto = [&](const char* name, int width, Attribute kind, auto&& store) {
@@ -660,6 +723,8 @@ private:
                     readInto("NORMAL", 3, Attribute::Normal, [](Vertex& v, const float* f) { v.normal = glm::vec3(f[0], f[1], f[2]); });
                 const bool hasUvs =
                     readInto("TEXCOORD_0", 2, Attribute::TexCoord, [](Vertex& v, const float* f) { v.uv = glm::vec2(f[0], f[1]); });
+                const bool hasUvs1 =
+                    readInto("TEXCOORD_1", 2, Attribute::TexCoord, [](Vertex& v, const float* f) { v.uv1 = glm::vec2(f[0], f[1]); });
                 const bool hasTangents = readInto("TANGENT", 4, Attribute::Tangent,
                                                   [](Vertex& v, const float* f) { v.tangent = glm::vec4(f[0], f[1], f[2], f[3]); });
 
@@ -680,10 +745,17 @@ private:
                     fail(fmt::format("{} references material {} but the file has {}", where, primitive.material,
                                      m_model.materials.size()));
                 mesh.material = primitive.material;
+                const Material* material = primitive.material >= 0 ? &scene.materials[size_t(primitive.material)] : nullptr;
+                if (const char* texture = material ? textureReadingUv1(*material) : nullptr; texture && !hasUvs1)
+                    fail(fmt::format("{} uses material '{}', whose {} reads texCoord 1, but the primitive has no TEXCOORD_1", where,
+                                     material->name, texture));
                 if (!hasNormals) generateNormals(mesh);
-                // glTF asks clients to compute tangents when a normal-mapped mesh has none.
-                const bool normalMapped = primitive.material >= 0 && m_model.materials[size_t(primitive.material)].normalTexture.index >= 0;
-                if (normalMapped && hasUvs && !hasTangents) generateTangents(mesh);
+                // glTF asks clients to compute tangents when a normal-mapped mesh has none, from
+                // the UV set the normal texture reads.
+                if (material && material->normalTexture >= 0 && !hasTangents) {
+                    const uint32_t normalSet = material->normalTransform.texCoord;
+                    if (normalSet == 0 ? hasUvs : hasUvs1) generateTangents(mesh, normalSet);
+                }
                 scene.meshes.push_back(std::move(mesh));
                 sceneMeshes.push_back(uint32_t(scene.meshes.size() - 1));
             }

@@ -14,10 +14,11 @@ namespace janus::renderer::detail {
 // vertex. Indexed meshes get smooth normals; unindexed ones (no shared vertices) get flat ones.
 void generateNormals(Mesh& mesh);
 
-// Fills Vertex::tangent from positions and uvs (per-triangle dP/du, averaged per vertex), for
-// normal-mapped meshes whose file has no tangents. w follows glTF: bitangent = cross(N, T) * w
-// points towards decreasing v (up in the image).
-void generateTangents(Mesh& mesh);
+// Fills Vertex::tangent from positions and the UV set `texCoord` (0: uv, 1: uv1; per-triangle
+// dP/du, averaged per vertex), for normal-mapped meshes whose file has no tangents: the set the
+// normal texture reads, as glTF relates tangents to the normal texture's UVs. w follows glTF:
+// bitangent = cross(N, T) * w points towards decreasing v (up in the image).
+void generateTangents(Mesh& mesh, uint32_t texCoord = 0);
 
 // Places the camera so the bounding box of every instance fills the view, looking down -Z
 // from slightly above. Used when neither the glTF nor the scene file has a camera.

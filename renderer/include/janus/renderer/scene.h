@@ -28,8 +28,9 @@ public:
 struct Vertex {
     glm::vec3 position;
     glm::vec3 normal;
-    glm::vec2 uv;
+    glm::vec2 uv;        // glTF TEXCOORD_0
     glm::vec4 tangent;   // xyz tangent, w handedness; zero when the mesh has none
+    glm::vec2 uv1{0.0f}; // glTF TEXCOORD_1; zero when the mesh has none
 };
 
 struct Mesh {
@@ -66,6 +67,23 @@ struct TextureImage {
 // surfaces").
 enum class AlphaMode { Opaque, Mask, Blend };
 
+// Where a material texture is sampled: which UV set (glTF texCoord) and the KHR_texture_transform
+// applied to it: uv' = offset + R(rotation) * (scale * uv), R turning the UVs counter-clockwise as
+// seen on the image (u right, v down), so the image appears turned clockwise (docs/SCENES.md).
+struct TextureTransform {
+    glm::vec2 offset{0.0f};
+    float rotation = 0.0f;     // radians
+    glm::vec2 scale{1.0f};
+    uint32_t texCoord = 0;     // 0: Vertex::uv (TEXCOORD_0), 1: Vertex::uv1 (TEXCOORD_1)
+
+    // translation * rotation * scale as KHR_texture_transform writes it: uv' = (matrix() * (uv, 1)).xy.
+    glm::mat3 matrix() const;
+    glm::vec2 apply(glm::vec2 uv) const { return glm::vec2(matrix() * glm::vec3(uv, 1.0f)); }
+    // The UV set this transform reads, transformed.
+    glm::vec2 uvOf(const Vertex& vertex) const { return apply(texCoord == 1 ? vertex.uv1 : vertex.uv); }
+    bool operator==(const TextureTransform&) const = default;
+};
+
 struct Material {
     glm::vec4 baseColorFactor{1.0f};
     float metallicFactor = 1.0f;
@@ -76,6 +94,12 @@ struct Material {
     int32_t normalTexture = -1;
     int32_t occlusionTexture = -1;
     int32_t emissiveTexture = -1;
+    // Each texture's UV set and transform (identity on TEXCOORD_0 unless the glTF says otherwise).
+    TextureTransform baseColorTransform;
+    TextureTransform metallicRoughnessTransform;
+    TextureTransform normalTransform;
+    TextureTransform occlusionTransform;
+    TextureTransform emissiveTransform;
     bool doubleSided = false;
     AlphaMode alphaMode = AlphaMode::Opaque;
     float alphaCutoff = 0.5f;               // Mask: fragments with alpha below it are discarded
