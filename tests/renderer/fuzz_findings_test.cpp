@@ -112,6 +112,52 @@ TEST(FuzzFindings, JpegWithAHuffmanTableCutByTheEndOfTheFileIsRefusedBeforeDecod
     EXPECT_NE(message.find("at most 256"), std::string::npos) << message;
 }
 
+// stb_image's RLE scanline reader for Radiance HDR takes a count of 0 as "copy nothing" and
+// loops forever without advancing, and it reads bytes past the end of the data as 0: the fuzzed
+// 321-byte sky, cut short inside an RLE scanline, hung the loader (fuzz_image, timeout). The
+// loader now walks the scanlines first. Before the fix these tests never returned.
+TEST(FuzzFindings, RadianceHdrCutInsideAnRleScanlineIsRefusedInsteadOfHanging) {
+    const std::string message = errorOf<ImageIOError>([] {
+        decodeRadianceHDR(readFile(kCorpus / "image" / "hdr-rle-cut-inside-a-scanline.hdr"), "sky.hdr");
+    });
+    EXPECT_NE(message.find("ends inside its pixel data"), std::string::npos) << message;
+    EXPECT_NE(message.find("sky.hdr"), std::string::npos) << message;
+}
+
+// A valid 8x2 RLE sky: each scanline's components one run of 8 (mantissas 128, 64, 32, exponent 129).
+std::string rleSky() {
+    std::string hdr = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 2 +X 8\n";
+    for (int row = 0; row < 2; ++row) {
+        hdr += std::string{2, 2, 0, 8};
+        for (unsigned char value : {128, 64, 32, 129}) hdr += std::string{char(128 + 8), char(value)};
+    }
+    return hdr;
+}
+constexpr size_t kRleSkyHeader = 45;   // bytes before the first scanline
+
+TEST(FuzzFindings, RadianceHdrCutAnywhereInItsPixelDataIsRefused) {
+    const std::string hdr = rleSky();
+    ASSERT_EQ(hdr.substr(kRleSkyHeader - 10, 10), "-Y 2 +X 8\n");
+    const ImageRGBAF whole = decodeRadianceHDR(hdr, "whole.hdr");
+    ASSERT_EQ(whole.width, 8u);
+    ASSERT_EQ(whole.height, 2u);
+    EXPECT_FLOAT_EQ(whole.pixels[0], 1.0f);   // 128 * 2^(129 - 136)
+    for (size_t cut = kRleSkyHeader; cut < hdr.size(); ++cut) {
+        const std::string message = errorOf<ImageIOError>([&] { decodeRadianceHDR(hdr.substr(0, cut), "cut.hdr"); });
+        EXPECT_NE(message.find("ends inside its pixel data"), std::string::npos) << "cut at byte " << cut << ": " << message;
+    }
+}
+
+// A count of 0 inside the data copies nothing, in stb as in Radiance's own reader: the walk that
+// refuses cut files must not refuse it.
+TEST(FuzzFindings, RadianceHdrWithACountOf0InsideItsDataStillLoads) {
+    std::string hdr = rleSky();
+    const ImageRGBAF plain = decodeRadianceHDR(hdr, "plain.hdr");
+    hdr.insert(kRleSkyHeader + 4 + 2, 1, '\0');   // before the second component's run
+    const ImageRGBAF withZero = decodeRadianceHDR(hdr, "zero.hdr");
+    EXPECT_EQ(withZero.pixels, plain.pixels);
+}
+
 TEST(FuzzFindings, ValidJpegAndPngTexturesStillLoad) {
     const fs::path jpeg = fs::path(JANUS_SHARED_SCENES_DIR) / "khronos/Fox/screenshot/screenshot.jpg";
     const fs::path png = fs::path(JANUS_SHARED_SCENES_DIR) / "BoxTextured/glTF/CesiumLogoFlat.png";

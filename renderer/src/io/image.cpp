@@ -413,6 +413,78 @@ ImageRGBAF readRadianceHDR(const std::filesystem::path& path) {
     return decodeRadianceHDR(readWholeFile(path, "Radiance HDR"), path.string());
 }
 
+namespace {
+
+// Why stb_image would hang on or misread this Radiance HDR, or "" when it would not. stb reads
+// bytes past the end of the data as 0 (a flat file cut short decodes missing pixels from
+// uninitialised bytes), and its RLE scanline reader (Debian's 2022 stb) takes a count of 0 as
+// "copy nothing" without advancing: past the end it reads 0 for ever, so a file cut short inside
+// an RLE scanline hung it (found by fuzz_image). This walks the data exactly as stb does, header
+// tokens included, before stb sees it, and refuses a file that ends inside its pixel data.
+std::string radianceDataProblem(std::string_view bytes, int width, int height) {
+    size_t at = 0;
+    bool readPastEnd = false;
+    auto atEnd = [&] { return at >= bytes.size(); };
+    auto next = [&]() -> int {
+        if (atEnd()) {
+            readPastEnd = true;
+            return 0;
+        }
+        return int(static_cast<unsigned char>(bytes[at++]));
+    };
+    constexpr size_t kTokenMax = 1023;   // STBI__HDR_BUFLEN - 1
+    auto token = [&] {
+        std::string text;
+        char c = char(next());
+        while (!atEnd() && c != '\n') {
+            text += c;
+            if (text.size() == kTokenMax) {
+                while (!atEnd() && next() != '\n') {}
+                break;
+            }
+            c = char(next());
+        }
+        return text;
+    };
+    const std::string endsEarly = "the file ends inside its pixel data";
+    // Flat pixels, 4 bytes each, from `firstPixel` on.
+    auto flatFrom = [&](uint64_t firstPixel) {
+        const uint64_t needed = (uint64_t(width) * uint64_t(height) - firstPixel) * 4;
+        return bytes.size() - std::min(at, bytes.size()) < needed ? endsEarly : std::string();
+    };
+    token();                                   // #?RADIANCE (checked by stb)
+    while (!token().empty()) {}                // header lines up to the empty one
+    token();                                   // -Y height +X width (as stbi_info read them)
+    if (width < 8 || width >= 32768) return flatFrom(0);
+    for (int row = 0; row < height; ++row) {
+        const int c1 = next(), c2 = next(), high = next();
+        const int low = next();
+        if (readPastEnd) return endsEarly;
+        // Not RLE: stb takes these 4 bytes as pixel 0 and reads the rest of the image flat.
+        if (c1 != 2 || c2 != 2 || (high & 0x80)) return flatFrom(1);
+        if (((high << 8) | low) != width) return "";   // stb refuses the scanline length
+        for (int component = 0; component < 4; ++component) {
+            for (int x = 0; x < width;) {
+                int count = next();
+                if (count > 128) {
+                    count -= 128;
+                    next();
+                } else {
+                    if (readPastEnd) return endsEarly;   // the zero stb would loop on forever
+                    at += size_t(count);                 // 0 copies nothing (as Radiance's reader does)
+                    if (at > bytes.size()) return endsEarly;
+                }
+                if (readPastEnd) return endsEarly;
+                if (count > width - x) return "";   // stb refuses the run
+                x += count;
+            }
+        }
+    }
+    return "";
+}
+
+}  // namespace
+
 ImageRGBAF decodeRadianceHDR(std::string_view bytes, const std::string& name) {
     if (bytes.size() > size_t(std::numeric_limits<int>::max()))
         throw ImageIOError(fmt::format("cannot read Radiance HDR '{}': the file is too large", name));
@@ -427,6 +499,8 @@ ImageRGBAF decodeRadianceHDR(std::string_view bytes, const std::string& name) {
         uint64_t(width) * uint64_t(height) > kMaxFloatImagePixels)
         throw ImageIOError(fmt::format("cannot read Radiance HDR '{}': size {}x{} is outside 1..{} per side and {} Mi pixels in all",
                                        name, width, height, kMaxImageSide, kMaxFloatImagePixels >> 20));
+    if (const std::string problem = radianceDataProblem(bytes, width, height); !problem.empty())
+        throw ImageIOError(fmt::format("cannot read Radiance HDR '{}': {}; the file is corrupt", name, problem));
     std::unique_ptr<float, void (*)(void*)> decoded(stbi_loadf_from_memory(data, length, &width, &height, &channelsInFile, 4),
                                                     stbi_image_free);
     if (!decoded) throw ImageIOError(fmt::format("cannot read Radiance HDR '{}': {}", name, stbi_failure_reason()));
