@@ -211,7 +211,7 @@ void GpuScene::createDraws(const Scene& scene) {
         uniforms.normalMatrix = normalMatrixOf(instance.world);
         uniforms.baseColorFactor = material.baseColorFactor;
         uniforms.emissiveFactor = glm::vec4(material.emissiveFactor, material.alphaCutoff);
-        uniforms.materialParams = glm::vec4(material.metallicFactor, material.roughnessFactor, 1.0f, 1.0f);
+        uniforms.materialParams = glm::vec4(material.metallicFactor, material.roughnessFactor, material.normalScale, material.occlusionStrength);
         // Normal maps need tangents; meshes without them shade with their vertex normals.
         // flags.z is the alpha mode as forward.frag reads it: 0 opaque, 1 mask, 2 blend.
         const int32_t alphaMode = material.alphaMode == AlphaMode::Mask ? 1 : material.alphaMode == AlphaMode::Blend ? 2 : 0;

@@ -382,6 +382,10 @@ void validateScene(const Scene& scene) {
                 throw SceneError(fmt::format("material {} has a base colour or emissive value {} outside [0, {}]", name, v, kMaxColorValue));
         if (material.metallicFactor < 0 || material.metallicFactor > 1 || material.roughnessFactor < 0 || material.roughnessFactor > 1)
             throw SceneError(fmt::format("material {} has metallic/roughness outside [0, 1]", name));
+        if (!allFinite(material.normalScale))
+            throw SceneError(fmt::format("material {} has a NaN or infinite normalTexture.scale", name));
+        if (!(material.occlusionStrength >= 0.0f && material.occlusionStrength <= 1.0f))
+            throw SceneError(fmt::format("material {} has occlusionTexture.strength {} outside [0, 1]", name, material.occlusionStrength));
         for (int32_t texture : {material.baseColorTexture, material.metallicRoughnessTexture, material.normalTexture,
                                 material.occlusionTexture, material.emissiveTexture})
             if (texture >= int32_t(scene.textures.size()))

@@ -504,6 +504,8 @@ private:
             material.metallicRoughnessTexture = textureFor(pbr.metallicRoughnessTexture.index, false, scene, m.name);
             material.normalTexture = textureFor(m.normalTexture.index, false, scene, m.name);
             material.occlusionTexture = textureFor(m.occlusionTexture.index, false, scene, m.name);
+            material.normalScale = float(m.normalTexture.scale);
+            material.occlusionStrength = float(m.occlusionTexture.strength);
             material.emissiveTexture = textureFor(m.emissiveTexture.index, true, scene, m.name);
             material.baseColorTransform = transformOf(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord,
                                                       pbr.baseColorTexture.extensions, m.name, "baseColorTexture");

@@ -94,6 +94,8 @@ struct Material {
     int32_t normalTexture = -1;
     int32_t occlusionTexture = -1;
     int32_t emissiveTexture = -1;
+    float normalScale = 1.0f;               // glTF normalTexture.scale: multiplies the map's X and Y
+    float occlusionStrength = 1.0f;         // glTF occlusionTexture.strength, in [0, 1]: 0 = no occlusion
     // Each texture's UV set and transform (identity on TEXCOORD_0 unless the glTF says otherwise).
     TextureTransform baseColorTransform;
     TextureTransform metallicRoughnessTransform;
