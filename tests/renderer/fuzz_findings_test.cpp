@@ -92,6 +92,18 @@ TEST(FuzzFindings, ExrClaimingMoreThan32MiPixelsIsRefusedFromItsHeader) {
     EXPECT_NE(message.find("8192x8192 is outside"), std::string::npos) << message;
 }
 
+// tinyexr's PIZ decoder copies a chunk's bitmap (its range from the chunk's first 4 bytes) and
+// reads the Huffman length before checking either against the chunk: this 2 KiB file made it read
+// 1851 bytes past its end (AddressSanitizer in fuzz_image). decodeEXR gives tinyexr a zero-padded
+// copy, so the reads stay in owned memory and the chunk is refused. The read past the end shows
+// only under AddressSanitizer (scripts/sanitize.sh), where this test failed before the fix.
+TEST(FuzzFindings, ExrWithAPizBitmapPastTheEndOfTheFileIsRefused) {
+    const std::string message = errorOf<ImageIOError>([] {
+        decodeEXR(readFile(kCorpus / "image" / "exr-piz-bitmap-past-the-end.exr"), "sky.exr");
+    });
+    EXPECT_NE(message.find("sky.exr"), std::string::npos) << message;
+}
+
 // stb_image (Debian's, 2022) writes past its 257-entry Huffman arrays when a JPEG's DHT table
 // declares more than 256 codes (UBSan in fuzz_image: index 257 out of bounds in
 // stbi__build_huffman, then up to 4 KiB written over the decoder's state). The loader now checks

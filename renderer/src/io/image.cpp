@@ -333,7 +333,14 @@ ImageRGBAF decodeEXR(std::string_view bytes, const std::string& name) {
         if (error) FreeEXRErrorMessage(error);
         return fail(reason);
     };
-    const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
+    // tinyexr's PIZ decoder (Debian's 1.0.1) reads a chunk's bitmap range and Huffman length
+    // before checking them against the chunk: a corrupt chunk near the end of the file made it
+    // read up to 8 KiB past the end (found by fuzz_image, AddressSanitizer). Zero bytes after the
+    // end keep every such read inside memory we own; the checks that follow then refuse the chunk.
+    constexpr size_t kPizOverreadPadding = 8192 + 4 + 4 + 64;   // bitmap, its range, the length, slack
+    std::vector<unsigned char> padded(bytes.size() + kPizOverreadPadding, 0);
+    std::memcpy(padded.data(), bytes.data(), bytes.size());
+    const unsigned char* data = padded.data();
     EXRVersion version;
     if (ParseEXRVersionFromMemory(&version, data, bytes.size()) != TINYEXR_SUCCESS) throw fail("not an OpenEXR file");
     if (version.multipart || version.non_image)
