@@ -26,6 +26,8 @@ packages=(
   glslang-tools glslang-dev spirv-cross libspirv-cross-c-shared-dev spirv-tools
   # Libraries
   libglm-dev libtinygltf-dev libstb-dev nlohmann-json3-dev libtinyexr-dev
+  # JPEG textures: libjpeg-turbo's TurboJPEG API (stb_image decodes PNG and Radiance HDR)
+  libturbojpeg0-dev
   libgtest-dev libgmock-dev libbenchmark-dev libfmt-dev
   # xxHash (header-only use, XXH_INLINE_ALL): scene content hashes and checksums of GI bake files
   libxxhash-dev

@@ -170,6 +170,14 @@ TEST(FuzzFindings, RadianceHdrWithACountOf0InsideItsDataStillLoads) {
     EXPECT_EQ(withZero.pixels, plain.pixels);
 }
 
+// stb_image's JPEG AC decoder let its bit count go negative on corrupt entropy-coded data and then
+// shifted by more than 31 bits (UBSan in fuzz_image), decoding garbage. JPEG textures are now
+// decoded by libjpeg-turbo, which stops on corrupt data; before, this texture loaded as noise.
+TEST(FuzzFindings, JpegWithCorruptEntropyCodedDataIsRefused) {
+    const std::string message = errorOf<SceneError>([] { loadTexture(readFile(kCorpus / "image" / "jpeg-ac-code-bits-below-zero.jpg")); });
+    EXPECT_NE(message.find("Corrupt JPEG data"), std::string::npos) << message;   // libjpeg-turbo's reason, passed on
+}
+
 TEST(FuzzFindings, ValidJpegAndPngTexturesStillLoad) {
     const fs::path jpeg = fs::path(JANUS_SHARED_SCENES_DIR) / "khronos/Fox/screenshot/screenshot.jpg";
     const fs::path png = fs::path(JANUS_SHARED_SCENES_DIR) / "BoxTextured/glTF/CesiumLogoFlat.png";
