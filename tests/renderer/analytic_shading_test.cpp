@@ -257,22 +257,22 @@ std::vector<PixelCheck> choosePixels(const Scene& scene, uint32_t size, ShadowSt
 
 // --- scenes ----------------------------------------------------------------------------------
 
+Camera cameraAt(glm::vec3 position, glm::vec3 target) {
+    Camera camera;
+    camera.position = position;
+    camera.target = target;
+    camera.nearPlane = 0.1f;
+    camera.farPlane = 30.0f;
+    return camera;
+}
+
 constexpr dvec3 kSphereCentre{0.0, 0.0, 0.0};
 constexpr double kSphereRadius = 1.0;
 
 Scene sphereOnFloor() {
     Scene scene;
-    Material sphere;
-    sphere.name = "sphere";
-    sphere.baseColorFactor = glm::vec4(0.8f, 0.35f, 0.2f, 1.0f);
-    sphere.metallicFactor = 0.3f;
-    sphere.roughnessFactor = 0.45f;
-    Material floor;
-    floor.name = "floor";
-    floor.baseColorFactor = glm::vec4(0.5f, 0.55f, 0.6f, 1.0f);
-    floor.metallicFactor = 0.0f;
-    floor.roughnessFactor = 0.8f;
-    scene.materials = {sphere, floor};
+    detail::addMaterial(scene, "sphere", {0.8f, 0.35f, 0.2f}, 0.3f, 0.45f);
+    detail::addMaterial(scene, "floor", {0.5f, 0.55f, 0.6f}, 0.0f, 0.8f);
     // Fine enough that the silhouette is round at 128 px; the reference uses these very triangles.
     scene.meshes = {detail::makeSphere(0, 96, 48), detail::makeQuad(1)};
     scene.instances = {Instance{0, glm::translate(glm::mat4(1.0f), glm::vec3(kSphereCentre))},
@@ -283,10 +283,7 @@ Scene sphereOnFloor() {
     sun.intensity = 3.0f;
     scene.lights = {sun};
     scene.environment.ambientColor = glm::vec3(0.05f, 0.06f, 0.08f);
-    scene.camera.position = {0.3f, 1.6f, 4.2f};
-    scene.camera.target = {0.4f, -0.6f, 0.0f};
-    scene.camera.nearPlane = 0.1f;
-    scene.camera.farPlane = 30.0f;
+    scene.camera = cameraAt({0.3f, 1.6f, 4.2f}, {0.4f, -0.6f, 0.0f});
     return scene;
 }
 
@@ -304,22 +301,14 @@ std::optional<bool> sphereShadows(const dvec3& position, const dvec3& toSun) {
 
 Scene floorUnderPointAndSpot() {
     Scene scene;
-    Material floor;
-    floor.name = "floor";
-    floor.baseColorFactor = glm::vec4(0.7f, 0.65f, 0.6f, 1.0f);
-    floor.metallicFactor = 0.2f;
-    floor.roughnessFactor = 0.5f;
-    scene.materials = {floor};
+    detail::addMaterial(scene, "floor", {0.7f, 0.65f, 0.6f}, 0.2f, 0.5f);
     scene.meshes = {detail::makeQuad(0)};
     scene.instances = {Instance{0, test_support::quadFacing({0.0f, 0.0f, 0.0f}, {0, 1, 0}, 8.0f)}};
     scene.lights = {test_support::pointLight({-1.0f, 1.2f, 0.5f}, {1.0f, 0.8f, 0.6f}, 6.0f, 4.0f),
                     test_support::spotLight({1.1f, 1.6f, -0.4f}, glm::normalize(glm::vec3(-0.2f, -1.0f, 0.15f)),
                                             {0.5f, 0.7f, 1.0f}, 15.0f, 6.0f, 0.35f, 0.7f)};
     scene.environment.ambientColor = glm::vec3(0.02f);
-    scene.camera.position = {0.0f, 3.5f, 3.5f};
-    scene.camera.target = {0.0f, 0.0f, 0.0f};
-    scene.camera.nearPlane = 0.1f;
-    scene.camera.farPlane = 30.0f;
+    scene.camera = cameraAt({0.0f, 3.5f, 3.5f}, {0.0f, 0.0f, 0.0f});
     return scene;
 }
 
