@@ -78,6 +78,9 @@ public:
     VkPhysicalDeviceMemoryProperties memoryProperties{};
     VkPhysicalDeviceFeatures enabledFeatures{};
     uint64_t maxMemoryAllocationSize = 0;
+    // VK_EXT_line_rasterization's Bresenham lines are enabled: line lists rasterise by the
+    // diamond-exit rule, as GL's do, so line pixels agree across backends.
+    bool bresenhamLines = false;
     uint32_t timestampValidBits = 0;
     bool debugUtils = false;
 

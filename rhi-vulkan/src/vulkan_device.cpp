@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <string_view>
 #include <utility>
 
 #include "vulkan_backend.h"
@@ -212,6 +213,25 @@ void createLogicalDevice(Context& ctx) {
     std::vector<const char*> extensions;
     if (!core13) extensions.push_back(VK_KHR_DYNAMIC_RENDERING_EXTENSION_NAME);
 
+    // Bresenham (diamond-exit) lines where the driver has them: GL rasterises lines that way.
+    uint32_t extensionCount = 0;
+    vkEnumerateDeviceExtensionProperties(ctx.physicalDevice, nullptr, &extensionCount, nullptr);
+    std::vector<VkExtensionProperties> available(extensionCount);
+    vkEnumerateDeviceExtensionProperties(ctx.physicalDevice, nullptr, &extensionCount, available.data());
+    const bool hasLineRasterization = std::any_of(available.begin(), available.end(), [](const VkExtensionProperties& e) {
+        return std::string_view(e.extensionName) == VK_EXT_LINE_RASTERIZATION_EXTENSION_NAME;
+    });
+    VkPhysicalDeviceLineRasterizationFeaturesEXT lineFeatures{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_LINE_RASTERIZATION_FEATURES_EXT};
+    if (hasLineRasterization) {
+        VkPhysicalDeviceFeatures2 features2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+        features2.pNext = &lineFeatures;
+        vkGetPhysicalDeviceFeatures2(ctx.physicalDevice, &features2);
+    }
+    ctx.bresenhamLines = hasLineRasterization && lineFeatures.bresenhamLines;
+    VkPhysicalDeviceLineRasterizationFeaturesEXT enabledLineFeatures{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_LINE_RASTERIZATION_FEATURES_EXT};
+    enabledLineFeatures.bresenhamLines = VK_TRUE;
+    if (ctx.bresenhamLines) extensions.push_back(VK_EXT_LINE_RASTERIZATION_EXTENSION_NAME);
+
     float priority = 1.0f;
     VkDeviceQueueCreateInfo queueInfo{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
     queueInfo.queueFamilyIndex = ctx.queueFamily;
@@ -220,6 +240,10 @@ void createLogicalDevice(Context& ctx) {
 
     VkDeviceCreateInfo info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
     info.pNext = core13 ? static_cast<void*>(&features13) : static_cast<void*>(&dynamicRendering);
+    if (ctx.bresenhamLines) {
+        enabledLineFeatures.pNext = const_cast<void*>(info.pNext);
+        info.pNext = &enabledLineFeatures;
+    }
     info.queueCreateInfoCount = 1;
     info.pQueueCreateInfos = &queueInfo;
     info.enabledExtensionCount = uint32_t(extensions.size());

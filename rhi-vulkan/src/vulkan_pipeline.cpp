@@ -248,6 +248,9 @@ Pipeline::Pipeline(ContextPtr context, const GraphicsPipelineDesc& desc)
     raster.depthBiasConstantFactor = desc.raster.depthBiasConstant;
     raster.depthBiasSlopeFactor = desc.raster.depthBiasSlope;
     raster.lineWidth = 1.0f;
+    VkPipelineRasterizationLineStateCreateInfoEXT lineState{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_LINE_STATE_CREATE_INFO_EXT};
+    lineState.lineRasterizationMode = VK_LINE_RASTERIZATION_MODE_BRESENHAM_EXT;
+    if (desc.topology == PrimitiveTopology::LineList && m_context->bresenhamLines) raster.pNext = &lineState;
     VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
     multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
     VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};

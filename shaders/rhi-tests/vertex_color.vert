@@ -7,4 +7,5 @@ layout(location = 0) flat out vec4 vColor;
 void main() {
     vColor = inColor;
     gl_Position = inPosition;
+    gl_PointSize = 1.0;   // point lists: Vulkan and GLES read the size only from here
 }

@@ -113,9 +113,10 @@ SamplerHandle BackendTest::nearestClampSampler() {
 }
 
 PipelineHandle BackendTest::colorPipeline(Format colorFormat, Format depthFormat, RasterState raster,
-                                          DepthState depth, BlendAttachment blend) {
+                                          DepthState depth, BlendAttachment blend, PrimitiveTopology topology) {
     GraphicsPipelineDesc desc;
     desc.setShaders(shader("rt_vertex_color_vert"), shader("rt_vertex_color_frag"))
+        .setTopology(topology)
         .addVertexBuffer({0, sizeof(ColorVertex), false})
         .addVertexAttribute({0, VertexFormat::Float4, 0, offsetof(ColorVertex, x)})
         .addVertexAttribute({1, VertexFormat::Float4, 0, offsetof(ColorVertex, r)})

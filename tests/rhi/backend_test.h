@@ -87,7 +87,7 @@ protected:
     // The vertex colour pipeline (rt_vertex_color_*) with one colour attachment.
     PipelineHandle colorPipeline(Format colorFormat, Format depthFormat = Format::Unknown,
                                  RasterState raster = {}, DepthState depth = {},
-                                 BlendAttachment blend = {});
+                                 BlendAttachment blend = {}, PrimitiveTopology topology = PrimitiveTopology::TriangleList);
     // rt_fullscreen_vert plus `fragmentShader` into one attachment of `colorFormat`.
     PipelineHandle fullscreenPipeline(std::string_view fragmentShader, Format colorFormat);
 

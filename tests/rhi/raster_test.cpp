@@ -155,5 +155,46 @@ TEST_P(RasterTest, TriangleStripCoversTheRectangle) {
     EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(color), expected, 8)) << "rows 4-7 red";
 }
 
+// NDC of the centre of pixel (x, y) of an 8x8 target (row 0 on top, as everywhere in the RHI).
+ColorVertex pixelCenter(float x, float y, std::array<float, 4> c) {
+    return {(x + 0.5f) / 4.0f - 1.0f, (y + 0.5f) / 4.0f - 1.0f, 0, 1, c[0], c[1], c[2], c[3]};
+}
+
+// Points are one pixel each (the vertex shader writes gl_PointSize 1), exactly where they are.
+TEST_P(RasterTest, PointListDrawsOnePixelPerPoint) {
+    TextureHandle color = color8x8();
+    PipelineHandle pipeline = colorPipeline(Format::RGBA8_UNORM, Format::Unknown, {}, {}, {}, PrimitiveTopology::PointList);
+    const std::vector<ColorVertex> points = {pixelCenter(1, 2, kRed), pixelCenter(6, 5, kGreen), pixelCenter(3, 7, kRed)};
+    drawVertices(RenderPassDesc().addColor(Attachment::clear(color, {0, 0, 0, 1})), pipeline, points);
+    std::vector<Rgba8> expected(64, Rgba8{0, 0, 0, 255});
+    expected[2 * 8 + 1] = {255, 0, 0, 255};
+    expected[5 * 8 + 6] = {0, 255, 0, 255};
+    expected[7 * 8 + 3] = {255, 0, 0, 255};
+    EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(color), expected, 8));
+}
+
+// A line list draws each pair as its own segment (no segment joins one pair to the next), one
+// pixel wide along a row or column of pixel centres. Endpoint pixels are left out of the check:
+// GL's diamond-exit rule and Vulkan's line rasterisation may differ on the last pixel of a
+// segment that ends inside it; every pixel in between is exact.
+TEST_P(RasterTest, LineListDrawsSeparateOnePixelSegments) {
+    TextureHandle color = color8x8();
+    PipelineHandle pipeline = colorPipeline(Format::RGBA8_UNORM, Format::Unknown, {}, {}, {}, PrimitiveTopology::LineList);
+    const std::vector<ColorVertex> lines = {pixelCenter(-0.25f, 1, kRed), pixelCenter(7.25f, 1, kRed),        // row 1
+                                            pixelCenter(5, 2.75f, kGreen), pixelCenter(5, 7.25f, kGreen)};   // column 5, rows 3..7
+    drawVertices(RenderPassDesc().addColor(Attachment::clear(color, {0, 0, 0, 1})), pipeline, lines);
+    const std::vector<Rgba8> image = readTextureAs<Rgba8>(color);
+    auto at = [&](int x, int y) { return image[size_t(y) * 8 + size_t(x)]; };
+    const Rgba8 black{0, 0, 0, 255}, red{255, 0, 0, 255}, green{0, 255, 0, 255};
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 8; ++x) {
+            const bool onRow = y == 1, onColumn = x == 5 && y >= 3;
+            const bool endpoint = (onRow && (x == 0 || x == 7)) || (onColumn && (y == 3 || y == 7));
+            if (endpoint) continue;
+            const Rgba8 expected = onRow ? red : onColumn ? green : black;
+            EXPECT_EQ(at(x, y), expected) << "pixel (" << x << ", " << y << ")";
+        }
+}
+
 }  // namespace
 }  // namespace janus::rhi::test
