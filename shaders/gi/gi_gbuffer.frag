@@ -17,13 +17,14 @@ layout(location = 1) in vec3 vNormal;
 layout(location = 2) in vec2 vUv;
 layout(location = 3) in vec4 vTangent;
 layout(location = 4) in vec2 vUv1;
+layout(location = 5) in vec4 vColor;
 
 layout(location = 0) out vec4 outAlbedoDistance;
 layout(location = 1) out vec4 outNormalFacing;
 layout(location = 2) out vec4 outEmission;
 
 void main() {
-    vec4 baseColor = draw.baseColorFactor * texture(baseColorTexture, materialUv(kTextureBaseColor, vUv, vUv1));
+    vec4 baseColor = draw.baseColorFactor * vColor * texture(baseColorTexture, materialUv(kTextureBaseColor, vUv, vUv1));
     if (draw.flags.z == kAlphaModeMask && baseColor.a < draw.emissiveFactor.w) discard;
     float metallic = clamp(draw.materialParams.x * texture(metallicRoughnessTexture, materialUv(kTextureMetallicRoughness, vUv, vUv1)).b, 0.0, 1.0);
     vec3 toSurface = vWorldPosition - frame.cameraPosition.xyz;
@@ -34,5 +35,11 @@ void main() {
     outAlbedoDistance = vec4(clamp(baseColor.rgb, 0.0, 1.0) * (1.0 - metallic), length(toSurface));
     outNormalFacing = vec4(normal, front ? 1.0 : -1.0);
     vec3 emission = draw.emissiveFactor.rgb * texture(emissiveTexture, materialUv(kTextureEmissive, vUv, vUv1)).rgb;
+    if (draw.shading.x != 0) {
+        // Unlit: the surface shows its base colour whatever lights it, so to the volume it emits
+        // that colour and reflects nothing.
+        outAlbedoDistance.rgb = vec3(0.0);
+        emission = baseColor.rgb;
+    }
     outEmission = vec4(min(mix(emission, vec3(0.0), isnan(emission)), vec3(65000.0)), 0.0);
 }

@@ -10,10 +10,11 @@ layout(set = JANUS_SET_DRAW, binding = JANUS_BINDING_BASE_COLOR) uniform sampler
 
 layout(location = 2) in vec2 vUv;
 layout(location = 4) in vec2 vUv1;
+layout(location = 5) in vec4 vColor;
 
 void main() {
     if (draw.flags.z == kAlphaModeMask) {
-        vec4 baseColor = draw.baseColorFactor * texture(baseColorTexture, materialUv(kTextureBaseColor, vUv, vUv1));
+        vec4 baseColor = draw.baseColorFactor * vColor * texture(baseColorTexture, materialUv(kTextureBaseColor, vUv, vUv1));
         if (baseColor.a < draw.emissiveFactor.w) discard;
     }
 }

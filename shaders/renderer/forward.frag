@@ -26,6 +26,7 @@ layout(location = 1) in vec3 vNormal;
 layout(location = 2) in vec2 vUv;
 layout(location = 3) in vec4 vTangent;
 layout(location = 4) in vec2 vUv1;
+layout(location = 5) in vec4 vColor;
 
 layout(location = 0) out vec4 outRadiance;
 
@@ -49,9 +50,9 @@ float visibilitySmithGGXCorrelated(float NoV, float NoL, float alpha) {
     return 0.5 / max(ggxV + ggxL, 1e-6);
 }
 
-vec3 fresnelSchlick(vec3 f0, float VoH) {
+vec3 fresnelSchlick(vec3 f0, float f90, float VoH) {
     float f = pow(1.0 - VoH, 5.0);
-    return f0 + (vec3(1.0) - f0) * f;
+    return f0 + (vec3(f90) - f0) * f;
 }
 
 struct Surface {
@@ -59,6 +60,7 @@ struct Surface {
     vec3 view;
     vec3 diffuseColor;
     vec3 f0;
+    float f90;             // 1 but for dielectrics with KHR_materials_specular
     float alpha;
 };
 
@@ -78,7 +80,7 @@ vec3 shade(Surface s, vec3 toLight, vec3 irradiance) {
     float NoV = clamp(abs(dot(s.normal, s.view)), 1e-4, 1.0);
     float NoH = clamp(dot(s.normal, h), 0.0, 1.0);
     float VoH = clamp(dot(s.view, h), 0.0, 1.0);
-    vec3 F = fresnelSchlick(s.f0, VoH);
+    vec3 F = fresnelSchlick(s.f0, s.f90, VoH);
     vec3 specular = F * (distributionGGX(NoH, s.normal, h, s.alpha) * visibilitySmithGGXCorrelated(NoV, NoL, s.alpha));
     vec3 diffuse = (vec3(1.0) - F) * s.diffuseColor / PI;
     return (diffuse + specular) * irradiance * NoL;
@@ -94,9 +96,25 @@ vec3 shadeLocalLight(Surface s, vec3 worldPosition, int index, uint meshLayers) 
     return shade(s, light.toLight, light.irradiance);
 }
 
+// Writes the fragment's radiance, `coverage` being the base colour's alpha.
+void writeRadiance(vec3 radiance, float coverage) {
+    // Whatever went wrong upstream, no NaN reaches the target (min() would not stop it).
+    radiance = mix(radiance, vec3(0.0), isnan(radiance));
+    // alphaMode BLEND (the transparent pass, docs/LIGHTING.md "Transparent surfaces"): alpha is
+    // coverage, and the output is premultiplied, blended as One, OneMinusSrcAlpha. Everything
+    // else is opaque: alpha 1.
+    float alpha = draw.flags.z == kAlphaModeBlend ? clamp(coverage, 0.0, 1.0) : 1.0;
+    outRadiance = vec4(min(radiance, vec3(kMaxRadiance)) * alpha, alpha);
+}
+
 void main() {
-    vec4 baseColor = draw.baseColorFactor * texture(baseColorTexture, materialUv(kTextureBaseColor, vUv, vUv1));
+    vec4 baseColor = draw.baseColorFactor * vColor * texture(baseColorTexture, materialUv(kTextureBaseColor, vUv, vUv1));
     if (draw.flags.z == kAlphaModeMask && baseColor.a < draw.emissiveFactor.w) discard;
+    if (draw.shading.x != 0) {
+        // Unlit (KHR_materials_unlit; points and lines without normals): the base colour is the radiance.
+        writeRadiance(baseColor.rgb, baseColor.a);
+        return;
+    }
     vec4 metallicRoughness = texture(metallicRoughnessTexture, materialUv(kTextureMetallicRoughness, vUv, vUv1));
     float metallic = clamp(draw.materialParams.x * metallicRoughness.b, 0.0, 1.0);
     float perceptualRoughness = clamp(draw.materialParams.y * metallicRoughness.g, 0.045, 1.0);
@@ -126,7 +144,8 @@ void main() {
     s.normal = normal;
     s.view = toCamera;
     s.diffuseColor = baseColor.rgb * (1.0 - metallic);
-    s.f0 = mix(vec3(0.04), baseColor.rgb, metallic);
+    s.f0 = mix(draw.dielectricSpecular.rgb, baseColor.rgb, metallic);
+    s.f90 = mix(draw.dielectricSpecular.w, 1.0, metallic);
     s.alpha = perceptualRoughness * perceptualRoughness;
 
     vec3 radiance = vec3(0.0);
@@ -182,25 +201,18 @@ void main() {
             diffuseScale = occlusion;
         }
         radiance += s.diffuseColor * diffuseIrradiance * diffuseScale +
-                    specularLight * splitSumScale(NoV, perceptualRoughness, s.f0) * specularOcclusion(NoV, occlusion, perceptualRoughness);
+                    specularLight * splitSumScale(NoV, perceptualRoughness, s.f0, s.f90) * specularOcclusion(NoV, occlusion, perceptualRoughness);
     } else if (gi.a > 0.0) {
         // The irradiance volume's diffuse light, the ambient colour's rough specular term.
         radiance += (mix(frame.ambientColor.rgb, gi.rgb, gi.a) * s.diffuseColor + frame.ambientColor.rgb * s.f0 * remaining) * occlusion;
         if (remaining < 1.0)
-            radiance += probeSpecular * splitSumScale(NoV, perceptualRoughness, s.f0) * specularOcclusion(NoV, occlusion, perceptualRoughness);
+            radiance += probeSpecular * splitSumScale(NoV, perceptualRoughness, s.f0, s.f90) * specularOcclusion(NoV, occlusion, perceptualRoughness);
     } else {
         // Uniform ambient: diffuse plus a rough specular term (where no probe reflects).
         radiance += frame.ambientColor.rgb * (s.diffuseColor + s.f0 * remaining) * occlusion;
         if (remaining < 1.0)
-            radiance += probeSpecular * splitSumScale(NoV, perceptualRoughness, s.f0) * specularOcclusion(NoV, occlusion, perceptualRoughness);
+            radiance += probeSpecular * splitSumScale(NoV, perceptualRoughness, s.f0, s.f90) * specularOcclusion(NoV, occlusion, perceptualRoughness);
     }
     radiance += draw.emissiveFactor.rgb * texture(emissiveTexture, materialUv(kTextureEmissive, vUv, vUv1)).rgb;
-
-    // Whatever went wrong upstream, no NaN reaches the target (min() would not stop it).
-    radiance = mix(radiance, vec3(0.0), isnan(radiance));
-    // alphaMode BLEND (the transparent pass, docs/LIGHTING.md "Transparent surfaces"): alpha is
-    // coverage, and the output is premultiplied, blended as One, OneMinusSrcAlpha. Everything
-    // else is opaque: alpha 1.
-    float alpha = draw.flags.z == kAlphaModeBlend ? clamp(baseColor.a, 0.0, 1.0) : 1.0;
-    outRadiance = vec4(min(radiance, vec3(kMaxRadiance)) * alpha, alpha);
+    writeRadiance(radiance, baseColor.a);
 }

@@ -1,6 +1,6 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// Forward pass: world-space position, normal, tangent and both UV sets for forward.frag.
+// Forward pass: world-space position, normal, tangent, both UV sets and the vertex colour for forward.frag.
 #include "renderer/forward_common.glsl"
 
 layout(location = 0) in vec3 inPosition;
@@ -8,12 +8,14 @@ layout(location = 1) in vec3 inNormal;
 layout(location = 2) in vec2 inUv;
 layout(location = 3) in vec4 inTangent;
 layout(location = 4) in vec2 inUv1;
+layout(location = 5) in vec4 inColor;
 
 layout(location = 0) out vec3 vWorldPosition;
 layout(location = 1) out vec3 vNormal;
 layout(location = 2) out vec2 vUv;
 layout(location = 3) out vec4 vTangent;
 layout(location = 4) out vec2 vUv1;
+layout(location = 5) out vec4 vColor;
 
 
 void main() {
@@ -27,6 +29,9 @@ void main() {
     vTangent = vec4(mat3(draw.world) * inTangent.xyz, inTangent.w);
     vUv = inUv;
     vUv1 = inUv1;
+    vColor = inColor;
+    // Points are one pixel (GLES and Vulkan read the size only from here).
+    gl_PointSize = 1.0;
     precise vec4 position = frame.viewProjection * world;
     gl_Position = position;
 }

@@ -30,13 +30,13 @@ vec3 skyIrradianceOverPi(vec3 n) {
 }
 
 // Split-sum specular (docs/IBL.md): prefiltered radiance along the reflection at the roughness's
-// mip, times f0 * A + B from the DFG table.
+// mip, times f0 * A + f90 * B from the DFG table (f90 1 but for KHR_materials_specular dielectrics).
 vec3 skyPrefilteredRadiance(vec3 reflected, float perceptualRoughness, float lastMip) {
     return textureLod(skySpecular, reflected, perceptualRoughness * lastMip).rgb;
 }
-vec3 splitSumScale(float NoV, float perceptualRoughness, vec3 f0) {
+vec3 splitSumScale(float NoV, float perceptualRoughness, vec3 f0, float f90) {
     vec2 dfg = texture(dfgTable, vec2(NoV, perceptualRoughness)).rg;
-    return f0 * dfg.x + dfg.y;
+    return f0 * dfg.x + f90 * dfg.y;
 }
 
 // Specular occlusion from the material's ambient occlusion (Lagarde & de Rousiers 2014).

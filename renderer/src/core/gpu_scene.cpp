@@ -26,11 +26,13 @@ struct DrawUniforms {
     glm::vec4 emissiveFactor;
     glm::vec4 materialParams;
     glm::ivec4 flags;
+    glm::vec4 dielectricSpecular;   // rgb F0, w F90 of the non-metal part
+    glm::ivec4 shading;             // x 1 = unlit
     // Per material texture (kTexture* in forward_common.glsl) two rows of its KHR_texture_transform
     // matrix; the first row's w is the UV set it reads (0 or 1).
     glm::vec4 textureTransforms[10];
 };
-static_assert(sizeof(DrawUniforms) == 352, "DrawUniforms must match std140");
+static_assert(sizeof(DrawUniforms) == 384, "DrawUniforms must match std140");
 
 // The two rows of `transform`'s 3x3 matrix that matter (the third is 0 0 1), for textureTransforms.
 void packTextureTransform(const TextureTransform& transform, glm::vec4* rows) {
@@ -55,8 +57,8 @@ glm::mat4 normalMatrixOf(const glm::mat4& world) {
     cofactor[2] = glm::cross(m[0], m[1]);
     return glm::mat4(cofactor);
 }
-static_assert(sizeof(Vertex) == 56 && offsetof(Vertex, normal) == 12 && offsetof(Vertex, uv) == 24 && offsetof(Vertex, tangent) == 32 &&
-                  offsetof(Vertex, uv1) == 48,
+static_assert(sizeof(Vertex) == 72 && offsetof(Vertex, normal) == 12 && offsetof(Vertex, uv) == 24 && offsetof(Vertex, tangent) == 32 &&
+                  offsetof(Vertex, uv1) == 48 && offsetof(Vertex, color) == 56,
               "the mesh pipelines' vertex layout assumes a tightly packed Vertex");
 
 float srgbToLinear(uint8_t value) {
@@ -210,17 +212,17 @@ void GpuScene::createDraws(const Scene& scene) {
         uniforms.world = instance.world;
         uniforms.normalMatrix = normalMatrixOf(instance.world);
         uniforms.baseColorFactor = material.baseColorFactor;
-        uniforms.emissiveFactor = glm::vec4(material.emissiveFactor, material.alphaCutoff);
+        uniforms.emissiveFactor = glm::vec4(material.emissiveFactor * material.emissiveStrength, material.alphaCutoff);
+        uniforms.dielectricSpecular = glm::vec4(material.dielectricF0(), material.dielectricF90());
+        uniforms.shading = glm::ivec4(material.unlit || mesh.unlit ? 1 : 0, 0, 0, 0);
         uniforms.materialParams = glm::vec4(material.metallicFactor, material.roughnessFactor, material.normalScale, material.occlusionStrength);
         // Normal maps need tangents; meshes without them shade with their vertex normals.
         // flags.z is the alpha mode as forward.frag reads it: 0 opaque, 1 mask, 2 blend.
         const int32_t alphaMode = material.alphaMode == AlphaMode::Mask ? 1 : material.alphaMode == AlphaMode::Blend ? 2 : 0;
         uniforms.flags = glm::ivec4(material.doubleSided ? 1 : 0, hasTangents && material.normalTexture >= 0 ? 1 : 0, alphaMode,
                                     int32_t(instance.renderingLayers));
-        // The order of kTexture* in forward_common.glsl.
-        const TextureTransform* transforms[] = {&material.baseColorTransform, &material.metallicRoughnessTransform,
-                                                &material.normalTransform, &material.occlusionTransform, &material.emissiveTransform};
-        for (size_t t = 0; t < std::size(transforms); ++t) packTextureTransform(*transforms[t], &uniforms.textureTransforms[t * 2]);
+        const auto slots = material.textureSlots();   // in kTexture* order
+        for (size_t t = 0; t < slots.size(); ++t) packTextureTransform(*slots[t].transform, &uniforms.textureTransforms[t * 2]);
         std::memcpy(drawData.data() + i * stride, &uniforms, sizeof(uniforms));
 
         auto texture = [&](uint32_t binding, int32_t index, const rhi::TextureHandle& fallback) {
@@ -233,6 +235,7 @@ void GpuScene::createDraws(const Scene& scene) {
         draw.doubleSided = material.doubleSided;
         draw.mirrored = glm::determinant(glm::mat3(instance.world)) < 0.0f;
         draw.blended = material.alphaMode == AlphaMode::Blend;
+        draw.topology = mesh.topology;
         draw.renderingLayers = instance.renderingLayers;
         draw.world = instance.world;
         // The centre of the world-space box around the transformed local box is the transformed
@@ -254,28 +257,36 @@ void GpuScene::createDraws(const Scene& scene) {
         (draw.blended ? m_blendedDraws : m_draws).push_back(std::move(draw));
     }
     m_device.writeBuffer(m_drawUniforms, drawData.data(), drawData.size());
-    for (const Draw& draw : m_blendedDraws) m_hasBlendedKind[draw.doubleSided][draw.mirrored] = true;
+    for (const Draw& draw : m_blendedDraws) {
+        if (draw.topology == MeshTopology::Triangles) m_hasBlendedKind[draw.doubleSided][draw.mirrored] = true;
+        m_hasTopology[1][size_t(draw.topology)] = true;
+    }
 
     // Fewer pipeline switches: single-sided draws first, then double-sided ones; mirrored ones
     // after the others of their kind.
     std::stable_sort(m_draws.begin(), m_draws.end(), [](const Draw& a, const Draw& b) {
         return std::pair(a.doubleSided, a.mirrored) < std::pair(b.doubleSided, b.mirrored);
     });
-    for (const Draw& draw : m_draws) m_hasKind[draw.doubleSided][draw.mirrored] = true;
+    for (const Draw& draw : m_draws) {
+        if (draw.topology == MeshTopology::Triangles) m_hasKind[draw.doubleSided][draw.mirrored] = true;
+        m_hasTopology[0][size_t(draw.topology)] = true;
+    }
 }
 
 rhi::PipelineHandle GpuScene::createMeshPipeline(const rhi::ShaderHandle& vertexShader, const rhi::ShaderHandle& fragmentShader,
                                                  rhi::CullMode cull, bool clockwise, rhi::DepthState depth, rhi::BlendAttachment blend,
                                                  const std::vector<rhi::Format>& colorFormats, rhi::Format depthFormat,
-                                                 const std::string& name) const {
+                                                 const std::string& name, rhi::PrimitiveTopology topology) const {
     rhi::GraphicsPipelineDesc desc;
     desc.setShaders(vertexShader, fragmentShader)
+        .setTopology(topology)
         .addVertexBuffer({0, sizeof(Vertex), false})
         .addVertexAttribute({0, rhi::VertexFormat::Float3, 0, offsetof(Vertex, position)})
         .addVertexAttribute({1, rhi::VertexFormat::Float3, 0, offsetof(Vertex, normal)})
         .addVertexAttribute({2, rhi::VertexFormat::Float2, 0, offsetof(Vertex, uv)})
         .addVertexAttribute({3, rhi::VertexFormat::Float4, 0, offsetof(Vertex, tangent)})
         .addVertexAttribute({4, rhi::VertexFormat::Float2, 0, offsetof(Vertex, uv1)})
+        .addVertexAttribute({5, rhi::VertexFormat::Float4, 0, offsetof(Vertex, color)})
         // glTF front faces are counter-clockwise; an ordinary projection keeps that as seen in
         // the image, a mirrored one (cube faces) or a mirrored instance turns it clockwise.
         .setRaster(rhi::RasterState{cull, clockwise ? rhi::FrontFace::Clockwise : rhi::FrontFace::CounterClockwise})
@@ -303,6 +314,7 @@ GpuScene::MeshPipelines GpuScene::createUnculledPipelines(const rhi::ShaderHandl
     pipelines.culled = pipelines.doubleSided = pipeline(mirrored, "no culling");
     if (m_hasKind[0][1] || m_hasKind[1][1])
         pipelines.culledMirrored = pipelines.doubleSidedMirrored = pipeline(!mirrored, "no culling, mirrored instances");
+    // No line or point pipelines: the G-buffer's surfaces are areas (drawMeshes skips the rest).
     return pipelines;
 }
 
@@ -318,6 +330,8 @@ GpuScene::MeshPipelines GpuScene::createMeshPipelines(const rhi::ShaderHandle& v
     if (m_hasKind[1][0]) pipelines.doubleSided = pipeline(rhi::CullMode::None, mirrored, "double-sided");
     if (m_hasKind[0][1]) pipelines.culledMirrored = pipeline(rhi::CullMode::Back, !mirrored, "back-face culled, mirrored instances");
     if (m_hasKind[1][1]) pipelines.doubleSidedMirrored = pipeline(rhi::CullMode::None, !mirrored, "double-sided, mirrored instances");
+    addLineAndPointPipelines(pipelines.lines, pipelines.points, vertexShader, fragmentShader, depth, {}, formatList(colorFormat),
+                             depthFormat, name, false);
     return pipelines;
 }
 
@@ -337,7 +351,22 @@ GpuScene::BlendedPipelines GpuScene::createBlendedPipelines(const rhi::ShaderHan
         pipelines.backCulledMirrored = pipeline(rhi::CullMode::Back, !mirrored, "front faces, mirrored instances");
     if (m_hasBlendedKind[1][1])
         pipelines.frontCulledMirrored = pipeline(rhi::CullMode::Front, !mirrored, "back faces of double-sided, mirrored instances");
+    addLineAndPointPipelines(pipelines.lines, pipelines.points, vertexShader, fragmentShader, depth, blend, formatList(colorFormat),
+                             depthFormat, name, true);
     return pipelines;
+}
+
+void GpuScene::addLineAndPointPipelines(rhi::PipelineHandle& lines, rhi::PipelineHandle& points, const rhi::ShaderHandle& vertexShader,
+                                        const rhi::ShaderHandle& fragmentShader, rhi::DepthState depth, rhi::BlendAttachment blend,
+                                        const std::vector<rhi::Format>& colorFormats, rhi::Format depthFormat, const std::string& name,
+                                        bool blended) const {
+    // Lines and points have no faces: no culling, and winding does not matter.
+    if (m_hasTopology[blended][size_t(MeshTopology::Lines)])
+        lines = createMeshPipeline(vertexShader, fragmentShader, rhi::CullMode::None, false, depth, blend, colorFormats, depthFormat,
+                                   fmt::format("{} (lines)", name), rhi::PrimitiveTopology::LineList);
+    if (m_hasTopology[blended][size_t(MeshTopology::Points)])
+        points = createMeshPipeline(vertexShader, fragmentShader, rhi::CullMode::None, false, depth, blend, colorFormats, depthFormat,
+                                    fmt::format("{} (points)", name), rhi::PrimitiveTopology::PointList);
 }
 
 namespace {
@@ -372,7 +401,9 @@ void GpuScene::drawMeshes(rhi::ICommandList& cmd, const SceneView& view, const M
     const rhi::IPipeline* bound = nullptr;
     for (const Draw& draw : m_draws) {
         if (!viewSees(view, draw)) continue;
-        recordDraw(cmd, pipelines.forDraw(draw), draw, viewBindings, bound, report);
+        const rhi::PipelineHandle& pipeline = pipelines.forDraw(draw);
+        if (!pipeline && draw.topology != MeshTopology::Triangles) continue;   // a pass without line or point pipelines
+        recordDraw(cmd, pipeline, draw, viewBindings, bound, report);
     }
 }
 
@@ -399,6 +430,10 @@ void GpuScene::drawBlended(rhi::ICommandList& cmd, const std::vector<uint32_t>& 
     };
     for (uint32_t index : order) {
         const Draw& draw = m_blendedDraws.at(index);
+        if (draw.topology != MeshTopology::Triangles) {
+            drawWith(draw.topology == MeshTopology::Lines ? pipelines.lines : pipelines.points, draw);
+            continue;
+        }
         if (draw.doubleSided) drawWith(draw.mirrored ? pipelines.frontCulledMirrored : pipelines.frontCulled, draw);
         drawWith(draw.mirrored ? pipelines.backCulledMirrored : pipelines.backCulled, draw);
     }

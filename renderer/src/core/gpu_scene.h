@@ -21,7 +21,7 @@ namespace janus::renderer {
 class GpuScene {
 public:
     struct Mesh {
-        rhi::BufferHandle vertices;   // renderer Vertex (56 bytes)
+        rhi::BufferHandle vertices;   // renderer Vertex (72 bytes)
         rhi::BufferHandle indices;    // uint32
         uint32_t indexCount = 0;
     };
@@ -35,6 +35,7 @@ public:
         // alphaMode BLEND: not in draws() (so not in the prepass, the forward pass or the shadow
         // map) but in blendedDraws(), drawn by the transparent pass.
         bool blended = false;
+        MeshTopology topology = MeshTopology::Triangles;   // points and lines draw without culling
         uint32_t renderingLayers = 1u;
         glm::mat4 world{1.0f};
         glm::vec3 boundsCenter{0.0f};     // world-space centre of the mesh's bounding box (sorting)
@@ -42,13 +43,17 @@ public:
     };
     // The pipelines of one kind of mesh pass: back-face culled, and without culling for
     // double-sided materials, each with the view's winding and with the opposite one for
-    // mirrored instances (null where the scene has no such draw).
+    // mirrored instances; line and point lists (null where the scene has no such draw).
     struct MeshPipelines {
         rhi::PipelineHandle culled;
         rhi::PipelineHandle doubleSided;
         rhi::PipelineHandle culledMirrored;
         rhi::PipelineHandle doubleSidedMirrored;
+        rhi::PipelineHandle lines;
+        rhi::PipelineHandle points;
         const rhi::PipelineHandle& forDraw(const Draw& draw) const {
+            if (draw.topology == MeshTopology::Lines) return lines;
+            if (draw.topology == MeshTopology::Points) return points;
             return draw.doubleSided ? (draw.mirrored ? doubleSidedMirrored : doubleSided) : (draw.mirrored ? culledMirrored : culled);
         }
     };
@@ -61,6 +66,8 @@ public:
         rhi::PipelineHandle frontCulled;           // double-sided draws' back faces
         rhi::PipelineHandle backCulledMirrored;
         rhi::PipelineHandle frontCulledMirrored;
+        rhi::PipelineHandle lines;                 // blended line and point lists: one draw each
+        rhi::PipelineHandle points;
     };
 
     GpuScene(rhi::IDevice& device, const Scene& scene);
@@ -84,7 +91,8 @@ public:
                                       const std::string& name) const;
 
     // Pipelines without face culling (every field set; gl_FrontFacing tells the sides apart) into
-    // the given colour targets: the GI bake's G-buffer.
+    // the given colour targets: the GI bake's G-buffer. Triangles only: drawMeshes with these
+    // skips points and lines.
     MeshPipelines createUnculledPipelines(const rhi::ShaderHandle& vertexShader, const rhi::ShaderHandle& fragmentShader,
                                           rhi::DepthState depth, const std::vector<rhi::Format>& colorFormats, rhi::Format depthFormat,
                                           bool mirrored, const std::string& name) const;
@@ -114,7 +122,13 @@ private:
     rhi::PipelineHandle createMeshPipeline(const rhi::ShaderHandle& vertexShader, const rhi::ShaderHandle& fragmentShader,
                                            rhi::CullMode cull, bool clockwise, rhi::DepthState depth, rhi::BlendAttachment blend,
                                            const std::vector<rhi::Format>& colorFormats, rhi::Format depthFormat,
-                                           const std::string& name) const;
+                                           const std::string& name,
+                                           rhi::PrimitiveTopology topology = rhi::PrimitiveTopology::TriangleList) const;
+    // The line and point pipelines of `pipelines` (where the scene has such draws).
+    void addLineAndPointPipelines(rhi::PipelineHandle& lines, rhi::PipelineHandle& points, const rhi::ShaderHandle& vertexShader,
+                                  const rhi::ShaderHandle& fragmentShader, rhi::DepthState depth, rhi::BlendAttachment blend,
+                                  const std::vector<rhi::Format>& colorFormats, rhi::Format depthFormat, const std::string& name,
+                                  bool blended) const;
     rhi::TextureHandle createTexture(const std::string& name, uint32_t width, uint32_t height, std::vector<uint8_t> rgba, bool srgb);
     rhi::SamplerHandle createSampler(const TextureSampling& sampling);
     void uploadTextures(const Scene& scene);
@@ -126,6 +140,7 @@ private:
     std::vector<Draw> m_draws, m_blendedDraws;
     bool m_hasKind[2][2] = {};          // [doubleSided][mirrored]: which pipelines draws() needs
     bool m_hasBlendedKind[2][2] = {};   // the same for blendedDraws()
+    bool m_hasTopology[2][3] = {};      // [blended][MeshTopology]: which topologies draws() / blendedDraws() hold
     std::vector<rhi::TextureHandle> m_textures;
     std::vector<rhi::SamplerHandle> m_textureSamplers;   // per scene texture, shared between equal samplings
     rhi::TextureHandle m_whiteTexture, m_flatNormalTexture;

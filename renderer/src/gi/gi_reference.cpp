@@ -114,6 +114,8 @@ struct LinearTexture {
 struct TraceMesh {
     std::vector<glm::dvec3> normals;   // world, per vertex (may be zero: the geometric normal is used)
     std::vector<glm::dvec2> uvs, uvs1;   // TEXCOORD_0, TEXCOORD_1
+    std::vector<glm::dvec4> colors;      // COLOR_0 (white without)
+    bool unlit = false;                  // the material's or the mesh's: emits its base colour, reflects nothing
     std::vector<uint32_t> indices;
     double frontSign = 1.0;            // -1 for a mirrored instance: its front faces wind clockwise in world space
     uint32_t renderingLayers = 1u;
@@ -238,17 +240,22 @@ struct GiReference::Impl {
             return glm::dvec2(glm::dmat3(transform.matrix()) * glm::dvec3(transform.texCoord == 1 ? uv1 : uv0, 1.0));
         };
 
-        glm::dvec4 base = glm::dvec4(material.baseColorFactor);
+        glm::dvec4 base = glm::dvec4(material.baseColorFactor) * (w * mesh.colors[i0] + u * mesh.colors[i1] + v * mesh.colors[i2]);
         if (material.baseColorTexture >= 0)
             base *= textures[size_t(material.baseColorTexture)].sample(uvFor(material.baseColorTransform));
+        hit.renderingLayers = mesh.renderingLayers;
+        if (mesh.unlit) {   // as gi_gbuffer.frag: an unlit surface shows its colour whatever lights it
+            hit.albedo = glm::dvec3(0.0);
+            hit.emission = glm::clamp(glm::dvec3(base), 0.0, 65000.0);
+            return hit;
+        }
         double metallic = material.metallicFactor;
         if (material.metallicRoughnessTexture >= 0)
             metallic *= textures[size_t(material.metallicRoughnessTexture)].sample(uvFor(material.metallicRoughnessTransform)).b;
         hit.albedo = glm::clamp(glm::dvec3(base), 0.0, 1.0) * (1.0 - std::clamp(metallic, 0.0, 1.0));
-        hit.emission = glm::dvec3(material.emissiveFactor);
+        hit.emission = glm::dvec3(material.emissiveFactor) * double(material.emissiveStrength);
         if (material.emissiveTexture >= 0)
             hit.emission *= glm::dvec3(textures[size_t(material.emissiveTexture)].sample(uvFor(material.emissiveTransform)));
-        hit.renderingLayers = mesh.renderingLayers;
         return hit;
     }
 
@@ -378,7 +385,7 @@ GiReference::GiReference(const Scene& scene) : m_impl(std::make_unique<Impl>()) 
         if (mesh.material >= 0 && size_t(mesh.material) < scene.materials.size() &&
             scene.materials[size_t(mesh.material)].alphaMode == AlphaMode::Blend)
             continue;
-        if (mesh.indices.size() < 3 || mesh.vertices.empty()) continue;
+        if (mesh.topology != MeshTopology::Triangles || mesh.indices.size() < 3 || mesh.vertices.empty()) continue;   // points and lines: no area
         TraceMesh trace;
         const glm::dmat4 world(instance.world);
         const glm::dmat3 normalMatrix = glm::transpose(glm::inverse(glm::dmat3(world)));
@@ -389,6 +396,9 @@ GiReference::GiReference(const Scene& scene) : m_impl(std::make_unique<Impl>()) 
         trace.normals.resize(mesh.vertices.size());
         trace.uvs.resize(mesh.vertices.size());
         trace.uvs1.resize(mesh.vertices.size());
+        trace.colors.resize(mesh.vertices.size());
+        trace.unlit = mesh.unlit || (mesh.material >= 0 && size_t(mesh.material) < scene.materials.size() &&
+                                     scene.materials[size_t(mesh.material)].unlit);
         for (size_t v = 0; v < mesh.vertices.size(); ++v) {
             positions[v] = glm::dvec3(world * glm::dvec4(glm::dvec3(mesh.vertices[v].position), 1.0));
             const glm::dvec3 n = normalMatrix * glm::dvec3(mesh.vertices[v].normal);
@@ -396,6 +406,7 @@ GiReference::GiReference(const Scene& scene) : m_impl(std::make_unique<Impl>()) 
             trace.normals[v] = length > 1e-30 && std::isfinite(length) ? n / length : glm::dvec3(0.0);
             trace.uvs[v] = glm::dvec2(mesh.vertices[v].uv);
             trace.uvs1[v] = glm::dvec2(mesh.vertices[v].uv1);
+            trace.colors[v] = glm::dvec4(mesh.vertices[v].color);
             lo = glm::min(lo, positions[v]);
             hi = glm::max(hi, positions[v]);
         }

@@ -477,11 +477,10 @@ std::string radianceDataProblem(std::string_view bytes, int width, int height) {
                     count -= 128;
                     next();
                 } else {
-                    if (readPastEnd) return endsEarly;   // the zero stb would loop on forever
-                    at += size_t(count);                 // 0 copies nothing (as Radiance's reader does)
+                    at += size_t(count);   // 0 copies nothing (as Radiance's reader does)
                     if (at > bytes.size()) return endsEarly;
                 }
-                if (readPastEnd) return endsEarly;
+                if (readPastEnd) return endsEarly;   // past the end stb reads 0s, and loops on them for ever
                 if (count > width - x) return "";   // stb refuses the run
                 x += count;
             }

@@ -33,6 +33,13 @@ glm::mat3 TextureTransform::matrix() const {
     return translation * turn * scaling;
 }
 
+glm::vec3 Material::dielectricF0() const {
+    // In double, so the default ior 1.5 gives float(0.04), the value glTF's core model names.
+    const double reflectance = (double(ior) - 1.0) / (double(ior) + 1.0);   // ior 0: -1, F0 1
+    return glm::vec3(glm::min(glm::dvec3(reflectance * reflectance) * glm::dvec3(specularColorFactor), glm::dvec3(1.0)) *
+                     double(specularFactor));
+}
+
 namespace detail {
 
 void generateNormals(Mesh& mesh) {
@@ -296,12 +303,14 @@ void finishGltfScene(Scene& scene, bool hasCamera) {
     detail::addIrradianceVolumeFromMarkers(scene);
 }
 
+// Validates a loaded scene and prints its warnings (Scene::warnings) on stderr.
 void validateLoaded(const std::filesystem::path& path, const Scene& scene) {
     try {
         validateScene(scene);
     } catch (const SceneError& e) {
         fail(path, e.what());
     }
+    for (const std::string& warning : scene.warnings) fmt::print(stderr, "janus: warning: {}\n", warning);
 }
 
 }  // namespace
@@ -359,13 +368,20 @@ const char* lightProblem(const Light& light) {
 void validateScene(const Scene& scene) {
     for (size_t m = 0; m < scene.meshes.size(); ++m) {
         const Mesh& mesh = scene.meshes[m];
-        if (mesh.indices.size() % 3 != 0) throw SceneError(fmt::format("mesh {} has {} indices, not whole triangles", m, mesh.indices.size()));
+        const size_t perPrimitive = mesh.topology == MeshTopology::Triangles ? 3 : mesh.topology == MeshTopology::Lines ? 2 : 1;
+        if (mesh.indices.size() % perPrimitive != 0)
+            throw SceneError(fmt::format("mesh {} has {} indices, not whole {}", m, mesh.indices.size(),
+                                         mesh.topology == MeshTopology::Triangles ? "triangles" : "lines"));
         for (uint32_t index : mesh.indices)
             if (index >= mesh.vertices.size())
                 throw SceneError(fmt::format("mesh {} has bad indices: {} is out of range ({} vertices)", m, index, mesh.vertices.size()));
         for (const Vertex& v : mesh.vertices)
-            if (!allFinite(v.position, v.normal, v.uv, v.tangent, v.uv1))
+            if (!allFinite(v.position, v.normal, v.uv, v.tangent, v.uv1, v.color))
                 throw SceneError(fmt::format("mesh {} has a NaN or infinite vertex attribute", m));
+        for (const Vertex& v : mesh.vertices)
+            if (glm::any(glm::lessThan(v.color, glm::vec4(0.0f))) || glm::any(glm::greaterThan(v.color, glm::vec4(kMaxColorValue))))
+                throw SceneError(fmt::format("mesh {} has a vertex colour ({}, {}, {}, {}) outside [0, {}]", m, v.color.r, v.color.g,
+                                             v.color.b, v.color.a, kMaxColorValue));
         if (mesh.material >= int32_t(scene.materials.size()))
             throw SceneError(fmt::format("mesh {} uses material {} but the scene has {}", m, mesh.material, scene.materials.size()));
     }
@@ -382,24 +398,35 @@ void validateScene(const Scene& scene) {
                 throw SceneError(fmt::format("material {} has a base colour or emissive value {} outside [0, {}]", name, v, kMaxColorValue));
         if (material.metallicFactor < 0 || material.metallicFactor > 1 || material.roughnessFactor < 0 || material.roughnessFactor > 1)
             throw SceneError(fmt::format("material {} has metallic/roughness outside [0, 1]", name));
+        if (!(material.emissiveStrength >= 0.0f && material.emissiveStrength <= kMaxColorValue))
+            throw SceneError(fmt::format("material {} has emissive strength {}; it must be in [0, {}] (KHR_materials_emissive_strength)",
+                                         name, material.emissiveStrength, kMaxColorValue));
+        for (float v : {material.emissiveFactor.r, material.emissiveFactor.g, material.emissiveFactor.b})
+            if (v * material.emissiveStrength > kMaxColorValue)
+                throw SceneError(fmt::format("material {} has emissive {} x strength {}, beyond the half-float targets' {}", name, v,
+                                             material.emissiveStrength, kMaxColorValue));
+        if (!(material.ior == 0.0f || (material.ior >= 1.0f && std::isfinite(material.ior))))
+            throw SceneError(fmt::format("material {} has ior {}; it must be 0 or a finite value >= 1 (KHR_materials_ior)", name, material.ior));
+        if (!(material.specularFactor >= 0.0f && material.specularFactor <= 1.0f))
+            throw SceneError(fmt::format("material {} has specularFactor {} outside [0, 1] (KHR_materials_specular)", name,
+                                         material.specularFactor));
+        for (float v : {material.specularColorFactor.r, material.specularColorFactor.g, material.specularColorFactor.b})
+            if (!(v >= 0.0f && v <= kMaxColorValue))
+                throw SceneError(fmt::format("material {} has a specularColorFactor value {} outside [0, {}] (KHR_materials_specular)", name,
+                                             v, kMaxColorValue));
         if (!allFinite(material.normalScale))
             throw SceneError(fmt::format("material {} has a NaN or infinite normalTexture.scale", name));
         if (!(material.occlusionStrength >= 0.0f && material.occlusionStrength <= 1.0f))
             throw SceneError(fmt::format("material {} has occlusionTexture.strength {} outside [0, 1]", name, material.occlusionStrength));
-        for (int32_t texture : {material.baseColorTexture, material.metallicRoughnessTexture, material.normalTexture,
-                                material.occlusionTexture, material.emissiveTexture})
-            if (texture >= int32_t(scene.textures.size()))
-                throw SceneError(fmt::format("material {} uses texture {} but the scene has {}", name, texture, scene.textures.size()));
-        const std::pair<const char*, const TextureTransform*> transforms[] = {
-            {"baseColorTexture", &material.baseColorTransform}, {"metallicRoughnessTexture", &material.metallicRoughnessTransform},
-            {"normalTexture", &material.normalTransform},       {"occlusionTexture", &material.occlusionTransform},
-            {"emissiveTexture", &material.emissiveTransform}};
-        for (const auto& [texture, transform] : transforms) {
-            if (!allFinite(transform->offset, transform->rotation, transform->scale))
-                throw SceneError(fmt::format("material {} {} has a NaN or infinite texture transform", name, texture));
-            if (transform->texCoord > 1)
-                throw SceneError(fmt::format("material {} {} uses texCoord {}; Janus reads TEXCOORD_0 and TEXCOORD_1 only", name, texture,
-                                             transform->texCoord));
+        for (const Material::TextureSlot& slot : material.textureSlots()) {
+            if (slot.texture >= int32_t(scene.textures.size()))
+                throw SceneError(fmt::format("material {} uses texture {} but the scene has {}", name, slot.texture, scene.textures.size()));
+            const TextureTransform& transform = *slot.transform;
+            if (!allFinite(transform.offset, transform.rotation, transform.scale))
+                throw SceneError(fmt::format("material {} {} has a NaN or infinite texture transform", name, slot.name));
+            if (transform.texCoord > 1)
+                throw SceneError(fmt::format("material {} {} uses texCoord {}; Janus reads TEXCOORD_0 and TEXCOORD_1 only", name, slot.name,
+                                             transform.texCoord));
         }
     }
     for (size_t t = 0; t < scene.textures.size(); ++t) {

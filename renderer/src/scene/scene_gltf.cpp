@@ -38,7 +38,13 @@ constexpr int kMaxImageSide = 16384;
 constexpr uint64_t kMaxImagePixels = uint64_t(1) << 26;
 
 // glTF extensions the loader implements.
-constexpr std::string_view kSupportedExtensions[] = {"KHR_lights_punctual", "KHR_mesh_quantization", "KHR_texture_transform"};
+constexpr std::string_view kSupportedExtensions[] = {"KHR_lights_punctual",
+                                                     "KHR_mesh_quantization",
+                                                     "KHR_texture_transform",
+                                                     "KHR_materials_emissive_strength",
+                                                     "KHR_materials_unlit",
+                                                     "KHR_materials_ior",
+                                                     "KHR_materials_specular"};
 
 bool isSupportedExtension(std::string_view name) {
     for (std::string_view supported : kSupportedExtensions)
@@ -295,6 +301,25 @@ std::string textureBytesProblem(const unsigned char* bytes, size_t size) {
     return "is neither a PNG nor a JPEG (glTF 2.0 textures are one or the other)";
 }
 
+// Refuses an image larger than Janus loads (kMaxImageSide / kMaxImagePixels), from the size in
+// its header, before decoding it.
+bool withinImageLimits(LoadContext& context, const std::string& label, int width, int height) {
+    if (width <= kMaxImageSide && height <= kMaxImageSide && uint64_t(width) * uint64_t(height) <= kMaxImagePixels) return true;
+    context.refuse(fmt::format("{} is {}x{} pixels, larger than Janus loads (at most {} on a side and {} Mi pixels in all); "
+                               "scale it down",
+                               label, width, height, kMaxImageSide, kMaxImagePixels >> 20));
+    return false;
+}
+
+void setRgba8(tinygltf::Image& image, int width, int height, std::vector<unsigned char> pixels) {
+    image.width = width;
+    image.height = height;
+    image.component = 4;
+    image.bits = 8;
+    image.pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
+    image.image = std::move(pixels);
+}
+
 // JPEG textures are decoded by libjpeg-turbo, not stb_image: stb's JPEG decoder misbehaves on
 // corrupt data in ways no check before it can catch (docs/TESTING.md, fuzzing findings 2, 3 and
 // 7). A warning (data cut short, corrupt entropy-coded data) is an error too: libjpeg-turbo would
@@ -307,35 +332,24 @@ bool loadJpeg(tinygltf::Image& image, const std::string& label, const unsigned c
         return false;
     }
     int width = 0, height = 0, subsampling = 0, colorspace = 0;
-    if (tjDecompressHeader3(decoder.get(), bytes, static_cast<unsigned long>(size), &width, &height, &subsampling, &colorspace) != 0) {
+    if (tjDecompressHeader3(decoder.get(), bytes, static_cast<unsigned long>(size), &width, &height, &subsampling, &colorspace) != 0 ||
+        width <= 0 || height <= 0) {
         if (err) *err += fmt::format("{} is not a JPEG image Janus can decode ({})\n", label, tjGetErrorStr2(decoder.get()));
         return false;
     }
-    if (width <= 0 || height <= 0 || width > int(kMaxImageSide) || height > int(kMaxImageSide) ||
-        uint64_t(width) * uint64_t(height) > kMaxImagePixels) {
-        context.refuse(fmt::format("{} is {}x{} pixels, larger than Janus loads (at most {} on a side and {} Mi pixels in all); "
-                                   "scale it down",
-                                   label, width, height, kMaxImageSide, kMaxImagePixels >> 20));
-        return false;
-    }
+    if (!withinImageLimits(context, label, width, height)) return false;
     std::vector<unsigned char> rgba(size_t(width) * size_t(height) * 4);
     if (tjDecompress2(decoder.get(), bytes, static_cast<unsigned long>(size), rgba.data(), width, 0, height, TJPF_RGBA,
                       TJFLAG_STOPONWARNING) != 0) {
         if (err) *err += fmt::format("{} could not be decoded ({})\n", label, tjGetErrorStr2(decoder.get()));
         return false;
     }
-    image.width = width;
-    image.height = height;
-    image.component = 4;
-    image.bits = 8;
-    image.pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
-    image.image = std::move(rgba);
+    setRgba8(image, width, height, std::move(rgba));
     return true;
 }
 
-// tinygltf's image loader: reads the size from the header and refuses an image beyond
-// kMaxImageSide / kMaxImagePixels before decoding it; decodes the rest to 8-bit RGBA (16-bit
-// images keep their high byte).
+// tinygltf's image loader: refuses an image beyond Janus' limits before decoding it and decodes
+// the rest to 8-bit RGBA (16-bit PNGs keep their high byte), JPEG with libjpeg-turbo, PNG with stb.
 bool loadImage(tinygltf::Image* image, const int index, std::string* err, std::string*, int, int, const unsigned char* bytes,
                int size, void* user) {
     LoadContext& context = *static_cast<LoadContext*>(user);
@@ -351,23 +365,13 @@ bool loadImage(tinygltf::Image* image, const int index, std::string* err, std::s
         if (err) *err += fmt::format("{} is not a PNG or JPEG image Janus can decode ({})\n", label, stbi_failure_reason());
         return false;
     }
-    if (width > kMaxImageSide || height > kMaxImageSide || uint64_t(width) * uint64_t(height) > kMaxImagePixels) {
-        context.refuse(fmt::format("{} is {}x{} pixels, larger than Janus loads (at most {} on a side and {} Mi pixels in all); "
-                                   "scale it down",
-                                   label, width, height, kMaxImageSide, kMaxImagePixels >> 20));
-        return false;
-    }
+    if (!withinImageLimits(context, label, width, height)) return false;
     stbi_uc* pixels = stbi_load_from_memory(bytes, size, &width, &height, &channels, 4);
     if (!pixels) {
         if (err) *err += fmt::format("{} could not be decoded ({})\n", label, stbi_failure_reason());
         return false;
     }
-    image->width = width;
-    image->height = height;
-    image->component = 4;
-    image->bits = 8;
-    image->pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
-    image->image.assign(pixels, pixels + size_t(width) * size_t(height) * 4);
+    setRgba8(*image, width, height, std::vector<unsigned char>(pixels, pixels + size_t(width) * size_t(height) * 4));
     stbi_image_free(pixels);
     return true;
 }
@@ -390,6 +394,7 @@ public:
         readMaterials(scene);
         readMeshes(scene);
         readNodes(scene);
+        scene.warnings = std::move(m_warnings);
         hasCamera = m_cameraFound;
         if (m_cameraFound) scene.camera = m_camera;
         return scene;
@@ -398,15 +403,20 @@ public:
 private:
     // A required extension we do not implement would render wrongly: refuse it by name. An
     // optional one we do not implement is ignored, with one warning each.
-    void checkExtensions() const {
+    void checkExtensions() {
         for (const std::string& name : m_model.extensionsRequired)
             if (!isSupportedExtension(name))
                 fail(fmt::format("the file requires glTF extension '{}', which Janus does not implement (supported: {})", name,
                                  supportedExtensionList()));
         for (const std::string& name : m_model.extensionsUsed)
             if (!isSupportedExtension(name))
-                fmt::print(stderr, "janus: warning: {}: ignoring glTF extension '{}' (not implemented; the file does not require it)\n",
-                           m_path.string(), name);
+                warn(fmt::format("ignoring glTF extension '{}' (not implemented; the file does not require it)", name));
+    }
+
+    // One warning for the scene (Scene::warnings), naming the file; the same text is given once.
+    void warn(const std::string& what) {
+        const std::string line = fmt::format("{}: {}", m_path.string(), what);
+        if (std::find(m_warnings.begin(), m_warnings.end(), line) == m_warnings.end()) m_warnings.push_back(line);
     }
 
     // tinygltf only warns about an image it could not read; a missing texture is an error here.
@@ -562,25 +572,61 @@ private:
                                                       m.occlusionTexture.extensions, m.name, "occlusionTexture");
             material.emissiveTransform =
                 transformOf(m.emissiveTexture.index, m.emissiveTexture.texCoord, m.emissiveTexture.extensions, m.name, "emissiveTexture");
+            readMaterialExtensions(m, material);
             scene.materials.push_back(std::move(material));
+        }
+    }
+
+    // The material extensions Janus implements (docs/SCENES.md); values are range-checked by
+    // validateScene, types here.
+    void readMaterialExtensions(const tinygltf::Material& m, Material& material) {
+        const std::string where = fmt::format("material '{}'", m.name);
+        auto extension = [&](const char* name) -> const tinygltf::Value* {
+            auto it = m.extensions.find(name);
+            if (it == m.extensions.end()) return nullptr;
+            if (!it->second.IsObject()) fail(fmt::format("{}: {} is not an object", where, name));
+            return &it->second;
+        };
+        auto number = [&](const tinygltf::Value& object, const char* name, const char* key, float fallback) {
+            if (!object.Has(key)) return fallback;
+            const tinygltf::Value& value = object.Get(key);
+            if (!value.IsNumber() || !std::isfinite(value.GetNumberAsDouble()))
+                fail(fmt::format("{}: {} {} is not a finite number", where, name, key));
+            return float(value.GetNumberAsDouble());
+        };
+        if (const tinygltf::Value* e = extension("KHR_materials_emissive_strength"))
+            material.emissiveStrength = number(*e, "KHR_materials_emissive_strength", "emissiveStrength", 1.0f);
+        if (extension("KHR_materials_unlit")) material.unlit = true;
+        if (const tinygltf::Value* e = extension("KHR_materials_ior")) material.ior = number(*e, "KHR_materials_ior", "ior", 1.5f);
+        if (const tinygltf::Value* e = extension("KHR_materials_specular")) {
+            material.specularFactor = number(*e, "KHR_materials_specular", "specularFactor", 1.0f);
+            if (e->Has("specularColorFactor")) {
+                const tinygltf::Value& value = e->Get("specularColorFactor");
+                if (!value.IsArray() || value.ArrayLen() != 3)
+                    fail(fmt::format("{}: KHR_materials_specular specularColorFactor must be an array of three numbers", where));
+                for (int c = 0; c < 3; ++c) {
+                    const tinygltf::Value& component = value.Get(c);
+                    if (!component.IsNumber() || !std::isfinite(component.GetNumberAsDouble()))
+                        fail(fmt::format("{}: KHR_materials_specular specularColorFactor is not three finite numbers", where));
+                    material.specularColorFactor[c] = float(component.GetNumberAsDouble());
+                }
+            }
+            // The factors are applied; the textures would need two more material bindings.
+            for (const char* texture : {"specularTexture", "specularColorTexture"})
+                if (e->Has(texture))
+                    warn(fmt::format("{}: ignoring KHR_materials_specular {} (Janus applies the specular factors only)", where, texture));
         }
     }
 
     // The first texture of `material` that reads TEXCOORD_1, or nullptr.
     static const char* textureReadingUv1(const Material& material) {
-        const std::pair<const char*, std::pair<int32_t, const TextureTransform*>> textures[] = {
-            {"baseColorTexture", {material.baseColorTexture, &material.baseColorTransform}},
-            {"metallicRoughnessTexture", {material.metallicRoughnessTexture, &material.metallicRoughnessTransform}},
-            {"normalTexture", {material.normalTexture, &material.normalTransform}},
-            {"occlusionTexture", {material.occlusionTexture, &material.occlusionTransform}},
-            {"emissiveTexture", {material.emissiveTexture, &material.emissiveTransform}}};
-        for (const auto& [name, texture] : textures)
-            if (texture.first >= 0 && texture.second->texCoord == 1) return name;
+        for (const Material::TextureSlot& slot : material.textureSlots())
+            if (slot.texture >= 0 && slot.transform->texCoord == 1) return slot.name;
         return nullptr;
     }
 
     // The vertex attributes Janus reads, for the component types each may have.
-    enum class Attribute { Position, Normal, Tangent, TexCoord };
+    enum class Attribute { Position, Normal, Tangent, TexCoord, Color };
 
     static const char* componentTypeName(int type) {
         switch (type) {
@@ -603,6 +649,8 @@ private:
         const bool signedType = type == TINYGLTF_COMPONENT_TYPE_BYTE || type == TINYGLTF_COMPONENT_TYPE_SHORT;
         const bool unsignedType = type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE || type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
         if (attribute == Attribute::Normal || attribute == Attribute::Tangent) return signedType && normalized;
+        if (attribute == Attribute::Color)
+            return normalized && (type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE || type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT);
         return signedType || unsignedType;
     }
 
@@ -621,11 +669,13 @@ private:
                              normalized ? "normalized " : "", componentTypeName(accessor.componentType),
                              attribute == Attribute::Normal || attribute == Attribute::Tangent
                                  ? "FLOAT, or normalized BYTE or SHORT (KHR_mesh_quantization)"
+                             : attribute == Attribute::Color
+                                 ? "FLOAT, or normalized UNSIGNED_BYTE or UNSIGNED_SHORT"
                                  : "FLOAT, or BYTE, UNSIGNED_BYTE, SHORT or UNSIGNED_SHORT, normalized or not (KHR_mesh_quantization)"));
         const int componentSize = tinygltf::GetComponentSizeInBytes(uint32_t(accessor.componentType));
-        const size_t count = checkedElementCount(accessor, index, what, size_t(componentSize) * size_t(width), sizeof(float) * size_t(width));
+        const size_t count = checkedElementCount(accessor, index, what, sizeof(float) * size_t(width));
         std::vector<float> out(count * size_t(width));
-        forEachElement(accessor, index, what, size_t(componentSize) * size_t(width), [&](const uint8_t* src, size_t e) {
+        forEachElement(accessor, index, what, size_t(componentSize) * size_t(width), sizeof(float) * size_t(width), [&](const uint8_t* src, size_t e) {
             for (int c = 0; c < width; ++c) {
                 const uint8_t* p = src + size_t(c) * size_t(componentSize);
                 float value = 0.0f;
@@ -663,8 +713,8 @@ private:
         if (componentSize != 1 && componentSize != 2 && componentSize != 4)
             fail(fmt::format("index accessor {} has component type {}; indices must be unsigned byte, short or int", index,
                              accessor.componentType));
-        std::vector<uint32_t> out(checkedElementCount(accessor, index, "index", size_t(componentSize), sizeof(uint32_t)));
-        forEachElement(accessor, index, "index", size_t(componentSize), [&](const uint8_t* src, size_t e) {
+        std::vector<uint32_t> out(checkedElementCount(accessor, index, "index", sizeof(uint32_t)));
+        forEachElement(accessor, index, "index", size_t(componentSize), sizeof(uint32_t), [&](const uint8_t* src, size_t e) {
             uint32_t value = 0;
             if (componentSize == 1) value = *src;
             else if (componentSize == 2) { uint16_t v; std::memcpy(&v, src, 2); value = v; }
@@ -677,58 +727,151 @@ private:
     const tinygltf::Accessor& accessorAt(int index, const std::string& what) const {
         if (index < 0 || size_t(index) >= m_model.accessors.size())
             fail(fmt::format("{} accessor {} does not exist (the file has {})", what, index, m_model.accessors.size()));
-        const tinygltf::Accessor& accessor = m_model.accessors[size_t(index)];
-        if (accessor.sparse.isSparse) fail(fmt::format("{} accessor {} is sparse, which Janus does not support", what, index));
-        return accessor;
+        return m_model.accessors[size_t(index)];
     }
 
-    // Checks that `accessor` (elements of `elementSize` bytes in the file, `decodedSize` bytes
-    // once read) lies inside its buffer view and buffer, with overflow-safe arithmetic, and that
-    // its decoded size stays within kMaxAccessorBytes. Returns its element count. Called before
-    // anything is allocated for the accessor: a count crafted to wrap a size computation (e.g.
-    // 6148914691236517206 VEC3 floats) must not reach an allocation or a copy.
-    size_t checkedElementCount(const tinygltf::Accessor& accessor, int index, const std::string& what, size_t elementSize,
-                               size_t decodedSize) const {
+    // The element count of `accessor` (elements of `decodedSize` bytes once read), refused when
+    // the decoded size passes kMaxAccessorBytes. Called before anything is allocated for the
+    // accessor: a count crafted to wrap a size computation (e.g. 6148914691236517206 VEC3 floats)
+    // must not reach an allocation or a copy.
+    size_t checkedElementCount(const tinygltf::Accessor& accessor, int index, const std::string& what, size_t decodedSize) const {
         const uint64_t count = accessor.count;
-        if (count == 0) return 0;
         uint64_t decodedBytes = 0;
-        const bool wraps = __builtin_mul_overflow(count, uint64_t(decodedSize), &decodedBytes);
+        const bool wraps = __builtin_mul_overflow(count, uint64_t(std::max<size_t>(decodedSize, 1)), &decodedBytes);
         if (wraps || decodedBytes > kMaxAccessorBytes)
             fail(fmt::format("{} accessor {} declares {} elements ({} bytes once read), more than Janus reads from one accessor "
                              "({} MiB); the count is wrong or the asset is too large",
                              what, index, count, wraps ? std::string("over 2^64") : std::to_string(decodedBytes), kMaxAccessorBytes >> 20));
-        if (accessor.bufferView < 0 || size_t(accessor.bufferView) >= m_model.bufferViews.size())
-            fail(fmt::format("{} accessor {} has no valid buffer view", what, index));
-        const tinygltf::BufferView& view = m_model.bufferViews[size_t(accessor.bufferView)];
-        if (view.buffer < 0 || size_t(view.buffer) >= m_model.buffers.size())
-            fail(fmt::format("buffer view {} references missing buffer {}", accessor.bufferView, view.buffer));
-        const uint64_t bufferSize = m_model.buffers[size_t(view.buffer)].data.size();
-        const uint64_t stride = view.byteStride ? view.byteStride : elementSize;
-        uint64_t viewEnd = 0, span = 0, lastEnd = 0;
-        const bool overflow = __builtin_add_overflow(uint64_t(view.byteOffset), uint64_t(view.byteLength), &viewEnd) ||
-                              __builtin_mul_overflow(stride, count - 1, &span) ||
-                              __builtin_add_overflow(span, uint64_t(accessor.byteOffset), &lastEnd) ||
-                              __builtin_add_overflow(lastEnd, uint64_t(elementSize), &lastEnd);
-        if (stride < elementSize)
-            fail(fmt::format("{} accessor {}: buffer view {} has byteStride {}, smaller than one element ({} bytes)", what, index,
-                             accessor.bufferView, stride, elementSize));
-        if (overflow || lastEnd > view.byteLength || viewEnd > bufferSize)
-            fail(fmt::format("{} accessor {} reads past the end of its buffer (the .bin file is too short or the "
-                             "accessor's count/offset is wrong)",
-                             what, index));
         return size_t(count);
     }
 
+    // The first byte of `count` elements of `elementSize` bytes, `stride` bytes apart (0: tightly
+    // packed; else the view's byteStride when `strided`), starting `offset` bytes into buffer view
+    // `viewIndex`: checked with overflow-safe arithmetic to lie inside the view and its buffer.
+    // `stride` returns the distance used. `what` names the data for messages ("... accessor 3").
+    const uint8_t* checkedViewRange(int viewIndex, uint64_t offset, uint64_t count, size_t elementSize, bool strided, size_t& stride,
+                                    const std::string& what) const {
+        if (viewIndex < 0 || size_t(viewIndex) >= m_model.bufferViews.size())
+            fail(fmt::format("{} has no valid buffer view ({})", what, viewIndex));
+        const tinygltf::BufferView& view = m_model.bufferViews[size_t(viewIndex)];
+        if (view.buffer < 0 || size_t(view.buffer) >= m_model.buffers.size())
+            fail(fmt::format("buffer view {} references missing buffer {}", viewIndex, view.buffer));
+        const uint64_t bufferSize = m_model.buffers[size_t(view.buffer)].data.size();
+        stride = strided && view.byteStride ? view.byteStride : elementSize;
+        if (stride < elementSize)
+            fail(fmt::format("{}: buffer view {} has byteStride {}, smaller than one element ({} bytes)", what, viewIndex, stride,
+                             elementSize));
+        uint64_t viewEnd = 0, span = 0, lastEnd = 0;
+        const bool overflow = __builtin_add_overflow(uint64_t(view.byteOffset), uint64_t(view.byteLength), &viewEnd) ||
+                              __builtin_mul_overflow(uint64_t(stride), count - 1, &span) || __builtin_add_overflow(span, offset, &lastEnd) ||
+                              __builtin_add_overflow(lastEnd, uint64_t(elementSize), &lastEnd);
+        if (overflow || lastEnd > view.byteLength || viewEnd > bufferSize)
+            fail(fmt::format("{} reads past the end of its buffer (the .bin file is too short or the accessor's count/offset is wrong)",
+                             what));
+        return m_model.buffers[size_t(view.buffer)].data.data() + view.byteOffset + offset;   // no overflow: checked above
+    }
+
+    // Visits the accessor's `count` elements (`elementSize` bytes each in the file, `decodedSize`
+    // once read) in order: from its buffer view, or zeros without one (glTF: "When undefined, the
+    // accessor MUST be initialized with zeros"), with a sparse accessor's substitutions applied.
     template <typename Visit>
-    void forEachElement(const tinygltf::Accessor& accessor, int index, const std::string& what, size_t elementSize,
+    void forEachElement(const tinygltf::Accessor& accessor, int index, const std::string& what, size_t elementSize, size_t decodedSize,
                         Visit&& visit) const {
-        const size_t count = checkedElementCount(accessor, index, what, elementSize, 0);
+        const size_t count = checkedElementCount(accessor, index, what, decodedSize);
         if (count == 0) return;
-        const tinygltf::BufferView& view = m_model.bufferViews[size_t(accessor.bufferView)];
-        const std::vector<unsigned char>& data = m_model.buffers[size_t(view.buffer)].data;
-        const size_t stride = view.byteStride ? view.byteStride : elementSize;
-        const size_t start = view.byteOffset + accessor.byteOffset;   // no overflow: checked above
-        for (size_t e = 0; e < count; ++e) visit(data.data() + start + e * stride, e);
+        const std::string label = fmt::format("{} accessor {}", what, index);
+        const uint8_t* base = nullptr;
+        size_t stride = elementSize;
+        if (accessor.bufferView >= 0 || !accessor.sparse.isSparse) {
+            if (accessor.bufferView < 0) {   // all zeros
+                const std::vector<uint8_t> zero(elementSize, 0);
+                for (size_t e = 0; e < count; ++e) visit(zero.data(), e);
+                return;
+            }
+            base = checkedViewRange(accessor.bufferView, uint64_t(accessor.byteOffset), count, elementSize, true, stride, label);
+        }
+        if (!accessor.sparse.isSparse) {
+            for (size_t e = 0; e < count; ++e) visit(base + e * stride, e);
+            return;
+        }
+        std::vector<uint8_t> dense(count * elementSize, 0);   // count * elementSize <= count * decodedSize (or the limit's floor)
+        if (base)
+            for (size_t e = 0; e < count; ++e) std::memcpy(dense.data() + e * elementSize, base + e * stride, elementSize);
+        applySparse(accessor, label, elementSize, count, dense);
+        for (size_t e = 0; e < count; ++e) visit(dense.data() + e * elementSize, e);
+    }
+
+    // glTF sparse accessors: `sparse.count` (index, value) pairs replace elements of the dense data.
+    // The indices are strictly increasing and inside `count`; both arrays lie inside their buffer
+    // views (which are tightly packed: glTF forbids byteStride on them).
+    void applySparse(const tinygltf::Accessor& accessor, const std::string& label, size_t elementSize, size_t count,
+                     std::vector<uint8_t>& dense) const {
+        const auto& sparse = accessor.sparse;
+        if (sparse.count < 1 || uint64_t(sparse.count) > count)
+            fail(fmt::format("{} is sparse with count {}; it must be in [1, {}] (the accessor's count)", label, sparse.count, count));
+        const int indexType = sparse.indices.componentType;
+        if (indexType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && indexType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+            indexType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
+            fail(fmt::format("{} has sparse indices of component type {}; glTF allows UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT", label,
+                             componentTypeName(indexType)));
+        const size_t indexSize = size_t(tinygltf::GetComponentSizeInBytes(uint32_t(indexType)));
+        const size_t pairs = size_t(sparse.count);
+        if (sparse.indices.byteOffset < 0 || sparse.values.byteOffset < 0) fail(fmt::format("{} has a negative sparse byteOffset", label));
+        size_t stride = 0;
+        const uint8_t* indices = checkedViewRange(sparse.indices.bufferView, uint64_t(sparse.indices.byteOffset), pairs,
+                                                  indexSize, false, stride, label + " sparse indices");
+        const uint8_t* values = checkedViewRange(sparse.values.bufferView, uint64_t(sparse.values.byteOffset), pairs,
+                                                 elementSize, false, stride, label + " sparse values");
+        uint64_t previous = 0;
+        for (size_t i = 0; i < pairs; ++i) {
+            uint64_t target = 0;
+            if (indexSize == 1) target = indices[i];
+            else if (indexSize == 2) { uint16_t v; std::memcpy(&v, indices + i * 2, 2); target = v; }
+            else { uint32_t v; std::memcpy(&v, indices + i * 4, 4); target = v; }
+            if (target >= count)
+                fail(fmt::format("{} has sparse index {} (entry {}), outside the accessor's {} elements", label, target, i, count));
+            if (i > 0 && target <= previous)
+                fail(fmt::format("{} has sparse indices that are not strictly increasing ({} after {}, entry {})", label, target, previous, i));
+            previous = target;
+            std::memcpy(dense.data() + target * elementSize, values + i * elementSize, elementSize);
+        }
+    }
+
+    // The indices of a primitive of glTF mode `mode` as a list of its topology (`topology`
+    // returns which): strips and fans become triangle lists with glTF's vertex order (so the
+    // winding is kept), line strips and loops become line lists. A list whose index count is
+    // not a whole number of its primitives is an error; strips and fans too short for one
+    // triangle (or line) give an empty list.
+    std::vector<uint32_t> primitiveList(int mode, std::vector<uint32_t> indices, const std::string& where, MeshTopology& topology) const {
+        const size_t n = indices.size();
+        std::vector<uint32_t> list;
+        switch (mode) {
+            case TINYGLTF_MODE_POINTS: topology = MeshTopology::Points; return indices;
+            case TINYGLTF_MODE_LINE: topology = MeshTopology::Lines;
+                if (n % 2 != 0) fail(fmt::format("{} has {} indices, which is not a whole number of lines (mode LINES)", where, n));
+                return indices;
+            case TINYGLTF_MODE_LINE_STRIP:
+            case TINYGLTF_MODE_LINE_LOOP:
+                topology = MeshTopology::Lines;
+                for (size_t i = 0; i + 1 < n; ++i) list.insert(list.end(), {indices[i], indices[i + 1]});
+                if (mode == TINYGLTF_MODE_LINE_LOOP && n >= 2) list.insert(list.end(), {indices[n - 1], indices[0]});
+                return list;
+            case TINYGLTF_MODE_TRIANGLE_STRIP:
+                topology = MeshTopology::Triangles;
+                // glTF: triangle i is (v_i, v_{i + 1 + i % 2}, v_{i + 2 - i % 2}).
+                for (size_t i = 0; i + 2 < n; ++i)
+                    list.insert(list.end(), {indices[i], indices[i + 1 + i % 2], indices[i + 2 - i % 2]});
+                return list;
+            case TINYGLTF_MODE_TRIANGLE_FAN:
+                topology = MeshTopology::Triangles;
+                // glTF: triangle i is (v_{i + 1}, v_{i + 2}, v_0).
+                for (size_t i = 0; i + 2 < n; ++i) list.insert(list.end(), {indices[i + 1], indices[i + 2], indices[0]});
+                return list;
+            default:
+                topology = MeshTopology::Triangles;
+                if (n % 3 != 0) fail(fmt::format("{} has {} indices, which is not a whole number of triangles", where, n));
+                return indices;
+        }
     }
 
     void readMeshes(Scene& scene) {
@@ -738,8 +881,9 @@ private:
             for (size_t p = 0; p < gltfMesh.primitives.size(); ++p) {
                 const tinygltf::Primitive& primitive = gltfMesh.primitives[p];
                 const std::string where = fmt::format("mesh '{}' primitive {}", gltfMesh.name, p);
-                if (primitive.mode != -1 && primitive.mode != TINYGLTF_MODE_TRIANGLES)
-                    fail(fmt::format("{} has mode {}; Janus renders triangle lists only (mode 4)", where, primitive.mode));
+                const int mode = primitive.mode == -1 ? TINYGLTF_MODE_TRIANGLES : primitive.mode;
+                if (mode < TINYGLTF_MODE_POINTS || mode > TINYGLTF_MODE_TRIANGLE_FAN)
+                    fail(fmt::format("{} has mode {}; glTF primitive modes are 0 (POINTS) to 6 (TRIANGLE_FAN)", where, primitive.mode));
                 auto attribute = [&](const char* name) {
                     auto it = primitive.attributes.find(name);
                     return it == primitive.attributes.end() ? -1 : it->second;
@@ -773,6 +917,15 @@ private:
                     readInto("TEXCOORD_1", 2, Attribute::TexCoord, [](Vertex& v, const float* f) { v.uv1 = glm::vec2(f[0], f[1]); });
                 const bool hasTangents = readInto("TANGENT", 4, Attribute::Tangent,
                                                   [](Vertex& v, const float* f) { v.tangent = glm::vec4(f[0], f[1], f[2], f[3]); });
+                if (const int colors = attribute("COLOR_0"); colors >= 0) {
+                    const int width = tinygltf::GetNumComponentsInType(uint32_t(accessorAt(colors, where + " COLOR_0").type));
+                    if (width != 3 && width != 4)
+                        fail(fmt::format("{} COLOR_0 accessor {} has {} components per element; glTF vertex colours are VEC3 or VEC4", where,
+                                         colors, width));
+                    readInto("COLOR_0", width, Attribute::Color, [width](Vertex& v, const float* f) {
+                        v.color = glm::vec4(f[0], f[1], f[2], width == 4 ? f[3] : 1.0f);
+                    });
+                }
 
                 if (primitive.indices >= 0) {
                     mesh.indices = readIndices(primitive.indices);
@@ -785,8 +938,7 @@ private:
                     mesh.indices.resize(vertexCount);
                     for (size_t i = 0; i < vertexCount; ++i) mesh.indices[i] = uint32_t(i);
                 }
-                if (mesh.indices.size() % 3 != 0)
-                    fail(fmt::format("{} has {} indices, which is not a whole number of triangles", where, mesh.indices.size()));
+                mesh.indices = primitiveList(mode, std::move(mesh.indices), where, mesh.topology);
                 if (primitive.material >= 0 && size_t(primitive.material) >= m_model.materials.size())
                     fail(fmt::format("{} references material {} but the file has {}", where, primitive.material,
                                      m_model.materials.size()));
@@ -795,10 +947,14 @@ private:
                 if (const char* texture = material ? textureReadingUv1(*material) : nullptr; texture && !hasUvs1)
                     fail(fmt::format("{} uses material '{}', whose {} reads texCoord 1, but the primitive has no TEXCOORD_1", where,
                                      material->name, texture));
-                if (!hasNormals) generateNormals(mesh);
+                // Points and lines without normals are drawn unlit (there is no surface to derive them from).
+                if (!hasNormals) {
+                    if (mesh.topology == MeshTopology::Triangles) generateNormals(mesh);
+                    else mesh.unlit = true;
+                }
                 // glTF asks clients to compute tangents when a normal-mapped mesh has none, from
                 // the UV set the normal texture reads.
-                if (material && material->normalTexture >= 0 && !hasTangents) {
+                if (material && material->normalTexture >= 0 && !hasTangents && mesh.topology == MeshTopology::Triangles) {
                     const uint32_t normalSet = material->normalTransform.texCoord;
                     if (normalSet == 0 ? hasUvs : hasUvs1) generateTangents(mesh, normalSet);
                 }
@@ -994,6 +1150,7 @@ private:
     std::map<int, std::vector<uint32_t>> m_meshPrimitives;
     Camera m_camera;
     bool m_cameraFound = false;
+    std::vector<std::string> m_warnings;
 };
 
 }  // namespace

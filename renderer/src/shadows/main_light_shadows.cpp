@@ -32,6 +32,8 @@ MainLightShadows::MainLightShadows(rhi::IDevice& device, const Scene& scene, con
         const Material& material = sceneMesh.material >= 0 ? scene.materials[size_t(sceneMesh.material)] : defaultMaterial;
         // Blended (transparent) surfaces cast no shadow (docs/LIGHTING.md, "Transparent surfaces").
         if (material.alphaMode == AlphaMode::Blend) continue;
+        // Points and lines have no area to cast a shadow with.
+        if (sceneMesh.topology != MeshTopology::Triangles) continue;
         m_casters.push_back(ShadowCaster{mesh.vertices, mesh.indices, mesh.indexCount, instance.world, material.doubleSided});
     }
 }

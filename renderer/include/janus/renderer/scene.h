@@ -31,12 +31,19 @@ struct Vertex {
     glm::vec2 uv;        // glTF TEXCOORD_0
     glm::vec4 tangent;   // xyz tangent, w handedness; zero when the mesh has none
     glm::vec2 uv1{0.0f}; // glTF TEXCOORD_1; zero when the mesh has none
+    glm::vec4 color{1.0f};   // glTF COLOR_0 (linear RGBA, multiplies base colour and alpha); white when the mesh has none
 };
+
+// What a mesh's indices list: glTF's strips, fans and loops are turned into these lists at load.
+enum class MeshTopology { Triangles, Lines, Points };
 
 struct Mesh {
     std::vector<Vertex> vertices;
-    std::vector<uint32_t> indices;
+    std::vector<uint32_t> indices;   // 3 per triangle, 2 per line, 1 per point
     int32_t material = -1;           // index into Scene::materials; -1 = default material
+    MeshTopology topology = MeshTopology::Triangles;
+    // Drawn unlit whatever its material says: points and lines without normals (glTF).
+    bool unlit = false;
 };
 
 // How a texture is sampled (the glTF sampler of the texture that uses the image).
@@ -105,7 +112,36 @@ struct Material {
     bool doubleSided = false;
     AlphaMode alphaMode = AlphaMode::Opaque;
     float alphaCutoff = 0.5f;               // Mask: fragments with alpha below it are discarded
+    // KHR_materials_emissive_strength: multiplies emissiveFactor (which core glTF caps at 1); >= 0.
+    float emissiveStrength = 1.0f;
+    // KHR_materials_unlit: the surface shows its base colour (times vertex colour and texture),
+    // lit by nothing, casting shadows as any other.
+    bool unlit = false;
+    // Dielectric specular (KHR_materials_ior, KHR_materials_specular factors): a non-metal reflects
+    // F0 = min(((ior - 1) / (ior + 1))^2 * specularColorFactor, 1) * specularFactor at normal
+    // incidence and F90 = specularFactor at grazing angles. The defaults give glTF's F0 = 0.04.
+    float ior = 1.5f;                       // 0 (F0 = 1) or >= 1
+    float specularFactor = 1.0f;            // in [0, 1]
+    glm::vec3 specularColorFactor{1.0f};    // >= 0
+    glm::vec3 dielectricF0() const;
+    float dielectricF90() const { return specularFactor; }
     std::string name;
+
+    // One texture reference: its glTF name ("baseColorTexture"...), index and UV set / transform.
+    struct TextureSlot {
+        const char* name;
+        int32_t texture;
+        const TextureTransform* transform;
+    };
+    // The five, in the order of forward_common.glsl's kTexture*: base colour, metallic-roughness,
+    // normal, occlusion, emissive.
+    std::array<TextureSlot, 5> textureSlots() const {
+        return {{{"baseColorTexture", baseColorTexture, &baseColorTransform},
+                 {"metallicRoughnessTexture", metallicRoughnessTexture, &metallicRoughnessTransform},
+                 {"normalTexture", normalTexture, &normalTransform},
+                 {"occlusionTexture", occlusionTexture, &occlusionTransform},
+                 {"emissiveTexture", emissiveTexture, &emissiveTransform}}};
+    }
 };
 
 // A mesh placed in the world (glTF node hierarchy flattened).
@@ -266,6 +302,9 @@ struct Scene {
     std::optional<IrradianceVolume> irradianceVolume;
     Camera camera;
     Environment environment;
+    // What the loader ignored or changed and the user should know (a glTF extension Janus does
+    // not implement, ...): one line each, without a "warning:" prefix. loadScene also prints them.
+    std::vector<std::string> warnings;
     // Free-form settings from the scene file's "quality" object, kept for features that read
     // them (probe counts, light-grid sizes...); the skeleton renderer reads none.
     nlohmann::json quality = nlohmann::json::object();
