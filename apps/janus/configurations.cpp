@@ -28,6 +28,33 @@ ConfigurationResult runConfiguration(const renderer::Scene& scene, const Configu
     return result;
 }
 
+std::vector<ConfigurationAvailability> probeConfigurations(rhi::GLPlatform platform, ImageSize size) {
+    std::vector<ConfigurationAvailability> result;
+    for (const Configuration& config : kConfigurations) {
+        ConfigurationAvailability availability{config};
+        try {
+            rhi::DeviceDesc desc;
+            desc.setBackend(config.backend).setGLPlatform(platform);
+            const std::unique_ptr<rhi::IDevice> device = rhi::createDevice(desc);
+            const rhi::Capabilities& caps = device->capabilities();
+            const uint32_t maxSide = caps.limits.maxTextureSize2D;
+            if (config.path == renderer::FeaturePath::Compute && !caps.has(rhi::Capability::Compute))
+                availability.reason = fmt::format("the {} backend lacks the '{}' capability", rhi::toString(config.backend),
+                                                  rhi::toString(rhi::Capability::Compute));
+            else if (maxSide != 0 && (size.width > maxSide || size.height > maxSide))
+                availability.reason = fmt::format("{}x{} exceeds the {} backend's largest texture side ({})", size.width, size.height,
+                                                  rhi::toString(config.backend), maxSide);
+            else
+                availability.available = true;
+            availability.device = device->info().deviceName;
+        } catch (const std::exception& e) {
+            availability.reason = e.what();
+        }
+        result.push_back(std::move(availability));
+    }
+    return result;
+}
+
 uint32_t parseTolerance(std::string_view text) {
     uint32_t steps = 0;
     const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), steps);

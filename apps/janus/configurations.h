@@ -1,5 +1,5 @@
 // The five configurations janus keeps in agreement, running one, and comparing their images:
-// what `janus parity` needs, shared so that other commands render and compare the same way.
+// shared by `janus parity` (one scene) and `janus check` (every glTF under some folders).
 #pragma once
 
 #include <array>
@@ -46,6 +46,17 @@ struct ConfigurationResult {
 // still run and get compared. A renderer::SceneError is rethrown: it is about the scene, which all
 // configurations share.
 ConfigurationResult runConfiguration(const renderer::Scene& scene, const Configuration& config, const RenderRequest& base);
+
+// Whether a configuration can run on this machine at all, found once by opening each backend's
+// device (as `janus info` does): the backend starts, has the compute capability the compute path
+// needs, and allows `size`.
+struct ConfigurationAvailability {
+    Configuration config;
+    bool available = false;
+    std::string reason;        // why not
+    std::string device;        // device name when available
+};
+std::vector<ConfigurationAvailability> probeConfigurations(rhi::GLPlatform platform, ImageSize size);
 
 // --tolerance: whole 1/255 steps in 0..255; throws UsageError.
 uint32_t parseTolerance(std::string_view text);
