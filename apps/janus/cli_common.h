@@ -25,7 +25,7 @@ namespace janus::cli {
 // The process exit status; documented in --help and docs/CLI.md, so never renumber.
 enum class ExitCode : int {
     Ok = 0,
-    ComparisonFailed = 1,      // parity: a pair exceeded the tolerance or a configuration did not run
+    ComparisonFailed = 1,      // parity: a pair exceeded the tolerance or a configuration did not run; check: a file failed or diverged
     UsageError = 2,            // unknown command/option/backend, malformed or absurd value
     InputError = 3,            // missing/malformed scene, unreadable input, unwritable output
     BackendUnavailable = 4,    // backend cannot start or lacks a capability the request needs
@@ -35,7 +35,7 @@ enum class ExitCode : int {
 inline constexpr const char* kExitCodeHelp =
     "Exit codes:\n"
     "  0  success\n"
-    "  1  parity failed (a pair differs beyond --tolerance, or a configuration could not run)\n"
+    "  1  parity or check failed (a pair differs beyond --tolerance, or a configuration could not run)\n"
     "  2  usage error (unknown command, option or backend; bad --size; bad value)\n"
     "  3  input/output error (missing or malformed scene, unwritable output path)\n"
     "  4  backend or capability unavailable on this machine\n"
@@ -193,6 +193,7 @@ struct Command {
 Command addInfoCommand(CLI::App& parent);
 Command addRenderCommand(CLI::App& parent);
 Command addParityCommand(CLI::App& parent);
+Command addCheckCommand(CLI::App& parent);   // cmd_check.cpp
 Command addBenchCommand(CLI::App& parent);
 Command addBakeCommand(CLI::App& parent);
 // `janus bench probes`, registered under `bench` by addBenchCommand; returns what runs it.

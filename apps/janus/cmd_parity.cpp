@@ -1,6 +1,4 @@
 // `janus parity`: render every configuration and compare every pair pixel by pixel.
-#include <array>
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -9,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_common.h"
+#include "configurations.h"
 
 namespace janus::cli {
 namespace {
@@ -24,63 +23,6 @@ struct ParityOptions {
     LightingOptions lighting;
     EnvironmentOptions environment;
 };
-
-struct Configuration {
-    rhi::Backend backend;
-    renderer::FeaturePath path;
-};
-
-// Every configuration the project promises to keep in agreement. gles has no compute path.
-constexpr std::array kConfigurations = {
-    Configuration{rhi::Backend::Vulkan, renderer::FeaturePath::Compute},
-    Configuration{rhi::Backend::Vulkan, renderer::FeaturePath::Fallback},
-    Configuration{rhi::Backend::GL, renderer::FeaturePath::Compute},
-    Configuration{rhi::Backend::GL, renderer::FeaturePath::Fallback},
-    Configuration{rhi::Backend::GLES, renderer::FeaturePath::Fallback},
-};
-
-// Pixel differences beyond this many steps show as full red in the heat maps: small enough that
-// a one-step disagreement is clearly visible, large enough to tell 2 from 8.
-constexpr uint32_t kHeatmapFullScaleSteps = 8;
-
-struct ConfigurationResult {
-    Configuration config;
-    std::string stem;                  // "vulkan-compute"
-    std::optional<RenderOutcome> outcome;
-    std::string failure;               // why it did not run
-    std::filesystem::path image;
-};
-
-// Runs one configuration. Failures that belong to this configuration alone (backend missing,
-// capability missing, driver trouble) are recorded so the others still run and get compared.
-ConfigurationResult runConfiguration(const renderer::Scene& scene, const Configuration& config, const RenderRequest& base) {
-    ConfigurationResult result{config, configurationFileStem(config.backend, config.path)};
-    RenderRequest request = base;
-    request.backend = config.backend;
-    request.path = config.path;
-    try {
-        result.outcome = renderConfiguration(scene, request);
-        if (reportDebugMessages(configurationLabel(config.backend, config.path), result.outcome->debugMessages))
-            result.failure = "validation reported errors (see stderr)";
-    } catch (const renderer::SceneError&) {
-        throw;   // the scene is shared by all configurations: an input error, not a parity result
-    } catch (const std::bad_alloc&) {
-        result.failure = "out of host memory";
-    } catch (const std::exception& e) {
-        result.failure = e.what();
-    }
-    return result;
-}
-
-uint32_t parseTolerance(std::string_view text) {
-    uint32_t steps = 0;
-    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), steps);
-    if (error != std::errc() || end != text.data() + text.size() || text.empty() || steps > 255)
-        throw UsageError(fmt::format("--tolerance '{}' is not a whole number of 1/255 steps in 0..255 (default 1)", text));
-    return steps;
-}
-
-std::string psnrText(double psnr) { return std::isinf(psnr) ? "inf" : fmt::format("{:.2f}", psnr); }
 
 int run(const ParityOptions& options) {
     RenderRequest base;
@@ -116,7 +58,7 @@ int run(const ParityOptions& options) {
     std::vector<std::vector<std::string>> configRows{{"configuration", "result", "image"}};
     for (const Configuration& config : kConfigurations) {
         ConfigurationResult result = runConfiguration(scene, config, base);
-        if (result.outcome && result.failure.empty()) {
+        if (result.ran()) {
             result.image = outDir / (result.stem + ".png");
             renderer::writePNG(result.image, result.outcome->display);
             configRows.push_back({configurationLabel(config.backend, config.path), "rendered", result.image.string()});
@@ -131,38 +73,38 @@ int run(const ParityOptions& options) {
     nlohmann::json pairsJson = nlohmann::json::array();
     std::vector<std::vector<std::string>> pairRows{
         {"pair", "max diff", "PSNR dB", fmt::format("pixels > {} step(s)", tolerance), "result"}};
-    for (size_t i = 0; i < results.size(); ++i) {
-        for (size_t j = i + 1; j < results.size(); ++j) {
-            const ConfigurationResult& a = results[i];
-            const ConfigurationResult& b = results[j];
-            const std::string pairName = fmt::format("{} vs {}", a.stem, b.stem);
-            nlohmann::json pair{{"a", a.stem}, {"b", b.stem}};
-            if (!a.image.empty() && !b.image.empty()) {
-                const renderer::ImageDifference diff = renderer::compareImages(a.outcome->display, b.outcome->display, tolerance);
-                const bool pairPassed = diff.maxChannelDifference <= tolerance;
-                const std::filesystem::path heatmap = outDir / fmt::format("diff-{}-vs-{}.png", a.stem, b.stem);
-                renderer::writePNG(heatmap, renderer::differenceHeatmap(a.outcome->display, b.outcome->display, kHeatmapFullScaleSteps));
-                pairRows.push_back({pairName, std::to_string(diff.maxChannelDifference), psnrText(diff.psnr),
-                                    fmt::format("{} / {}", diff.differingPixels, diff.totalPixels), pairPassed ? "ok" : "FAIL"});
-                pair["compared"] = true;
-                pair["maxChannelDifference"] = diff.maxChannelDifference;
-                // JSON has no infinity: identical images say so explicitly and carry a null PSNR.
-                pair["identical"] = std::isinf(diff.psnr);
-                pair["psnr"] = std::isinf(diff.psnr) ? nlohmann::json(nullptr) : nlohmann::json(diff.psnr);
-                pair["differingPixels"] = diff.differingPixels;
-                pair["totalPixels"] = diff.totalPixels;
-                pair["heatmap"] = heatmap.filename().string();
-                pair["passed"] = pairPassed;
-                passed = passed && pairPassed;
-            } else {
-                const std::string missing = a.image.empty() ? a.stem : b.stem;
-                pairRows.push_back({pairName, "-", "-", "-", fmt::format("FAIL (not compared: {} did not run)", missing)});
-                pair["compared"] = false;
-                pair["passed"] = false;
-                passed = false;
-            }
-            pairsJson.push_back(std::move(pair));
+    std::vector<const renderer::ImageRGBA8*> images;
+    for (const ConfigurationResult& r : results) images.push_back(r.image.empty() ? nullptr : &r.outcome->display);
+    for (const PairComparison& comparison : compareAllPairs(images, tolerance)) {
+        const ConfigurationResult& a = results[comparison.a];
+        const ConfigurationResult& b = results[comparison.b];
+        const std::string pairName = fmt::format("{} vs {}", a.stem, b.stem);
+        nlohmann::json pair{{"a", a.stem}, {"b", b.stem}};
+        if (comparison.difference) {
+            const renderer::ImageDifference& diff = *comparison.difference;
+            const bool pairPassed = comparison.passed;
+            const std::filesystem::path heatmap = outDir / fmt::format("diff-{}-vs-{}.png", a.stem, b.stem);
+            renderer::writePNG(heatmap, renderer::differenceHeatmap(a.outcome->display, b.outcome->display, kHeatmapFullScaleSteps));
+            pairRows.push_back({pairName, std::to_string(diff.maxChannelDifference), psnrText(diff.psnr),
+                                fmt::format("{} / {}", diff.differingPixels, diff.totalPixels), pairPassed ? "ok" : "FAIL"});
+            pair["compared"] = true;
+            pair["maxChannelDifference"] = diff.maxChannelDifference;
+            // JSON has no infinity: identical images say so explicitly and carry a null PSNR.
+            pair["identical"] = std::isinf(diff.psnr);
+            pair["psnr"] = std::isinf(diff.psnr) ? nlohmann::json(nullptr) : nlohmann::json(diff.psnr);
+            pair["differingPixels"] = diff.differingPixels;
+            pair["totalPixels"] = diff.totalPixels;
+            pair["heatmap"] = heatmap.filename().string();
+            pair["passed"] = pairPassed;
+            passed = passed && pairPassed;
+        } else {
+            const std::string missing = a.image.empty() ? a.stem : b.stem;
+            pairRows.push_back({pairName, "-", "-", "-", fmt::format("FAIL (not compared: {} did not run)", missing)});
+            pair["compared"] = false;
+            pair["passed"] = false;
+            passed = false;
         }
+        pairsJson.push_back(std::move(pair));
     }
     std::printf("\n");
     std::fputs(formatTable(pairRows).c_str(), stdout);

@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
         janus::cli::addInfoCommand(app),
         janus::cli::addRenderCommand(app),
         janus::cli::addParityCommand(app),
+        janus::cli::addCheckCommand(app),
         janus::cli::addBenchCommand(app),
         janus::cli::addBakeCommand(app),
     };
@@ -49,12 +50,12 @@ int main(int argc, char** argv) {
             if (command.app->parsed()) failedIn = command.app;
         // CLI11 calls a mistyped command an unexpected argument; say what it is.
         if (failedIn == &app && argc > 1 && argv[1][0] != '-')
-            return usageFailure(fmt::format("unknown command '{}'; choose one of info, render, parity, bench", argv[1]), app);
+            return usageFailure(fmt::format("unknown command '{}'; choose one of info, render, parity, check, bench, bake", argv[1]), app);
         return usageFailure(e.what(), *failedIn);
     }
 
     for (const auto& command : commands)
         if (command.app->parsed()) return janus::cli::runCommand(command.run);
 
-    return usageFailure("no command given; choose one of info, render, parity, bench", app);
+    return usageFailure("no command given; choose one of info, render, parity, check, bench, bake", app);
 }

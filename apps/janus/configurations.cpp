@@ -1,0 +1,83 @@
+#include "configurations.h"
+
+#include <charconv>
+#include <cmath>
+#include <memory>
+#include <new>
+
+#include <fmt/format.h>
+
+namespace janus::cli {
+
+ConfigurationResult runConfiguration(const renderer::Scene& scene, const Configuration& config, const RenderRequest& base) {
+    ConfigurationResult result{config, configurationFileStem(config.backend, config.path)};
+    RenderRequest request = base;
+    request.backend = config.backend;
+    request.path = config.path;
+    try {
+        result.outcome = renderConfiguration(scene, request);
+        if (reportDebugMessages(configurationLabel(config.backend, config.path), result.outcome->debugMessages))
+            result.failure = "validation reported errors (see stderr)";
+    } catch (const renderer::SceneError&) {
+        throw;   // the scene is shared by all configurations: an input error, not a parity result
+    } catch (const std::bad_alloc&) {
+        result.failure = "out of host memory";
+    } catch (const std::exception& e) {
+        result.failure = e.what();
+    }
+    return result;
+}
+
+std::vector<ConfigurationAvailability> probeConfigurations(rhi::GLPlatform platform, ImageSize size) {
+    std::vector<ConfigurationAvailability> result;
+    for (const Configuration& config : kConfigurations) {
+        ConfigurationAvailability availability{config};
+        try {
+            rhi::DeviceDesc desc;
+            desc.setBackend(config.backend).setGLPlatform(platform);
+            const std::unique_ptr<rhi::IDevice> device = rhi::createDevice(desc);
+            const rhi::Capabilities& caps = device->capabilities();
+            const uint32_t maxSide = caps.limits.maxTextureSize2D;
+            if (config.path == renderer::FeaturePath::Compute && !caps.has(rhi::Capability::Compute))
+                availability.reason = fmt::format("the {} backend lacks the '{}' capability", rhi::toString(config.backend),
+                                                  rhi::toString(rhi::Capability::Compute));
+            else if (maxSide != 0 && (size.width > maxSide || size.height > maxSide))
+                availability.reason = fmt::format("{}x{} exceeds the {} backend's largest texture side ({})", size.width, size.height,
+                                                  rhi::toString(config.backend), maxSide);
+            else
+                availability.available = true;
+            availability.device = device->info().deviceName;
+        } catch (const std::exception& e) {
+            availability.reason = e.what();
+        }
+        result.push_back(std::move(availability));
+    }
+    return result;
+}
+
+uint32_t parseTolerance(std::string_view text) {
+    uint32_t steps = 0;
+    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), steps);
+    if (error != std::errc() || end != text.data() + text.size() || text.empty() || steps > 255)
+        throw UsageError(fmt::format("--tolerance '{}' is not a whole number of 1/255 steps in 0..255 (default 1)", text));
+    return steps;
+}
+
+std::string psnrText(double psnr) { return std::isinf(psnr) ? "inf" : fmt::format("{:.2f}", psnr); }
+
+std::vector<PairComparison> compareAllPairs(const std::vector<const renderer::ImageRGBA8*>& images, uint32_t tolerance) {
+    std::vector<PairComparison> pairs;
+    for (size_t i = 0; i < images.size(); ++i) {
+        for (size_t j = i + 1; j < images.size(); ++j) {
+            PairComparison pair{i, j};
+            if (images[i] && images[j]) {
+                pair.difference = renderer::compareImages(*images[i], *images[j], tolerance);
+                pair.passed = pair.difference->maxChannelDifference <= tolerance;
+            }
+            pairs.push_back(pair);
+        }
+    }
+    return pairs;
+}
+
+}  // namespace janus::cli

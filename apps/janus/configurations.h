@@ -1,0 +1,77 @@
+// The five configurations janus keeps in agreement, running one, and comparing their images:
+// shared by `janus parity` (one scene) and `janus check` (every glTF under some folders).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "cli_common.h"
+
+namespace janus::cli {
+
+struct Configuration {
+    rhi::Backend backend;
+    renderer::FeaturePath path;
+};
+
+// Every configuration the project promises to keep in agreement. gles has no compute path.
+inline constexpr std::array kConfigurations = {
+    Configuration{rhi::Backend::Vulkan, renderer::FeaturePath::Compute},
+    Configuration{rhi::Backend::Vulkan, renderer::FeaturePath::Fallback},
+    Configuration{rhi::Backend::GL, renderer::FeaturePath::Compute},
+    Configuration{rhi::Backend::GL, renderer::FeaturePath::Fallback},
+    Configuration{rhi::Backend::GLES, renderer::FeaturePath::Fallback},
+};
+
+// Pixel differences beyond this many steps show as full red in the heat maps: small enough that
+// a one-step disagreement is clearly visible, large enough to tell 2 from 8.
+inline constexpr uint32_t kHeatmapFullScaleSteps = 8;
+
+struct ConfigurationResult {
+    Configuration config;
+    std::string stem;                  // "vulkan-compute"
+    std::optional<RenderOutcome> outcome;
+    std::string failure;               // why it did not run
+    std::filesystem::path image;
+
+    bool ran() const { return outcome && failure.empty(); }
+};
+
+// Runs one configuration. Failures that belong to this configuration alone (backend missing,
+// capability missing, driver trouble, validation errors) are recorded in `failure` so the others
+// still run and get compared. A renderer::SceneError is rethrown: it is about the scene, which all
+// configurations share.
+ConfigurationResult runConfiguration(const renderer::Scene& scene, const Configuration& config, const RenderRequest& base);
+
+// Whether a configuration can run on this machine at all, found once by opening each backend's
+// device (as `janus info` does): the backend starts, has the compute capability the compute path
+// needs, and allows `size`.
+struct ConfigurationAvailability {
+    Configuration config;
+    bool available = false;
+    std::string reason;        // why not
+    std::string device;        // device name when available
+};
+std::vector<ConfigurationAvailability> probeConfigurations(rhi::GLPlatform platform, ImageSize size);
+
+// --tolerance: whole 1/255 steps in 0..255; throws UsageError.
+uint32_t parseTolerance(std::string_view text);
+
+// "inf" for identical images, else two decimals.
+std::string psnrText(double psnr);
+
+// One pair of configurations compared (i < j, indices into the images given).
+struct PairComparison {
+    size_t a = 0, b = 0;
+    std::optional<renderer::ImageDifference> difference;   // nothing: one of the two did not render
+    bool passed = false;                                    // compared and within the tolerance
+};
+
+// Every pair (i < j, in order) of `images`; a null image did not render, and its pairs are not compared.
+std::vector<PairComparison> compareAllPairs(const std::vector<const renderer::ImageRGBA8*>& images, uint32_t tolerance);
+
+}  // namespace janus::cli
