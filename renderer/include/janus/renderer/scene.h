@@ -14,6 +14,7 @@
 #include <memory>
 
 #include <glm/glm.hpp>
+#include <glm/gtc/quaternion.hpp>
 #include <nlohmann/json.hpp>
 
 #include "janus/renderer/image.h"
@@ -34,6 +35,17 @@ struct Vertex {
     glm::vec4 color{1.0f};   // glTF COLOR_0 (linear RGBA, multiplies base colour and alpha); white when the mesh has none
 };
 
+// A morph target (glTF primitive "targets"): displacements added to the base vertices, weighted
+// by the instance's morph weights. Each list is empty (the target does not move that attribute)
+// or has one entry per vertex. Tangent displacements move xyz; w is kept.
+struct MorphTarget {
+    std::vector<glm::vec3> positions, normals, tangents;
+};
+// The most morph targets one mesh may have; a file with more is a SceneError.
+inline constexpr size_t kMaxMorphTargets = 64;
+// The most joints one skin may have; a file with more is a SceneError.
+inline constexpr size_t kMaxSkinJoints = 4096;
+
 // What a mesh's indices list: glTF's strips, fans and loops are turned into these lists at load.
 enum class MeshTopology { Triangles, Lines, Points };
 
@@ -44,6 +56,15 @@ struct Mesh {
     MeshTopology topology = MeshTopology::Triangles;
     // Drawn unlit whatever its material says: points and lines without normals (glTF).
     bool unlit = false;
+    // Skinning (glTF JOINTS_0/WEIGHTS_0, and _1 when present): per vertex the four strongest
+    // influences, indices into the instance's skin joints, weights summing to 1. Both empty
+    // when the mesh is not skinned, else one entry per vertex.
+    std::vector<glm::u16vec4> joints;
+    std::vector<glm::vec4> weights;
+    // Morph targets (at most kMaxMorphTargets) and the mesh's default weights (glTF mesh.weights;
+    // zeros when the file gives none), one per target.
+    std::vector<MorphTarget> morphTargets;
+    std::vector<float> morphWeights;
 };
 
 // How a texture is sampled (the glTF sampler of the texture that uses the image).
@@ -151,6 +172,59 @@ struct Instance {
     // 32 rendering layers: a local light lights this mesh only if (light & mesh layers) != 0.
     uint32_t renderingLayers = 1u;
     std::string nodeName;            // glTF node it came from (scene files address it by name)
+    int32_t node = -1;               // index into Scene::nodes; -1 for instances made in code
+    // Skinned instances (Mesh::joints not empty): index into Scene::skins, and per skin joint
+    // the joint's world matrix times its inverse bind matrix at the posed time. A skinned vertex
+    // is sum(weight_i * jointMatrices[joint_i]) * position, already in world space: `world` is
+    // the identity for them (glTF ignores the transform of a skinned mesh's node).
+    int32_t skin = -1;
+    std::vector<glm::mat4> jointMatrices;
+    // Current morph weights, one per Mesh::morphTargets (the node's or mesh's, then animated).
+    std::vector<float> morphWeights;
+};
+
+// The glTF node hierarchy, kept so that animations can move it; Instance::world and
+// Instance::jointMatrices are derived from it by poseScene.
+struct Node {
+    std::string name;
+    int32_t parent = -1;
+    std::vector<uint32_t> children;
+    // Local transform: translation * rotation * scale (a glTF "matrix" node is decomposed; glTF
+    // does not animate such nodes).
+    glm::vec3 translation{0.0f};
+    glm::quat rotation{1.0f, 0.0f, 0.0f, 0.0f};
+    glm::vec3 scale{1.0f};
+    glm::mat4 world{1.0f};           // at the posed time
+};
+
+enum class AnimationPath { Translation, Rotation, Scale, Weights };
+enum class Interpolation { Step, Linear, CubicSpline };
+
+// One glTF animation sampler: keyframe times (strictly increasing, seconds) and values,
+// `components` floats per value (3 translation/scale, 4 rotation xyzw, one per morph target for
+// weights); CUBICSPLINE stores (in-tangent, value, out-tangent) per keyframe.
+struct AnimationSampler {
+    std::vector<float> times;
+    std::vector<float> values;
+    uint32_t components = 0;
+    Interpolation interpolation = Interpolation::Linear;
+};
+struct AnimationChannel {
+    uint32_t sampler = 0;            // index into Animation::samplers
+    uint32_t node = 0;               // index into Scene::nodes
+    AnimationPath path = AnimationPath::Translation;
+};
+struct Animation {
+    std::string name;
+    std::vector<AnimationSampler> samplers;
+    std::vector<AnimationChannel> channels;
+    float duration = 0.0f;           // the last keyframe time of any sampler
+};
+
+struct Skin {
+    std::string name;
+    std::vector<uint32_t> joints;                 // indices into Scene::nodes
+    std::vector<glm::mat4> inverseBindMatrices;   // one per joint (identity when the file gives none)
 };
 
 enum class LightType { Directional, Point, Spot };
@@ -292,6 +366,10 @@ struct Scene {
     std::vector<Material> materials;
     std::vector<TextureImage> textures;
     std::vector<Instance> instances;
+    // The glTF node hierarchy, skins and animations (empty for scenes made in code).
+    std::vector<Node> nodes;
+    std::vector<Skin> skins;
+    std::vector<Animation> animations;
     std::vector<Light> lights;
     std::vector<Marker> markers;
     // From the scene file's "reflectionProbes", or one per glTF node named "ReflectionCubemap..."
@@ -329,6 +407,19 @@ Scene loadScene(const std::filesystem::path& path, const SceneLoadOptions& optio
 // whose extension picks the format and whose folder is where the buffers, images and glTF they
 // reference are looked up (by the same rules). Nothing is read at `path` itself; errors name it.
 Scene loadSceneFromMemory(std::string_view bytes, const std::filesystem::path& path, const SceneLoadOptions& options = {});
+
+// Poses `scene` at `time` seconds (>= 0) of Scene::animations[animation] (none: the nodes keep
+// their rest transforms): samples every channel (times past either end hold the end value),
+// then updates every Node::world, Instance::world, Instance::jointMatrices and
+// Instance::morphWeights. Loading poses the scene at t = 0 of animation 0 when it has one, as
+// glTF viewers show it. Throws SceneError for a NaN or negative time or a bad index.
+void poseScene(Scene& scene, float time, std::optional<size_t> animation);
+
+// The CPU reference of skinning and morphing: `instance`'s mesh vertices with the morph targets
+// added (weighted by Instance::morphWeights) and then skinned (Instance::jointMatrices), before
+// Instance::world is applied (which is the identity for skinned instances). Normals and tangents
+// are renormalised. The GPU paths must agree with it.
+std::vector<Vertex> posedVertices(const Scene& scene, const Instance& instance);
 
 // The built-in default scene: a closed room with coloured walls and objects of varied
 // roughness and metalness, lit by a directional light. `janus render` with no scene uses it.
