@@ -119,6 +119,7 @@ struct FileResult {
     GltfUsage usage;
     FileStatus status = FileStatus::Rendered;
     std::string reason;   // refused: the loader's message
+    std::vector<std::string> warnings;   // the loader's (renderer::Scene::warnings): what it ignored
     std::vector<ConfigOutcome> configs;   // one per kConfigurations entry
     std::vector<PairOutcome> pairs;       // the pairs of configurations that both rendered
     double seconds = 0.0;
@@ -273,6 +274,7 @@ nlohmann::json fileJson(const FileResult& file, size_t index) {
                         {"features", file.usage.features}};
     if (!file.usage.error.empty()) json["featuresError"] = file.usage.error;
     if (!file.reason.empty()) json["reason"] = file.reason;
+    json["warnings"] = file.warnings;
     nlohmann::json configs = nlohmann::json::array();
     for (size_t c = 0; c < kConfigurations.size(); ++c) {
         const ConfigOutcome& outcome = file.configs[c];
@@ -391,6 +393,18 @@ std::string markdown(const Report& report) {
         }
     }
 
+    const bool anyWarnings =
+        std::any_of(report.files.begin(), report.files.end(), [](const FileResult& file) { return !file.warnings.empty(); });
+    if (anyWarnings) {
+        md += "\n## Loader warnings\n\nWhat the loader ignored (the file loads and renders without it; docs/SCENES.md, \"glTF coverage\").\n";
+        for (size_t i = 0; i < report.files.size(); ++i) {
+            const FileResult& file = report.files[i];
+            if (file.warnings.empty()) continue;
+            md += fmt::format("\n### {}. `{}`\n\n", i + 1, file.path.generic_string());
+            for (const std::string& warning : file.warnings) md += fmt::format("- {}\n", warning);
+        }
+    }
+
     const SheetLayout& l = report.layout;
     md += fmt::format(
         "\n## Contact sheets\n\n"
@@ -495,6 +509,7 @@ FileResult checkFile(const std::filesystem::path& path, size_t index, size_t ind
         renderer::SceneLoadOptions loadOptions;
         loadOptions.allowPathsOutsideSceneFolder = options.allowOutsidePaths;
         scene = renderer::loadScene(path, loadOptions);
+        result.warnings = scene->warnings;
         applyEnvironmentOverride(*scene, environment);
     } catch (const renderer::SceneError& e) {
         result.status = FileStatus::Refused;

@@ -231,6 +231,7 @@ python3 - "$BOX_DIR/BoxVertexColors.gltf" "$BOX_DIR/buffer.bin" "$TMP/assets/box
 import json, struct, sys
 gltf, binary = json.load(open(sys.argv[1])), open(sys.argv[2], "rb").read()
 gltf["buffers"] = [{"byteLength": len(binary)}]
+gltf["extensionsUsed"] = ["KHR_materials_sheen"]   # not implemented, not required: loads with a warning
 text = json.dumps(gltf).encode()
 text += b" " * (-len(text) % 4)
 binary += b"\0" * (-len(binary) % 4)
@@ -247,6 +248,8 @@ json_check "$small/check.json" '"malformed" in j["files"][1]["reason"] and j["fi
 json_check "$small/check.json" 'j["files"][0]["features"] == j["files"][2]["features"] and "COLOR_0" in j["files"][0]["features"]' "the .glb's features differ from the .gltf's"
 json_check "$small/check.json" '[c["available"] for c in j["configurations"]] == [True, True, True, True, False] and "OpenGL ES" in j["configurations"][4]["reason"]' "gles/fallback is not unavailable under OSMesa, with the reason"
 json_check "$small/check.json" 'all(f["configurations"][4]["status"] == "unavailable" for f in j["files"]) and all(f["parity"]["pairsCompared"] == 6 for f in j["files"] if f["status"] != "refused")' "the unavailable configuration is not skipped"
+json_check "$small/check.json" 'len(j["files"][0]["warnings"]) == 1 and "KHR_materials_sheen" in j["files"][0]["warnings"][0] and j["files"][2]["warnings"] == []' "the loader's warning about the .glb's extension is not in check.json"
+grep -q "^## Loader warnings" "$small/check.md" && grep -q "ignoring glTF extension 'KHR_materials_sheen'" "$small/check.md" || fail "check.md does not list the loader's warning"
 [[ -e $small/contact-gles-fallback.png ]] && fail "a contact sheet was written for the unavailable gles/fallback"
 grep -q "gles/fallback unavailable" "$TMP/stdout" || fail "the console does not say gles/fallback is unavailable"
 grep -Eq '^\[2/3\] refused +.*broken.gltf: .*malformed' "$TMP/stdout" || fail "no progress line with the refusal: $(cat "$TMP/stdout")"
