@@ -25,6 +25,7 @@
 #include <glm/gtc/packing.hpp>
 
 #include "core/gpu_util.h"
+#include "deform/mesh_deformer.h"
 #include "gi/gi_bake_file.h"
 #include "renderer_impl.h"
 #include "scene/scene_internal.h"
@@ -48,6 +49,9 @@ Renderer::Impl::Impl(rhi::IDevice& d, const Scene& scene, const RenderSettings& 
 // The one place that knows which features exist. Order matters twice: a feature may take
 // another in its constructor, and passes are added (and so run) in this order for each view.
 void Renderer::Impl::createFeatures(const Scene& scene) {
+    // First, as the features that draw meshes (and the GI bake, which draws while it is made)
+    // draw skinned and morphed instances from its posed buffers.
+    if (MeshDeformer::needed(scene)) features.push_back(std::make_unique<MeshDeformer>(device, scene, *gpuScene, settings.path));
     localLights = std::make_unique<LocalLights>(device, scene, lighting, settings.path, mainView, gpuScene->pointSampler());
     auto shadows = std::make_unique<MainLightShadows>(device, scene, *gpuScene, lighting.shadows, lighting.shadowMapSize,
                                                       kMaxDirectionalLights);

@@ -19,3 +19,7 @@ janus_add_shader(janus_shaders NAME tonemap_comp SOURCE ${CMAKE_CURRENT_LIST_DIR
 # Forward+ light culling (light_cull.comp and its shared math) and the directional shadow map.
 include(${CMAKE_CURRENT_LIST_DIR}/culling.cmake)
 include(${CMAKE_CURRENT_LIST_DIR}/shadows.cmake)
+# Mesh deformation (skins, morph targets): compute path, and the fallback's point pass.
+janus_add_shader(janus_shaders NAME deform_comp SOURCE ${CMAKE_CURRENT_LIST_DIR}/deform.comp NO_ES)
+janus_add_shader(janus_shaders NAME deform_points_vert SOURCE ${CMAKE_CURRENT_LIST_DIR}/deform_points.vert)
+janus_add_shader(janus_shaders NAME deform_points_frag SOURCE ${CMAKE_CURRENT_LIST_DIR}/deform_points.frag)

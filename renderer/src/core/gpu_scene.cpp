@@ -57,7 +57,7 @@ glm::mat4 normalMatrixOf(const glm::mat4& world) {
     cofactor[2] = glm::cross(m[0], m[1]);
     return glm::mat4(cofactor);
 }
-static_assert(sizeof(Vertex) == 72 && offsetof(Vertex, normal) == 12 && offsetof(Vertex, uv) == 24 && offsetof(Vertex, tangent) == 32 &&
+static_assert(sizeof(Vertex) == 80 && offsetof(Vertex, normal) == 12 && offsetof(Vertex, uv) == 24 && offsetof(Vertex, tangent) == 32 &&
                   offsetof(Vertex, uv1) == 48 && offsetof(Vertex, color) == 56,
               "the mesh pipelines' vertex layout assumes a tightly packed Vertex");
 
@@ -193,7 +193,17 @@ void GpuScene::uploadMeshes(const Scene& scene) {
     }
 }
 
+void GpuScene::useInstanceVertices(uint32_t instance, rhi::BufferHandle vertices) {
+    for (std::vector<Draw>* draws : {&m_draws, &m_blendedDraws})
+        for (Draw& draw : *draws)
+            if (draw.instance == instance) draw.vertices = vertices;
+    m_instanceVertices.at(instance) = std::move(vertices);
+}
+
+const rhi::BufferHandle& GpuScene::instanceVertices(uint32_t instance) const { return m_instanceVertices.at(instance); }
+
 void GpuScene::createDraws(const Scene& scene) {
+    for (const Instance& instance : scene.instances) m_instanceVertices.push_back(m_meshes[instance.mesh].vertices);
     // One slot per draw in a single uniform buffer; each draw's binding set views its slot.
     const uint64_t stride =
         alignUp(sizeof(DrawUniforms), std::max<uint32_t>(m_device.capabilities().limits.uniformBufferOffsetAlignment, 16));
@@ -236,6 +246,7 @@ void GpuScene::createDraws(const Scene& scene) {
         draw.mirrored = glm::determinant(glm::mat3(instance.world)) < 0.0f;
         draw.blended = material.alphaMode == AlphaMode::Blend;
         draw.topology = mesh.topology;
+        draw.vertices = m_meshes[instance.mesh].vertices;
         draw.renderingLayers = instance.renderingLayers;
         draw.world = instance.world;
         // The centre of the world-space box around the transformed local box is the transformed
@@ -390,7 +401,7 @@ void GpuScene::recordDraw(rhi::ICommandList& cmd, const rhi::PipelineHandle& pip
     }
     const Mesh& mesh = m_meshes[draw.mesh];
     cmd.setBindingSet(JANUS_SET_DRAW, draw.bindings);
-    cmd.setVertexBuffer(0, mesh.vertices);
+    cmd.setVertexBuffer(0, draw.vertices);
     cmd.setIndexBuffer(mesh.indices, rhi::IndexType::UInt32);
     cmd.drawIndexed(mesh.indexCount);
     ++report.draws;

@@ -21,7 +21,7 @@ namespace janus::renderer {
 class GpuScene {
 public:
     struct Mesh {
-        rhi::BufferHandle vertices;   // renderer Vertex (72 bytes)
+        rhi::BufferHandle vertices;   // renderer Vertex (80 bytes)
         rhi::BufferHandle indices;    // uint32
         uint32_t indexCount = 0;
     };
@@ -37,6 +37,7 @@ public:
         bool blended = false;
         MeshTopology topology = MeshTopology::Triangles;   // points and lines draw without culling
         uint32_t renderingLayers = 1u;
+        rhi::BufferHandle vertices;       // the mesh's, or the instance's posed vertices (MeshDeformer)
         glm::mat4 world{1.0f};
         glm::vec3 boundsCenter{0.0f};     // world-space centre of the mesh's bounding box (sorting)
         rhi::BindingSetHandle bindings;   // set JANUS_SET_DRAW
@@ -73,6 +74,11 @@ public:
     GpuScene(rhi::IDevice& device, const Scene& scene);
 
     const std::vector<Mesh>& meshes() const { return m_meshes; }
+    // Draws instance `instance` from `vertices` (Vertex layout, at least the mesh's vertex count)
+    // instead of its mesh's buffer: the mesh deformer's posed vertices.
+    void useInstanceVertices(uint32_t instance, rhi::BufferHandle vertices);
+    // The vertex buffer instance `instance` is drawn from (shadow casters use it too).
+    const rhi::BufferHandle& instanceVertices(uint32_t instance) const;
     // Opaque and alpha-masked instances with geometry, single-sided first, unmirrored first
     // (fewer pipeline switches).
     const std::vector<Draw>& draws() const { return m_draws; }
@@ -137,6 +143,7 @@ private:
 
     rhi::IDevice& m_device;
     std::vector<Mesh> m_meshes;
+    std::vector<rhi::BufferHandle> m_instanceVertices;   // per scene instance
     std::vector<Draw> m_draws, m_blendedDraws;
     bool m_hasKind[2][2] = {};          // [doubleSided][mirrored]: which pipelines draws() needs
     bool m_hasBlendedKind[2][2] = {};   // the same for blendedDraws()

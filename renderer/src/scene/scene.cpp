@@ -363,6 +363,59 @@ const char* lightProblem(const Light& light) {
     return nullptr;
 }
 
+// Skins and morph targets: what the GPU deformer reads must be there and in range (an index past
+// the joint matrices would read outside a buffer on the GPU).
+void validateDeformation(const Scene& scene) {
+    for (size_t m = 0; m < scene.meshes.size(); ++m) {
+        const Mesh& mesh = scene.meshes[m];
+        const size_t vertices = mesh.vertices.size();
+        if (!mesh.joints.empty() && (mesh.joints.size() != vertices || mesh.weights.size() != vertices))
+            throw SceneError(fmt::format("mesh {} has {} joints and {} weights for {} vertices; a skinned mesh has one of each per vertex", m,
+                                         mesh.joints.size(), mesh.weights.size(), vertices));
+        if (mesh.joints.empty() && !mesh.weights.empty()) throw SceneError(fmt::format("mesh {} has skin weights but no joints", m));
+        for (const glm::vec4& w : mesh.weights)
+            if (!allFinite(w) || glm::any(glm::lessThan(w, glm::vec4(0.0f))))
+                throw SceneError(fmt::format("mesh {} has a skin weight that is negative, NaN or infinite", m));
+        if (mesh.morphTargets.size() > kMaxMorphTargets)
+            throw SceneError(fmt::format("mesh {} has {} morph targets; Janus draws at most {}", m, mesh.morphTargets.size(), kMaxMorphTargets));
+        if (!mesh.morphWeights.empty() && mesh.morphWeights.size() != mesh.morphTargets.size())
+            throw SceneError(fmt::format("mesh {} has {} morph weights for {} morph targets", m, mesh.morphWeights.size(), mesh.morphTargets.size()));
+        for (size_t t = 0; t < mesh.morphTargets.size(); ++t) {
+            const MorphTarget& target = mesh.morphTargets[t];
+            for (const std::vector<glm::vec3>* list : {&target.positions, &target.normals, &target.tangents}) {
+                if (!list->empty() && list->size() != vertices)
+                    throw SceneError(fmt::format("mesh {} morph target {} has {} displacements for {} vertices", m, t, list->size(), vertices));
+                for (const glm::vec3& d : *list)
+                    if (!allFinite(d)) throw SceneError(fmt::format("mesh {} morph target {} has a NaN or infinite displacement", m, t));
+            }
+        }
+    }
+    for (size_t i = 0; i < scene.instances.size(); ++i) {
+        const Instance& instance = scene.instances[i];
+        if (instance.mesh >= scene.meshes.size()) continue;   // reported with the instances
+        const Mesh& mesh = scene.meshes[instance.mesh];
+        const std::string name = instance.nodeName.empty() ? fmt::format("instance {}", i) : fmt::format("instance {} ('{}')", i, instance.nodeName);
+        if (instance.skin >= 0 && !scene.skins.empty() && size_t(instance.skin) >= scene.skins.size())
+            throw SceneError(fmt::format("{} uses skin {} but the scene has {}", name, instance.skin, scene.skins.size()));
+        if (instance.skin >= 0 && !mesh.joints.empty()) {
+            if (instance.jointMatrices.size() > kMaxSkinJoints)
+                throw SceneError(fmt::format("{} has {} joints; Janus skins with at most {}", name, instance.jointMatrices.size(), kMaxSkinJoints));
+            for (const glm::mat4& matrix : instance.jointMatrices)
+                if (!allFinite(matrix)) throw SceneError(fmt::format("{} has a NaN or infinite joint matrix", name));
+            for (size_t v = 0; v < mesh.joints.size(); ++v)
+                for (int k = 0; k < 4; ++k)
+                    if (mesh.joints[v][k] >= instance.jointMatrices.size())
+                        throw SceneError(fmt::format("{}: vertex {} of mesh {} names joint {}, but the skin has {} joints", name, v,
+                                                     instance.mesh, mesh.joints[v][k], instance.jointMatrices.size()));
+        }
+        if (!instance.morphWeights.empty() && instance.morphWeights.size() != mesh.morphTargets.size())
+            throw SceneError(fmt::format("{} has {} morph weights for the {} morph targets of its mesh", name, instance.morphWeights.size(),
+                                         mesh.morphTargets.size()));
+        for (float w : instance.morphWeights)
+            if (!std::isfinite(w)) throw SceneError(fmt::format("{} has a NaN or infinite morph weight", name));
+    }
+}
+
 }  // namespace detail
 
 void validateScene(const Scene& scene) {
@@ -435,6 +488,7 @@ void validateScene(const Scene& scene) {
             throw SceneError(fmt::format("texture {} has {} bytes for {}x{} RGBA8", label(texture.name, t), texture.rgba.size(),
                                          texture.width, texture.height));
     }
+    detail::validateDeformation(scene);
     for (size_t i = 0; i < scene.instances.size(); ++i) {
         if (scene.instances[i].mesh >= scene.meshes.size())
             throw SceneError(fmt::format("instance {} uses mesh {} but the scene has {}", i, scene.instances[i].mesh, scene.meshes.size()));

@@ -57,6 +57,8 @@ Box sceneBounds(const Scene& scene);   // world AABB of every instance; an empty
 std::vector<ReflectionProbe> parseReflectionProbes(const std::filesystem::path& file, const nlohmann::json& probes, const Scene& scene);
 void addProbesFromMarkers(Scene& scene);
 void validateReflectionProbes(const Scene& scene);
+// Skins and morph targets: sizes, indices and finite values (part of validateScene).
+void validateDeformation(const Scene& scene);
 
 // The irradiance volume (irradiance_volume_scene.cpp): the scene file's "irradianceVolume"; one
 // over the scene's bounds for an "IrradianceVolume..." marker when the scene has none; validation.

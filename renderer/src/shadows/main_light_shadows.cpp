@@ -25,7 +25,8 @@ MainLightShadows::MainLightShadows(rhi::IDevice& device, const Scene& scene, con
     m_hasMainLight = main.has_value();
     if (main) m_lightDirection = scene.lights[*main].direction;
     const Material defaultMaterial;
-    for (const Instance& instance : scene.instances) {
+    for (uint32_t i = 0; i < scene.instances.size(); ++i) {
+        const Instance& instance = scene.instances[i];
         const GpuScene::Mesh& mesh = gpuScene.meshes()[instance.mesh];
         if (mesh.indexCount == 0) continue;
         const Mesh& sceneMesh = scene.meshes[instance.mesh];
@@ -34,7 +35,8 @@ MainLightShadows::MainLightShadows(rhi::IDevice& device, const Scene& scene, con
         if (material.alphaMode == AlphaMode::Blend) continue;
         // Points and lines have no area to cast a shadow with.
         if (sceneMesh.topology != MeshTopology::Triangles) continue;
-        m_casters.push_back(ShadowCaster{mesh.vertices, mesh.indices, mesh.indexCount, instance.world, material.doubleSided});
+        // Posed vertices for skinned and morphed instances (MeshDeformer).
+        m_casters.push_back(ShadowCaster{gpuScene.instanceVertices(i), mesh.indices, mesh.indexCount, instance.world, material.doubleSided});
     }
 }
 

@@ -75,7 +75,7 @@ DirectionalShadowMap::DirectionalShadowMap(rhi::IDevice& device, uint32_t size) 
         throw RendererError(fmt::format("shadow map size {} is not possible on this {} device: it must be between {} and the "
                                         "maximum 2D texture size {}",
                                         size, rhi::toString(device.info().backend), kMinSize, maxSize));
-    static_assert(sizeof(Vertex) == 72 && offsetof(Vertex, position) == 0, "the shadow pass reads positions from renderer Vertex");
+    static_assert(sizeof(Vertex) == 80 && offsetof(Vertex, position) == 0, "the shadow pass reads positions from renderer Vertex");
 
     m_depth = device.createTexture(rhi::TextureDesc{}
                                        .setFormat(kDepthFormat)

@@ -33,6 +33,9 @@ struct Vertex {
     glm::vec4 tangent;   // xyz tangent, w handedness; zero when the mesh has none
     glm::vec2 uv1{0.0f}; // glTF TEXCOORD_1; zero when the mesh has none
     glm::vec4 color{1.0f};   // glTF COLOR_0 (linear RGBA, multiplies base colour and alpha); white when the mesh has none
+    // Unused: pads a Vertex to five 16-byte texels, the unit the fallback mesh deformer writes
+    // posed vertices in (docs/ARCHITECTURE.md, "Mesh deformation").
+    glm::vec2 reserved{0.0f};
 };
 
 // A morph target (glTF primitive "targets"): displacements added to the base vertices, weighted

@@ -45,6 +45,14 @@
 #define JANUS_BINDING_SHADOW_PASS 0         // set 0: light view-projection
 #define JANUS_BINDING_SHADOW_CASTER 1       // set 1: caster world matrix
 
+// ---- Mesh deformation: skins and morph targets (renderer/src/deform/, shaders/renderer/deform*), set 0
+#define JANUS_BINDING_DEFORM_UNIFORMS 0     // DeformUniforms (deform_common.glsl)
+#define JANUS_BINDING_DEFORM_JOINTS 1       // joint matrices: mat4 SSBO (compute) | RGBA32F texture, 4 texels per matrix (fallback)
+#define JANUS_BINDING_DEFORM_MORPHS 2       // morph displacements: vec4 SSBO (compute) | RGBA32F texture (fallback)
+#define JANUS_BINDING_DEFORM_BASE 3         // compute path: the mesh's vertices (SSBO of floats)
+#define JANUS_BINDING_DEFORM_SKIN 4         // compute path: per vertex joints and weights (SSBO of vec4 pairs)
+#define JANUS_BINDING_DEFORM_OUTPUT 5       // compute path: the posed vertices (SSBO of floats, renderer Vertex layout)
+
 // ---- Tonemap (tonemap.comp / tonemap.frag), set 0 ---------------------------------------------
 #define JANUS_BINDING_TONEMAP_UNIFORMS 0
 #define JANUS_BINDING_TONEMAP_HDR 1
