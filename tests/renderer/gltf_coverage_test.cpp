@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -281,6 +282,61 @@ TEST(GltfMaterialExtensions, IgnoredPartsAreWarnedAboutOncePerFile) {
         << scene.warnings[1];
     for (const std::string& warning : scene.warnings)
         EXPECT_NE(err.find("janus: warning: " + warning), std::string::npos) << "not printed: " << warning << "\n" << err;
+}
+
+// --- scenes and cameras -------------------------------------------------------------------------
+
+// Two scenes: scene 0 holds the triangle and an orthographic camera (camera 0), scene 1 the
+// triangle moved to x = 5 and two perspective cameras (1 at z = 3, 2 at z = 7).
+TinyGltf twoScenesFile() {
+    TinyGltf file;
+    file.gltf["nodes"] = json::array({{{"name", "triangle node"}, {"mesh", 0}},
+                                      {{"name", "ortho"}, {"camera", 0}, {"translation", {0, 0, 2}}},
+                                      {{"name", "moved"}, {"mesh", 0}, {"translation", {5, 0, 0}}},
+                                      {{"name", "near"}, {"camera", 1}, {"translation", {0, 0, 3}}},
+                                      {{"name", "far"}, {"camera", 2}, {"translation", {0, 0, 7}}}});
+    file.gltf["scenes"] = json::array({{{"nodes", {0, 1}}}, {{"nodes", {2, 3, 4}}}});
+    file.gltf["scene"] = 0;
+    const json perspective = {{"yfov", 0.5}, {"znear", 0.1}, {"zfar", 50}};
+    file.gltf["cameras"] = json::array({{{"type", "orthographic"}, {"orthographic", {{"xmag", 1}, {"ymag", 1}, {"znear", 0.1}, {"zfar", 10}}}},
+                                        {{"type", "perspective"}, {"name", "near camera"}, {"perspective", perspective}},
+                                        {{"type", "perspective"}, {"name", "far camera"}, {"perspective", perspective}}});
+    return file;
+}
+
+TEST(GltfScenesAndCameras, TheSceneAndCameraCanBeChosen) {
+    TinyGltf file = twoScenesFile();
+    const std::filesystem::path path = file.write();
+    const Scene byDefault = loadScene(path);
+    ASSERT_EQ(byDefault.instances.size(), 1u);
+    EXPECT_EQ(byDefault.instances[0].nodeName, "triangle node");
+    SceneLoadOptions options;
+    options.scene = 1;
+    const Scene second = loadScene(path, options);
+    ASSERT_EQ(second.instances.size(), 1u);
+    EXPECT_EQ(second.instances[0].nodeName, "moved");
+    EXPECT_EQ(second.camera.position, glm::vec3(0, 0, 3)) << "the first perspective camera of scene 1";
+    options.camera = 2;
+    EXPECT_EQ(loadScene(path, options).camera.position, glm::vec3(0, 0, 7));
+}
+
+TEST(GltfScenesAndCameras, BadChoicesAreClearErrors) {
+    TinyGltf file = twoScenesFile();
+    const std::filesystem::path path = file.write();
+    SceneLoadOptions options;
+    options.scene = 2;
+    std::string message = sceneErrorOf([&] { loadScene(path, options); });
+    EXPECT_NE(message.find("scene 2 does not exist: the file has 2 scene(s) (0 to 1)"), std::string::npos) << message;
+    options = {};
+    options.camera = 0;
+    message = sceneErrorOf([&] { loadScene(path, options); });
+    EXPECT_NE(message.find("camera 0 ('') is orthographic; Janus renders through perspective cameras only"), std::string::npos) << message;
+    options.camera = 1;   // in scene 1 only
+    message = sceneErrorOf([&] { loadScene(path, options); });
+    EXPECT_NE(message.find("camera 1 ('near camera') is used by no node of the loaded scene"), std::string::npos) << message;
+    options.camera = 9;
+    message = sceneErrorOf([&] { loadScene(path, options); });
+    EXPECT_NE(message.find("camera 9 does not exist: the file has 3 camera(s)"), std::string::npos) << message;
 }
 
 }  // namespace

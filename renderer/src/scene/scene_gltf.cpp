@@ -380,7 +380,8 @@ bool loadImage(tinygltf::Image* image, const int index, std::string* err, std::s
 // glTF still point at the file that is wrong.
 class GltfReader {
 public:
-    GltfReader(const std::filesystem::path& path, tinygltf::Model& model) : m_path(path), m_model(model) {}
+    GltfReader(const std::filesystem::path& path, tinygltf::Model& model, const SceneLoadOptions& options)
+        : m_path(path), m_model(model), m_options(options) {}
 
     [[noreturn]] void fail(const std::string& what) const {
         throw SceneError(fmt::format("{}: {}", m_path.string(), what));
@@ -395,6 +396,12 @@ public:
         readMeshes(scene);
         readNodes(scene);
         scene.warnings = std::move(m_warnings);
+        if (m_options.camera && !m_cameraFound) {
+            if (*m_options.camera >= m_model.cameras.size())
+                fail(fmt::format("camera {} does not exist: the file has {} camera(s)", *m_options.camera, m_model.cameras.size()));
+            fail(fmt::format("camera {} ('{}') is used by no node of the loaded scene, so it has no place to look from", *m_options.camera,
+                             m_model.cameras[*m_options.camera].name));
+        }
         hasCamera = m_cameraFound;
         if (m_cameraFound) scene.camera = m_camera;
         return scene;
@@ -1006,7 +1013,8 @@ private:
             }
             for (uint32_t mesh : it->second) scene.instances.push_back(Instance{mesh, world, layers, node.name});
         }
-        if (node.camera >= 0 && !m_cameraFound) readCamera(node, world, name);
+        if (node.camera >= 0 && !m_cameraFound && (!m_options.camera || uint32_t(node.camera) == *m_options.camera))
+            readCamera(node, world, name);
         bool hasLight = false;
         if (auto ext = node.extensions.find("KHR_lights_punctual"); ext != node.extensions.end() && ext->second.Has("light")) {
             hasLight = true;
@@ -1025,7 +1033,12 @@ private:
     void readCamera(const tinygltf::Node& node, const glm::mat4& world, const std::string& name) {
         if (size_t(node.camera) >= m_model.cameras.size()) fail(fmt::format("node '{}' references missing camera {}", name, node.camera));
         const tinygltf::Camera& camera = m_model.cameras[size_t(node.camera)];
-        if (camera.type != "perspective") return;   // orthographic cameras are not supported; keep looking
+        if (camera.type != "perspective") {
+            if (m_options.camera)   // asked for by index: say why it cannot be used
+                fail(fmt::format("camera {} ('{}') is {}; Janus renders through perspective cameras only", node.camera, camera.name,
+                                 camera.type));
+            return;   // keep looking for a perspective one
+        }
         m_camera.position = glm::vec3(world[3]);
         m_camera.target = m_camera.position - glm::normalize(glm::vec3(world[2]));   // glTF cameras look down -Z
         m_camera.up = glm::normalize(glm::vec3(world[1]));
@@ -1077,8 +1090,11 @@ private:
     // crafted file from multiplying instances exponentially through shared children.
     void readNodes(Scene& scene) {
         std::vector<int> roots;
+        if (m_options.scene && *m_options.scene >= m_model.scenes.size())
+            fail(fmt::format("scene {} does not exist: the file has {} scene(s){}", *m_options.scene, m_model.scenes.size(),
+                             m_model.scenes.empty() ? "" : fmt::format(" (0 to {})", m_model.scenes.size() - 1)));
         if (!m_model.scenes.empty()) {
-            const int sceneIndex = m_model.defaultScene >= 0 ? m_model.defaultScene : 0;
+            const int sceneIndex = m_options.scene ? int(*m_options.scene) : m_model.defaultScene >= 0 ? m_model.defaultScene : 0;
             if (size_t(sceneIndex) >= m_model.scenes.size()) fail(fmt::format("default scene {} does not exist", sceneIndex));
             roots = m_model.scenes[size_t(sceneIndex)].nodes;
         } else {
@@ -1146,6 +1162,7 @@ private:
 
     std::filesystem::path m_path;
     tinygltf::Model& m_model;
+    SceneLoadOptions m_options;
     std::map<std::tuple<int, int, bool>, int32_t> m_textureCache;   // (image, sampler, sRGB)
     std::map<int, std::vector<uint32_t>> m_meshPrimitives;
     Camera m_camera;
@@ -1206,7 +1223,7 @@ Scene loadGltfFromMemory(std::string_view bytes, const std::filesystem::path& pa
         while (!reason.empty() && (reason.back() == '\n' || reason.back() == ' ')) reason.pop_back();
         throw SceneError(fmt::format("{}: malformed glTF: {}", path.string(), reason.empty() ? "tinygltf gave no reason" : reason));
     }
-    return GltfReader(path, model).read(hasCamera);
+    return GltfReader(path, model, options).read(hasCamera);
 }
 
 }  // namespace janus::renderer::detail

@@ -398,6 +398,13 @@ struct SceneLoadOptions {
     // the URI. True allows both (for assets the user trusts). A scene file's own "gltf" and
     // environment "map" are not subject to the rule: the user wrote them.
     bool allowPathsOutsideSceneFolder = false;
+    // Which glTF scene to load (index into the file's "scenes"); none: the file's "scene", else 0.
+    std::optional<uint32_t> scene;
+    // Which glTF camera to look through (index into the file's "cameras"), placed by the first
+    // node of the loaded scene that uses it; none: the first perspective camera met, else a
+    // camera that frames the scene. Orthographic cameras are not supported yet: picking one is
+    // a SceneError.
+    std::optional<uint32_t> camera;
 };
 
 // Loads a .gltf / .glb file or a .json scene file. Throws SceneError naming the file and the
