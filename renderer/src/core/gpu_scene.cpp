@@ -284,20 +284,22 @@ void GpuScene::createDraws(const Scene& scene) {
     }
 }
 
+rhi::GraphicsPipelineDesc& GpuScene::addVertexLayout(rhi::GraphicsPipelineDesc& desc, uint32_t binding) {
+    return desc.addVertexBuffer({binding, sizeof(Vertex), false})
+        .addVertexAttribute({0, rhi::VertexFormat::Float3, binding, offsetof(Vertex, position)})
+        .addVertexAttribute({1, rhi::VertexFormat::Float3, binding, offsetof(Vertex, normal)})
+        .addVertexAttribute({2, rhi::VertexFormat::Float2, binding, offsetof(Vertex, uv)})
+        .addVertexAttribute({3, rhi::VertexFormat::Float4, binding, offsetof(Vertex, tangent)})
+        .addVertexAttribute({4, rhi::VertexFormat::Float2, binding, offsetof(Vertex, uv1)})
+        .addVertexAttribute({5, rhi::VertexFormat::Float4, binding, offsetof(Vertex, color)});
+}
+
 rhi::PipelineHandle GpuScene::createMeshPipeline(const rhi::ShaderHandle& vertexShader, const rhi::ShaderHandle& fragmentShader,
                                                  rhi::CullMode cull, bool clockwise, rhi::DepthState depth, rhi::BlendAttachment blend,
                                                  const std::vector<rhi::Format>& colorFormats, rhi::Format depthFormat,
                                                  const std::string& name, rhi::PrimitiveTopology topology) const {
     rhi::GraphicsPipelineDesc desc;
-    desc.setShaders(vertexShader, fragmentShader)
-        .setTopology(topology)
-        .addVertexBuffer({0, sizeof(Vertex), false})
-        .addVertexAttribute({0, rhi::VertexFormat::Float3, 0, offsetof(Vertex, position)})
-        .addVertexAttribute({1, rhi::VertexFormat::Float3, 0, offsetof(Vertex, normal)})
-        .addVertexAttribute({2, rhi::VertexFormat::Float2, 0, offsetof(Vertex, uv)})
-        .addVertexAttribute({3, rhi::VertexFormat::Float4, 0, offsetof(Vertex, tangent)})
-        .addVertexAttribute({4, rhi::VertexFormat::Float2, 0, offsetof(Vertex, uv1)})
-        .addVertexAttribute({5, rhi::VertexFormat::Float4, 0, offsetof(Vertex, color)})
+    addVertexLayout(desc.setShaders(vertexShader, fragmentShader).setTopology(topology))
         // glTF front faces are counter-clockwise; an ordinary projection keeps that as seen in
         // the image, a mirrored one (cube faces) or a mirrored instance turns it clockwise.
         .setRaster(rhi::RasterState{cull, clockwise ? rhi::FrontFace::Clockwise : rhi::FrontFace::CounterClockwise})

@@ -73,6 +73,10 @@ public:
 
     GpuScene(rhi::IDevice& device, const Scene& scene);
 
+    // The renderer Vertex as vertex buffer `binding`: locations 0-5 (position, normal, uv,
+    // tangent, uv1, colour), as forward.vert and deform_points.vert read them.
+    static rhi::GraphicsPipelineDesc& addVertexLayout(rhi::GraphicsPipelineDesc& desc, uint32_t binding = 0);
+
     const std::vector<Mesh>& meshes() const { return m_meshes; }
     // Draws instance `instance` from `vertices` (Vertex layout, at least the mesh's vertex count)
     // instead of its mesh's buffer: the mesh deformer's posed vertices.

@@ -165,18 +165,12 @@ MeshDeformer::MeshDeformer(rhi::IDevice& device, const Scene& scene, GpuScene& g
         m_pipeline = m_device.createComputePipeline(
             rhi::ComputePipelineDesc{}.setShader(makeShader(m_device, rhi::ShaderStage::Compute, "deform_comp")).setDebugName("mesh deform"));
     } else {
+        rhi::GraphicsPipelineDesc desc;
+        desc.setShaders(makeShader(m_device, rhi::ShaderStage::Vertex, "deform_points_vert"),
+                        makeShader(m_device, rhi::ShaderStage::Fragment, "deform_points_frag"))
+            .setTopology(rhi::PrimitiveTopology::PointList);
         m_pipeline = m_device.createGraphicsPipeline(
-            rhi::GraphicsPipelineDesc{}
-                .setShaders(makeShader(m_device, rhi::ShaderStage::Vertex, "deform_points_vert"),
-                            makeShader(m_device, rhi::ShaderStage::Fragment, "deform_points_frag"))
-                .setTopology(rhi::PrimitiveTopology::PointList)
-                .addVertexBuffer({0, sizeof(Vertex), false})
-                .addVertexAttribute({0, rhi::VertexFormat::Float3, 0, offsetof(Vertex, position)})
-                .addVertexAttribute({1, rhi::VertexFormat::Float3, 0, offsetof(Vertex, normal)})
-                .addVertexAttribute({2, rhi::VertexFormat::Float2, 0, offsetof(Vertex, uv)})
-                .addVertexAttribute({3, rhi::VertexFormat::Float4, 0, offsetof(Vertex, tangent)})
-                .addVertexAttribute({4, rhi::VertexFormat::Float2, 0, offsetof(Vertex, uv1)})
-                .addVertexAttribute({5, rhi::VertexFormat::Float4, 0, offsetof(Vertex, color)})
+            GpuScene::addVertexLayout(desc)
                 .addVertexBuffer({1, 2 * sizeof(glm::vec4), false})
                 .addVertexAttribute({6, rhi::VertexFormat::Float4, 1, 0})
                 .addVertexAttribute({7, rhi::VertexFormat::Float4, 1, sizeof(glm::vec4)})
