@@ -11,6 +11,7 @@
 #include <glm/gtc/type_ptr.hpp>
 #include <nlohmann/json.hpp>
 
+#include "animation.h"
 #include "scene_internal.h"
 
 namespace janus::renderer {
@@ -292,6 +293,12 @@ bool allFinite(const Values&... values) {
     return (finiteVector(values) && ...);
 }
 
+bool allFiniteRange(const std::vector<float>& values) {
+    for (float v : values)
+        if (!std::isfinite(v)) return false;
+    return true;
+}
+
 std::string label(const std::string& name, size_t index) { return name.empty() ? fmt::format("#{}", index) : fmt::format("'{}'", name); }
 
 // What a .gltf / .glb loaded on its own lacks and a scene file would give: a camera, a light, probes,
@@ -384,6 +391,28 @@ void validateScene(const Scene& scene) {
                                              v.color.b, v.color.a, kMaxColorValue));
         if (mesh.material >= int32_t(scene.materials.size()))
             throw SceneError(fmt::format("mesh {} uses material {} but the scene has {}", m, mesh.material, scene.materials.size()));
+        if (mesh.joints.size() != mesh.weights.size() || (!mesh.joints.empty() && mesh.joints.size() != mesh.vertices.size()))
+            throw SceneError(fmt::format("mesh {} has {} joint sets and {} weight sets for {} vertices; skinned meshes have one of each "
+                                         "per vertex",
+                                         m, mesh.joints.size(), mesh.weights.size(), mesh.vertices.size()));
+        for (const glm::vec4& w : mesh.weights)
+            if (!allFinite(w) || glm::any(glm::lessThan(w, glm::vec4(0.0f))))
+                throw SceneError(fmt::format("mesh {} has a NaN, infinite or negative skin weight", m));
+        if (mesh.morphTargets.size() > kMaxMorphTargets)
+            throw SceneError(fmt::format("mesh {} has {} morph targets; at most {}", m, mesh.morphTargets.size(), kMaxMorphTargets));
+        if (mesh.morphWeights.size() != mesh.morphTargets.size() || !allFiniteRange(mesh.morphWeights))
+            throw SceneError(fmt::format("mesh {} has {} morph weights for {} morph targets (one finite weight per target)", m,
+                                         mesh.morphWeights.size(), mesh.morphTargets.size()));
+        for (size_t t = 0; t < mesh.morphTargets.size(); ++t) {
+            const MorphTarget& target = mesh.morphTargets[t];
+            for (const std::vector<glm::vec3>* list : {&target.positions, &target.normals, &target.tangents}) {
+                if (!list->empty() && list->size() != mesh.vertices.size())
+                    throw SceneError(fmt::format("mesh {} morph target {} has {} displacements for {} vertices", m, t, list->size(),
+                                                 mesh.vertices.size()));
+                for (const glm::vec3& d : *list)
+                    if (!allFinite(d)) throw SceneError(fmt::format("mesh {} morph target {} has a NaN or infinite displacement", m, t));
+            }
+        }
     }
     for (size_t i = 0; i < scene.materials.size(); ++i) {
         const Material& material = scene.materials[i];
@@ -440,6 +469,28 @@ void validateScene(const Scene& scene) {
             throw SceneError(fmt::format("instance {} uses mesh {} but the scene has {}", i, scene.instances[i].mesh, scene.meshes.size()));
         if (!allFinite(scene.instances[i].world))
             throw SceneError(fmt::format("instance {} (mesh {}) has a NaN or infinite transform", i, scene.instances[i].mesh));
+    }
+    // Nodes, skins, animations and the instances' references to them (as poseScene needs them),
+    // then what poseScene derives: joint matrices and morph weights.
+    detail::validateAnimationData(scene);
+    for (size_t i = 0; i < scene.instances.size(); ++i) {
+        const Instance& instance = scene.instances[i];
+        const Mesh& mesh = scene.meshes[instance.mesh];
+        if (instance.morphWeights.size() != mesh.morphTargets.size() || !allFiniteRange(instance.morphWeights))
+            throw SceneError(fmt::format("instance {} has {} morph weights but its mesh {} has {} morph targets (poseScene sets them)", i,
+                                         instance.morphWeights.size(), instance.mesh, mesh.morphTargets.size()));
+        if (instance.skin < 0) continue;
+        const size_t joints = scene.skins[size_t(instance.skin)].joints.size();
+        if (instance.jointMatrices.size() != joints)
+            throw SceneError(fmt::format("instance {} has {} joint matrices but its skin {} has {} joints (poseScene sets them)", i,
+                                         instance.jointMatrices.size(), instance.skin, joints));
+        for (const glm::mat4& m : instance.jointMatrices)
+            if (!allFinite(m)) throw SceneError(fmt::format("instance {} has a NaN or infinite joint matrix", i));
+        for (size_t v = 0; v < mesh.joints.size(); ++v)
+            for (int c = 0; c < 4; ++c)
+                if (mesh.joints[v][c] >= joints)
+                    throw SceneError(fmt::format("instance {}: vertex {} of mesh {} uses joint {}, but skin {} has {} joints", i, v,
+                                                 instance.mesh, mesh.joints[v][c], instance.skin, joints));
     }
     for (size_t i = 0; i < scene.lights.size(); ++i)
         if (const char* problem = detail::lightProblem(scene.lights[i])) throw SceneError(fmt::format("light {} {}", i, problem));
