@@ -212,6 +212,29 @@ Scene loadSceneFile(std::string_view bytes, const std::filesystem::path& path, c
             fail(path, fmt::format("its \"gltf\" could not be loaded: {}", e.what()));   // name both files
         }
         scene.name = root.value("name", path.stem().string());
+        // The pose, before the camera frames the scene: "animation" (a name or an index) and
+        // "time" (seconds >= 0); either defaults to the glTF's (animation 0 at t = 0).
+        if (root.contains("time") || root.contains("animation")) {
+            std::optional<size_t> animation = scene.posedAnimation;
+            if (root.contains("animation")) {
+                const json& value = root["animation"];
+                if (!value.is_string() && !value.is_number_unsigned())
+                    fail(path, fmt::format("\"animation\" must be an animation's name or index, got {}", value.dump()));
+                try {
+                    animation = findAnimation(scene, value.is_string() ? value.get<std::string>() : std::to_string(value.get<uint64_t>()));
+                } catch (const SceneError& e) {
+                    fail(path, fmt::format("\"animation\": {}", e.what()));
+                }
+            }
+            float time = scene.posedTime;
+            if (root.contains("time")) {
+                const json& value = root["time"];
+                if (!value.is_number() || !std::isfinite(value.get<double>()) || value.get<double>() < 0.0)
+                    fail(path, fmt::format("\"time\" must be a number of seconds >= 0, got {}", value.dump()));
+                time = value.get<float>();
+            }
+            poseScene(scene, time, animation);
+        }
 
         if (root.contains("camera")) {
             const json& c = objectAt(path, root, "camera");
@@ -222,6 +245,7 @@ Scene loadSceneFile(std::string_view bytes, const std::filesystem::path& path, c
             camera.fovYRadians = glm::radians(number(path, c, "fovYDegrees", glm::degrees(camera.fovYRadians)));
             camera.nearPlane = number(path, c, "near", camera.nearPlane);
             camera.farPlane = number(path, c, "far", camera.farPlane);
+            camera.node = -1;   // placed by the scene file: animations do not move it
             hasCamera = true;
         }
         if (!hasCamera) detail::frameSceneBounds(scene);
