@@ -189,6 +189,17 @@ TEST(GltfSkins, BadSkinsAreErrors) {
         const std::string message = sceneErrorOf([&] { loadScene(skinned.file.write()); });
         EXPECT_TRUE(contains(message, "skin 0 ('legs') inverseBindMatrices accessor 4 has 1 matrices for 2 joints")) << message;
     }
+    {   // 1100 nodes sharing a 4096-joint skin would need 4.5 Mi joint matrices
+        SkinnedFile skinned(kJoints, kWeights);
+        skinned.file.gltf["skins"][0]["joints"] = json(std::vector<int>(kMaxSkinJoints, 1));
+        json& nodes = skinned.file.gltf["nodes"];
+        for (int n = 0; n < 1100; ++n) {
+            nodes.push_back({{"mesh", 0}, {"skin", 0}});
+            skinned.file.gltf["scenes"][0]["nodes"].push_back(nodes.size() - 1);
+        }
+        const std::string message = sceneErrorOf([&] { loadScene(skinned.file.write()); });
+        EXPECT_TRUE(contains(message, "the skinned instances need more than 4194304 joint matrices")) << message;
+    }
     {
         SkinnedFile skinned(kJoints, kWeights);
         skinned.file.gltf["skins"][0]["joints"] = {1, 9};

@@ -40,6 +40,11 @@ constexpr uint64_t kMaxAccessorBytes = uint64_t(1) << 30;
 constexpr int kMaxImageSide = 16384;
 constexpr uint64_t kMaxImagePixels = uint64_t(1) << 26;
 
+// The most joint matrices all skinned instances together may need (4 Mi matrices, 256 MiB): each
+// skinned instance holds one per joint of its skin, so a few bytes of JSON (many nodes sharing a
+// large skin) could otherwise ask for gigabytes.
+constexpr uint64_t kMaxJointMatrices = uint64_t(1) << 22;
+
 // glTF extensions the loader implements.
 constexpr std::string_view kSupportedExtensions[] = {"KHR_lights_punctual",
                                                      "KHR_mesh_quantization",
@@ -1196,6 +1201,11 @@ private:
                                          "values index the skin's joints)",
                                          name, m_meshLabels[mesh], used->second.vertex, used->second.joint, skinLabel(node.skin),
                                          skin.joints.size()));
+                    m_jointMatrices += skin.joints.size();
+                    if (m_jointMatrices > kMaxJointMatrices)
+                        fail(fmt::format("the skinned instances need more than {} joint matrices (node '{}' adds {} for skin {}); the "
+                                         "file is wrong or too large for Janus",
+                                         kMaxJointMatrices, name, skin.joints.size(), skinLabel(node.skin)));
                     // glTF ignores the skinned mesh node's own transform: the joints place the mesh.
                     instance.skin = node.skin;
                     instance.world = glm::mat4(1.0f);
@@ -1585,6 +1595,7 @@ private:
     };
     std::map<size_t, MaxJoint> m_maxJoint;
     std::map<uint32_t, uint32_t> m_unskinned;     // skinned mesh -> its copy without joints (unskinnedCopy)
+    uint64_t m_jointMatrices = 0;                 // joint matrices of the skinned instances so far (kMaxJointMatrices)
     Camera m_camera;
     bool m_cameraFound = false;
     std::vector<std::string> m_warnings;
