@@ -321,6 +321,56 @@ void applyEnvironmentOverride(renderer::Scene& scene, const EnvironmentOverride&
     if (environment.intensity) scene.environment.intensity = *environment.intensity;
 }
 
+void addAnimationOptions(CLI::App& app, AnimationOptions& options) {
+    app.add_option("--time", options.time,
+                   "Pose the scene at this time in seconds (>= 0; past the last keyframe the animation holds its end; default: "
+                   "the scene file's \"time\", else 0)")
+        ->type_name("SECONDS");
+    app.add_option("--animation", options.animation,
+                   "Which glTF animation --time samples: its name or index (default: the scene file's \"animation\", else 0)")
+        ->type_name("NAME|INDEX");
+}
+
+AnimationOverride parseAnimationOptions(const AnimationOptions& options) {
+    AnimationOverride animation;
+    if (!options.time.empty()) {
+        const std::string& text = options.time;
+        float time = 0.0f;
+        const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), time);
+        if (error != std::errc() || end != text.data() + text.size())
+            throw UsageError(fmt::format("--time '{}' is not a number; give the time in seconds, such as 0.5", text));
+        if (!std::isfinite(time) || time < 0.0f)
+            throw UsageError(fmt::format("--time '{}' is not allowed; give a finite number of seconds >= 0", text));
+        animation.time = time;
+    }
+    if (!options.animation.empty()) animation.animation = options.animation;
+    return animation;
+}
+
+void applyAnimationOverride(renderer::Scene& scene, const AnimationOverride& animation, std::string_view sceneLabel) {
+    if (!animation.time && !animation.animation) return;
+    std::optional<size_t> index = scene.posedAnimation;
+    if (animation.animation) {
+        if (scene.animations.empty())
+            throw UsageError(fmt::format("--animation '{}': {} has no animations", *animation.animation, sceneLabel));
+        try {
+            index = renderer::findAnimation(scene, *animation.animation);
+        } catch (const renderer::SceneError& e) {
+            throw UsageError(fmt::format("--animation '{}': {} ({})", *animation.animation, e.what(), sceneLabel));
+        }
+    }
+    renderer::poseScene(scene, animation.time.value_or(scene.posedTime), index);
+}
+
+std::string poseLine(const renderer::Scene& scene) {
+    if (scene.animations.empty() || !scene.posedAnimation) return "";
+    const size_t index = *scene.posedAnimation;
+    const renderer::Animation& animation = scene.animations[index];
+    return fmt::format("animation {}{} at {} s (of {} s; {} animation{} in the scene)", index,
+                       animation.name.empty() ? "" : fmt::format(" '{}'", animation.name), scene.posedTime, animation.duration,
+                       scene.animations.size(), scene.animations.size() == 1 ? "" : "s");
+}
+
 std::string lightCullingLine(const renderer::FrameReport& report) {
     if (!report.lightCulling) return "";
     const renderer::LightCullingReport& c = *report.lightCulling;

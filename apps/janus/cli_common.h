@@ -127,6 +127,27 @@ struct EnvironmentOverride {
 EnvironmentOverride parseEnvironmentOptions(const EnvironmentOptions& options);
 void applyEnvironmentOverride(renderer::Scene& scene, const EnvironmentOverride& environment);
 
+// --time SECONDS and --animation NAME|INDEX, shared by render and parity: the pose the scene is
+// rendered at (docs/SCENES.md, "Animations"). Empty strings = not given (the scene's own pose:
+// a scene file's "time"/"animation", else t = 0 of animation 0).
+struct AnimationOptions {
+    std::string time;
+    std::string animation;
+};
+void addAnimationOptions(CLI::App& app, AnimationOptions& options);
+struct AnimationOverride {
+    std::optional<float> time;          // seconds, finite and >= 0
+    std::optional<std::string> animation;
+};
+// Checks --time before any scene is loaded: UsageError for a value that is not a finite number >= 0.
+AnimationOverride parseAnimationOptions(const AnimationOptions& options);
+// Poses `scene` as the options ask (each option replaces the scene's own). UsageError naming the
+// option for an unknown animation name, an index out of range or --animation on a scene without
+// animations (`sceneLabel` names the scene).
+void applyAnimationOverride(renderer::Scene& scene, const AnimationOverride& animation, std::string_view sceneLabel);
+// "animation 1 'Walk' at 0.5 s (of 0.7 s)", or "" for a scene without animations.
+std::string poseLine(const renderer::Scene& scene);
+
 // ---- rendering one configuration ----------------------------------------------------------
 
 struct RenderRequest {

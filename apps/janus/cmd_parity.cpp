@@ -22,6 +22,7 @@ struct ParityOptions {
     bool allowOutsidePaths = false;
     LightingOptions lighting;
     EnvironmentOptions environment;
+    AnimationOptions animation;
 };
 
 int run(const ParityOptions& options) {
@@ -39,20 +40,24 @@ int run(const ParityOptions& options) {
         throw InputError(fmt::format("--out '{}' is a file; give a directory for the images", options.out));
 
     const EnvironmentOverride environment = parseEnvironmentOptions(options.environment);
+    const AnimationOverride animation = parseAnimationOptions(options.animation);
 
     // The scene is loaded before the directory is created, so a bad scene leaves nothing behind.
     std::optional<std::filesystem::path> scenePath;
     if (!options.scene.empty()) scenePath = options.scene;
     renderer::Scene scene = loadSceneOrDefault(scenePath, options.allowOutsidePaths);
     applyEnvironmentOverride(scene, environment);
+    applyAnimationOverride(scene, animation, sceneLabel(scenePath));
 
     std::filesystem::create_directories(outDir, ec);
     if (ec)
         throw InputError(fmt::format("cannot create --out directory '{}': {}; choose another path", options.out, ec.message()));
     checkOutputFile(outDir / "parity.json", "--out");
 
-    std::printf("parity: %s at %ux%u, tolerance %u step(s)\n\n", sceneLabel(scenePath).c_str(), base.size.width,
+    std::printf("parity: %s at %ux%u, tolerance %u step(s)\n", sceneLabel(scenePath).c_str(), base.size.width,
                 base.size.height, tolerance);
+    if (const std::string pose = poseLine(scene); !pose.empty()) std::printf("pose: %s\n", pose.c_str());
+    std::printf("\n");
 
     std::vector<ConfigurationResult> results;
     std::vector<std::vector<std::string>> configRows{{"configuration", "result", "image"}};
@@ -123,7 +128,7 @@ int run(const ParityOptions& options) {
         }
         configsJson.push_back(std::move(entry));
     }
-    const nlohmann::json summary{{"scene", sceneLabel(scenePath)},
+    nlohmann::json summary{{"scene", sceneLabel(scenePath)},
                                  {"width", base.size.width},
                                  {"height", base.size.height},
                                  {"tolerance", tolerance},
@@ -131,6 +136,11 @@ int run(const ParityOptions& options) {
                                  {"passed", passed},
                                  {"configurations", configsJson},
                                  {"pairs", pairsJson}};
+    if (scene.posedAnimation) {   // the pose the images show
+        summary["animation"] = *scene.posedAnimation;
+        summary["animationName"] = scene.animations[*scene.posedAnimation].name;
+        summary["time"] = scene.posedTime;
+    }
     const std::filesystem::path summaryPath = outDir / "parity.json";
     renderer::writeFileAtomically(summaryPath, summary.dump(2) + "\n");
 
@@ -161,6 +171,7 @@ Command addParityCommand(CLI::App& parent) {
     addGLPlatformOption(*app, options->glPlatform);
     addLightingOptions(*app, options->lighting);
     addEnvironmentOptions(*app, options->environment);
+    addAnimationOptions(*app, options->animation);
     app->add_flag("--validation", options->validation,
                   "Enable Vulkan validation layers / GL debug output; a configuration with errors fails");
     return {app, [options] { return run(*options); }};

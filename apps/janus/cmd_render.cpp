@@ -25,6 +25,7 @@ struct RenderOptions {
     std::string giBake;
     LightingOptions lighting;
     EnvironmentOptions environment;
+    AnimationOptions animation;
 };
 
 bool hasExtension(const std::filesystem::path& file, std::string_view extension) {
@@ -69,11 +70,13 @@ int run(const RenderOptions& options) {
         checkOutputFile(*reportPath, "--report");
     }
     const EnvironmentOverride environment = parseEnvironmentOptions(options.environment);
+    const AnimationOverride animation = parseAnimationOptions(options.animation);
     std::optional<std::filesystem::path> scenePath;
     if (!options.scene.empty()) scenePath = options.scene;
 
     renderer::Scene scene = loadSceneOrDefault(scenePath, options.allowOutsidePaths);
     applyEnvironmentOverride(scene, environment);
+    applyAnimationOverride(scene, animation, sceneLabel(scenePath));
     if (scene.irradianceVolume && request.giBakeFile.empty())
         std::fprintf(stderr, "janus: note: baking the scene's irradiance volume now (the gi-bake pass); janus bake SCENE --out FILE "
                              "saves a bake that --gi-bake FILE reuses\n");
@@ -97,6 +100,7 @@ int run(const RenderOptions& options) {
     std::printf("  image:  %s\n", outPath.c_str());
     if (hdrPath) std::printf("  hdr:    %s\n", hdrPath->c_str());
     if (reportPath) std::printf("  report: %s\n", reportPath->c_str());
+    if (const std::string pose = poseLine(scene); !pose.empty()) std::printf("  pose:   %s\n", pose.c_str());
     if (const std::string culling = lightCullingLine(outcome.report); !culling.empty()) std::printf("  %s\n", culling.c_str());
     if (outcome.frames > 1)
         std::printf("  frames: %u (until every reflection probe was shown; passes below are the last frame's)\n", outcome.frames);
@@ -129,6 +133,7 @@ Command addRenderCommand(CLI::App& parent) {
     addGLPlatformOption(*app, options->glPlatform);
     addLightingOptions(*app, options->lighting);
     addEnvironmentOptions(*app, options->environment);
+    addAnimationOptions(*app, options->animation);
     app->add_option("--debug", options->debug, "Debug view: none, tiles (heat map of lights per tile, blue to red; "
                                                "tiles at the cap white-hatched), gi (the irradiance volume's light alone and its probes) or "
                                                "gi-light (the volume's light without the probes)")

@@ -56,7 +56,12 @@ Scene deformedQuadScene() {
                               glm::rotate(glm::mat4(1.0f), glm::radians(90.0f), glm::vec3(0, 0, 1))};
     instance.morphWeights = {0.5f, 0.25f};
     scene.instances.push_back(instance);
-    scene.skins.push_back(Skin{"skin", {}, {}});
+    // The skin's joints are two root nodes; the joint matrices are set here directly (what
+    // poseScene would derive from the nodes is beside the point of these tests).
+    scene.nodes.resize(2);
+    scene.nodes[0].name = "joint 0";
+    scene.nodes[1].name = "joint 1";
+    scene.skins.push_back(Skin{"skin", {0, 1}, {glm::mat4(1.0f), glm::mat4(1.0f)}});
     return scene;
 }
 
@@ -127,6 +132,8 @@ TEST_P(MeshDeformTest, StaticScenesHaveNoDeformPass) {
     scene.meshes[0].morphTargets.clear();
     scene.meshes[0].morphWeights.clear();
     scene.instances[0].morphWeights.clear();
+    scene.instances[0].skin = -1;
+    scene.instances[0].jointMatrices.clear();
     EXPECT_FALSE(MeshDeformer::needed(scene));
     RenderSettings settings = settingsOfSize(32, 32);
     const test_support::FrameOutput output = test_support::renderOneFrame(GetParam(), scene, settings);
@@ -146,21 +153,21 @@ TEST(MeshDeformValidation, BadSkinsAndMorphsAreSceneErrors) {
     };
     Scene scene = deformedQuadScene();
     scene.meshes[0].joints[2] = {0, 7, 0, 0};
-    EXPECT_NE(messageOf(scene).find("vertex 2 of mesh 0 names joint 7, but the skin has 2 joints"), std::string::npos) << messageOf(scene);
+    EXPECT_NE(messageOf(scene).find("vertex 2 of mesh 0 uses joint 7, but skin 0 has 2 joints"), std::string::npos) << messageOf(scene);
     scene = deformedQuadScene();
     scene.meshes[0].morphTargets[1].positions.pop_back();
     EXPECT_NE(messageOf(scene).find("morph target 1 has 3 displacements for 4 vertices"), std::string::npos) << messageOf(scene);
     scene = deformedQuadScene();
     scene.instances[0].morphWeights = {1.0f};
-    EXPECT_NE(messageOf(scene).find("has 1 morph weights for the 2 morph targets"), std::string::npos) << messageOf(scene);
+    EXPECT_NE(messageOf(scene).find("instance 0 has 1 morph weights but its mesh 0 has 2 morph targets"), std::string::npos) << messageOf(scene);
     scene = deformedQuadScene();
     scene.meshes[0].weights.pop_back();
-    EXPECT_NE(messageOf(scene).find("4 joints and 3 weights for 4 vertices"), std::string::npos) << messageOf(scene);
+    EXPECT_NE(messageOf(scene).find("mesh 0 has 4 joint sets and 3 weight sets for 4 vertices"), std::string::npos) << messageOf(scene);
     scene = deformedQuadScene();
     scene.meshes[0].morphTargets.resize(kMaxMorphTargets + 1);
     scene.meshes[0].morphWeights.resize(kMaxMorphTargets + 1);
     scene.instances[0].morphWeights.resize(kMaxMorphTargets + 1);
-    EXPECT_NE(messageOf(scene).find("65 morph targets; Janus draws at most 64"), std::string::npos) << messageOf(scene);
+    EXPECT_NE(messageOf(scene).find("mesh 0 has 65 morph targets; at most 64"), std::string::npos) << messageOf(scene);
 }
 
 INSTANTIATE_TEST_SUITE_P(Configs, MeshDeformTest, testing::ValuesIn(test_support::allConfigs()),

@@ -1,5 +1,6 @@
 // Reflection probes in scenes: the scene file's "reflectionProbes", probes placed by glTF
 // "ReflectionCubemap..." markers, and their validation (docs/SCENES.md, docs/PROBES.md).
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -73,7 +74,17 @@ Box sceneBounds(const Scene& scene) {
     glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
     for (const Instance& instance : scene.instances) {
         if (instance.mesh >= scene.meshes.size()) continue;
-        for (const Vertex& v : scene.meshes[instance.mesh].vertices) {
+        // Skinned and morphed meshes where the pose puts them (posedVertices), others as they are.
+        std::vector<Vertex> posed;
+        const bool morphed = std::any_of(instance.morphWeights.begin(), instance.morphWeights.end(), [](float w) { return w != 0.0f; });
+        if ((instance.skin >= 0 && !instance.jointMatrices.empty()) || morphed) {
+            try {
+                posed = posedVertices(scene, instance);
+            } catch (const SceneError&) {
+                posed.clear();   // not posed consistently (a scene made in code): the mesh as it is
+            }
+        }
+        for (const Vertex& v : posed.empty() ? scene.meshes[instance.mesh].vertices : posed) {
             const glm::vec3 p = glm::vec3(instance.world * glm::vec4(v.position, 1.0f));
             lo = glm::min(lo, p);
             hi = glm::max(hi, p);

@@ -11,6 +11,7 @@
 #include <glm/gtc/type_ptr.hpp>
 #include <nlohmann/json.hpp>
 
+#include "animation.h"
 #include "scene_internal.h"
 
 namespace janus::renderer {
@@ -211,6 +212,29 @@ Scene loadSceneFile(std::string_view bytes, const std::filesystem::path& path, c
             fail(path, fmt::format("its \"gltf\" could not be loaded: {}", e.what()));   // name both files
         }
         scene.name = root.value("name", path.stem().string());
+        // The pose, before the camera frames the scene: "animation" (a name or an index) and
+        // "time" (seconds >= 0); either defaults to the glTF's (animation 0 at t = 0).
+        if (root.contains("time") || root.contains("animation")) {
+            std::optional<size_t> animation = scene.posedAnimation;
+            if (root.contains("animation")) {
+                const json& value = root["animation"];
+                if (!value.is_string() && !value.is_number_unsigned())
+                    fail(path, fmt::format("\"animation\" must be an animation's name or index, got {}", value.dump()));
+                try {
+                    animation = findAnimation(scene, value.is_string() ? value.get<std::string>() : std::to_string(value.get<uint64_t>()));
+                } catch (const SceneError& e) {
+                    fail(path, fmt::format("\"animation\": {}", e.what()));
+                }
+            }
+            float time = scene.posedTime;
+            if (root.contains("time")) {
+                const json& value = root["time"];
+                if (!value.is_number() || !std::isfinite(value.get<double>()) || value.get<double>() < 0.0)
+                    fail(path, fmt::format("\"time\" must be a number of seconds >= 0, got {}", value.dump()));
+                time = value.get<float>();
+            }
+            poseScene(scene, time, animation);
+        }
 
         if (root.contains("camera")) {
             const json& c = objectAt(path, root, "camera");
@@ -221,6 +245,7 @@ Scene loadSceneFile(std::string_view bytes, const std::filesystem::path& path, c
             camera.fovYRadians = glm::radians(number(path, c, "fovYDegrees", glm::degrees(camera.fovYRadians)));
             camera.nearPlane = number(path, c, "near", camera.nearPlane);
             camera.farPlane = number(path, c, "far", camera.farPlane);
+            camera.node = -1;   // placed by the scene file: animations do not move it
             hasCamera = true;
         }
         if (!hasCamera) detail::frameSceneBounds(scene);
@@ -290,6 +315,12 @@ bool allFinite(const Values&... values) {
         }
     };
     return (finiteVector(values) && ...);
+}
+
+bool allFiniteRange(const std::vector<float>& values) {
+    for (float v : values)
+        if (!std::isfinite(v)) return false;
+    return true;
 }
 
 std::string label(const std::string& name, size_t index) { return name.empty() ? fmt::format("#{}", index) : fmt::format("'{}'", name); }
@@ -363,59 +394,6 @@ const char* lightProblem(const Light& light) {
     return nullptr;
 }
 
-// Skins and morph targets: what the GPU deformer reads must be there and in range (an index past
-// the joint matrices would read outside a buffer on the GPU).
-void validateDeformation(const Scene& scene) {
-    for (size_t m = 0; m < scene.meshes.size(); ++m) {
-        const Mesh& mesh = scene.meshes[m];
-        const size_t vertices = mesh.vertices.size();
-        if (!mesh.joints.empty() && (mesh.joints.size() != vertices || mesh.weights.size() != vertices))
-            throw SceneError(fmt::format("mesh {} has {} joints and {} weights for {} vertices; a skinned mesh has one of each per vertex", m,
-                                         mesh.joints.size(), mesh.weights.size(), vertices));
-        if (mesh.joints.empty() && !mesh.weights.empty()) throw SceneError(fmt::format("mesh {} has skin weights but no joints", m));
-        for (const glm::vec4& w : mesh.weights)
-            if (!allFinite(w) || glm::any(glm::lessThan(w, glm::vec4(0.0f))))
-                throw SceneError(fmt::format("mesh {} has a skin weight that is negative, NaN or infinite", m));
-        if (mesh.morphTargets.size() > kMaxMorphTargets)
-            throw SceneError(fmt::format("mesh {} has {} morph targets; Janus draws at most {}", m, mesh.morphTargets.size(), kMaxMorphTargets));
-        if (!mesh.morphWeights.empty() && mesh.morphWeights.size() != mesh.morphTargets.size())
-            throw SceneError(fmt::format("mesh {} has {} morph weights for {} morph targets", m, mesh.morphWeights.size(), mesh.morphTargets.size()));
-        for (size_t t = 0; t < mesh.morphTargets.size(); ++t) {
-            const MorphTarget& target = mesh.morphTargets[t];
-            for (const std::vector<glm::vec3>* list : {&target.positions, &target.normals, &target.tangents}) {
-                if (!list->empty() && list->size() != vertices)
-                    throw SceneError(fmt::format("mesh {} morph target {} has {} displacements for {} vertices", m, t, list->size(), vertices));
-                for (const glm::vec3& d : *list)
-                    if (!allFinite(d)) throw SceneError(fmt::format("mesh {} morph target {} has a NaN or infinite displacement", m, t));
-            }
-        }
-    }
-    for (size_t i = 0; i < scene.instances.size(); ++i) {
-        const Instance& instance = scene.instances[i];
-        if (instance.mesh >= scene.meshes.size()) continue;   // reported with the instances
-        const Mesh& mesh = scene.meshes[instance.mesh];
-        const std::string name = instance.nodeName.empty() ? fmt::format("instance {}", i) : fmt::format("instance {} ('{}')", i, instance.nodeName);
-        if (instance.skin >= 0 && !scene.skins.empty() && size_t(instance.skin) >= scene.skins.size())
-            throw SceneError(fmt::format("{} uses skin {} but the scene has {}", name, instance.skin, scene.skins.size()));
-        if (instance.skin >= 0 && !mesh.joints.empty()) {
-            if (instance.jointMatrices.size() > kMaxSkinJoints)
-                throw SceneError(fmt::format("{} has {} joints; Janus skins with at most {}", name, instance.jointMatrices.size(), kMaxSkinJoints));
-            for (const glm::mat4& matrix : instance.jointMatrices)
-                if (!allFinite(matrix)) throw SceneError(fmt::format("{} has a NaN or infinite joint matrix", name));
-            for (size_t v = 0; v < mesh.joints.size(); ++v)
-                for (int k = 0; k < 4; ++k)
-                    if (mesh.joints[v][k] >= instance.jointMatrices.size())
-                        throw SceneError(fmt::format("{}: vertex {} of mesh {} names joint {}, but the skin has {} joints", name, v,
-                                                     instance.mesh, mesh.joints[v][k], instance.jointMatrices.size()));
-        }
-        if (!instance.morphWeights.empty() && instance.morphWeights.size() != mesh.morphTargets.size())
-            throw SceneError(fmt::format("{} has {} morph weights for the {} morph targets of its mesh", name, instance.morphWeights.size(),
-                                         mesh.morphTargets.size()));
-        for (float w : instance.morphWeights)
-            if (!std::isfinite(w)) throw SceneError(fmt::format("{} has a NaN or infinite morph weight", name));
-    }
-}
-
 }  // namespace detail
 
 void validateScene(const Scene& scene) {
@@ -437,6 +415,28 @@ void validateScene(const Scene& scene) {
                                              v.color.b, v.color.a, kMaxColorValue));
         if (mesh.material >= int32_t(scene.materials.size()))
             throw SceneError(fmt::format("mesh {} uses material {} but the scene has {}", m, mesh.material, scene.materials.size()));
+        if (mesh.joints.size() != mesh.weights.size() || (!mesh.joints.empty() && mesh.joints.size() != mesh.vertices.size()))
+            throw SceneError(fmt::format("mesh {} has {} joint sets and {} weight sets for {} vertices; skinned meshes have one of each "
+                                         "per vertex",
+                                         m, mesh.joints.size(), mesh.weights.size(), mesh.vertices.size()));
+        for (const glm::vec4& w : mesh.weights)
+            if (!allFinite(w) || glm::any(glm::lessThan(w, glm::vec4(0.0f))))
+                throw SceneError(fmt::format("mesh {} has a NaN, infinite or negative skin weight", m));
+        if (mesh.morphTargets.size() > kMaxMorphTargets)
+            throw SceneError(fmt::format("mesh {} has {} morph targets; at most {}", m, mesh.morphTargets.size(), kMaxMorphTargets));
+        if (mesh.morphWeights.size() != mesh.morphTargets.size() || !allFiniteRange(mesh.morphWeights))
+            throw SceneError(fmt::format("mesh {} has {} morph weights for {} morph targets (one finite weight per target)", m,
+                                         mesh.morphWeights.size(), mesh.morphTargets.size()));
+        for (size_t t = 0; t < mesh.morphTargets.size(); ++t) {
+            const MorphTarget& target = mesh.morphTargets[t];
+            for (const std::vector<glm::vec3>* list : {&target.positions, &target.normals, &target.tangents}) {
+                if (!list->empty() && list->size() != mesh.vertices.size())
+                    throw SceneError(fmt::format("mesh {} morph target {} has {} displacements for {} vertices", m, t, list->size(),
+                                                 mesh.vertices.size()));
+                for (const glm::vec3& d : *list)
+                    if (!allFinite(d)) throw SceneError(fmt::format("mesh {} morph target {} has a NaN or infinite displacement", m, t));
+            }
+        }
     }
     for (size_t i = 0; i < scene.materials.size(); ++i) {
         const Material& material = scene.materials[i];
@@ -488,12 +488,33 @@ void validateScene(const Scene& scene) {
             throw SceneError(fmt::format("texture {} has {} bytes for {}x{} RGBA8", label(texture.name, t), texture.rgba.size(),
                                          texture.width, texture.height));
     }
-    detail::validateDeformation(scene);
     for (size_t i = 0; i < scene.instances.size(); ++i) {
         if (scene.instances[i].mesh >= scene.meshes.size())
             throw SceneError(fmt::format("instance {} uses mesh {} but the scene has {}", i, scene.instances[i].mesh, scene.meshes.size()));
         if (!allFinite(scene.instances[i].world))
             throw SceneError(fmt::format("instance {} (mesh {}) has a NaN or infinite transform", i, scene.instances[i].mesh));
+    }
+    // Nodes, skins, animations and the instances' references to them (as poseScene needs them),
+    // then what poseScene derives: joint matrices and morph weights.
+    detail::validateAnimationData(scene);
+    for (size_t i = 0; i < scene.instances.size(); ++i) {
+        const Instance& instance = scene.instances[i];
+        const Mesh& mesh = scene.meshes[instance.mesh];
+        if (instance.morphWeights.size() != mesh.morphTargets.size() || !allFiniteRange(instance.morphWeights))
+            throw SceneError(fmt::format("instance {} has {} morph weights but its mesh {} has {} morph targets (poseScene sets them)", i,
+                                         instance.morphWeights.size(), instance.mesh, mesh.morphTargets.size()));
+        if (instance.skin < 0) continue;
+        const size_t joints = scene.skins[size_t(instance.skin)].joints.size();
+        if (instance.jointMatrices.size() != joints)
+            throw SceneError(fmt::format("instance {} has {} joint matrices but its skin {} has {} joints (poseScene sets them)", i,
+                                         instance.jointMatrices.size(), instance.skin, joints));
+        for (const glm::mat4& m : instance.jointMatrices)
+            if (!allFinite(m)) throw SceneError(fmt::format("instance {} has a NaN or infinite joint matrix", i));
+        for (size_t v = 0; v < mesh.joints.size(); ++v)
+            for (int c = 0; c < 4; ++c)
+                if (mesh.joints[v][c] >= joints)
+                    throw SceneError(fmt::format("instance {}: vertex {} of mesh {} uses joint {}, but skin {} has {} joints", i, v,
+                                                 instance.mesh, mesh.joints[v][c], instance.skin, joints));
     }
     for (size_t i = 0; i < scene.lights.size(); ++i)
         if (const char* problem = detail::lightProblem(scene.lights[i])) throw SceneError(fmt::format("light {} {}", i, problem));

@@ -1,6 +1,7 @@
 // glTF 2.0 (.gltf / .glb) -> Scene, through Debian's libtinygltf (the .so carries the
 // implementation and stb_image, so we only include the header).
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <cstring>
@@ -16,6 +17,8 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
+#define GLM_ENABLE_EXPERIMENTAL
+#include <glm/gtx/matrix_decompose.hpp>
 #include <nlohmann/json.hpp>
 #include <stb/stb_image.h>
 #include <tiny_gltf.h>
@@ -36,6 +39,11 @@ constexpr uint64_t kMaxAccessorBytes = uint64_t(1) << 30;
 // anything is decoded; a larger image is a SceneError.
 constexpr int kMaxImageSide = 16384;
 constexpr uint64_t kMaxImagePixels = uint64_t(1) << 26;
+
+// The most joint matrices all skinned instances together may need (4 Mi matrices, 256 MiB): each
+// skinned instance holds one per joint of its skin, so a few bytes of JSON (many nodes sharing a
+// large skin) could otherwise ask for gigabytes.
+constexpr uint64_t kMaxJointMatrices = uint64_t(1) << 22;
 
 // glTF extensions the loader implements.
 constexpr std::string_view kSupportedExtensions[] = {"KHR_lights_punctual",
@@ -244,6 +252,36 @@ void checkReferences(std::string_view text, LoadContext& context) {
     }
 }
 
+// glTF lets an animation channel's target have no node (KHR_animation_pointer targets a JSON
+// pointer instead); tinygltf drops such channels without a word. One warning each (the file
+// loads without them). Later channels of that animation are numbered as tinygltf keeps them.
+std::vector<std::string> nodelessChannels(std::string_view text) {
+    std::vector<std::string> warnings;
+    if (text.find("\"channels\"") == std::string_view::npos) return warnings;   // no animation: not worth a parse
+    const nlohmann::json root = nlohmann::json::parse(text.begin(), text.end(), nullptr, /*allow_exceptions=*/false);
+    if (!root.is_object() || !root.contains("animations") || !root["animations"].is_array()) return warnings;
+    const nlohmann::json& animations = root["animations"];
+    for (size_t a = 0; a < animations.size(); ++a) {
+        const nlohmann::json& animation = animations[a];
+        if (!animation.is_object() || !animation.contains("channels") || !animation["channels"].is_array()) continue;
+        const nlohmann::json& channels = animation["channels"];
+        for (size_t c = 0; c < channels.size(); ++c) {
+            const nlohmann::json& channel = channels[c];
+            if (!channel.is_object() || !channel.contains("target") || !channel["target"].is_object() || channel["target"].contains("node"))
+                continue;
+            const nlohmann::json& target = channel["target"];
+            const std::string path = target.contains("path") && target["path"].is_string() ? target["path"].get<std::string>() : "";
+            const std::string name = animation.contains("name") && animation["name"].is_string()
+                                         ? fmt::format("animation {} ('{}')", a, animation["name"].get<std::string>())
+                                         : fmt::format("animation {}", a);
+            warnings.push_back(fmt::format("{} channel {}: ignoring a channel without a target node (path '{}'{}); Janus animates nodes' "
+                                           "translation, rotation, scale and weights",
+                                           name, c, path, path == "pointer" ? ", KHR_animation_pointer" : ""));
+        }
+    }
+    return warnings;
+}
+
 bool isJpeg(const unsigned char* bytes, size_t size) { return size >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8 && bytes[2] == 0xFF; }
 
 // Why a JPEG's Huffman tables are invalid, or "" when they are not: more than 256 codes, which
@@ -394,7 +432,10 @@ public:
         checkImages();
         readMaterials(scene);
         readMeshes(scene);
+        readSkins(scene);
         readNodes(scene);
+        readHierarchy(scene);
+        readAnimations(scene);
         scene.warnings = std::move(m_warnings);
         if (m_options.camera && !m_cameraFound) {
             if (*m_options.camera >= m_model.cameras.size())
@@ -404,6 +445,12 @@ public:
         }
         hasCamera = m_cameraFound;
         if (m_cameraFound) scene.camera = m_camera;
+        // As glTF viewers show a file: at t = 0 of its first animation.
+        try {
+            poseScene(scene, 0.0f, scene.animations.empty() ? std::nullopt : std::optional<size_t>(0));
+        } catch (const SceneError& e) {
+            fail(e.what());
+        }
         return scene;
     }
 
@@ -632,8 +679,14 @@ private:
         return nullptr;
     }
 
-    // The vertex attributes Janus reads, for the component types each may have.
-    enum class Attribute { Position, Normal, Tangent, TexCoord, Color };
+    // The vertex attributes (and other accessors) Janus reads, for the component types each may have.
+    enum class Attribute {
+        Position, Normal, Tangent, TexCoord, Color,
+        Joints,            // JOINTS_n: UNSIGNED_BYTE or UNSIGNED_SHORT, not normalized
+        Weights,           // WEIGHTS_n: FLOAT, or normalized UNSIGNED_BYTE or UNSIGNED_SHORT
+        Float,             // FLOAT only: inverse bind matrices, keyframe times, translation and scale keyframes
+        AnimationOutput,   // FLOAT or any normalized 8/16-bit integer: rotation and weights keyframes
+    };
 
     static const char* componentTypeName(int type) {
         switch (type) {
@@ -652,13 +705,29 @@ private:
     // integers, normalised or not; normals and tangents FLOAT or normalised BYTE / SHORT.
     // `normalized` is meaningless (and not allowed) on FLOAT.
     static bool allowedComponentType(Attribute attribute, int type, bool normalized) {
-        if (type == TINYGLTF_COMPONENT_TYPE_FLOAT) return !normalized;
+        if (type == TINYGLTF_COMPONENT_TYPE_FLOAT) return !normalized && attribute != Attribute::Joints;
+        if (attribute == Attribute::Float) return false;
         const bool signedType = type == TINYGLTF_COMPONENT_TYPE_BYTE || type == TINYGLTF_COMPONENT_TYPE_SHORT;
         const bool unsignedType = type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE || type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
         if (attribute == Attribute::Normal || attribute == Attribute::Tangent) return signedType && normalized;
-        if (attribute == Attribute::Color)
+        if (attribute == Attribute::Color || attribute == Attribute::Weights)
             return normalized && (type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE || type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT);
+        if (attribute == Attribute::Joints) return !normalized && unsignedType;
+        if (attribute == Attribute::AnimationOutput) return normalized && (signedType || unsignedType);
         return signedType || unsignedType;
+    }
+
+    static const char* allowedComponentTypes(Attribute attribute) {
+        switch (attribute) {
+            case Attribute::Normal:
+            case Attribute::Tangent: return "FLOAT, or normalized BYTE or SHORT (KHR_mesh_quantization)";
+            case Attribute::Color:
+            case Attribute::Weights: return "FLOAT, or normalized UNSIGNED_BYTE or UNSIGNED_SHORT";
+            case Attribute::Joints: return "UNSIGNED_BYTE or UNSIGNED_SHORT, not normalized";
+            case Attribute::Float: return "FLOAT";
+            case Attribute::AnimationOutput: return "FLOAT, or normalized BYTE, UNSIGNED_BYTE, SHORT or UNSIGNED_SHORT";
+            default: return "FLOAT, or BYTE, UNSIGNED_BYTE, SHORT or UNSIGNED_SHORT, normalized or not (KHR_mesh_quantization)";
+        }
     }
 
     // Reads accessor `index` of vertex attribute `attribute` as `width` floats per element. Integer
@@ -673,12 +742,7 @@ private:
         const bool normalized = accessor.normalized;
         if (!allowedComponentType(attribute, accessor.componentType, normalized))
             fail(fmt::format("{} accessor {} is {}{}, which glTF does not allow here; allowed: {}", what, index,
-                             normalized ? "normalized " : "", componentTypeName(accessor.componentType),
-                             attribute == Attribute::Normal || attribute == Attribute::Tangent
-                                 ? "FLOAT, or normalized BYTE or SHORT (KHR_mesh_quantization)"
-                             : attribute == Attribute::Color
-                                 ? "FLOAT, or normalized UNSIGNED_BYTE or UNSIGNED_SHORT"
-                                 : "FLOAT, or BYTE, UNSIGNED_BYTE, SHORT or UNSIGNED_SHORT, normalized or not (KHR_mesh_quantization)"));
+                             normalized ? "normalized " : "", componentTypeName(accessor.componentType), allowedComponentTypes(attribute)));
         const int componentSize = tinygltf::GetComponentSizeInBytes(uint32_t(accessor.componentType));
         const size_t count = checkedElementCount(accessor, index, what, sizeof(float) * size_t(width));
         std::vector<float> out(count * size_t(width));
@@ -881,6 +945,123 @@ private:
         }
     }
 
+    // JOINTS_0/WEIGHTS_0 and JOINTS_1/WEIGHTS_1: per vertex the four strongest of the (up to
+    // eight) influences, weights renormalised to sum 1; a vertex whose weights are all zero gets
+    // weight 1 on its first joint (JOINTS_0's x). Influences left with weight 0 get joint 0, so
+    // that no joint index reaches past the skin unless it carries weight (readNode checks those
+    // against the skin: m_maxJoint).
+    void readSkinAttributes(const tinygltf::Primitive& primitive, const std::string& where, Mesh& mesh, size_t sceneMesh) {
+        auto attribute = [&](const std::string& name) {
+            auto it = primitive.attributes.find(name);
+            return it == primitive.attributes.end() ? -1 : it->second;
+        };
+        const size_t vertexCount = mesh.vertices.size();
+        std::vector<std::vector<float>> joints, weights;
+        for (int set = 0;; ++set) {
+            const std::string jointsName = fmt::format("JOINTS_{}", set), weightsName = fmt::format("WEIGHTS_{}", set);
+            const int j = attribute(jointsName), w = attribute(weightsName);
+            if (j < 0 && w < 0) break;
+            if (j < 0 || w < 0)
+                fail(fmt::format("{} has {} without {}; skinned primitives need both", where, j < 0 ? weightsName : jointsName,
+                                 j < 0 ? jointsName : weightsName));
+            if (set >= 2) {
+                warn(fmt::format("{}: ignoring {} and {} (Janus reads two sets of joints and weights)", where, jointsName, weightsName));
+                continue;
+            }
+            joints.push_back(readFloats(j, 4, Attribute::Joints, where + " " + jointsName));
+            weights.push_back(readFloats(w, 4, Attribute::Weights, where + " " + weightsName));
+            for (const auto& [name, values] : {std::pair{jointsName, &joints.back()}, std::pair{weightsName, &weights.back()}})
+                if (values->size() / 4 != vertexCount)
+                    fail(fmt::format("{} {} has {} elements but POSITION has {}", where, name, values->size() / 4, vertexCount));
+        }
+        if (joints.empty()) {
+            if (attribute("JOINTS_1") >= 0 || attribute("WEIGHTS_1") >= 0)
+                fail(fmt::format("{} has JOINTS_1/WEIGHTS_1 but no JOINTS_0/WEIGHTS_0", where));
+            return;
+        }
+        mesh.joints.resize(vertexCount);
+        mesh.weights.resize(vertexCount);
+        MaxJoint& maxJoint = m_maxJoint[sceneMesh];
+        for (size_t v = 0; v < vertexCount; ++v) {
+            struct Influence {
+                uint32_t joint;
+                float weight;
+            };
+            std::array<Influence, 8> influences{};
+            size_t count = 0;
+            for (size_t set = 0; set < joints.size(); ++set)
+                for (size_t i = 0; i < 4; ++i) {
+                    const float weight = weights[set][v * 4 + i];
+                    if (!std::isfinite(weight) || weight < 0.0f)
+                        fail(fmt::format("{} WEIGHTS_{} has weight {} at vertex {}; weights must be finite and >= 0", where, set, weight, v));
+                    influences[count++] = Influence{uint32_t(joints[set][v * 4 + i]), weight};
+                }
+            // The four strongest; equal weights keep their order (set 0 first, then x, y, z, w).
+            std::stable_sort(influences.begin(), influences.begin() + long(count),
+                             [](const Influence& a, const Influence& b) { return a.weight > b.weight; });
+            float sum = 0.0f;
+            for (size_t i = 0; i < 4; ++i) sum += influences[i].weight;
+            glm::u16vec4& jointSet = mesh.joints[v];
+            glm::vec4& weightSet = mesh.weights[v];
+            if (sum > 0.0f) {
+                for (size_t i = 0; i < 4; ++i) {
+                    weightSet[int(i)] = influences[i].weight / sum;
+                    jointSet[int(i)] = influences[i].weight > 0.0f ? uint16_t(influences[i].joint) : uint16_t(0);
+                }
+            } else {
+                weightSet = glm::vec4(1.0f, 0.0f, 0.0f, 0.0f);
+                jointSet = glm::u16vec4(uint16_t(joints[0][v * 4]), 0, 0, 0);
+            }
+            for (size_t i = 0; i < 4; ++i)
+                if (weightSet[int(i)] > 0.0f && (maxJoint.vertex == SIZE_MAX || jointSet[int(i)] > maxJoint.joint)) {
+                    maxJoint.joint = jointSet[int(i)];
+                    maxJoint.vertex = v;
+                }
+        }
+    }
+
+    // The primitive's morph targets (POSITION, NORMAL and TANGENT displacements; other target
+    // attributes are ignored with a warning) and the mesh's default weights.
+    void readMorphTargets(const tinygltf::Mesh& gltfMesh, const tinygltf::Primitive& primitive, const std::string& where, Mesh& mesh) {
+        const size_t vertexCount = mesh.vertices.size();
+        if (primitive.targets.size() > kMaxMorphTargets)
+            fail(fmt::format("{} has {} morph targets; Janus morphs with at most {}", where, primitive.targets.size(), kMaxMorphTargets));
+        if (!gltfMesh.primitives.empty() && primitive.targets.size() != gltfMesh.primitives[0].targets.size())
+            fail(fmt::format("{} has {} morph targets but primitive 0 has {}; glTF requires the same number in every primitive", where,
+                             primitive.targets.size(), gltfMesh.primitives[0].targets.size()));
+        if (!gltfMesh.weights.empty() && gltfMesh.weights.size() != primitive.targets.size())
+            fail(fmt::format("mesh '{}' has {} default weights but {} morph targets", gltfMesh.name, gltfMesh.weights.size(),
+                             primitive.targets.size()));
+        for (size_t t = 0; t < primitive.targets.size(); ++t) {
+            MorphTarget target;
+            for (const auto& [name, accessor] : primitive.targets[t]) {
+                const std::string what = fmt::format("{} morph target {} {}", where, t, name);
+                std::vector<glm::vec3>* into = name == "POSITION" ? &target.positions
+                                               : name == "NORMAL" ? &target.normals
+                                               : name == "TANGENT" ? &target.tangents
+                                                                   : nullptr;
+                if (!into) {
+                    warn(fmt::format("{}: ignoring morph target attribute {} (Janus morphs POSITION, NORMAL and TANGENT)", where, name));
+                    continue;
+                }
+                const Attribute kind = name == "POSITION" ? Attribute::Position : name == "NORMAL" ? Attribute::Normal : Attribute::Tangent;
+                const std::vector<float> values = readFloats(accessor, 3, kind, what);
+                if (values.size() / 3 != vertexCount)
+                    fail(fmt::format("{} has {} elements but the primitive's POSITION has {}", what, values.size() / 3, vertexCount));
+                into->resize(vertexCount);
+                for (size_t v = 0; v < vertexCount; ++v) (*into)[v] = glm::vec3(values[v * 3], values[v * 3 + 1], values[v * 3 + 2]);
+                for (const glm::vec3& d : *into)
+                    if (!std::isfinite(d.x) || !std::isfinite(d.y) || !std::isfinite(d.z)) fail(fmt::format("{} holds NaN or Inf", what));
+            }
+            mesh.morphTargets.push_back(std::move(target));
+        }
+        mesh.morphWeights.assign(primitive.targets.size(), 0.0f);
+        for (size_t t = 0; t < gltfMesh.weights.size(); ++t) {
+            mesh.morphWeights[t] = float(gltfMesh.weights[t]);
+            if (!std::isfinite(mesh.morphWeights[t])) fail(fmt::format("mesh '{}' default weight {} is NaN or infinite", gltfMesh.name, t));
+        }
+    }
+
     void readMeshes(Scene& scene) {
         for (size_t meshIndex = 0; meshIndex < m_model.meshes.size(); ++meshIndex) {
             const tinygltf::Mesh& gltfMesh = m_model.meshes[meshIndex];
@@ -933,6 +1114,8 @@ private:
                         v.color = glm::vec4(f[0], f[1], f[2], width == 4 ? f[3] : 1.0f);
                     });
                 }
+                readSkinAttributes(primitive, where, mesh, scene.meshes.size());
+                readMorphTargets(gltfMesh, primitive, where, mesh);
 
                 if (primitive.indices >= 0) {
                     mesh.indices = readIndices(primitive.indices);
@@ -966,6 +1149,7 @@ private:
                     if (normalSet == 0 ? hasUvs : hasUvs1) generateTangents(mesh, normalSet);
                 }
                 scene.meshes.push_back(std::move(mesh));
+                m_meshLabels.push_back(where);
                 sceneMeshes.push_back(uint32_t(scene.meshes.size() - 1));
             }
         }
@@ -1011,18 +1195,275 @@ private:
                     fail(fmt::format("node '{}' extras.renderingLayers must be an integer mask in [0, 4294967295]", name));
                 layers = uint32_t(value.GetNumberAsDouble());
             }
-            for (uint32_t mesh : it->second) scene.instances.push_back(Instance{mesh, world, layers, node.name});
+            if (node.skin >= 0 && size_t(node.skin) >= scene.skins.size())
+                fail(fmt::format("node '{}' references skin {} but the file has {}", name, node.skin, scene.skins.size()));
+            for (uint32_t mesh : it->second) {
+                Instance instance{mesh, world, layers, node.name};
+                instance.node = index;
+                const bool skinnedMesh = !scene.meshes[mesh].joints.empty();
+                if (node.skin >= 0 && skinnedMesh) {
+                    const Skin& skin = scene.skins[size_t(node.skin)];
+                    if (auto used = m_maxJoint.find(mesh); used != m_maxJoint.end() && used->second.joint >= skin.joints.size())
+                        fail(fmt::format("node '{}': {} gives vertex {} weight on joint {}, but the node's skin {} has {} joints (JOINTS "
+                                         "values index the skin's joints)",
+                                         name, m_meshLabels[mesh], used->second.vertex, used->second.joint, skinLabel(node.skin),
+                                         skin.joints.size()));
+                    m_jointMatrices += skin.joints.size();
+                    if (m_jointMatrices > kMaxJointMatrices)
+                        fail(fmt::format("the skinned instances need more than {} joint matrices (node '{}' adds {} for skin {}); the "
+                                         "file is wrong or too large for Janus",
+                                         kMaxJointMatrices, name, skin.joints.size(), skinLabel(node.skin)));
+                    // glTF ignores the skinned mesh node's own transform: the joints place the mesh.
+                    instance.skin = node.skin;
+                    instance.world = glm::mat4(1.0f);
+                } else if (node.skin >= 0) {
+                    warn(fmt::format("node '{}' has a skin but {} has no JOINTS_0/WEIGHTS_0; it is drawn unskinned, with the node's "
+                                     "transform",
+                                     name, m_meshLabels[mesh]));
+                } else if (skinnedMesh) {
+                    warn(fmt::format("{} has JOINTS_0/WEIGHTS_0 but node '{}' has no skin; it is drawn unskinned there", m_meshLabels[mesh],
+                                     name));
+                    instance.mesh = unskinnedCopy(mesh, scene);
+                }
+                if (!node.weights.empty() && node.weights.size() != scene.meshes[mesh].morphTargets.size())
+                    fail(fmt::format("node '{}' has {} morph weights but {} has {} morph targets", name, node.weights.size(),
+                                     m_meshLabels[mesh], scene.meshes[mesh].morphTargets.size()));
+                scene.instances.push_back(std::move(instance));
+            }
         }
         if (node.camera >= 0 && !m_cameraFound && (!m_options.camera || uint32_t(node.camera) == *m_options.camera))
-            readCamera(node, world, name);
+            readCamera(index, world, name);
         bool hasLight = false;
         if (auto ext = node.extensions.find("KHR_lights_punctual"); ext != node.extensions.end() && ext->second.Has("light")) {
             hasLight = true;
             readLight(ext->second.Get("light").GetNumberAsInt(), world, name, scene);
+            scene.lights.back().node = index;
         }
         // Empty leaf nodes are placement markers (probe volumes, cubemap centres...).
         if (node.mesh < 0 && node.camera < 0 && !hasLight && node.children.empty())
-            scene.markers.push_back(Marker{node.name, world});
+            scene.markers.push_back(Marker{node.name, world, index});
+    }
+
+    std::string skinLabel(int index) const {
+        const std::string& name = m_model.skins[size_t(index)].name;
+        return name.empty() ? fmt::format("{}", index) : fmt::format("{} ('{}')", index, name);
+    }
+
+    // The mesh `mesh` without its joints and weights, for a node that uses a skinned glTF mesh
+    // without a skin (made once per mesh).
+    uint32_t unskinnedCopy(uint32_t mesh, Scene& scene) {
+        if (auto it = m_unskinned.find(mesh); it != m_unskinned.end()) return it->second;
+        Mesh copy = scene.meshes[mesh];
+        copy.joints.clear();
+        copy.weights.clear();
+        scene.meshes.push_back(std::move(copy));
+        m_meshLabels.push_back(m_meshLabels[mesh]);
+        const uint32_t index = uint32_t(scene.meshes.size() - 1);
+        m_unskinned[mesh] = index;
+        return index;
+    }
+
+    // glTF skins: joints (nodes) and inverse bind matrices (a MAT4 FLOAT accessor with at least
+    // one matrix per joint; identity matrices without one).
+    void readSkins(Scene& scene) {
+        for (size_t s = 0; s < m_model.skins.size(); ++s) {
+            const tinygltf::Skin& gltfSkin = m_model.skins[s];
+            const std::string label = "skin " + skinLabel(int(s));
+            Skin skin;
+            skin.name = gltfSkin.name;
+            if (gltfSkin.joints.empty()) fail(fmt::format("{} has no joints", label));
+            if (gltfSkin.joints.size() > kMaxSkinJoints)
+                fail(fmt::format("{} has {} joints; Janus skins with at most {}", label, gltfSkin.joints.size(), kMaxSkinJoints));
+            for (int joint : gltfSkin.joints) {
+                if (joint < 0 || size_t(joint) >= m_model.nodes.size())
+                    fail(fmt::format("{} has joint node {}, which does not exist (the file has {} nodes)", label, joint, m_model.nodes.size()));
+                skin.joints.push_back(uint32_t(joint));
+            }
+            if (gltfSkin.inverseBindMatrices >= 0) {
+                const std::string what = label + " inverseBindMatrices";
+                if (accessorAt(gltfSkin.inverseBindMatrices, what).type != TINYGLTF_TYPE_MAT4)
+                    fail(fmt::format("{} accessor {} is not MAT4", what, gltfSkin.inverseBindMatrices));
+                const std::vector<float> values = readFloats(gltfSkin.inverseBindMatrices, 16, Attribute::Float, what);
+                if (values.size() / 16 < skin.joints.size())
+                    fail(fmt::format("{} accessor {} has {} matrices for {} joints", what, gltfSkin.inverseBindMatrices, values.size() / 16,
+                                     skin.joints.size()));
+                for (size_t j = 0; j < skin.joints.size(); ++j) {
+                    glm::mat4 m;
+                    std::memcpy(glm::value_ptr(m), &values[j * 16], sizeof(m));   // column-major in both
+                    if (!finite(m)) fail(fmt::format("{} matrix {} holds NaN or Inf", what, j));
+                    skin.inverseBindMatrices.push_back(m);
+                }
+            } else {
+                skin.inverseBindMatrices.assign(skin.joints.size(), glm::mat4(1.0f));
+            }
+            scene.skins.push_back(std::move(skin));
+        }
+    }
+
+    // Scene::nodes: every glTF node (also those outside the default scene, which skins and
+    // animations may use), with its rest transform and morph weights, and the parent links.
+    void readHierarchy(Scene& scene) {
+        scene.nodes.resize(m_model.nodes.size());
+        for (size_t n = 0; n < m_model.nodes.size(); ++n) {
+            const tinygltf::Node& gltfNode = m_model.nodes[n];
+            Node& node = scene.nodes[n];
+            node.name = gltfNode.name;
+            if (gltfNode.matrix.size() == 16) {
+                const glm::mat4 m = localMatrix(gltfNode);
+                node.matrix = m;
+                glm::vec3 skew;
+                glm::vec4 perspective;
+                if (!glm::decompose(m, node.scale, node.rotation, node.translation, skew, perspective)) {
+                    node.translation = glm::vec3(m[3]);
+                    node.rotation = glm::quat(1.0f, 0.0f, 0.0f, 0.0f);
+                    node.scale = glm::vec3(glm::length(glm::vec3(m[0])), glm::length(glm::vec3(m[1])), glm::length(glm::vec3(m[2])));
+                }
+            } else {
+                if (gltfNode.translation.size() == 3)
+                    node.translation = glm::vec3(gltfNode.translation[0], gltfNode.translation[1], gltfNode.translation[2]);
+                if (gltfNode.rotation.size() == 4)
+                    node.rotation = glm::quat(float(gltfNode.rotation[3]), float(gltfNode.rotation[0]), float(gltfNode.rotation[1]),
+                                              float(gltfNode.rotation[2]));
+                if (gltfNode.scale.size() == 3) node.scale = glm::vec3(gltfNode.scale[0], gltfNode.scale[1], gltfNode.scale[2]);
+            }
+            for (double w : gltfNode.weights) node.weights.push_back(float(w));
+            for (int child : gltfNode.children) {
+                if (child < 0 || size_t(child) >= m_model.nodes.size())
+                    fail(fmt::format("node '{}' has child {}, which does not exist (the file has {} nodes)", nodeLabel(int(n)), child,
+                                     m_model.nodes.size()));
+                Node& childNode = scene.nodes[size_t(child)];
+                if (childNode.parent >= 0)
+                    fail(fmt::format("node {} ('{}') has two parents ('{}' and '{}'); glTF nodes have at most one parent", child,
+                                     nodeLabel(child), nodeLabel(childNode.parent), nodeLabel(int(n))));
+                childNode.parent = int32_t(n);
+                node.children.push_back(uint32_t(child));
+            }
+        }
+    }
+
+    // glTF animations: samplers (keyframe times: a FLOAT SCALAR accessor, finite, >= 0, strictly
+    // increasing; values: one per keyframe, three for CUBICSPLINE) and channels (translation,
+    // rotation, scale, weights; other paths, such as KHR_animation_pointer's "pointer", are
+    // ignored with a warning).
+    void readAnimations(Scene& scene) {
+        for (size_t a = 0; a < m_model.animations.size(); ++a) {
+            const tinygltf::Animation& gltfAnimation = m_model.animations[a];
+            const std::string label =
+                gltfAnimation.name.empty() ? fmt::format("animation {}", a) : fmt::format("animation {} ('{}')", a, gltfAnimation.name);
+            Animation animation;
+            animation.name = gltfAnimation.name;
+            struct Output {
+                int componentType;
+                int width;
+            };
+            std::vector<Output> outputs;
+            for (size_t s = 0; s < gltfAnimation.samplers.size(); ++s) {
+                const tinygltf::AnimationSampler& gltfSampler = gltfAnimation.samplers[s];
+                const std::string where = fmt::format("{} sampler {}", label, s);
+                AnimationSampler sampler;
+                if (gltfSampler.interpolation == "LINEAR") sampler.interpolation = Interpolation::Linear;
+                else if (gltfSampler.interpolation == "STEP") sampler.interpolation = Interpolation::Step;
+                else if (gltfSampler.interpolation == "CUBICSPLINE") sampler.interpolation = Interpolation::CubicSpline;
+                else
+                    fail(fmt::format("{} has interpolation '{}'; glTF allows LINEAR, STEP and CUBICSPLINE", where, gltfSampler.interpolation));
+                if (accessorAt(gltfSampler.input, where + " input").type != TINYGLTF_TYPE_SCALAR)
+                    fail(fmt::format("{} input accessor {} is not SCALAR (keyframe times are FLOAT SCALAR)", where, gltfSampler.input));
+                sampler.times = readFloats(gltfSampler.input, 1, Attribute::Float, where + " input");
+                if (sampler.times.empty()) fail(fmt::format("{} input accessor {} has no keyframes", where, gltfSampler.input));
+                for (size_t k = 0; k < sampler.times.size(); ++k) {
+                    const float t = sampler.times[k];
+                    if (!std::isfinite(t) || t < 0.0f)
+                        fail(fmt::format("{} input has keyframe time {} (keyframe {}); times must be finite and >= 0", where, t, k));
+                    if (k > 0 && !(t > sampler.times[k - 1]))
+                        fail(fmt::format("{} input is not strictly increasing: keyframe {} at {} s follows {} s", where, k, t,
+                                         sampler.times[k - 1]));
+                }
+                const tinygltf::Accessor& output = accessorAt(gltfSampler.output, where + " output");
+                const int width = tinygltf::GetNumComponentsInType(uint32_t(output.type));
+                if (width != 1 && width != 3 && width != 4)
+                    fail(fmt::format("{} output accessor {} has {} components per element; keyframe values are SCALAR (weights), VEC3 "
+                                     "(translation, scale) or VEC4 (rotation)",
+                                     where, gltfSampler.output, width));
+                sampler.values = readFloats(gltfSampler.output, width, Attribute::AnimationOutput, where + " output");
+                const bool cubic = sampler.interpolation == Interpolation::CubicSpline;
+                const size_t keys = sampler.times.size(), perKey = cubic ? 3 : 1, elements = sampler.values.size() / size_t(width);
+                if (width > 1 ? elements != keys * perKey : (elements == 0 || elements % (keys * perKey) != 0))
+                    fail(fmt::format("{} output accessor {} has {} elements for {} keyframes; it needs {}{}", where, gltfSampler.output,
+                                     elements, keys,
+                                     width > 1 ? fmt::format("{}", keys * perKey) : fmt::format("a multiple of {}", keys * perKey),
+                                     width > 1 ? (cubic ? " (in-tangent, value and out-tangent per keyframe for CUBICSPLINE)"
+                                                        : " (one value per keyframe)")
+                                               : (cubic ? " (keyframes x morph targets x 3 for CUBICSPLINE)" : " (keyframes x morph targets)")));
+                for (float v : sampler.values)
+                    if (!std::isfinite(v)) fail(fmt::format("{} output holds NaN or Inf", where));
+                sampler.components = uint32_t(width > 1 ? size_t(width) : elements / (keys * perKey));
+                animation.duration = std::max(animation.duration, sampler.times.back());
+                animation.samplers.push_back(std::move(sampler));
+                outputs.push_back(Output{output.componentType, width});
+            }
+            for (size_t c = 0; c < gltfAnimation.channels.size(); ++c) {
+                const tinygltf::AnimationChannel& gltfChannel = gltfAnimation.channels[c];
+                const std::string where = fmt::format("{} channel {}", label, c);
+                const std::string& path = gltfChannel.target_path;
+                AnimationChannel channel;
+                if (path == "translation") channel.path = AnimationPath::Translation;
+                else if (path == "rotation") channel.path = AnimationPath::Rotation;
+                else if (path == "scale") channel.path = AnimationPath::Scale;
+                else if (path == "weights") channel.path = AnimationPath::Weights;
+                else {
+                    warn(fmt::format("{}: ignoring target path '{}' (Janus animates translation, rotation, scale and weights)", where, path));
+                    continue;
+                }
+                if (gltfChannel.target_node < 0) {
+                    warn(fmt::format("{}: ignoring a channel without a target node", where));
+                    continue;
+                }
+                if (gltfChannel.sampler < 0 || size_t(gltfChannel.sampler) >= animation.samplers.size())
+                    fail(fmt::format("{} uses sampler {} but the animation has {}", where, gltfChannel.sampler, animation.samplers.size()));
+                if (size_t(gltfChannel.target_node) >= m_model.nodes.size())
+                    fail(fmt::format("{} targets node {}, which does not exist (the file has {} nodes)", where, gltfChannel.target_node,
+                                     m_model.nodes.size()));
+                const int nodeIndex = gltfChannel.target_node;
+                const tinygltf::Node& node = m_model.nodes[size_t(nodeIndex)];
+                if (node.matrix.size() == 16)
+                    fail(fmt::format("{} animates the {} of node '{}', which has a 'matrix'; glTF animates only nodes given by "
+                                     "translation, rotation and scale",
+                                     where, path, nodeLabel(nodeIndex)));
+                channel.sampler = uint32_t(gltfChannel.sampler);
+                channel.node = uint32_t(nodeIndex);
+                const Output& output = outputs[channel.sampler];
+                const AnimationSampler& sampler = animation.samplers[channel.sampler];
+                switch (channel.path) {
+                    case AnimationPath::Translation:
+                    case AnimationPath::Scale:
+                        if (output.width != 3 || output.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
+                            fail(fmt::format("{} animates {} with sampler {}, whose output is not VEC3 FLOAT", where, path, channel.sampler));
+                        break;
+                    case AnimationPath::Rotation:
+                        if (output.width != 4)
+                            fail(fmt::format("{} animates rotation with sampler {}, whose output is not VEC4 (xyzw quaternions)", where,
+                                             channel.sampler));
+                        break;
+                    case AnimationPath::Weights: {
+                        const size_t targets =
+                            node.mesh >= 0 && size_t(node.mesh) < m_model.meshes.size() && !m_model.meshes[size_t(node.mesh)].primitives.empty()
+                                ? m_model.meshes[size_t(node.mesh)].primitives[0].targets.size()
+                                : 0;
+                        if (targets == 0)
+                            fail(fmt::format("{} animates the morph weights of node '{}', which has no mesh with morph targets", where,
+                                             nodeLabel(nodeIndex)));
+                        if (output.width != 1 || sampler.components != targets)
+                            fail(fmt::format("{} animates the weights of node '{}' ({} morph targets) with sampler {}, whose output gives {} "
+                                             "values per keyframe; it needs one SCALAR per morph target",
+                                             where, nodeLabel(nodeIndex), targets, channel.sampler,
+                                             output.width == 1 ? sampler.components : uint32_t(output.width)));
+                        break;
+                    }
+                }
+                animation.channels.push_back(channel);
+            }
+            scene.animations.push_back(std::move(animation));
+        }
     }
 
     std::string nodeLabel(int index) const {
@@ -1030,7 +1471,8 @@ private:
         return name.empty() ? fmt::format("#{}", index) : name;
     }
 
-    void readCamera(const tinygltf::Node& node, const glm::mat4& world, const std::string& name) {
+    void readCamera(int index, const glm::mat4& world, const std::string& name) {
+        const tinygltf::Node& node = m_model.nodes[size_t(index)];
         if (size_t(node.camera) >= m_model.cameras.size()) fail(fmt::format("node '{}' references missing camera {}", name, node.camera));
         const tinygltf::Camera& camera = m_model.cameras[size_t(node.camera)];
         if (camera.type != "perspective") {
@@ -1039,9 +1481,8 @@ private:
                                  camera.type));
             return;   // keep looking for a perspective one
         }
-        m_camera.position = glm::vec3(world[3]);
-        m_camera.target = m_camera.position - glm::normalize(glm::vec3(world[2]));   // glTF cameras look down -Z
-        m_camera.up = glm::normalize(glm::vec3(world[1]));
+        placeCamera(m_camera, world);
+        m_camera.node = index;
         m_camera.fovYRadians = float(camera.perspective.yfov);
         m_camera.nearPlane = float(camera.perspective.znear);
         // zfar 0 means an infinite projection in glTF; a large finite far plane keeps ours simple.
@@ -1070,9 +1511,7 @@ private:
         else fail(fmt::format("light '{}' has unknown type '{}'", gltfLight.name, gltfLight.type));
         if (gltfLight.color.size() == 3) light.color = glm::vec3(gltfLight.color[0], gltfLight.color[1], gltfLight.color[2]);
         light.intensity = float(gltfLight.intensity);
-        light.position = glm::vec3(world[3]);
-        const glm::vec3 forward = -glm::vec3(world[2]);   // lights shine down their local -Z
-        light.direction = glm::length(forward) > 0.0f ? glm::normalize(forward) : glm::vec3(0, 0, -1);
+        placeLight(light, world);
         // KHR_lights_punctual: no range means infinite. tinygltf reads a missing range as 0, so
         // whether the file gave one comes from the extension's JSON. A range it gives is kept as
         // it is, also <= 0 (which the extension forbids): such a light lights nothing, as
@@ -1165,6 +1604,15 @@ private:
     SceneLoadOptions m_options;
     std::map<std::tuple<int, int, bool>, int32_t> m_textureCache;   // (image, sampler, sRGB)
     std::map<int, std::vector<uint32_t>> m_meshPrimitives;
+    std::vector<std::string> m_meshLabels;        // per Scene::meshes entry: "mesh 'name' primitive p"
+    // Per skinned Scene::meshes entry: the highest joint index that carries weight, and a vertex using it.
+    struct MaxJoint {
+        uint32_t joint = 0;
+        size_t vertex = SIZE_MAX;
+    };
+    std::map<size_t, MaxJoint> m_maxJoint;
+    std::map<uint32_t, uint32_t> m_unskinned;     // skinned mesh -> its copy without joints (unskinnedCopy)
+    uint64_t m_jointMatrices = 0;                 // joint matrices of the skinned instances so far (kMaxJointMatrices)
     Camera m_camera;
     bool m_cameraFound = false;
     std::vector<std::string> m_warnings;
@@ -1203,8 +1651,11 @@ Scene loadGltfFromMemory(std::string_view bytes, const std::filesystem::path& pa
     context.folder = folder;
     context.uriPrefix = folder == "/" ? folder : folder + "/";
     context.allowOutside = options.allowPathsOutsideSceneFolder;
-    if (std::optional<std::string_view> text = binary ? glbJson(bytes) : std::string_view(bytes.data(), bytes.size()))
+    std::vector<std::string> skipped;   // animation channels without a target node (tinygltf drops them)
+    if (std::optional<std::string_view> text = binary ? glbJson(bytes) : std::string_view(bytes.data(), bytes.size())) {
         checkReferences(*text, context);
+        skipped = nodelessChannels(*text);
+    }
     if (!context.refusal.empty()) throw SceneError(fmt::format("{}: {}", path.string(), context.refusal));
 
     tinygltf::Model model;
@@ -1223,7 +1674,9 @@ Scene loadGltfFromMemory(std::string_view bytes, const std::filesystem::path& pa
         while (!reason.empty() && (reason.back() == '\n' || reason.back() == ' ')) reason.pop_back();
         throw SceneError(fmt::format("{}: malformed glTF: {}", path.string(), reason.empty() ? "tinygltf gave no reason" : reason));
     }
-    return GltfReader(path, model, options).read(hasCamera);
+    Scene scene = GltfReader(path, model, options).read(hasCamera);
+    for (const std::string& what : skipped) scene.warnings.push_back(fmt::format("{}: {}", path.string(), what));
+    return scene;
 }
 
 }  // namespace janus::renderer::detail

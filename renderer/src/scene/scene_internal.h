@@ -31,6 +31,11 @@ Scene loadGltf(const std::filesystem::path& path, bool& hasCamera, const SceneLo
 // read at `path` itself.
 Scene loadGltfFromMemory(std::string_view bytes, const std::filesystem::path& path, bool& hasCamera, const SceneLoadOptions& options);
 
+// Places a light (position, direction: down its local -Z) and a camera (position, target down
+// its local -Z, up +Y) by a glTF node's world matrix; shared by the loader and poseScene.
+void placeLight(Light& light, const glm::mat4& world);
+void placeCamera(Camera& camera, const glm::mat4& world);
+
 // Lighting added to scenes that bring none, so glTF sample models are not black.
 Light defaultKeyLight();
 // What is wrong with a light ("has a negative colour or intensity", ...), or nullptr when it can
@@ -53,12 +58,11 @@ Box readBox(const std::filesystem::path& file, const nlohmann::json& value, cons
 // Reflection probes (reflection_probe_scene.cpp): the scene file's "reflectionProbes" array;
 // one probe per "ReflectionCubemap..." marker when the scene has none (influence and parallax
 // box: the scene's bounds grown by 1%); validation (called by validateScene).
-Box sceneBounds(const Scene& scene);   // world AABB of every instance; an empty box when there is none
+// World AABB of every instance (skinned and morphed ones as posed: posedVertices); an empty box when there is none.
+Box sceneBounds(const Scene& scene);
 std::vector<ReflectionProbe> parseReflectionProbes(const std::filesystem::path& file, const nlohmann::json& probes, const Scene& scene);
 void addProbesFromMarkers(Scene& scene);
 void validateReflectionProbes(const Scene& scene);
-// Skins and morph targets: sizes, indices and finite values (part of validateScene).
-void validateDeformation(const Scene& scene);
 
 // The irradiance volume (irradiance_volume_scene.cpp): the scene file's "irradianceVolume"; one
 // over the scene's bounds for an "IrradianceVolume..." marker when the scene has none; validation.

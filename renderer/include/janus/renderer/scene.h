@@ -193,10 +193,18 @@ struct Node {
     int32_t parent = -1;
     std::vector<uint32_t> children;
     // Local transform: translation * rotation * scale (a glTF "matrix" node is decomposed; glTF
-    // does not animate such nodes).
+    // does not animate such nodes). These are the rest (file) values: poseScene does not change
+    // them, it samples the animation over them, so posing at another time starts from the rest pose.
     glm::vec3 translation{0.0f};
     glm::quat rotation{1.0f, 0.0f, 0.0f, 0.0f};
     glm::vec3 scale{1.0f};
+    // A glTF "matrix" node's matrix as the file gives it: its local transform (exact, shear
+    // included), of which translation/rotation/scale above are the decomposition. Animations
+    // may not target such nodes (SceneError at load, as glTF requires).
+    std::optional<glm::mat4> matrix;
+    // glTF node.weights: the morph weights of this node's mesh instances (the mesh's default
+    // weights when empty), before any animation.
+    std::vector<float> weights;
     glm::mat4 world{1.0f};           // at the posed time
 };
 
@@ -243,6 +251,9 @@ struct Light {
     float outerConeAngle = 0.7853982f;
     // Meshes this light lights: (renderingLayers & Instance::renderingLayers) != 0.
     uint32_t renderingLayers = 1u;
+    // The glTF node it came from (index into Scene::nodes): poseScene moves it with that node's
+    // world matrix. -1 for lights of scene files and scenes made in code (never moved).
+    int32_t node = -1;
 };
 
 struct Camera {
@@ -252,6 +263,9 @@ struct Camera {
     float fovYRadians = 0.8726646f;   // 50 degrees
     float nearPlane = 0.05f;
     float farPlane = 100.0f;
+    // The glTF node of a glTF camera (index into Scene::nodes): poseScene moves the camera with
+    // that node. -1 when a scene file gives the camera or it frames the scene (never moved).
+    int32_t node = -1;
 };
 
 struct Environment {
@@ -273,6 +287,7 @@ struct Environment {
 struct Marker {
     std::string name;
     glm::mat4 world{1.0f};
+    int32_t node = -1;               // the glTF node (Scene::nodes), moved by poseScene; -1: not from glTF
 };
 
 // An axis-aligned box in world space.
@@ -373,6 +388,11 @@ struct Scene {
     std::vector<Node> nodes;
     std::vector<Skin> skins;
     std::vector<Animation> animations;
+    // What the scene is posed at (set by poseScene): the animation (none: the rest pose) and the
+    // time in seconds. Loading poses a glTF at t = 0 of animation 0 when it has one, a scene file
+    // at its "time" and "animation".
+    std::optional<size_t> posedAnimation;
+    float posedTime = 0.0f;
     std::vector<Light> lights;
     std::vector<Marker> markers;
     // From the scene file's "reflectionProbes", or one per glTF node named "ReflectionCubemap..."
@@ -421,14 +441,32 @@ Scene loadSceneFromMemory(std::string_view bytes, const std::filesystem::path& p
 // Poses `scene` at `time` seconds (>= 0) of Scene::animations[animation] (none: the nodes keep
 // their rest transforms): samples every channel (times past either end hold the end value),
 // then updates every Node::world, Instance::world, Instance::jointMatrices and
-// Instance::morphWeights. Loading poses the scene at t = 0 of animation 0 when it has one, as
-// glTF viewers show it. Throws SceneError for a NaN or negative time or a bad index.
+// Instance::morphWeights, the lights, markers and camera that came from glTF nodes (their `node`),
+// and Scene::posedAnimation / posedTime. Each call starts from the rest pose (Node's TRS and
+// weights), so posing at any time in any order gives the same result. Loading poses the scene at
+// t = 0 of animation 0 when it has one, as glTF viewers show it. Throws SceneError for a NaN or
+// negative time, a bad index, or an inconsistent hierarchy, skin or animation (a scene made in code).
+// Sampling (docs/SCENES.md, "Animations"): STEP holds each keyframe; LINEAR interpolates, rotations
+// by slerp along the shortest arc; CUBICSPLINE is glTF's Hermite spline (tangents times the keyframe
+// interval); rotations are normalised.
 void poseScene(Scene& scene, float time, std::optional<size_t> animation);
+
+// The index of the animation `nameOrIndex` names: an animation of that name (the first, when
+// several share it), else a decimal index. Throws SceneError naming the problem (no animations,
+// no such name, index out of range) and listing the scene's animations.
+size_t findAnimation(const Scene& scene, std::string_view nameOrIndex);
 
 // The CPU reference of skinning and morphing: `instance`'s mesh vertices with the morph targets
 // added (weighted by Instance::morphWeights) and then skinned (Instance::jointMatrices), before
 // Instance::world is applied (which is the identity for skinned instances). Normals and tangents
-// are renormalised. The GPU paths must agree with it.
+// are renormalised. The GPU paths must agree with it. Exactly:
+//   morph:  p += sum_t w_t dp_t, n += sum_t w_t dn_t, tangent.xyz += sum_t w_t dt_t (w kept);
+//   skin:   M = sum_i weights[i] * jointMatrices[joints[i]] (the four influences), p' = M (p, 1),
+//           tangent.xyz' = M3 tangent.xyz with M3 M's upper 3x3, and n' = the inverse transpose of
+//           M3 times n, computed as cofactor(M3) n * sign(det M3) (the same direction, also defined
+//           for a singular M3; for rigid joints it is M3 n);
+//   then n and tangent.xyz are normalised, a zero vector staying zero.
+// A mesh with no non-zero morph weight and no skin comes back unchanged.
 std::vector<Vertex> posedVertices(const Scene& scene, const Instance& instance);
 
 // The built-in default scene: a closed room with coloured walls and objects of varied
