@@ -3,7 +3,9 @@
 // every configuration, against values computed here by hand; both paths give the same bits.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <map>
 #include <string>
 #include <vector>
@@ -140,6 +142,37 @@ TEST_P(MeshDeformTest, StaticScenesHaveNoDeformPass) {
     EXPECT_FALSE(test_support::hasPassStartingWith(output.report, "mesh-deform")) << test_support::passNames(output.report);
     const test_support::FrameOutput deformed = test_support::renderOneFrame(GetParam(), deformedQuadScene(), settings);
     EXPECT_EQ(test_support::countPasses(deformed.report, "mesh-deform"), 1u) << test_support::passNames(deformed.report);
+}
+
+// SimpleSkin (two joints, rotating) and AnimatedMorphCube (two morph targets, weights animated):
+// what the GPU poses matches the CPU reference (posedVertices) at several times, on both paths.
+// Tolerance: float math in a different order on the CPU (1e-5 of the model's unit size).
+TEST_P(MeshDeformTest, KhronosModelsMatchTheCpuReferenceAtSeveralTimes) {
+    for (const char* model : {"SimpleSkin", "AnimatedMorphCube"}) {
+        Scene scene = loadScene(std::filesystem::path(JANUS_SHARED_SCENES_DIR) / "khronos" / model / "glTF" / (std::string(model) + ".gltf"));
+        ASSERT_FALSE(scene.animations.empty()) << model;
+        for (float time : {0.0f, 0.7f, 1.9f, 100.0f}) {
+            poseScene(scene, time, 0);
+            GpuScene gpuScene(device(), scene);
+            MeshDeformer deformer(device(), scene, gpuScene, GetParam().path);
+            uint32_t checked = 0;
+            for (uint32_t i = 0; i < scene.instances.size(); ++i) {
+                if (!MeshDeformer::deforms(scene, scene.instances[i])) continue;
+                const std::vector<Vertex> expected = posedVertices(scene, scene.instances[i]);
+                const std::vector<Vertex> actual = readVertices(device(), deformer.posedVertices(i), expected.size());
+                for (size_t v = 0; v < expected.size(); ++v)
+                    for (int c = 0; c < 3; ++c) {
+                        ASSERT_NEAR(actual[v].position[c], expected[v].position[c], 1e-5f * (1.0f + std::abs(expected[v].position[c])))
+                            << GetParam().name() << " " << model << " t=" << time << " vertex " << v;
+                        ASSERT_NEAR(actual[v].normal[c], expected[v].normal[c], 1e-5f)
+                            << GetParam().name() << " " << model << " t=" << time << " vertex " << v << " normal";
+                    }
+                ++checked;
+            }
+            EXPECT_GT(checked, 0u) << model << ": no deformed instance";
+        }
+    }
+    expectNoMessages();
 }
 
 TEST(MeshDeformValidation, BadSkinsAndMorphsAreSceneErrors) {

@@ -12,6 +12,7 @@
 #include <glm/gtc/matrix_inverse.hpp>
 
 #include "core/gpu_util.h"
+#include "scene/scene_internal.h"
 #include "core/texture_fit.h"
 #include "janus/shaders/bindings.h"
 
@@ -257,6 +258,9 @@ void GpuScene::createDraws(const Scene& scene) {
             localMax = glm::max(localMax, v.position);
         }
         draw.boundsCenter = glm::vec3(instance.world * glm::vec4((localMin + localMax) * 0.5f, 1.0f));
+        // Skinned and morphed instances: the centre of their posed box.
+        if (detail::isDeformed(scene, instance))
+            if (const std::optional<Box> box = detail::instanceBounds(scene, instance)) draw.boundsCenter = box->center();
         draw.bindings = m_device.createBindingSet(
             rhi::BindingSetDesc{}
                 .add(rhi::BindingItem::uniformBuffer(JANUS_BINDING_DRAW_UNIFORMS, m_drawUniforms, i * stride, sizeof(DrawUniforms)))

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "core/gpu_util.h"
+#include "scene/scene_internal.h"
 #include "core/pass_graph.h"
 #include "janus/shaders/bindings.h"
 
@@ -54,11 +55,7 @@ rhi::BufferHandle makeBuffer(rhi::IDevice& device, const std::vector<T>& data, r
 
 }  // namespace
 
-bool MeshDeformer::deforms(const Scene& scene, const Instance& instance) {
-    const Mesh& mesh = scene.meshes.at(instance.mesh);
-    if (mesh.vertices.empty() || mesh.indices.empty()) return false;
-    return !mesh.morphTargets.empty() || (!mesh.joints.empty() && instance.skin >= 0);
-}
+bool MeshDeformer::deforms(const Scene& scene, const Instance& instance) { return detail::isDeformed(scene, instance); }
 
 bool MeshDeformer::needed(const Scene& scene) {
     return std::any_of(scene.instances.begin(), scene.instances.end(), [&](const Instance& i) { return deforms(scene, i); });

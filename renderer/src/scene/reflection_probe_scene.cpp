@@ -70,10 +70,10 @@ Enum readEnum(const std::filesystem::path& file, const json& value, const std::s
 
 }  // namespace
 
-Box sceneBounds(const Scene& scene) {
+std::optional<Box> instanceBounds(const Scene& scene, const Instance& instance) {
     glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
-    for (const Instance& instance : scene.instances) {
-        if (instance.mesh >= scene.meshes.size()) continue;
+    if (instance.mesh >= scene.meshes.size()) return std::nullopt;
+    {
         // Skinned and morphed meshes where the pose puts them (posedVertices), others as they are.
         std::vector<Vertex> posed;
         const bool morphed = std::any_of(instance.morphWeights.begin(), instance.morphWeights.end(), [](float w) { return w != 0.0f; });
@@ -90,8 +90,23 @@ Box sceneBounds(const Scene& scene) {
             hi = glm::max(hi, p);
         }
     }
-    if (lo.x > hi.x) return Box{};
+    if (lo.x > hi.x) return std::nullopt;
     return Box{lo, hi};
+}
+
+bool isDeformed(const Scene& scene, const Instance& instance) {
+    if (instance.mesh >= scene.meshes.size()) return false;
+    const Mesh& mesh = scene.meshes[instance.mesh];
+    if (mesh.vertices.empty() || mesh.indices.empty()) return false;
+    return !mesh.morphTargets.empty() || (!mesh.joints.empty() && instance.skin >= 0);
+}
+
+Box sceneBounds(const Scene& scene) {
+    std::optional<Box> bounds;
+    for (const Instance& instance : scene.instances)
+        if (const std::optional<Box> box = instanceBounds(scene, instance))
+            bounds = bounds ? Box{glm::min(bounds->min, box->min), glm::max(bounds->max, box->max)} : *box;
+    return bounds.value_or(Box{});
 }
 
 std::vector<ReflectionProbe> parseReflectionProbes(const std::filesystem::path& file, const json& probes, const Scene& scene) {

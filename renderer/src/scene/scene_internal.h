@@ -60,6 +60,12 @@ Box readBox(const std::filesystem::path& file, const nlohmann::json& value, cons
 // box: the scene's bounds grown by 1%); validation (called by validateScene).
 // World AABB of every instance (skinned and morphed ones as posed: posedVertices); an empty box when there is none.
 Box sceneBounds(const Scene& scene);
+// The world-space box of one instance as drawn: skinned and morphed meshes where the pose puts
+// them (posedVertices), others as they are; none for an instance without vertices.
+std::optional<Box> instanceBounds(const Scene& scene, const Instance& instance);
+// Whether `instance` is drawn deformed (renderer/src/deform/): its mesh has vertices and morph
+// targets, or joints and the instance a skin.
+bool isDeformed(const Scene& scene, const Instance& instance);
 std::vector<ReflectionProbe> parseReflectionProbes(const std::filesystem::path& file, const nlohmann::json& probes, const Scene& scene);
 void addProbesFromMarkers(Scene& scene);
 void validateReflectionProbes(const Scene& scene);

@@ -11,6 +11,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "core/gpu_util.h"
+#include "scene/scene_internal.h"
 #include "janus/renderer/scene.h"
 #include "janus/renderer/settings.h"
 #include "janus/shaders/bindings.h"
@@ -36,6 +37,13 @@ WorldBounds sceneWorldBounds(const Scene& scene) {
     WorldBounds bounds;
     for (const Instance& instance : scene.instances) {
         if (instance.mesh >= local.size() || local[instance.mesh].empty()) continue;
+        if (detail::isDeformed(scene, instance)) {   // where the pose puts it, not its bind pose
+            if (const std::optional<Box> box = detail::instanceBounds(scene, instance)) {
+                bounds.min = glm::min(bounds.min, box->min);
+                bounds.max = glm::max(bounds.max, box->max);
+            }
+            continue;
+        }
         const WorldBounds& box = local[instance.mesh];
         for (int corner = 0; corner < 8; ++corner) {
             const glm::vec3 p((corner & 1) ? box.max.x : box.min.x, (corner & 2) ? box.max.y : box.min.y,
