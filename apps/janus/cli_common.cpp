@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cmath>
 #include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <new>
 #include <system_error>
@@ -195,9 +195,14 @@ std::optional<uint32_t> parseManyLightsSceneName(std::string_view text) {
     return count;
 }
 
-renderer::Scene loadSceneOrDefault(const std::optional<std::filesystem::path>& scenePath, bool allowOutsidePaths) {
-    if (!scenePath) return renderer::defaultScene();
+renderer::Scene loadSceneOrDefault(const std::optional<std::filesystem::path>& scenePath, const renderer::SceneLoadOptions& options) {
     std::error_code ec;
+    const bool builtIn = !scenePath || (!std::filesystem::exists(*scenePath, ec) && (parseManyLightsSceneName(scenePath->string()) ||
+                                                                                     scenePath->string() == kProbesSceneName));
+    if (builtIn && (options.scene || options.camera))
+        throw UsageError(fmt::format("{} picks a glTF file's scene or camera; the {} has one of each, give a .gltf, .glb or .json scene",
+                                     options.scene ? "--scene" : "--camera", sceneLabel(scenePath)));
+    if (!scenePath) return renderer::defaultScene();
     if (!std::filesystem::exists(*scenePath, ec)) {
         if (const std::optional<uint32_t> lights = parseManyLightsSceneName(scenePath->string())) {
             renderer::ManyLightsOptions options;
@@ -212,9 +217,32 @@ renderer::Scene loadSceneOrDefault(const std::optional<std::filesystem::path>& s
     if (std::filesystem::is_directory(*scenePath, ec))
         throw InputError(fmt::format("scene '{}' is a directory; give the .gltf, .glb or .json file inside it",
                                      scenePath->string()));
+    return renderer::loadScene(*scenePath, options);
+}
+
+void addSceneChoiceOptions(CLI::App& app, SceneChoiceOptions& options) {
+    app.add_option("--scene", options.scene, "Which glTF scene to render: its index in the file's \"scenes\" (default: the file's "
+                                             "\"scene\", else 0)")
+        ->type_name("N");
+    app.add_option("--camera", options.camera, "Which glTF camera to look through: its index in the file's \"cameras\" (default: the "
+                                               "first perspective camera, else one that frames the scene)")
+        ->type_name("N");
+}
+
+renderer::SceneLoadOptions parseSceneLoadOptions(const SceneChoiceOptions& choice, bool allowOutsidePaths) {
+    auto index = [](const std::string& text, const char* option) -> std::optional<uint32_t> {
+        if (text.empty()) return std::nullopt;
+        uint32_t value = 0;
+        const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+        if (error != std::errc() || end != text.data() + text.size())
+            throw UsageError(fmt::format("{} '{}' is not an index (a whole number >= 0)", option, text));
+        return value;
+    };
     renderer::SceneLoadOptions options;
     options.allowPathsOutsideSceneFolder = allowOutsidePaths;
-    return renderer::loadScene(*scenePath, options);
+    options.scene = index(choice.scene, "--scene");
+    options.camera = index(choice.camera, "--camera");
+    return options;
 }
 
 std::string sceneLabel(const std::optional<std::filesystem::path>& scenePath) {

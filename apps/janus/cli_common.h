@@ -87,8 +87,14 @@ void checkOutputFile(const std::filesystem::path& file, std::string_view optionN
 inline constexpr std::string_view kManyLightsSceneName = "many-lights";
 inline constexpr std::string_view kProbesSceneName = "probes";   // renderer::probesScene()
 std::optional<uint32_t> parseManyLightsSceneName(std::string_view text);   // nullopt: not that name; throws UsageError for a bad N
-// `allowOutsidePaths`: --allow-outside-paths (renderer::SceneLoadOptions::allowPathsOutsideSceneFolder).
-renderer::Scene loadSceneOrDefault(const std::optional<std::filesystem::path>& scenePath, bool allowOutsidePaths = false);
+// `options`: --allow-outside-paths, --scene, --camera (renderer::SceneLoadOptions); --scene and
+// --camera with a built-in scene are a UsageError.
+renderer::Scene loadSceneOrDefault(const std::optional<std::filesystem::path>& scenePath, const renderer::SceneLoadOptions& options = {});
+inline renderer::Scene loadSceneOrDefault(const std::optional<std::filesystem::path>& scenePath, bool allowOutsidePaths) {
+    renderer::SceneLoadOptions options;
+    options.allowPathsOutsideSceneFolder = allowOutsidePaths;
+    return loadSceneOrDefault(scenePath, options);
+}
 std::string sceneLabel(const std::optional<std::filesystem::path>& scenePath);
 
 // Options several commands share, declared once so their names, defaults and help agree.
@@ -96,6 +102,15 @@ void addSceneArgument(CLI::App& app, std::string& scene);
 // --allow-outside-paths: a glTF may read buffers and images outside its folder.
 void addAllowOutsidePathsFlag(CLI::App& app, bool& allow);
 void addSizeOption(CLI::App& app, std::string& size);
+// --scene N and --camera N: which glTF scene and camera to render (renderer::SceneLoadOptions).
+// Empty strings = not given (the file's default scene, its first perspective camera).
+struct SceneChoiceOptions {
+    std::string scene;
+    std::string camera;
+};
+void addSceneChoiceOptions(CLI::App& app, SceneChoiceOptions& options);
+// UsageError naming the option for a value that is not a non-negative integer.
+renderer::SceneLoadOptions parseSceneLoadOptions(const SceneChoiceOptions& choice, bool allowOutsidePaths);
 void addGLPlatformOption(CLI::App& app, std::string& glPlatform);
 
 // Forward+ lighting flags (--culling, --tile-size, --max-lights-per-tile, --intensity-cutoff,

@@ -23,6 +23,7 @@ struct ParityOptions {
     LightingOptions lighting;
     EnvironmentOptions environment;
     AnimationOptions animation;
+    SceneChoiceOptions sceneChoice;
 };
 
 int run(const ParityOptions& options) {
@@ -45,7 +46,7 @@ int run(const ParityOptions& options) {
     // The scene is loaded before the directory is created, so a bad scene leaves nothing behind.
     std::optional<std::filesystem::path> scenePath;
     if (!options.scene.empty()) scenePath = options.scene;
-    renderer::Scene scene = loadSceneOrDefault(scenePath, options.allowOutsidePaths);
+    renderer::Scene scene = loadSceneOrDefault(scenePath, parseSceneLoadOptions(options.sceneChoice, options.allowOutsidePaths));
     applyEnvironmentOverride(scene, environment);
     applyAnimationOverride(scene, animation, sceneLabel(scenePath));
 
@@ -172,6 +173,7 @@ Command addParityCommand(CLI::App& parent) {
     addLightingOptions(*app, options->lighting);
     addEnvironmentOptions(*app, options->environment);
     addAnimationOptions(*app, options->animation);
+    addSceneChoiceOptions(*app, options->sceneChoice);
     app->add_flag("--validation", options->validation,
                   "Enable Vulkan validation layers / GL debug output; a configuration with errors fails");
     return {app, [options] { return run(*options); }};

@@ -26,6 +26,7 @@ struct RenderOptions {
     LightingOptions lighting;
     EnvironmentOptions environment;
     AnimationOptions animation;
+    SceneChoiceOptions sceneChoice;
 };
 
 bool hasExtension(const std::filesystem::path& file, std::string_view extension) {
@@ -74,7 +75,7 @@ int run(const RenderOptions& options) {
     std::optional<std::filesystem::path> scenePath;
     if (!options.scene.empty()) scenePath = options.scene;
 
-    renderer::Scene scene = loadSceneOrDefault(scenePath, options.allowOutsidePaths);
+    renderer::Scene scene = loadSceneOrDefault(scenePath, parseSceneLoadOptions(options.sceneChoice, options.allowOutsidePaths));
     applyEnvironmentOverride(scene, environment);
     applyAnimationOverride(scene, animation, sceneLabel(scenePath));
     if (scene.irradianceVolume && request.giBakeFile.empty())
@@ -92,7 +93,11 @@ int run(const RenderOptions& options) {
         else
             renderer::writePFM(*hdrPath, *outcome.hdr);
     }
-    if (reportPath) renderer::writeFileAtomically(*reportPath, outcome.report.toJson().dump(2) + "\n");
+    if (reportPath) {
+        nlohmann::json report = outcome.report.toJson();
+        report["sceneWarnings"] = scene.warnings;   // what the loader ignored (also printed on stderr when it loaded)
+        renderer::writeFileAtomically(*reportPath, report.dump(2) + "\n");
+    }
 
     std::printf("rendered %s with %s at %ux%u on %s\n", sceneLabel(scenePath).c_str(),
                 configurationLabel(request.backend, request.path).c_str(), request.size.width, request.size.height,
@@ -134,6 +139,7 @@ Command addRenderCommand(CLI::App& parent) {
     addLightingOptions(*app, options->lighting);
     addEnvironmentOptions(*app, options->environment);
     addAnimationOptions(*app, options->animation);
+    addSceneChoiceOptions(*app, options->sceneChoice);
     app->add_option("--debug", options->debug, "Debug view: none, tiles (heat map of lights per tile, blue to red; "
                                                "tiles at the cap white-hatched), gi (the irradiance volume's light alone and its probes) or "
                                                "gi-light (the volume's light without the probes)")
