@@ -56,6 +56,18 @@ FrameOutput renderModel(const Config& config, const Scene& scene, uint32_t size)
     return test_support::renderOneFrame(config, scene, settings);
 }
 
+// `scene` rendered on `config` matches its vulkan/compute render (made once per `stem`) within the
+// suite's parity tolerance (test_support::expectMatchesVulkanCompute), with a finite HDR image.
+void expectParity(const Scene& scene, const std::string& stem, const Config& config) {
+    static std::map<std::string, FrameOutput> references;
+    auto reference = references.find(stem);
+    if (reference == references.end())
+        reference = references.emplace(stem, renderModel(test_support::allConfigs()[0], scene, kParitySize)).first;
+    const FrameOutput result = renderModel(config, scene, kParitySize);
+    test_support::expectFiniteHdr(result.hdr, stem + " " + config.name());
+    test_support::expectMatchesVulkanCompute(reference->second.display, result.display, stem, config.name());
+}
+
 using ModelParam = std::tuple<const char*, Config>;
 
 class KhronosParityTest : public testing::TestWithParam<ModelParam> {};
@@ -65,14 +77,7 @@ class KhronosParityTest : public testing::TestWithParam<ModelParam> {};
 TEST_P(KhronosParityTest, RendersLikeVulkanCompute) {
     const std::string model = std::get<0>(GetParam());
     const Config& config = std::get<1>(GetParam());
-    const Scene scene = loadScene(modelPath(model));
-    static std::map<std::string, FrameOutput> references;
-    auto reference = references.find(model);
-    if (reference == references.end())
-        reference = references.emplace(model, renderModel(test_support::allConfigs()[0], scene, kParitySize)).first;
-    const FrameOutput result = renderModel(config, scene, kParitySize);
-    test_support::expectFiniteHdr(result.hdr, model + " " + config.name());
-    test_support::expectMatchesVulkanCompute(reference->second.display, result.display, "khronos-" + model, config.name());
+    expectParity(loadScene(modelPath(model)), "khronos-" + model, config);
 }
 
 INSTANTIATE_TEST_SUITE_P(Configs, KhronosParityTest,
@@ -92,13 +97,7 @@ TEST_P(KhronosAnimatedParityTest, RendersLikeVulkanComputeAtAnotherTime) {
     Scene scene = loadScene(modelPath(model));
     ASSERT_FALSE(scene.animations.empty()) << model;
     poseScene(scene, 0.8f, 0);
-    static std::map<std::string, FrameOutput> references;
-    auto reference = references.find(model);
-    if (reference == references.end())
-        reference = references.emplace(model, renderModel(test_support::allConfigs()[0], scene, kParitySize)).first;
-    const FrameOutput result = renderModel(config, scene, kParitySize);
-    test_support::expectFiniteHdr(result.hdr, model + " " + config.name());
-    test_support::expectMatchesVulkanCompute(reference->second.display, result.display, "khronos-t0.8-" + model, config.name());
+    expectParity(scene, "khronos-t0.8-" + model, config);
 }
 
 INSTANTIATE_TEST_SUITE_P(Configs, KhronosAnimatedParityTest,

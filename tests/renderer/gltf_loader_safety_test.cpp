@@ -292,14 +292,7 @@ TEST(TextureFit, LargerTexturesAreDownscaledKeepingTheirAspect) {
 TEST(GltfNodes, HundredThousandNestedNodesDoNotOverflowTheStack) {
     TinyGltf file;
     constexpr int kDepth = 100000;
-    json nodes = json::array();
-    for (int i = 0; i < kDepth; ++i) {
-        json node = {{"translation", {0.0, 0.0, 0.5}}};
-        if (i + 1 < kDepth) node["children"] = {i + 1};
-        else node["mesh"] = 0;
-        nodes.push_back(std::move(node));
-    }
-    file.gltf["nodes"] = std::move(nodes);
+    file.makeNodeChain(kDepth);
     const Scene scene = loadScene(file.write());
     ASSERT_EQ(scene.instances.size(), 1u);
     EXPECT_EQ(scene.instances[0].world[3].z, 0.5f * kDepth);   // every level's translation applied (exact in float)

@@ -88,6 +88,19 @@ public:
         gltf["materials"][0]["normalTexture"] = {{"index", 0}};
     }
 
+    // Replaces the nodes with a chain `depth` deep: node i is node i + 1's parent, each moves its
+    // child by 0.5 along z, and the last holds mesh 0 (hierarchies that must not overflow a stack).
+    void makeNodeChain(int depth) {
+        json nodes = json::array();
+        for (int i = 0; i < depth; ++i) {
+            json node = {{"translation", {0.0, 0.0, 0.5}}};
+            if (i + 1 < depth) node["children"] = {i + 1};
+            else node["mesh"] = 0;
+            nodes.push_back(std::move(node));
+        }
+        gltf["nodes"] = std::move(nodes);
+    }
+
     void setIndex(size_t which, uint16_t value) { std::memcpy(m_bin.data() + 36 + which * 2, &value, 2); }
     const fs::path& dir() const { return m_dir; }
     const std::vector<uint8_t>& bin() const { return m_bin; }

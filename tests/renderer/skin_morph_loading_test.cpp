@@ -511,14 +511,7 @@ TEST(GltfAnimations, AMatrixNodeIsDecomposedAndKeptExact) {
 TEST(GltfAnimations, AHundredThousandDeepAnimatedChainLoadsAndPoses) {
     TinyGltf file;
     constexpr int kDepth = 100000;
-    json nodes = json::array();
-    for (int i = 0; i < kDepth; ++i) {
-        json node = {{"translation", {0.0, 0.0, 0.5}}};
-        if (i + 1 < kDepth) node["children"] = {i + 1};
-        else node["mesh"] = 0;
-        nodes.push_back(std::move(node));
-    }
-    file.gltf["nodes"] = std::move(nodes);
+    file.makeNodeChain(kDepth);
     const std::vector<float> times = {0.0f, 1.0f};
     const std::vector<float> moves = {0, 0, 0.5f, 0, 2, 0.5f};
     const int input = file.addAccessor(times.data(), 8, {{"componentType", 5126}, {"count", 2}, {"type", "SCALAR"}});
