@@ -20,7 +20,7 @@ using test_support::sceneErrorOf;
 
 constexpr float kPi = 3.14159265358979f;
 
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+using test_support::contains;
 
 AnimationSampler samplerOf(Interpolation interpolation, std::vector<float> times, std::vector<float> values, uint32_t components) {
     AnimationSampler sampler;

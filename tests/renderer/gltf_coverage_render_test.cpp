@@ -19,6 +19,7 @@
 #include "janus/renderer/renderer.h"
 #include "janus/renderer/scene.h"
 #include "janus/renderer/scene_view.h"
+#include "gltf_test_file.h"
 #include "renderer_test_support.h"
 
 namespace janus::renderer {
@@ -30,7 +31,7 @@ using test_support::FrameOutput;
 
 fs::path khronosDir() { return fs::path(JANUS_SHARED_SCENES_DIR) / "khronos"; }
 
-fs::path modelPath(const std::string& model) { return khronosDir() / model / "glTF" / (model + ".gltf"); }
+using test_support::khronosModel;
 
 // Every model of ../shared/scenes/khronos (its README lists what each exercises).
 const std::array<const char*, 20> kModels = {
@@ -77,7 +78,7 @@ class KhronosParityTest : public testing::TestWithParam<ModelParam> {};
 TEST_P(KhronosParityTest, RendersLikeVulkanCompute) {
     const std::string model = std::get<0>(GetParam());
     const Config& config = std::get<1>(GetParam());
-    expectParity(loadScene(modelPath(model)), "khronos-" + model, config);
+    expectParity(loadScene(khronosModel(model)), "khronos-" + model, config);
 }
 
 INSTANTIATE_TEST_SUITE_P(Configs, KhronosParityTest,
@@ -94,7 +95,7 @@ class KhronosAnimatedParityTest : public testing::TestWithParam<ModelParam> {};
 TEST_P(KhronosAnimatedParityTest, RendersLikeVulkanComputeAtAnotherTime) {
     const std::string model = std::get<0>(GetParam());
     const Config& config = std::get<1>(GetParam());
-    Scene scene = loadScene(modelPath(model));
+    Scene scene = loadScene(khronosModel(model));
     ASSERT_FALSE(scene.animations.empty()) << model;
     poseScene(scene, 0.8f, 0);
     expectParity(scene, "khronos-t0.8-" + model, config);
@@ -154,7 +155,7 @@ std::array<uint32_t, 3> primaryCounts(const ImageRGBA8& image, float x0, float y
 // Where the cells are (fractions of the image) follows from the auto-framed camera, which sees
 // the model head-on.
 TEST_P(KhronosSelfCheckTest, VertexColorTestRowsMatch) {
-    const FrameOutput output = render(loadScene(modelPath("VertexColorTest")));
+    const FrameOutput output = render(loadScene(khronosModel("VertexColorTest")));
     const std::string label = GetParam().name();
     constexpr float kColumns[3] = {0.325f, 0.485f, 0.652f};   // red, green, blue cells' centres
     constexpr float kTestRow = 0.40f, kSampleRow = 0.665f, kHalf = 0.045f;
@@ -179,7 +180,7 @@ TEST_P(KhronosSelfCheckTest, VertexColorTestRowsMatch) {
 // HDR radiance at each cube's centre is (0.1, 0.5, 0.9) times its strength, up to the target's
 // half-float conversion (one step, relative 2^-10: the drivers round toward zero).
 TEST_P(KhronosSelfCheckTest, EmissiveStrengthTestCubesGlowByTheirStrength) {
-    Scene scene = loadScene(modelPath("EmissiveStrengthTest"));
+    Scene scene = loadScene(khronosModel("EmissiveStrengthTest"));
     scene.lights.clear();
     scene.environment.ambientColor = glm::vec3(0.0f);
     const FrameOutput output = render(scene);
@@ -197,7 +198,7 @@ TEST_P(KhronosSelfCheckTest, EmissiveStrengthTestCubesGlowByTheirStrength) {
 // HDR target's half-float conversion (the drivers round toward zero: up to one half-float step,
 // relative 2^-10).
 TEST_P(KhronosSelfCheckTest, UnlitTestShowsItsBaseColour) {
-    const Scene scene = loadScene(modelPath("UnlitTest"));
+    const Scene scene = loadScene(khronosModel("UnlitTest"));
     const FrameOutput output = render(scene);
     for (const auto& [node, material] : {std::pair{"Orange Object", 0}, {"Blue Object", 1}}) {
         ASSERT_TRUE(scene.materials.at(size_t(material)).unlit);

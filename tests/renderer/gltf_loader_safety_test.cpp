@@ -27,7 +27,7 @@ using nlohmann::json;
 using test_support::sceneErrorOf;
 using test_support::TinyGltf;
 
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+using test_support::contains;
 
 SceneLoadOptions allowingOutsidePaths() {
     SceneLoadOptions options;

@@ -166,6 +166,13 @@ private:
 
 }  // namespace gltf_test_file_detail
 
+inline bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+// A Khronos sample model of ../shared/scenes/khronos (its README says what each exercises).
+inline std::filesystem::path khronosModel(const std::string& model) {
+    return std::filesystem::path(JANUS_SHARED_SCENES_DIR) / "khronos" / model / "glTF" / (model + ".gltf");
+}
+
 using gltf_test_file_detail::sceneErrorOf;
 using gltf_test_file_detail::TinyGltf;
 

@@ -16,6 +16,7 @@
 #include "deform/mesh_deformer.h"
 #include "janus/renderer/renderer.h"
 #include "janus/renderer/scene.h"
+#include "gltf_test_file.h"
 #include "renderer_test_support.h"
 
 namespace janus::renderer {
@@ -149,7 +150,7 @@ TEST_P(MeshDeformTest, StaticScenesHaveNoDeformPass) {
 // Tolerance: float math in a different order on the CPU (1e-5 of the model's unit size).
 TEST_P(MeshDeformTest, KhronosModelsMatchTheCpuReferenceAtSeveralTimes) {
     for (const char* model : {"SimpleSkin", "AnimatedMorphCube"}) {
-        Scene scene = loadScene(std::filesystem::path(JANUS_SHARED_SCENES_DIR) / "khronos" / model / "glTF" / (std::string(model) + ".gltf"));
+        Scene scene = loadScene(test_support::khronosModel(model));
         ASSERT_FALSE(scene.animations.empty()) << model;
         for (float time : {0.0f, 0.7f, 1.9f, 100.0f}) {
             poseScene(scene, time, 0);

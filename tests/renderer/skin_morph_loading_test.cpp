@@ -26,11 +26,9 @@ using nlohmann::json;
 using test_support::sceneErrorOf;
 using test_support::TinyGltf;
 
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+using test_support::contains;
 
-fs::path khronosModel(const std::string& model) {
-    return fs::path(JANUS_SHARED_SCENES_DIR) / "khronos" / model / "glTF" / (model + ".gltf");
-}
+using test_support::khronosModel;
 
 bool hasWarning(const Scene& scene, const std::string& part) {
     for (const std::string& warning : scene.warnings)

@@ -71,24 +71,21 @@ Enum readEnum(const std::filesystem::path& file, const json& value, const std::s
 }  // namespace
 
 std::optional<Box> instanceBounds(const Scene& scene, const Instance& instance) {
-    glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
     if (instance.mesh >= scene.meshes.size()) return std::nullopt;
-    {
-        // Skinned and morphed meshes where the pose puts them (posedVertices), others as they are.
-        std::vector<Vertex> posed;
-        const bool morphed = std::any_of(instance.morphWeights.begin(), instance.morphWeights.end(), [](float w) { return w != 0.0f; });
-        if ((instance.skin >= 0 && !instance.jointMatrices.empty()) || morphed) {
-            try {
-                posed = posedVertices(scene, instance);
-            } catch (const SceneError&) {
-                posed.clear();   // not posed consistently (a scene made in code): the mesh as it is
-            }
+    // Skinned and morphed meshes where the pose puts them (posedVertices), others as they are.
+    std::vector<Vertex> posed;
+    if (isDeformed(scene, instance)) {
+        try {
+            posed = posedVertices(scene, instance);
+        } catch (const SceneError&) {
+            posed.clear();   // not posed consistently (a scene made in code): the mesh as it is
         }
-        for (const Vertex& v : posed.empty() ? scene.meshes[instance.mesh].vertices : posed) {
-            const glm::vec3 p = glm::vec3(instance.world * glm::vec4(v.position, 1.0f));
-            lo = glm::min(lo, p);
-            hi = glm::max(hi, p);
-        }
+    }
+    glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+    for (const Vertex& v : posed.empty() ? scene.meshes[instance.mesh].vertices : posed) {
+        const glm::vec3 p = glm::vec3(instance.world * glm::vec4(v.position, 1.0f));
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
     }
     if (lo.x > hi.x) return std::nullopt;
     return Box{lo, hi};
