@@ -225,7 +225,7 @@ void addSceneChoiceOptions(CLI::App& app, SceneChoiceOptions& options) {
                                              "\"scene\", else 0)")
         ->type_name("N");
     app.add_option("--camera", options.camera, "Which glTF camera to look through: its index in the file's \"cameras\" (default: the "
-                                               "first perspective camera, else one that frames the scene)")
+                                               "first camera, perspective or orthographic, else one that frames the scene)")
         ->type_name("N");
 }
 

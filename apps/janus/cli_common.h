@@ -103,7 +103,7 @@ void addSceneArgument(CLI::App& app, std::string& scene);
 void addAllowOutsidePathsFlag(CLI::App& app, bool& allow);
 void addSizeOption(CLI::App& app, std::string& size);
 // --scene N and --camera N: which glTF scene and camera to render (renderer::SceneLoadOptions).
-// Empty strings = not given (the file's default scene, its first perspective camera).
+// Empty strings = not given (the file's default scene, its first camera).
 struct SceneChoiceOptions {
     std::string scene;
     std::string camera;

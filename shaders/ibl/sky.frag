@@ -12,8 +12,11 @@ layout(location = 0) in vec2 vNdc;
 layout(location = 0) out vec4 outRadiance;
 
 void main() {
+    // From the near plane's point to the far plane's: the pixel's ray for either projection (an
+    // orthographic view sees the sky along its axis at every pixel, as its rays are parallel).
+    vec4 near = sky.inverseViewProjection * vec4(vNdc, 0.0, 1.0);
     vec4 far = sky.inverseViewProjection * vec4(vNdc, 1.0, 1.0);
-    vec3 direction = normalize(far.xyz / far.w);
+    vec3 direction = normalize(far.xyz / far.w - near.xyz / near.w);
     vec3 radiance = textureLod(skyRadiance, direction, 0.0).rgb * sky.params.x;
     outRadiance = vec4(min(radiance, vec3(65000.0)), 1.0);
 }

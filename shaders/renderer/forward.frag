@@ -123,7 +123,7 @@ void main() {
     // normal of the side that is seen.
     bool flipped = draw.flags.x != 0 && !gl_FrontFacing;
     vec3 geometricNormal = flipped ? -vNormal : vNormal;
-    vec3 toCamera = safeNormalize(frame.cameraPosition.xyz - vWorldPosition, vec3(0.0, 0.0, 1.0));
+    vec3 toCamera = safeNormalize(frame.cameraPosition.xyz - vWorldPosition * frame.cameraPosition.w, vec3(0.0, 0.0, 1.0));
     // A zero normal (file data, a degenerate transform) faces the camera rather than going NaN.
     vec3 normal = safeNormalize(vNormal, toCamera);
     if (flipped) normal = -normal;

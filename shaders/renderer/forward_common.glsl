@@ -14,7 +14,7 @@ struct DirectionalLight {
 layout(set = JANUS_SET_VIEW, binding = JANUS_BINDING_FRAME_UNIFORMS, std140) uniform FrameUniforms {
     mat4 viewProjection;
     mat4 worldToShadow;    // directional light 0 (the main one): world -> (u, v, depth) of its shadow map
-    vec4 cameraPosition;
+    vec4 cameraPosition;   // homogeneous: w 1 the eye; w 0 the direction towards an orthographic camera (toCamera = xyz - position * w)
     vec4 ambientColor;
     vec4 shadowParams;     // x 1 when directional light 0 casts shadows, y shadow texel size, z normal offset (world)
     ivec4 lightCounts;     // x directional, y local, z 1 = read tile lists (tiled culling), 0 = loop every local light

@@ -10,22 +10,31 @@ const float kRadiusAbsoluteMargin = 1e-4;   // ...and absolute, for tiny lights 
 const float kDepthRelativeMargin = 1e-5;    // float error of depth linearisation (a few ulps)
 const float kDepthUlps = 1.1920929e-7;      // 2 * 2^-24: a stored depth's error (its rounding plus P22's), in units of max(z, |P22|)
 
+// Side planes x = ox + x * d, y = oy + y * d (d = -z): through the eye for a perspective tile
+// (offsets 0), a box for an orthographic one (slopes 0).
 struct TileRegion {
-    float x0, x1, y0, y1;   // view-space slopes x/d, y/d of the tile's side planes (d = -z)
+    float x0, x1, y0, y1;       // slopes
+    float ox0, ox1, oy0, oy1;   // offsets
     float invNormX0, invNormX1, invNormY0, invNormY1;   // 1 / |plane normal|, per tile rather than per light
     float dMin, dMax;       // view distance range
     bool hasGeometry;
 };
 
-// D32F (perspectiveRH_ZO) depth -> distance along the view axis.
+bool isOrthographic(mat4 projection) { return projection[2][3] == 0.0; }
+
+// D32F depth -> distance along the view axis, for perspectiveRH_ZO and orthoRH_ZO alike.
 float linearViewDepth(mat4 projection, float depth) {
-    return projection[3][2] / (depth + projection[2][2]);
+    return (projection[3][2] - depth * projection[3][3]) / (projection[2][2] - depth * projection[2][3]);
 }
 
 // How far a tile's depth bound may be from its surfaces at distance d of stored depth z: the
 // depth's rounding grows into dz * d^2 / |P32| (metres at far / near = 1e5). light_grid_build.cpp's
 // depthMargin is the same formula.
 float depthMargin(mat4 projection, float z, float d) {
+    if (isOrthographic(projection)) {   // linear depth: dz / |P22| everywhere
+        float orthoError = kDepthUlps * (abs(z) + abs(projection[3][2]));
+        return d * kDepthRelativeMargin + orthoError / abs(projection[2][2]);
+    }
     float zError = kDepthUlps * (abs(z) + abs(projection[2][2]));
     return d * kDepthRelativeMargin + zError * d * d / abs(projection[3][2]);
 }
@@ -39,11 +48,16 @@ TileRegion tileSlopes(mat4 projection, uvec2 tile, uvec2 size, uint tileSize, fl
     float ndcY1 = 2.0 * float(py1) / float(size.y) - 1.0;
     float ax = ndcX0 / projection[0][0], bx = ndcX1 / projection[0][0];
     float ay = ndcY0 / projection[1][1], by = ndcY1 / projection[1][1];
+    float slope = -projection[2][3], offset = projection[3][3];   // w = P33 - P23 * d
     TileRegion region;
-    region.x0 = min(ax, bx);
-    region.x1 = max(ax, bx);
-    region.y0 = min(ay, by);
-    region.y1 = max(ay, by);
+    region.x0 = min(ax, bx) * slope;
+    region.x1 = max(ax, bx) * slope;
+    region.y0 = min(ay, by) * slope;
+    region.y1 = max(ay, by) * slope;
+    region.ox0 = min(ax, bx) * offset;
+    region.ox1 = max(ax, bx) * offset;
+    region.oy0 = min(ay, by) * offset;
+    region.oy1 = max(ay, by) * offset;
     region.invNormX0 = 1.0 / sqrt(1.0 + region.x0 * region.x0);
     region.invNormX1 = 1.0 / sqrt(1.0 + region.x1 * region.x1);
     region.invNormY0 = 1.0 / sqrt(1.0 + region.y0 * region.y0);
@@ -85,15 +99,15 @@ bool sphereMeetsTile(vec3 c, float r, TileRegion tile, bool useDepthBox) {
     if (r < 0.0) return true;
     float d = -c.z;
     if (d + r < tile.dMin || d - r > tile.dMax) return false;
-    if ((c.x + tile.x1 * c.z) * tile.invNormX1 > r) return false;
-    if ((-c.x - tile.x0 * c.z) * tile.invNormX0 > r) return false;
-    if ((c.y + tile.y1 * c.z) * tile.invNormY1 > r) return false;
-    if ((-c.y - tile.y0 * c.z) * tile.invNormY0 > r) return false;
+    if ((c.x + tile.x1 * c.z - tile.ox1) * tile.invNormX1 > r) return false;
+    if ((-c.x - tile.x0 * c.z + tile.ox0) * tile.invNormX0 > r) return false;
+    if ((c.y + tile.y1 * c.z - tile.oy1) * tile.invNormY1 > r) return false;
+    if ((-c.y - tile.y0 * c.z + tile.oy0) * tile.invNormY0 > r) return false;
     if (useDepthBox) {
-        float boxMinX = min(tile.x0 * tile.dMin, tile.x0 * tile.dMax);
-        float boxMaxX = max(tile.x1 * tile.dMin, tile.x1 * tile.dMax);
-        float boxMinY = min(tile.y0 * tile.dMin, tile.y0 * tile.dMax);
-        float boxMaxY = max(tile.y1 * tile.dMin, tile.y1 * tile.dMax);
+        float boxMinX = min(tile.ox0 + tile.x0 * tile.dMin, tile.ox0 + tile.x0 * tile.dMax);
+        float boxMaxX = max(tile.ox1 + tile.x1 * tile.dMin, tile.ox1 + tile.x1 * tile.dMax);
+        float boxMinY = min(tile.oy0 + tile.y0 * tile.dMin, tile.oy0 + tile.y0 * tile.dMax);
+        float boxMaxY = max(tile.oy1 + tile.y1 * tile.dMin, tile.oy1 + tile.y1 * tile.dMax);
         float ex = max(max(boxMinX - c.x, c.x - boxMaxX), 0.0);
         float ey = max(max(boxMinY - c.y, c.y - boxMaxY), 0.0);
         float ez = max(max(tile.dMin - d, d - tile.dMax), 0.0);

@@ -3,7 +3,8 @@
 # renders the scene and camera asked for, and bad choices are clear errors. Needs the backends.
 source "$(dirname "$0")/common.bash" "$@"
 
-# Scene 0: a red quad seen by camera 0 (orthographic) and camera 1 (perspective, close);
+# Scene 0: a red quad seen by camera 0 (orthographic, the first, so the default) and camera 1
+# (perspective, close);
 # scene 1: a green quad and camera 2 (perspective, far).
 python3 - "$TMP" <<'PY'
 import base64, json, struct, sys
@@ -64,8 +65,17 @@ json_check "$TMP/default.json" 'len(j["sceneWarnings"]) == 1 and "ignoring glTF 
 grep -q "janus: warning: .*KHR_materials_sheen" "$TMP/stderr" || fail "the loader's warning is not on stderr: $(cat "$TMP/stderr")"
 read -r colour cover < <(measure "$TMP/default.png")
 [[ $colour == red ]] || fail "the default scene (0) is not the red quad: $colour"
-# Camera 1 (1.5 from the quad, the first perspective camera of scene 0) sees the quad large.
-python3 -c "import sys; sys.exit(0 if float(sys.argv[1]) > 0.25 else 1)" "$cover" || fail "the default camera is not the close one: cover $cover"
+# The default camera is scene 0's first, the orthographic camera 0: ymag 1 shows 2 x 2 units, so
+# the 1 x 1 quad covers a quarter of the image.
+python3 -c "import sys; sys.exit(0 if abs(float(sys.argv[1]) - 0.25) <= 0.02 else 1)" "$cover" ||
+  fail "the default camera is not the orthographic one (ymag 1): cover $cover"
+expect_success render "$TMP/two-scenes.gltf" --camera 0 --size 32x32 --out "$TMP/camera0.png"
+cmp -s "$TMP/default.png" "$TMP/camera0.png" || fail "--camera 0 differs from the default camera"
+expect_success parity "$TMP/two-scenes.gltf" --size 24x24 --out "$TMP/parity-ortho"
+# Camera 1, 1.5 from the quad with a 0.8 rad field of view, sees it large.
+expect_success render "$TMP/two-scenes.gltf" --camera 1 --size 32x32 --out "$TMP/camera1.png"
+read -r colour cover < <(measure "$TMP/camera1.png")
+python3 -c "import sys; sys.exit(0 if float(sys.argv[1]) > 0.5 else 1)" "$cover" || fail "--camera 1 is not the close one: cover $cover"
 
 expect_success render "$TMP/two-scenes.gltf" --scene 1 --size 32x32 --out "$TMP/scene1.png"
 read -r colour far_cover < <(measure "$TMP/scene1.png")
@@ -78,7 +88,6 @@ cmp -s "$TMP/scene1.png" "$TMP/scene1-camera2.png" || fail "--camera 2 differs f
 expect_success parity "$TMP/two-scenes.gltf" --scene 1 --size 24x24 --out "$TMP/parity"
 
 expect_error 3 "scene 4 does not exist: the file has 2 scene\(s\) \(0 to 1\)" render "$TMP/two-scenes.gltf" --scene 4 --out "$TMP/x.png"
-expect_error 3 "camera 0 \('?'?\) is orthographic; Janus renders through perspective cameras only" render "$TMP/two-scenes.gltf" --camera 0 --out "$TMP/x.png"
 expect_error 3 "camera 2 \('far camera'\) is used by no node of the loaded scene" render "$TMP/two-scenes.gltf" --camera 2 --out "$TMP/x.png"
 expect_error 2 "--scene 'one' is not an index" render "$TMP/two-scenes.gltf" --scene one --out "$TMP/x.png"
 expect_error 2 "--camera -1|--camera '-1' is not an index" render "$TMP/two-scenes.gltf" --camera -1 --out "$TMP/x.png"

@@ -105,6 +105,15 @@ Scene lightsBehindTheCamera() {
     return scene;
 }
 
+// The same scene through an orthographic camera at the same place: tiles become boxes, depth is
+// linear. `near` 0 puts the near plane at the eye, which glTF allows for orthographic cameras.
+Scene orthographic(Scene scene, float near) {
+    scene.camera.projection = CameraProjection::Orthographic;
+    scene.camera.orthographicHalfHeight = 1.6f;   // the room's back wall and floor fill the frame
+    scene.camera.nearPlane = near;
+    return scene;
+}
+
 // ---------------------------------------------------------------------------------------------
 // Checks
 
@@ -136,6 +145,8 @@ const SceneCase kEqualityScenes[] = {
          scene.camera.nearPlane = scene.camera.farPlane * 1e-4f;
          return scene;
      }, 16},
+    {"OrthographicManyLights", [] { return orthographic(roomWithManyLights(64), 0.02f); }, 16},
+    {"OrthographicLightsBehindTheCamera", [] { return orthographic(lightsBehindTheCamera(), 0.0f); }, 32},
 };
 
 using EqualityParam = std::tuple<SceneCase, Config>;
@@ -212,11 +223,14 @@ std::vector<CullingLight> cullingLights(const Scene& scene, float intensityCutof
 }
 
 // World positions of the pixel centres that have geometry (depth < 1), nullopt elsewhere, from
-// the frame's depth with the renderer's projection (perspectiveRH_ZO, y flipped so NDC y = -1
-// is row 0; view = lookAt).
+// the frame's depth with the renderer's projection (perspectiveRH_ZO or orthoRH_ZO, y flipped so
+// NDC y = -1 is row 0; view = lookAt).
 std::vector<std::optional<glm::dvec3>> pixelWorldPositions(const Camera& camera, uint32_t width, uint32_t height, const std::vector<float>& depth) {
-    glm::dmat4 projection = glm::perspectiveRH_ZO(double(camera.fovYRadians), double(width) / double(height), double(camera.nearPlane),
-                                                  double(camera.farPlane));
+    const double aspect = double(width) / double(height), halfHeight = camera.orthographicHalfHeight;
+    glm::dmat4 projection = camera.projection == CameraProjection::Orthographic
+                                ? glm::orthoRH_ZO(-halfHeight * aspect, halfHeight * aspect, -halfHeight, halfHeight,
+                                                  double(camera.nearPlane), double(camera.farPlane))
+                                : glm::perspectiveRH_ZO(double(camera.fovYRadians), aspect, double(camera.nearPlane), double(camera.farPlane));
     projection[1][1] *= -1.0;
     const glm::dmat4 view = glm::lookAt(glm::dvec3(camera.position), glm::dvec3(camera.target), glm::dvec3(camera.up));
     const glm::dmat4 clipToWorld = glm::inverse(projection * view);

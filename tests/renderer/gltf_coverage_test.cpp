@@ -310,14 +310,51 @@ TEST(GltfScenesAndCameras, TheSceneAndCameraCanBeChosen) {
     const Scene byDefault = loadScene(path);
     ASSERT_EQ(byDefault.instances.size(), 1u);
     EXPECT_EQ(byDefault.instances[0].nodeName, "triangle node");
+    // The first camera met in scene 0 is the orthographic one: ymag, znear and zfar as given.
+    EXPECT_EQ(byDefault.camera.projection, CameraProjection::Orthographic);
+    EXPECT_EQ(byDefault.camera.orthographicHalfHeight, 1.0f);
+    EXPECT_EQ(byDefault.camera.nearPlane, 0.1f);
+    EXPECT_EQ(byDefault.camera.farPlane, 10.0f);
+    EXPECT_EQ(byDefault.camera.position, glm::vec3(0, 0, 2));
+    EXPECT_EQ(byDefault.camera.node, 1);
     SceneLoadOptions options;
     options.scene = 1;
     const Scene second = loadScene(path, options);
     ASSERT_EQ(second.instances.size(), 1u);
     EXPECT_EQ(second.instances[0].nodeName, "moved");
-    EXPECT_EQ(second.camera.position, glm::vec3(0, 0, 3)) << "the first perspective camera of scene 1";
+    EXPECT_EQ(second.camera.position, glm::vec3(0, 0, 3)) << "the first camera of scene 1";
+    EXPECT_EQ(second.camera.projection, CameraProjection::Perspective);
+    EXPECT_EQ(second.camera.fovYRadians, 0.5f);
     options.camera = 2;
     EXPECT_EQ(loadScene(path, options).camera.position, glm::vec3(0, 0, 7));
+    options = {};
+    options.camera = 0;
+    EXPECT_EQ(loadScene(path, options).camera.projection, CameraProjection::Orthographic);
+}
+
+// glTF: xmag and ymag must not be 0 (negative ones would mirror the view: refused too), zfar is
+// required and > znear >= 0.
+TEST(GltfScenesAndCameras, BadOrthographicCamerasAreClearErrors) {
+    struct Case {
+        json orthographic;
+        const char* message;
+    };
+    const Case cases[] = {
+        {{{"xmag", 1}, {"ymag", 0}, {"znear", 0.1}, {"zfar", 10}}, "camera 0 ('') is orthographic with xmag 1 and ymag 0; both must be finite and > 0"},
+        {{{"xmag", -1}, {"ymag", 1}, {"znear", 0.1}, {"zfar", 10}}, "with xmag -1 and ymag 1; both must be finite and > 0"},
+        {{{"xmag", 1}, {"ymag", 1}, {"znear", 2}, {"zfar", 2}}, "with znear 2 and zfar 2; it needs 0 <= znear < zfar"},
+        {{{"xmag", 1}, {"ymag", 1}, {"znear", -1}, {"zfar", 2}}, "with znear -1 and zfar 2; it needs 0 <= znear < zfar"},
+    };
+    for (const Case& c : cases) {
+        TinyGltf file = twoScenesFile();
+        file.gltf["cameras"][0]["orthographic"] = c.orthographic;
+        const std::string message = sceneErrorOf([&] { loadScene(file.write()); });
+        EXPECT_NE(message.find(c.message), std::string::npos) << c.orthographic.dump() << ": " << message;
+    }
+    // znear 0 is allowed for orthographic cameras (not for perspective ones).
+    TinyGltf file = twoScenesFile();
+    file.gltf["cameras"][0]["orthographic"]["znear"] = 0;
+    EXPECT_EQ(loadScene(file.write()).camera.nearPlane, 0.0f);
 }
 
 TEST(GltfScenesAndCameras, BadChoicesAreClearErrors) {
@@ -328,9 +365,6 @@ TEST(GltfScenesAndCameras, BadChoicesAreClearErrors) {
     std::string message = sceneErrorOf([&] { loadScene(path, options); });
     EXPECT_NE(message.find("scene 2 does not exist: the file has 2 scene(s) (0 to 1)"), std::string::npos) << message;
     options = {};
-    options.camera = 0;
-    message = sceneErrorOf([&] { loadScene(path, options); });
-    EXPECT_NE(message.find("camera 0 ('') is orthographic; Janus renders through perspective cameras only"), std::string::npos) << message;
     options.camera = 1;   // in scene 1 only
     message = sceneErrorOf([&] { loadScene(path, options); });
     EXPECT_NE(message.find("camera 1 ('near camera') is used by no node of the loaded scene"), std::string::npos) << message;

@@ -44,25 +44,54 @@ Camera testCamera() {
     return camera;
 }
 
-// Stored depth for view distance d (inverse of the linearisation: d = P32 / (z + P22)).
+// The same place seen through an orthographic camera whose near plane is at the eye.
+Camera orthographicTestCamera() {
+    Camera camera = testCamera();
+    camera.projection = CameraProjection::Orthographic;
+    camera.orthographicHalfHeight = 2.0f;
+    camera.nearPlane = 0.0f;
+    return camera;
+}
+
+struct CameraCase {
+    const char* name;
+    Camera camera;
+};
+
+void PrintTo(const CameraCase& cameraCase, std::ostream* os) { *os << cameraCase.name; }
+
+std::vector<CameraCase> cameraCases() { return {{"perspective", testCamera()}, {"orthographic", orthographicTestCamera()}}; }
+
+bool isOrthographic(const TileGrid& grid) { return grid.projection[2][3] == 0.0f; }
+
+// Stored depth for view distance d: the projection's z / w at z = -d (perspective: P32 / d - P22,
+// the inverse of d = P32 / (z + P22); orthographic: P32 - P22 d).
 float storedDepth(const TileGrid& grid, double d) {
+    if (isOrthographic(grid)) return float(double(grid.projection[3][2]) - double(grid.projection[2][2]) * d);
     return float(double(grid.projection[3][2]) / d - double(grid.projection[2][2]));
 }
 
-// View-space direction through pixel (x, y)'s centre, scaled so its distance along the view axis is 1.
-glm::dvec3 pixelRay(const TileGrid& grid, uint32_t x, uint32_t y) {
+// The view-space ray through pixel (x, y)'s centre as origin + d * direction, d the distance
+// along the view axis: from the eye for perspective, parallel to the axis for orthographic.
+struct PixelRay {
+    glm::dvec3 origin, direction;
+};
+PixelRay pixelRay(const TileGrid& grid, uint32_t x, uint32_t y) {
     const double ndcX = 2.0 * (x + 0.5) / grid.width - 1.0, ndcY = 2.0 * (y + 0.5) / grid.height - 1.0;
-    return {ndcX / grid.projection[0][0], ndcY / grid.projection[1][1], -1.0};
+    const double a = ndcX / grid.projection[0][0], b = ndcY / grid.projection[1][1];
+    if (isOrthographic(grid)) return {{a, b, 0.0}, {0.0, 0.0, -1.0}};
+    return {{0.0, 0.0, 0.0}, {a, b, -1.0}};
 }
 
 // A room: floor y = 0, back wall z = -3, side walls x = +-2.5; the sky (depth 1) above y = 3.
 std::vector<float> roomDepth(const TileGrid& grid) {
     const glm::dmat4 toWorld = glm::inverse(glm::dmat4(grid.view));
-    const glm::dvec3 eye = glm::dvec3(toWorld * glm::dvec4(0, 0, 0, 1));
     std::vector<float> depth(size_t(grid.width) * grid.height, 1.0f);
     for (uint32_t y = 0; y < grid.height; ++y)
         for (uint32_t x = 0; x < grid.width; ++x) {
-            const glm::dvec3 dir = glm::dmat3(toWorld) * pixelRay(grid, x, y);
+            const PixelRay ray = pixelRay(grid, x, y);
+            const glm::dvec3 eye = glm::dvec3(toWorld * glm::dvec4(ray.origin, 1.0));
+            const glm::dvec3 dir = glm::dmat3(toWorld) * ray.direction;
             double best = std::numeric_limits<double>::infinity();
             auto consider = [&](double t) {
                 if (t <= 0.0) return;
@@ -233,8 +262,96 @@ TEST(LightGrid, TooManyLightsNamesTheLimit) {
     }
 }
 
-TEST(LightGrid, ListsAreConservativeOnBothModes) {
-    const Camera camera = testCamera();
+// The orthographic projection by hand: the view box [-h * aspect, h * aspect] x [-h, h] x
+// [near, far] maps to NDC [-1, 1]^2 x [0, 1] with y flipped (NDC y = -1 is row 0, the top).
+TEST(LightGrid, OrthographicProjectionMapsTheViewBoxToClipSpace) {
+    Camera camera;
+    camera.projection = CameraProjection::Orthographic;
+    camera.orthographicHalfHeight = 2.0f;
+    camera.nearPlane = 1.0f;
+    camera.farPlane = 11.0f;
+    const glm::mat4 projection = makeProjection(camera, 300, 200);   // aspect 1.5: half width 3
+    auto ndc = [&](glm::vec3 view) {
+        const glm::vec4 clip = projection * glm::vec4(view, 1.0f);
+        EXPECT_EQ(clip.w, 1.0f);
+        return glm::vec3(clip) / clip.w;
+    };
+    const glm::vec3 topRightNear = ndc({3.0f, 2.0f, -1.0f}), bottomLeftFar = ndc({-3.0f, -2.0f, -11.0f});
+    const glm::vec3 middle = ndc({0.75f, -0.5f, -6.0f});
+    EXPECT_NEAR(topRightNear.x, 1.0f, 1e-6f);
+    EXPECT_NEAR(topRightNear.y, -1.0f, 1e-6f);
+    EXPECT_NEAR(topRightNear.z, 0.0f, 1e-6f);
+    EXPECT_NEAR(bottomLeftFar.x, -1.0f, 1e-6f);
+    EXPECT_NEAR(bottomLeftFar.y, 1.0f, 1e-6f);
+    EXPECT_NEAR(bottomLeftFar.z, 1.0f, 1e-6f);
+    EXPECT_NEAR(middle.x, 0.25f, 1e-6f);
+    EXPECT_NEAR(middle.y, 0.25f, 1e-6f);
+    EXPECT_NEAR(middle.z, 0.5f, 1e-6f);
+}
+
+// Orthographic tiles are boxes: what a tile lists does not depend on how far along the view axis
+// a light is, and a light beside the view box is listed nowhere however far away it is (through
+// a perspective tile, whose planes open out, both would differ).
+TEST(LightGrid, OrthographicTilesAreBoxes) {
+    Camera camera;
+    camera.position = glm::vec3(0.0f);
+    camera.target = glm::vec3(0.0f, 0.0f, -1.0f);
+    camera.projection = CameraProjection::Orthographic;
+    camera.orthographicHalfHeight = 1.0f;
+    camera.nearPlane = 0.0f;
+    camera.farPlane = 500.0f;
+    const TileGrid grid = makeTileGrid(camera, 32, 32, 16, kMaxLocalLights);   // 2 x 2 tiles of 1 x 1 world units
+    for (float distance : {0.5f, 20.0f, 400.0f}) {
+        Scene scene;
+        scene.lights.push_back(pointLight({0.8f, 0.8f, -distance}, 0.1f));    // upper right tile only
+        scene.lights.push_back(pointLight({1.3f, 0.0f, -distance}, 0.2f));    // right of the view box
+        scene.lights.push_back(pointLight({-0.5f, -0.05f, -distance}, 0.1f)); // both left tiles
+        const PackedLights packed = packLocalLights(scene, 0.01f);
+        const TileLists lists = buildTileListsCpu(grid, packed.lights, {});
+        auto tileList = [&](uint32_t tx, uint32_t ty) {
+            const size_t tile = size_t(ty) * lists.tilesX + tx;
+            return std::vector<uint32_t>(lists.indices.begin() + tile * lists.maxLightsPerTile,
+                                         lists.indices.begin() + tile * lists.maxLightsPerTile + lists.counts[tile]);
+        };
+        // Row 0 is the top (+y).
+        EXPECT_EQ(tileList(1, 0), std::vector<uint32_t>{0u}) << distance;
+        EXPECT_EQ(tileList(0, 0), std::vector<uint32_t>{2u}) << distance;
+        EXPECT_EQ(tileList(0, 1), std::vector<uint32_t>{2u}) << distance;
+        EXPECT_EQ(tileList(1, 1), std::vector<uint32_t>{}) << distance;
+    }
+}
+
+// Orthographic depth is linear in distance: a wall's stored depth reads back within a tenth of a
+// millimetre at any distance (perspective: metres at 600 m, see above), so a light just in front
+// of the wall is listed and one just behind is not.
+TEST(LightGrid, OrthographicDepthBoundsAreTightAtAnyDistance) {
+    Camera camera;
+    camera.position = glm::vec3(0.0f);
+    camera.target = glm::vec3(0.0f, 0.0f, -1.0f);
+    camera.projection = CameraProjection::Orthographic;
+    camera.orthographicHalfHeight = 1.0f;
+    camera.nearPlane = 0.0f;
+    camera.farPlane = 1000.0f;
+    const TileGrid grid = makeTileGrid(camera, 32, 32, 16, kMaxLocalLights);
+    for (double wall : {1.0, 37.5, 600.0, 999.0}) {
+        const std::vector<float> depth(32 * 32, storedDepth(grid, wall));
+        Scene scene;
+        // The margins allow 1e-5 of the distance (1 cm at 1 km) for float rounding: 3 cm is beyond it.
+        scene.lights.push_back(pointLight({0.0f, 0.0f, float(-(wall - 0.1))}, 0.13f));   // reaches 3 cm into the wall
+        scene.lights.push_back(pointLight({0.0f, 0.0f, float(-(wall + 0.1))}, 0.07f));   // stops 3 cm behind it
+        const TileLists lists = buildTileListsCpu(grid, packLocalLights(scene, 0.01f).lights, depth);
+        for (uint32_t t = 0; t < grid.tileCount(); ++t) {
+            ASSERT_EQ(lists.counts[t], 1u) << "wall at " << wall << ", tile " << t;
+            EXPECT_EQ(lists.indices[t * lists.maxLightsPerTile], 0u) << "wall at " << wall << ", tile " << t;
+        }
+    }
+}
+
+// The tests below run through a perspective camera and an orthographic one at the same place.
+class LightGridCameras : public testing::TestWithParam<CameraCase> {};
+
+TEST_P(LightGridCameras, ListsAreConservativeOnBothModes) {
+    const Camera camera = GetParam().camera;
     const PackedLights packed = packLocalLights(hardLightsScene(camera), 0.01f);
     for (uint32_t tileSize : {16u, 32u}) {
         // 100 x 75: partial tiles on the right and bottom edges.
@@ -287,8 +404,8 @@ TEST(LightGrid, DepthMarginsFollowD32FPrecisionAtFarOverNearOf1e5) {
     for (uint32_t t = 0; t < grid.tileCount(); ++t) EXPECT_EQ(lists.counts[t], 0u) << "tile " << t << ": a light behind the wall is listed";
 }
 
-TEST(LightGrid, HardLightsAreListedWhereTheyLight) {
-    const Camera camera = testCamera();
+TEST_P(LightGridCameras, HardLightsAreListedWhereTheyLight) {
+    const Camera camera = GetParam().camera;
     const PackedLights packed = packLocalLights(hardLightsScene(camera), 0.01f);
     const TileGrid grid = makeTileGrid(camera, 100, 75, 16, kMaxLocalLights);
     std::vector<float> depth = roomDepth(grid);
@@ -306,8 +423,8 @@ TEST(LightGrid, HardLightsAreListedWhereTheyLight) {
         EXPECT_EQ(lists.counts[tx], 0u) << "tile " << tx << " has no geometry and must list nothing in TilesDepth";
 }
 
-TEST(LightGrid, SpotBoundsAreConservativeAndTighter) {
-    const Camera camera = testCamera();
+TEST_P(LightGridCameras, SpotBoundsAreConservativeAndTighter) {
+    const Camera camera = GetParam().camera;
     Scene scene;
     std::mt19937 rng(5);
     std::uniform_real_distribution<float> ux(-2.8f, 2.8f), uy(-0.2f, 3.2f), uz(-3.3f, 2.0f), unit(-1.0f, 1.0f);
@@ -338,8 +455,8 @@ TEST(LightGrid, SpotBoundsAreConservativeAndTighter) {
     EXPECT_LT(spots.listedLights, points.listedLights);
 }
 
-TEST(LightGrid, DepthListsAreSubsetsOf2DLists) {
-    const Camera camera = testCamera();
+TEST_P(LightGridCameras, DepthListsAreSubsetsOf2DLists) {
+    const Camera camera = GetParam().camera;
     const PackedLights packed = packLocalLights(hardLightsScene(camera), 0.01f);
     const TileGrid grid = makeTileGrid(camera, 100, 75, 16, kMaxLocalLights);
     for (const DepthCase& c : depthCases(grid)) {
@@ -399,8 +516,8 @@ TEST(LightGrid, OverflowKeepsTheLowestIndicesAndIsCounted) {
     EXPECT_EQ(uncappedStats.listedLights, listed + dropped);
 }
 
-TEST(LightGrid, BruteForceCatchesARemovedLight) {
-    const Camera camera = testCamera();
+TEST_P(LightGridCameras, BruteForceCatchesARemovedLight) {
+    const Camera camera = GetParam().camera;
     const PackedLights packed = packLocalLights(hardLightsScene(camera), 0.01f);
     const TileGrid grid = makeTileGrid(camera, 100, 75, 16, kMaxLocalLights);
     const std::vector<float> depth = roomDepth(grid);
@@ -423,8 +540,8 @@ TEST(LightGrid, BruteForceCatchesARemovedLight) {
     EXPECT_LE(missing.size(), 4u);
 }
 
-TEST(LightGrid, DepthAwareCullingIsMoreEfficient) {
-    const Camera camera = testCamera();
+TEST_P(LightGridCameras, DepthAwareCullingIsMoreEfficient) {
+    const Camera camera = GetParam().camera;
     Scene scene = hardLightsScene(camera);
     scene.lights.erase(scene.lights.begin(), scene.lights.begin() + 9);   // the scatter only: a room full of small lights
     const PackedLights packed = packLocalLights(scene, 0.01f);
@@ -505,6 +622,9 @@ TEST(LightGrid, RangesFromTheNearPlaneListLightsInFrontOfTheDepthAndWhereThereIs
     EXPECT_EQ(makeCullUniforms(fromNear, 2, LightCulling::TilesDepth).planes.z, 1.0f);
     EXPECT_EQ(makeCullUniforms(base, 2, LightCulling::TilesDepth).planes.z, 0.0f);
 }
+
+INSTANTIATE_TEST_SUITE_P(Projections, LightGridCameras, testing::ValuesIn(cameraCases()),
+                         [](const testing::TestParamInfo<CameraCase>& info) { return std::string(info.param.name); });
 
 }  // namespace
 }  // namespace janus::renderer

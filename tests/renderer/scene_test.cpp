@@ -241,6 +241,40 @@ TEST(SceneLoading, PunctualLightsAndCamerasAreRead) {
     EXPECT_FLOAT_EQ(scene.camera.farPlane, 50.0f);
 }
 
+// A scene file's camera replaces the glTF's whole: its fields or the defaults, perspective unless
+// "type" says "orthographic" (then "ymag" is the half height, as in glTF).
+TEST(SceneLoading, SceneFileCamerasArePerspectiveOrOrthographic) {
+    TinyGltf file;
+    file.gltf["cameras"] = json::array({{{"type", "orthographic"}, {"orthographic", {{"xmag", 3}, {"ymag", 3}, {"znear", 0}, {"zfar", 9}}}}});
+    file.gltf["nodes"].push_back({{"name", "eye"}, {"translation", {0, 0, 5}}, {"camera", 0}});
+    file.gltf["scenes"][0]["nodes"] = {0, 1};
+    file.write();
+    const Scene fromGltf = loadScene(file.writeText("gltf-camera.json", R"({"gltf": "tri.gltf"})"));
+    EXPECT_EQ(fromGltf.camera.projection, CameraProjection::Orthographic);
+    EXPECT_EQ(fromGltf.camera.orthographicHalfHeight, 3.0f);
+    const Scene perspective = loadScene(file.writeText("perspective.json", R"({"gltf": "tri.gltf", "camera": {"position": [0, 0, 4]}})"));
+    EXPECT_EQ(perspective.camera.projection, CameraProjection::Perspective) << "the scene file's camera replaces the glTF's";
+    EXPECT_EQ(perspective.camera.farPlane, Camera{}.farPlane) << "missing fields are the defaults, not the glTF camera's";
+    EXPECT_EQ(perspective.camera.node, -1);
+    const Scene orthographic = loadScene(file.writeText(
+        "ortho.json", R"({"gltf": "tri.gltf", "camera": {"type": "orthographic", "ymag": 0.75, "near": 0, "far": 20, "position": [0, 0, 4]}})"));
+    EXPECT_EQ(orthographic.camera.projection, CameraProjection::Orthographic);
+    EXPECT_EQ(orthographic.camera.orthographicHalfHeight, 0.75f);
+    EXPECT_EQ(orthographic.camera.nearPlane, 0.0f);
+    std::string message = sceneErrorOf([&] { loadScene(file.writeText("fisheye.json", R"({"gltf": "tri.gltf", "camera": {"type": "fisheye"}})")); });
+    EXPECT_NE(message.find("camera \"type\" is \"fisheye\"; use \"perspective\" or \"orthographic\""), std::string::npos) << message;
+    message = sceneErrorOf(
+        [&] { loadScene(file.writeText("flat.json", R"({"gltf": "tri.gltf", "camera": {"type": "orthographic", "ymag": -1}})")); });
+    EXPECT_NE(message.find("orthographic camera half height (ymag) -1 must be > 0"), std::string::npos) << message;
+    message = sceneErrorOf([&] {
+        loadScene(file.writeText("planes.json", R"({"gltf": "tri.gltf", "camera": {"type": "orthographic", "near": 5, "far": 5}})"));
+    });
+    EXPECT_NE(message.find("orthographic camera planes near=5 far=5 need 0 <= near < far"), std::string::npos) << message;
+    // A perspective camera still needs near > 0.
+    message = sceneErrorOf([&] { loadScene(file.writeText("zero.json", R"({"gltf": "tri.gltf", "camera": {"near": 0}})")); });
+    EXPECT_NE(message.find("need 0 < near < far"), std::string::npos) << message;
+}
+
 // --- bad input ---------------------------------------------------------------------------------
 
 TEST(SceneErrors, MissingFileNamesThePath) {

@@ -20,7 +20,7 @@ struct DirectionalLightData {
 struct FrameUniforms {
     glm::mat4 viewProjection;
     glm::mat4 worldToShadow;
-    glm::vec4 cameraPosition;
+    glm::vec4 cameraPosition;   // w 1: the eye; w 0: the unit direction towards an orthographic camera
     glm::vec4 ambientColor;
     glm::vec4 shadowParams;
     glm::ivec4 lightCounts;

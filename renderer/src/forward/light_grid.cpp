@@ -87,7 +87,14 @@ PackedLights packLocalLights(std::span<const Light> lights, float intensityCutof
 glm::mat4 makeView(const Camera& camera) { return glm::lookAt(camera.position, camera.target, camera.up); }
 
 glm::mat4 makeProjection(const Camera& camera, uint32_t width, uint32_t height) {
-    glm::mat4 projection = glm::perspectiveRH_ZO(camera.fovYRadians, float(width) / float(height), camera.nearPlane, camera.farPlane);
+    const float aspect = float(width) / float(height);
+    glm::mat4 projection;
+    if (camera.projection == CameraProjection::Orthographic) {
+        const float halfHeight = camera.orthographicHalfHeight, halfWidth = halfHeight * aspect;
+        projection = glm::orthoRH_ZO(-halfWidth, halfWidth, -halfHeight, halfHeight, camera.nearPlane, camera.farPlane);
+    } else {
+        projection = glm::perspectiveRH_ZO(camera.fovYRadians, aspect, camera.nearPlane, camera.farPlane);
+    }
     projection[1][1] *= -1.0f;   // NDC y = -1 is row 0 on every backend (docs/ARCHITECTURE.md)
     return projection;
 }

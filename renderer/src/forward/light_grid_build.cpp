@@ -59,16 +59,25 @@ CullLight toCullLight(const TileGrid& grid, const PackedLight& light) {
     return cull;
 }
 
-// The tile as view-space slopes (x/d, y/d, d = -z = distance along the view axis) and a depth range.
+// The tile in view space (d = -z = distance along the view axis): its side planes x = ox + x * d
+// and y = oy + y * d, and a depth range. A perspective tile's planes pass through the eye (slopes
+// x/d, offsets 0); an orthographic tile is a box (offsets, slopes 0).
 struct TileRegion {
-    float x0, x1, y0, y1;
+    float x0, x1, y0, y1;        // slopes
+    float ox0, ox1, oy0, oy1;    // offsets
     float invNormX0, invNormX1, invNormY0, invNormY1;   // 1 / |plane normal|, per tile rather than per light
     float dMin, dMax;
     bool hasGeometry;
 };
 
+bool isOrthographic(const glm::mat4& projection) { return projection[2][3] == 0.0f; }
+
+// Stored depth -> distance along the view axis, for either projection: depth = (P22 z + P32) / w
+// with w = P23 z + P33 and z = -d. Perspective (P23 = -1, P33 = 0): d = P32 / (depth + P22);
+// orthographic (P23 = 0, P33 = 1): d = (P32 - depth) / P22. The same operations as the
+// perspective-only formula when P33 = 0 and P23 = -1, so perspective results keep their bits.
 float linearDepth(const glm::mat4& projection, float depth) {
-    return projection[3][2] / (depth + projection[2][2]);
+    return (projection[3][2] - depth * projection[3][3]) / (projection[2][2] - depth * projection[2][3]);
 }
 
 // How far a tile's depth bound may be from its surfaces, at view distance d of stored depth z. The
@@ -76,7 +85,13 @@ float linearDepth(const glm::mat4& projection, float depth) {
 // an error dz into dz * d^2 / |P32|, which grows with (d / near)^2: at far / near = 1e5 a surface
 // 600 m away has depth steps of 2 m, far beyond a relative margin. Plus the relative term for the
 // division's own rounding. light_culling_common.glsl's depthMargin is the same formula.
+// Orthographic depth is linear: d = (P32 - z) / P22 turns dz into dz / |P22|, the same everywhere,
+// with the stored depth's error relative to max(z, |P32|).
 float depthMargin(const glm::mat4& projection, float z, float d) {
+    if (isOrthographic(projection)) {
+        const float zError = kDepthUlps * (std::abs(z) + std::abs(projection[3][2]));
+        return d * kDepthRelativeMargin + zError / std::abs(projection[2][2]);
+    }
     const float zError = kDepthUlps * (std::abs(z) + std::abs(projection[2][2]));
     return d * kDepthRelativeMargin + zError * d * d / std::abs(projection[3][2]);
 }
@@ -90,11 +105,17 @@ TileRegion tileSlopes(const TileGrid& grid, uint32_t tx, uint32_t ty) {
     const float ndcY1 = 2.0f * float(py1) / float(grid.height) - 1.0f;
     const float ax = ndcX0 / grid.projection[0][0], bx = ndcX1 / grid.projection[0][0];
     const float ay = ndcY0 / grid.projection[1][1], by = ndcY1 / grid.projection[1][1];
+    // View x = ndcX / P00 * w and w = P33 - P23 * d: the slope is -P23 of that, the offset P33.
+    const float slope = -grid.projection[2][3], offset = grid.projection[3][3];
     TileRegion region{};
-    region.x0 = std::min(ax, bx);
-    region.x1 = std::max(ax, bx);
-    region.y0 = std::min(ay, by);
-    region.y1 = std::max(ay, by);
+    region.x0 = std::min(ax, bx) * slope;
+    region.x1 = std::max(ax, bx) * slope;
+    region.y0 = std::min(ay, by) * slope;
+    region.y1 = std::max(ay, by) * slope;
+    region.ox0 = std::min(ax, bx) * offset;
+    region.ox1 = std::max(ax, bx) * offset;
+    region.oy0 = std::min(ay, by) * offset;
+    region.oy1 = std::max(ay, by) * offset;
     region.invNormX0 = 1.0f / std::sqrt(1.0f + region.x0 * region.x0);
     region.invNormX1 = 1.0f / std::sqrt(1.0f + region.x1 * region.x1);
     region.invNormY0 = 1.0f / std::sqrt(1.0f + region.y0 * region.y0);
@@ -113,17 +134,17 @@ bool sphereMeetsTile(const CullLight& light, const TileRegion& tile, bool useDep
     const glm::vec3 c = light.center;
     const float d = -c.z;
     if (d + r < tile.dMin || d - r > tile.dMax) return false;
-    // Side planes through the eye; inside means x <= x1 * d etc. Signed distance = n . c, |n| = 1.
-    if ((c.x + tile.x1 * c.z) * tile.invNormX1 > r) return false;
-    if ((-c.x - tile.x0 * c.z) * tile.invNormX0 > r) return false;
-    if ((c.y + tile.y1 * c.z) * tile.invNormY1 > r) return false;
-    if ((-c.y - tile.y0 * c.z) * tile.invNormY0 > r) return false;
+    // Side planes; inside means x <= ox1 + x1 * d etc. Signed distance = n . c - offset, |n| = 1.
+    if ((c.x + tile.x1 * c.z - tile.ox1) * tile.invNormX1 > r) return false;
+    if ((-c.x - tile.x0 * c.z + tile.ox0) * tile.invNormX0 > r) return false;
+    if ((c.y + tile.y1 * c.z - tile.oy1) * tile.invNormY1 > r) return false;
+    if ((-c.y - tile.y0 * c.z + tile.oy0) * tile.invNormY0 > r) return false;
     if (useDepthBox) {
         // The side planes alone let a sphere beside a thin depth slab through; its bounding box does not.
-        const float boxMinX = std::min(tile.x0 * tile.dMin, tile.x0 * tile.dMax);
-        const float boxMaxX = std::max(tile.x1 * tile.dMin, tile.x1 * tile.dMax);
-        const float boxMinY = std::min(tile.y0 * tile.dMin, tile.y0 * tile.dMax);
-        const float boxMaxY = std::max(tile.y1 * tile.dMin, tile.y1 * tile.dMax);
+        const float boxMinX = std::min(tile.ox0 + tile.x0 * tile.dMin, tile.ox0 + tile.x0 * tile.dMax);
+        const float boxMaxX = std::max(tile.ox1 + tile.x1 * tile.dMin, tile.ox1 + tile.x1 * tile.dMax);
+        const float boxMinY = std::min(tile.oy0 + tile.y0 * tile.dMin, tile.oy0 + tile.y0 * tile.dMax);
+        const float boxMaxY = std::max(tile.oy1 + tile.y1 * tile.dMin, tile.oy1 + tile.y1 * tile.dMax);
         const float ex = std::max(std::max(boxMinX - c.x, c.x - boxMaxX), 0.0f);
         const float ey = std::max(std::max(boxMinY - c.y, c.y - boxMaxY), 0.0f);
         const float ez = std::max(std::max(tile.dMin - d, d - tile.dMax), 0.0f);
@@ -198,10 +219,13 @@ std::vector<AnalysisLight> toAnalysisLights(const TileGrid& grid, std::span<cons
 
 // View-space position of pixel (x, y)'s centre from its depth.
 glm::dvec3 pixelViewPosition(const TileGrid& grid, uint32_t x, uint32_t y, float depth) {
-    const double d = double(grid.projection[3][2]) / (double(depth) + double(grid.projection[2][2]));
+    const glm::dmat4 p(grid.projection);
+    const double z = depth;
+    const double d = (p[3][2] - z * p[3][3]) / (p[2][2] - z * p[2][3]);   // as linearDepth, in double
+    const double w = p[3][3] - p[2][3] * d;                                // d for perspective, 1 for orthographic
     const double ndcX = 2.0 * (double(x) + 0.5) / double(grid.width) - 1.0;
     const double ndcY = 2.0 * (double(y) + 0.5) / double(grid.height) - 1.0;
-    return {ndcX / double(grid.projection[0][0]) * d, ndcY / double(grid.projection[1][1]) * d, -d};
+    return {ndcX / p[0][0] * w, ndcY / p[1][1] * w, -d};
 }
 
 bool contributes(const AnalysisLight& light, const glm::dvec3& p) {
@@ -274,6 +298,7 @@ TileLists buildTileListsCpu(const TileGrid& grid, std::span<const PackedLight> l
         // the row miss every tile of it; each tile then tests the row's candidates, in order.
         TileRegion row = regions.front();
         row.x1 = regions.back().x1;
+        row.ox1 = regions.back().ox1;
         row.invNormX1 = regions.back().invNormX1;
         row.hasGeometry = false;
         row.dMin = std::numeric_limits<float>::max();

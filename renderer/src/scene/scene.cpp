@@ -239,6 +239,14 @@ Scene loadSceneFile(std::string_view bytes, const std::filesystem::path& path, c
         if (root.contains("camera")) {
             const json& c = objectAt(path, root, "camera");
             Camera& camera = scene.camera;
+            camera = Camera{};   // replaces the glTF camera: missing fields are the defaults
+            if (c.contains("type")) {
+                const json& type = c["type"];
+                if (type == "perspective") camera.projection = CameraProjection::Perspective;
+                else if (type == "orthographic") camera.projection = CameraProjection::Orthographic;
+                else fail(path, fmt::format("camera \"type\" is {}; use \"perspective\" or \"orthographic\"", type.dump()));
+            }
+            camera.orthographicHalfHeight = number(path, c, "ymag", camera.orthographicHalfHeight);
             camera.position = vec3(path, c, "position", camera.position);
             camera.target = vec3(path, c, "target", camera.target);
             camera.up = vec3(path, c, "up", camera.up);
@@ -522,12 +530,24 @@ void validateScene(const Scene& scene) {
         if (!allFinite(scene.markers[i].world))
             throw SceneError(fmt::format("marker {} has a NaN or infinite transform", label(scene.markers[i].name, i)));
     const Camera& camera = scene.camera;
-    if (!allFinite(camera.position, camera.target, camera.up, camera.fovYRadians, camera.nearPlane, camera.farPlane))
+    if (!allFinite(camera.position, camera.target, camera.up, camera.fovYRadians, camera.orthographicHalfHeight, camera.nearPlane,
+                   camera.farPlane))
         throw SceneError("camera has a NaN or infinite value");
-    if (camera.fovYRadians <= 0 || camera.fovYRadians >= 3.14159f)
-        throw SceneError(fmt::format("camera field of view {} degrees must be in (0, 180)", glm::degrees(camera.fovYRadians)));
-    if (camera.nearPlane <= 0 || camera.farPlane <= camera.nearPlane)
-        throw SceneError(fmt::format("camera planes near={} far={} need 0 < near < far", camera.nearPlane, camera.farPlane));
+    if (camera.projection == CameraProjection::Orthographic) {
+        if (!(camera.orthographicHalfHeight > 0))
+            throw SceneError(fmt::format("orthographic camera half height (ymag) {} must be > 0", camera.orthographicHalfHeight));
+        // Depth [0, 1] spans near..far linearly: a far plane too close to near for float depth
+        // (or beyond float's range of (far - near)) would leave no depth resolution.
+        if (camera.nearPlane < 0 || !(camera.farPlane - camera.nearPlane > 1e-6f * std::max(1.0f, std::abs(camera.farPlane))) ||
+            !std::isfinite(camera.farPlane - camera.nearPlane))
+            throw SceneError(fmt::format("orthographic camera planes near={} far={} need 0 <= near < far", camera.nearPlane,
+                                         camera.farPlane));
+    } else {
+        if (camera.fovYRadians <= 0 || camera.fovYRadians >= 3.14159f)
+            throw SceneError(fmt::format("camera field of view {} degrees must be in (0, 180)", glm::degrees(camera.fovYRadians)));
+        if (camera.nearPlane <= 0 || camera.farPlane <= camera.nearPlane)
+            throw SceneError(fmt::format("camera planes near={} far={} need 0 < near < far", camera.nearPlane, camera.farPlane));
+    }
     if (glm::length(camera.target - camera.position) <= 0 || glm::length(glm::cross(camera.target - camera.position, camera.up)) <= 0)
         throw SceneError("camera target must differ from its position and not be along its up vector");
     if (!allFinite(scene.environment.ambientColor, scene.environment.exposure))

@@ -1475,18 +1475,30 @@ private:
         const tinygltf::Node& node = m_model.nodes[size_t(index)];
         if (size_t(node.camera) >= m_model.cameras.size()) fail(fmt::format("node '{}' references missing camera {}", name, node.camera));
         const tinygltf::Camera& camera = m_model.cameras[size_t(node.camera)];
-        if (camera.type != "perspective") {
-            if (m_options.camera)   // asked for by index: say why it cannot be used
-                fail(fmt::format("camera {} ('{}') is {}; Janus renders through perspective cameras only", node.camera, camera.name,
-                                 camera.type));
-            return;   // keep looking for a perspective one
+        const std::string label = fmt::format("camera {} ('{}')", node.camera, camera.name);
+        if (camera.type == "perspective") {
+            m_camera.projection = CameraProjection::Perspective;
+            m_camera.fovYRadians = float(camera.perspective.yfov);
+            m_camera.nearPlane = float(camera.perspective.znear);
+            // zfar 0 means an infinite projection in glTF; a large finite far plane keeps ours simple.
+            m_camera.farPlane = camera.perspective.zfar > 0.0 ? float(camera.perspective.zfar) : m_camera.nearPlane * 1.0e5f;
+        } else if (camera.type == "orthographic") {
+            const tinygltf::OrthographicCamera& ortho = camera.orthographic;
+            // glTF: xmag and ymag non-zero (negative ones would mirror the image: refused), zfar > znear >= 0.
+            if (!(ortho.ymag > 0.0) || !(ortho.xmag > 0.0) || !std::isfinite(ortho.xmag) || !std::isfinite(ortho.ymag))
+                fail(fmt::format("{} is orthographic with xmag {} and ymag {}; both must be finite and > 0", label, ortho.xmag, ortho.ymag));
+            if (!(ortho.znear >= 0.0) || !(ortho.zfar > ortho.znear) || !std::isfinite(ortho.zfar))
+                fail(fmt::format("{} is orthographic with znear {} and zfar {}; it needs 0 <= znear < zfar (zfar is required)", label,
+                                 ortho.znear, ortho.zfar));
+            m_camera.projection = CameraProjection::Orthographic;
+            m_camera.orthographicHalfHeight = float(ortho.ymag);
+            m_camera.nearPlane = float(ortho.znear);
+            m_camera.farPlane = float(ortho.zfar);
+        } else {
+            fail(fmt::format("{} has type '{}'; glTF cameras are \"perspective\" or \"orthographic\"", label, camera.type));
         }
         placeCamera(m_camera, world);
         m_camera.node = index;
-        m_camera.fovYRadians = float(camera.perspective.yfov);
-        m_camera.nearPlane = float(camera.perspective.znear);
-        // zfar 0 means an infinite projection in glTF; a large finite far plane keeps ours simple.
-        m_camera.farPlane = camera.perspective.zfar > 0.0 ? float(camera.perspective.zfar) : m_camera.nearPlane * 1.0e5f;
         m_cameraFound = true;
     }
 

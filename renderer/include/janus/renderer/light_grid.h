@@ -78,7 +78,9 @@ inline constexpr uint32_t kCullModeTilesDepth = 2;
 struct TileGrid {
     uint32_t width = 0, height = 0, tileSize = 16, maxLightsPerTile = 0;
     glm::mat4 view{1.0f};
-    glm::mat4 projection{1.0f};   // perspectiveRH_ZO with [1][1] negated: NDC y = -1 is row 0
+    // perspectiveRH_ZO or orthoRH_ZO (symmetric) with [1][1] negated: NDC y = -1 is row 0. Culling
+    // reads which from the matrix: w = P23 * z + P33 is -z for perspective, 1 for orthographic.
+    glm::mat4 projection{1.0f};
     float nearPlane = 0.05f, farPlane = 100.0f;
     // TilesDepth only: each tile's depth range starts at the near plane (not at its nearest
     // depth) and tiles without depth cover near to far, so the lists also hold every light that
@@ -98,6 +100,9 @@ TileGrid makeTileGrid(const Camera& camera, uint32_t width, uint32_t height, uin
                       uint32_t maxLightsPerTile);
 // The same for any scene view (its matrices, size and near/far planes).
 TileGrid makeTileGrid(const SceneView& view, uint32_t tileSize, uint32_t maxLightsPerTile);
+// The camera's projection for a width x height image (Vulkan clip conventions, y flipped so
+// NDC y = -1 is row 0): perspective from fovYRadians, orthographic from orthographicHalfHeight;
+// both take their horizontal extent from the image's aspect ratio.
 glm::mat4 makeProjection(const Camera& camera, uint32_t width, uint32_t height);
 glm::mat4 makeView(const Camera& camera);
 

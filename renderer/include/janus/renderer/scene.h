@@ -256,11 +256,20 @@ struct Light {
     int32_t node = -1;
 };
 
+enum class CameraProjection : uint8_t {
+    Perspective,    // fovYRadians; 0 < near < far
+    Orthographic,   // orthographicHalfHeight; 0 <= near < far
+};
+
 struct Camera {
     glm::vec3 position{0.0f, 0.0f, 3.0f};
     glm::vec3 target{0.0f};
     glm::vec3 up{0.0f, 1.0f, 0.0f};
-    float fovYRadians = 0.8726646f;   // 50 degrees
+    CameraProjection projection = CameraProjection::Perspective;
+    float fovYRadians = 0.8726646f;   // 50 degrees; perspective only
+    // Orthographic only: half the view's height in world units (glTF's ymag). The width follows
+    // from the image's aspect ratio, as a perspective camera's does (glTF's xmag is not used).
+    float orthographicHalfHeight = 1.0f;
     float nearPlane = 0.05f;
     float farPlane = 100.0f;
     // The glTF node of a glTF camera (index into Scene::nodes): poseScene moves the camera with
@@ -421,9 +430,8 @@ struct SceneLoadOptions {
     // Which glTF scene to load (index into the file's "scenes"); none: the file's "scene", else 0.
     std::optional<uint32_t> scene;
     // Which glTF camera to look through (index into the file's "cameras"), placed by the first
-    // node of the loaded scene that uses it; none: the first perspective camera met, else a
-    // camera that frames the scene. Orthographic cameras are not supported yet: picking one is
-    // a SceneError.
+    // node of the loaded scene that uses it; none: the first camera met in the node walk
+    // (perspective or orthographic), else a camera that frames the scene.
     std::optional<uint32_t> camera;
 };
 

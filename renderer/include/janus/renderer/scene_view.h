@@ -28,10 +28,11 @@ struct ViewPasses {
 struct SceneView {
     std::string name = "main";
     // World -> view and view -> clip with Vulkan's clip conventions (depth [0, 1], NDC y = -1 is
-    // row 0 of the target). The renderer never assumes a camera model beyond this.
+    // row 0 of the target). The projection is a symmetric perspective (w = -z) or orthographic
+    // (w = 1) one; the renderer tells them apart by P23 (orthographic()) and assumes nothing more.
     glm::mat4 view{1.0f};
     glm::mat4 projection{1.0f};
-    glm::vec3 position{0.0f};      // camera position in world space (specular, culling)
+    glm::vec3 position{0.0f};      // camera position in world space (specular, probe priorities)
     float nearPlane = 0.05f, farPlane = 100.0f;
     uint32_t width = 0, height = 0;
     rhi::Format colorFormat = rhi::Format::RGBA16_FLOAT;
@@ -44,6 +45,9 @@ struct SceneView {
     DebugView debugView = DebugView::None;
 
     glm::mat4 viewProjection() const { return projection * view; }
+    bool orthographic() const { return projection[2][3] == 0.0f; }
+    // The unit world direction opposite to the view direction (view space +z).
+    glm::vec3 backward() const { return glm::normalize(glm::vec3(view[0][2], view[1][2], view[2][2])); }
 };
 
 // The scene camera as a view of width x height (the same matrices light culling uses).
