@@ -1,6 +1,6 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// --debug gi's probes: the sphere of the fragment's probe (the ray from the camera through the
+// --debug gi's probes: the sphere of the fragment's probe (the camera's ray through the
 // fragment; a miss is discarded), shaded with the probe's own SH at the sphere's normal:
 // irradiance / pi, what the view shows on surfaces too. Invalid probes are flat magenta.
 #include "gi/gi_probe_view_common.glsl"
@@ -15,9 +15,12 @@ const float kMaxRadiance = 65000.0;                     // as forward.frag: fp16
 
 void main() {
     vec3 centre = giProbeCentre(vProbe);
-    float radius = probeView.camera.w;
-    vec3 origin = probeView.camera.xyz;
-    vec3 direction = normalize(vWorldPosition - origin);
+    float radius = probeView.spheres.x;
+    // The ray through the fragment: from the eye, or (orthographic) along the view axis through
+    // the fragment's point on the quad; either way -b - sqrt(h) below is the side facing the camera.
+    bool orthographic = probeView.camera.w == 0.0;
+    vec3 origin = orthographic ? vWorldPosition : probeView.camera.xyz;
+    vec3 direction = orthographic ? -probeView.camera.xyz : normalize(vWorldPosition - origin);
     vec3 oc = origin - centre;
     float b = dot(oc, direction);
     float h = b * b - (dot(oc, oc) - radius * radius);

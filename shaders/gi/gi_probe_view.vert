@@ -15,10 +15,11 @@ void main() {
     ivec3 counts = giVolume.counts.xyz;
     ivec3 probe = ivec3(index % counts.x, (index / counts.x) % counts.y, index / (counts.x * counts.y));
     vec3 centre = giProbeCentre(probe);
-    float radius = probeView.camera.w;
-    vec3 toCamera = probeView.camera.xyz - centre;
-    float distanceToCamera = length(toCamera);
-    vec3 forward = toCamera / max(distanceToCamera, 1e-20);
+    float radius = probeView.spheres.x;
+    vec3 toCamera = probeView.camera.xyz - centre * probeView.camera.w;
+    // An orthographic camera is infinitely far from every sphere (its outline radius is r).
+    float distanceToCamera = probeView.camera.w == 0.0 ? 1e30 : length(toCamera);
+    vec3 forward = toCamera / max(length(toCamera), 1e-20);
     vec3 helper = abs(forward.y) < 0.9 ? vec3(0.0, 1.0, 0.0) : vec3(1.0, 0.0, 0.0);
     vec3 right = normalize(cross(helper, forward));
     vec3 up = cross(forward, right);

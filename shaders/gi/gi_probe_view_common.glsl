@@ -8,7 +8,10 @@
 
 layout(set = 0, binding = JANUS_BINDING_GI_PROBE_VIEW, std140) uniform GiProbeViewUniforms {
     mat4 viewProjection;
-    vec4 camera;   // xyz the camera's position, w the spheres' radius
+    // Homogeneous, as the frame uniforms' cameraPosition: w 1 the eye, w 0 the unit direction
+    // towards an orthographic camera (whose rays are parallel).
+    vec4 camera;
+    vec4 spheres;   // x the spheres' radius
 } probeView;
 
 vec3 giProbeCentre(ivec3 probe) { return giVolume.origin.xyz + vec3(probe) * giVolume.spacing.xyz; }

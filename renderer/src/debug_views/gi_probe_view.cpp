@@ -14,7 +14,8 @@ namespace {
 // std140 mirror of gi_probe_view_common.glsl's GiProbeViewUniforms.
 struct GiProbeViewUniforms {
     glm::mat4 viewProjection;
-    glm::vec4 camera;   // xyz position, w sphere radius
+    glm::vec4 camera;    // homogeneous, as FrameUniforms::cameraPosition
+    glm::vec4 spheres;   // x radius
 };
 
 }  // namespace
@@ -50,7 +51,7 @@ void GiProbeView::addPasses(PassGraph& graph, const SceneView& view) {
 }
 
 void GiProbeView::setup() {
-    const GiProbeViewUniforms uniforms{m_view.viewProjection(), glm::vec4(m_view.position, m_radius)};
+    const GiProbeViewUniforms uniforms{m_view.viewProjection(), m_view.homogeneousCamera(), glm::vec4(m_radius, 0.0f, 0.0f, 0.0f)};
     m_uniforms = makeUniformBuffer(m_device, uniforms, "gi probe view");
     rhi::BindingSetDesc set;
     set.add(rhi::BindingItem::uniformBuffer(JANUS_BINDING_GI_PROBE_VIEW, m_uniforms));

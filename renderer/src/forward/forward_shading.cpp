@@ -145,8 +145,7 @@ FrameUniforms ForwardShading::viewFrameUniforms(const ViewState& state) const {
     const SceneView& view = state.view;
     FrameUniforms frame = m_sceneUniforms;
     frame.viewProjection = view.viewProjection();   // for the tiled view, the matrices the culling uses
-    // An orthographic view's rays are parallel: every surface sees the camera in one direction.
-    frame.cameraPosition = view.orthographic() ? glm::vec4(view.backward(), 0.0f) : glm::vec4(view.position, 1.0f);
+    frame.cameraPosition = view.homogeneousCamera();   // orthographic: every surface sees the camera in one direction
     if (const DirectionalShadowMap* map = state.shadowed ? m_shadows.map(view.passes.shadowMapSize) : nullptr) {
         frame.worldToShadow = map->worldToShadow();
         frame.shadowParams = glm::vec4(1.0f, map->texelSize(), map->normalOffset(), 0.0f);

@@ -48,6 +48,9 @@ struct SceneView {
     bool orthographic() const { return projection[2][3] == 0.0f; }
     // The unit world direction opposite to the view direction (view space +z).
     glm::vec3 backward() const { return glm::normalize(glm::vec3(view[0][2], view[1][2], view[2][2])); }
+    // The camera as shaders take it: (position, 1), or for an orthographic view, whose rays are
+    // parallel, (backward(), 0), so that toCamera = xyz - worldPosition * w serves both.
+    glm::vec4 homogeneousCamera() const { return orthographic() ? glm::vec4(backward(), 0.0f) : glm::vec4(position, 1.0f); }
 };
 
 // The scene camera as a view of width x height (the same matrices light culling uses).
