@@ -33,6 +33,13 @@ function(janus_add_shader target)
     COMMENT "glslang ${SH_NAME} (${SH_SOURCE} ${SH_DEFINES})"
     VERBATIM)
   set_property(TARGET ${target} APPEND PROPERTY JANUS_SHADER_NAMES ${SH_NAME})
+  # Whether the GLES backend may use it (the registry's Entry::essl; the GL shader check parses
+  # its ESSL 300 translation too).
+  if(SH_NO_ES OR ext STREQUAL ".comp")
+    set_property(TARGET ${target} APPEND PROPERTY JANUS_SHADER_ESSL false)
+  else()
+    set_property(TARGET ${target} APPEND PROPERTY JANUS_SHADER_ESSL true)
+  endif()
   set_property(TARGET ${target} APPEND PROPERTY JANUS_SHADER_HEADERS ${header})
   target_sources(${target} PRIVATE "${header}")
 endfunction()
@@ -40,11 +47,12 @@ endfunction()
 # Writes the registry source that maps shader names to their embedded SPIR-V.
 function(janus_finish_shaders target)
   get_property(names TARGET ${target} PROPERTY JANUS_SHADER_NAMES)
+  get_property(essl TARGET ${target} PROPERTY JANUS_SHADER_ESSL)
   set(includes "")
   set(entries "")
-  foreach(n ${names})
+  foreach(n e IN ZIP_LISTS names essl)
     string(APPEND includes "#include \"generated/${n}.spv.h\"\n")
-    string(APPEND entries "    {\"${n}\", std::span<const uint32_t>(janus_spirv_${n})},\n")
+    string(APPEND entries "    {\"${n}\", std::span<const uint32_t>(janus_spirv_${n}), ${e}},\n")
   endforeach()
   set(out "${CMAKE_CURRENT_BINARY_DIR}/shader_registry.cpp")
   file(WRITE "${out}.in"

@@ -12,6 +12,7 @@
 
 #include "gl_functions.h"
 #include "gl_platform.h"
+#include "gl_shader_translation.h"
 #include "janus/rhi/rhi.h"
 #include "janus/rhi/texture_view_validation.h"
 
@@ -155,21 +156,6 @@ private:
     ContextPtr m_context;
     SamplerDesc m_desc;
     GLuint m_name = 0;
-};
-
-// What one shader uses at which binding point (from SPIRV-Cross reflection).
-struct ShaderBinding {
-    ResourceType type;
-    uint32_t set;
-    uint32_t binding;
-    std::string glName;   // block name (buffers) or uniform name (textures, images)
-    std::optional<TextureDimension> dimension;   // textures and images
-};
-
-// A vertex shader input (from reflection), to check the pipeline's vertex attributes against.
-struct ShaderInput {
-    uint32_t location;
-    bool integer;   // int/uint: needs an integer attribute format (and vice versa)
 };
 
 // A texture unit nobody binds resources to (bindings are < 16 by convention), so creating or

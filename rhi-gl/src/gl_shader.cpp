@@ -1,6 +1,6 @@
 // Shaders (SPIR-V -> GLSL 430 / ESSL 300 with SPIRV-Cross) and pipelines (linked programs plus
 // the fixed-function state they apply).
-#include <spirv_cross/spirv_glsl.hpp>
+#include <spirv_cross/spirv_cross.hpp>
 
 #include <fmt/format.h>
 
@@ -15,15 +15,6 @@ namespace janus::rhi::gl {
 
 namespace {
 
-spv::ExecutionModel executionModel(ShaderStage stage) {
-    switch (stage) {
-        case ShaderStage::Vertex: return spv::ExecutionModelVertex;
-        case ShaderStage::Fragment: return spv::ExecutionModelFragment;
-        case ShaderStage::Compute: return spv::ExecutionModelGLCompute;
-    }
-    return spv::ExecutionModelVertex;
-}
-
 GLenum shaderType(ShaderStage stage) {
     switch (stage) {
         case ShaderStage::Vertex: return GL_VERTEX_SHADER;
@@ -36,104 +27,6 @@ GLenum shaderType(ShaderStage stage) {
 std::string shaderLabel(const ShaderDesc& desc) {
     return desc.debugName.empty() ? fmt::format("{} shader", toString(desc.stage))
                                   : fmt::format("{} shader '{}'", toString(desc.stage), desc.debugName);
-}
-
-struct Translation {
-    std::string source;
-    std::vector<ShaderBinding> bindings;
-    std::vector<ShaderInput> inputs;
-};
-
-// Names every resource after its binding and every stage variable after its location, so that
-// (a) the program's resources can be found by name to assign binding points on ES 3.0, which has
-// no `binding` layout, and (b) vertex outputs match fragment inputs whatever the sources called them.
-Translation translate(const ShaderDesc& desc, const Context& context) {
-    const bool es = context.isES();
-    spirv_cross::CompilerGLSL compiler(desc.spirv);
-    // The validation layer has checked the entry point and the binding model (combined image
-    // samplers, no push constants).
-    compiler.set_entry_point(desc.entryPoint, executionModel(desc.stage));
-    const spirv_cross::ShaderResources resources = compiler.get_shader_resources();
-
-    Translation result;
-    auto flatten = [&](const spirv_cross::Resource& resource, ResourceType type) {
-        const uint32_t binding = compiler.get_decoration(resource.id, spv::DecorationBinding);
-        const uint32_t set = compiler.get_decoration(resource.id, spv::DecorationDescriptorSet);
-        // Sets are flattened: the binding number alone is the GL binding point.
-        compiler.unset_decoration(resource.id, spv::DecorationDescriptorSet);
-        std::string glName;
-        switch (type) {
-            case ResourceType::UniformBuffer:
-                glName = fmt::format("JanusUniforms{}", binding);
-                compiler.set_name(resource.base_type_id, glName);
-                break;
-            case ResourceType::StorageBuffer:
-                glName = fmt::format("JanusStorage{}", binding);
-                compiler.set_name(resource.base_type_id, glName);
-                break;
-            case ResourceType::SampledTexture:
-                glName = fmt::format("janus_texture{}", binding);
-                compiler.set_name(resource.id, glName);
-                break;
-            case ResourceType::StorageImage:
-                glName = fmt::format("janus_image{}", binding);
-                compiler.set_name(resource.id, glName);
-                break;
-        }
-        std::optional<TextureDimension> dimension;
-        if (type == ResourceType::SampledTexture || type == ResourceType::StorageImage) {
-            const auto& image = compiler.get_type(resource.type_id).image;
-            switch (image.dim) {
-                case spv::Dim3D: dimension = TextureDimension::Texture3D; break;
-                case spv::DimCube:
-                    dimension = image.arrayed ? TextureDimension::TextureCubeArray : TextureDimension::TextureCube;
-                    break;
-                default:
-                    dimension = image.arrayed ? TextureDimension::Texture2DArray : TextureDimension::Texture2D;
-                    break;
-            }
-        }
-        result.bindings.push_back({type, set, binding, glName, dimension});
-    };
-    for (const auto& r : resources.uniform_buffers) flatten(r, ResourceType::UniformBuffer);
-    for (const auto& r : resources.storage_buffers) flatten(r, ResourceType::StorageBuffer);
-    for (const auto& r : resources.sampled_images) flatten(r, ResourceType::SampledTexture);
-    for (const auto& r : resources.storage_images) flatten(r, ResourceType::StorageImage);
-
-    auto renameByLocation = [&](const spirv_cross::SmallVector<spirv_cross::Resource>& variables, const char* prefix) {
-        for (const auto& r : variables) {
-            if (!compiler.has_decoration(r.id, spv::DecorationLocation)) continue;
-            compiler.set_name(r.id, fmt::format("{}{}", prefix, compiler.get_decoration(r.id, spv::DecorationLocation)));
-        }
-    };
-    if (desc.stage == ShaderStage::Vertex) {
-        for (const auto& r : resources.stage_inputs) {
-            const auto baseType = compiler.get_type(r.base_type_id).basetype;
-            const bool integer = baseType == spirv_cross::SPIRType::Int || baseType == spirv_cross::SPIRType::UInt;
-            result.inputs.push_back({compiler.get_decoration(r.id, spv::DecorationLocation), integer});
-        }
-        renameByLocation(resources.stage_inputs, "janus_attribute");
-        renameByLocation(resources.stage_outputs, "janus_varying");
-    } else if (desc.stage == ShaderStage::Fragment) {
-        renameByLocation(resources.stage_inputs, "janus_varying");
-        renameByLocation(resources.stage_outputs, "janus_color");
-    }
-
-    spirv_cross::CompilerGLSL::Options options = compiler.get_common_options();
-    options.version = es ? 300 : 430;
-    options.es = es;
-    options.vulkan_semantics = false;
-    // Our clip depth is [0, 1] (Vulkan's): with clip control GL takes it as it is, without it GL's
-    // is [-1, 1] and z is rewritten here. Rows need no flip (see Conventions); the lower-left
-    // origin is also what gives Vulkan's fill rule on Mesa (see rhi-gl/README.md).
-    options.vertex.fixup_clipspace = !context.zeroToOneClipDepth;
-    options.vertex.flip_vert_y = false;
-    // ES defaults fragment floats to mediump; every backend must compute in full precision to agree.
-    options.fragment.default_float_precision = spirv_cross::CompilerGLSL::Options::Highp;
-    options.fragment.default_int_precision = spirv_cross::CompilerGLSL::Options::Highp;
-    compiler.set_common_options(options);
-    result.source = compiler.compile();
-    return result;
 }
 
 }  // namespace
@@ -159,9 +52,9 @@ std::string describeCompileFailure(const std::string& log, const std::string& so
 
 Shader::Shader(ContextPtr context, const ShaderDesc& desc) : m_context(std::move(context)), m_desc(desc) {
     const std::string label = shaderLabel(desc);
-    Translation translation;
+    GlslTranslation translation;
     try {
-        translation = translate(desc, *m_context);
+        translation = translateToGlsl(desc, GlslTarget{m_context->isES(), m_context->zeroToOneClipDepth});
     } catch (const spirv_cross::CompilerError& e) {
         throw Error(ErrorCode::ShaderTranslation,
                     fmt::format("SPIRV-Cross cannot express {} in {}: {}", label,

@@ -10,6 +10,8 @@ namespace janus::shaders {
 struct Entry {
     std::string_view name;
     std::span<const uint32_t> spirv;
+    // False for compute shaders and those declared NO_ES (janus_add_shader): not for GLES 3.0.
+    bool essl = true;
 };
 
 std::span<const Entry> all();
