@@ -543,6 +543,12 @@ void printPassSummary(const renderer::FrameReport& report) {
     std::fputs(formatTable(rows).c_str(), stdout);
 }
 
+void printPerformanceMessages(const std::vector<std::string>& messages) {
+    if (messages.empty()) return;
+    std::printf("\nperformance messages from the driver (%zu; slow paths, not errors):\n", messages.size());
+    for (const std::string& message : messages) std::printf("  %s\n", message.c_str());
+}
+
 void printProbeUpdates(const std::vector<renderer::ProbeUpdateReport>& updates) {
     if (updates.empty()) return;
     std::vector<std::vector<std::string>> rows{

@@ -203,6 +203,9 @@ std::string configurationFileStem(rhi::Backend backend, renderer::FeaturePath pa
 void printPassSummary(const renderer::FrameReport& report);
 // The probe updates of the frames rendered, one row per probe per frame (nothing without any).
 void printProbeUpdates(const std::vector<renderer::ProbeUpdateReport>& updates);
+// The driver's performance messages of a frame (FrameReport::performanceMessages), if any: shown,
+// not errors.
+void printPerformanceMessages(const std::vector<std::string>& messages);
 // One line on how the frame culled its local lights (mode, builder, lights, tiles, overflow);
 // "" when the scene had no local lights.
 std::string lightCullingLine(const renderer::FrameReport& report);

@@ -112,6 +112,7 @@ int run(const RenderOptions& options) {
     std::printf("\n");
     printPassSummary(outcome.report);
     printProbeUpdates(outcome.report.probeUpdates);
+    printPerformanceMessages(outcome.report.performanceMessages);
 
     if (validationFailed)
         throw std::runtime_error("the validation layer / GL debug output reported errors (listed above); "

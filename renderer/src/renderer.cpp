@@ -173,7 +173,12 @@ FrameReport Renderer::Impl::renderFrame() {
     for (PassReport& pass : frameGraph.execute(device, commandList)) frame.passes.push_back(std::move(pass));
     frameRendered = true;
     frame.lightCulling = localLights->finishFrame();
+    takePerformanceMessages(frame);
     return frame;
+}
+
+void Renderer::Impl::takePerformanceMessages(FrameReport& frame) {
+    for (rhi::DebugMessage& message : device.takePerformanceMessages()) frame.performanceMessages.push_back(std::move(message.text));
 }
 
 const rhi::TextureHandle& Renderer::Impl::captureDepth(uint32_t size) {
@@ -234,6 +239,7 @@ FrameReport Renderer::Impl::renderCubeCapture(const CubeCaptureDesc& capture) {
     }
     graph.compile(device);
     frame.passes = graph.execute(device, commandList);
+    takePerformanceMessages(frame);
     return frame;
 }
 

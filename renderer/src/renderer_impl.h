@@ -73,6 +73,8 @@ struct Renderer::Impl {
     FrameReport newReport(uint32_t width, uint32_t height) const;
     FrameReport renderFrame();
     FrameReport renderCubeCapture(const CubeCaptureDesc& capture);
+    // Moves the device's performance messages (collected apart from validation messages) into the report.
+    void takePerformanceMessages(FrameReport& frame);
     const rhi::TextureHandle& captureDepth(uint32_t size);
     void setLights(std::span<const Light> newLights);
     void requireFrame(const char* what) const;

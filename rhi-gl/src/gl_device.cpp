@@ -133,10 +133,11 @@ void Context::forgetTexture(GLuint texture) {
 
 void Context::collectDebugMessage(DebugMessage message) {
     if (messageCallback) messageCallback(message);
-    m_debugMessages.push_back(std::move(message));
+    (message.severity == MessageSeverity::Performance ? m_performanceMessages : m_debugMessages).push_back(std::move(message));
 }
 
 std::vector<DebugMessage> Context::takeDebugMessages() { return std::exchange(m_debugMessages, {}); }
+std::vector<DebugMessage> Context::takePerformanceMessages() { return std::exchange(m_performanceMessages, {}); }
 
 // ---------------------------------------------------------------------------------------------
 // Device creation
@@ -466,6 +467,14 @@ void Device::waitIdle() {
 
 std::vector<DebugMessage> Device::takeDebugMessages() { return m_context->takeDebugMessages(); }
 
+std::vector<DebugMessage> Device::takePerformanceMessages() { return m_context->takePerformanceMessages(); }
+
+void Device::insertPerformanceMessageForTesting(const std::string& text) {
+    m_context->makeCurrent();
+    if (gl().glDebugMessageInsert)
+        gl().glDebugMessageInsert(GL_DEBUG_SOURCE_APPLICATION, GL_DEBUG_TYPE_PERFORMANCE, 1, GL_DEBUG_SEVERITY_MEDIUM, -1, text.c_str());
+}
+
 void Device::provokeValidationErrorForTesting() {
     m_context->makeCurrent();
     // GL_INVALID_ENUM on every GL and ES version: 0 is not a capability.
@@ -491,14 +500,26 @@ std::vector<std::byte> Device::readBufferImpl(const BufferHandle& handle, uint64
     const Buffer& buffer = ownResource<Buffer>(handle, *m_context, "readBuffer", "buffer");
     m_context->makeCurrent();
     const GLFunctions& f = gl();
+    // Read through a staging buffer whose usage hint says the host reads it (GL_STREAM_READ):
+    // mapping the buffer itself made NVIDIA's driver move it from video to host memory ("usage
+    // hint GL_DYNAMIC_DRAW ... being copied/moved from VIDEO memory to HOST memory", issue 10),
+    // and the GPU would then use it from there.
+    GLuint staging = 0;
+    f.glGenBuffers(1, &staging);
     f.glBindBuffer(GL_COPY_READ_BUFFER, buffer.name());
-    const void* mapped = f.glMapBufferRange(GL_COPY_READ_BUFFER, GLintptr(offset), GLsizeiptr(size), GL_MAP_READ_BIT);
-    if (!mapped)
-        throw Error(ErrorCode::OutOfMemory, fmt::format("readBuffer: mapping {} bytes of buffer '{}' failed", size,
+    f.glBindBuffer(GL_COPY_WRITE_BUFFER, staging);
+    f.glBufferData(GL_COPY_WRITE_BUFFER, GLsizeiptr(size), nullptr, GL_STREAM_READ);
+    f.glCopyBufferSubData(GL_COPY_READ_BUFFER, GL_COPY_WRITE_BUFFER, GLintptr(offset), 0, GLsizeiptr(size));
+    const void* mapped = f.glMapBufferRange(GL_COPY_WRITE_BUFFER, 0, GLsizeiptr(size), GL_MAP_READ_BIT);
+    if (!mapped) {
+        f.glDeleteBuffers(1, &staging);
+        throw Error(ErrorCode::OutOfMemory, fmt::format("readBuffer: mapping {} bytes read from buffer '{}' failed", size,
                                                         buffer.desc().debugName));
+    }
     std::vector<std::byte> result(size);
     std::memcpy(result.data(), mapped, size);
-    f.glUnmapBuffer(GL_COPY_READ_BUFFER);
+    f.glUnmapBuffer(GL_COPY_WRITE_BUFFER);
+    f.glDeleteBuffers(1, &staging);
     return result;
 }
 

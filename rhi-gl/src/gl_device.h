@@ -67,6 +67,7 @@ public:
     // Debug output, filled by the KHR_debug callback.
     void collectDebugMessage(DebugMessage message);
     std::vector<DebugMessage> takeDebugMessages();
+    std::vector<DebugMessage> takePerformanceMessages();
     std::function<void(const DebugMessage&)> messageCallback;
 
     GLFunctions gl;
@@ -83,6 +84,7 @@ private:
     std::string m_platformName;
     std::map<FramebufferKey, GLuint> m_framebuffers;
     std::vector<DebugMessage> m_debugMessages;
+    std::vector<DebugMessage> m_performanceMessages;   // severity Performance, apart from the above
 };
 using ContextPtr = std::shared_ptr<Context>;
 
@@ -331,6 +333,8 @@ public:
     std::vector<std::byte> readTextureImpl(const TextureHandle& texture, TextureSubresource sub) override;
     std::optional<double> timerSeconds(const TimerQueryHandle& timer) override;
     std::vector<DebugMessage> takeDebugMessages() override;
+    std::vector<DebugMessage> takePerformanceMessages() override;
+    void insertPerformanceMessageForTesting(const std::string& text) override;
     void provokeValidationErrorForTesting() override;
 
     // --- used while replaying command lists (context current) ---

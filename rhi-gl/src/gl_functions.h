@@ -118,6 +118,7 @@ class Platform;
     X(PFNGLGETQUERYOBJECTUI64VPROC, glGetQueryObjectui64v, "glGetQueryObjectui64vEXT")                        \
     X(PFNGLDEBUGMESSAGECALLBACKPROC, glDebugMessageCallback, "glDebugMessageCallbackKHR")                     \
     X(PFNGLDEBUGMESSAGECONTROLPROC, glDebugMessageControl, "glDebugMessageControlKHR")                        \
+    X(PFNGLDEBUGMESSAGEINSERTPROC, glDebugMessageInsert, "glDebugMessageInsertKHR")                           \
     X(PFNGLPUSHDEBUGGROUPPROC, glPushDebugGroup, "glPushDebugGroupKHR")                                       \
     X(PFNGLPOPDEBUGGROUPPROC, glPopDebugGroup, "glPopDebugGroupKHR")                                          \
     X(PFNGLOBJECTLABELPROC, glObjectLabel, "glObjectLabelKHR")                                                \

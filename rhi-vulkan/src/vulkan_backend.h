@@ -95,6 +95,7 @@ public:
     std::function<void(const DebugMessage&)> messageCallback;
     std::mutex messageMutex;
     std::vector<DebugMessage> messages;
+    std::vector<DebugMessage> performanceMessages;   // severity Performance, apart from `messages`
     void addMessage(DebugMessage message);
 
     // Serialises vkQueueSubmit / vkQueueWaitIdle and the immediate command buffer.

@@ -104,7 +104,7 @@ void Context::addMessage(DebugMessage message) {
     std::function<void(const DebugMessage&)> callback;
     {
         std::lock_guard lock(messageMutex);
-        messages.push_back(message);
+        (message.severity == MessageSeverity::Performance ? performanceMessages : messages).push_back(message);
         callback = messageCallback;
     }
     if (callback) callback(message);

@@ -14,12 +14,15 @@ namespace {
 constexpr const char* kValidationLayer = "VK_LAYER_KHRONOS_validation";
 
 VKAPI_ATTR VkBool32 VKAPI_CALL onDebugMessage(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
-                                               VkDebugUtilsMessageTypeFlagsEXT,
+                                               VkDebugUtilsMessageTypeFlagsEXT types,
                                                const VkDebugUtilsMessengerCallbackDataEXT* data, void* user) {
     auto* context = static_cast<Context*>(user);
     DebugMessage message;
-    message.severity = (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) ? MessageSeverity::Error
-                                                                                   : MessageSeverity::Warning;
+    // As the GL policy (gl_debug_policy.cpp): errors fail; a performance warning is counted apart.
+    const bool error = (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) != 0;
+    const bool performance = (types & VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT) != 0 &&
+                             (types & VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT) == 0;
+    message.severity = error ? MessageSeverity::Error : performance ? MessageSeverity::Performance : MessageSeverity::Warning;
     message.text = fmt::format("[{}] {}", data->pMessageIdName ? data->pMessageIdName : "vulkan",
                                data->pMessage ? data->pMessage : "");
     context->addMessage(std::move(message));
@@ -29,7 +32,8 @@ VKAPI_ATTR VkBool32 VKAPI_CALL onDebugMessage(VkDebugUtilsMessageSeverityFlagBit
 VkDebugUtilsMessengerCreateInfoEXT messengerInfo(Context* context) {
     VkDebugUtilsMessengerCreateInfoEXT info{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
     info.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
-    info.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT;
+    info.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
+                       VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
     info.pfnUserCallback = onDebugMessage;
     info.pUserData = context;
     return info;
@@ -484,6 +488,23 @@ public:
     std::vector<DebugMessage> takeDebugMessages() override {
         std::lock_guard lock(m_context->messageMutex);
         return std::exchange(m_context->messages, {});
+    }
+
+    std::vector<DebugMessage> takePerformanceMessages() override {
+        std::lock_guard lock(m_context->messageMutex);
+        return std::exchange(m_context->performanceMessages, {});
+    }
+
+    void insertPerformanceMessageForTesting(const std::string& text) override {
+        if (!m_validation) return;   // no messenger to receive it
+        auto submit = reinterpret_cast<PFN_vkSubmitDebugUtilsMessageEXT>(
+            vkGetInstanceProcAddr(m_context->instance, "vkSubmitDebugUtilsMessageEXT"));
+        if (!submit) return;
+        VkDebugUtilsMessengerCallbackDataEXT data{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CALLBACK_DATA_EXT};
+        data.pMessageIdName = "janus-test";
+        data.pMessage = text.c_str();
+        submit(m_context->instance, VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT, VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT,
+               &data);
     }
 
     void provokeValidationErrorForTesting() override {

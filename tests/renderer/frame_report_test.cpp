@@ -39,7 +39,9 @@ TEST(FrameReport, JsonHasEveryFieldAndNullForMissingTimers) {
     EXPECT_EQ(forward.at("draws"), 18);
     EXPECT_EQ(forward.at("dispatches"), 0);
     EXPECT_TRUE(json["passes"][1].at("gpuMs").is_null());
+    EXPECT_EQ(json.at("performanceMessages"), nlohmann::json::array());
 }
+
 
 TEST(FeaturePath, NamesRoundTrip) {
     for (FeaturePath path : {FeaturePath::Compute, FeaturePath::Fallback}) EXPECT_EQ(parseFeaturePath(toString(path)), path);
@@ -130,6 +132,30 @@ TEST_P(TileHeatmap, DrawsOverTheDisplayImageOnlyWhenTilesExist) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Configs, TileHeatmap, testing::ValuesIn(test_support::allConfigs()),
+                         [](const testing::TestParamInfo<Config>& info) { return info.param.name(); });
+
+class PerformanceMessages : public testing::TestWithParam<Config> {};
+
+// The driver's performance messages during a frame land in its report (and so in `janus render`'s
+// output and JSON), not among the validation messages the suites fail on.
+TEST_P(PerformanceMessages, AreCountedInTheFrameReport) {
+    rhi::IDevice& device = test_support::deviceFor(GetParam().backend);
+    RenderSettings settings = test_support::settingsFor(LightCulling::Naive, 32);
+    settings.path = GetParam().path;
+    Renderer renderer(device, defaultScene(), settings);
+    renderer.renderFrame();
+    device.takeDebugMessages();
+    device.insertPerformanceMessageForTesting("janus test: a slow path before the frame");
+    const FrameReport report = renderer.renderFrame();
+    ASSERT_EQ(report.performanceMessages.size(), 1u) << GetParam().name();
+    EXPECT_NE(report.performanceMessages[0].find("janus test: a slow path before the frame"), std::string::npos)
+        << report.performanceMessages[0];
+    EXPECT_EQ(report.toJson().at("performanceMessages").size(), 1u);
+    EXPECT_TRUE(device.takeDebugMessages().empty()) << GetParam().name();
+    EXPECT_TRUE(renderer.renderFrame().performanceMessages.empty()) << "each message is reported once";
+}
+
+INSTANTIATE_TEST_SUITE_P(Configs, PerformanceMessages, testing::ValuesIn(test_support::allConfigs()),
                          [](const testing::TestParamInfo<Config>& info) { return info.param.name(); });
 
 }  // namespace

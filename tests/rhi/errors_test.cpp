@@ -18,6 +18,18 @@ TEST_P(ErrorTest, ValidationHookReportsAnError) {
     discardDebugMessages();   // expected ones; TearDown fails on anything left
 }
 
+// The API's own debug channel carries a performance message to the device, which keeps it apart
+// from the messages tests fail on (MessageSeverity::Performance; issue 10).
+TEST_P(ErrorTest, PerformanceMessagesAreCollectedApartFromValidationMessages) {
+    device().insertPerformanceMessageForTesting("janus test: a slow path");
+    EXPECT_TRUE(device().takeDebugMessages().empty()) << "a performance message must not be a validation message";
+    const std::vector<DebugMessage> performance = device().takePerformanceMessages();
+    ASSERT_EQ(performance.size(), 1u);
+    EXPECT_EQ(performance[0].severity, MessageSeverity::Performance);
+    EXPECT_NE(performance[0].text.find("janus test: a slow path"), std::string::npos) << performance[0].text;
+    EXPECT_TRUE(device().takePerformanceMessages().empty()) << "taken once";
+}
+
 class MessageCallbackTest : public BackendTest {
 protected:
     void customizeDeviceDesc(DeviceDesc& desc) override {

@@ -26,9 +26,16 @@ TEST(GLDebugPolicy, ErrorsAndUndefinedBehaviourAreErrorsAtEverySeverity) {
     }
 }
 
+// Counted apart, never a failure by itself (issue 10: NVIDIA's buffer-migration and recompile notes).
+TEST(GLDebugPolicy, PerformanceMessagesArePerformanceAtEverySeverityButNotification) {
+    for (unsigned severity : {GL_DEBUG_SEVERITY_HIGH, GL_DEBUG_SEVERITY_MEDIUM, GL_DEBUG_SEVERITY_LOW})
+        EXPECT_EQ(classifyDebugMessage(GL_DEBUG_TYPE_PERFORMANCE, severity), MessageSeverity::Performance) << std::hex << severity;
+    EXPECT_EQ(classifyDebugMessage(GL_DEBUG_TYPE_PERFORMANCE, GL_DEBUG_SEVERITY_NOTIFICATION), std::nullopt);
+}
+
 TEST(GLDebugPolicy, EveryOtherTypeIsAWarningAtHighAndMediumSeverity) {
     for (unsigned type : kTypes) {
-        if (type == GL_DEBUG_TYPE_ERROR || type == GL_DEBUG_TYPE_UNDEFINED_BEHAVIOR) continue;
+        if (type == GL_DEBUG_TYPE_ERROR || type == GL_DEBUG_TYPE_UNDEFINED_BEHAVIOR || type == GL_DEBUG_TYPE_PERFORMANCE) continue;
         EXPECT_EQ(classifyDebugMessage(type, GL_DEBUG_SEVERITY_HIGH), MessageSeverity::Warning) << std::hex << type;
         EXPECT_EQ(classifyDebugMessage(type, GL_DEBUG_SEVERITY_MEDIUM), MessageSeverity::Warning) << std::hex << type;
     }
@@ -41,8 +48,7 @@ TEST(GLDebugPolicy, DeprecatedAndNonPortableUseAreWarningsAtLowSeverity) {
 }
 
 TEST(GLDebugPolicy, LowSeverityHintsAndNotificationsAreDropped) {
-    for (unsigned type : {GL_DEBUG_TYPE_PERFORMANCE, GL_DEBUG_TYPE_OTHER, GL_DEBUG_TYPE_MARKER, GL_DEBUG_TYPE_PUSH_GROUP,
-                          GL_DEBUG_TYPE_POP_GROUP})
+    for (unsigned type : {GL_DEBUG_TYPE_OTHER, GL_DEBUG_TYPE_MARKER, GL_DEBUG_TYPE_PUSH_GROUP, GL_DEBUG_TYPE_POP_GROUP})
         EXPECT_EQ(classifyDebugMessage(type, GL_DEBUG_SEVERITY_LOW), std::nullopt) << std::hex << type;
     for (unsigned type : kTypes) {
         if (type == GL_DEBUG_TYPE_ERROR || type == GL_DEBUG_TYPE_UNDEFINED_BEHAVIOR) continue;

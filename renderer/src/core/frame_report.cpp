@@ -87,6 +87,7 @@ nlohmann::json FrameReport::toJson() const {
                               {"copies", u.copies}});
         json["probeUpdates"] = std::move(probes);
     }
+    json["performanceMessages"] = performanceMessages;
     return json;
 }
 

@@ -64,6 +64,9 @@ struct FrameReport {
     std::vector<PassReport> passes;    // in execution order; PassReport::view names the view
     std::optional<LightCullingReport> lightCulling;
     std::vector<ProbeUpdateReport> probeUpdates;   // probes whose update ran a step this frame
+    // The driver's performance messages during the frame (rhi::IDevice::takePerformanceMessages;
+    // with validation on): counted and shown, not failures.
+    std::vector<std::string> performanceMessages;
     nlohmann::json toJson() const;
 };
 

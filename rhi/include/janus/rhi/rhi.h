@@ -74,7 +74,11 @@ enum class GLPlatform { EGL, OSMesa };
 const char* toString(GLPlatform platform);        // "egl", "osmesa"
 std::optional<GLPlatform> parseGLPlatform(std::string_view name);
 
-enum class MessageSeverity { Info, Warning, Error };
+// Error: the API was misused or behaviour is undefined (validation errors, GL errors). Warning:
+// validation warnings and other driver complaints about what we do. Performance: the driver says
+// something is slow (GL_DEBUG_TYPE_PERFORMANCE, Vulkan performance messages) - counted and shown,
+// never a failure by itself (IDevice::takePerformanceMessages).
+enum class MessageSeverity { Info, Performance, Warning, Error };
 
 struct DebugMessage {
     MessageSeverity severity = MessageSeverity::Info;
@@ -684,8 +688,16 @@ public:
     // the timer never ran.
     virtual std::optional<double> timerSeconds(const TimerQueryHandle& timer) = 0;
 
-    // Validation-layer / GL debug messages of severity Warning or Error collected since the last call.
+    // Validation-layer / GL debug messages of severity Warning or Error collected since the last
+    // call: what tests fail on.
     virtual std::vector<DebugMessage> takeDebugMessages() = 0;
+    // The driver's performance messages (severity Performance) collected since the last call, kept
+    // apart from takeDebugMessages(): a renderer counts them in its frame report and a tool prints
+    // them; a test fails on them only where it says so. Needs enableValidation, like the others.
+    virtual std::vector<DebugMessage> takePerformanceMessages() = 0;
+    // Sends one performance message through the API's own debug channel (GL: glDebugMessageInsert;
+    // Vulkan: vkSubmitDebugUtilsMessageEXT), so tests can prove such messages are routed as above.
+    virtual void insertPerformanceMessageForTesting(const std::string& text) = 0;
 
     // Makes one deliberately invalid raw API call (Vulkan: through the validation layer; GL: one
     // that raises a GL error) so tests can prove the debug-message hook really catches errors.
