@@ -289,18 +289,24 @@ TEST(LightGrid, OrthographicProjectionMapsTheViewBoxToClipSpace) {
     EXPECT_NEAR(middle.z, 0.5f, 1e-6f);
 }
 
-// Orthographic tiles are boxes: what a tile lists does not depend on how far along the view axis
-// a light is, and a light beside the view box is listed nowhere however far away it is (through
-// a perspective tile, whose planes open out, both would differ).
-TEST(LightGrid, OrthographicTilesAreBoxes) {
+// An orthographic camera at the origin looking down -Z, 2 x 2 world units seen from distance 0 to
+// `far`, as a 32 x 32 grid of 16-pixel tiles.
+TileGrid orthographicGridDownZ(float far) {
     Camera camera;
     camera.position = glm::vec3(0.0f);
     camera.target = glm::vec3(0.0f, 0.0f, -1.0f);
     camera.projection = CameraProjection::Orthographic;
     camera.orthographicHalfHeight = 1.0f;
     camera.nearPlane = 0.0f;
-    camera.farPlane = 500.0f;
-    const TileGrid grid = makeTileGrid(camera, 32, 32, 16, kMaxLocalLights);   // 2 x 2 tiles of 1 x 1 world units
+    camera.farPlane = far;
+    return makeTileGrid(camera, 32, 32, 16, kMaxLocalLights);
+}
+
+// Orthographic tiles are boxes: what a tile lists does not depend on how far along the view axis
+// a light is, and a light beside the view box is listed nowhere however far away it is (through
+// a perspective tile, whose planes open out, both would differ).
+TEST(LightGrid, OrthographicTilesAreBoxes) {
+    const TileGrid grid = orthographicGridDownZ(500.0f);   // 2 x 2 tiles of 1 x 1 world units
     for (float distance : {0.5f, 20.0f, 400.0f}) {
         Scene scene;
         scene.lights.push_back(pointLight({0.8f, 0.8f, -distance}, 0.1f));    // upper right tile only
@@ -325,14 +331,7 @@ TEST(LightGrid, OrthographicTilesAreBoxes) {
 // millimetre at any distance (perspective: metres at 600 m, see above), so a light just in front
 // of the wall is listed and one just behind is not.
 TEST(LightGrid, OrthographicDepthBoundsAreTightAtAnyDistance) {
-    Camera camera;
-    camera.position = glm::vec3(0.0f);
-    camera.target = glm::vec3(0.0f, 0.0f, -1.0f);
-    camera.projection = CameraProjection::Orthographic;
-    camera.orthographicHalfHeight = 1.0f;
-    camera.nearPlane = 0.0f;
-    camera.farPlane = 1000.0f;
-    const TileGrid grid = makeTileGrid(camera, 32, 32, 16, kMaxLocalLights);
+    const TileGrid grid = orthographicGridDownZ(1000.0f);
     for (double wall : {1.0, 37.5, 600.0, 999.0}) {
         const std::vector<float> depth(32 * 32, storedDepth(grid, wall));
         Scene scene;
