@@ -1,6 +1,8 @@
 // `janus parity`: render every configuration and compare every pair pixel by pixel.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <memory>
 
 #include <fmt/format.h>
@@ -17,6 +19,8 @@ struct ParityOptions {
     std::string size = "256x256";
     std::string out;
     std::string tolerance = "1";
+    std::string against;                  // another machine's `janus parity --out` directory
+    std::string againstTolerance = "1";
     std::string glPlatform = "egl";
     bool validation = false;
     bool allowOutsidePaths = false;
@@ -26,6 +30,47 @@ struct ParityOptions {
     SceneChoiceOptions sceneChoice;
 };
 
+// Another machine's renders of the same configurations, compared with this run's image by image
+// (`--against DIR`): cross-driver checks, where filtering and derivatives legitimately differ, so
+// they carry their own tolerance.
+struct AgainstDirectory {
+    std::filesystem::path dir;
+    uint32_t tolerance = 1;
+};
+
+std::optional<AgainstDirectory> parseAgainst(const ParityOptions& options) {
+    if (options.against.empty()) return std::nullopt;
+    AgainstDirectory against{options.against, parseTolerance(options.againstTolerance)};
+    std::error_code ec;
+    if (!std::filesystem::is_directory(against.dir, ec))
+        throw InputError(fmt::format("--against '{}' is not a directory; give the --out directory of a janus parity run", options.against));
+    if (!std::filesystem::exists(against.dir / "parity.json", ec))
+        throw InputError(fmt::format("--against '{}' has no parity.json; give the --out directory of a janus parity run", options.against));
+    return against;
+}
+
+// The other run's parity.json must describe renders this one can be compared with.
+void checkAgainstSummary(const AgainstDirectory& against, const std::string& scene, const ImageSize& size) {
+    const std::filesystem::path path = against.dir / "parity.json";
+    uint32_t width = 0, height = 0;
+    std::string otherScene;
+    try {
+        std::ifstream file(path);
+        const nlohmann::json other = nlohmann::json::parse(file);
+        width = other.at("width").get<uint32_t>();
+        height = other.at("height").get<uint32_t>();
+        otherScene = other.value("scene", std::string());
+    } catch (const std::exception& e) {
+        throw InputError(fmt::format("--against: cannot read {} as a janus parity summary: {}", path.string(), e.what()));
+    }
+    if (width != size.width || height != size.height)
+        throw InputError(fmt::format("--against: {} was rendered at {}x{}, this run at {}x{}; use the same --size", path.string(), width,
+                                     height, size.width, size.height));
+    if (otherScene != scene)
+        std::fprintf(stderr, "janus: warning: --against: %s rendered '%s', this run renders '%s'; comparing anyway\n", path.c_str(),
+                     otherScene.c_str(), scene.c_str());
+}
+
 int run(const ParityOptions& options) {
     RenderRequest base;
     base.size = parseSize(options.size);
@@ -34,6 +79,7 @@ int run(const ParityOptions& options) {
     base.lighting = parseLightingOptions(options.lighting);
     const uint32_t tolerance = parseTolerance(options.tolerance);
     if (options.out.empty()) throw UsageError("--out DIR is required: where to write the images and parity.json");
+    const std::optional<AgainstDirectory> against = parseAgainst(options);
 
     const std::filesystem::path outDir = options.out;
     std::error_code ec;
@@ -50,6 +96,11 @@ int run(const ParityOptions& options) {
     applyEnvironmentOverride(scene, environment);
     applyAnimationOverride(scene, animation, sceneLabel(scenePath));
 
+    if (against) {
+        checkAgainstSummary(*against, sceneLabel(scenePath), base.size);
+        if (std::filesystem::equivalent(against->dir, outDir, ec))
+            throw UsageError("--against and --out are the same directory; write this run's images elsewhere");
+    }
     std::filesystem::create_directories(outDir, ec);
     if (ec)
         throw InputError(fmt::format("cannot create --out directory '{}': {}; choose another path", options.out, ec.message()));
@@ -115,6 +166,52 @@ int run(const ParityOptions& options) {
     std::printf("\n");
     std::fputs(formatTable(pairRows).c_str(), stdout);
 
+    nlohmann::json againstJson;
+    if (against) {
+        // Each configuration against the same configuration's image in DIR.
+        std::vector<std::vector<std::string>> rows{
+            {"configuration", "max diff", "PSNR dB", fmt::format("pixels > {} step(s)", against->tolerance), "result"}};
+        nlohmann::json entries = nlohmann::json::array();
+        for (const ConfigurationResult& r : results) {
+            if (r.image.empty()) continue;   // did not run here: already a failure above
+            const std::filesystem::path theirs = against->dir / (r.stem + ".png");
+            nlohmann::json entry{{"configuration", r.stem}, {"image", theirs.string()}};
+            std::error_code missing;
+            if (!std::filesystem::exists(theirs, missing)) {
+                // The other machine may lack a backend: said, not a failure.
+                rows.push_back({r.stem, "-", "-", "-", "not in --against"});
+                entry["compared"] = false;
+                entries.push_back(std::move(entry));
+                continue;
+            }
+            const renderer::ImageRGBA8 other = renderer::readPNG(theirs);
+            if (other.width != r.outcome->display.width || other.height != r.outcome->display.height)
+                throw InputError(fmt::format("--against: {} is {}x{}, this run's {} is {}x{}", theirs.string(), other.width, other.height,
+                                             r.stem, r.outcome->display.width, r.outcome->display.height));
+            const renderer::ImageDifference diff = renderer::compareImages(r.outcome->display, other, against->tolerance);
+            const bool ok = diff.differingPixels == 0;
+            const std::filesystem::path heatmap = outDir / fmt::format("against-{}.png", r.stem);
+            renderer::writePNG(heatmap, renderer::differenceHeatmap(r.outcome->display, other, kHeatmapFullScaleSteps));
+            rows.push_back({r.stem, std::to_string(diff.maxChannelDifference), psnrText(diff.psnr),
+                            fmt::format("{} / {}", diff.differingPixels, diff.totalPixels), ok ? "ok" : "FAIL"});
+            entry["compared"] = true;
+            entry["maxChannelDifference"] = diff.maxChannelDifference;
+            entry["psnr"] = std::isinf(diff.psnr) ? nlohmann::json(nullptr) : nlohmann::json(diff.psnr);
+            entry["differingPixels"] = diff.differingPixels;
+            entry["totalPixels"] = diff.totalPixels;
+            entry["heatmap"] = heatmap.filename().string();
+            entry["passed"] = ok;
+            passed = passed && ok;
+            entries.push_back(std::move(entry));
+        }
+        const bool anyCompared = std::any_of(entries.begin(), entries.end(), [](const nlohmann::json& e) { return e.at("compared").get<bool>(); });
+        if (!anyCompared) passed = false;   // nothing in common: the comparison asked for did not happen
+        std::printf("\nagainst %s (tolerance %u step(s)):\n", against->dir.c_str(), against->tolerance);
+        std::fputs(formatTable(rows).c_str(), stdout);
+        if (!anyCompared) std::printf("no configuration of this run has an image in --against: nothing was compared\n");
+        againstJson = {{"dir", against->dir.string()}, {"tolerance", against->tolerance}, {"configurations", entries}};
+    }
+
     nlohmann::json configsJson = nlohmann::json::array();
     for (const ConfigurationResult& r : results) {
         nlohmann::json entry{{"backend", rhi::toString(r.config.backend)},
@@ -137,6 +234,7 @@ int run(const ParityOptions& options) {
                                  {"passed", passed},
                                  {"configurations", configsJson},
                                  {"pairs", pairsJson}};
+    if (against) summary["against"] = againstJson;
     if (scene.posedAnimation) {   // the pose the images show
         summary["animation"] = *scene.posedAnimation;
         summary["animationName"] = scene.animations[*scene.posedAnimation].name;
@@ -167,6 +265,15 @@ Command addParityCommand(CLI::App& parent) {
         ->type_name("DIR");
     app->add_option("--tolerance,-t", options->tolerance,
                     "Largest allowed channel difference, in steps of 1/255, for a pair to agree")
+        ->default_str("1")
+        ->type_name("STEPS");
+    app->add_option("--against", options->against,
+                    "The --out directory of a parity run on another machine (same scene and --size): compare each "
+                    "configuration's image with its image there")
+        ->type_name("DIR");
+    app->add_option("--against-tolerance", options->againstTolerance,
+                    "Largest allowed channel difference, in steps of 1/255, against --against's images (drivers differ "
+                    "in filtering and derivatives: see docs/CLI.md)")
         ->default_str("1")
         ->type_name("STEPS");
     addGLPlatformOption(*app, options->glPlatform);

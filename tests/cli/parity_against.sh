@@ -1,0 +1,57 @@
+#!/usr/bin/env bash
+# `janus parity --against DIR`: each configuration compared with another run's image of the same
+# configuration (a run on another machine; here, on this one): identical renders pass, a changed
+# image fails naming its configuration unless --against-tolerance allows the change, and a
+# directory that is no parity run, or of another size, is a clear error. Needs the backends.
+source "$(dirname "$0")/common.bash" "$@"
+
+expect_success parity --size 32x32 --out "$TMP/machine-a"
+expect_success parity --size 32x32 --out "$TMP/machine-b" --against "$TMP/machine-a"
+grep -q "against $TMP/machine-a (tolerance 1 step(s))" "$TMP/stdout" || fail "no against table: $(cat "$TMP/stdout")"
+json_check "$TMP/machine-b/parity.json" 'j["against"]["tolerance"] == 1 and len(j["against"]["configurations"]) == 5 and all(c["compared"] and c["passed"] for c in j["against"]["configurations"])' "the same machine's renders do not all match"
+check_png "$TMP/machine-b/against-gl-fallback.png" 32 32
+
+# A driver that draws one region 20 steps brighter in gl-fallback's image.
+python3 - "$TMP/machine-a/gl-fallback.png" <<'PY'
+import struct, sys, zlib
+path = sys.argv[1]
+data = open(path, "rb").read()
+w, h = struct.unpack(">II", data[16:24])
+pos, idat = 8, b""
+while pos < len(data):
+    n, kind = struct.unpack(">I4s", data[pos:pos + 8])
+    if kind == b"IDAT": idat += data[pos + 8:pos + 8 + n]
+    pos += 12 + n
+raw, stride, rows, prev = zlib.decompress(idat), w * 4, [], bytearray(w * 4)
+for y in range(h):
+    f, line = raw[y * (stride + 1)], bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
+    for x in range(stride):
+        a = line[x - 4] if x >= 4 else 0; b = prev[x]; c = prev[x - 4] if x >= 4 else 0
+        p = a + b - c; pr = a if abs(p - a) <= abs(p - b) and abs(p - a) <= abs(p - c) else (b if abs(p - b) <= abs(p - c) else c)
+        line[x] = (line[x] + [0, a, b, (a + b) // 2, pr][f]) & 255
+    rows.append(line); prev = line
+for y in range(4, 8):
+    for x in range(4 * 4, 8 * 4):
+        if x % 4 != 3: rows[y][x] = min(255, rows[y][x] + 20)
+out = b"".join(b"\0" + bytes(r) for r in rows)
+def chunk(kind, body): return struct.pack(">I", len(body)) + kind + body + struct.pack(">I", zlib.crc32(kind + body) & 0xffffffff)
+open(path, "wb").write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 6, 0, 0, 0)) + chunk(b"IDAT", zlib.compress(out)) + chunk(b"IEND", b""))
+PY
+run_janus parity --size 32x32 --out "$TMP/machine-c" --against "$TMP/machine-a"
+[[ $rc == 1 ]] || fail "a changed image in --against must fail parity (exit 1), got $rc"
+grep -Eq "^  gl-fallback +20 .*FAIL" "$TMP/stdout" || fail "the against table does not fail gl-fallback by 20 steps: $(cat "$TMP/stdout")"
+json_check "$TMP/machine-c/parity.json" '[c["configuration"] for c in j["against"]["configurations"] if not c["passed"]] == ["gl-fallback"] and j["passed"] is False' "only gl-fallback must fail against machine-a"
+expect_success parity --size 32x32 --out "$TMP/machine-d" --against "$TMP/machine-a" --against-tolerance 20
+
+# Configurations the other machine did not render are said, not failed.
+rm "$TMP/machine-a/gles-fallback.png"
+expect_success parity --size 32x32 --out "$TMP/machine-e" --against "$TMP/machine-a" --against-tolerance 20
+grep -Eq "^  gles-fallback +- +- +- +not in --against" "$TMP/stdout" || fail "a missing image is not reported: $(cat "$TMP/stdout")"
+
+expect_error 3 "--against '.*nowhere' is not a directory" parity --size 32x32 --out "$TMP/x" --against "$TMP/nowhere"
+mkdir -p "$TMP/empty"
+expect_error 3 "--against '.*empty' has no parity.json" parity --size 32x32 --out "$TMP/x" --against "$TMP/empty"
+expect_error 3 "--against: .*parity.json was rendered at 32x32, this run at 24x24; use the same --size" parity --size 24x24 --out "$TMP/x" --against "$TMP/machine-a"
+expect_error 2 "--against and --out are the same directory" parity --size 32x32 --out "$TMP/machine-a" --against "$TMP/machine-a"
+
+finish
