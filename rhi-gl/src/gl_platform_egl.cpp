@@ -73,11 +73,19 @@ public:
                                     "provide that API version",
                                     api == GLApi::DesktopCore43 ? "OpenGL 4.3 core" : "OpenGL ES 3.0",
                                     eglGetError()));
-        makeCurrent();
+        try {
+            makeCurrent();
+        } catch (...) {
+            eglDestroyContext(m_display, m_context);   // the destructor does not run for a throwing constructor
+            throw;
+        }
     }
 
     ~EglPlatform() override {
-        eglMakeCurrent(m_display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+        // Only release our own context: another device's may be current on this thread (when ours
+        // could not be made current at teardown), and that device still counts on it.
+        if (eglGetCurrentContext() == m_context)
+            eglMakeCurrent(m_display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
         eglDestroyContext(m_display, m_context);
         // No eglTerminate: the surfaceless display is shared by every device in the process, and
         // terminating it would destroy the other devices' contexts.

@@ -3,6 +3,8 @@
 // it, and the validation hook really reports errors.
 #include "backend_test.h"
 
+#include <stdexcept>
+
 namespace janus::rhi::test {
 namespace {
 
@@ -35,6 +37,29 @@ TEST_P(MessageCallbackTest, CallbackSeesEachMessageAsItArrives) {
     std::vector<DebugMessage> taken = device().takeDebugMessages();
     EXPECT_EQ(taken.size(), received.size()) << "the callback and takeDebugMessages see the same messages";
     discardDebugMessages();
+}
+
+// The callback runs inside the driver (Vulkan's layer, GL's KHR_debug callback), also during
+// vkDestroy* / glDelete* in destructors: an exception must not unwind through the driver.
+class ThrowingMessageCallbackTest : public BackendTest {
+protected:
+    void customizeDeviceDesc(DeviceDesc& desc) override {
+        desc.messageCallback = [](const DebugMessage&) { throw std::runtime_error("the callback refuses"); };
+    }
+};
+JANUS_INSTANTIATE_BACKEND_TESTS(ThrowingMessageCallbackTest);
+
+TEST_P(ThrowingMessageCallbackTest, ExceptionStopsAtTheRhiAndTheMessageIsStillCollected) {
+    testing::internal::CaptureStderr();
+    EXPECT_NO_THROW(device().provokeValidationErrorForTesting());
+    const std::string stderrText = testing::internal::GetCapturedStderr();
+    const std::vector<DebugMessage> messages = device().takeDebugMessages();
+    EXPECT_TRUE(std::any_of(messages.begin(), messages.end(),
+                            [](const DebugMessage& m) { return m.severity == MessageSeverity::Error; }))
+        << "the provoked error was not collected";
+    EXPECT_NE(stderrText.find("the debug message callback threw (the callback refuses); the message is still collected"),
+              std::string::npos)
+        << stderrText;
 }
 
 TEST_P(ErrorTest, DeviceInfoMatchesTheConfiguration) {
