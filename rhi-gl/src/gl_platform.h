@@ -3,6 +3,7 @@
 #pragma once
 
 #include <memory>
+#include <span>
 #include <string>
 
 namespace janus::rhi::gl {
@@ -20,8 +21,37 @@ public:
     virtual std::string describe() const = 0;
 };
 
-// Both throw Error(BackendUnavailable) saying what is missing.
+// Throws Error(BackendUnavailable) saying what is missing.
 std::unique_ptr<Platform> createEglPlatform(GLApi api, bool debugContext);
+
+// ---------------------------------------------------------------------------------------------
+// OSMesa
+
+// libOSMesa is loaded at run time (dlopen), so the backend starts without it; these are the
+// names tried, in order (the versioned one is what the runtime package installs).
+inline constexpr const char* kOsmesaLibraryNames[] = {"libOSMesa.so.8", "libOSMesa.so"};
+
+// The OSMesa entry points the platform calls (signatures of Mesa's GL/osmesa.h, whose ABI has
+// not changed since Mesa 10; declared here so the build needs no OSMesa package either), from a
+// library that stays loaded until exit: GL entry points handed out by it must stay valid for as
+// long as any context might be used, static destructors included.
+struct OsmesaContextRecord;   // Mesa's struct osmesa_context, never looked into
+using OsmesaContext = OsmesaContextRecord*;
+struct OsmesaEntryPoints {
+    OsmesaContext (*createContextAttribs)(const int* attribList, OsmesaContext sharedContext) = nullptr;
+    void (*destroyContext)(OsmesaContext context) = nullptr;
+    unsigned char (*makeCurrent)(OsmesaContext context, void* buffer, unsigned type, int width, int height) = nullptr;
+    void (*(*getProcAddress)(const char* name))() = nullptr;
+    std::string libraryName;   // the name that loaded
+};
+
+// Loads the first of `libraryNames` that dlopen finds and looks up the entry points. Throws
+// Error(BackendUnavailable): "OSMesa is not installed (<each dlerror>); install libosmesa6 or
+// use --gl-platform egl" when none loads, or names the entry point a library lacks.
+OsmesaEntryPoints loadOsmesa(std::span<const char* const> libraryNames);
+
+// Throws Error(BackendUnavailable) for GLES (OSMesa is desktop GL only), when OSMesa is not
+// installed, or when it cannot create a 4.3 core context.
 std::unique_ptr<Platform> createOsmesaPlatform(GLApi api, bool debugContext);
 
 }  // namespace janus::rhi::gl
