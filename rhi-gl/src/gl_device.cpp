@@ -179,7 +179,7 @@ namespace {
 std::unique_ptr<Platform> createPlatform(const DeviceDesc& desc) {
     const GLApi api = desc.backend == Backend::GLES ? GLApi::ES30 : GLApi::DesktopCore43;
     if (desc.glPlatform == rhi::GLPlatform::OSMesa) return createOsmesaPlatform(api, desc.enableValidation);
-    return createEglPlatform(api, desc.enableValidation);
+    return createEglPlatform(api, desc.enableValidation, eglOptionsFromEnvironment());
 }
 }  // namespace
 

@@ -57,7 +57,7 @@ TEST(GLTeardown, AContextThatCannotBeMadeCurrentIsReleasedWithoutThrowingAndSays
     auto state = std::make_shared<PlatformSwitch>();
     const DeviceDesc desc = DeviceDesc().setBackend(Backend::GL).setEnableValidation(true);
     auto device = std::make_unique<Device>(
-        desc, std::make_unique<RefusingPlatform>(createEglPlatform(GLApi::DesktopCore43, true), state));
+        desc, std::make_unique<RefusingPlatform>(createEglPlatform(GLApi::DesktopCore43, true, {}), state));
 
     // One resource of every kind the backend deletes, used once so the context holds a framebuffer
     // object and a vertex array too.
@@ -88,7 +88,7 @@ TEST(GLTeardown, AContextThatCannotBeMadeCurrentIsReleasedWithoutThrowingAndSays
     device->execute(commands);
     device->waitIdle();
     for (const DebugMessage& message : device->takeDebugMessages()) ADD_FAILURE() << message.text;
-    const std::string platformName = device->info().platform;   // "egl"
+    const std::string platformName = device->info().platform;   // "egl (surfaceless)" on Mesa
 
     // Another device's context is current, as at exit with several devices alive, so tearing
     // this one down has to ask its platform.
@@ -142,7 +142,7 @@ TEST(GLTeardown, AWorkingContextIsReleasedSilently) {
     auto state = std::make_shared<PlatformSwitch>();
     auto device = std::make_unique<Device>(
         DeviceDesc().setBackend(Backend::GL),
-        std::make_unique<RefusingPlatform>(createEglPlatform(GLApi::DesktopCore43, false), state));
+        std::make_unique<RefusingPlatform>(createEglPlatform(GLApi::DesktopCore43, false, {}), state));
     BufferHandle buffer = device->createBuffer(BufferDesc().setSize(64).setUsage(BufferUsage::Uniform));
     std::unique_ptr<IDevice> other = createDevice(DeviceDesc().setBackend(Backend::GL));
     testing::internal::CaptureStderr();
