@@ -9,6 +9,7 @@
 #include <GL/glcorearb.h>
 #include <fmt/format.h>
 
+#include <cstdio>
 #include <cstring>
 #include <string>
 #include <type_traits>
@@ -204,7 +205,9 @@ RawGL::RawGL(rhi::Backend backend)
 
 RawGL::~RawGL() {
     if (m_context == EGL_NO_CONTEXT) return;
-    {
+    // A destructor must not throw: when the context cannot be made current (the driver's EGL shut
+    // down first at exit), its objects are left to eglDestroyContext.
+    try {
         ContextSwitch current = makeCurrent();
         const GLCalls& gl = m_gl;
         const GLuint buffers[] = {m_vertices, m_drawParameters, m_counters};
@@ -214,6 +217,8 @@ RawGL::~RawGL() {
         gl.glDeleteTextures(1, &m_target);
         gl.glDeleteProgram(m_drawProgram);
         if (m_computeProgram) gl.glDeleteProgram(m_computeProgram);
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "janus_bench_rhi: raw GL objects are left to the driver: %s\n", e.what());
     }
     // No eglTerminate: the surfaceless display is shared with the RHI's devices.
     eglDestroyContext(m_display, m_context);

@@ -20,8 +20,9 @@ packages=(
   build-essential cmake ninja-build pkg-config ccache
   # Vulkan: loader, lavapipe (software ICD), validation layers, tools for diagnostics
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools
-  # OpenGL / OpenGL ES: EGL (surfaceless via Mesa), OSMesa, GLES headers, llvmpipe
-  libegl-dev libegl-mesa0 libgles-dev libgl-dev libosmesa6-dev libgl1-mesa-dri mesa-utils
+  # OpenGL / OpenGL ES: EGL (surfaceless via Mesa), GLES headers, llvmpipe. OSMesa only at run time
+  # (the GL backend loads it with dlopen; the gl_osmesa tests and --gl-platform osmesa need it)
+  libegl-dev libegl-mesa0 libgles-dev libgl-dev libosmesa6 libgl1-mesa-dri mesa-utils
   # Shaders: GLSL -> SPIR-V (glslang), SPIR-V -> GLSL/ESSL (SPIRV-Cross), validator
   glslang-tools glslang-dev spirv-cross libspirv-cross-c-shared-dev spirv-tools
   # Libraries

@@ -176,7 +176,8 @@ void addSizeOption(CLI::App& app, std::string& size) {
 }
 
 void addGLPlatformOption(CLI::App& app, std::string& glPlatform) {
-    app.add_option("--gl-platform", glPlatform, "How the gl/gles backends get a context: egl or osmesa")
+    app.add_option("--gl-platform", glPlatform, "How the gl/gles backends get a context: egl (the display from "
+                   "JANUS_EGL_PLATFORM / JANUS_EGL_DEVICE, else the first that works) or osmesa (if installed)")
         ->default_str("egl")
         ->type_name("PLATFORM");
 }

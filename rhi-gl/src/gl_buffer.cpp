@@ -33,8 +33,7 @@ Buffer::Buffer(ContextPtr context, const BufferDesc& desc) : m_context(std::move
 }
 
 Buffer::~Buffer() {
-    m_context->makeCurrent();
-    m_context->gl.glDeleteBuffers(1, &m_name);
+    if (m_context->makeCurrentForTeardown()) m_context->gl.glDeleteBuffers(1, &m_name);
 }
 
 }  // namespace janus::rhi::gl

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cstring>
 #include <utility>
 #include <glm/gtc/packing.hpp>
@@ -36,7 +37,16 @@ void APIENTRY onDebugMessage(GLenum /*source*/, GLenum type, GLuint id, GLenum s
     const std::optional<MessageSeverity> ours = classifyDebugMessage(type, severity);
     if (!ours) return;
     auto* context = static_cast<Context*>(const_cast<void*>(userParam));
-    context->collectDebugMessage({*ours, fmt::format("GL debug (id {}): {}", id, message)});
+    // Called from inside the driver (any GL call, glDelete* in destructors too): nothing may
+    // unwind through it.
+    try {
+        context->collectDebugMessage({*ours, fmt::format("GL debug (id {}): {}", id, message)});
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "janus: gl: the debug message callback threw (%s); the message is still collected\n",
+                     e.what());
+    } catch (...) {
+        std::fprintf(stderr, "janus: gl: the debug message callback threw; the message is still collected\n");
+    }
 }
 
 template <typename T, typename Interface>
@@ -65,16 +75,39 @@ Context::Context(std::unique_ptr<Platform> platform, bool es)
 }
 
 Context::~Context() {
-    makeCurrent();
-    for (auto& [key, fbo] : m_framebuffers) gl.glDeleteFramebuffers(1, &fbo);
-    if (vertexArray) gl.glDeleteVertexArrays(1, &vertexArray);
+    if (makeCurrentForTeardown()) {
+        for (auto& [key, fbo] : m_framebuffers) gl.glDeleteFramebuffers(1, &fbo);
+        if (vertexArray) gl.glDeleteVertexArrays(1, &vertexArray);
+    }
     if (t_currentContext == this) t_currentContext = nullptr;
+    // m_platform goes next: destroying the context itself only asks the platform, which never throws.
 }
 
 void Context::makeCurrent() {
     if (t_currentContext == this) return;
     m_platform->makeCurrent();
     t_currentContext = this;
+}
+
+bool Context::makeCurrentForTeardown() noexcept {
+    if (m_unreachableAtTeardown) return false;
+    try {
+        makeCurrent();
+        return true;
+    } catch (const std::exception& e) {
+        m_unreachableAtTeardown = true;
+        std::fprintf(stderr,
+                     "janus: gl: the %s context could not be made current at teardown (%s); GL objects are left "
+                     "to the driver\n",
+                     m_platformName.c_str(), e.what());
+    } catch (...) {
+        m_unreachableAtTeardown = true;
+        std::fprintf(stderr,
+                     "janus: gl: the %s context could not be made current at teardown; GL objects are left to "
+                     "the driver\n",
+                     m_platformName.c_str());
+    }
+    return false;
 }
 
 GLuint Context::framebuffer(const FramebufferKey& key, const std::vector<const Texture*>& colorTextures,
@@ -115,8 +148,8 @@ GLuint Context::framebuffer(const FramebufferKey& key, const std::vector<const T
     return fbo;
 }
 
+// Called by ~Texture with the context current.
 void Context::forgetTexture(GLuint texture) {
-    makeCurrent();
     for (auto it = m_framebuffers.begin(); it != m_framebuffers.end();) {
         const FramebufferKey& key = it->first;
         bool uses = key.depth.texture == texture ||
@@ -132,8 +165,9 @@ void Context::forgetTexture(GLuint texture) {
 }
 
 void Context::collectDebugMessage(DebugMessage message) {
+    // Kept before the callback sees it, so a throwing callback loses nothing.
+    (message.severity == MessageSeverity::Performance ? m_performanceMessages : m_debugMessages).push_back(message);
     if (messageCallback) messageCallback(message);
-    (message.severity == MessageSeverity::Performance ? m_performanceMessages : m_debugMessages).push_back(std::move(message));
 }
 
 std::vector<DebugMessage> Context::takeDebugMessages() { return std::exchange(m_debugMessages, {}); }
@@ -142,12 +176,18 @@ std::vector<DebugMessage> Context::takePerformanceMessages() { return std::excha
 // ---------------------------------------------------------------------------------------------
 // Device creation
 
-Device::Device(const DeviceDesc& desc) {
+namespace {
+std::unique_ptr<Platform> createPlatform(const DeviceDesc& desc) {
+    const GLApi api = desc.backend == Backend::GLES ? GLApi::ES30 : GLApi::DesktopCore43;
+    if (desc.glPlatform == rhi::GLPlatform::OSMesa) return createOsmesaPlatform(api, desc.enableValidation);
+    return createEglPlatform(api, desc.enableValidation, eglOptionsFromEnvironment());
+}
+}  // namespace
+
+Device::Device(const DeviceDesc& desc) : Device(desc, createPlatform(desc)) {}
+
+Device::Device(const DeviceDesc& desc, std::unique_ptr<Platform> platform) {
     const bool es = desc.backend == Backend::GLES;
-    const GLApi api = es ? GLApi::ES30 : GLApi::DesktopCore43;
-    std::unique_ptr<Platform> platform = desc.glPlatform == rhi::GLPlatform::OSMesa
-                                               ? createOsmesaPlatform(api, desc.enableValidation)
-                                               : createEglPlatform(api, desc.enableValidation);
     m_context = std::make_shared<Context>(std::move(platform), es);
     m_context->messageCallback = desc.messageCallback;
     const GLFunctions& f = gl();
@@ -188,8 +228,7 @@ Device::Device(const DeviceDesc& desc) {
 
 Device::~Device() {
     // Resources may outlive the device; they keep the context alive. Only drop replay state.
-    m_context->makeCurrent();
-    m_context->gl.glFinish();
+    if (m_context->makeCurrentForTeardown()) m_context->gl.glFinish();
 }
 
 bool Device::hasExtension(std::string_view name) const {

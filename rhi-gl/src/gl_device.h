@@ -52,8 +52,15 @@ public:
     Context(const Context&) = delete;
     Context& operator=(const Context&) = delete;
 
-    // Makes this context current on the calling thread unless it already is.
+    // Makes this context current on the calling thread unless it already is. Throws
+    // Error(DeviceLost) when the platform refuses.
     void makeCurrent();
+    // For destructors, which must never throw: makes the context current and returns true, or,
+    // when the platform refuses (at process exit the driver's EGL may already be shut down, and
+    // static objects are destroyed after it), returns false and says so on stderr, once per
+    // context. The caller then leaves its GL objects to the driver; from then on every call
+    // returns false at once.
+    bool makeCurrentForTeardown() noexcept;
 
     bool isES() const { return m_es; }
     const std::string& platformName() const { return m_platformName; }
@@ -81,6 +88,7 @@ public:
 private:
     std::unique_ptr<Platform> m_platform;
     bool m_es;
+    bool m_unreachableAtTeardown = false;   // makeCurrentForTeardown failed (and said so)
     std::string m_platformName;
     std::map<FramebufferKey, GLuint> m_framebuffers;
     std::vector<DebugMessage> m_debugMessages;
@@ -312,6 +320,8 @@ private:
 class Device final : public IDevice {
 public:
     explicit Device(const DeviceDesc& desc);
+    // With a platform made elsewhere (tests inject doubles through it); desc.glPlatform is ignored.
+    Device(const DeviceDesc& desc, std::unique_ptr<Platform> platform);
     ~Device() override;
 
     BufferHandle createBufferImpl(const BufferDesc& desc) override;

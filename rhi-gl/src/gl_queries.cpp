@@ -8,8 +8,7 @@ TimerQuery::TimerQuery(ContextPtr context) : m_context(std::move(context)) {
 }
 
 TimerQuery::~TimerQuery() {
-    m_context->makeCurrent();
-    m_context->gl.glDeleteQueries(2, m_queries);
+    if (m_context->makeCurrentForTeardown()) m_context->gl.glDeleteQueries(2, m_queries);
 }
 
 void Device::timestamp(GLuint query) { gl().glQueryCounter(query, GL_TIMESTAMP); }

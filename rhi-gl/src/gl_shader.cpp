@@ -84,8 +84,7 @@ Shader::Shader(ContextPtr context, const ShaderDesc& desc) : m_context(std::move
 }
 
 Shader::~Shader() {
-    m_context->makeCurrent();
-    m_context->gl.glDeleteShader(m_name);
+    if (m_context->makeCurrentForTeardown()) m_context->gl.glDeleteShader(m_name);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -104,8 +103,7 @@ Pipeline::Pipeline(ContextPtr context, const ComputePipelineDesc& desc)
 }
 
 Pipeline::~Pipeline() {
-    m_context->makeCurrent();
-    m_context->gl.glDeleteProgram(m_program);
+    if (m_context->makeCurrentForTeardown()) m_context->gl.glDeleteProgram(m_program);
 }
 
 void Pipeline::link(const std::vector<const Shader*>& shaders, const std::string& debugName) {

@@ -144,6 +144,7 @@ void Texture::zeroContents() const {
 }
 
 Texture::~Texture() {
+    if (!m_context->makeCurrentForTeardown()) return;
     m_context->forgetTexture(m_name);
     for (auto& [key, view] : m_views) m_context->gl.glDeleteTextures(1, &view);
     m_context->gl.glDeleteTextures(1, &m_name);
@@ -348,8 +349,7 @@ Sampler::Sampler(ContextPtr context, const SamplerDesc& desc, bool anisotropySup
 }
 
 Sampler::~Sampler() {
-    m_context->makeCurrent();
-    m_context->gl.glDeleteSamplers(1, &m_name);
+    if (m_context->makeCurrentForTeardown()) m_context->gl.glDeleteSamplers(1, &m_name);
 }
 
 }  // namespace janus::rhi::gl

@@ -2,6 +2,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cstring>
 #include <string_view>
 #include <utility>
@@ -17,15 +18,24 @@ VKAPI_ATTR VkBool32 VKAPI_CALL onDebugMessage(VkDebugUtilsMessageSeverityFlagBit
                                                VkDebugUtilsMessageTypeFlagsEXT types,
                                                const VkDebugUtilsMessengerCallbackDataEXT* data, void* user) {
     auto* context = static_cast<Context*>(user);
-    DebugMessage message;
-    // As the GL policy (gl_debug_policy.cpp): errors fail; a performance warning is counted apart.
-    const bool error = (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) != 0;
-    const bool performance = (types & VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT) != 0 &&
-                             (types & VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT) == 0;
-    message.severity = error ? MessageSeverity::Error : performance ? MessageSeverity::Performance : MessageSeverity::Warning;
-    message.text = fmt::format("[{}] {}", data->pMessageIdName ? data->pMessageIdName : "vulkan",
-                               data->pMessage ? data->pMessage : "");
-    context->addMessage(std::move(message));
+    // Called from inside the loader and the layer (any Vulkan call, vkDestroy* in destructors
+    // too): nothing may unwind through them, so a throwing user callback stops here.
+    try {
+        DebugMessage message;
+        // As the GL policy (gl_debug_policy.cpp): errors fail; a performance warning is counted apart.
+        const bool error = (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) != 0;
+        const bool performance = (types & VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT) != 0 &&
+                                 (types & VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT) == 0;
+        message.severity = error ? MessageSeverity::Error : performance ? MessageSeverity::Performance : MessageSeverity::Warning;
+        message.text = fmt::format("[{}] {}", data->pMessageIdName ? data->pMessageIdName : "vulkan",
+                                   data->pMessage ? data->pMessage : "");
+        context->addMessage(std::move(message));
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "janus: vulkan: the debug message callback threw (%s); the message is still collected\n",
+                     e.what());
+    } catch (...) {
+        std::fprintf(stderr, "janus: vulkan: the debug message callback threw; the message is still collected\n");
+    }
     return VK_FALSE;   // never abort the call: the RHI reports, the test decides
 }
 

@@ -24,9 +24,25 @@ const std::vector<Config>& allConfigs() {
     return configs;
 }
 
-rhi::IDevice& deviceFor(rhi::Backend backend) {
+namespace {
+std::map<rhi::Backend, std::unique_ptr<rhi::IDevice>>& sharedDevices() {
     static std::map<rhi::Backend, std::unique_ptr<rhi::IDevice>> devices;
-    std::unique_ptr<rhi::IDevice>& device = devices[backend];
+    return devices;
+}
+
+// The shared devices go when the tests have run, not among the static destructors: by then a
+// driver may have shut its EGL down (NVIDIA's does at exit, issue 10), leaving the device unable
+// to release its objects.
+class ReleaseSharedDevices : public testing::Environment {
+public:
+    void TearDown() override { sharedDevices().clear(); }
+};
+[[maybe_unused]] testing::Environment* const kReleaseSharedDevices =
+    testing::AddGlobalTestEnvironment(new ReleaseSharedDevices);
+}  // namespace
+
+rhi::IDevice& deviceFor(rhi::Backend backend) {
+    std::unique_ptr<rhi::IDevice>& device = sharedDevices()[backend];
     if (!device) device = rhi::createDevice(rhi::DeviceDesc{}.setBackend(backend).setEnableValidation(true).setEnableSynchronizationValidation(true));
     return *device;
 }

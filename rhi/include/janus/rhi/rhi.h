@@ -69,7 +69,9 @@ enum class Backend { Vulkan, GL, GLES };
 const char* toString(Backend backend);            // "vulkan", "gl", "gles"
 std::optional<Backend> parseBackend(std::string_view name);
 
-// How the GL backends get a context. Vulkan ignores it.
+// How the GL backends get a context. Vulkan ignores it. EGL picks its display itself (surfaceless,
+// then an EGL device, then the default display; JANUS_EGL_PLATFORM / JANUS_EGL_DEVICE force one).
+// OSMesa is loaded at run time: without it installed, OSMesa is BackendUnavailable.
 enum class GLPlatform { EGL, OSMesa };
 const char* toString(GLPlatform platform);        // "egl", "osmesa"
 std::optional<GLPlatform> parseGLPlatform(std::string_view name);
@@ -95,7 +97,9 @@ struct DeviceDesc {
     // barrier orders: a missing or too narrow barrier). Slower; needs enableValidation. The GL
     // backends have no such tool and ignore it.
     bool enableSynchronizationValidation = false;
-    // Called for every collected message as it arrives (optional).
+    // Called for every collected message as it arrives (optional). It runs inside the driver, so
+    // it must not throw: an exception is caught there and printed on stderr, and the message is
+    // still collected.
     std::function<void(const DebugMessage&)> messageCallback;
 
     DeviceDesc& setBackend(Backend v) { backend = v; return *this; }
@@ -158,7 +162,9 @@ struct DeviceInfo {
     std::string apiVersion;      // "Vulkan 1.3.230", "OpenGL 4.5 (Core Profile) Mesa 22.3.6"
     std::string deviceName;      // "llvmpipe (LLVM 15.0.6, 256 bits)"
     std::string driverInfo;      // driver name / version string
-    std::string platform;        // "headless" for Vulkan, "egl" or "osmesa" for GL
+    std::string platform;        // "headless" for Vulkan; GL: "osmesa", or "egl (<display>)" naming the
+                                 // EGL display: "egl (surfaceless)", "egl (device 0: /dev/dri/card0)",
+                                 // "egl (default display)" (docs/ARCHITECTURE.md, "GL context platforms")
     std::string shadingLanguage; // "SPIR-V 1.5", "GLSL 430", "ESSL 300"
 };
 
