@@ -20,6 +20,27 @@ spv::ExecutionModel executionModel(ShaderStage stage) {
     return spv::ExecutionModelVertex;
 }
 
+// `invariant gl_Position` in every vertex shader: the renderer's depth prepass and forward pass run
+// one vertex shader in two GL programs and the forward pass tests LessOrEqual against the
+// prepass's depth, so both must compute the same depth bits. Across GL programs only `invariant`
+// promises that (`precise`, which the shaders use, forbids FMA contraction within one program; a
+// driver may still compile the stage differently per program). The SPIR-V leaves the decoration
+// out because Mesa's SPIR-V reader warns on glslang's Invariant member decoration of gl_PerVertex.
+void markPositionInvariant(spirv_cross::CompilerGLSL& compiler, const spirv_cross::ShaderResources& resources) {
+    for (const spirv_cross::BuiltInResource& builtin : resources.builtin_outputs) {
+        if (builtin.builtin != spv::BuiltInPosition) continue;
+        const spirv_cross::SPIRType& type = compiler.get_type(builtin.resource.base_type_id);
+        if (type.basetype != spirv_cross::SPIRType::Struct) {
+            compiler.set_decoration(builtin.resource.id, spv::DecorationInvariant);
+            continue;
+        }
+        for (uint32_t member = 0; member < uint32_t(type.member_types.size()); ++member)
+            if (compiler.has_member_decoration(type.self, member, spv::DecorationBuiltIn) &&
+                compiler.get_member_decoration(type.self, member, spv::DecorationBuiltIn) == spv::BuiltInPosition)
+                compiler.set_member_decoration(type.self, member, spv::DecorationInvariant);
+    }
+}
+
 }  // namespace
 
 GlslTranslation translateToGlsl(const ShaderDesc& desc, const GlslTarget& target) {
@@ -93,6 +114,8 @@ GlslTranslation translateToGlsl(const ShaderDesc& desc, const GlslTarget& target
         renameByLocation(resources.stage_inputs, "janus_varying");
         renameByLocation(resources.stage_outputs, "janus_color");
     }
+
+    if (desc.stage == ShaderStage::Vertex) markPositionInvariant(compiler, resources);
 
     spirv_cross::CompilerGLSL::Options options = compiler.get_common_options();
     options.version = es ? 300 : 430;

@@ -21,8 +21,9 @@ layout(location = 5) out vec4 vColor;
 void main() {
     // The depth prepass and the forward pass (depth test LessOrEqual, no depth write) must get the
     // same depth bits for the same vertex: `precise` forbids contracting these products into
-    // FMAs differently per pipeline. (`invariant gl_Position` would say the same, but Mesa warns
-    // on glslang's decoration of the gl_PerVertex member.)
+    // FMAs differently per pipeline. Across GL programs only `invariant gl_Position` promises
+    // equal results; the GL translation adds it (gl_shader_translation.cpp). The SPIR-V leaves it
+    // out: Mesa's SPIR-V reader warns on glslang's decoration of the gl_PerVertex member.
     precise vec4 world = draw.world * vec4(inPosition, 1.0);
     vWorldPosition = world.xyz;
     vNormal = mat3(draw.normalMatrix) * inNormal;
