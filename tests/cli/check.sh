@@ -40,8 +40,10 @@ check_report() {
     fail "$dir: check.json or check.md missing"
     return 0
   fi
-  problems=$(python3 - "$dir" "$width" "$height" "$status" <<'PY'
+  problems=$(python3 - "$dir" "$width" "$height" "$status" "$CLI_DIR" <<'PY'
 import json, math, os, struct, sys, zlib
+sys.path.insert(0, sys.argv[5])
+import pngio
 
 out, width, height, rc = sys.argv[1], int(sys.argv[2]), int(sys.argv[3]), int(sys.argv[4])
 j = json.load(open(os.path.join(out, "check.json")))
@@ -49,36 +51,9 @@ problems = []
 def check(ok, message):
     if not ok: problems.append(message)
 
-def read_png(path):
-    data = open(path, "rb").read()
-    assert data[:8] == b"\x89PNG\r\n\x1a\n", "not a PNG"
-    pos, idat = 8, b""
-    while pos < len(data):
-        length, kind = struct.unpack(">I4s", data[pos:pos + 8])
-        body = data[pos + 8:pos + 8 + length]
-        if kind == b"IHDR":
-            w, h, depth, colour = struct.unpack(">IIBB", body[:10])
-            assert depth == 8 and colour in (2, 6), f"PNG depth {depth} colour type {colour}"
-            channels = 4 if colour == 6 else 3
-        elif kind == b"IDAT":
-            idat += body
-        pos += 12 + length
-    raw, stride, rows, prev = zlib.decompress(idat), w * channels, [], bytearray(w * channels)
-    for y in range(h):
-        f, line = raw[y * (stride + 1)], bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
-        for i in range(stride):
-            a = line[i - channels] if i >= channels else 0
-            b, c = prev[i], prev[i - channels] if i >= channels else 0
-            if f == 1: line[i] = (line[i] + a) & 255
-            elif f == 2: line[i] = (line[i] + b) & 255
-            elif f == 3: line[i] = (line[i] + (a + b) // 2) & 255
-            elif f == 4:
-                p = a + b - c
-                pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
-                line[i] = (line[i] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
-        rows.append([tuple(line[x * channels:x * channels + 3]) for x in range(w)])
-        prev = line
-    return w, h, rows
+def read_png(path):   # rows of (r, g, b) tuples
+    w, h, rgba = pngio.read_png(path)
+    return w, h, [[tuple(r[x * 4:x * 4 + 3]) for x in range(w)] for r in rgba]
 
 file_states = {"rendered", "diverged", "failed", "refused"}
 config_states = {"rendered", "failed", "unavailable", "not-run"}

@@ -8,6 +8,9 @@ if (($# < 2)); then
 fi
 JANUS=$1
 REPO_ROOT=$2
+# This folder: the scripts' Python helpers (pngio.py) live here.
+CLI_DIR=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+export PYTHONDONTWRITEBYTECODE=1   # importing pngio must not write __pycache__ into the source tree
 if [[ ! -x $JANUS ]]; then
   echo "FAIL: janus binary '$JANUS' is not executable" >&2
   exit 1

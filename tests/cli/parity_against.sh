@@ -12,30 +12,15 @@ json_check "$TMP/machine-b/parity.json" 'j["against"]["tolerance"] == 1 and len(
 check_png "$TMP/machine-b/against-gl-fallback.png" 32 32
 
 # A driver that draws one region 20 steps brighter in gl-fallback's image.
-python3 - "$TMP/machine-a/gl-fallback.png" <<'PY'
-import struct, sys, zlib
-path = sys.argv[1]
-data = open(path, "rb").read()
-w, h = struct.unpack(">II", data[16:24])
-pos, idat = 8, b""
-while pos < len(data):
-    n, kind = struct.unpack(">I4s", data[pos:pos + 8])
-    if kind == b"IDAT": idat += data[pos + 8:pos + 8 + n]
-    pos += 12 + n
-raw, stride, rows, prev = zlib.decompress(idat), w * 4, [], bytearray(w * 4)
-for y in range(h):
-    f, line = raw[y * (stride + 1)], bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
-    for x in range(stride):
-        a = line[x - 4] if x >= 4 else 0; b = prev[x]; c = prev[x - 4] if x >= 4 else 0
-        p = a + b - c; pr = a if abs(p - a) <= abs(p - b) and abs(p - a) <= abs(p - c) else (b if abs(p - b) <= abs(p - c) else c)
-        line[x] = (line[x] + [0, a, b, (a + b) // 2, pr][f]) & 255
-    rows.append(line); prev = line
+python3 - "$TMP/machine-a/gl-fallback.png" "$CLI_DIR" <<'PY'
+import sys
+sys.path.insert(0, sys.argv[2])
+from pngio import read_png, write_png
+w, h, rows = read_png(sys.argv[1])
 for y in range(4, 8):
     for x in range(4 * 4, 8 * 4):
         if x % 4 != 3: rows[y][x] = min(255, rows[y][x] + 20)
-out = b"".join(b"\0" + bytes(r) for r in rows)
-def chunk(kind, body): return struct.pack(">I", len(body)) + kind + body + struct.pack(">I", zlib.crc32(kind + body) & 0xffffffff)
-open(path, "wb").write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 6, 0, 0, 0)) + chunk(b"IDAT", zlib.compress(out)) + chunk(b"IEND", b""))
+write_png(sys.argv[1], w, h, rows)
 PY
 run_janus parity --size 32x32 --out "$TMP/machine-c" --against "$TMP/machine-a"
 [[ $rc == 1 ]] || fail "a changed image in --against must fail parity (exit 1), got $rc"

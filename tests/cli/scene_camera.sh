@@ -36,23 +36,11 @@ PY
 
 # The colour of the centre pixel and the fraction of the image the quad covers.
 measure() {
-  python3 - "$1" <<'PY'
-import struct, sys, zlib
-data = open(sys.argv[1], "rb").read()
-w, h = struct.unpack(">II", data[16:24])
-pos, idat = 8, b""
-while pos < len(data):
-    n, kind = struct.unpack(">I4s", data[pos:pos + 8])
-    if kind == b"IDAT": idat += data[pos + 8:pos + 8 + n]
-    pos += 12 + n
-raw, stride, rows, prev = zlib.decompress(idat), w * 4, [], bytearray(w * 4)
-for y in range(h):
-    f, line = raw[y * (stride + 1)], bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
-    for x in range(stride):
-        a = line[x - 4] if x >= 4 else 0; b = prev[x]; c = prev[x - 4] if x >= 4 else 0
-        p = a + b - c; pr = a if abs(p - a) <= abs(p - b) and abs(p - a) <= abs(p - c) else (b if abs(p - b) <= abs(p - c) else c)
-        line[x] = (line[x] + [0, a, b, (a + b) // 2, pr][f]) & 255
-    rows.append(line); prev = line
+  python3 - "$1" "$CLI_DIR" <<'PY'
+import sys
+sys.path.insert(0, sys.argv[2])
+from pngio import read_png
+w, h, rows = read_png(sys.argv[1])
 centre = rows[h // 2][(w // 2) * 4:(w // 2) * 4 + 3]
 covered = sum(1 for r in rows for x in range(w) if max(r[x * 4:x * 4 + 3]) > 100)
 colour = "red" if centre[0] > 150 and centre[1] < 80 else "green" if centre[1] > 150 and centre[0] < 80 else "other"
