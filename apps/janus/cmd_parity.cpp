@@ -1,5 +1,4 @@
 // `janus parity`: render every configuration and compare every pair pixel by pixel.
-#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -71,6 +70,63 @@ void checkAgainstSummary(const AgainstDirectory& against, const std::string& sce
                      otherScene.c_str(), scene.c_str());
 }
 
+// One comparison's table row and JSON fields (`pair` or an --against entry): the heat map is written
+// to `heatmap`. JSON has no infinity: identical images say so and carry a null PSNR.
+void recordDifference(const std::string& name, const renderer::ImageRGBA8& a, const renderer::ImageRGBA8& b,
+                      const renderer::ImageDifference& diff, bool passed, const std::filesystem::path& heatmap,
+                      std::vector<std::vector<std::string>>& rows, nlohmann::json& entry) {
+    renderer::writePNG(heatmap, renderer::differenceHeatmap(a, b, kHeatmapFullScaleSteps));
+    rows.push_back({name, std::to_string(diff.maxChannelDifference), psnrText(diff.psnr),
+                    fmt::format("{} / {}", diff.differingPixels, diff.totalPixels), passed ? "ok" : "FAIL"});
+    entry["compared"] = true;
+    entry["maxChannelDifference"] = diff.maxChannelDifference;
+    entry["identical"] = std::isinf(diff.psnr);
+    entry["psnr"] = std::isinf(diff.psnr) ? nlohmann::json(nullptr) : nlohmann::json(diff.psnr);
+    entry["differingPixels"] = diff.differingPixels;
+    entry["totalPixels"] = diff.totalPixels;
+    entry["heatmap"] = heatmap.filename().string();
+    entry["passed"] = passed;
+}
+
+// Each configuration that ran against the same configuration's image in --against's directory:
+// prints the table, returns parity.json's `against` and clears `passed` on a failure.
+nlohmann::json compareAgainst(const AgainstDirectory& against, const std::vector<ConfigurationResult>& results,
+                              const std::filesystem::path& outDir, bool& passed) {
+    std::vector<std::vector<std::string>> rows{
+        {"configuration", "max diff", "PSNR dB", fmt::format("pixels > {} step(s)", against.tolerance), "result"}};
+    nlohmann::json entries = nlohmann::json::array();
+    bool anyCompared = false;
+    for (const ConfigurationResult& r : results) {
+        if (r.image.empty()) continue;   // did not run here: already a failure
+        const std::filesystem::path theirs = against.dir / (r.stem + ".png");
+        nlohmann::json entry{{"configuration", r.stem}, {"image", theirs.string()}};
+        std::error_code missing;
+        if (!std::filesystem::exists(theirs, missing)) {
+            // The other machine may lack a backend: said, not a failure.
+            rows.push_back({r.stem, "-", "-", "-", "not in --against"});
+            entry["compared"] = false;
+            entries.push_back(std::move(entry));
+            continue;
+        }
+        const renderer::ImageRGBA8& ours = r.outcome->display;
+        const renderer::ImageRGBA8 other = renderer::readPNG(theirs);
+        if (other.width != ours.width || other.height != ours.height)
+            throw InputError(fmt::format("--against: {} is {}x{}, this run's {} is {}x{}", theirs.string(), other.width, other.height,
+                                         r.stem, ours.width, ours.height));
+        const renderer::ImageDifference diff = renderer::compareImages(ours, other, against.tolerance);
+        const bool ok = diff.differingPixels == 0;
+        recordDifference(r.stem, ours, other, diff, ok, outDir / fmt::format("against-{}.png", r.stem), rows, entry);
+        passed = passed && ok;
+        anyCompared = true;
+        entries.push_back(std::move(entry));
+    }
+    if (!anyCompared) passed = false;   // nothing in common: the comparison asked for did not happen
+    std::printf("\nagainst %s (tolerance %u step(s)):\n", against.dir.c_str(), against.tolerance);
+    std::fputs(formatTable(rows).c_str(), stdout);
+    if (!anyCompared) std::printf("no configuration of this run has an image in --against: nothing was compared\n");
+    return {{"dir", against.dir.string()}, {"tolerance", against.tolerance}, {"configurations", entries}};
+}
+
 int run(const ParityOptions& options) {
     RenderRequest base;
     base.size = parseSize(options.size);
@@ -138,22 +194,9 @@ int run(const ParityOptions& options) {
         const std::string pairName = fmt::format("{} vs {}", a.stem, b.stem);
         nlohmann::json pair{{"a", a.stem}, {"b", b.stem}};
         if (comparison.difference) {
-            const renderer::ImageDifference& diff = *comparison.difference;
-            const bool pairPassed = comparison.passed;
-            const std::filesystem::path heatmap = outDir / fmt::format("diff-{}-vs-{}.png", a.stem, b.stem);
-            renderer::writePNG(heatmap, renderer::differenceHeatmap(a.outcome->display, b.outcome->display, kHeatmapFullScaleSteps));
-            pairRows.push_back({pairName, std::to_string(diff.maxChannelDifference), psnrText(diff.psnr),
-                                fmt::format("{} / {}", diff.differingPixels, diff.totalPixels), pairPassed ? "ok" : "FAIL"});
-            pair["compared"] = true;
-            pair["maxChannelDifference"] = diff.maxChannelDifference;
-            // JSON has no infinity: identical images say so explicitly and carry a null PSNR.
-            pair["identical"] = std::isinf(diff.psnr);
-            pair["psnr"] = std::isinf(diff.psnr) ? nlohmann::json(nullptr) : nlohmann::json(diff.psnr);
-            pair["differingPixels"] = diff.differingPixels;
-            pair["totalPixels"] = diff.totalPixels;
-            pair["heatmap"] = heatmap.filename().string();
-            pair["passed"] = pairPassed;
-            passed = passed && pairPassed;
+            recordDifference(pairName, a.outcome->display, b.outcome->display, *comparison.difference, comparison.passed,
+                             outDir / fmt::format("diff-{}-vs-{}.png", a.stem, b.stem), pairRows, pair);
+            passed = passed && comparison.passed;
         } else {
             const std::string missing = a.image.empty() ? a.stem : b.stem;
             pairRows.push_back({pairName, "-", "-", "-", fmt::format("FAIL (not compared: {} did not run)", missing)});
@@ -167,50 +210,7 @@ int run(const ParityOptions& options) {
     std::fputs(formatTable(pairRows).c_str(), stdout);
 
     nlohmann::json againstJson;
-    if (against) {
-        // Each configuration against the same configuration's image in DIR.
-        std::vector<std::vector<std::string>> rows{
-            {"configuration", "max diff", "PSNR dB", fmt::format("pixels > {} step(s)", against->tolerance), "result"}};
-        nlohmann::json entries = nlohmann::json::array();
-        for (const ConfigurationResult& r : results) {
-            if (r.image.empty()) continue;   // did not run here: already a failure above
-            const std::filesystem::path theirs = against->dir / (r.stem + ".png");
-            nlohmann::json entry{{"configuration", r.stem}, {"image", theirs.string()}};
-            std::error_code missing;
-            if (!std::filesystem::exists(theirs, missing)) {
-                // The other machine may lack a backend: said, not a failure.
-                rows.push_back({r.stem, "-", "-", "-", "not in --against"});
-                entry["compared"] = false;
-                entries.push_back(std::move(entry));
-                continue;
-            }
-            const renderer::ImageRGBA8 other = renderer::readPNG(theirs);
-            if (other.width != r.outcome->display.width || other.height != r.outcome->display.height)
-                throw InputError(fmt::format("--against: {} is {}x{}, this run's {} is {}x{}", theirs.string(), other.width, other.height,
-                                             r.stem, r.outcome->display.width, r.outcome->display.height));
-            const renderer::ImageDifference diff = renderer::compareImages(r.outcome->display, other, against->tolerance);
-            const bool ok = diff.differingPixels == 0;
-            const std::filesystem::path heatmap = outDir / fmt::format("against-{}.png", r.stem);
-            renderer::writePNG(heatmap, renderer::differenceHeatmap(r.outcome->display, other, kHeatmapFullScaleSteps));
-            rows.push_back({r.stem, std::to_string(diff.maxChannelDifference), psnrText(diff.psnr),
-                            fmt::format("{} / {}", diff.differingPixels, diff.totalPixels), ok ? "ok" : "FAIL"});
-            entry["compared"] = true;
-            entry["maxChannelDifference"] = diff.maxChannelDifference;
-            entry["psnr"] = std::isinf(diff.psnr) ? nlohmann::json(nullptr) : nlohmann::json(diff.psnr);
-            entry["differingPixels"] = diff.differingPixels;
-            entry["totalPixels"] = diff.totalPixels;
-            entry["heatmap"] = heatmap.filename().string();
-            entry["passed"] = ok;
-            passed = passed && ok;
-            entries.push_back(std::move(entry));
-        }
-        const bool anyCompared = std::any_of(entries.begin(), entries.end(), [](const nlohmann::json& e) { return e.at("compared").get<bool>(); });
-        if (!anyCompared) passed = false;   // nothing in common: the comparison asked for did not happen
-        std::printf("\nagainst %s (tolerance %u step(s)):\n", against->dir.c_str(), against->tolerance);
-        std::fputs(formatTable(rows).c_str(), stdout);
-        if (!anyCompared) std::printf("no configuration of this run has an image in --against: nothing was compared\n");
-        againstJson = {{"dir", against->dir.string()}, {"tolerance", against->tolerance}, {"configurations", entries}};
-    }
+    if (against) againstJson = compareAgainst(*against, results, outDir, passed);
 
     nlohmann::json configsJson = nlohmann::json::array();
     for (const ConfigurationResult& r : results) {
