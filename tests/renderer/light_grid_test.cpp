@@ -62,7 +62,7 @@ void PrintTo(const CameraCase& cameraCase, std::ostream* os) { *os << cameraCase
 
 std::vector<CameraCase> cameraCases() { return {{"perspective", testCamera()}, {"orthographic", orthographicTestCamera()}}; }
 
-bool isOrthographic(const TileGrid& grid) { return grid.projection[2][3] == 0.0f; }
+bool isOrthographic(const TileGrid& grid) { return isOrthographicProjection(grid.projection); }
 
 // Stored depth for view distance d: the projection's z / w at z = -d (perspective: P32 / d - P22,
 // the inverse of d = P32 / (z + P22); orthographic: P32 - P22 d).

@@ -70,8 +70,6 @@ struct TileRegion {
     bool hasGeometry;
 };
 
-bool isOrthographic(const glm::mat4& projection) { return projection[2][3] == 0.0f; }
-
 // Stored depth -> distance along the view axis, for either projection: depth = (P22 z + P32) / w
 // with w = P23 z + P33 and z = -d. Perspective (P23 = -1, P33 = 0): d = P32 / (depth + P22);
 // orthographic (P23 = 0, P33 = 1): d = (P32 - depth) / P22. The same operations as the
@@ -88,7 +86,7 @@ float linearDepth(const glm::mat4& projection, float depth) {
 // Orthographic depth is linear: d = (P32 - z) / P22 turns dz into dz / |P22|, the same everywhere,
 // with the stored depth's error relative to max(z, |P32|).
 float depthMargin(const glm::mat4& projection, float z, float d) {
-    if (isOrthographic(projection)) {
+    if (isOrthographicProjection(projection)) {
         const float zError = kDepthUlps * (std::abs(z) + std::abs(projection[3][2]));
         return d * kDepthRelativeMargin + zError / std::abs(projection[2][2]);
     }

@@ -25,6 +25,11 @@ struct ViewPasses {
     bool reflectionProbes = true;  // glossy reflections from the scene's probes (captures leave them out: no feedback)
 };
 
+// Whether a projection of the renderer's kind (symmetric perspective or orthographic, Vulkan clip
+// conventions) is orthographic: its clip w is 1 rather than -z, so P23 is 0. Light culling and
+// SceneView::orthographic() read it here; light_culling_common.glsl has the GLSL twin.
+inline bool isOrthographicProjection(const glm::mat4& projection) { return projection[2][3] == 0.0f; }
+
 struct SceneView {
     std::string name = "main";
     // World -> view and view -> clip with Vulkan's clip conventions (depth [0, 1], NDC y = -1 is
@@ -45,7 +50,7 @@ struct SceneView {
     DebugView debugView = DebugView::None;
 
     glm::mat4 viewProjection() const { return projection * view; }
-    bool orthographic() const { return projection[2][3] == 0.0f; }
+    bool orthographic() const { return isOrthographicProjection(projection); }
     // The unit world direction opposite to the view direction (view space +z).
     glm::vec3 backward() const { return glm::normalize(glm::vec3(view[0][2], view[1][2], view[2][2])); }
     // The camera as shaders take it: (position, 1), or for an orthographic view, whose rays are
