@@ -86,6 +86,15 @@ public:
 
     PFN_vkCmdBeginRendering cmdBeginRendering = nullptr;
     PFN_vkCmdEndRendering cmdEndRendering = nullptr;
+    // The per-draw / per-dispatch commands, from vkGetDeviceProcAddr: they reach the driver (or
+    // the layers) directly instead of through the loader's trampoline.
+    PFN_vkCmdBindPipeline cmdBindPipeline = nullptr;
+    PFN_vkCmdBindDescriptorSets cmdBindDescriptorSets = nullptr;
+    PFN_vkCmdBindVertexBuffers cmdBindVertexBuffers = nullptr;
+    PFN_vkCmdBindIndexBuffer cmdBindIndexBuffer = nullptr;
+    PFN_vkCmdDraw cmdDraw = nullptr;
+    PFN_vkCmdDrawIndexed cmdDrawIndexed = nullptr;
+    PFN_vkCmdDispatch cmdDispatch = nullptr;
     PFN_vkCmdBeginDebugUtilsLabelEXT cmdBeginDebugLabel = nullptr;
     PFN_vkCmdEndDebugUtilsLabelEXT cmdEndDebugLabel = nullptr;
     PFN_vkSetDebugUtilsObjectNameEXT setDebugObjectName = nullptr;
@@ -133,18 +142,18 @@ void hostBarrier(VkCommandBuffer cmd);
 // Casts an RHI handle to this backend's class; throws InvalidUsage for null or foreign objects.
 // The backend classes are final, so comparing the dynamic type is exact and cheaper than
 // dynamic_cast (this runs on every bind and draw).
+[[noreturn]] void throwNotThisBackend(bool null, std::string_view what);
 template <class Native, class Interface>
 Native* native(const std::shared_ptr<Interface>& handle, std::string_view what) {
     static_assert(std::is_final_v<Native>);
-    if (!handle || typeid(*handle) != typeid(Native))
-        throw Error(ErrorCode::InvalidUsage,
-                    std::string(what) + (handle ? " was not created by this Vulkan device" : " is null"));
+    if (!handle || typeid(*handle) != typeid(Native)) [[unlikely]] throwNotThisBackend(!handle, what);
     return static_cast<Native*>(handle.get());
 }
 
 // The recording that last kept an object alive (CommandList::keep), so each object is kept once
 // per recording instead of once per use, and the objects a list used in its previous recording
-// too are not released and re-kept. `slot` is where the list that retained the object holds it.
+// too are not released and re-kept. `slot` is where the list that last kept the object holds it;
+// a list trusts it only when its own entry there holds this mark.
 // Several lists may record at once: the mark then says only which of them touched the object
 // last, so a list decides what to release from its own entries (Kept::usedIn), never from the
 // mark. Relaxed atomics: a stale or torn read at worst keeps an object twice, which is harmless.
@@ -184,7 +193,12 @@ public:
     void record(const ResourceAccess& access);
     // The accesses of one command: a barrier first if any conflicts, then tracks them all (all
     // are checked before any is tracked: a command does not conflict with itself).
-    void access(VkCommandBuffer cmd, std::span<const ResourceAccess> accesses);
+    void access(VkCommandBuffer cmd, std::span<const ResourceAccess> accesses) {
+        if (accesses.size() == 1) [[likely]]
+            accessOne(cmd, accesses[0]);
+        else
+            accessMany(cmd, accesses);
+    }
     bool hasWrites() const { return m_unknownWrites || m_srcAccess != 0; }
     void barrier(VkCommandBuffer cmd);
     // The next barrier() forgets what it would order without recording it (tests only).
@@ -217,7 +231,26 @@ private:
         RangeSet reads;
         RangeSet writes;
     };
-    Tracked* find(const void* resource);
+    // Consecutive commands mostly touch the resource found last: that lookup is inline.
+    Tracked* find(const void* resource) {
+        if (m_lastFound < m_tracked.size() && m_tracked[m_lastFound].resource == resource) [[likely]]
+            return &m_tracked[m_lastFound];
+        return search(resource);
+    }
+    Tracked* search(const void* resource);
+    // One lookup instead of two (conflicts + record): the common dispatch binds one storage range.
+    void accessOne(VkCommandBuffer cmd, const ResourceAccess& only) {
+        Tracked* tracked = m_unknownWrites ? nullptr : find(only.resource);
+        if (m_unknownWrites || (tracked && conflicts(*tracked, only))) [[unlikely]] {
+            barrier(cmd);
+            tracked = nullptr;
+        }
+        if (tracked)
+            record(*tracked, only);
+        else
+            record(only);
+    }
+    void accessMany(VkCommandBuffer cmd, std::span<const ResourceAccess> accesses);
     const Tracked* find(const void* resource) const { return const_cast<HazardTracker*>(this)->find(resource); }
     static bool conflicts(const Tracked& tracked, const ResourceAccess& access) {
         if (tracked.writes.overlaps(access.range)) return true;           // read or write after write
@@ -472,29 +505,44 @@ private:
     [[noreturn]] void throwNotRecordingOrInPass(std::string_view call) const;
     void bindDescriptorSets(Pipeline& pipeline, VkPipelineBindPoint bindPoint, uint32_t& dirtyMask,
                             std::array<const BindingSet::LayoutUse*, Pipeline::kMaxSets>& uses);
+    [[noreturn]] void throwNoBindingSet(const Pipeline& pipeline, uint32_t set) const;
     void checkDrawState(std::string_view call);
     // validateViewOverlaps over the texture items of the sets `pipeline` uses.
     void checkViewOverlaps(const Pipeline& pipeline, const std::array<const BindingSet::LayoutUse*, Pipeline::kMaxSets>& uses,
                            bool inPass, std::string_view call);
+    void checkTextureViewOverlaps(const Pipeline& pipeline,
+                                  const std::array<const BindingSet::LayoutUse*, Pipeline::kMaxSets>& uses, bool inPass,
+                                  std::string_view call);
     void prepareDraw(std::string_view call);
+    [[noreturn]] void throwDrawOutsidePass(std::string_view call) const;
+    // The accesses of the sets `untracked` (bits) of a draw's pipeline, after the view check.
+    void trackDrawBindings(const Pipeline& pipeline, uint32_t untracked, std::string_view call);
+    void trackVertexBuffers(const Pipeline& pipeline);
+    // Hands the reads gathered in m_passReads to the hazard tracker.
+    void flushPassReads();
     // Barrier first if any of `accesses` conflicts with what was tracked, then tracks them.
     void access(std::initializer_list<ResourceAccess> accesses);
-    // Keeps `handle` alive until this list is re-begun or destroyed, once per recording.
+    // Keeps `handle` alive until this list is re-begun or destroyed, once per recording. An
+    // object this list already holds (from its previous recording, found through the mark's
+    // slot) is only marked as used again: no reference counting, no push.
     template <class Interface>
     void keep(const std::shared_ptr<Interface>& handle, KeepMark& mark) {
-        const uint64_t last = mark.recording.load(std::memory_order_relaxed);
-        if (last == m_recordingId) return;
+        if (mark.recording.load(std::memory_order_relaxed) == m_recordingId) return;
         mark.recording.store(m_recordingId, std::memory_order_relaxed);
-        if (last == m_retainedId) {   // held since this list's previous recording
-            const uint32_t slot = mark.slot.load(std::memory_order_relaxed);
-            if (slot < m_keepAlive.size() && m_keepAlive[slot].mark == &mark) {
-                m_keepAlive[slot].usedIn = m_recordingId;
-                return;
+        const uint32_t slot = mark.slot.load(std::memory_order_relaxed);
+        if (slot < m_keepAlive.size() && m_keepAlive[slot].mark == &mark) {
+            Kept& entry = m_keepAlive[slot];
+            if (entry.usedIn != m_recordingId) {
+                entry.usedIn = m_recordingId;
+                ++m_keptEntriesUsed;
             }
+            return;
         }
+        mark.slot.store(uint32_t(m_keepAlive.size()), std::memory_order_relaxed);
         m_keepAlive.push_back({handle, &mark, m_recordingId});
+        ++m_keptEntriesUsed;
     }
-    // end(): releases what this recording did not use, marks the rest as retained.
+    // end(): releases what this recording did not use (nothing to do when it used them all).
     void releaseUnused();
 
     ContextPtr m_context;
@@ -513,11 +561,7 @@ private:
         uint64_t usedIn = 0;   // the last recording of this list that used it
     };
     std::vector<Kept> m_keepAlive;
-    // The mark of the objects kept from the previous recording. Never 0, the mark of an object
-    // no list has kept yet (which would otherwise count as retained and not be kept), nor a
-    // recording id (those start at 2): 1 = nothing retained.
-    static constexpr uint64_t kNothingRetained = 1;
-    uint64_t m_retainedId = kNothingRetained;
+    size_t m_keptEntriesUsed = 0;   // entries of m_keepAlive this recording used
     std::vector<std::shared_ptr<StagingBuffer>> m_staging;
     struct TimerUse {
         std::shared_ptr<TimerQuery> timer;
@@ -555,6 +599,8 @@ private:
     uint32_t m_passTrackedSets = 0;   // bit s: set s's accesses are tracked for this pass
     bool m_passTrackedVertices = false;
     bool m_passTrackedIndices = false;
+    // Reads of the open pass's draws from one resource, gathered as one range (flushPassReads).
+    ResourceAccess m_passReads;
     int m_debugGroupDepth = 0;
 };
 

@@ -97,34 +97,28 @@ void CommandList::throwNotRecordingOrInPass(std::string_view call) const {
 }
 
 void CommandList::releaseUnused() {
-    const uint64_t retained = m_recordingId + 1;
+    if (m_keptEntriesUsed == m_keepAlive.size()) return;   // the same objects as last time, or more
     size_t kept = 0;
     for (size_t i = 0; i < m_keepAlive.size(); ++i) {
         Kept& entry = m_keepAlive[i];
         if (entry.usedIn != m_recordingId) continue;   // not used by this recording
-        // An object kept twice (another list touched its mark in between): one entry holds it.
-        const uint32_t slot = entry.mark->slot.load(std::memory_order_relaxed);
-        if (entry.mark->recording.load(std::memory_order_relaxed) == retained && slot < kept &&
-            m_keepAlive[slot].mark == entry.mark)
-            continue;
-        entry.mark->recording.store(retained, std::memory_order_relaxed);
-        entry.mark->slot.store(uint32_t(kept), std::memory_order_relaxed);
-        if (kept != i) m_keepAlive[kept] = std::move(entry);
+        if (kept != i) {
+            // Another list may have pointed the mark at its own entry: only ours are moved.
+            if (entry.mark->slot.load(std::memory_order_relaxed) == i)
+                entry.mark->slot.store(uint32_t(kept), std::memory_order_relaxed);
+            m_keepAlive[kept] = std::move(entry);
+        }
         ++kept;
     }
     m_keepAlive.resize(kept);
-    m_retainedId = retained;
+    m_keptEntriesUsed = kept;
 }
 
 void CommandList::begin() {
     waitUntilDone();
-    // Objects kept by the previous recording stay held (re-keeping them is then free) until
-    // end() finds which ones this recording no longer uses. A recording that never ended
-    // retains nothing.
-    if (m_state == State::Recording) {
-        m_keepAlive.clear();
-        m_retainedId = kNothingRetained;
-    }
+    // Objects kept by earlier recordings stay held (re-keeping them is then free) until end()
+    // finds which ones this recording no longer uses.
+    m_keptEntriesUsed = 0;
     m_staging.clear();
     m_timers.clear();
     check(vkResetCommandPool(m_context->device, m_pool, 0), ErrorCode::DeviceLost, "vkResetCommandPool");
@@ -143,6 +137,7 @@ void CommandList::begin() {
     m_vertexBindings.clear();
     m_indexBuffer = nullptr;
     m_drawStateChecked = false;
+    m_passReads.resource = nullptr;
     m_debugGroupDepth = 0;
 }
 
@@ -261,6 +256,7 @@ void CommandList::beginRenderPassImpl(const RenderPassDesc& desc) {
 void CommandList::endRenderPass() {
     requireRecording("endRenderPass()");
     if (!m_inRenderPass) throw Error(ErrorCode::InvalidUsage, "endRenderPass(): no render pass is open");
+    flushPassReads();
     m_context->cmdEndRendering(m_commands);
     m_inRenderPass = false;
     m_passDesc = {};
@@ -295,14 +291,14 @@ void CommandList::setPipeline(const PipelineHandle& handle) {
     if (pipeline->isCompute()) {
         m_computePipeline = pipeline;
         m_dirtyComputeSets = ~0u;
-        vkCmdBindPipeline(m_commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline->pipeline);
+        m_context->cmdBindPipeline(m_commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline->pipeline);
     } else {
         m_graphicsPipeline = pipeline;
         m_dirtyGraphicsSets = ~0u;
         m_drawStateChecked = false;
         m_passTrackedSets = 0;   // another pipeline may use the sets differently
         m_passTrackedVertices = false;
-        vkCmdBindPipeline(m_commands, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline->pipeline);
+        m_context->cmdBindPipeline(m_commands, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline->pipeline);
     }
 }
 
@@ -318,19 +314,24 @@ void CommandList::setBindingSetImpl(uint32_t set, const BindingSetHandle& bindin
     m_passTrackedSets &= ~(1u << set);
 }
 
-void CommandList::bindDescriptorSets(Pipeline& pipeline, VkPipelineBindPoint bindPoint, uint32_t& dirtyMask,
-                                     std::array<const BindingSet::LayoutUse*, Pipeline::kMaxSets>& uses) {
+void CommandList::throwNoBindingSet(const Pipeline& pipeline, uint32_t set) const {
+    const ReflectedBinding& first = pipeline.sets[set]->bindings[0];
+    throw Error(ErrorCode::InvalidUsage,
+                fmt::format("pipeline '{}' reads set {} (binding {} '{}') but no binding set is bound to set {}; call "
+                            "setBindingSet({}, ...)", pipeline.debugName, set, first.binding, first.name, set, set));
+}
+
+// Inline, as are prepareDraw and trackDrawBindings below: they run on every draw or dispatch, and
+// calls between them cost as much as the work they do.
+[[gnu::always_inline]] inline void CommandList::bindDescriptorSets(
+    Pipeline& pipeline, VkPipelineBindPoint bindPoint, uint32_t& dirtyMask,
+    std::array<const BindingSet::LayoutUse*, Pipeline::kMaxSets>& uses) {
     for (uint32_t toBind = dirtyMask & pipeline.usedSets; toBind; toBind &= toBind - 1) {
         const uint32_t s = uint32_t(std::countr_zero(toBind));
-        const DescriptorSetLayoutInfo& layout = *pipeline.sets[s];
-        if (!m_bindingSets[s])
-            throw Error(ErrorCode::InvalidUsage,
-                        fmt::format("pipeline '{}' reads set {} (binding {} '{}') but no binding set is bound to set "
-                                    "{}; call setBindingSet({}, ...)", pipeline.debugName, s, layout.bindings[0].binding,
-                                    layout.bindings[0].name, s, s));
-        const BindingSet::LayoutUse& use = m_bindingSets[s]->useWith(layout, s);
+        if (!m_bindingSets[s]) [[unlikely]] throwNoBindingSet(pipeline, s);
+        const BindingSet::LayoutUse& use = m_bindingSets[s]->useWith(*pipeline.sets[s], s);
         uses[s] = &use;
-        vkCmdBindDescriptorSets(m_commands, bindPoint, pipeline.layout, s, 1, &use.set, 0, nullptr);
+        m_context->cmdBindDescriptorSets(m_commands, bindPoint, pipeline.layout, s, 1, &use.set, 0, nullptr);
     }
     dirtyMask = 0;   // only now: a failed bind above is reported again on the next draw
 }
@@ -351,7 +352,7 @@ void CommandList::setVertexBuffer(uint32_t slot, const BufferHandle& handle, uin
     VertexBinding& binding = m_vertexBindings[slot];
     if (binding.buffer == buffer && binding.offset == offset) return;   // already bound
     keep(handle, buffer->keepMark);
-    vkCmdBindVertexBuffers(m_commands, slot, 1, &buffer->buffer, &offset);
+    m_context->cmdBindVertexBuffers(m_commands, slot, 1, &buffer->buffer, &offset);
     binding = {buffer, offset};
     m_drawStateChecked = false;
     m_passTrackedVertices = false;
@@ -371,7 +372,7 @@ void CommandList::setIndexBuffer(const BufferHandle& handle, IndexType type, uin
     const VkIndexType indexType = type == IndexType::UInt16 ? VK_INDEX_TYPE_UINT16 : VK_INDEX_TYPE_UINT32;
     if (m_indexBuffer == buffer && m_indexOffset == offset && m_indexType == indexType) return;   // already bound
     keep(handle, buffer->keepMark);
-    vkCmdBindIndexBuffer(m_commands, buffer->buffer, offset, indexType);
+    m_context->cmdBindIndexBuffer(m_commands, buffer->buffer, offset, indexType);
     m_indexBuffer = buffer;
     m_indexOffset = offset;
     m_indexType = indexType;
@@ -396,47 +397,83 @@ void CommandList::checkDrawState(std::string_view call) {
     m_drawStateChecked = true;
 }
 
-void CommandList::checkViewOverlaps(const Pipeline& pipeline,
-                                    const std::array<const BindingSet::LayoutUse*, Pipeline::kMaxSets>& uses,
-                                    bool inPass, std::string_view call) {
+[[gnu::always_inline]] inline void CommandList::checkViewOverlaps(
+    const Pipeline& pipeline, const std::array<const BindingSet::LayoutUse*, Pipeline::kMaxSets>& uses, bool inPass,
+    std::string_view call) {
+    bool textures = false;   // most sets have none: nothing to check
+    for (uint32_t sets = pipeline.usedSets; sets; sets &= sets - 1)
+        textures = textures || !uses[std::countr_zero(sets)]->textureItems.empty();
+    if (textures) [[unlikely]] checkTextureViewOverlaps(pipeline, uses, inPass, call);
+}
+
+void CommandList::checkTextureViewOverlaps(const Pipeline& pipeline,
+                                           const std::array<const BindingSet::LayoutUse*, Pipeline::kMaxSets>& uses,
+                                           bool inPass, std::string_view call) {
     m_usedTextures.clear();
     for (uint32_t sets = pipeline.usedSets; sets; sets &= sets - 1) {
         const uint32_t s = uint32_t(std::countr_zero(sets));
         for (const BindingItem* item : uses[s]->textureItems) m_usedTextures.push_back({s, item});
     }
-    if (!m_usedTextures.empty()) validateViewOverlaps(m_usedTextures, inPass ? &m_passDesc : nullptr, call);
+    validateViewOverlaps(m_usedTextures, inPass ? &m_passDesc : nullptr, call);
 }
 
-// Draws cannot be preceded by barriers (beginRenderPass made earlier writes visible), so their
-// accesses are only tracked, for later commands; each binding once per pass.
-void CommandList::prepareDraw(std::string_view call) {
+void CommandList::throwDrawOutsidePass(std::string_view call) const {
     requireRecording(call);
-    if (!m_inRenderPass)
-        throw Error(ErrorCode::InvalidUsage, fmt::format("{}: draws need a render pass; call beginRenderPass() first", call));
-    if (!m_drawStateChecked) checkDrawState(call);
+    throw Error(ErrorCode::InvalidUsage, fmt::format("{}: draws need a render pass; call beginRenderPass() first", call));
+}
+
+// Draws cannot be preceded by barriers (beginRenderPass made earlier writes visible), so what
+// they access is only tracked, for the commands after the pass; each binding once per pass.
+[[gnu::always_inline]] inline void CommandList::prepareDraw(std::string_view call) {
+    if (m_state != State::Recording || !m_inRenderPass) [[unlikely]] throwDrawOutsidePass(call);
+    if (!m_drawStateChecked) [[unlikely]] checkDrawState(call);
     Pipeline& pipeline = *m_graphicsPipeline;
-    bindDescriptorSets(pipeline, VK_PIPELINE_BIND_POINT_GRAPHICS, m_dirtyGraphicsSets, m_graphicsSetUses);
-    if (const uint32_t untracked = pipeline.usedSets & ~m_passTrackedSets) {
-        // Once per pass and set change, like the tracking: no view may overlap an attachment.
-        checkViewOverlaps(pipeline, m_graphicsSetUses, true, call);
-        for (uint32_t sets = untracked; sets; sets &= sets - 1)
-            for (const ResourceAccess& a : m_graphicsSetUses[std::countr_zero(sets)]->accesses) m_hazards.record(a);
-        m_passTrackedSets |= untracked;
-    }
-    if (!m_passTrackedVertices) {
-        for (const VertexBufferLayout& layout : pipeline.graphicsDesc.vertexBuffers) {
-            const VertexBinding& binding = m_vertexBindings[layout.slot];
-            m_hazards.record(bufferAccess(*binding.buffer, binding.offset, binding.buffer->desc().size - binding.offset,
-                                          VK_PIPELINE_STAGE_VERTEX_INPUT_BIT, VK_ACCESS_VERTEX_ATTRIBUTE_READ_BIT,
-                                          false));
+    if (m_dirtyGraphicsSets & pipeline.usedSets)
+        bindDescriptorSets(pipeline, VK_PIPELINE_BIND_POINT_GRAPHICS, m_dirtyGraphicsSets, m_graphicsSetUses);
+    if (const uint32_t untracked = pipeline.usedSets & ~m_passTrackedSets) trackDrawBindings(pipeline, untracked, call);
+    if (!m_passTrackedVertices) [[unlikely]] trackVertexBuffers(pipeline);
+}
+
+[[gnu::always_inline]] inline void CommandList::trackDrawBindings(const Pipeline& pipeline, uint32_t untracked,
+                                                                  std::string_view call) {
+    // Once per pass and set change, like the tracking: no view may overlap an attachment.
+    checkViewOverlaps(pipeline, m_graphicsSetUses, true, call);
+    for (uint32_t sets = untracked; sets; sets &= sets - 1)
+        for (const ResourceAccess& a : m_graphicsSetUses[std::countr_zero(sets)]->accesses) {
+            if (a.write) {
+                m_hazards.record(a);
+            } else if (a.resource == m_passReads.resource) {
+                // Many draws read slices of one buffer (a uniform slice per draw): the hull of
+                // what they read reaches the tracker once, at the end of the pass. Wider than
+                // the slices, it can only add a barrier, never miss one.
+                m_passReads.range.begin = std::min(m_passReads.range.begin, a.range.begin);
+                m_passReads.range.end = std::max(m_passReads.range.end, a.range.end);
+                m_passReads.stages |= a.stages;
+            } else {
+                flushPassReads();
+                m_passReads = a;
+            }
         }
-        m_passTrackedVertices = true;
+    m_passTrackedSets |= untracked;
+}
+
+void CommandList::flushPassReads() {
+    if (m_passReads.resource) m_hazards.record(m_passReads);
+    m_passReads.resource = nullptr;
+}
+
+void CommandList::trackVertexBuffers(const Pipeline& pipeline) {
+    for (const VertexBufferLayout& layout : pipeline.graphicsDesc.vertexBuffers) {
+        const VertexBinding& binding = m_vertexBindings[layout.slot];
+        m_hazards.record(bufferAccess(*binding.buffer, binding.offset, binding.buffer->desc().size - binding.offset,
+                                      VK_PIPELINE_STAGE_VERTEX_INPUT_BIT, VK_ACCESS_VERTEX_ATTRIBUTE_READ_BIT, false));
     }
+    m_passTrackedVertices = true;
 }
 
 void CommandList::draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance) {
     prepareDraw("draw()");
-    vkCmdDraw(m_commands, vertexCount, instanceCount, firstVertex, firstInstance);
+    m_context->cmdDraw(m_commands, vertexCount, instanceCount, firstVertex, firstInstance);
 }
 
 void CommandList::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex, int32_t vertexOffset,
@@ -449,7 +486,7 @@ void CommandList::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint3
                                       VK_PIPELINE_STAGE_VERTEX_INPUT_BIT, VK_ACCESS_INDEX_READ_BIT, false));
         m_passTrackedIndices = true;
     }
-    vkCmdDrawIndexed(m_commands, indexCount, instanceCount, firstIndex, vertexOffset, firstInstance);
+    m_context->cmdDrawIndexed(m_commands, indexCount, instanceCount, firstIndex, vertexOffset, firstInstance);
 }
 
 void CommandList::dispatchImpl(uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ) {   // counts within limits
@@ -481,7 +518,7 @@ void CommandList::dispatchImpl(uint32_t groupsX, uint32_t groupsY, uint32_t grou
         for (uint32_t left = sets; left; left &= left - 1)
             for (const ResourceAccess& a : m_computeSetUses[std::countr_zero(left)]->accesses) m_hazards.record(a);
     }
-    vkCmdDispatch(m_commands, groupsX, groupsY, groupsZ);
+    m_context->cmdDispatch(m_commands, groupsX, groupsY, groupsZ);
 }
 
 // Transfers: arguments are validated (rhi/src/validation.cpp); ranges and subresources exist.

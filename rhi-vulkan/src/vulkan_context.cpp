@@ -80,6 +80,10 @@ void fullBarrier(VkCommandBuffer cmd) {
 }
 
 // Makes all device writes visible to the host once the submission's fence has signalled.
+void throwNotThisBackend(bool null, std::string_view what) {
+    throw Error(ErrorCode::InvalidUsage, std::string(what) + (null ? " is null" : " was not created by this Vulkan device"));
+}
+
 void hostBarrier(VkCommandBuffer cmd) {
     VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
     barrier.srcAccessMask = VK_ACCESS_MEMORY_WRITE_BIT;

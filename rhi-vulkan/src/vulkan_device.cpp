@@ -274,6 +274,18 @@ void createLogicalDevice(Context& ctx) {
     };
     ctx.cmdBeginRendering = reinterpret_cast<PFN_vkCmdBeginRendering>(load("vkCmdBeginRendering", "vkCmdBeginRenderingKHR"));
     ctx.cmdEndRendering = reinterpret_cast<PFN_vkCmdEndRendering>(load("vkCmdEndRendering", "vkCmdEndRenderingKHR"));
+    auto loadCore = [&](const char* name) {
+        PFN_vkVoidFunction fn = vkGetDeviceProcAddr(ctx.device, name);
+        if (!fn) throw Error(ErrorCode::BackendUnavailable, fmt::format("the driver does not export {}", name));
+        return fn;
+    };
+    ctx.cmdBindPipeline = reinterpret_cast<PFN_vkCmdBindPipeline>(loadCore("vkCmdBindPipeline"));
+    ctx.cmdBindDescriptorSets = reinterpret_cast<PFN_vkCmdBindDescriptorSets>(loadCore("vkCmdBindDescriptorSets"));
+    ctx.cmdBindVertexBuffers = reinterpret_cast<PFN_vkCmdBindVertexBuffers>(loadCore("vkCmdBindVertexBuffers"));
+    ctx.cmdBindIndexBuffer = reinterpret_cast<PFN_vkCmdBindIndexBuffer>(loadCore("vkCmdBindIndexBuffer"));
+    ctx.cmdDraw = reinterpret_cast<PFN_vkCmdDraw>(loadCore("vkCmdDraw"));
+    ctx.cmdDrawIndexed = reinterpret_cast<PFN_vkCmdDrawIndexed>(loadCore("vkCmdDrawIndexed"));
+    ctx.cmdDispatch = reinterpret_cast<PFN_vkCmdDispatch>(loadCore("vkCmdDispatch"));
 
     VkPhysicalDeviceMaintenance3Properties maintenance3{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES};
     VkPhysicalDeviceProperties2 props2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};

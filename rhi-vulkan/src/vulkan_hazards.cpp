@@ -40,8 +40,7 @@ void HazardTracker::reset() {
     m_omitNextBarrier = false;
 }
 
-HazardTracker::Tracked* HazardTracker::find(const void* resource) {
-    if (m_lastFound < m_tracked.size() && m_tracked[m_lastFound].resource == resource) return &m_tracked[m_lastFound];
+HazardTracker::Tracked* HazardTracker::search(const void* resource) {
     for (size_t i = 0; i < m_tracked.size(); ++i)
         if (m_tracked[i].resource == resource) {
             m_lastFound = i;
@@ -65,20 +64,7 @@ void HazardTracker::record(const ResourceAccess& access) {
     record(*tracked, access);
 }
 
-void HazardTracker::access(VkCommandBuffer cmd, std::span<const ResourceAccess> accesses) {
-    if (accesses.size() == 1) {   // one lookup instead of two
-        const ResourceAccess& only = accesses[0];
-        Tracked* tracked = m_unknownWrites ? nullptr : find(only.resource);
-        if (m_unknownWrites || (tracked && conflicts(*tracked, only))) {
-            barrier(cmd);
-            tracked = nullptr;
-        }
-        if (tracked)
-            record(*tracked, only);
-        else
-            record(only);
-        return;
-    }
+void HazardTracker::accessMany(VkCommandBuffer cmd, std::span<const ResourceAccess> accesses) {
     for (const ResourceAccess& a : accesses)
         if (conflicts(a)) {
             barrier(cmd);

@@ -131,6 +131,44 @@ TEST_P(BindingTest, ObjectUsedByTwoListsRecordingAtOnceLivesUntilBothAreDone) {
     EXPECT_TRUE(watch.expired()) << "no list uses the buffer any more, yet it is still held";
 }
 
+// A list keeps what its current recording uses (it may be executed again) and lets go of what a
+// re-recording no longer uses, by that recording's end() at the latest. The first recordings use
+// both buffers in one order, then in the other (the Vulkan backend finds what it already holds
+// without keeping it again); the last uses one of them only.
+TEST_P(BindingTest, ReRecordingReleasesWhatTheListNoLongerUses) {
+    const std::vector<uint32_t> values{1, 2, 3, 4};
+    BufferHandle kept = createBufferFrom(BufferUsage::Vertex, values);
+    BufferHandle dropped = createBufferFrom(BufferUsage::Vertex, values);
+    const std::weak_ptr<IBuffer> watchKept = kept, watchDropped = dropped;
+    BufferHandle copy = createBuffer(BufferUsage::Vertex, 32);
+    CommandListHandle list = device().createCommandList();
+    auto record = [&](std::initializer_list<const BufferHandle*> sources) {
+        list->begin();
+        uint64_t offset = 0;
+        for (const BufferHandle* source : sources) {
+            list->copyBuffer(copy, offset, *source, 0, 16);
+            offset += 16;
+        }
+        list->end();
+        device().execute(list);
+        device().waitIdle();
+    };
+    record({&dropped, &kept});
+    record({&kept, &dropped});
+    record({&kept, &dropped});
+    dropped.reset();
+    record({&kept});
+    EXPECT_TRUE(watchDropped.expired()) << "the list still holds a buffer its last recording does not use";
+    kept.reset();
+    EXPECT_FALSE(watchKept.expired()) << "the list let go of a buffer its recording uses (it may be executed again)";
+    device().execute(list);
+    device().waitIdle();
+    EXPECT_EQ(readBufferAs<uint32_t>(copy), (std::vector<uint32_t>{1, 2, 3, 4, 1, 2, 3, 4}));
+    list.reset();
+    device().waitIdle();
+    EXPECT_TRUE(watchKept.expired()) << "the list is gone, yet the buffer it used is still held";
+}
+
 // Uniform data written by the command list between passes must be what each pass sees, not the
 // last value written (a backend that applied writes at record time would show the last one).
 TEST_P(BindingTest, CommandListUniformWritesAreOrderedWithDraws) {

@@ -137,6 +137,48 @@ TEST_P(HazardTrackingTest, DisjointComputeWritesThenDrawsReadingBoth) {
     EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(second8), expected, 8)) << "second half of the buffer";
 }
 
+// Draws in one pass read two uniform slices of a buffer (the Vulkan backend gathers a pass's
+// reads of one buffer into one range); after the pass a write replaces the first slice (write
+// after read) and the next pass must see the new value, the first one the old.
+TEST_P(HazardTrackingTest, DrawsReadingUniformSlicesThenOverwritingOne) {
+    const uint64_t stride = std::max<uint64_t>(caps().limits.uniformBufferOffsetAlignment, 16);
+    const std::array<float, 4> red{1, 0, 0, 1}, blue{0, 0, 1, 1}, green{0, 1, 0, 1};
+    std::vector<std::byte> slices(3 * stride);
+    std::memcpy(slices.data(), red.data(), sizeof red);
+    std::memcpy(slices.data() + 2 * stride, blue.data(), sizeof blue);
+    BufferHandle parameters = createBufferFrom(BufferUsage::Uniform, slices);
+    auto slice = [&](uint64_t index) {
+        return device().createBindingSet(
+            BindingSetDesc().add(BindingItem::uniformBuffer(0, parameters, index * stride, sizeof red)));
+    };
+    BindingSetHandle first = slice(0), last = slice(2);
+    PipelineHandle pipeline = fullscreenPipeline("bench_uniform_color_frag", Format::RGBA8_UNORM);
+    TextureHandle before = createTexture2D(Format::RGBA8_UNORM, 4, 4, TextureUsage::RenderTarget);
+    TextureHandle after = createTexture2D(Format::RGBA8_UNORM, 4, 4, TextureUsage::RenderTarget);
+    submit([&](ICommandList& cmd) {
+        cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(before)));
+        cmd.setPipeline(pipeline);
+        cmd.setBindingSet(0, first);
+        cmd.setScissor({0, 0, 2, 4});
+        cmd.draw(3);
+        cmd.setBindingSet(0, last);
+        cmd.setScissor({2, 0, 2, 4});
+        cmd.draw(3);
+        cmd.endRenderPass();
+        cmd.writeBuffer(parameters, green.data(), sizeof green, 0);
+        cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(after)));
+        cmd.setPipeline(pipeline);
+        cmd.setBindingSet(0, first);
+        cmd.draw(3);
+        cmd.endRenderPass();
+    });
+    std::vector<Rgba8> expected(16);
+    for (size_t i = 0; i < 16; ++i) expected[i] = i % 4 < 2 ? Rgba8{255, 0, 0, 255} : Rgba8{0, 0, 255, 255};
+    EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(before), expected, 4)) << "the pass before the write";
+    EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(after), std::vector<Rgba8>(16, {0, 255, 0, 255}), 4))
+        << "the pass after the write";
+}
+
 // Render into a texture, sample it into a second one, then render over the first again (write
 // after read) and sample again: each sampling pass must see the pass recorded just before it.
 TEST_P(HazardTrackingTest, RenderThenSampleThenRenderAgain) {
