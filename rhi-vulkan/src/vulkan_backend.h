@@ -193,11 +193,18 @@ public:
     void record(const ResourceAccess& access);
     // The accesses of one command: a barrier first if any conflicts, then tracks them all (all
     // are checked before any is tracked: a command does not conflict with itself).
-    void access(VkCommandBuffer cmd, std::span<const ResourceAccess> accesses) {
-        if (accesses.size() == 1) [[likely]]
-            accessOne(cmd, accesses[0]);
+    void access(VkCommandBuffer cmd, std::span<const ResourceAccess> accesses);
+    // One access: a dispatch binding one storage range, the common case, inline.
+    [[gnu::always_inline]] void accessOne(VkCommandBuffer cmd, const ResourceAccess& only) {
+        Tracked* tracked = m_unknownWrites ? nullptr : find(only.resource);
+        if (m_unknownWrites || (tracked && conflicts(*tracked, only))) [[unlikely]] {
+            barrier(cmd);
+            tracked = nullptr;
+        }
+        if (tracked)
+            record(*tracked, only);
         else
-            accessMany(cmd, accesses);
+            record(only);
     }
     bool hasWrites() const { return m_unknownWrites || m_srcAccess != 0; }
     void barrier(VkCommandBuffer cmd);
@@ -238,19 +245,6 @@ private:
         return search(resource);
     }
     Tracked* search(const void* resource);
-    // One lookup instead of two (conflicts + record): the common dispatch binds one storage range.
-    void accessOne(VkCommandBuffer cmd, const ResourceAccess& only) {
-        Tracked* tracked = m_unknownWrites ? nullptr : find(only.resource);
-        if (m_unknownWrites || (tracked && conflicts(*tracked, only))) [[unlikely]] {
-            barrier(cmd);
-            tracked = nullptr;
-        }
-        if (tracked)
-            record(*tracked, only);
-        else
-            record(only);
-    }
-    void accessMany(VkCommandBuffer cmd, std::span<const ResourceAccess> accesses);
     const Tracked* find(const void* resource) const { return const_cast<HazardTracker*>(this)->find(resource); }
     static bool conflicts(const Tracked& tracked, const ResourceAccess& access) {
         if (tracked.writes.overlaps(access.range)) return true;           // read or write after write

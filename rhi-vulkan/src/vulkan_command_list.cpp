@@ -506,7 +506,11 @@ void CommandList::dispatchImpl(uint32_t groupsX, uint32_t groupsY, uint32_t grou
     }
     const uint32_t sets = pipeline.usedSets;
     if (sets && (sets & (sets - 1)) == 0) {   // the common case: one set (no popcount call)
-        m_hazards.access(m_commands, m_computeSetUses[std::countr_zero(sets)]->accesses);
+        const std::span<const ResourceAccess> accesses = m_computeSetUses[std::countr_zero(sets)]->accesses;
+        if (accesses.size() == 1)
+            m_hazards.accessOne(m_commands, accesses[0]);
+        else
+            m_hazards.access(m_commands, accesses);
     } else if (pipeline.usedSets) {
         // Check every access before tracking any: a dispatch may read one range of a buffer and
         // write another (through two sets) without a hazard against itself.

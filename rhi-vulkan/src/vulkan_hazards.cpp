@@ -64,7 +64,8 @@ void HazardTracker::record(const ResourceAccess& access) {
     record(*tracked, access);
 }
 
-void HazardTracker::accessMany(VkCommandBuffer cmd, std::span<const ResourceAccess> accesses) {
+void HazardTracker::access(VkCommandBuffer cmd, std::span<const ResourceAccess> accesses) {
+    if (accesses.size() == 1) return accessOne(cmd, accesses[0]);   // one lookup instead of two
     for (const ResourceAccess& a : accesses)
         if (conflicts(a)) {
             barrier(cmd);
