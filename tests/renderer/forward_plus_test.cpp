@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <optional>
@@ -159,7 +160,7 @@ protected:
 
 TEST_P(ForwardPlusEqualsNaive, TiledImagesEqualTheNaiveImage) {
     const Scene scene = sceneCase().make();
-    const FrameOutput naive = renderOneFrame(config(), scene, settingsFor(LightCulling::Naive));
+    const FrameOutput naive = renderOneFrame(config(), scene, settingsFor(LightCulling::Naive), ReadBack{.depth = true});
     ASSERT_TRUE(naive.report.lightCulling.has_value()) << "the scene has local lights";
     EXPECT_EQ(naive.report.lightCulling->mode, LightCulling::Naive);
     EXPECT_EQ(naive.report.lightCulling->builder, "");
@@ -173,7 +174,7 @@ TEST_P(ForwardPlusEqualsNaive, TiledImagesEqualTheNaiveImage) {
     for (LightCulling mode : {LightCulling::Tiles2D, LightCulling::TilesDepth}) {
         RenderSettings settings = settingsFor(mode);
         settings.lighting.tileSize = sceneCase().tileSize;
-        const FrameOutput tiled = renderOneFrame(config(), scene, settings, ReadBack{.tiles = true});
+        const FrameOutput tiled = renderOneFrame(config(), scene, settings, ReadBack{.tiles = true, .depth = true});
         const std::string label = fmt::format("{}-{}-{}", sceneCase().name, config().name(), cullingName(mode));
         ASSERT_TRUE(tiled.report.lightCulling.has_value()) << label;
         const LightCullingReport& culling = *tiled.report.lightCulling;
@@ -186,6 +187,16 @@ TEST_P(ForwardPlusEqualsNaive, TiledImagesEqualTheNaiveImage) {
         ASSERT_TRUE(tiled.tiles.has_value()) << label;
         expectWellFormedTileLists(*tiled.tiles, culling, kSize, kSize, label);
         expectSameImage(naive, tiled, label);
+        // The depth prepass and the forward pass are two pipelines sharing forward.vert; the
+        // forward pass tests LessOrEqual against the prepass depth. Unless both give every pixel
+        // the same depth bits, silhouette pixels are dropped or shaded at a depth the tile's depth
+        // bounds do not hold (lights lost there whatever the cut-off: issue 10, item 5 suspect).
+        ASSERT_EQ(tiled.depth.size(), naive.depth.size()) << label;
+        size_t differentDepths = 0;
+        for (size_t i = 0; i < naive.depth.size(); ++i)
+            differentDepths += std::bit_cast<uint32_t>(naive.depth[i]) != std::bit_cast<uint32_t>(tiled.depth[i]);
+        EXPECT_EQ(differentDepths, 0u) << label << ": pixels whose depth differs between the naive frame (forward "
+                                                   "pass writes depth) and the tiled frame (depth prepass)";
     }
 }
 
