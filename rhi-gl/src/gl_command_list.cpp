@@ -1,20 +1,28 @@
-// Command lists record closures (validated as they are recorded, so errors point at the call
-// that caused them) and replay them on execute(). Each closure holds the handles it uses, which
-// keeps those resources alive until the list is reset or destroyed.
+// Command lists record plain command structs (validated as they are recorded, so errors point
+// at the call that caused them) and replay them on execute(). The objects the commands name are
+// held by the list's keep-alive, once per recording, until a later recording ends without them
+// or the list is destroyed.
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <typeinfo>
 
 #include "gl_device.h"
 
 namespace janus::rhi::gl {
 
 namespace {
+// Recording ids, unique across all command lists: even; id + 1 marks what the recording retains.
+std::atomic<uint64_t> g_nextRecordingId{2};
+
+// The backend object behind a handle. T is final, so comparing the dynamic type is the whole
+// check dynamic_cast would make, without its walk of the class hierarchy (this runs per command).
 template <typename T, typename Handle>
-std::shared_ptr<T> cast(Device& device, const Handle& handle, const char* what, const char* kind) {
-    auto result = std::dynamic_pointer_cast<T>(handle);
-    if (!result)
+T* cast(Device& device, const Handle& handle, const char* what, const char* kind) {
+    static_assert(std::is_final_v<T>);
+    if (!handle || typeid(*handle) != typeid(T))
         throw Error(ErrorCode::InvalidUsage, fmt::format("{}: the {} is null or comes from another backend", what, kind));
+    T* result = static_cast<T*>(handle.get());
     if constexpr (requires { result->owner(); }) {
         // GL names mean nothing in another context.
         if (result->owner() != &device.context())
@@ -33,38 +41,95 @@ GLenum primitiveMode(PrimitiveTopology topology) {
     }
     return GL_TRIANGLES;
 }
+
+// glMemoryBarrier bits for a shader reading (or writing) a binding.
+GLbitfield shaderAccessBarrier(ResourceType type) {
+    switch (type) {
+        case ResourceType::UniformBuffer: return GL_UNIFORM_BARRIER_BIT;
+        case ResourceType::StorageBuffer: return GL_SHADER_STORAGE_BARRIER_BIT;
+        case ResourceType::SampledTexture: return GL_TEXTURE_FETCH_BARRIER_BIT;
+        case ResourceType::StorageImage: return GL_SHADER_IMAGE_ACCESS_BARRIER_BIT;
+    }
+    return GL_ALL_BARRIER_BITS;
+}
+
+bool isShaderWrite(ResourceType type) {
+    return type == ResourceType::StorageBuffer || type == ResourceType::StorageImage;
+}
+
+// The bytes a buffer binding shows.
+std::pair<uint64_t, uint64_t> boundRange(const BindingItem& item) {
+    const uint64_t end = item.range ? item.offset + item.range : item.buffer->desc().size;
+    return {item.offset, end};
+}
 }  // namespace
+
+BindingSet::BindingSet(const BindingSetDesc& desc) : m_desc(desc) {
+    for (const BindingItem& item : m_desc.items) m_bindingPoints |= item.binding < 63 ? uint64_t(1) << item.binding : ~uint64_t(0) << 63;
+}
 
 // ---------------------------------------------------------------------------------------------
 // Recording
 
-void CommandList::requireRecording(const char* what) const {
-    if (!m_recording)
-        throw Error(ErrorCode::InvalidUsage, fmt::format("{} was called outside begin()/end() of the command list", what));
+void CommandList::throwNotRecording(const char* what) const {
+    throw Error(ErrorCode::InvalidUsage, fmt::format("{} was called outside begin()/end() of the command list", what));
 }
 
-void CommandList::requireOutsideRenderPass(const char* what) const {
+void CommandList::throwWrongPassState(const char* what) const {
     requireRecording(what);
     if (m_inRenderPass)
         throw Error(ErrorCode::InvalidUsage,
                     fmt::format("{} is not allowed inside a render pass; call endRenderPass() first", what));
+    throw Error(ErrorCode::InvalidUsage, fmt::format("{} needs an active render pass; call beginRenderPass() first", what));
 }
 
-void CommandList::requireInsideRenderPass(const char* what) const {
-    requireRecording(what);
-    if (!m_inRenderPass)
-        throw Error(ErrorCode::InvalidUsage, fmt::format("{} needs an active render pass; call beginRenderPass() first", what));
+void CommandList::releaseUnused() {
+    const uint64_t retained = m_recordingId + 1;
+    size_t kept = 0;
+    for (size_t i = 0; i < m_keepAlive.size(); ++i) {
+        Kept& entry = m_keepAlive[i];
+        if (entry.usedIn != m_recordingId) continue;   // not used by this recording
+        // An object kept twice (another list touched its mark in between): one entry holds it.
+        const uint32_t slot = entry.mark->slot.load(std::memory_order_relaxed);
+        if (entry.mark->recording.load(std::memory_order_relaxed) == retained && slot < kept &&
+            m_keepAlive[slot].mark == entry.mark)
+            continue;
+        entry.mark->recording.store(retained, std::memory_order_relaxed);
+        entry.mark->slot.store(uint32_t(kept), std::memory_order_relaxed);
+        if (kept != i) m_keepAlive[kept] = std::move(entry);
+        ++kept;
+    }
+    m_keepAlive.resize(kept);
+    m_retainedId = retained;
 }
 
 void CommandList::begin() {
+    // What the previous recording held stays held (keeping it again is then free) until end()
+    // finds which objects this recording no longer uses. A recording that never ended retains
+    // nothing.
+    if (m_recording) {
+        m_keepAlive.clear();
+        m_retainedId = kNothingRetained;
+    }
+    m_recordingId = g_nextRecordingId.fetch_add(2, std::memory_order_relaxed);
     m_commands.clear();
+    m_renderPasses.clear();
+    m_uploads.clear();
+    m_labels.clear();
+    m_mipRanges.clear();
+    m_pendingWrites.clear();
     m_recording = true;
     m_recorded = false;
     m_inRenderPass = false;
-    m_pipeline.reset();
-    m_indexBufferSet = false;
-    m_vertexSlots.clear();
-    m_bindingSets.clear();
+    m_pipelineChecked = false;
+    m_bindingsChecked = false;
+    m_stateWritesStorage = false;
+    m_pipeline = nullptr;
+    m_bindingSets = {};
+    m_usedBindings.clear();
+    m_vertexBuffers.clear();
+    m_indexBuffer = nullptr;
+    m_indexOffset = 0;
     m_passColorFormats.clear();
     m_passDepthFormat = Format::Unknown;
     m_debugGroupDepth = 0;
@@ -89,14 +154,16 @@ void CommandList::requireCompatiblePipeline(const char* what) const {
                                 m_passDepthFormat == Format::Unknown ? "none" : toString(m_passDepthFormat)));
 }
 
-std::vector<UsedBinding> CommandList::requireBindings(const char* what) const {
+void CommandList::requireBindings(const char* what) {
     // GL would silently read whatever is bound at a unit; Vulkan's validation would flag the
     // same mistake, so catch it here with the binding named.
-    std::vector<UsedBinding> textures;
+    m_usedBindings.clear();
+    m_stateWritesStorage = false;
+    bool usesTextures = false;
     for (const ShaderBinding& binding : m_pipeline->bindings()) {
         const BindingItem* found = nullptr;
-        if (auto set = m_bindingSets.find(binding.set); set != m_bindingSets.end()) {
-            for (const BindingItem& item : set->second->desc().items)
+        if (const BindingSet* set = binding.set < kMaxBindingSets ? m_bindingSets[binding.set] : nullptr) {
+            for (const BindingItem& item : set->desc().items)
                 if (item.binding == binding.binding) found = &item;
         }
         if (!found)
@@ -109,7 +176,10 @@ std::vector<UsedBinding> CommandList::requireBindings(const char* what) const {
                         fmt::format("{}: binding {} is a different resource type in the binding set than in the "
                                     "shader ({})",
                                     what, binding.binding, binding.glName));
+        m_usedBindings.push_back({binding.set, found});
+        m_stateWritesStorage = m_stateWritesStorage || isShaderWrite(found->type);
         if (!found->texture) continue;
+        usesTextures = true;
         const TextureDimension viewed = found->viewDimension.value_or(found->texture->desc().dimension);
         if (binding.dimension && viewed != *binding.dimension)
             throw Error(ErrorCode::InvalidUsage,
@@ -117,16 +187,16 @@ std::vector<UsedBinding> CommandList::requireBindings(const char* what) const {
                                     "the shader's type or set BindingItem::viewDimension",
                                     what, binding.binding, toString(found->texture->desc().dimension),
                                     found->texture->desc().debugName, toString(viewed), toString(*binding.dimension)));
-        textures.push_back({binding.set, found});
     }
-    validateViewOverlaps(textures, m_inRenderPass ? &m_passDesc : nullptr, what);
+    if (!usesTextures) return;   // the checks below look at textures only
+    validateViewOverlaps(m_usedBindings, openPass(), what);
     if (m_device.isES()) {
         // Mip ranges are texture state on ES (BASE/MAX_LEVEL): one range per texture per draw.
-        for (size_t i = 0; i < textures.size(); ++i)
+        for (size_t i = 0; i < m_usedBindings.size(); ++i)
             for (size_t j = 0; j < i; ++j) {
-                const BindingItem& a = *textures[i].item;
-                const BindingItem& b = *textures[j].item;
-                if (a.texture != b.texture || a.type != ResourceType::SampledTexture ||
+                const BindingItem& a = *m_usedBindings[i].item;
+                const BindingItem& b = *m_usedBindings[j].item;
+                if (!a.texture || a.texture != b.texture || a.type != ResourceType::SampledTexture ||
                     b.type != ResourceType::SampledTexture)
                     continue;
                 const ResolvedTextureView va = resolveTextureView(a), vb = resolveTextureView(b);
@@ -140,29 +210,108 @@ std::vector<UsedBinding> CommandList::requireBindings(const char* what) const {
                                             toString(Capability::TextureViews)));
             }
     }
-    return textures;
 }
 
-void CommandList::recordMipRanges(const std::vector<UsedBinding>& textures) {
+void CommandList::recordMipRanges() {
     if (!m_device.isES()) return;   // desktop GL binds texture views instead
-    std::vector<Device::MipRange> ranges;
-    for (const UsedBinding& used : textures) {
+    const auto first = uint32_t(m_mipRanges.size());
+    for (const UsedBinding& used : m_usedBindings) {
         if (used.item->type != ResourceType::SampledTexture) continue;
         const ResolvedTextureView view = resolveTextureView(*used.item);
-        // The binding set's replayed closure keeps the texture alive.
-        ranges.push_back({static_cast<const Texture*>(used.item->texture.get()), used.item->binding, view.baseMip,
-                          view.mipCount});
+        // The binding set, held by the keep-alive, holds the texture.
+        m_mipRanges.push_back({static_cast<const Texture*>(used.item->texture.get()), used.item->binding, view.baseMip,
+                               view.mipCount});
     }
-    if (!ranges.empty()) record([ranges = std::move(ranges)](Device& device) { device.applyMipRanges(ranges); });
+    if (m_mipRanges.size() > first) record(command::ApplyMipRanges{first, uint32_t(m_mipRanges.size()) - first});
 }
 
 void CommandList::requireVertexBuffers(const char* what) const {
     for (const VertexAttribute& attribute : m_pipeline->graphics().vertexAttributes) {
-        if (std::find(m_vertexSlots.begin(), m_vertexSlots.end(), attribute.bufferSlot) == m_vertexSlots.end())
+        const bool set = std::any_of(m_vertexBuffers.begin(), m_vertexBuffers.end(),
+                                     [&](const RecordedVertexBuffer& b) { return b.slot == attribute.bufferSlot; });
+        if (!set)
             throw Error(ErrorCode::InvalidUsage,
                         fmt::format("{}: the pipeline reads vertex buffer slot {}, but no buffer was set there; call "
                                     "setVertexBuffer({}, ...) first",
                                     what, attribute.bufferSlot, attribute.bufferSlot));
+    }
+}
+
+void CommandList::requireDrawState(const char* what) {
+    // Each check passed with the same inputs before, unless they changed since: same errors, at
+    // the first draw that would have reported them, in the same order.
+    if (!m_pipelineChecked) {
+        requireVertexBuffers(what);
+        requireCompatiblePipeline(what);
+        m_pipelineChecked = true;
+    }
+    if (!m_bindingsChecked) {
+        requireBindings(what);
+        recordMipRanges();
+        m_bindingsChecked = true;
+    }
+}
+
+GLbitfield CommandList::hazardBits(const void* resource, uint64_t begin, uint64_t end, GLbitfield needs) const {
+    for (const PendingWrite& write : m_pendingWrites)
+        if (write.resource == resource && write.begin < end && begin < write.end && (write.unsynchronized & needs))
+            return needs;
+    return 0;
+}
+
+void CommandList::recordBarrier(GLbitfield bits) {
+    record(command::MemoryBarrier{bits});
+    // The barrier orders every earlier write for the accesses it names.
+    std::erase_if(m_pendingWrites, [bits](PendingWrite& write) {
+        write.unsynchronized &= ~bits;
+        return write.unsynchronized == 0;
+    });
+}
+
+void CommandList::addPendingWrite(const void* resource, uint64_t begin, uint64_t end) {
+    // Neighbouring slices written one after another (one dispatch per slice) merge into one entry,
+    // so the list stays short and each check stays cheap.
+    if (!m_pendingWrites.empty()) {
+        PendingWrite& last = m_pendingWrites.back();
+        if (last.resource == resource && last.unsynchronized == GL_ALL_BARRIER_BITS && begin <= last.end &&
+            last.begin <= end) {
+            last.begin = std::min(last.begin, begin);
+            last.end = std::max(last.end, end);
+            return;
+        }
+    }
+    m_pendingWrites.push_back({resource, begin, end, GL_ALL_BARRIER_BITS});
+}
+
+void CommandList::trackShaderAccesses(bool drawing, bool indexed) {
+    if (!m_pendingWrites.empty()) {
+        GLbitfield needed = 0;
+        for (const UsedBinding& used : m_usedBindings) {
+            const BindingItem& item = *used.item;
+            const GLbitfield needs = shaderAccessBarrier(item.type);
+            if (item.buffer) {
+                const auto [begin, end] = boundRange(item);
+                needed |= bufferHazard(item.buffer.get(), begin, end, needs);
+            } else {
+                needed |= textureHazard(item.texture.get(), needs);
+            }
+        }
+        if (drawing) {
+            for (const RecordedVertexBuffer& vertices : m_vertexBuffers)
+                needed |= bufferHazard(vertices.buffer, vertices.offset, UINT64_MAX, GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT);
+            if (indexed) needed |= bufferHazard(m_indexBuffer, m_indexOffset, UINT64_MAX, GL_ELEMENT_ARRAY_BARRIER_BIT);
+        }
+        if (needed) recordBarrier(needed);
+    }
+    if (!m_stateWritesStorage) return;
+    for (const UsedBinding& used : m_usedBindings) {
+        const BindingItem& item = *used.item;
+        if (item.type == ResourceType::StorageBuffer) {
+            const auto [begin, end] = boundRange(item);
+            addPendingWrite(item.buffer.get(), begin, end);
+        } else if (item.type == ResourceType::StorageImage) {
+            addPendingWrite(item.texture.get(), 0, UINT64_MAX);
+        }
     }
 }
 
@@ -172,14 +321,16 @@ void CommandList::end() {
     if (m_debugGroupDepth != 0)
         throw Error(ErrorCode::InvalidUsage,
                     fmt::format("end() was called with {} debug group(s) still open; pop them first", m_debugGroupDepth));
+    // Whatever comes after the list (the host mapping or reading a buffer, another list) may
+    // read what its shaders wrote: nothing stays pending past execute().
+    if (!m_pendingWrites.empty()) {
+        GLbitfield bits = 0;
+        for (const PendingWrite& write : m_pendingWrites) bits |= write.unsynchronized;
+        recordBarrier(bits);
+    }
+    releaseUnused();
     m_recording = false;
     m_recorded = true;
-}
-
-void CommandList::replay() {
-    if (m_recording || !m_recorded)
-        throw Error(ErrorCode::InvalidUsage, "execute() needs a command list that was recorded with begin() ... end()");
-    for (auto& command : m_commands) command(m_device);
 }
 
 // `desc` is validated (rhi/src/validation.cpp); the attachments must still be this device's.
@@ -187,18 +338,24 @@ void CommandList::beginRenderPassImpl(const RenderPassDesc& desc) {
     requireOutsideRenderPass("beginRenderPass");
     for (const Attachment& a : desc.colors) cast<Texture>(m_device, a.texture, "beginRenderPass", "attachment texture");
     if (desc.depth) cast<Texture>(m_device, desc.depth->texture, "beginRenderPass", "attachment texture");
+    GLbitfield needed = 0;
+    for (const Attachment& a : desc.colors) needed |= textureHazard(a.texture.get(), GL_FRAMEBUFFER_BARRIER_BIT);
+    if (desc.depth) needed |= textureHazard(desc.depth->texture.get(), GL_FRAMEBUFFER_BARRIER_BIT);
+    if (needed) recordBarrier(needed);
     m_inRenderPass = true;
-    m_passDesc = desc;
+    m_pipelineChecked = m_bindingsChecked = false;   // new attachments to match and not to sample
+    // The stored description holds the attachments.
+    m_renderPasses.push_back(desc);
     m_passColorFormats.clear();
     for (const Attachment& a : desc.colors) m_passColorFormats.push_back(a.texture->desc().format);
     m_passDepthFormat = desc.depth ? desc.depth->texture->desc().format : Format::Unknown;
-    record([desc](Device& device) { device.beginRenderPass(desc); });
+    record(command::BeginRenderPass{uint32_t(m_renderPasses.size() - 1)});
 }
 
 void CommandList::endRenderPass() {
     requireInsideRenderPass("endRenderPass");
     m_inRenderPass = false;
-    m_passDesc = {};
+    m_pipelineChecked = m_bindingsChecked = false;
 }
 
 void CommandList::setViewport(const Viewport& viewport) {
@@ -206,12 +363,7 @@ void CommandList::setViewport(const Viewport& viewport) {
     if (!(viewport.width > 0 && viewport.height > 0))
         throw Error(ErrorCode::InvalidUsage,
                     fmt::format("setViewport: width {} and height {} must be > 0", viewport.width, viewport.height));
-    record([viewport](Device& device) {
-        const GLFunctions& gl = device.gl();
-        // GL's window origin is row 0 as well, so y needs no flip.
-        gl.glViewport(GLint(viewport.x), GLint(viewport.y), GLsizei(viewport.width), GLsizei(viewport.height));
-        gl.glDepthRangef(viewport.minDepth, viewport.maxDepth);
-    });
+    record(command::SetViewport{viewport});
 }
 
 void CommandList::setScissor(const ScissorRect& scissor) {
@@ -219,43 +371,53 @@ void CommandList::setScissor(const ScissorRect& scissor) {
     if (scissor.x < 0 || scissor.y < 0)
         throw Error(ErrorCode::InvalidUsage,
                     fmt::format("setScissor: offset ({}, {}) is negative; scissor offsets must be >= 0", scissor.x, scissor.y));
-    record([scissor](Device& device) {
-        device.gl().glScissor(scissor.x, scissor.y, GLsizei(scissor.width), GLsizei(scissor.height));
-    });
+    record(command::SetScissor{scissor});
 }
 
 void CommandList::setPipeline(const PipelineHandle& handle) {
     requireRecording("setPipeline");
-    auto pipeline = cast<Pipeline>(m_device, handle, "setPipeline", "pipeline");
+    Pipeline* pipeline = cast<Pipeline>(m_device, handle, "setPipeline", "pipeline");
     if (pipeline->isCompute() && m_inRenderPass)
         throw Error(ErrorCode::InvalidUsage, "setPipeline: a compute pipeline cannot be set inside a render pass");
+    keep(handle, pipeline->keepMark);
+    if (pipeline == m_pipeline) return;   // replay would bind the same program again
     m_pipeline = pipeline;
-    record([pipeline](Device& device) { device.bindPipeline(*pipeline); });
+    m_pipelineChecked = m_bindingsChecked = false;
+    record(command::BindPipeline{pipeline});
 }
 
 void CommandList::setBindingSetImpl(uint32_t set, const BindingSetHandle& handle) {
     requireRecording("setBindingSet");
-    auto bindings = cast<BindingSet>(m_device, handle, "setBindingSet", "binding set");
+    BindingSet* bindings = cast<BindingSet>(m_device, handle, "setBindingSet", "binding set");
+    keep(handle, bindings->keepMark);
     m_bindingSets[set] = bindings;
-    record([bindings](Device& device) { device.bindBindingSet(bindings->desc()); });
+    m_bindingsChecked = false;
+    record(command::BindBindingSet{set, bindings});
 }
 
 void CommandList::setVertexBuffer(uint32_t slot, const BufferHandle& handle, uint64_t offset) {
     requireRecording("setVertexBuffer");
-    auto buffer = cast<Buffer>(m_device, handle, "setVertexBuffer", "buffer");
+    Buffer* buffer = cast<Buffer>(m_device, handle, "setVertexBuffer", "buffer");
     if (!any(buffer->desc().usage, BufferUsage::Vertex))
         throw Error(ErrorCode::InvalidUsage,
                     fmt::format("setVertexBuffer: buffer '{}' lacks BufferUsage::Vertex", buffer->desc().debugName));
     if (offset >= buffer->desc().size)
         throw Error(ErrorCode::InvalidUsage, fmt::format("setVertexBuffer: offset {} is past the end of buffer '{}' ({} bytes)",
                                                          offset, buffer->desc().debugName, buffer->desc().size));
-    if (std::find(m_vertexSlots.begin(), m_vertexSlots.end(), slot) == m_vertexSlots.end()) m_vertexSlots.push_back(slot);
-    record([buffer, slot, offset](Device& device) { device.setVertexBuffer(slot, buffer->name(), offset); });
+    keep(handle, buffer->keepMark);
+    auto existing = std::find_if(m_vertexBuffers.begin(), m_vertexBuffers.end(),
+                                 [&](const RecordedVertexBuffer& b) { return b.slot == slot; });
+    if (existing != m_vertexBuffers.end())
+        *existing = {slot, buffer, offset};
+    else
+        m_vertexBuffers.push_back({slot, buffer, offset});
+    m_pipelineChecked = false;
+    record(command::SetVertexBuffer{slot, buffer->name(), offset});
 }
 
 void CommandList::setIndexBuffer(const BufferHandle& handle, IndexType type, uint64_t offset) {
     requireRecording("setIndexBuffer");
-    auto buffer = cast<Buffer>(m_device, handle, "setIndexBuffer", "buffer");
+    Buffer* buffer = cast<Buffer>(m_device, handle, "setIndexBuffer", "buffer");
     if (!any(buffer->desc().usage, BufferUsage::Index))
         throw Error(ErrorCode::InvalidUsage,
                     fmt::format("setIndexBuffer: buffer '{}' lacks BufferUsage::Index", buffer->desc().debugName));
@@ -264,18 +426,19 @@ void CommandList::setIndexBuffer(const BufferHandle& handle, IndexType type, uin
         throw Error(ErrorCode::InvalidUsage,
                     fmt::format("setIndexBuffer: offset {} must be a multiple of {} inside the buffer ({} bytes)",
                                 offset, indexSize, buffer->desc().size));
-    m_indexBufferSet = true;
-    record([buffer, type, offset](Device& device) { device.setIndexBuffer(buffer->name(), type, offset); });
+    keep(handle, buffer->keepMark);
+    m_indexBuffer = buffer;
+    m_indexOffset = offset;
+    record(command::SetIndexBuffer{buffer->name(), type, offset});
 }
 
 void CommandList::draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance) {
     requireInsideRenderPass("draw");
     if (!m_pipeline || m_pipeline->isCompute())
         throw Error(ErrorCode::InvalidUsage, "draw: no graphics pipeline is set; call setPipeline() first");
-    requireVertexBuffers("draw");
-    requireCompatiblePipeline("draw");
-    recordMipRanges(requireBindings("draw"));
-    record([=](Device& device) { device.draw(vertexCount, instanceCount, firstVertex, firstInstance); });
+    requireDrawState("draw");
+    trackShaderAccesses(true, false);
+    record(command::Draw{vertexCount, instanceCount, firstVertex, firstInstance});
 }
 
 void CommandList::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex, int32_t vertexOffset,
@@ -283,130 +446,216 @@ void CommandList::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint3
     requireInsideRenderPass("drawIndexed");
     if (!m_pipeline || m_pipeline->isCompute())
         throw Error(ErrorCode::InvalidUsage, "drawIndexed: no graphics pipeline is set; call setPipeline() first");
-    requireVertexBuffers("drawIndexed");
-    requireCompatiblePipeline("drawIndexed");
-    recordMipRanges(requireBindings("drawIndexed"));
-    if (!m_indexBufferSet)
+    requireDrawState("drawIndexed");
+    if (!m_indexBuffer)
         throw Error(ErrorCode::InvalidUsage, "drawIndexed: no index buffer is set; call setIndexBuffer() first");
-    record([=](Device& device) { device.drawIndexed(indexCount, instanceCount, firstIndex, vertexOffset, firstInstance); });
+    trackShaderAccesses(true, true);
+    record(command::DrawIndexed{indexCount, instanceCount, firstIndex, vertexOffset, firstInstance});
 }
 
 void CommandList::dispatchImpl(uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ) {   // Compute; counts in limits
     requireOutsideRenderPass("dispatch");
     if (!m_pipeline || !m_pipeline->isCompute())
         throw Error(ErrorCode::InvalidUsage, "dispatch: no compute pipeline is set; call setPipeline() first");
-    requireBindings("dispatch");
-    record([=](Device& device) { device.dispatch(groupsX, groupsY, groupsZ); });
+    if (!m_bindingsChecked) {
+        requireBindings("dispatch");
+        m_bindingsChecked = true;
+    }
+    trackShaderAccesses(false, false);
+    record(command::Dispatch{groupsX, groupsY, groupsZ});
 }
 
 // Transfers: arguments are validated (rhi/src/validation.cpp); ranges and subresources exist.
+// Each waits for shader writes to what it touches, with the bits for how GL touches it.
 void CommandList::writeBufferImpl(const BufferHandle& handle, const void* data, uint64_t size, uint64_t dstOffset) {
     requireOutsideRenderPass("writeBuffer");
-    auto buffer = cast<Buffer>(m_device, handle, "writeBuffer", "buffer");
+    Buffer* buffer = cast<Buffer>(m_device, handle, "writeBuffer", "buffer");
+    keep(handle, buffer->keepMark);
+    if (GLbitfield bits = bufferHazard(buffer, dstOffset, dstOffset + size, GL_BUFFER_UPDATE_BARRIER_BIT)) recordBarrier(bits);
     // The data is copied now: the caller's memory need not outlive the call.
-    auto bytes = std::make_shared<std::vector<std::byte>>(static_cast<const std::byte*>(data),
-                                                          static_cast<const std::byte*>(data) + size);
-    record([buffer, bytes, dstOffset](Device& device) {
-        device.bufferSubData(*buffer, bytes->data(), bytes->size(), dstOffset);
-    });
+    const uint64_t at = m_uploads.size();
+    const auto* bytes = static_cast<const std::byte*>(data);
+    m_uploads.insert(m_uploads.end(), bytes, bytes + size);
+    record(command::WriteBuffer{buffer, at, size, dstOffset});
 }
 
 void CommandList::copyBufferImpl(const BufferHandle& dstHandle, uint64_t dstOffset, const BufferHandle& srcHandle,
                                  uint64_t srcOffset, uint64_t size) {
     requireOutsideRenderPass("copyBuffer");
-    auto dst = cast<Buffer>(m_device, dstHandle, "copyBuffer", "destination buffer");
-    auto src = cast<Buffer>(m_device, srcHandle, "copyBuffer", "source buffer");
-    record([=](Device& device) {
-        const GLFunctions& gl = device.gl();
-        gl.glBindBuffer(GL_COPY_READ_BUFFER, src->name());
-        gl.glBindBuffer(GL_COPY_WRITE_BUFFER, dst->name());
-        gl.glCopyBufferSubData(GL_COPY_READ_BUFFER, GL_COPY_WRITE_BUFFER, GLintptr(srcOffset), GLintptr(dstOffset),
-                               GLsizeiptr(size));
-    });
+    Buffer* dst = cast<Buffer>(m_device, dstHandle, "copyBuffer", "destination buffer");
+    Buffer* src = cast<Buffer>(m_device, srcHandle, "copyBuffer", "source buffer");
+    keep(dstHandle, dst->keepMark);
+    keep(srcHandle, src->keepMark);
+    const GLbitfield bits = bufferHazard(dst, dstOffset, dstOffset + size, GL_BUFFER_UPDATE_BARRIER_BIT) |
+                            bufferHazard(src, srcOffset, srcOffset + size, GL_BUFFER_UPDATE_BARRIER_BIT);
+    if (bits) recordBarrier(bits);
+    record(command::CopyBuffer{dst, src, dstOffset, srcOffset, size});
 }
 
 void CommandList::copyBufferToTextureImpl(const TextureHandle& dstHandle, TextureSubresource dstSub,
                                           const BufferHandle& srcHandle, uint64_t srcOffset) {
     requireOutsideRenderPass("copyBufferToTexture");
-    auto dst = cast<Texture>(m_device, dstHandle, "copyBufferToTexture", "texture");
-    auto src = cast<Buffer>(m_device, srcHandle, "copyBufferToTexture", "buffer");
-    record([=](Device& device) {
-        // Unpacking from a bound pixel buffer: the "pointer" is an offset into it.
-        device.gl().glBindBuffer(GL_PIXEL_UNPACK_BUFFER, src->name());
-        device.uploadTexture(*dst, dstSub, reinterpret_cast<const void*>(uintptr_t(srcOffset)));
-        device.gl().glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
-    });
+    Texture* dst = cast<Texture>(m_device, dstHandle, "copyBufferToTexture", "texture");
+    Buffer* src = cast<Buffer>(m_device, srcHandle, "copyBufferToTexture", "buffer");
+    keep(dstHandle, dst->keepMark);
+    keep(srcHandle, src->keepMark);
+    const GLbitfield bits = textureHazard(dst, GL_TEXTURE_UPDATE_BARRIER_BIT) |
+                            bufferHazard(src, srcOffset, UINT64_MAX, GL_PIXEL_BUFFER_BARRIER_BIT);
+    if (bits) recordBarrier(bits);
+    record(command::CopyBufferToTexture{dst, dstSub, src, srcOffset});
 }
 
 void CommandList::copyTextureToBufferImpl(const BufferHandle& dstHandle, uint64_t dstOffset,
                                           const TextureHandle& srcHandle, TextureSubresource srcSub) {
     requireOutsideRenderPass("copyTextureToBuffer");
-    auto dst = cast<Buffer>(m_device, dstHandle, "copyTextureToBuffer", "buffer");
-    auto src = cast<Texture>(m_device, srcHandle, "copyTextureToBuffer", "texture");
-    record([=](Device& device) {
-        // Through the CPU: ES 3.0 can read some formats only in a wider form that needs repacking.
-        const std::vector<std::byte> pixels = device.downloadTexture(*src, srcSub);
-        device.bufferSubData(*dst, pixels.data(), pixels.size(), dstOffset);
-    });
+    Buffer* dst = cast<Buffer>(m_device, dstHandle, "copyTextureToBuffer", "buffer");
+    Texture* src = cast<Texture>(m_device, srcHandle, "copyTextureToBuffer", "texture");
+    keep(dstHandle, dst->keepMark);
+    keep(srcHandle, src->keepMark);
+    // The texture is read through a framebuffer, glGetTexImage or (ES depth) a draw sampling it:
+    // every kind of access.
+    const GLbitfield bits = textureHazard(src, GL_ALL_BARRIER_BITS) |
+                            bufferHazard(dst, dstOffset, UINT64_MAX, GL_BUFFER_UPDATE_BARRIER_BIT);
+    if (bits) recordBarrier(bits);
+    record(command::CopyTextureToBuffer{dst, dstOffset, src, srcSub});
 }
 
 void CommandList::copyTextureImpl(const TextureHandle& dstHandle, TextureSubresource dstSub,
                                   const TextureHandle& srcHandle, TextureSubresource srcSub) {
     requireOutsideRenderPass("copyTexture");
-    auto dst = cast<Texture>(m_device, dstHandle, "copyTexture", "destination texture");
-    auto src = cast<Texture>(m_device, srcHandle, "copyTexture", "source texture");
-    record([=](Device& device) { device.copyTextureImage(*dst, dstSub, *src, srcSub); });
+    Texture* dst = cast<Texture>(m_device, dstHandle, "copyTexture", "destination texture");
+    Texture* src = cast<Texture>(m_device, srcHandle, "copyTexture", "source texture");
+    keep(dstHandle, dst->keepMark);
+    keep(srcHandle, src->keepMark);
+    // glCopyImageSubData, or on ES a blit between framebuffers.
+    constexpr GLbitfield copyBits = GL_TEXTURE_UPDATE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT;
+    if (GLbitfield bits = textureHazard(dst, copyBits) | textureHazard(src, copyBits)) recordBarrier(bits);
+    record(command::CopyTexture{dst, dstSub, src, srcSub});
 }
 
 // The format's GenerateMips capability (colour-renderable and filterable) is validated.
 void CommandList::generateMipsImpl(const TextureHandle& handle) {
     requireOutsideRenderPass("generateMips");
-    auto texture = cast<Texture>(m_device, handle, "generateMips", "texture");
-    record([texture](Device& device) {
-        const GLFunctions& gl = device.gl();
-        gl.glActiveTexture(GL_TEXTURE0 + kScratchTextureUnit);
-        gl.glBindTexture(texture->target(), texture->name());
-        // glGenerateMipmap starts at GL_TEXTURE_BASE_LEVEL: undo a mip-range view's (GLES).
-        if (device.isES()) texture->applyMipRange(0, texture->desc().mipLevels);
-        gl.glGenerateMipmap(texture->target());
-    });
+    Texture* texture = cast<Texture>(m_device, handle, "generateMips", "texture");
+    keep(handle, texture->keepMark);
+    // How the driver reads and writes the levels is its own business.
+    if (GLbitfield bits = textureHazard(texture, GL_ALL_BARRIER_BITS)) recordBarrier(bits);
+    record(command::GenerateMips{texture});
 }
 
 void CommandList::beginTimer(const TimerQueryHandle& handle) {
     requireRecording("beginTimer");
-    auto timer = cast<TimerQuery>(m_device, handle, "beginTimer", "timer");
-    record([timer](Device& device) {
-        device.timestamp(timer->beginQuery());
-        timer->begun = true;
-        timer->ended = false;
-    });
+    TimerQuery* timer = cast<TimerQuery>(m_device, handle, "beginTimer", "timer");
+    keep(handle, timer->keepMark);
+    record(command::BeginTimer{timer});
 }
 
 void CommandList::endTimer(const TimerQueryHandle& handle) {
     requireRecording("endTimer");
-    auto timer = cast<TimerQuery>(m_device, handle, "endTimer", "timer");
-    record([timer](Device& device) {
-        device.timestamp(timer->endQuery());
-        timer->ended = true;
-    });
+    TimerQuery* timer = cast<TimerQuery>(m_device, handle, "endTimer", "timer");
+    keep(handle, timer->keepMark);
+    record(command::EndTimer{timer});
 }
 
 void CommandList::pushDebugGroup(std::string_view name) {
     requireRecording("pushDebugGroup");
     ++m_debugGroupDepth;
-    record([label = std::string(name)](Device& device) {
-        if (device.gl().glPushDebugGroup)
-            device.gl().glPushDebugGroup(GL_DEBUG_SOURCE_APPLICATION, 0, GLsizei(label.size()), label.c_str());
-    });
+    m_labels.emplace_back(name);
+    record(command::PushDebugGroup{uint32_t(m_labels.size() - 1)});
 }
 
 void CommandList::popDebugGroup() {
     requireRecording("popDebugGroup");
     if (m_debugGroupDepth == 0) throw Error(ErrorCode::InvalidUsage, "popDebugGroup: no debug group is open");
     --m_debugGroupDepth;
-    record([](Device& device) {
-        if (device.gl().glPopDebugGroup) device.gl().glPopDebugGroup();
-    });
+    record(command::PopDebugGroup{});
+}
+
+// ---------------------------------------------------------------------------------------------
+// Replay
+
+void CommandList::replay() {
+    if (m_recording || !m_recorded)
+        throw Error(ErrorCode::InvalidUsage, "execute() needs a command list that was recorded with begin() ... end()");
+    Device& device = m_device;
+    const GLFunctions& gl = device.gl();
+    struct Replayer {
+        CommandList& list;
+        Device& device;
+        const GLFunctions& gl;
+        void operator()(const command::BeginRenderPass& c) { device.beginRenderPass(list.m_renderPasses[c.pass]); }
+        void operator()(const command::SetViewport& c) {
+            // GL's window origin is row 0 as well, so y needs no flip.
+            const Viewport& v = c.viewport;
+            gl.glViewport(GLint(v.x), GLint(v.y), GLsizei(v.width), GLsizei(v.height));
+            gl.glDepthRangef(v.minDepth, v.maxDepth);
+        }
+        void operator()(const command::SetScissor& c) {
+            gl.glScissor(c.scissor.x, c.scissor.y, GLsizei(c.scissor.width), GLsizei(c.scissor.height));
+        }
+        void operator()(const command::BindPipeline& c) { device.bindPipeline(*c.pipeline); }
+        void operator()(const command::BindBindingSet& c) { device.bindBindingSet(c.set, *c.bindings); }
+        void operator()(const command::SetVertexBuffer& c) { device.setVertexBuffer(c.slot, c.buffer, c.offset); }
+        void operator()(const command::SetIndexBuffer& c) { device.setIndexBuffer(c.buffer, c.type, c.offset); }
+        void operator()(const command::ApplyMipRanges& c) {
+            device.applyMipRanges(std::span(list.m_mipRanges).subspan(c.first, c.count));
+        }
+        void operator()(const command::Draw& c) {
+            device.draw(c.vertexCount, c.instanceCount, c.firstVertex, c.firstInstance);
+        }
+        void operator()(const command::DrawIndexed& c) {
+            device.drawIndexed(c.indexCount, c.instanceCount, c.firstIndex, c.vertexOffset, c.firstInstance);
+        }
+        void operator()(const command::Dispatch& c) { device.dispatch(c.x, c.y, c.z); }
+        void operator()(const command::MemoryBarrier& c) { device.memoryBarrier(c.bits); }
+        void operator()(const command::WriteBuffer& c) {
+            device.bufferSubData(*c.buffer, list.m_uploads.data() + c.bytesOffset, c.size, c.dstOffset);
+        }
+        void operator()(const command::CopyBuffer& c) {
+            gl.glBindBuffer(GL_COPY_READ_BUFFER, c.src->name());
+            gl.glBindBuffer(GL_COPY_WRITE_BUFFER, c.dst->name());
+            gl.glCopyBufferSubData(GL_COPY_READ_BUFFER, GL_COPY_WRITE_BUFFER, GLintptr(c.srcOffset),
+                                   GLintptr(c.dstOffset), GLsizeiptr(c.size));
+        }
+        void operator()(const command::CopyBufferToTexture& c) {
+            // Unpacking from a bound pixel buffer: the "pointer" is an offset into it.
+            gl.glBindBuffer(GL_PIXEL_UNPACK_BUFFER, c.src->name());
+            device.uploadTexture(*c.dst, c.dstSub, reinterpret_cast<const void*>(uintptr_t(c.srcOffset)));
+            gl.glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
+        }
+        void operator()(const command::CopyTextureToBuffer& c) {
+            // Through the CPU: ES 3.0 can read some formats only in a wider form that needs repacking.
+            const std::vector<std::byte> pixels = device.downloadTexture(*c.src, c.srcSub);
+            device.bufferSubData(*c.dst, pixels.data(), pixels.size(), c.dstOffset);
+        }
+        void operator()(const command::CopyTexture& c) { device.copyTextureImage(*c.dst, c.dstSub, *c.src, c.srcSub); }
+        void operator()(const command::GenerateMips& c) {
+            const Texture& texture = *c.texture;
+            gl.glActiveTexture(GL_TEXTURE0 + kScratchTextureUnit);
+            gl.glBindTexture(texture.target(), texture.name());
+            // glGenerateMipmap starts at GL_TEXTURE_BASE_LEVEL: undo a mip-range view's (GLES).
+            if (device.isES()) texture.applyMipRange(0, texture.desc().mipLevels);
+            gl.glGenerateMipmap(texture.target());
+        }
+        void operator()(const command::BeginTimer& c) {
+            device.timestamp(c.timer->beginQuery());
+            c.timer->begun = true;
+            c.timer->ended = false;
+        }
+        void operator()(const command::EndTimer& c) {
+            device.timestamp(c.timer->endQuery());
+            c.timer->ended = true;
+        }
+        void operator()(const command::PushDebugGroup& c) {
+            const std::string& label = list.m_labels[c.label];
+            if (gl.glPushDebugGroup) gl.glPushDebugGroup(GL_DEBUG_SOURCE_APPLICATION, 0, GLsizei(label.size()), label.c_str());
+        }
+        void operator()(const command::PopDebugGroup&) {
+            if (gl.glPopDebugGroup) gl.glPopDebugGroup();
+        }
+    };
+    Replayer replayer{*this, device, gl};
+    for (const Command& command : m_commands) std::visit(replayer, command);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -471,15 +720,23 @@ void Device::beginRenderPass(const RenderPassDesc& desc) {
 }
 
 void Device::bindPipeline(const Pipeline& pipeline) {
+    // Nothing a list replays changes program or pipeline state without restoring it (a render
+    // pass re-applies it, so does the GLES depth read-back), so the same pipeline again is a no-op.
+    if (&pipeline == m_pipeline) return;
     // Attribute pointers depend on the vertex layout only, which many pipelines share.
     if (!m_pipeline || !sameVertexLayout(m_pipeline->graphics(), pipeline.graphics())) m_vertexStateDirty = true;
     m_pipeline = &pipeline;
     pipeline.applyState();
 }
 
-void Device::bindBindingSet(const BindingSetDesc& desc) {
+void Device::bindBindingSet(uint32_t set, const BindingSet& bindings) {
+    if (m_boundSets[set] == &bindings) return;
+    // GL binding points are shared by all sets: a set binding at the same points replaces them.
+    for (const BindingSet*& bound : m_boundSets)
+        if (bound && (bound->bindingPoints() & bindings.bindingPoints())) bound = nullptr;
+    m_boundSets[set] = &bindings;
     const GLFunctions& f = gl();
-    for (const BindingItem& item : desc.items) {
+    for (const BindingItem& item : bindings.desc().items) {
         switch (item.type) {
             case ResourceType::UniformBuffer:
             case ResourceType::StorageBuffer: {
@@ -522,8 +779,8 @@ void Device::bindBindingSet(const BindingSetDesc& desc) {
     }
 }
 
-void Device::applyMipRanges(const std::vector<MipRange>& ranges) {
-    for (const MipRange& r : ranges) {
+void Device::applyMipRanges(std::span<const TextureMipRange> ranges) {
+    for (const TextureMipRange& r : ranges) {
         if (r.texture->hasMipRange(r.baseMip, r.mipCount)) continue;
         gl().glActiveTexture(GL_TEXTURE0 + r.unit);   // where the binding set bound it
         r.texture->applyMipRange(r.baseMip, r.mipCount);
@@ -634,8 +891,12 @@ void Device::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t f
 void Device::dispatch(uint32_t x, uint32_t y, uint32_t z) {
     const GLFunctions& f = gl();
     f.glDispatchCompute(x, y, z);
-    // Conservative: whatever reads the results next (draws, copies, mapping) sees them.
-    f.glMemoryBarrier(GL_ALL_BARRIER_BITS);
+}
+
+// Recorded by the command list's hazard tracking (see CommandList::recordBarrier): only where a
+// command reads or overwrites what a shader wrote, and at the end of a list that wrote anything.
+void Device::memoryBarrier(GLbitfield bits) {
+    if (gl().glMemoryBarrier) gl().glMemoryBarrier(bits);
 }
 
 }  // namespace janus::rhi::gl

@@ -491,6 +491,7 @@ void Device::execute(const CommandListHandle& commandList) {
     // Replay state never carries over between lists: what it points at is only kept alive by the
     // list that set it (and each list must set its own pipeline and buffers anyway).
     m_pipeline = nullptr;
+    m_boundSets = {};
     m_vertexBuffers.clear();
     m_indexBuffer = 0;
     m_vertexStateDirty = true;

@@ -2,12 +2,16 @@
 // differences are flags on Context and on the device's capabilities).
 #pragma once
 
+#include <array>
+#include <atomic>
 #include <functional>
 #include <map>
 #include <memory>
+#include <span>
 #include <string>
 #include <tuple>
 #include <utility>
+#include <variant>
 #include <vector>
 
 #include "gl_functions.h"
@@ -98,6 +102,13 @@ using ContextPtr = std::shared_ptr<Context>;
 
 // ---------------------------------------------------------------------------------------------
 
+// Which recording of which command list holds an object (CommandList::keep): lets a list hold
+// each object once per recording, and re-hold what its previous recording held for free.
+struct KeepMark {
+    std::atomic<uint64_t> recording{0};   // recording id, or retained id (odd) after end()
+    std::atomic<uint32_t> slot{0};        // index into that list's keep-alive
+};
+
 class Buffer final : public IBuffer {
 public:
     const Context* owner() const { return m_context.get(); }
@@ -105,6 +116,7 @@ public:
     ~Buffer() override;
     const BufferDesc& desc() const override { return m_desc; }
     GLuint name() const { return m_name; }
+    KeepMark keepMark;
 
 private:
     ContextPtr m_context;
@@ -139,6 +151,7 @@ public:
     bool hasMipRange(uint32_t baseMip, uint32_t mipCount) const {
         return m_baseLevel == baseMip && m_maxLevel == baseMip + mipCount - 1;
     }
+    KeepMark keepMark;
 
 private:
     void zeroContents() const;
@@ -210,6 +223,7 @@ public:
     const std::vector<ShaderBinding>& bindings() const { return m_bindings; }
     // Applies rasterizer, depth and blend state.
     void applyState() const;
+    KeepMark keepMark;
 
 private:
     void link(const std::vector<const Shader*>& shaders, const std::string& debugName);
@@ -224,11 +238,16 @@ private:
 
 class BindingSet final : public IBindingSet {
 public:
-    explicit BindingSet(const BindingSetDesc& desc) : m_desc(desc) {}
+    explicit BindingSet(const BindingSetDesc& desc);
     const BindingSetDesc& desc() const override { return m_desc; }
+    // Bit b: the set binds something at GL binding point / unit b (all bits from 63 up). Two sets
+    // whose masks are disjoint cannot overwrite each other's bindings.
+    uint64_t bindingPoints() const { return m_bindingPoints; }
+    KeepMark keepMark;
 
 private:
     BindingSetDesc m_desc;
+    uint64_t m_bindingPoints = 0;
 };
 
 class TimerQuery final : public ITimerQuery {
@@ -240,6 +259,7 @@ public:
     GLuint endQuery() const { return m_queries[1]; }
     bool begun = false;
     bool ended = false;
+    KeepMark keepMark;
 
 private:
     ContextPtr m_context;
@@ -249,6 +269,48 @@ private:
 // ---------------------------------------------------------------------------------------------
 
 class Device;
+
+// GLES mip-range emulation: the range a draw's sampled binding shows of its texture.
+struct TextureMipRange {
+    const Texture* texture;
+    uint32_t unit, baseMip, mipCount;
+};
+
+// What a command list replays: plain structs, so recording a command allocates nothing (the
+// vector's capacity is reused from one recording to the next). Objects are named by pointer; the
+// list's keep-alive holds each one for as long as the recording needs it.
+namespace command {
+struct BeginRenderPass { uint32_t pass; };   // index into CommandList::m_renderPasses
+struct SetViewport { Viewport viewport; };
+struct SetScissor { ScissorRect scissor; };
+struct BindPipeline { const Pipeline* pipeline; };
+struct BindBindingSet { uint32_t set; const BindingSet* bindings; };
+struct SetVertexBuffer { uint32_t slot; GLuint buffer; uint64_t offset; };
+struct SetIndexBuffer { GLuint buffer; IndexType type; uint64_t offset; };
+struct ApplyMipRanges { uint32_t first, count; };   // into CommandList::m_mipRanges
+struct Draw { uint32_t vertexCount, instanceCount, firstVertex, firstInstance; };
+struct DrawIndexed { uint32_t indexCount, instanceCount, firstIndex; int32_t vertexOffset; uint32_t firstInstance; };
+struct Dispatch { uint32_t x, y, z; };
+struct MemoryBarrier { GLbitfield bits; };
+struct WriteBuffer { const Buffer* buffer; uint64_t bytesOffset, size, dstOffset; };   // bytes in m_uploads
+struct CopyBuffer { const Buffer* dst; const Buffer* src; uint64_t dstOffset, srcOffset, size; };
+struct CopyBufferToTexture { const Texture* dst; TextureSubresource dstSub; const Buffer* src; uint64_t srcOffset; };
+struct CopyTextureToBuffer { const Buffer* dst; uint64_t dstOffset; const Texture* src; TextureSubresource srcSub; };
+struct CopyTexture { const Texture* dst; TextureSubresource dstSub; const Texture* src; TextureSubresource srcSub; };
+struct GenerateMips { const Texture* texture; };
+struct BeginTimer { TimerQuery* timer; };
+struct EndTimer { TimerQuery* timer; };
+struct PushDebugGroup { uint32_t label; };   // index into CommandList::m_labels
+struct PopDebugGroup {};
+}  // namespace command
+
+using Command = std::variant<command::BeginRenderPass, command::SetViewport, command::SetScissor, command::BindPipeline,
+                             command::BindBindingSet, command::SetVertexBuffer, command::SetIndexBuffer,
+                             command::ApplyMipRanges, command::Draw, command::DrawIndexed, command::Dispatch,
+                             command::MemoryBarrier, command::WriteBuffer, command::CopyBuffer,
+                             command::CopyBufferToTexture, command::CopyTextureToBuffer, command::CopyTexture,
+                             command::GenerateMips, command::BeginTimer, command::EndTimer, command::PushDebugGroup,
+                             command::PopDebugGroup>;
 
 class CommandList final : public ICommandList {
 public:
@@ -282,37 +344,123 @@ public:
     void endTimer(const TimerQueryHandle& timer) override;
     void pushDebugGroup(std::string_view name) override;
     void popDebugGroup() override;
-    void omitNextBarrierForTesting() override {}   // GL orders commands itself (see rhi.h)
+    // GL: nothing. The hazard tracking below is tested by counting the glMemoryBarrier calls
+    // replay makes (tests/rhi/gl_barriers_test.cpp); no GL tool reports a missing barrier.
+    void omitNextBarrierForTesting() override {}
 
     // Called by Device::execute.
     void replay();
 
 private:
-    void record(std::function<void(Device&)> command) { m_commands.push_back(std::move(command)); }
-    void requireRecording(const char* what) const;
-    void requireOutsideRenderPass(const char* what) const;
-    void requireInsideRenderPass(const char* what) const;
+    template <typename T>
+    void record(T command) { m_commands.emplace_back(std::move(command)); }
+    // Inline checks per command; the throwing halves are out of line.
+    void requireRecording(const char* what) const {
+        if (!m_recording) [[unlikely]] throwNotRecording(what);
+    }
+    void requireOutsideRenderPass(const char* what) const {
+        if (!m_recording || m_inRenderPass) [[unlikely]] throwWrongPassState(what);
+    }
+    void requireInsideRenderPass(const char* what) const {
+        if (!m_recording || !m_inRenderPass) [[unlikely]] throwWrongPassState(what);
+    }
+    [[noreturn]] void throwNotRecording(const char* what) const;
+    [[noreturn]] void throwWrongPassState(const char* what) const;
+
+    // Holds `handle` until the list's next recording ends without using it. Free when the object
+    // is already held by this recording, or was by the previous one (then nothing is counted).
+    template <typename Interface>
+    void keep(const std::shared_ptr<Interface>& handle, KeepMark& mark) {
+        const uint64_t last = mark.recording.load(std::memory_order_relaxed);
+        if (last == m_recordingId) return;
+        mark.recording.store(m_recordingId, std::memory_order_relaxed);
+        if (last == m_retainedId) {   // held since this list's previous recording
+            const uint32_t slot = mark.slot.load(std::memory_order_relaxed);
+            if (slot < m_keepAlive.size() && m_keepAlive[slot].mark == &mark) {
+                m_keepAlive[slot].usedIn = m_recordingId;
+                return;
+            }
+        }
+        m_keepAlive.push_back({handle, &mark, m_recordingId});
+    }
+    // end(): releases what this recording did not use, marks the rest as retained.
+    void releaseUnused();
+
+    // Draw and dispatch state is validated when it changed since the last check, not per
+    // command: m_pipelineChecked covers the pipeline against the vertex buffers and the pass's
+    // formats, m_bindingsChecked the pipeline's bindings against the sets (and the pass).
+    void requireDrawState(const char* what);
+    void requireCompatiblePipeline(const char* what) const;
+    // Checks what the pipeline's shaders use against the bound sets; fills m_usedBindings.
+    void requireBindings(const char* what);
+    // GLES: re-applies the mip ranges of the sampled textures a draw uses right before it (an
+    // item of a set bound later, unused by the draw, may have set another range on the texture).
+    void recordMipRanges();
+    void requireVertexBuffers(const char* what) const;
+    const RenderPassDesc* openPass() const { return m_inRenderPass ? &m_renderPasses.back() : nullptr; }
+
+    // Hazards between shader writes (storage buffers and images, which GL leaves unordered) and
+    // later accesses, tracked while recording. A write stays pending for the barrier bits not
+    // issued since; a command touching a pending range first gets glMemoryBarrier with the bits
+    // its kind of access needs.
+    struct PendingWrite {
+        const void* resource;   // IBuffer or ITexture
+        uint64_t begin, end;    // bytes of a buffer; textures: the whole texture
+        GLbitfield unsynchronized;
+    };
+    // The subset of `needs` a command must wait for before it accesses [begin, end) of `resource`.
+    GLbitfield hazardBits(const void* resource, uint64_t begin, uint64_t end, GLbitfield needs) const;
+    GLbitfield bufferHazard(const IBuffer* buffer, uint64_t begin, uint64_t end, GLbitfield needs) const {
+        return m_pendingWrites.empty() ? 0 : hazardBits(buffer, begin, end, needs);
+    }
+    GLbitfield textureHazard(const ITexture* texture, GLbitfield needs) const {
+        return m_pendingWrites.empty() ? 0 : hazardBits(texture, 0, UINT64_MAX, needs);
+    }
+    void recordBarrier(GLbitfield bits);
+    // Before a draw or dispatch: waits for what its bindings (and a draw's vertex and index
+    // buffers) read, then notes what its storage bindings write.
+    void trackShaderAccesses(bool drawing, bool indexed);
+    void addPendingWrite(const void* resource, uint64_t begin, uint64_t end);
 
     Device& m_device;
-    std::vector<std::function<void(Device&)>> m_commands;
+    std::vector<Command> m_commands;
+    // Command payloads that own memory, referenced by index from m_commands.
+    std::vector<RenderPassDesc> m_renderPasses;
+    std::vector<std::byte> m_uploads;
+    std::vector<std::string> m_labels;
+    std::vector<TextureMipRange> m_mipRanges;
+
+    struct Kept {
+        std::shared_ptr<const void> object;
+        KeepMark* mark;
+        uint64_t usedIn;   // recording id
+    };
+    static constexpr uint64_t kNothingRetained = 1;   // recording ids are even and >= 2
+    std::vector<Kept> m_keepAlive;
+    uint64_t m_recordingId = 0;
+    uint64_t m_retainedId = kNothingRetained;
+
     bool m_recording = false;
     bool m_recorded = false;
     bool m_inRenderPass = false;
-    std::shared_ptr<Pipeline> m_pipeline;   // last pipeline set (validation at record time)
+    bool m_pipelineChecked = false;
+    bool m_bindingsChecked = false;
+    bool m_stateWritesStorage = false;   // m_usedBindings has storage items
+    const Pipeline* m_pipeline = nullptr;   // last pipeline set (held by m_keepAlive)
     std::vector<Format> m_passColorFormats;   // formats of the open render pass
     Format m_passDepthFormat = Format::Unknown;
-    std::map<uint32_t, std::shared_ptr<BindingSet>> m_bindingSets;   // by set index
-    RenderPassDesc m_passDesc;   // the open pass's attachments, for the view-overlap check
-    void requireCompatiblePipeline(const char* what) const;
-    // Checks what the pipeline's shaders use against the bound sets; returns the texture bindings.
-    std::vector<UsedBinding> requireBindings(const char* what) const;
-    // GLES: re-applies the mip ranges of the sampled textures a draw uses right before it (an
-    // item of a set bound later, unused by the draw, may have set another range on the texture).
-    void recordMipRanges(const std::vector<UsedBinding>& textures);
-    bool m_indexBufferSet = false;
-    std::vector<uint32_t> m_vertexSlots;   // slots given a buffer since begin()
+    std::array<const BindingSet*, kMaxBindingSets> m_bindingSets{};   // by set index
+    std::vector<UsedBinding> m_usedBindings;   // the bound items the pipeline uses (last check)
+    struct RecordedVertexBuffer {
+        uint32_t slot;
+        const Buffer* buffer;
+        uint64_t offset;
+    };
+    std::vector<RecordedVertexBuffer> m_vertexBuffers;   // slots given a buffer since begin()
+    const Buffer* m_indexBuffer = nullptr;
+    uint64_t m_indexOffset = 0;
+    std::vector<PendingWrite> m_pendingWrites;
     int m_debugGroupDepth = 0;
-    void requireVertexBuffers(const char* what) const;
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -360,18 +508,15 @@ public:
                           TextureSubresource srcSub);
     void beginRenderPass(const RenderPassDesc& desc);
     void bindPipeline(const Pipeline& pipeline);
-    void bindBindingSet(const BindingSetDesc& desc);
-    struct MipRange {
-        const Texture* texture;
-        uint32_t unit, baseMip, mipCount;
-    };
-    void applyMipRanges(const std::vector<MipRange>& ranges);
+    void bindBindingSet(uint32_t set, const BindingSet& bindings);
+    void applyMipRanges(std::span<const TextureMipRange> ranges);
     void setVertexBuffer(uint32_t slot, GLuint buffer, uint64_t offset);
     void setIndexBuffer(GLuint buffer, IndexType type, uint64_t offset);
     void draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance);
     void drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex, int32_t vertexOffset,
                      uint32_t firstInstance);
     void dispatch(uint32_t x, uint32_t y, uint32_t z);
+    void memoryBarrier(GLbitfield bits);
     void timestamp(GLuint query);
     uint32_t renderWidth() const { return m_renderWidth; }
     uint32_t renderHeight() const { return m_renderHeight; }
@@ -395,6 +540,9 @@ private:
 
     // Replay state.
     const Pipeline* m_pipeline = nullptr;
+    // The set last bound at each index whose GL bindings are still in place (a later set with
+    // overlapping binding points clears the entry): binding it again changes nothing.
+    std::array<const BindingSet*, kMaxBindingSets> m_boundSets{};
     struct VertexBinding { GLuint buffer = 0; uint64_t offset = 0; };
     std::map<uint32_t, VertexBinding> m_vertexBuffers;
     GLuint m_indexBuffer = 0;

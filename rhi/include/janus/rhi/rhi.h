@@ -625,8 +625,8 @@ public:
     virtual void popDebugGroup() = 0;
 
     // Vulkan: the hazard tracker leaves out the next barrier it would record, so a test can show
-    // that synchronisation validation catches a missing one. GL: nothing (the driver orders
-    // commands; the barrier after a dispatch is unconditional and no tool reports its absence).
+    // that synchronisation validation catches a missing one. GL: nothing (no tool reports a
+    // missing glMemoryBarrier; tests/rhi/gl_barriers_test.cpp watches the calls instead).
     virtual void omitNextBarrierForTesting() = 0;
 
 protected:

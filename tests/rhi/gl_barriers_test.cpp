@@ -1,0 +1,212 @@
+// The GL backend's memory barriers (issue 10, items 4 and 6): a barrier goes only where a command
+// reads or overwrites what a shader wrote, with the bits for how it reads, and one ends a list
+// that wrote anything. No GL tool reports a missing glMemoryBarrier (llvmpipe even runs correctly
+// without one), so these tests watch the calls themselves: the device's GL entry points for
+// barriers, dispatches, draws and buffer copies are wrapped to log the order they are made in,
+// and each test checks the log as well as the values.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "backend_test.h"
+#include "gl_device.h"
+
+namespace janus::rhi::test {
+namespace {
+
+// One "dispatch", "draw", "copy" or "barrier <bits>" per call, in order.
+struct GLCallLog {
+    std::vector<std::string> calls;
+    PFNGLMEMORYBARRIERPROC memoryBarrier = nullptr;
+    PFNGLDISPATCHCOMPUTEPROC dispatchCompute = nullptr;
+    PFNGLDRAWARRAYSINSTANCEDPROC drawArraysInstanced = nullptr;
+    PFNGLCOPYBUFFERSUBDATAPROC copyBufferSubData = nullptr;
+};
+GLCallLog* g_log = nullptr;   // GL entry points are plain functions: the wrappers find the log here
+
+void APIENTRY loggedMemoryBarrier(GLbitfield bits) {
+    g_log->calls.push_back(fmt::format("barrier {:#x}", bits));
+    g_log->memoryBarrier(bits);
+}
+void APIENTRY loggedDispatchCompute(GLuint x, GLuint y, GLuint z) {
+    g_log->calls.push_back("dispatch");
+    g_log->dispatchCompute(x, y, z);
+}
+void APIENTRY loggedDrawArraysInstanced(GLenum mode, GLint first, GLsizei count, GLsizei instances) {
+    g_log->calls.push_back("draw");
+    g_log->drawArraysInstanced(mode, first, count, instances);
+}
+void APIENTRY loggedCopyBufferSubData(GLenum read, GLenum write, GLintptr readOffset, GLintptr writeOffset,
+                                      GLsizeiptr size) {
+    g_log->calls.push_back("copy");
+    g_log->copyBufferSubData(read, write, readOffset, writeOffset, size);
+}
+
+std::string barrier(GLbitfield bits) { return fmt::format("barrier {:#x}", bits); }
+
+class GLBarriersTest : public BackendTest {
+protected:
+    void SetUp() override {
+        BackendTest::SetUp();
+        if (backend() == Backend::Vulkan) GTEST_SKIP() << "GL's glMemoryBarrier policy";
+        JANUS_REQUIRE_CAPABILITY(Capability::Compute);
+        JANUS_REQUIRE_CAPABILITY(Capability::StorageBuffers);
+        m_gl = &dynamic_cast<gl::Device&>(device()).context().gl;
+        m_log.memoryBarrier = m_gl->glMemoryBarrier;
+        m_log.dispatchCompute = m_gl->glDispatchCompute;
+        m_log.drawArraysInstanced = m_gl->glDrawArraysInstanced;
+        m_log.copyBufferSubData = m_gl->glCopyBufferSubData;
+        g_log = &m_log;
+        m_gl->glMemoryBarrier = loggedMemoryBarrier;
+        m_gl->glDispatchCompute = loggedDispatchCompute;
+        m_gl->glDrawArraysInstanced = loggedDrawArraysInstanced;
+        m_gl->glCopyBufferSubData = loggedCopyBufferSubData;
+    }
+    void TearDown() override {
+        if (m_gl) {
+            m_gl->glMemoryBarrier = m_log.memoryBarrier;
+            m_gl->glDispatchCompute = m_log.dispatchCompute;
+            m_gl->glDrawArraysInstanced = m_log.drawArraysInstanced;
+            m_gl->glCopyBufferSubData = m_log.copyBufferSubData;
+            g_log = nullptr;
+        }
+        BackendTest::TearDown();
+    }
+    // The calls the last submit() made (readBuffer's own copy is left out).
+    std::vector<std::string> submitLogged(const std::function<void(ICommandList&)>& body) {
+        m_log.calls.clear();
+        submit(body);
+        std::vector<std::string> calls = std::move(m_log.calls);
+        m_log.calls.clear();
+        return calls;
+    }
+    PipelineHandle computePipeline(const char* name) {
+        return device().createComputePipeline(ComputePipelineDesc().setShader(shader(name)).setDebugName(name));
+    }
+    uint64_t sliceStride(uint64_t bytes) const {
+        const uint64_t alignment = std::max<uint64_t>(caps().limits.storageBufferOffsetAlignment, 4);
+        return (bytes + alignment - 1) / alignment * alignment;
+    }
+    BindingSetHandle storageSlice(const BufferHandle& buffer, uint64_t offset, uint64_t range) {
+        return device().createBindingSet(BindingSetDesc().add(BindingItem::storageBuffer(0, buffer, offset, range)));
+    }
+
+private:
+    gl::GLFunctions* m_gl = nullptr;
+    GLCallLog m_log;
+};
+JANUS_INSTANTIATE_BACKEND_TESTS(GLBarriersTest);
+
+// (a) A dispatch reading what the previous one wrote waits for it; the list ends with a barrier.
+TEST_P(GLBarriersTest, DispatchReadingThePreviousDispatchesWriteGetsABarrierBeforeIt) {
+    BufferHandle counter = createBufferFrom(BufferUsage::Storage, std::vector<uint32_t>{10});
+    PipelineHandle increment = computePipeline("bench_increment_comp");
+    BindingSetHandle bindings = storageSlice(counter, 0, sizeof(uint32_t));
+    const std::vector<std::string> calls = submitLogged([&](ICommandList& cmd) {
+        cmd.setPipeline(increment);
+        cmd.setBindingSet(0, bindings);
+        cmd.dispatch(1);
+        cmd.dispatch(1);
+    });
+    // The second write is new since the first barrier: the last one has every bit.
+    EXPECT_EQ(calls, (std::vector<std::string>{"dispatch", barrier(GL_SHADER_STORAGE_BARRIER_BIT), "dispatch",
+                                               barrier(GL_ALL_BARRIER_BITS)}));
+    EXPECT_EQ(readBufferAs<uint32_t>(counter), std::vector<uint32_t>{12});
+}
+
+// (b) Dispatches writing disjoint slices need no barrier between them: one ends the list.
+TEST_P(GLBarriersTest, DispatchesWritingDisjointSlicesGetNoBarrierBetweenThem) {
+    const uint64_t stride = sliceStride(sizeof(uint32_t));
+    const uint32_t slices = 4;
+    BufferHandle counters = createBufferFrom(BufferUsage::Storage, std::vector<std::byte>(stride * slices));
+    PipelineHandle increment = computePipeline("bench_increment_comp");
+    std::vector<BindingSetHandle> sets;
+    for (uint32_t i = 0; i < slices; ++i) sets.push_back(storageSlice(counters, i * stride, sizeof(uint32_t)));
+    const std::vector<std::string> calls = submitLogged([&](ICommandList& cmd) {
+        cmd.setPipeline(increment);
+        for (const BindingSetHandle& set : sets) {
+            cmd.setBindingSet(0, set);
+            cmd.dispatch(1);
+        }
+    });
+    EXPECT_EQ(calls, (std::vector<std::string>{"dispatch", "dispatch", "dispatch", "dispatch",
+                                               barrier(GL_ALL_BARRIER_BITS)}));
+    const std::vector<std::byte> bytes = device().readBuffer(counters);
+    for (uint32_t i = 0; i < slices; ++i) {
+        uint32_t value = 0;
+        std::memcpy(&value, bytes.data() + i * stride, sizeof(value));
+        EXPECT_EQ(value, 1u) << "slice " << i;
+    }
+}
+
+// (c) A copy after a dispatch waits for it (buffer-update bit) and copies the new value.
+TEST_P(GLBarriersTest, CopyAfterDispatchSeesItsResult) {
+    BufferHandle counter = createBufferFrom(BufferUsage::Storage, std::vector<uint32_t>{41});
+    BufferHandle copy = createBuffer(BufferUsage::Storage, sizeof(uint32_t));
+    PipelineHandle increment = computePipeline("bench_increment_comp");
+    BindingSetHandle bindings = storageSlice(counter, 0, sizeof(uint32_t));
+    const std::vector<std::string> calls = submitLogged([&](ICommandList& cmd) {
+        cmd.setPipeline(increment);
+        cmd.setBindingSet(0, bindings);
+        cmd.dispatch(1);
+        cmd.copyBuffer(copy, 0, counter, 0, sizeof(uint32_t));
+    });
+    EXPECT_EQ(calls, (std::vector<std::string>{"dispatch", barrier(GL_BUFFER_UPDATE_BARRIER_BIT), "copy",
+                                               barrier(GL_ALL_BARRIER_BITS & ~GL_BUFFER_UPDATE_BARRIER_BIT)}));
+    EXPECT_EQ(readBufferAs<uint32_t>(copy), std::vector<uint32_t>{42});
+}
+
+// (c) Draws reading vertices a dispatch wrote: a barrier for vertex fetching comes before the
+// draw even after an earlier barrier for storage reads (which does not cover vertex fetching),
+// and the draw shows what compute wrote.
+TEST_P(GLBarriersTest, DrawAfterDispatchSeesItsVertices) {
+    const uint64_t rectangleBytes = 6 * sizeof(ColorVertex);   // what write_vertices.comp writes
+    BufferHandle vertices = createBuffer(BufferUsage::Storage | BufferUsage::Vertex, rectangleBytes);
+    BufferHandle unrelated = createBuffer(BufferUsage::Storage, sizeof(uint32_t));
+    PipelineHandle writeVertices = computePipeline("rt_write_vertices_comp");
+    PipelineHandle increment = computePipeline("bench_increment_comp");
+    BindingSetHandle vertexSlice = storageSlice(vertices, 0, rectangleBytes);
+    // Reads (and rewrites) the first float's bits: one ulp moves nothing on an 8x8 target.
+    BindingSetHandle firstWord = storageSlice(vertices, 0, sizeof(uint32_t));
+    BindingSetHandle unrelatedSlice = storageSlice(unrelated, 0, sizeof(uint32_t));
+    TextureHandle target = createTexture2D(Format::RGBA8_UNORM, 8, 8, TextureUsage::RenderTarget);
+    PipelineHandle draw = colorPipeline(Format::RGBA8_UNORM);
+    const std::vector<std::string> calls = submitLogged([&](ICommandList& cmd) {
+        cmd.setPipeline(writeVertices);
+        cmd.setBindingSet(0, vertexSlice);
+        cmd.dispatch(1);
+        cmd.setPipeline(increment);
+        cmd.setBindingSet(0, unrelatedSlice);
+        cmd.dispatch(1);   // disjoint: no barrier
+        cmd.setBindingSet(0, firstWord);
+        cmd.dispatch(1);   // reads what the first dispatch wrote
+        cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(target, {1, 0, 0, 1})));
+        cmd.setPipeline(draw);
+        cmd.setVertexBuffer(0, vertices, 0);
+        cmd.draw(6);
+        cmd.draw(6);   // nothing new to wait for
+        cmd.endRenderPass();
+    });
+    EXPECT_EQ(calls, (std::vector<std::string>{"dispatch", "dispatch", barrier(GL_SHADER_STORAGE_BARRIER_BIT),
+                                               "dispatch", barrier(GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT), "draw", "draw",
+                                               barrier(GL_ALL_BARRIER_BITS & ~GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT)}));
+    std::vector<Rgba8> expected(64);
+    for (uint32_t i = 0; i < 64; ++i) expected[i] = i % 8 < 4 ? Rgba8{0, 255, 0, 255} : Rgba8{255, 0, 0, 255};
+    EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(target), expected, 8));
+}
+
+// A list that only draws and copies (no shader writes) issues no barrier at all.
+TEST_P(GLBarriersTest, ListWithoutShaderWritesHasNoBarrier) {
+    BufferHandle source = createBufferFrom(BufferUsage::Storage, std::vector<uint32_t>{7});
+    BufferHandle copy = createBuffer(BufferUsage::Storage, sizeof(uint32_t));
+    const std::vector<std::string> calls =
+        submitLogged([&](ICommandList& cmd) { cmd.copyBuffer(copy, 0, source, 0, sizeof(uint32_t)); });
+    EXPECT_EQ(calls, std::vector<std::string>{"copy"});
+    EXPECT_EQ(readBufferAs<uint32_t>(copy), std::vector<uint32_t>{7});
+}
+
+}  // namespace
+}  // namespace janus::rhi::test
