@@ -12,9 +12,6 @@
 namespace janus::rhi::gl {
 
 namespace {
-// Recording ids, unique across all command lists: even; id + 1 marks what the recording retains.
-std::atomic<uint64_t> g_nextRecordingId{2};
-
 // The backend object behind a handle. T is final, so comparing the dynamic type is the whole
 // check dynamic_cast would make, without its walk of the class hierarchy (this runs per command).
 template <typename T, typename Handle>
@@ -83,35 +80,8 @@ void CommandList::throwWrongPassState(const char* what) const {
     throw Error(ErrorCode::InvalidUsage, fmt::format("{} needs an active render pass; call beginRenderPass() first", what));
 }
 
-void CommandList::releaseUnused() {
-    const uint64_t retained = m_recordingId + 1;
-    size_t kept = 0;
-    for (size_t i = 0; i < m_keepAlive.size(); ++i) {
-        Kept& entry = m_keepAlive[i];
-        if (entry.usedIn != m_recordingId) continue;   // not used by this recording
-        // An object kept twice (another list touched its mark in between): one entry holds it.
-        const uint32_t slot = entry.mark->slot.load(std::memory_order_relaxed);
-        if (entry.mark->recording.load(std::memory_order_relaxed) == retained && slot < kept &&
-            m_keepAlive[slot].mark == entry.mark)
-            continue;
-        entry.mark->recording.store(retained, std::memory_order_relaxed);
-        entry.mark->slot.store(uint32_t(kept), std::memory_order_relaxed);
-        if (kept != i) m_keepAlive[kept] = std::move(entry);
-        ++kept;
-    }
-    m_keepAlive.resize(kept);
-    m_retainedId = retained;
-}
-
 void CommandList::begin() {
-    // What the previous recording held stays held (keeping it again is then free) until end()
-    // finds which objects this recording no longer uses. A recording that never ended retains
-    // nothing.
-    if (m_recording) {
-        m_keepAlive.clear();
-        m_retainedId = kNothingRetained;
-    }
-    m_recordingId = g_nextRecordingId.fetch_add(2, std::memory_order_relaxed);
+    m_keepAlive.beginRecording();
     m_commands.clear();
     m_renderPasses.clear();
     m_uploads.clear();
@@ -328,7 +298,7 @@ void CommandList::end() {
         for (const PendingWrite& write : m_pendingWrites) bits |= write.unsynchronized;
         recordBarrier(bits);
     }
-    releaseUnused();
+    m_keepAlive.releaseUnused();
     m_recording = false;
     m_recorded = true;
 }
@@ -379,7 +349,7 @@ void CommandList::setPipeline(const PipelineHandle& handle) {
     Pipeline* pipeline = cast<Pipeline>(m_device, handle, "setPipeline", "pipeline");
     if (pipeline->isCompute() && m_inRenderPass)
         throw Error(ErrorCode::InvalidUsage, "setPipeline: a compute pipeline cannot be set inside a render pass");
-    keep(handle, pipeline->keepMark);
+    m_keepAlive.keep(handle, pipeline->keepMark);
     if (pipeline == m_pipeline) return;   // replay would bind the same program again
     m_pipeline = pipeline;
     m_pipelineChecked = m_bindingsChecked = false;
@@ -389,7 +359,7 @@ void CommandList::setPipeline(const PipelineHandle& handle) {
 void CommandList::setBindingSetImpl(uint32_t set, const BindingSetHandle& handle) {
     requireRecording("setBindingSet");
     BindingSet* bindings = cast<BindingSet>(m_device, handle, "setBindingSet", "binding set");
-    keep(handle, bindings->keepMark);
+    m_keepAlive.keep(handle, bindings->keepMark);
     m_bindingSets[set] = bindings;
     m_bindingsChecked = false;
     record(command::BindBindingSet{set, bindings});
@@ -404,7 +374,7 @@ void CommandList::setVertexBuffer(uint32_t slot, const BufferHandle& handle, uin
     if (offset >= buffer->desc().size)
         throw Error(ErrorCode::InvalidUsage, fmt::format("setVertexBuffer: offset {} is past the end of buffer '{}' ({} bytes)",
                                                          offset, buffer->desc().debugName, buffer->desc().size));
-    keep(handle, buffer->keepMark);
+    m_keepAlive.keep(handle, buffer->keepMark);
     auto existing = std::find_if(m_vertexBuffers.begin(), m_vertexBuffers.end(),
                                  [&](const RecordedVertexBuffer& b) { return b.slot == slot; });
     if (existing != m_vertexBuffers.end())
@@ -426,7 +396,7 @@ void CommandList::setIndexBuffer(const BufferHandle& handle, IndexType type, uin
         throw Error(ErrorCode::InvalidUsage,
                     fmt::format("setIndexBuffer: offset {} must be a multiple of {} inside the buffer ({} bytes)",
                                 offset, indexSize, buffer->desc().size));
-    keep(handle, buffer->keepMark);
+    m_keepAlive.keep(handle, buffer->keepMark);
     m_indexBuffer = buffer;
     m_indexOffset = offset;
     record(command::SetIndexBuffer{buffer->name(), type, offset});
@@ -470,7 +440,7 @@ void CommandList::dispatchImpl(uint32_t groupsX, uint32_t groupsY, uint32_t grou
 void CommandList::writeBufferImpl(const BufferHandle& handle, const void* data, uint64_t size, uint64_t dstOffset) {
     requireOutsideRenderPass("writeBuffer");
     Buffer* buffer = cast<Buffer>(m_device, handle, "writeBuffer", "buffer");
-    keep(handle, buffer->keepMark);
+    m_keepAlive.keep(handle, buffer->keepMark);
     if (GLbitfield bits = bufferHazard(buffer, dstOffset, dstOffset + size, GL_BUFFER_UPDATE_BARRIER_BIT)) recordBarrier(bits);
     // The data is copied now: the caller's memory need not outlive the call.
     const uint64_t at = m_uploads.size();
@@ -484,8 +454,8 @@ void CommandList::copyBufferImpl(const BufferHandle& dstHandle, uint64_t dstOffs
     requireOutsideRenderPass("copyBuffer");
     Buffer* dst = cast<Buffer>(m_device, dstHandle, "copyBuffer", "destination buffer");
     Buffer* src = cast<Buffer>(m_device, srcHandle, "copyBuffer", "source buffer");
-    keep(dstHandle, dst->keepMark);
-    keep(srcHandle, src->keepMark);
+    m_keepAlive.keep(dstHandle, dst->keepMark);
+    m_keepAlive.keep(srcHandle, src->keepMark);
     const GLbitfield bits = bufferHazard(dst, dstOffset, dstOffset + size, GL_BUFFER_UPDATE_BARRIER_BIT) |
                             bufferHazard(src, srcOffset, srcOffset + size, GL_BUFFER_UPDATE_BARRIER_BIT);
     if (bits) recordBarrier(bits);
@@ -497,8 +467,8 @@ void CommandList::copyBufferToTextureImpl(const TextureHandle& dstHandle, Textur
     requireOutsideRenderPass("copyBufferToTexture");
     Texture* dst = cast<Texture>(m_device, dstHandle, "copyBufferToTexture", "texture");
     Buffer* src = cast<Buffer>(m_device, srcHandle, "copyBufferToTexture", "buffer");
-    keep(dstHandle, dst->keepMark);
-    keep(srcHandle, src->keepMark);
+    m_keepAlive.keep(dstHandle, dst->keepMark);
+    m_keepAlive.keep(srcHandle, src->keepMark);
     const GLbitfield bits = textureHazard(dst, GL_TEXTURE_UPDATE_BARRIER_BIT) |
                             bufferHazard(src, srcOffset, UINT64_MAX, GL_PIXEL_BUFFER_BARRIER_BIT);
     if (bits) recordBarrier(bits);
@@ -510,8 +480,8 @@ void CommandList::copyTextureToBufferImpl(const BufferHandle& dstHandle, uint64_
     requireOutsideRenderPass("copyTextureToBuffer");
     Buffer* dst = cast<Buffer>(m_device, dstHandle, "copyTextureToBuffer", "buffer");
     Texture* src = cast<Texture>(m_device, srcHandle, "copyTextureToBuffer", "texture");
-    keep(dstHandle, dst->keepMark);
-    keep(srcHandle, src->keepMark);
+    m_keepAlive.keep(dstHandle, dst->keepMark);
+    m_keepAlive.keep(srcHandle, src->keepMark);
     // The texture is read through a framebuffer, glGetTexImage or (ES depth) a draw sampling it:
     // every kind of access.
     const GLbitfield bits = textureHazard(src, GL_ALL_BARRIER_BITS) |
@@ -525,8 +495,8 @@ void CommandList::copyTextureImpl(const TextureHandle& dstHandle, TextureSubreso
     requireOutsideRenderPass("copyTexture");
     Texture* dst = cast<Texture>(m_device, dstHandle, "copyTexture", "destination texture");
     Texture* src = cast<Texture>(m_device, srcHandle, "copyTexture", "source texture");
-    keep(dstHandle, dst->keepMark);
-    keep(srcHandle, src->keepMark);
+    m_keepAlive.keep(dstHandle, dst->keepMark);
+    m_keepAlive.keep(srcHandle, src->keepMark);
     // glCopyImageSubData, or on ES a blit between framebuffers.
     constexpr GLbitfield copyBits = GL_TEXTURE_UPDATE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT;
     if (GLbitfield bits = textureHazard(dst, copyBits) | textureHazard(src, copyBits)) recordBarrier(bits);
@@ -537,7 +507,7 @@ void CommandList::copyTextureImpl(const TextureHandle& dstHandle, TextureSubreso
 void CommandList::generateMipsImpl(const TextureHandle& handle) {
     requireOutsideRenderPass("generateMips");
     Texture* texture = cast<Texture>(m_device, handle, "generateMips", "texture");
-    keep(handle, texture->keepMark);
+    m_keepAlive.keep(handle, texture->keepMark);
     // How the driver reads and writes the levels is its own business.
     if (GLbitfield bits = textureHazard(texture, GL_ALL_BARRIER_BITS)) recordBarrier(bits);
     record(command::GenerateMips{texture});
@@ -546,14 +516,14 @@ void CommandList::generateMipsImpl(const TextureHandle& handle) {
 void CommandList::beginTimer(const TimerQueryHandle& handle) {
     requireRecording("beginTimer");
     TimerQuery* timer = cast<TimerQuery>(m_device, handle, "beginTimer", "timer");
-    keep(handle, timer->keepMark);
+    m_keepAlive.keep(handle, timer->keepMark);
     record(command::BeginTimer{timer});
 }
 
 void CommandList::endTimer(const TimerQueryHandle& handle) {
     requireRecording("endTimer");
     TimerQuery* timer = cast<TimerQuery>(m_device, handle, "endTimer", "timer");
-    keep(handle, timer->keepMark);
+    m_keepAlive.keep(handle, timer->keepMark);
     record(command::EndTimer{timer});
 }
 

@@ -17,6 +17,7 @@
 #include "gl_functions.h"
 #include "gl_platform.h"
 #include "gl_shader_translation.h"
+#include "janus/rhi/keep_alive.h"
 #include "janus/rhi/rhi.h"
 #include "janus/rhi/texture_view_validation.h"
 
@@ -101,13 +102,6 @@ private:
 using ContextPtr = std::shared_ptr<Context>;
 
 // ---------------------------------------------------------------------------------------------
-
-// Which recording of which command list holds an object (CommandList::keep): lets a list hold
-// each object once per recording, and re-hold what its previous recording held for free.
-struct KeepMark {
-    std::atomic<uint64_t> recording{0};   // recording id, or retained id (odd) after end()
-    std::atomic<uint32_t> slot{0};        // index into that list's keep-alive
-};
 
 class Buffer final : public IBuffer {
 public:
@@ -367,24 +361,6 @@ private:
     [[noreturn]] void throwNotRecording(const char* what) const;
     [[noreturn]] void throwWrongPassState(const char* what) const;
 
-    // Holds `handle` until the list's next recording ends without using it. Free when the object
-    // is already held by this recording, or was by the previous one (then nothing is counted).
-    template <typename Interface>
-    void keep(const std::shared_ptr<Interface>& handle, KeepMark& mark) {
-        const uint64_t last = mark.recording.load(std::memory_order_relaxed);
-        if (last == m_recordingId) return;
-        mark.recording.store(m_recordingId, std::memory_order_relaxed);
-        if (last == m_retainedId) {   // held since this list's previous recording
-            const uint32_t slot = mark.slot.load(std::memory_order_relaxed);
-            if (slot < m_keepAlive.size() && m_keepAlive[slot].mark == &mark) {
-                m_keepAlive[slot].usedIn = m_recordingId;
-                return;
-            }
-        }
-        m_keepAlive.push_back({handle, &mark, m_recordingId});
-    }
-    // end(): releases what this recording did not use, marks the rest as retained.
-    void releaseUnused();
 
     // Draw and dispatch state is validated when it changed since the last check, not per
     // command: m_pipelineChecked covers the pipeline against the vertex buffers and the pass's
@@ -430,15 +406,7 @@ private:
     std::vector<std::string> m_labels;
     std::vector<TextureMipRange> m_mipRanges;
 
-    struct Kept {
-        std::shared_ptr<const void> object;
-        KeepMark* mark;
-        uint64_t usedIn;   // recording id
-    };
-    static constexpr uint64_t kNothingRetained = 1;   // recording ids are even and >= 2
-    std::vector<Kept> m_keepAlive;
-    uint64_t m_recordingId = 0;
-    uint64_t m_retainedId = kNothingRetained;
+    KeepAliveList m_keepAlive;   // everything the recording references
 
     bool m_recording = false;
     bool m_recorded = false;

@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "janus/rhi/backends.h"
+#include "janus/rhi/keep_alive.h"
 #include "janus/rhi/texture_view_validation.h"
 
 namespace janus::rhi::vulkan {
@@ -149,18 +150,6 @@ Native* native(const std::shared_ptr<Interface>& handle, std::string_view what) 
     if (!handle || typeid(*handle) != typeid(Native)) [[unlikely]] throwNotThisBackend(!handle, what);
     return static_cast<Native*>(handle.get());
 }
-
-// The recording that last kept an object alive (CommandList::keep), so each object is kept once
-// per recording instead of once per use, and the objects a list used in its previous recording
-// too are not released and re-kept. `slot` is where the list that last kept the object holds it;
-// a list trusts it only when its own entry there holds this mark.
-// Several lists may record at once: the mark then says only which of them touched the object
-// last, so a list decides what to release from its own entries (Kept::usedIn), never from the
-// mark. Relaxed atomics: a stale or torn read at worst keeps an object twice, which is harmless.
-struct KeepMark {
-    std::atomic<uint64_t> recording{0};
-    std::atomic<uint32_t> slot{0};
-};
 
 // What one command does to one resource, for hazard tracking. Buffers are tracked by byte
 // range; textures by subresource key (mip << 32 | layer, see subresourceKeys).
@@ -516,28 +505,6 @@ private:
     void flushPassReads();
     // Barrier first if any of `accesses` conflicts with what was tracked, then tracks them.
     void access(std::initializer_list<ResourceAccess> accesses);
-    // Keeps `handle` alive until this list is re-begun or destroyed, once per recording. An
-    // object this list already holds (from its previous recording, found through the mark's
-    // slot) is only marked as used again: no reference counting, no push.
-    template <class Interface>
-    void keep(const std::shared_ptr<Interface>& handle, KeepMark& mark) {
-        if (mark.recording.load(std::memory_order_relaxed) == m_recordingId) return;
-        mark.recording.store(m_recordingId, std::memory_order_relaxed);
-        const uint32_t slot = mark.slot.load(std::memory_order_relaxed);
-        if (slot < m_keepAlive.size() && m_keepAlive[slot].mark == &mark) {
-            Kept& entry = m_keepAlive[slot];
-            if (entry.usedIn != m_recordingId) {
-                entry.usedIn = m_recordingId;
-                ++m_keptEntriesUsed;
-            }
-            return;
-        }
-        mark.slot.store(uint32_t(m_keepAlive.size()), std::memory_order_relaxed);
-        m_keepAlive.push_back({handle, &mark, m_recordingId});
-        ++m_keptEntriesUsed;
-    }
-    // end(): releases what this recording did not use (nothing to do when it used them all).
-    void releaseUnused();
 
     ContextPtr m_context;
     VkCommandPool m_pool = VK_NULL_HANDLE;
@@ -546,16 +513,9 @@ private:
     VkFence m_fence = VK_NULL_HANDLE;
     bool m_pending = false;
     State m_state = State::Initial;
-    uint64_t m_recordingId = 0;   // unique across all lists, for KeepMark
     HazardTracker m_hazards;
 
-    struct Kept {
-        std::shared_ptr<void> object;
-        KeepMark* mark;        // inside `object`
-        uint64_t usedIn = 0;   // the last recording of this list that used it
-    };
-    std::vector<Kept> m_keepAlive;
-    size_t m_keptEntriesUsed = 0;   // entries of m_keepAlive this recording used
+    KeepAliveList m_keepAlive;   // everything the recording references
     std::vector<std::shared_ptr<StagingBuffer>> m_staging;
     struct TimerUse {
         std::shared_ptr<TimerQuery> timer;

@@ -17,9 +17,6 @@ std::string formatList(const std::vector<Format>& colors, Format depth) {
     return text + "] depth " + (depth == Format::Unknown ? std::string("none") : toString(depth));
 }
 
-// Recording ids are unique across all command lists of all devices (see KeepMark).
-// Each takes two ids: N while recording, N + 1 for what it retains afterwards.
-std::atomic<uint64_t> g_nextRecordingId{2};
 
 ResourceAccess bufferAccess(const Buffer& buffer, uint64_t offset, uint64_t size, VkPipelineStageFlags stages,
                             VkAccessFlags access, bool write) {
@@ -96,36 +93,15 @@ void CommandList::throwNotRecordingOrInPass(std::string_view call) const {
                 fmt::format("{}: not allowed inside a render pass; call endRenderPass() first", call));
 }
 
-void CommandList::releaseUnused() {
-    if (m_keptEntriesUsed == m_keepAlive.size()) return;   // the same objects as last time, or more
-    size_t kept = 0;
-    for (size_t i = 0; i < m_keepAlive.size(); ++i) {
-        Kept& entry = m_keepAlive[i];
-        if (entry.usedIn != m_recordingId) continue;   // not used by this recording
-        if (kept != i) {
-            // Another list may have pointed the mark at its own entry: only ours are moved.
-            if (entry.mark->slot.load(std::memory_order_relaxed) == i)
-                entry.mark->slot.store(uint32_t(kept), std::memory_order_relaxed);
-            m_keepAlive[kept] = std::move(entry);
-        }
-        ++kept;
-    }
-    m_keepAlive.resize(kept);
-    m_keptEntriesUsed = kept;
-}
-
 void CommandList::begin() {
     waitUntilDone();
-    // Objects kept by earlier recordings stay held (re-keeping them is then free) until end()
-    // finds which ones this recording no longer uses.
-    m_keptEntriesUsed = 0;
     m_staging.clear();
     m_timers.clear();
     check(vkResetCommandPool(m_context->device, m_pool, 0), ErrorCode::DeviceLost, "vkResetCommandPool");
     VkCommandBufferBeginInfo info{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
     check(vkBeginCommandBuffer(m_commands, &info), ErrorCode::DeviceLost, "vkBeginCommandBuffer");
     m_state = State::Recording;
-    m_recordingId = g_nextRecordingId.fetch_add(2, std::memory_order_relaxed);
+    m_keepAlive.beginRecording();
     m_hazards.reset();
     m_inRenderPass = false;
     m_graphicsPipeline = nullptr;
@@ -148,7 +124,7 @@ void CommandList::end() {
                     fmt::format("end(): {} debug group(s) are still open; call popDebugGroup()", m_debugGroupDepth));
     // Later device-level reads map memory on the host; make this list's writes visible to it.
     hostBarrier(m_commands);
-    releaseUnused();
+    m_keepAlive.releaseUnused();
     check(vkEndCommandBuffer(m_commands), ErrorCode::DeviceLost, "vkEndCommandBuffer");
 
     VkCommandBufferBeginInfo info{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
@@ -188,7 +164,7 @@ void CommandList::beginRenderPassImpl(const RenderPassDesc& desc) {
         const TextureDesc& tdesc = texture->desc();
         const VkExtent3D e = texture->extent(a.subresource.mipLevel);
         extent = VkExtent2D{e.width, e.height};
-        keep(a.texture, texture->keepMark);
+        m_keepAlive.keep(a.texture, texture->keepMark);
         // Load and store ops read and write the attachment; counting it as written covers both.
         attachmentAccesses.push_back(
             depth ? textureAccess(*texture, keysOf(a.subresource),
@@ -287,7 +263,7 @@ void CommandList::setPipeline(const PipelineHandle& handle) {
     requireRecording("setPipeline()");
     auto* pipeline = native<Pipeline>(handle, "setPipeline(): the pipeline");
     if (pipeline == m_computePipeline || pipeline == m_graphicsPipeline) return;   // already bound
-    keep(handle, pipeline->keepMark);
+    m_keepAlive.keep(handle, pipeline->keepMark);
     if (pipeline->isCompute()) {
         m_computePipeline = pipeline;
         m_dirtyComputeSets = ~0u;
@@ -307,7 +283,7 @@ void CommandList::setBindingSetImpl(uint32_t set, const BindingSetHandle& bindin
     auto* bindingSet = native<BindingSet>(bindings, "setBindingSet(): the binding set");
     if (m_bindingSets[set] == bindingSet) return;   // already bound
     bindingSet->prefetchFirstUse();
-    keep(bindings, bindingSet->keepMark);
+    m_keepAlive.keep(bindings, bindingSet->keepMark);
     m_bindingSets[set] = bindingSet;
     m_dirtyGraphicsSets |= 1u << set;
     m_dirtyComputeSets |= 1u << set;
@@ -351,7 +327,7 @@ void CommandList::setVertexBuffer(uint32_t slot, const BufferHandle& handle, uin
     if (m_vertexBindings.size() <= slot) m_vertexBindings.resize(slot + 1);
     VertexBinding& binding = m_vertexBindings[slot];
     if (binding.buffer == buffer && binding.offset == offset) return;   // already bound
-    keep(handle, buffer->keepMark);
+    m_keepAlive.keep(handle, buffer->keepMark);
     m_context->cmdBindVertexBuffers(m_commands, slot, 1, &buffer->buffer, &offset);
     binding = {buffer, offset};
     m_drawStateChecked = false;
@@ -371,7 +347,7 @@ void CommandList::setIndexBuffer(const BufferHandle& handle, IndexType type, uin
                                 indexSize, buffer->desc().size));
     const VkIndexType indexType = type == IndexType::UInt16 ? VK_INDEX_TYPE_UINT16 : VK_INDEX_TYPE_UINT32;
     if (m_indexBuffer == buffer && m_indexOffset == offset && m_indexType == indexType) return;   // already bound
-    keep(handle, buffer->keepMark);
+    m_keepAlive.keep(handle, buffer->keepMark);
     m_context->cmdBindIndexBuffer(m_commands, buffer->buffer, offset, indexType);
     m_indexBuffer = buffer;
     m_indexOffset = offset;
@@ -531,7 +507,7 @@ void CommandList::writeBufferImpl(const BufferHandle& dst, const void* data, uin
     auto* buffer = native<Buffer>(dst, "writeBuffer(): the buffer");
     auto staging = std::make_shared<StagingBuffer>(m_context, size);
     std::memcpy(staging->mapped, data, size);
-    keep(dst, buffer->keepMark);
+    m_keepAlive.keep(dst, buffer->keepMark);
     // The staging buffer was written by the host before submission: no device hazard.
     access({transferWrite(*buffer, dstOffset, size)});
     VkBufferCopy region{0, dstOffset, size};
@@ -544,8 +520,8 @@ void CommandList::copyBufferImpl(const BufferHandle& dst, uint64_t dstOffset, co
     requireOutsideRenderPass("copyBuffer()");
     auto* to = native<Buffer>(dst, "copyBuffer(): the destination");
     auto* from = native<Buffer>(src, "copyBuffer(): the source");
-    keep(dst, to->keepMark);
-    keep(src, from->keepMark);
+    m_keepAlive.keep(dst, to->keepMark);
+    m_keepAlive.keep(src, from->keepMark);
     access({transferRead(*from, srcOffset, size), transferWrite(*to, dstOffset, size)});
     VkBufferCopy region{srcOffset, dstOffset, size};
     vkCmdCopyBuffer(m_commands, from->buffer, to->buffer, 1, &region);
@@ -556,8 +532,8 @@ void CommandList::copyBufferToTextureImpl(const TextureHandle& dst, TextureSubre
     requireOutsideRenderPass("copyBufferToTexture()");
     auto* texture = native<Texture>(dst, "copyBufferToTexture(): the texture");
     auto* buffer = native<Buffer>(src, "copyBufferToTexture(): the buffer");
-    keep(dst, texture->keepMark);
-    keep(src, buffer->keepMark);
+    m_keepAlive.keep(dst, texture->keepMark);
+    m_keepAlive.keep(src, buffer->keepMark);
     access({transferRead(*buffer, srcOffset, texture->subresourceSize(dstSub.mipLevel)),
             transferWrite(*texture, keysOf(dstSub))});
     VkBufferImageCopy region{};
@@ -573,8 +549,8 @@ void CommandList::copyTextureToBufferImpl(const BufferHandle& dst, uint64_t dstO
     requireOutsideRenderPass("copyTextureToBuffer()");
     auto* buffer = native<Buffer>(dst, "copyTextureToBuffer(): the buffer");
     auto* texture = native<Texture>(src, "copyTextureToBuffer(): the texture");
-    keep(dst, buffer->keepMark);
-    keep(src, texture->keepMark);
+    m_keepAlive.keep(dst, buffer->keepMark);
+    m_keepAlive.keep(src, texture->keepMark);
     access({transferRead(*texture, keysOf(srcSub)),
             transferWrite(*buffer, dstOffset, texture->subresourceSize(srcSub.mipLevel))});
     VkBufferImageCopy region{};
@@ -591,8 +567,8 @@ void CommandList::copyTextureImpl(const TextureHandle& dst, TextureSubresource d
     auto* to = native<Texture>(dst, "copyTexture(): the destination");
     auto* from = native<Texture>(src, "copyTexture(): the source");
     const VkExtent3D srcExtent = from->copyExtent(srcSub);
-    keep(dst, to->keepMark);
-    keep(src, from->keepMark);
+    m_keepAlive.keep(dst, to->keepMark);
+    m_keepAlive.keep(src, from->keepMark);
     access({transferRead(*from, keysOf(srcSub)), transferWrite(*to, keysOf(dstSub))});
     VkImageCopy region{};
     region.srcSubresource = from->copyLayers(srcSub);
@@ -608,7 +584,7 @@ void CommandList::generateMipsImpl(const TextureHandle& handle) {
     requireOutsideRenderPass("generateMips()");
     auto* texture = native<Texture>(handle, "generateMips(): the texture");
     const TextureDesc& desc = texture->desc();
-    keep(handle, texture->keepMark);
+    m_keepAlive.keep(handle, texture->keepMark);
     for (uint32_t level = 1; level < desc.mipLevels; ++level) {
         const VkExtent3D from = texture->extent(level - 1), to = texture->extent(level);
         VkImageBlit blit{};

@@ -1,0 +1,86 @@
+// What a command list's recording references stays alive until the list is re-recorded without
+// it or destroyed. Every backend's command list holds its objects through a KeepAliveList.
+//
+// Each object is held once per recording, not once per use, and what a list used in its earlier
+// recordings stays held: re-recording the same frame costs no reference counting, and end()
+// does nothing when the recording used every held object (it counts them). An object the user
+// dropped may therefore live until the list's next end() or destruction.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+namespace janus::rhi {
+
+// On every object a command list can hold: the recording that last held it and where that list
+// holds it. Several lists may record at once: the mark then says only which of them touched the
+// object last, so a list decides what to release from its own entries (Kept::usedIn), never from
+// the mark, and trusts the slot only when its own entry there holds this mark. Relaxed atomics: a
+// stale or torn read at worst holds an object twice, which is harmless.
+struct KeepMark {
+    std::atomic<uint64_t> recording{0};
+    std::atomic<uint32_t> slot{0};
+};
+
+class KeepAliveList {
+public:
+    // Starts a recording (ids are unique across all lists of all devices).
+    void beginRecording() {
+        static std::atomic<uint64_t> nextRecordingId{1};
+        m_recordingId = nextRecordingId.fetch_add(1, std::memory_order_relaxed);
+        m_used = 0;
+    }
+
+    // Holds `handle` (whose object carries `mark`) for this recording. Free when already held by
+    // this recording; only marked as used again when an earlier recording of this list held it.
+    template <class Interface>
+    void keep(const std::shared_ptr<Interface>& handle, KeepMark& mark) {
+        if (mark.recording.load(std::memory_order_relaxed) == m_recordingId) return;
+        mark.recording.store(m_recordingId, std::memory_order_relaxed);
+        const uint32_t slot = mark.slot.load(std::memory_order_relaxed);
+        if (slot < m_entries.size() && m_entries[slot].mark == &mark) {
+            Kept& entry = m_entries[slot];
+            if (entry.usedIn != m_recordingId) {
+                entry.usedIn = m_recordingId;
+                ++m_used;
+            }
+            return;
+        }
+        mark.slot.store(uint32_t(m_entries.size()), std::memory_order_relaxed);
+        m_entries.push_back({handle, &mark, m_recordingId});
+        ++m_used;
+    }
+
+    // End of a recording: lets go of what it did not use.
+    void releaseUnused() {
+        if (m_used == m_entries.size()) return;   // the same objects as before, or more
+        size_t kept = 0;
+        for (size_t i = 0; i < m_entries.size(); ++i) {
+            Kept& entry = m_entries[i];
+            if (entry.usedIn != m_recordingId) continue;
+            if (kept != i) {
+                // Another list may have pointed the mark at its own entry: only ours move it.
+                if (entry.mark->slot.load(std::memory_order_relaxed) == i)
+                    entry.mark->slot.store(uint32_t(kept), std::memory_order_relaxed);
+                m_entries[kept] = std::move(entry);
+            }
+            ++kept;
+        }
+        m_entries.resize(kept);
+        m_used = kept;
+    }
+
+private:
+    struct Kept {
+        std::shared_ptr<const void> object;
+        KeepMark* mark;        // inside `object`
+        uint64_t usedIn = 0;   // the last recording of this list that used it
+    };
+    std::vector<Kept> m_entries;
+    size_t m_used = 0;   // entries the current recording used
+    uint64_t m_recordingId = 0;
+};
+
+}  // namespace janus::rhi
