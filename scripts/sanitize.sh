@@ -31,6 +31,11 @@ export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1:suppressions=$supp/ubsa
 # leaks.
 lavapipe=$(ls /usr/lib/*/libvulkan_lvp.so 2>/dev/null | head -1)
 if [[ -n $lavapipe ]]; then export LD_PRELOAD="$lavapipe${LD_PRELOAD:+ $LD_PRELOAD}"; fi
+# The validation layer, which the loader unloads at every vkDestroyInstance, is kept loaded the same
+# way through a small preloaded library (sanitizers/keep_vulkan_layers.c), so its module is named.
+keep_layers=$build/libjanus_keep_vulkan_layers.so
+cc -shared -fPIC -o "$keep_layers" "$supp/keep_vulkan_layers.c" -ldl
+export LD_PRELOAD="$keep_layers${LD_PRELOAD:+ $LD_PRELOAD}"
 set +e
 ctest --test-dir "$build" --output-on-failure --timeout 1800 -j "$jobs" "$@"
 rc=$?
