@@ -379,7 +379,7 @@ private:
     std::vector<ShaderHandle> m_shaders;
 };
 
-class BindingSet final : public IBindingSet {
+class alignas(64) BindingSet final : public IBindingSet {
 public:
     BindingSet(ContextPtr context, const BindingSetDesc& desc);
     ~BindingSet() override;
@@ -387,10 +387,13 @@ public:
 
     // The descriptor set holding these resources for one set layout, and what a command using
     // it reads and writes. Never moves once created (`accesses` may point into it).
+    // What a bind and the next draw/dispatch read comes first: with the object's header it fills
+    // one cache line (the object is aligned to one), and fewAccesses[0] starts the next.
     struct LayoutUse {
         VkDescriptorSetLayout layout = VK_NULL_HANDLE;
         VkDescriptorSet set = VK_NULL_HANDLE;
         std::span<const ResourceAccess> accesses;
+        bool hasTextureItems = false;                  // !textureItems.empty(), next to the rest
         std::array<ResourceAccess, 2> fewAccesses{};   // most sets: no second allocation to visit
         std::vector<ResourceAccess> manyAccesses;
         VkDescriptorPool pool = VK_NULL_HANDLE;

@@ -221,6 +221,7 @@ const BindingSet::LayoutUse& BindingSet::createOrFind(const DescriptorSetLayoutI
     use->pool = allocation.pool;
     for (const BindingItem* item : items)
         if (item->texture) use->textureItems.push_back(item);
+    use->hasTextureItems = !use->textureItems.empty();
     if (items.size() <= use->fewAccesses.size()) {
         for (size_t i = 0; i < items.size(); ++i) use->fewAccesses[i] = accessOf(*items[i], layout.bindings[i]);
         use->accesses = std::span(use->fewAccesses.data(), items.size());

@@ -378,7 +378,7 @@ void CommandList::checkDrawState(std::string_view call) {
     std::string_view call) {
     bool textures = false;   // most sets have none: nothing to check
     for (uint32_t sets = pipeline.usedSets; sets; sets &= sets - 1)
-        textures = textures || !uses[std::countr_zero(sets)]->textureItems.empty();
+        textures = textures || uses[std::countr_zero(sets)]->hasTextureItems;
     if (textures) [[unlikely]] checkTextureViewOverlaps(pipeline, uses, inPass, call);
 }
 
