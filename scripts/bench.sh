@@ -129,7 +129,7 @@ print("ns/op: CPU time of the benchmark thread to record + submit one frame, div
       "(fence wait / waitIdle / glFinish), reported apart and not part of the ratio.")
 # Explanatory runs: the raw side with one RHI habit added, to show what that habit costs.
 for extra, what in [(("dispatch", "vulkan", "raw_full_barriers"), "Raw Vulkan with a full barrier before every dispatch (the RHI's policy before hazard tracking)"),
-                    (("draw", "gl", "raw_respecified_vertices"), "Raw GL re-specifying the vertex attribute before every draw, as the RHI does")]:
+                    (("draw", "gl", "raw_respecified_vertices"), "Raw GL re-specifying the vertex attribute before every draw (what the RHI did before it tracked vertex state)")]:
     if extra in runs:
         print(f"\n{what}: {median(extra, 'submit_cpu_ns_per_op'):.0f} ns/op, wait {median(extra, 'wait_ns_per_op'):.0f} ns/op.")
 if missed:
