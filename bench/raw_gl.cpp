@@ -1,4 +1,6 @@
-// The raw GL side: its own EGL surfaceless context (OpenGL 4.3 core or OpenGL ES 3.0) and the
+// The raw GL side: its own EGL context (OpenGL 4.3 core or OpenGL ES 3.0) on the display the RHI's
+// GL backend would choose (rhi-gl's createEglPlatform: surfaceless, then EGL devices, then the
+// default display; JANUS_EGL_PLATFORM / JANUS_EGL_DEVICE apply to both sides alike), and the
 // calls a hand-written renderer makes for the same workload: state set once per frame, then
 // glBindBufferRange + glDrawArrays (or glDispatchCompute) per operation.
 //
@@ -11,10 +13,12 @@
 
 #include <cstdio>
 #include <cstring>
+#include <memory>
 #include <string>
 #include <type_traits>
 #include <vector>
 
+#include "gl_platform.h"
 #include "rhi_scene.h"
 
 namespace janus::bench {
@@ -93,11 +97,11 @@ struct GLCalls {
 // it believes nothing changed, so the raw side must hand back exactly what was current.
 class ContextSwitch {
 public:
-    ContextSwitch(EGLDisplay display, EGLContext context, EGLenum api)
+    // Makes `platform`'s context current; null only saves and restores (around starting one,
+    // which makes its context current).
+    explicit ContextSwitch(rhi::gl::Platform* platform)
         : m_api(eglQueryAPI()), m_display(eglGetCurrentDisplay()), m_context(eglGetCurrentContext()) {
-        eglBindAPI(api);
-        if (!eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, context))
-            throw std::runtime_error(fmt::format("raw GL: eglMakeCurrent failed (0x{:x})", eglGetError()));
+        if (platform) platform->makeCurrent();
     }
     ~ContextSwitch() {
         eglBindAPI(m_api);
@@ -118,7 +122,7 @@ public:
     ~RawGL() override;
 
     // The raw context is current while the returned object lives.
-    ContextSwitch makeCurrent() const { return ContextSwitch(m_display, m_context, m_api); }
+    ContextSwitch makeCurrent() const { return ContextSwitch(m_platform.get()); }
 
     // respecifyVertices: also re-specify the vertex attribute before every draw, as the RHI's GL
     // backend does, to show how much of the RHI's draw cost that is.
@@ -136,9 +140,7 @@ private:
 
     rhi::Backend m_backend;
     bool m_es;
-    EGLenum m_api;
-    EGLDisplay m_display = EGL_NO_DISPLAY;
-    EGLContext m_context = EGL_NO_CONTEXT;
+    std::unique_ptr<rhi::gl::Platform> m_platform;   // the context
     GLCalls m_gl;
 
     GLuint m_target = 0, m_framebuffer = 0, m_vertices = 0, m_vertexArray = 0, m_drawParameters = 0;
@@ -148,7 +150,7 @@ private:
 };
 
 RawGL::RawGL(rhi::Backend backend)
-    : m_backend(backend), m_es(backend == rhi::Backend::GLES), m_api(m_es ? EGL_OPENGL_ES_API : EGL_OPENGL_API) {
+    : m_backend(backend), m_es(backend == rhi::Backend::GLES) {
     // The RHI scene comes first: its shaders' translated source is what the raw side compiles.
     RhiScene& scene = rhiScene(backend);
     createContext();
@@ -204,7 +206,7 @@ RawGL::RawGL(rhi::Backend backend)
 }
 
 RawGL::~RawGL() {
-    if (m_context == EGL_NO_CONTEXT) return;
+    if (!m_platform) return;
     // A destructor must not throw: when the context cannot be made current (the driver's EGL shut
     // down first at exit), its objects are left to eglDestroyContext.
     try {
@@ -220,27 +222,14 @@ RawGL::~RawGL() {
     } catch (const std::exception& e) {
         std::fprintf(stderr, "janus_bench_rhi: raw GL objects are left to the driver: %s\n", e.what());
     }
-    // No eglTerminate: the surfaceless display is shared with the RHI's devices.
-    eglDestroyContext(m_display, m_context);
+    ContextSwitch restore(nullptr);   // the platform releases its context if it is current
+    m_platform.reset();               // (it never terminates the display, which the RHI shares)
 }
 
 void RawGL::createContext() {
-    auto getPlatformDisplay =
-        reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(eglGetProcAddress("eglGetPlatformDisplayEXT"));
-    if (!getPlatformDisplay) throw std::runtime_error("raw GL: EGL lacks eglGetPlatformDisplayEXT");
-    m_display = getPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
-    if (m_display == EGL_NO_DISPLAY || !eglInitialize(m_display, nullptr, nullptr))
-        throw std::runtime_error(fmt::format("raw GL: no surfaceless EGL display (0x{:x})", eglGetError()));
-    const EGLenum previousApi = eglQueryAPI();
-    eglBindAPI(m_api);
-    std::vector<EGLint> attributes = {EGL_CONTEXT_MAJOR_VERSION, m_es ? 3 : 4, EGL_CONTEXT_MINOR_VERSION, m_es ? 0 : 3};
-    if (!m_es) attributes.insert(attributes.end(), {EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT});
-    attributes.push_back(EGL_NONE);
-    m_context = eglCreateContext(m_display, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, attributes.data());
-    eglBindAPI(previousApi);
-    if (m_context == EGL_NO_CONTEXT)
-        throw std::runtime_error(fmt::format("raw GL: eglCreateContext for {} failed (0x{:x})",
-                                             m_es ? "OpenGL ES 3.0" : "OpenGL 4.3 core", eglGetError()));
+    ContextSwitch restore(nullptr);
+    m_platform = rhi::gl::createEglPlatform(m_es ? rhi::gl::GLApi::ES30 : rhi::gl::GLApi::DesktopCore43, false,
+                                            rhi::gl::eglOptionsFromEnvironment());
 }
 
 GLuint RawGL::compileProgram(const std::vector<std::pair<GLenum, std::string>>& stages) {
