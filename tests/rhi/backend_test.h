@@ -90,6 +90,19 @@ protected:
                                  BlendAttachment blend = {}, PrimitiveTopology topology = PrimitiveTopology::TriangleList);
     // rt_fullscreen_vert plus `fragmentShader` into one attachment of `colorFormat`.
     PipelineHandle fullscreenPipeline(std::string_view fragmentShader, Format colorFormat);
+    // A compute pipeline of the embedded shader `name` (debug name the same).
+    PipelineHandle computePipeline(const char* name) {
+        return device().createComputePipeline(ComputePipelineDesc().setShader(shader(name)).setDebugName(name));
+    }
+    // A storage-buffer slice offset every backend accepts, at least `bytes` past the previous one.
+    uint64_t storageSliceStride(uint64_t bytes) const {
+        const uint64_t alignment = std::max<uint64_t>(caps().limits.storageBufferOffsetAlignment, 4);
+        return (bytes + alignment - 1) / alignment * alignment;
+    }
+    // A binding set with `range` bytes of `buffer` from `offset` as storage buffer 0.
+    BindingSetHandle storageSlice(const BufferHandle& buffer, uint64_t offset, uint64_t range) {
+        return device().createBindingSet(BindingSetDesc().add(BindingItem::storageBuffer(0, buffer, offset, range)));
+    }
 
     // Records `body` into a fresh command list and executes it.
     void submit(const std::function<void(ICommandList&)>& body);

@@ -20,9 +20,6 @@ protected:
             cmd.dispatch(x, y, z);
         });
     }
-    PipelineHandle computePipeline(const char* name) {
-        return device().createComputePipeline(ComputePipelineDesc().setShader(shader(name)).setDebugName(name));
-    }
 };
 JANUS_INSTANTIATE_BACKEND_TESTS(ComputeTest);
 

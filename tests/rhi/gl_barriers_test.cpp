@@ -83,16 +83,6 @@ protected:
         m_log.calls.clear();
         return calls;
     }
-    PipelineHandle computePipeline(const char* name) {
-        return device().createComputePipeline(ComputePipelineDesc().setShader(shader(name)).setDebugName(name));
-    }
-    uint64_t sliceStride(uint64_t bytes) const {
-        const uint64_t alignment = std::max<uint64_t>(caps().limits.storageBufferOffsetAlignment, 4);
-        return (bytes + alignment - 1) / alignment * alignment;
-    }
-    BindingSetHandle storageSlice(const BufferHandle& buffer, uint64_t offset, uint64_t range) {
-        return device().createBindingSet(BindingSetDesc().add(BindingItem::storageBuffer(0, buffer, offset, range)));
-    }
 
 private:
     gl::GLFunctions* m_gl = nullptr;
@@ -119,7 +109,7 @@ TEST_P(GLBarriersTest, DispatchReadingThePreviousDispatchesWriteGetsABarrierBefo
 
 // (b) Dispatches writing disjoint slices need no barrier between them: one ends the list.
 TEST_P(GLBarriersTest, DispatchesWritingDisjointSlicesGetNoBarrierBetweenThem) {
-    const uint64_t stride = sliceStride(sizeof(uint32_t));
+    const uint64_t stride = storageSliceStride(sizeof(uint32_t));
     const uint32_t slices = 4;
     BufferHandle counters = createBufferFrom(BufferUsage::Storage, std::vector<std::byte>(stride * slices));
     PipelineHandle increment = computePipeline("bench_increment_comp");

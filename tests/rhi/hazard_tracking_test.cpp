@@ -12,17 +12,6 @@ namespace {
 class HazardTrackingTest : public BackendTest {
 protected:
     void customizeDeviceDesc(DeviceDesc& desc) override { desc.setEnableSynchronizationValidation(true); }
-    PipelineHandle computePipeline(const char* name) {
-        return device().createComputePipeline(ComputePipelineDesc().setShader(shader(name)).setDebugName(name));
-    }
-    // A storage-buffer slice offset every backend accepts, at least `bytes` past the previous one.
-    uint64_t sliceStride(uint64_t bytes) const {
-        const uint64_t alignment = std::max<uint64_t>(caps().limits.storageBufferOffsetAlignment, 4);
-        return (bytes + alignment - 1) / alignment * alignment;
-    }
-    BindingSetHandle storageSlice(const BufferHandle& buffer, uint64_t offset, uint64_t range) {
-        return device().createBindingSet(BindingSetDesc().add(BindingItem::storageBuffer(0, buffer, offset, range)));
-    }
 };
 JANUS_INSTANTIATE_BACKEND_TESTS(HazardTrackingTest);
 
@@ -74,7 +63,7 @@ TEST_P(HazardTrackingTest, MissingBarrierIsReportedBySynchronizationValidation) 
 TEST_P(HazardTrackingTest, DisjointDispatchesThenCopyOfAllSlices) {
     JANUS_REQUIRE_CAPABILITY(Capability::Compute);
     JANUS_REQUIRE_CAPABILITY(Capability::StorageBuffers);
-    const uint64_t stride = sliceStride(sizeof(uint32_t));
+    const uint64_t stride = storageSliceStride(sizeof(uint32_t));
     const uint32_t slices = 4;
     BufferHandle counters =
         createBufferFrom(BufferUsage::Storage, std::vector<std::byte>(stride * slices));
@@ -105,7 +94,7 @@ TEST_P(HazardTrackingTest, DisjointComputeWritesThenDrawsReadingBoth) {
     JANUS_REQUIRE_CAPABILITY(Capability::Compute);
     JANUS_REQUIRE_CAPABILITY(Capability::StorageBuffers);
     const uint64_t rectangleBytes = 6 * sizeof(ColorVertex);   // what write_vertices.comp writes
-    const uint64_t second = sliceStride(rectangleBytes);
+    const uint64_t second = storageSliceStride(rectangleBytes);
     BufferHandle vertices = createBuffer(BufferUsage::Storage | BufferUsage::Vertex, second + rectangleBytes);
     PipelineHandle writeVertices = computePipeline("rt_write_vertices_comp");
     BindingSetHandle first = storageSlice(vertices, 0, rectangleBytes);
