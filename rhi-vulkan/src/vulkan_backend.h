@@ -129,9 +129,26 @@ public:
     // Layouts are cached for the context's lifetime: pipelines with equal sets share one.
     const DescriptorSetLayoutInfo& descriptorSetLayout(const std::vector<ReflectedBinding>& bindings);
 
+    // Descriptor sets come from pools shared by every binding set (vulkan_binding.cpp): a pool
+    // per set costs a driver allocation each and scatters small blocks through the heap. A layout
+    // with more descriptors of one type than a shared pool is sized for gets a pool of its own.
+    struct DescriptorAllocation {
+        VkDescriptorPool pool = VK_NULL_HANDLE;
+        VkDescriptorSet set = VK_NULL_HANDLE;
+    };
+    DescriptorAllocation allocateDescriptorSet(const DescriptorSetLayoutInfo& layout);
+    void freeDescriptorSet(const DescriptorAllocation& allocation) noexcept;
+
 private:
     std::mutex m_layoutMutex;
     std::map<std::string, std::unique_ptr<DescriptorSetLayoutInfo>> m_layouts;
+    struct DescriptorPool {
+        VkDescriptorPool pool = VK_NULL_HANDLE;
+        uint32_t liveSets = 0;
+        bool dedicated = false;   // holds one set's descriptors; destroyed with it
+    };
+    std::mutex m_descriptorMutex;
+    std::vector<DescriptorPool> m_descriptorPools;
 };
 using ContextPtr = std::shared_ptr<Context>;
 

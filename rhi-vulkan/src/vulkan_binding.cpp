@@ -107,8 +107,8 @@ BindingSet::BindingSet(ContextPtr context, const BindingSetDesc& desc) : m_conte
 }
 
 BindingSet::~BindingSet() {
-    if (m_firstUse.pool) vkDestroyDescriptorPool(m_context->device, m_firstUse.pool, nullptr);
-    for (auto& [layout, use] : m_otherUses) vkDestroyDescriptorPool(m_context->device, use->pool, nullptr);
+    if (m_firstUse.set) m_context->freeDescriptorSet({m_firstUse.pool, m_firstUse.set});
+    for (auto& [layout, use] : m_otherUses) m_context->freeDescriptorSet({use->pool, use->set});
 }
 
 const BindingSet::LayoutUse& BindingSet::createOrFind(const DescriptorSetLayoutInfo& layout, uint32_t set) {
@@ -146,31 +146,8 @@ const BindingSet::LayoutUse& BindingSet::createOrFind(const DescriptorSetLayoutI
         items.push_back(&*item);
     }
 
-    std::vector<VkDescriptorPoolSize> sizes;
-    for (const ReflectedBinding& b : layout.bindings) {
-        auto it = std::find_if(sizes.begin(), sizes.end(), [&](const auto& s) { return s.type == b.type; });
-        if (it == sizes.end())
-            sizes.push_back({b.type, b.count});
-        else
-            it->descriptorCount += b.count;
-    }
     // Filled in completely before it is published (m_firstUse.layout / the map / m_last).
-    LayoutUse allocation;
-    VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-    poolInfo.maxSets = 1;
-    poolInfo.poolSizeCount = uint32_t(sizes.size());
-    poolInfo.pPoolSizes = sizes.data();
-    check(vkCreateDescriptorPool(m_context->device, &poolInfo, nullptr, &allocation.pool), ErrorCode::OutOfMemory,
-          "vkCreateDescriptorPool");
-    VkDescriptorSetAllocateInfo allocInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-    allocInfo.descriptorPool = allocation.pool;
-    allocInfo.descriptorSetCount = 1;
-    allocInfo.pSetLayouts = &layout.layout;
-    VkResult result = vkAllocateDescriptorSets(m_context->device, &allocInfo, &allocation.set);
-    if (result != VK_SUCCESS) {
-        vkDestroyDescriptorPool(m_context->device, allocation.pool, nullptr);
-        check(result, ErrorCode::OutOfMemory, "vkAllocateDescriptorSets");
-    }
+    const Context::DescriptorAllocation allocation = m_context->allocateDescriptorSet(layout);
 
     // Stable storage for the infos the writes point at.
     std::vector<VkDescriptorBufferInfo> bufferInfos(items.size());
@@ -210,7 +187,7 @@ const BindingSet::LayoutUse& BindingSet::createOrFind(const DescriptorSetLayoutI
             writes.push_back(write);
         }
     } catch (...) {
-        vkDestroyDescriptorPool(m_context->device, allocation.pool, nullptr);
+        m_context->freeDescriptorSet(allocation);
         throw;
     }
     vkUpdateDescriptorSets(m_context->device, uint32_t(writes.size()), writes.data(), 0, nullptr);
@@ -232,6 +209,95 @@ const BindingSet::LayoutUse& BindingSet::createOrFind(const DescriptorSetLayoutI
     use->layout = layout.layout;   // last: readers under the lock match on it
     m_last.store(use, std::memory_order_release);
     return *use;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Shared descriptor pools
+
+namespace {
+// A shared pool: this many sets, and this many descriptors of each type the RHI uses. A layout
+// with more than kMostSharedDescriptors of one type gets a dedicated pool, so that a few large
+// sets do not use up a shared pool the small ones fit in. A pool that runs out of one type is
+// passed over (the next one, or a new one, takes the set).
+constexpr uint32_t kSetsPerPool = 256;
+constexpr uint32_t kDescriptorsPerType = 1024;
+constexpr uint32_t kMostSharedDescriptors = 16;
+constexpr VkDescriptorType kPooledTypes[] = {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                                             VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
+
+std::vector<VkDescriptorPoolSize> descriptorCounts(const DescriptorSetLayoutInfo& layout) {
+    std::vector<VkDescriptorPoolSize> sizes;
+    for (const ReflectedBinding& b : layout.bindings) {
+        auto it = std::find_if(sizes.begin(), sizes.end(), [&](const auto& s) { return s.type == b.type; });
+        if (it == sizes.end())
+            sizes.push_back({b.type, b.count});
+        else
+            it->descriptorCount += b.count;
+    }
+    return sizes;
+}
+}  // namespace
+
+Context::DescriptorAllocation Context::allocateDescriptorSet(const DescriptorSetLayoutInfo& layout) {
+    std::vector<VkDescriptorPoolSize> needed = descriptorCounts(layout);
+    const bool fitsShared = std::all_of(needed.begin(), needed.end(), [](const VkDescriptorPoolSize& s) {
+        return std::find(std::begin(kPooledTypes), std::end(kPooledTypes), s.type) != std::end(kPooledTypes) &&
+               s.descriptorCount <= kMostSharedDescriptors;
+    });
+    VkDescriptorSetAllocateInfo allocInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+    allocInfo.descriptorSetCount = 1;
+    allocInfo.pSetLayouts = &layout.layout;
+    DescriptorAllocation allocation;
+
+    std::lock_guard lock(m_descriptorMutex);   // pools need external synchronisation
+    if (fitsShared) {
+        // Newest first: older pools have room only where sets were freed.
+        for (auto pool = m_descriptorPools.rbegin(); pool != m_descriptorPools.rend(); ++pool) {
+            if (pool->dedicated || pool->liveSets == kSetsPerPool) continue;
+            allocInfo.descriptorPool = pool->pool;
+            const VkResult result = vkAllocateDescriptorSets(device, &allocInfo, &allocation.set);
+            if (result == VK_SUCCESS) {
+                ++pool->liveSets;
+                allocation.pool = pool->pool;
+                return allocation;
+            }
+            if (result != VK_ERROR_OUT_OF_POOL_MEMORY && result != VK_ERROR_FRAGMENTED_POOL)
+                check(result, ErrorCode::OutOfMemory, "vkAllocateDescriptorSets");
+        }
+        needed.clear();
+        for (VkDescriptorType type : kPooledTypes) needed.push_back({type, kDescriptorsPerType});
+    }
+    VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+    poolInfo.flags = VK_DESCRIPTOR_POOL_CREATE_FREE_DESCRIPTOR_SET_BIT;
+    poolInfo.maxSets = fitsShared ? kSetsPerPool : 1;
+    poolInfo.poolSizeCount = uint32_t(needed.size());
+    poolInfo.pPoolSizes = needed.data();
+    DescriptorPool pool{VK_NULL_HANDLE, 1, !fitsShared};
+    check(vkCreateDescriptorPool(device, &poolInfo, nullptr, &pool.pool), ErrorCode::OutOfMemory,
+          "vkCreateDescriptorPool");
+    allocInfo.descriptorPool = pool.pool;
+    const VkResult result = vkAllocateDescriptorSets(device, &allocInfo, &allocation.set);
+    if (result != VK_SUCCESS) {
+        vkDestroyDescriptorPool(device, pool.pool, nullptr);
+        check(result, ErrorCode::OutOfMemory, "vkAllocateDescriptorSets");
+    }
+    m_descriptorPools.push_back(pool);
+    allocation.pool = pool.pool;
+    return allocation;
+}
+
+void Context::freeDescriptorSet(const DescriptorAllocation& allocation) noexcept {
+    std::lock_guard lock(m_descriptorMutex);
+    auto pool = std::find_if(m_descriptorPools.begin(), m_descriptorPools.end(),
+                             [&](const DescriptorPool& p) { return p.pool == allocation.pool; });
+    if (pool == m_descriptorPools.end()) return;
+    if (pool->dedicated) {
+        vkDestroyDescriptorPool(device, pool->pool, nullptr);
+        m_descriptorPools.erase(pool);
+        return;
+    }
+    vkFreeDescriptorSets(device, pool->pool, 1, &allocation.set);   // returns VK_SUCCESS only
+    --pool->liveSets;
 }
 
 }  // namespace janus::rhi::vulkan

@@ -95,6 +95,7 @@ void hostBarrier(VkCommandBuffer cmd) {
 Context::~Context() {
     if (device) {
         vkDeviceWaitIdle(device);
+        for (const DescriptorPool& pool : m_descriptorPools) vkDestroyDescriptorPool(device, pool.pool, nullptr);
         for (auto& [key, info] : m_layouts) vkDestroyDescriptorSetLayout(device, info->layout, nullptr);
         if (immediateFence) vkDestroyFence(device, immediateFence, nullptr);
         if (immediatePool) vkDestroyCommandPool(device, immediatePool, nullptr);

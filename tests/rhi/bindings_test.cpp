@@ -169,6 +169,39 @@ TEST_P(BindingTest, ReRecordingReleasesWhatTheListNoLongerUses) {
     EXPECT_TRUE(watchKept.expired()) << "the list is gone, yet the buffer it used is still held";
 }
 
+// Binding sets by the hundred, dropped and made again: the Vulkan backend takes their descriptor
+// sets from shared pools of 256 (several pools here) and reuses what dropped sets freed. Each
+// set's dispatch must increment its own counter, and every pass over them must see them all.
+TEST_P(BindingTest, HundredsOfBindingSetsComeAndGo) {
+    JANUS_REQUIRE_CAPABILITY(Capability::Compute);
+    JANUS_REQUIRE_CAPABILITY(Capability::StorageBuffers);
+    constexpr uint32_t kSets = 600;
+    const uint64_t stride = storageSliceStride(sizeof(uint32_t));
+    BufferHandle counters = createBufferFrom(BufferUsage::Storage, std::vector<std::byte>(stride * kSets));
+    PipelineHandle increment = computePipeline("bench_increment_comp");
+    std::vector<BindingSetHandle> sets;
+    for (uint32_t i = 0; i < kSets; ++i) sets.push_back(storageSlice(counters, i * stride, sizeof(uint32_t)));
+    auto incrementAll = [&] {
+        submit([&](ICommandList& cmd) {
+            cmd.setPipeline(increment);
+            for (const BindingSetHandle& set : sets) {
+                cmd.setBindingSet(0, set);
+                cmd.dispatch(1);
+            }
+        });
+    };
+    incrementAll();
+    for (uint32_t i = 0; i < kSets; i += 2) sets[i].reset();   // every other set goes
+    for (uint32_t i = 0; i < kSets; i += 2) sets[i] = storageSlice(counters, i * stride, sizeof(uint32_t));
+    incrementAll();
+    const std::vector<std::byte> bytes = device().readBuffer(counters, 0, stride * kSets);
+    for (uint32_t i = 0; i < kSets; ++i) {
+        uint32_t value = 0;
+        std::memcpy(&value, bytes.data() + i * stride, sizeof value);
+        ASSERT_EQ(value, 2u) << "counter " << i;
+    }
+}
+
 // Uniform data written by the command list between passes must be what each pass sees, not the
 // last value written (a backend that applied writes at record time would show the last one).
 TEST_P(BindingTest, CommandListUniformWritesAreOrderedWithDraws) {
