@@ -9,9 +9,10 @@
 #   --min-time     minimum timed seconds per run (default: 0.2)
 #   --json         also keep Google Benchmark's JSON output in FILE
 #
-# Instructions: scripts/bench.sh instructions [--build-dir DIR] [--filter REGEX]
+# Instructions: scripts/bench.sh instructions [--build-dir DIR] [--filter REGEX] [--runs N]
 #   the same comparisons counted in instructions per operation with callgrind (steady state, two
-#   runs subtracted; valgrind needed; about 10 minutes): scripts/bench_instructions.py.
+#   runs subtracted, median of N such estimates; valgrind needed; about 10 minutes per run):
+#   scripts/bench_instructions.py.
 #
 # Forward+: scripts/bench.sh forward [--build-dir DIR] [janus bench forward options...]
 #   builds `janus` if missing and runs `janus bench forward` (default --out bench-forward);

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Instructions per draw / dispatch of janus_bench_rhi's raw and RHI sides, counted by callgrind.
 
-Usage (through scripts/bench.sh): scripts/bench.sh instructions [--build-dir DIR] [--filter REGEX]
+Usage (through scripts/bench.sh): scripts/bench.sh instructions [--build-dir DIR] [--filter REGEX] [--runs N]
 
 CPU time on a shared machine moves by +-20 % between runs; the instructions the benchmark thread
 executes to record and submit a frame do not. For each benchmark this runs janus_bench_rhi under
@@ -14,6 +14,7 @@ cancel out and what is left is the steady-state cost per operation. Instructions
 import argparse
 import os
 import re
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -53,22 +54,29 @@ def callgrind(binary, name, seconds, out):
     return instructions, frames
 
 
-def steady_per_op(binary, name, scratch):
-    (i1, f1), (i2, f2) = (callgrind(binary, name, s, os.path.join(scratch, f"cg.{s}")) for s in RUN_SECONDS)
-    if f2 <= f1:
-        raise RuntimeError(f"{name}: the longer run did not run more frames ({f1} and {f2})")
-    return (i2 - i1) / ((f2 - f1) * OPS_PER_FRAME), (f1, f2)
+def steady_per_op(binary, name, scratch, runs):
+    """The median over `runs` estimates (the allocator's share moves by a few percent between runs)."""
+    estimates = []
+    for _ in range(runs):
+        (i1, f1), (i2, f2) = (callgrind(binary, name, s, os.path.join(scratch, f"cg.{s}")) for s in RUN_SECONDS)
+        if f2 <= f1:
+            raise RuntimeError(f"{name}: the longer run did not run more frames ({f1} and {f2})")
+        estimates.append((i2 - i1) / ((f2 - f1) * OPS_PER_FRAME))
+    return statistics.median(estimates)
 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--binary", required=True, help="janus_bench_rhi")
     parser.add_argument("--filter", default="", help="only the pairs whose '<work>/<backend>' matches this regex")
+    parser.add_argument("--runs", type=int, default=1, help="estimates per benchmark; the table shows their median")
     args = parser.parse_args()
     if not args.binary or not os.access(args.binary, os.X_OK):
         sys.exit(f"bench_instructions: {args.binary} is not an executable")
+    if args.runs < 1:
+        sys.exit("bench_instructions: --runs must be at least 1")
     print(f"Steady-state instructions per operation (callgrind, inside timedSubmit; {OPS_PER_FRAME} ops per frame; "
-          f"frames from runs of --benchmark_min_time {RUN_SECONDS[0]} and {RUN_SECONDS[1]})")
+          f"frames from runs of --benchmark_min_time {RUN_SECONDS[0]} and {RUN_SECONDS[1]}; median of {args.runs})")
     print()
     print(f"| backend | work | raw instr/op | RHI instr/op | RHI - raw | ratio RHI/raw | target <= {TARGET}x |")
     print("|---|---|---:|---:|---:|---:|---|")
@@ -78,8 +86,8 @@ def main():
             if args.filter and not re.search(args.filter, f"{work}/{backend}"):
                 continue
             try:
-                raw, _ = steady_per_op(args.binary, f"{work}/{backend}/raw", scratch)
-                rhi, _ = steady_per_op(args.binary, f"{work}/{backend}/rhi", scratch)
+                raw = steady_per_op(args.binary, f"{work}/{backend}/raw", scratch, args.runs)
+                rhi = steady_per_op(args.binary, f"{work}/{backend}/rhi", scratch, args.runs)
             except RuntimeError as error:
                 print(f"| {backend} | {work} | - | - | - | - | skipped: {str(error).splitlines()[0]} |")
                 continue
