@@ -62,7 +62,19 @@ std::pair<uint64_t, uint64_t> boundRange(const BindingItem& item) {
 }  // namespace
 
 BindingSet::BindingSet(const BindingSetDesc& desc) : m_desc(desc) {
-    for (const BindingItem& item : m_desc.items) m_bindingPoints |= item.binding < 63 ? uint64_t(1) << item.binding : ~uint64_t(0) << 63;
+    for (const BindingItem& item : m_desc.items) {
+        m_bindingPoints |= item.binding < 63 ? uint64_t(1) << item.binding : ~uint64_t(0) << 63;
+        if (!item.buffer) {
+            m_hasTextures = true;
+            continue;
+        }
+        // Items are validated: the buffer is this device's and the range lies inside it.
+        auto* buffer = static_cast<const Buffer*>(item.buffer.get());
+        const uint64_t range = item.range ? item.range : buffer->desc().size - item.offset;
+        m_bufferRanges.push_back({item.type == ResourceType::UniformBuffer ? GLenum(GL_UNIFORM_BUFFER)
+                                                                          : GLenum(GL_SHADER_STORAGE_BUFFER),
+                                  item.binding, buffer->name(), GLintptr(item.offset), GLsizeiptr(range)});
+    }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -706,16 +718,13 @@ void Device::bindBindingSet(uint32_t set, const BindingSet& bindings) {
         if (bound && (bound->bindingPoints() & bindings.bindingPoints())) bound = nullptr;
     m_boundSets[set] = &bindings;
     const GLFunctions& f = gl();
+    for (const BindingSet::BufferRange& b : bindings.bufferRanges())
+        f.glBindBufferRange(b.target, b.index, b.buffer, b.offset, b.size);
+    if (!bindings.hasTextures()) return;
     for (const BindingItem& item : bindings.desc().items) {
         switch (item.type) {
             case ResourceType::UniformBuffer:
-            case ResourceType::StorageBuffer: {
-                auto* buffer = static_cast<const Buffer*>(item.buffer.get());
-                const uint64_t range = item.range ? item.range : buffer->desc().size - item.offset;
-                f.glBindBufferRange(item.type == ResourceType::UniformBuffer ? GL_UNIFORM_BUFFER : GL_SHADER_STORAGE_BUFFER,
-                                    item.binding, buffer->name(), GLintptr(item.offset), GLsizeiptr(range));
-                break;
-            }
+            case ResourceType::StorageBuffer: break;   // bound above
             case ResourceType::SampledTexture: {
                 auto* texture = static_cast<const Texture*>(item.texture.get());
                 auto* sampler = static_cast<const Sampler*>(item.sampler.get());

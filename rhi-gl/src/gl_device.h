@@ -237,11 +237,25 @@ public:
     // Bit b: the set binds something at GL binding point / unit b (all bits from 63 up). Two sets
     // whose masks are disjoint cannot overwrite each other's bindings.
     uint64_t bindingPoints() const { return m_bindingPoints; }
+    // The buffer items as the glBindBufferRange calls that bind them, resolved when the set is
+    // made (replay binds them without visiting the items' objects); the textures and images are
+    // bound from the items.
+    struct BufferRange {
+        GLenum target;
+        GLuint index;
+        GLuint buffer;
+        GLintptr offset;
+        GLsizeiptr size;
+    };
+    std::span<const BufferRange> bufferRanges() const { return m_bufferRanges; }
+    bool hasTextures() const { return m_hasTextures; }
     KeepMark keepMark;
 
 private:
     BindingSetDesc m_desc;
     uint64_t m_bindingPoints = 0;
+    std::vector<BufferRange> m_bufferRanges;
+    bool m_hasTextures = false;
 };
 
 class TimerQuery final : public ITimerQuery {
