@@ -69,11 +69,11 @@ BindingSet::BindingSet(const BindingSetDesc& desc) : m_desc(desc) {
             continue;
         }
         // Items are validated: the buffer is this device's and the range lies inside it.
-        auto* buffer = static_cast<const Buffer*>(item.buffer.get());
-        const uint64_t range = item.range ? item.range : buffer->desc().size - item.offset;
+        const auto [begin, end] = boundRange(item);
         m_bufferRanges.push_back({item.type == ResourceType::UniformBuffer ? GLenum(GL_UNIFORM_BUFFER)
                                                                           : GLenum(GL_SHADER_STORAGE_BUFFER),
-                                  item.binding, buffer->name(), GLintptr(item.offset), GLsizeiptr(range)});
+                                  item.binding, static_cast<const Buffer*>(item.buffer.get())->name(),
+                                  GLintptr(begin), GLsizeiptr(end - begin)});
     }
 }
 
@@ -242,6 +242,7 @@ GLbitfield CommandList::hazardBits(const void* resource, uint64_t begin, uint64_
 }
 
 void CommandList::recordBarrier(GLbitfield bits) {
+    if (!bits) return;   // nothing to wait for
     record(command::MemoryBarrier{bits});
     // The barrier orders every earlier write for the accesses it names.
     std::erase_if(m_pendingWrites, [bits](PendingWrite& write) {
@@ -283,7 +284,7 @@ void CommandList::trackShaderAccesses(bool drawing, bool indexed) {
                 needed |= bufferHazard(vertices.buffer, vertices.offset, UINT64_MAX, GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT);
             if (indexed) needed |= bufferHazard(m_indexBuffer, m_indexOffset, UINT64_MAX, GL_ELEMENT_ARRAY_BARRIER_BIT);
         }
-        if (needed) recordBarrier(needed);
+        recordBarrier(needed);
     }
     if (!m_stateWritesStorage) return;
     for (const UsedBinding& used : m_usedBindings) {
@@ -305,11 +306,9 @@ void CommandList::end() {
                     fmt::format("end() was called with {} debug group(s) still open; pop them first", m_debugGroupDepth));
     // Whatever comes after the list (the host mapping or reading a buffer, another list) may
     // read what its shaders wrote: nothing stays pending past execute().
-    if (!m_pendingWrites.empty()) {
-        GLbitfield bits = 0;
-        for (const PendingWrite& write : m_pendingWrites) bits |= write.unsynchronized;
-        recordBarrier(bits);
-    }
+    GLbitfield pending = 0;
+    for (const PendingWrite& write : m_pendingWrites) pending |= write.unsynchronized;
+    recordBarrier(pending);
     m_keepAlive.releaseUnused();
     m_recording = false;
     m_recorded = true;
@@ -323,7 +322,7 @@ void CommandList::beginRenderPassImpl(const RenderPassDesc& desc) {
     GLbitfield needed = 0;
     for (const Attachment& a : desc.colors) needed |= textureHazard(a.texture.get(), GL_FRAMEBUFFER_BARRIER_BIT);
     if (desc.depth) needed |= textureHazard(desc.depth->texture.get(), GL_FRAMEBUFFER_BARRIER_BIT);
-    if (needed) recordBarrier(needed);
+    recordBarrier(needed);
     m_inRenderPass = true;
     m_pipelineChecked = m_bindingsChecked = false;   // new attachments to match and not to sample
     // The stored description holds the attachments.
@@ -453,7 +452,7 @@ void CommandList::writeBufferImpl(const BufferHandle& handle, const void* data, 
     requireOutsideRenderPass("writeBuffer");
     Buffer* buffer = cast<Buffer>(m_device, handle, "writeBuffer", "buffer");
     m_keepAlive.keep(handle, buffer->keepMark);
-    if (GLbitfield bits = bufferHazard(buffer, dstOffset, dstOffset + size, GL_BUFFER_UPDATE_BARRIER_BIT)) recordBarrier(bits);
+    recordBarrier(bufferHazard(buffer, dstOffset, dstOffset + size, GL_BUFFER_UPDATE_BARRIER_BIT));
     // The data is copied now: the caller's memory need not outlive the call.
     const uint64_t at = m_uploads.size();
     const auto* bytes = static_cast<const std::byte*>(data);
@@ -468,9 +467,8 @@ void CommandList::copyBufferImpl(const BufferHandle& dstHandle, uint64_t dstOffs
     Buffer* src = cast<Buffer>(m_device, srcHandle, "copyBuffer", "source buffer");
     m_keepAlive.keep(dstHandle, dst->keepMark);
     m_keepAlive.keep(srcHandle, src->keepMark);
-    const GLbitfield bits = bufferHazard(dst, dstOffset, dstOffset + size, GL_BUFFER_UPDATE_BARRIER_BIT) |
-                            bufferHazard(src, srcOffset, srcOffset + size, GL_BUFFER_UPDATE_BARRIER_BIT);
-    if (bits) recordBarrier(bits);
+    recordBarrier(bufferHazard(dst, dstOffset, dstOffset + size, GL_BUFFER_UPDATE_BARRIER_BIT) |
+                  bufferHazard(src, srcOffset, srcOffset + size, GL_BUFFER_UPDATE_BARRIER_BIT));
     record(command::CopyBuffer{dst, src, dstOffset, srcOffset, size});
 }
 
@@ -481,9 +479,8 @@ void CommandList::copyBufferToTextureImpl(const TextureHandle& dstHandle, Textur
     Buffer* src = cast<Buffer>(m_device, srcHandle, "copyBufferToTexture", "buffer");
     m_keepAlive.keep(dstHandle, dst->keepMark);
     m_keepAlive.keep(srcHandle, src->keepMark);
-    const GLbitfield bits = textureHazard(dst, GL_TEXTURE_UPDATE_BARRIER_BIT) |
-                            bufferHazard(src, srcOffset, UINT64_MAX, GL_PIXEL_BUFFER_BARRIER_BIT);
-    if (bits) recordBarrier(bits);
+    recordBarrier(textureHazard(dst, GL_TEXTURE_UPDATE_BARRIER_BIT) |
+                  bufferHazard(src, srcOffset, UINT64_MAX, GL_PIXEL_BUFFER_BARRIER_BIT));
     record(command::CopyBufferToTexture{dst, dstSub, src, srcOffset});
 }
 
@@ -496,9 +493,8 @@ void CommandList::copyTextureToBufferImpl(const BufferHandle& dstHandle, uint64_
     m_keepAlive.keep(srcHandle, src->keepMark);
     // The texture is read through a framebuffer, glGetTexImage or (ES depth) a draw sampling it:
     // every kind of access.
-    const GLbitfield bits = textureHazard(src, GL_ALL_BARRIER_BITS) |
-                            bufferHazard(dst, dstOffset, UINT64_MAX, GL_BUFFER_UPDATE_BARRIER_BIT);
-    if (bits) recordBarrier(bits);
+    recordBarrier(textureHazard(src, GL_ALL_BARRIER_BITS) |
+                  bufferHazard(dst, dstOffset, UINT64_MAX, GL_BUFFER_UPDATE_BARRIER_BIT));
     record(command::CopyTextureToBuffer{dst, dstOffset, src, srcSub});
 }
 
@@ -511,7 +507,7 @@ void CommandList::copyTextureImpl(const TextureHandle& dstHandle, TextureSubreso
     m_keepAlive.keep(srcHandle, src->keepMark);
     // glCopyImageSubData, or on ES a blit between framebuffers.
     constexpr GLbitfield copyBits = GL_TEXTURE_UPDATE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT;
-    if (GLbitfield bits = textureHazard(dst, copyBits) | textureHazard(src, copyBits)) recordBarrier(bits);
+    recordBarrier(textureHazard(dst, copyBits) | textureHazard(src, copyBits));
     record(command::CopyTexture{dst, dstSub, src, srcSub});
 }
 
@@ -521,7 +517,7 @@ void CommandList::generateMipsImpl(const TextureHandle& handle) {
     Texture* texture = cast<Texture>(m_device, handle, "generateMips", "texture");
     m_keepAlive.keep(handle, texture->keepMark);
     // How the driver reads and writes the levels is its own business.
-    if (GLbitfield bits = textureHazard(texture, GL_ALL_BARRIER_BITS)) recordBarrier(bits);
+    recordBarrier(textureHazard(texture, GL_ALL_BARRIER_BITS));
     record(command::GenerateMips{texture});
 }
 

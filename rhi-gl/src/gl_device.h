@@ -406,7 +406,7 @@ private:
     GLbitfield textureHazard(const ITexture* texture, GLbitfield needs) const {
         return m_pendingWrites.empty() ? 0 : hazardBits(texture, 0, UINT64_MAX, needs);
     }
-    void recordBarrier(GLbitfield bits);
+    void recordBarrier(GLbitfield bits);   // no barrier for 0
     // Before a draw or dispatch: waits for what its bindings (and a draw's vertex and index
     // buffers) read, then notes what its storage bindings write.
     void trackShaderAccesses(bool drawing, bool indexed);

@@ -2,7 +2,6 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <atomic>
 #include <bit>
 #include <cstring>
 
@@ -16,7 +15,6 @@ std::string formatList(const std::vector<Format>& colors, Format depth) {
     for (size_t i = 0; i < colors.size(); ++i) text += (i ? ", " : "") + std::string(toString(colors[i]));
     return text + "] depth " + (depth == Format::Unknown ? std::string("none") : toString(depth));
 }
-
 
 ResourceAccess bufferAccess(const Buffer& buffer, uint64_t offset, uint64_t size, VkPipelineStageFlags stages,
                             VkAccessFlags access, bool write) {
