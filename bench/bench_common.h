@@ -76,9 +76,11 @@ void runGuarded(benchmark::State& state, const std::function<void()>& body);
 // uniform block per draw) or dispatches (1x1x1, rebinding the counter per dispatch) per iteration.
 void rhiDraws(benchmark::State& state, rhi::Backend backend);
 void rhiDispatches(benchmark::State& state, rhi::Backend backend);
-void rawVulkanDraws(benchmark::State& state);
+// recycledCommandMemory: record into a command pool whose host memory is the RHI's CommandMemory
+// (an explanatory extra run); otherwise the driver's own.
+void rawVulkanDraws(benchmark::State& state, bool recycledCommandMemory);
 // barrierPerDispatch adds the RHI's full barrier before each dispatch (an explanatory extra run).
-void rawVulkanDispatches(benchmark::State& state, bool barrierPerDispatch);
+void rawVulkanDispatches(benchmark::State& state, bool barrierPerDispatch, bool recycledCommandMemory);
 // GL or GLES; respecifyVertices adds the RHI's per-draw vertex attribute setup (explanatory run).
 void rawGLDraws(benchmark::State& state, rhi::Backend backend, bool respecifyVertices);
 void rawGLDispatches(benchmark::State& state);

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "rhi_scene.h"
+#include "vulkan_command_memory.h"
 
 namespace janus::bench {
 namespace {
@@ -30,6 +31,13 @@ public:
     explicit RawVulkan(const std::string& deviceName);
     ~RawVulkan() override;
 
+    // Which command pool the next frames record into: one with the driver's own host memory (what
+    // an application without an RHI usually has), or one whose host memory comes from the RHI's
+    // CommandMemory (an explanatory run: the RHI's recording with the allocator's effect removed).
+    void useCommandMemory(bool recycled) {
+        m_pool = m_pools[recycled];
+        m_commands = m_commandBuffers[recycled];
+    }
     void submitDraws();
     // barrierPerDispatch: also put a full barrier before every dispatch (the RHI's policy before
     // hazard tracking), to show what that rule costs.
@@ -55,7 +63,10 @@ private:
     VkDevice m_device = VK_NULL_HANDLE;
     VkQueue m_queue = VK_NULL_HANDLE;
     uint32_t m_queueFamily = 0;
-    VkCommandPool m_pool = VK_NULL_HANDLE;
+    rhi::vulkan::CommandMemory m_commandMemory;
+    VkCommandPool m_pools[2] = {};            // [0] driver memory, [1] m_commandMemory
+    VkCommandBuffer m_commandBuffers[2] = {};
+    VkCommandPool m_pool = VK_NULL_HANDLE;    // the one in use
     VkCommandBuffer m_commands = VK_NULL_HANDLE;
     VkFence m_fence = VK_NULL_HANDLE;
     VkDescriptorPool m_descriptorPool = VK_NULL_HANDLE;
@@ -82,12 +93,17 @@ RawVulkan::RawVulkan(const std::string& deviceName) {
 
     VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
     poolInfo.queueFamilyIndex = m_queueFamily;
-    check(vkCreateCommandPool(m_device, &poolInfo, nullptr, &m_pool), "vkCreateCommandPool");
-    VkCommandBufferAllocateInfo allocInfo{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-    allocInfo.commandPool = m_pool;
-    allocInfo.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-    allocInfo.commandBufferCount = 1;
-    check(vkAllocateCommandBuffers(m_device, &allocInfo, &m_commands), "vkAllocateCommandBuffers");
+    for (int recycled : {0, 1}) {
+        check(vkCreateCommandPool(m_device, &poolInfo, recycled ? m_commandMemory.callbacks() : nullptr,
+                                  &m_pools[recycled]),
+              "vkCreateCommandPool");
+        VkCommandBufferAllocateInfo allocInfo{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+        allocInfo.commandPool = m_pools[recycled];
+        allocInfo.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+        allocInfo.commandBufferCount = 1;
+        check(vkAllocateCommandBuffers(m_device, &allocInfo, &m_commandBuffers[recycled]), "vkAllocateCommandBuffers");
+    }
+    useCommandMemory(false);
     VkFenceCreateInfo fenceInfo{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
     check(vkCreateFence(m_device, &fenceInfo, nullptr, &m_fence), "vkCreateFence");
 
@@ -133,7 +149,8 @@ RawVulkan::~RawVulkan() {
     vkDestroyImage(m_device, m_target, nullptr);
     vkFreeMemory(m_device, m_targetMemory, nullptr);
     vkDestroyFence(m_device, m_fence, nullptr);
-    vkDestroyCommandPool(m_device, m_pool, nullptr);
+    vkDestroyCommandPool(m_device, m_pools[0], nullptr);
+    if (m_pools[1]) vkDestroyCommandPool(m_device, m_pools[1], m_commandMemory.callbacks());
     vkDestroyDevice(m_device, nullptr);
     vkDestroyInstance(m_instance, nullptr);
 }
@@ -501,17 +518,19 @@ RawVulkan& rawVulkan() {
 
 }  // namespace
 
-void rawVulkanDraws(benchmark::State& state) {
+void rawVulkanDraws(benchmark::State& state, bool recycledCommandMemory) {
     runGuarded(state, [&] {
         RawVulkan& raw = rawVulkan();
+        raw.useCommandMemory(recycledCommandMemory);
         runFrames(state, [&] { raw.submitDraws(); }, [&] { raw.wait(); });
         raw.checkDraws();
     });
 }
 
-void rawVulkanDispatches(benchmark::State& state, bool barrierPerDispatch) {
+void rawVulkanDispatches(benchmark::State& state, bool barrierPerDispatch, bool recycledCommandMemory) {
     runGuarded(state, [&] {
         RawVulkan& raw = rawVulkan();
+        raw.useCommandMemory(recycledCommandMemory);
         runFrames(state, [&] { raw.submitDispatches(barrierPerDispatch); }, [&] { raw.wait(); });
         raw.checkDispatches();
     });

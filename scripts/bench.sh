@@ -128,6 +128,14 @@ print()
 print("ns/op: CPU time of the benchmark thread to record + submit one frame, divided by the draws or "
       "dispatches in it (median over repetitions). wait: wall time until the frame had finished "
       "(fence wait / waitIdle / glFinish), reported apart and not part of the ratio.")
+# Raw Vulkan recording into the RHI's command-pool memory: RHI / this is what the RHI's own code
+# adds with the allocator's effect taken out (docs/BENCHMARKS.md, "Command memory").
+for work in ("draw", "dispatch"):
+    extra, rhi_key = (work, "vulkan", "raw_command_memory"), (work, "vulkan", "rhi")
+    if extra in runs and rhi_key in runs:
+        raw_cm = median(extra, "submit_cpu_ns_per_op")
+        print(f"\nRaw Vulkan {dict(draw='draws', dispatch='dispatches')[work]} recording into the RHI's command memory: {raw_cm:.0f} ns/op; "
+              f"RHI / this = {median(rhi_key, 'submit_cpu_ns_per_op') / raw_cm:.2f}x (what the RHI's own code adds).")
 # Explanatory runs: the raw side with one RHI habit added, to show what that habit costs.
 for extra, what in [(("dispatch", "vulkan", "raw_full_barriers"), "Raw Vulkan with a full barrier before every dispatch (the RHI's policy before hazard tracking)"),
                     (("draw", "gl", "raw_respecified_vertices"), "Raw GL re-specifying the vertex attribute before every draw (what the RHI did before it tracked vertex state)")]:

@@ -28,6 +28,7 @@
 #include "janus/rhi/backends.h"
 #include "janus/rhi/keep_alive.h"
 #include "janus/rhi/texture_view_validation.h"
+#include "vulkan_command_memory.h"
 
 namespace janus::rhi::vulkan {
 
@@ -494,6 +495,8 @@ public:
     void submit();
     // Waits until the last submission finished, then drops the resources it kept alive.
     void waitUntilDone();
+    // The host memory the driver records this list's commands into (tests look at it).
+    const CommandMemory& commandMemory() const { return m_commandMemory; }
 
 private:
     enum class State { Initial, Recording, Executable };
@@ -527,6 +530,7 @@ private:
     void access(std::initializer_list<ResourceAccess> accesses);
 
     ContextPtr m_context;
+    CommandMemory m_commandMemory;   // the pool's host memory; outlives it
     VkCommandPool m_pool = VK_NULL_HANDLE;
     VkCommandBuffer m_prologue = VK_NULL_HANDLE;   // query resets, which must precede the work
     VkCommandBuffer m_commands = VK_NULL_HANDLE;

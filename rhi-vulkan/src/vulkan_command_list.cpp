@@ -51,7 +51,8 @@ CommandList::CommandList(ContextPtr context) : m_context(std::move(context)) {
     VkDevice device = m_context->device;
     VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
     poolInfo.queueFamilyIndex = m_context->queueFamily;
-    check(vkCreateCommandPool(device, &poolInfo, nullptr, &m_pool), ErrorCode::OutOfMemory, "vkCreateCommandPool");
+    check(vkCreateCommandPool(device, &poolInfo, m_commandMemory.callbacks(), &m_pool), ErrorCode::OutOfMemory,
+          "vkCreateCommandPool");
     VkCommandBufferAllocateInfo allocInfo{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
     allocInfo.commandPool = m_pool;
     allocInfo.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
@@ -61,7 +62,7 @@ CommandList::CommandList(ContextPtr context) : m_context(std::move(context)) {
     VkResult result = vkAllocateCommandBuffers(device, &allocInfo, buffers);
     if (result == VK_SUCCESS) result = vkCreateFence(device, &fenceInfo, nullptr, &m_fence);
     if (result != VK_SUCCESS) {
-        vkDestroyCommandPool(device, m_pool, nullptr);
+        vkDestroyCommandPool(device, m_pool, m_commandMemory.callbacks());
         check(result, ErrorCode::OutOfMemory, "creating a command list");
     }
     m_prologue = buffers[0];
@@ -71,7 +72,7 @@ CommandList::CommandList(ContextPtr context) : m_context(std::move(context)) {
 CommandList::~CommandList() {
     if (m_pending) vkWaitForFences(m_context->device, 1, &m_fence, VK_TRUE, UINT64_MAX);
     vkDestroyFence(m_context->device, m_fence, nullptr);
-    vkDestroyCommandPool(m_context->device, m_pool, nullptr);
+    vkDestroyCommandPool(m_context->device, m_pool, m_commandMemory.callbacks());
 }
 
 void CommandList::waitUntilDone() {
