@@ -226,11 +226,16 @@ private:
     // The fast paths are inline: they are the per-draw / per-dispatch cost.
     struct RangeSet {
         std::vector<KeyRange> ranges;
+        // From the first range's begin to the last one's end; {max, 0} (overlapping nothing) when
+        // empty. Most checks end at it: one compare pair, no look at the vector.
+        KeyRange hull{UINT64_MAX, 0};
         bool overlaps(KeyRange range) const {
-            if (ranges.size() > 1) return overlapsAny(range);
-            return !ranges.empty() && ranges[0].begin < range.end && range.begin < ranges[0].end;
+            if (!(range.begin < hull.end && hull.begin < range.end)) return false;
+            return ranges.size() == 1 || overlapsAny(range);   // one range: it is the hull
         }
         void add(KeyRange range) {
+            hull.begin = std::min(hull.begin, range.begin);
+            hull.end = std::max(hull.end, range.end);
             if (!ranges.empty() && ranges.back().begin <= range.begin && range.begin <= ranges.back().end) {
                 ranges.back().end = std::max(ranges.back().end, range.end);   // extends the last range
                 return;
@@ -247,8 +252,7 @@ private:
     };
     // Consecutive commands mostly touch the resource found last: that lookup is inline.
     Tracked* find(const void* resource) {
-        if (m_lastFound < m_tracked.size() && m_tracked[m_lastFound].resource == resource) [[likely]]
-            return &m_tracked[m_lastFound];
+        if (m_lastFound && m_lastFound->resource == resource) [[likely]] return m_lastFound;
         return search(resource);
     }
     Tracked* search(const void* resource);
@@ -266,7 +270,7 @@ private:
         VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT |
         VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_HOST_WRITE_BIT | VK_ACCESS_MEMORY_WRITE_BIT;
     std::vector<Tracked> m_tracked;   // few resources between two barriers: a linear search wins
-    size_t m_lastFound = 0;           // consecutive commands mostly touch the same resource
+    Tracked* m_lastFound = nullptr;   // consecutive commands mostly touch the same resource
     bool m_unknownWrites = true;
     bool m_omitNextBarrier = false;
     VkPipelineStageFlags m_srcStages = 0;
@@ -425,6 +429,12 @@ public:
         return createOrFind(layout, set);
     }
 
+    // The use for `layout` when it is the last one used (binds are hot), else null.
+    const LayoutUse* lastUseWith(VkDescriptorSetLayout layout) const {
+        const LayoutUse* last = m_last.load(std::memory_order_acquire);
+        return last && last->layout == layout ? last : nullptr;
+    }
+
     // Starts loading what the next draw / dispatch will read of this set (its accesses), so the
     // cache miss overlaps the Vulkan calls in between. Address arithmetic only, no load.
     void prefetchFirstUse() const { __builtin_prefetch(m_firstUse.fewAccesses.data()); }
@@ -508,6 +518,9 @@ private:
         if (m_state != State::Recording || m_inRenderPass) [[unlikely]] throwNotRecordingOrInPass(call);
     }
     [[noreturn]] void throwNotRecording(std::string_view call) const;
+    // setBindingSet's checks in full (out of line), then bindSet.
+    void setBindingSetChecked(uint32_t set, const BindingSetHandle& bindings);
+    void bindSet(uint32_t set, const BindingSetHandle& bindings, BindingSet* bindingSet);
     [[noreturn]] void throwNotRecordingOrInPass(std::string_view call) const;
     void bindDescriptorSets(Pipeline& pipeline, VkPipelineBindPoint bindPoint, uint32_t& dirtyMask,
                             std::array<const BindingSet::LayoutUse*, Pipeline::kMaxSets>& uses);
@@ -520,6 +533,13 @@ private:
                                   const std::array<const BindingSet::LayoutUse*, Pipeline::kMaxSets>& uses, bool inPass,
                                   std::string_view call);
     void prepareDraw(std::string_view call);
+    // The common draw inline; false leaves the rest to prepareDraw (state-driven, so it picks up
+    // wherever this stopped).
+    bool prepareDrawFast();
+    [[gnu::noinline]] void prepareDrawGeneral(std::string_view call);
+    // The same for dispatches.
+    bool prepareDispatchFast();
+    [[gnu::noinline]] void prepareDispatchGeneral();
     [[noreturn]] void throwDrawOutsidePass(std::string_view call) const;
     // The accesses of the sets `untracked` (bits) of a draw's pipeline, after the view check.
     void trackDrawBindings(const Pipeline& pipeline, uint32_t untracked, std::string_view call);

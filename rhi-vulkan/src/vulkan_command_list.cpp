@@ -277,16 +277,31 @@ void CommandList::setPipeline(const PipelineHandle& handle) {
     }
 }
 
+// The common case calls nothing but (rarely, as a tail call) the keep-alive's append: with no
+// call to return from, it needs no registers saved. Anything unusual (not recording, an object of
+// another backend, or a type_info that is a different object for the same type, as across shared
+// libraries) takes the checked path.
 void CommandList::setBindingSetImpl(uint32_t set, const BindingSetHandle& bindings) {   // set < kMaxBindingSets
+    IBindingSet* object = bindings.get();   // not null: the front end checked
+    if (m_state != State::Recording || &typeid(*object) != &typeid(BindingSet)) [[unlikely]]
+        return setBindingSetChecked(set, bindings);
+    bindSet(set, bindings, static_cast<BindingSet*>(object));
+}
+
+void CommandList::setBindingSetChecked(uint32_t set, const BindingSetHandle& bindings) {
     requireRecording("setBindingSet()");
-    auto* bindingSet = native<BindingSet>(bindings, "setBindingSet(): the binding set");
+    bindSet(set, bindings, native<BindingSet>(bindings, "setBindingSet(): the binding set"));
+}
+
+[[gnu::always_inline]] inline void CommandList::bindSet(uint32_t set, const BindingSetHandle& bindings,
+                                                        BindingSet* bindingSet) {
     if (m_bindingSets[set] == bindingSet) return;   // already bound
     bindingSet->prefetchFirstUse();
-    m_keepAlive.keep(bindings, bindingSet->keepMark);
     m_bindingSets[set] = bindingSet;
     m_dirtyGraphicsSets |= 1u << set;
     m_dirtyComputeSets |= 1u << set;
     m_passTrackedSets &= ~(1u << set);
+    m_keepAlive.keep(bindings, bindingSet->keepMark);   // last, so that its rare path is a tail call
 }
 
 void CommandList::throwNoBindingSet(const Pipeline& pipeline, uint32_t set) const {
@@ -446,14 +461,51 @@ void CommandList::trackVertexBuffers(const Pipeline& pipeline) {
     m_passTrackedVertices = true;
 }
 
+// The common draw, straight-line: the draw state was checked and at most one of the pipeline's
+// sets changed since the last draw of the pass (the others are bound and tracked), and that one
+// has no textures and one read access, of the resource the pass's draws read so far (a uniform
+// slice per draw). Any other case, and every error, is prepareDraw's. Skipping the view-overlap
+// check is exact: the changed set adds no texture, so the textures in use are those checked
+// when the other sets were tracked in this pass.
+[[gnu::always_inline]] inline bool CommandList::prepareDrawFast() {
+    if (m_state != State::Recording || !m_inRenderPass || !m_drawStateChecked || !m_passTrackedVertices) [[unlikely]]
+        return false;
+    const Pipeline& pipeline = *m_graphicsPipeline;
+    const uint32_t changed = m_dirtyGraphicsSets & pipeline.usedSets;
+    const uint32_t untracked = pipeline.usedSets & ~m_passTrackedSets;
+    if ((changed & (changed - 1)) != 0 || (untracked & ~changed) != 0) [[unlikely]] return false;
+    if (changed) {
+        const uint32_t s = uint32_t(std::countr_zero(changed));
+        const BindingSet* bindingSet = m_bindingSets[s];
+        const BindingSet::LayoutUse* use = bindingSet ? bindingSet->lastUseWith(pipeline.sets[s]->layout) : nullptr;
+        if (!use) [[unlikely]] return false;
+        m_graphicsSetUses[s] = use;
+        m_dirtyGraphicsSets = 0;   // as bindDescriptorSets: every set the pipeline uses is bound
+        m_context->cmdBindDescriptorSets(m_commands, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.layout, s, 1, &use->set,
+                                         0, nullptr);
+    }
+    if (!untracked) return true;
+    const BindingSet::LayoutUse& use = *m_graphicsSetUses[std::countr_zero(untracked)];
+    if (use.hasTextureItems || use.accesses.size() != 1) [[unlikely]] return false;
+    const ResourceAccess& a = use.accesses[0];
+    if (a.write || a.resource != m_passReads.resource) [[unlikely]] return false;
+    m_passReads.range.begin = std::min(m_passReads.range.begin, a.range.begin);   // as trackDrawBindings
+    m_passReads.range.end = std::max(m_passReads.range.end, a.range.end);
+    m_passReads.stages |= a.stages;
+    m_passTrackedSets |= untracked;
+    return true;
+}
+
+void CommandList::prepareDrawGeneral(std::string_view call) { prepareDraw(call); }
+
 void CommandList::draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance) {
-    prepareDraw("draw()");
+    if (!prepareDrawFast()) [[unlikely]] prepareDrawGeneral("draw()");
     m_context->cmdDraw(m_commands, vertexCount, instanceCount, firstVertex, firstInstance);
 }
 
 void CommandList::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex, int32_t vertexOffset,
                               uint32_t firstInstance) {
-    prepareDraw("drawIndexed()");
+    if (!prepareDrawFast()) [[unlikely]] prepareDrawGeneral("drawIndexed()");
     if (!m_indexBuffer)
         throw Error(ErrorCode::InvalidUsage, "drawIndexed(): no index buffer is bound; call setIndexBuffer()");
     if (!m_passTrackedIndices) {
@@ -464,7 +516,7 @@ void CommandList::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint3
     m_context->cmdDrawIndexed(m_commands, indexCount, instanceCount, firstIndex, vertexOffset, firstInstance);
 }
 
-void CommandList::dispatchImpl(uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ) {   // counts within limits
+void CommandList::prepareDispatchGeneral() {
     requireOutsideRenderPass("dispatch()");
     if (!m_computePipeline)
         throw Error(ErrorCode::InvalidUsage, "dispatch(): no compute pipeline is set; call setPipeline()");
@@ -480,13 +532,9 @@ void CommandList::dispatchImpl(uint32_t groupsX, uint32_t groupsY, uint32_t grou
         }
     }
     const uint32_t sets = pipeline.usedSets;
-    if (sets && (sets & (sets - 1)) == 0) {   // the common case: one set (no popcount call)
-        const std::span<const ResourceAccess> accesses = m_computeSetUses[std::countr_zero(sets)]->accesses;
-        if (accesses.size() == 1)
-            m_hazards.accessOne(m_commands, accesses[0]);
-        else
-            m_hazards.access(m_commands, accesses);
-    } else if (pipeline.usedSets) {
+    if (sets && (sets & (sets - 1)) == 0) {   // one set
+        m_hazards.access(m_commands, m_computeSetUses[std::countr_zero(sets)]->accesses);
+    } else if (sets) {
         // Check every access before tracking any: a dispatch may read one range of a buffer and
         // write another (through two sets) without a hazard against itself.
         bool hazard = false;
@@ -497,6 +545,34 @@ void CommandList::dispatchImpl(uint32_t groupsX, uint32_t groupsY, uint32_t grou
         for (uint32_t left = sets; left; left &= left - 1)
             for (const ResourceAccess& a : m_computeSetUses[std::countr_zero(left)]->accesses) m_hazards.record(a);
     }
+}
+
+// The common dispatch, straight-line: one set, its binding set's last layout is the pipeline's
+// and, if it changed, it has no textures to check; one access to track. Everything else, and
+// every error, is prepareDispatchGeneral's.
+[[gnu::always_inline]] inline bool CommandList::prepareDispatchFast() {
+    if (m_state != State::Recording || m_inRenderPass || !m_computePipeline) [[unlikely]] return false;
+    const Pipeline& pipeline = *m_computePipeline;
+    const uint32_t sets = pipeline.usedSets;
+    if (sets == 0 || (sets & (sets - 1)) != 0) [[unlikely]] return false;
+    const uint32_t s = uint32_t(std::countr_zero(sets));
+    if (m_dirtyComputeSets & sets) {
+        const BindingSet* bindingSet = m_bindingSets[s];
+        const BindingSet::LayoutUse* use = bindingSet ? bindingSet->lastUseWith(pipeline.sets[s]->layout) : nullptr;
+        if (!use || use->hasTextureItems) [[unlikely]] return false;
+        m_computeSetUses[s] = use;
+        m_dirtyComputeSets = 0;   // as bindDescriptorSets: every set the pipeline uses is bound
+        m_context->cmdBindDescriptorSets(m_commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.layout, s, 1, &use->set,
+                                         0, nullptr);
+    }
+    const std::span<const ResourceAccess> accesses = m_computeSetUses[s]->accesses;
+    if (accesses.size() != 1) [[unlikely]] return false;   // the general path binds nothing twice
+    m_hazards.accessOne(m_commands, accesses[0]);
+    return true;
+}
+
+void CommandList::dispatchImpl(uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ) {   // counts within limits
+    if (!prepareDispatchFast()) [[unlikely]] prepareDispatchGeneral();
     m_context->cmdDispatch(m_commands, groupsX, groupsY, groupsZ);
 }
 

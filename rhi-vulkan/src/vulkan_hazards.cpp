@@ -41,10 +41,10 @@ void HazardTracker::reset() {
 }
 
 HazardTracker::Tracked* HazardTracker::search(const void* resource) {
-    for (size_t i = 0; i < m_tracked.size(); ++i)
-        if (m_tracked[i].resource == resource) {
-            m_lastFound = i;
-            return &m_tracked[i];
+    for (Tracked& tracked : m_tracked)
+        if (tracked.resource == resource) {
+            m_lastFound = &tracked;
+            return &tracked;
         }
     return nullptr;
 }
@@ -58,8 +58,8 @@ bool HazardTracker::conflicts(const ResourceAccess& access) const {
 void HazardTracker::record(const ResourceAccess& access) {
     Tracked* tracked = find(access.resource);
     if (!tracked) {
-        m_lastFound = m_tracked.size();
         tracked = &m_tracked.emplace_back(Tracked{access.resource, {}, {}});
+        m_lastFound = tracked;   // the others may have moved: found again by search()
     }
     record(*tracked, access);
 }
@@ -97,6 +97,7 @@ void HazardTracker::barrier(VkCommandBuffer cmd) {
 
 void HazardTracker::forget() {
     m_tracked.clear();
+    m_lastFound = nullptr;
     m_unknownWrites = false;
     m_srcStages = 0;
     m_srcAccess = 0;

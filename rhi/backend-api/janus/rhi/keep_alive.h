@@ -48,10 +48,7 @@ public:
             }
             return;
         }
-        mark.slot.store(uint32_t(m_entries.size()), std::memory_order_relaxed);
-        m_entries.push_back({&mark, m_recordingId});
-        m_objects.push_back(handle);
-        ++m_used;
+        append(handle, mark);
     }
 
     // End of a recording: lets go of what it did not use.
@@ -76,6 +73,16 @@ public:
     }
 
 private:
+    // Out of line: the first time this list holds an object. Kept apart so that keep()'s common
+    // paths, inlined into every bind, stay a few compares with no registers to save.
+    template <class Interface>
+    [[gnu::noinline]] void append(const std::shared_ptr<Interface>& handle, KeepMark& mark) {
+        mark.slot.store(uint32_t(m_entries.size()), std::memory_order_relaxed);
+        m_entries.push_back({&mark, m_recordingId});
+        m_objects.push_back(handle);
+        ++m_used;
+    }
+
     // What keep() reads, apart from the references it rarely touches: a bind of another object
     // touches 16 bytes here.
     struct Entry {
