@@ -8,6 +8,8 @@
 #   --repetitions  runs of each benchmark; the table uses the median (default: 5)
 #   --min-time     minimum timed seconds per run (default: 0.2)
 #   --json         also keep Google Benchmark's JSON output in FILE
+#   --from-json    make the table from FILE (a --json file, or janus_bench_rhi's
+#                  --benchmark_out from another machine, e.g. scripts/gpu_check.sh's) without running
 #
 # Instructions: scripts/bench.sh instructions [--build-dir DIR] [--filter REGEX] [--runs N]
 #   the same comparisons counted in instructions per operation with callgrind (steady state, two
@@ -48,6 +50,7 @@ build_dir="$repo_root/build-bench"
 repetitions=5
 min_time=0.2
 json_out=""
+from_json=""
 
 while [[ $# -gt 0 ]]; do
   case "$1" in
@@ -55,7 +58,8 @@ while [[ $# -gt 0 ]]; do
     --repetitions) repetitions="$2"; shift 2 ;;
     --min-time) min_time="$2"; shift 2 ;;
     --json) json_out="$2"; shift 2 ;;
-    -h|--help) sed -n '2,19p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    --from-json) from_json="$2"; shift 2 ;;
+    -h|--help) sed -n '2,21p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "bench.sh: unknown argument '$1' (try --help)" >&2; exit 2 ;;
   esac
 done
@@ -63,23 +67,26 @@ if ! [[ "$repetitions" =~ ^[1-9][0-9]*$ ]]; then
   echo "bench.sh: --repetitions must be a positive integer, got '$repetitions'" >&2; exit 2
 fi
 
-binary="$build_dir/bench/janus_bench_rhi"
-if [[ ! -x "$binary" ]]; then
-  if [[ ! -f "$build_dir/build.ninja" ]]; then
-    cmake -S "$repo_root" -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
+if [[ -n "$from_json" ]]; then
+  [[ -f "$from_json" ]] || { echo "bench.sh: --from-json: no file '$from_json'" >&2; exit 2; }
+  json_file="$from_json"
+else
+  binary="$build_dir/bench/janus_bench_rhi"
+  if [[ ! -x "$binary" ]]; then
+    if [[ ! -f "$build_dir/build.ninja" ]]; then
+      cmake -S "$repo_root" -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
+    fi
+    ninja -C "$build_dir" janus_bench_rhi >&2
   fi
-  ninja -C "$build_dir" janus_bench_rhi >&2
+  json_file="$(mktemp --suffix=.json)"
+  trap 'rm -f "$json_file"' EXIT
+  # Random interleaving runs raw and RHI repetitions in shuffled order, so a burst of load from
+  # other processes does not land on one side only.
+  "$binary" --benchmark_format=json --benchmark_out_format=json --benchmark_out="$json_file" \
+    --benchmark_repetitions="$repetitions" --benchmark_min_time="$min_time" \
+    --benchmark_enable_random_interleaving=true >/dev/null
+  [[ -n "$json_out" ]] && cp "$json_file" "$json_out"
 fi
-
-json_file="$(mktemp --suffix=.json)"
-trap 'rm -f "$json_file"' EXIT
-# Random interleaving runs raw and RHI repetitions in shuffled order, so a burst of load from
-# other processes does not land on one side only.
-"$binary" --benchmark_format=json --benchmark_out_format=json --benchmark_out="$json_file" \
-  --benchmark_repetitions="$repetitions" --benchmark_min_time="$min_time" \
-  --benchmark_enable_random_interleaving=true >/dev/null
-[[ -n "$json_out" ]] && cp "$json_file" "$json_out"
-
 
 python3 - "$json_file" <<'EOF'
 import json
