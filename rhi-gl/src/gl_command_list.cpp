@@ -64,17 +64,40 @@ std::pair<uint64_t, uint64_t> boundRange(const BindingItem& item) {
 BindingSet::BindingSet(const BindingSetDesc& desc) : m_desc(desc) {
     for (const BindingItem& item : m_desc.items) {
         m_bindingPoints |= item.binding < 63 ? uint64_t(1) << item.binding : ~uint64_t(0) << 63;
+        const GLbitfield needs = shaderAccessBarrier(item.type);
+        const bool write = isShaderWrite(item.type);
         if (!item.buffer) {
             m_hasTextures = true;
+            m_itemAccesses.push_back({item.texture.get(), 0, UINT64_MAX, needs, write});
             continue;
         }
         // Items are validated: the buffer is this device's and the range lies inside it.
         const auto [begin, end] = boundRange(item);
+        m_itemAccesses.push_back({item.buffer.get(), begin, end, needs, write});
         m_bufferRanges.push_back({item.type == ResourceType::UniformBuffer ? GLenum(GL_UNIFORM_BUFFER)
                                                                           : GLenum(GL_SHADER_STORAGE_BUFFER),
                                   item.binding, static_cast<const Buffer*>(item.buffer.get())->name(),
                                   GLintptr(begin), GLsizeiptr(end - begin)});
     }
+}
+
+const BindingSet::Validated* BindingSet::findValidated(uint64_t signature, uint32_t set) const {
+    const std::lock_guard lock(m_validatedMutex);
+    for (const std::unique_ptr<Validated>& check : m_validated)
+        if (check->signature == signature && check->set == set) {
+            m_lastValidated.store(check.get(), std::memory_order_release);
+            return check.get();
+        }
+    return nullptr;
+}
+
+const BindingSet::Validated* BindingSet::addValidated(std::unique_ptr<Validated> check) const {
+    const std::lock_guard lock(m_validatedMutex);
+    for (const std::unique_ptr<Validated>& existing : m_validated)
+        if (existing->signature == check->signature && existing->set == check->set) return existing.get();   // another list's
+    m_validated.push_back(std::move(check));
+    m_lastValidated.store(m_validated.back().get(), std::memory_order_release);
+    return m_validated.back().get();
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -106,9 +129,13 @@ void CommandList::begin() {
     m_pipelineChecked = false;
     m_bindingsChecked = false;
     m_stateWritesStorage = false;
+    m_stateSamplesTextures = false;
     m_pipeline = nullptr;
     m_bindingSets = {};
-    m_usedBindings.clear();
+    m_used = {};
+    m_accesses = {};
+    m_usedStorage.clear();
+    m_accessStorage.clear();
     m_vertexBuffers.clear();
     m_indexBuffer = nullptr;
     m_indexOffset = 0;
@@ -137,14 +164,69 @@ void CommandList::requireCompatiblePipeline(const char* what) const {
 }
 
 void CommandList::requireBindings(const char* what) {
+    const Pipeline& pipeline = *m_pipeline;
+    const std::span<const uint32_t> sets = pipeline.usedSets();
+    if (pipeline.cacheableBindings() && sets.size() == 1) {
+        // One set (the common case): its cached check holds everything, in the pipeline's order.
+        if (const BindingSet* set = m_bindingSets[sets[0]]) {
+            if (const BindingSet::Validated* check = set->validated(pipeline.bindingSignature(), sets[0])) {
+                m_used = check->used;
+                m_accesses = check->accesses;
+                m_stateWritesStorage = check->writesStorage;
+                m_stateSamplesTextures = check->samplesTextures;
+                if (check->usesTextures) requireTextureUses(what);
+                return;
+            }
+        }
+    } else if (pipeline.cacheableBindings() && !sets.empty()) {
+        std::array<const BindingSet::Validated*, kMaxBindingSets> checks{};
+        bool all = true;
+        for (const uint32_t index : sets) {
+            const BindingSet* set = m_bindingSets[index];
+            checks[index] = set ? set->validated(pipeline.bindingSignature(), index) : nullptr;
+            all = all && checks[index];
+        }
+        if (all) {
+            // Each check lists its set's items in the pipeline's order: interleave them back.
+            std::array<size_t, kMaxBindingSets> next{};
+            m_usedStorage.clear();
+            m_accessStorage.clear();
+            m_stateWritesStorage = m_stateSamplesTextures = false;
+            bool usesTextures = false;
+            for (const ShaderBinding& binding : pipeline.bindings()) {
+                const BindingSet::Validated& check = *checks[binding.set];
+                const size_t i = next[binding.set]++;
+                m_usedStorage.push_back(check.used[i]);
+                m_accessStorage.push_back(check.accesses[i]);
+            }
+            for (const uint32_t index : sets) {
+                m_stateWritesStorage = m_stateWritesStorage || checks[index]->writesStorage;
+                m_stateSamplesTextures = m_stateSamplesTextures || checks[index]->samplesTextures;
+                usesTextures = usesTextures || checks[index]->usesTextures;
+            }
+            m_used = m_usedStorage;
+            m_accesses = m_accessStorage;
+            if (usesTextures) requireTextureUses(what);
+            return;
+        }
+    }
+    requireBindingsUncached(what);
+}
+
+void CommandList::requireBindingsUncached(const char* what) {
     // GL would silently read whatever is bound at a unit; Vulkan's validation would flag the
     // same mistake, so catch it here with the binding named.
-    m_usedBindings.clear();
+    m_usedStorage.clear();
+    m_accessStorage.clear();
+    m_used = {};
+    m_accesses = {};
     m_stateWritesStorage = false;
+    m_stateSamplesTextures = false;
     bool usesTextures = false;
     for (const ShaderBinding& binding : m_pipeline->bindings()) {
         const BindingItem* found = nullptr;
-        if (const BindingSet* set = binding.set < kMaxBindingSets ? m_bindingSets[binding.set] : nullptr) {
+        const BindingSet* set = binding.set < kMaxBindingSets ? m_bindingSets[binding.set] : nullptr;
+        if (set) {
             for (const BindingItem& item : set->desc().items)
                 if (item.binding == binding.binding) found = &item;
         }
@@ -158,8 +240,10 @@ void CommandList::requireBindings(const char* what) {
                         fmt::format("{}: binding {} is a different resource type in the binding set than in the "
                                     "shader ({})",
                                     what, binding.binding, binding.glName));
-        m_usedBindings.push_back({binding.set, found});
+        m_usedStorage.push_back({binding.set, found});
+        m_accessStorage.push_back(set->itemAccess(size_t(found - set->desc().items.data())));
         m_stateWritesStorage = m_stateWritesStorage || isShaderWrite(found->type);
+        m_stateSamplesTextures = m_stateSamplesTextures || found->type == ResourceType::SampledTexture;
         if (!found->texture) continue;
         usesTextures = true;
         const TextureDimension viewed = found->viewDimension.value_or(found->texture->desc().dimension);
@@ -170,14 +254,42 @@ void CommandList::requireBindings(const char* what) {
                                     what, binding.binding, toString(found->texture->desc().dimension),
                                     found->texture->desc().debugName, toString(viewed), toString(*binding.dimension)));
     }
-    if (!usesTextures) return;   // the checks below look at textures only
-    validateViewOverlaps(m_usedBindings, openPass(), what);
+    m_used = m_usedStorage;
+    m_accesses = m_accessStorage;
+    if (m_pipeline->cacheableBindings()) {
+        // Every binding found its item: keep each set's part for the next check with this set.
+        for (const uint32_t index : m_pipeline->usedSets()) {
+            auto check = std::make_unique<BindingSet::Validated>();
+            check->signature = m_pipeline->bindingSignature();
+            check->set = index;
+            for (size_t i = 0; i < m_usedStorage.size(); ++i) {
+                if (m_usedStorage[i].set != index) continue;
+                const BindingItem& item = *m_usedStorage[i].item;
+                check->used.push_back(m_usedStorage[i]);
+                check->accesses.push_back(m_accessStorage[i]);
+                check->writesStorage = check->writesStorage || isShaderWrite(item.type);
+                check->usesTextures = check->usesTextures || item.texture;
+                check->samplesTextures = check->samplesTextures || item.type == ResourceType::SampledTexture;
+            }
+            const BindingSet::Validated* kept = m_bindingSets[index]->addValidated(std::move(check));
+            if (m_pipeline->usedSets().size() == 1) {
+                // The list's spans may as well point at the kept check (the set outlives them).
+                m_used = kept->used;
+                m_accesses = kept->accesses;
+            }
+        }
+    }
+    if (usesTextures) requireTextureUses(what);
+}
+
+void CommandList::requireTextureUses(const char* what) const {
+    validateViewOverlaps(m_used, openPass(), what);
     if (m_device.isES()) {
         // Mip ranges are texture state on ES (BASE/MAX_LEVEL): one range per texture per draw.
-        for (size_t i = 0; i < m_usedBindings.size(); ++i)
+        for (size_t i = 0; i < m_used.size(); ++i)
             for (size_t j = 0; j < i; ++j) {
-                const BindingItem& a = *m_usedBindings[i].item;
-                const BindingItem& b = *m_usedBindings[j].item;
+                const BindingItem& a = *m_used[i].item;
+                const BindingItem& b = *m_used[j].item;
                 if (!a.texture || a.texture != b.texture || a.type != ResourceType::SampledTexture ||
                     b.type != ResourceType::SampledTexture)
                     continue;
@@ -195,9 +307,9 @@ void CommandList::requireBindings(const char* what) {
 }
 
 void CommandList::recordMipRanges() {
-    if (!m_device.isES()) return;   // desktop GL binds texture views instead
+    if (!m_stateSamplesTextures || !m_device.isES()) return;   // desktop GL binds texture views instead
     const auto first = uint32_t(m_mipRanges.size());
-    for (const UsedBinding& used : m_usedBindings) {
+    for (const UsedBinding& used : m_used) {
         if (used.item->type != ResourceType::SampledTexture) continue;
         const ResolvedTextureView view = resolveTextureView(*used.item);
         // The binding set, held by the keep-alive, holds the texture.
@@ -266,19 +378,10 @@ void CommandList::addPendingWrite(const void* resource, uint64_t begin, uint64_t
     m_pendingWrites.push_back({resource, begin, end, GL_ALL_BARRIER_BITS});
 }
 
-void CommandList::trackShaderAccesses(bool drawing, bool indexed) {
+void CommandList::trackPendingShaderAccesses(bool drawing, bool indexed) {
     if (!m_pendingWrites.empty()) {
         GLbitfield needed = 0;
-        for (const UsedBinding& used : m_usedBindings) {
-            const BindingItem& item = *used.item;
-            const GLbitfield needs = shaderAccessBarrier(item.type);
-            if (item.buffer) {
-                const auto [begin, end] = boundRange(item);
-                needed |= bufferHazard(item.buffer.get(), begin, end, needs);
-            } else {
-                needed |= textureHazard(item.texture.get(), needs);
-            }
-        }
+        for (const ShaderAccess& access : m_accesses) needed |= hazardBits(access.resource, access.begin, access.end, access.needs);
         if (drawing) {
             for (const RecordedVertexBuffer& vertices : m_vertexBuffers)
                 needed |= bufferHazard(vertices.buffer, vertices.offset, UINT64_MAX, GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT);
@@ -287,15 +390,8 @@ void CommandList::trackShaderAccesses(bool drawing, bool indexed) {
         recordBarrier(needed);
     }
     if (!m_stateWritesStorage) return;
-    for (const UsedBinding& used : m_usedBindings) {
-        const BindingItem& item = *used.item;
-        if (item.type == ResourceType::StorageBuffer) {
-            const auto [begin, end] = boundRange(item);
-            addPendingWrite(item.buffer.get(), begin, end);
-        } else if (item.type == ResourceType::StorageImage) {
-            addPendingWrite(item.texture.get(), 0, UINT64_MAX);
-        }
-    }
+    for (const ShaderAccess& access : m_accesses)
+        if (access.write) addPendingWrite(access.resource, access.begin, access.end);
 }
 
 void CommandList::end() {

@@ -7,6 +7,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <span>
 #include <string>
 #include <tuple>
@@ -215,6 +216,16 @@ public:
     // The value that uniform holds (program state, so it survives switching programs).
     mutable GLint baseInstanceValue = 0;
     const std::vector<ShaderBinding>& bindings() const { return m_bindings; }
+    // What binding checks are cached under (BindingSet::validated): an id per distinct list of
+    // (set, binding, type, dimension), the same for pipelines whose shaders use the same
+    // bindings, never reused by another list (ids are not addresses, so a pipeline destroyed
+    // and another made at the same address cannot hit its entries).
+    uint64_t bindingSignature() const { return m_bindingSignature; }
+    // The set indices the bindings use (each once, ascending), all < kMaxBindingSets; and
+    // cacheableBindings() is false when some binding uses a set index >= kMaxBindingSets (nothing can
+    // be bound there: the uncached check reports it).
+    std::span<const uint32_t> usedSets() const { return m_usedSets; }
+    bool cacheableBindings() const { return m_cacheableBindings; }
     // Applies rasterizer, depth and blend state.
     void applyState() const;
     KeepMark keepMark;
@@ -228,6 +239,19 @@ private:
     GLuint m_program = 0;
     GLint m_baseInstanceLocation = -1;
     std::vector<ShaderBinding> m_bindings;
+    uint64_t m_bindingSignature = 0;
+    std::vector<uint32_t> m_usedSets;
+    bool m_cacheableBindings = true;
+};
+
+// How a draw or dispatch accesses one binding item, for hazard tracking: the resource (IBuffer
+// or ITexture), its bytes (textures: 0..UINT64_MAX), the glMemoryBarrier bits a read of it
+// waits for and whether shaders may write it (storage buffers and images).
+struct ShaderAccess {
+    const void* resource;
+    uint64_t begin, end;
+    GLbitfield needs;
+    bool write;
 };
 
 class BindingSet final : public IBindingSet {
@@ -249,13 +273,46 @@ public:
     };
     std::span<const BufferRange> bufferRanges() const { return m_bufferRanges; }
     bool hasTextures() const { return m_hasTextures; }
+    // The access of desc().items[i], resolved when the set is made.
+    const ShaderAccess& itemAccess(size_t i) const { return m_itemAccesses[i]; }
+
+    // A passed binding check, cached in the set: every binding of the pipelines with binding
+    // signature `signature` at set index `set` has an item of its type (and view dimension) in
+    // this set. `used` / `accesses` are those items in the pipeline's binding order. Immutable
+    // once made; owned by the set, so they live as long as it (and a set made later at the same
+    // address starts with none).
+    struct Validated {
+        uint64_t signature;
+        uint32_t set;
+        bool writesStorage = false;     // a storage buffer or image among `used`
+        bool usesTextures = false;      // a texture or image among `used`
+        bool samplesTextures = false;   // a sampled texture among `used`
+        std::vector<UsedBinding> used;
+        std::vector<ShaderAccess> accesses;
+    };
+    // The check for (signature, set) if it passed before, else null. The last one found or
+    // added is compared without a lock; others are looked up under the set's mutex (several
+    // command lists may record with one set at once).
+    const Validated* validated(uint64_t signature, uint32_t set) const {
+        const Validated* last = m_lastValidated.load(std::memory_order_acquire);
+        if (last && last->signature == signature && last->set == set) [[likely]] return last;
+        return findValidated(signature, set);
+    }
+    // Keeps a passed check (unless one for its key is there already) and returns the kept one.
+    const Validated* addValidated(std::unique_ptr<Validated> check) const;
     KeepMark keepMark;
 
 private:
+    const Validated* findValidated(uint64_t signature, uint32_t set) const;
+
     BindingSetDesc m_desc;
     uint64_t m_bindingPoints = 0;
     std::vector<BufferRange> m_bufferRanges;
+    std::vector<ShaderAccess> m_itemAccesses;
     bool m_hasTextures = false;
+    mutable std::atomic<const Validated*> m_lastValidated{nullptr};
+    mutable std::mutex m_validatedMutex;
+    mutable std::vector<std::unique_ptr<Validated>> m_validated;
 };
 
 class TimerQuery final : public ITimerQuery {
@@ -381,8 +438,15 @@ private:
     // formats, m_bindingsChecked the pipeline's bindings against the sets (and the pass).
     void requireDrawState(const char* what);
     void requireCompatiblePipeline(const char* what) const;
-    // Checks what the pipeline's shaders use against the bound sets; fills m_usedBindings.
+    // Checks what the pipeline's shaders use against the bound sets; points m_used and
+    // m_accesses at the items they use. Each set's part of a passed check is cached in the set
+    // (BindingSet::Validated) under the pipeline's binding signature: when every set the
+    // pipeline uses has it, only the checks that depend on more than one set or on the render
+    // pass (textures only) run again.
     void requireBindings(const char* what);
+    void requireBindingsUncached(const char* what);
+    // The checks of textures across bindings and against the pass, on m_used.
+    void requireTextureUses(const char* what) const;
     // GLES: re-applies the mip ranges of the sampled textures a draw uses right before it (an
     // item of a set bound later, unused by the draw, may have set another range on the texture).
     void recordMipRanges();
@@ -409,7 +473,11 @@ private:
     void recordBarrier(GLbitfield bits);   // no barrier for 0
     // Before a draw or dispatch: waits for what its bindings (and a draw's vertex and index
     // buffers) read, then notes what its storage bindings write.
-    void trackShaderAccesses(bool drawing, bool indexed);
+    void trackShaderAccesses(bool drawing, bool indexed) {
+        if (m_pendingWrites.empty() && !m_stateWritesStorage) return;   // nothing to wait for or note
+        trackPendingShaderAccesses(drawing, indexed);
+    }
+    void trackPendingShaderAccesses(bool drawing, bool indexed);
     void addPendingWrite(const void* resource, uint64_t begin, uint64_t end);
 
     Device& m_device;
@@ -427,12 +495,18 @@ private:
     bool m_inRenderPass = false;
     bool m_pipelineChecked = false;
     bool m_bindingsChecked = false;
-    bool m_stateWritesStorage = false;   // m_usedBindings has storage items
+    bool m_stateWritesStorage = false;     // m_used has storage items
+    bool m_stateSamplesTextures = false;   // m_used has sampled textures
     const Pipeline* m_pipeline = nullptr;   // last pipeline set (held by m_keepAlive)
     std::vector<Format> m_passColorFormats;   // formats of the open render pass
     Format m_passDepthFormat = Format::Unknown;
     std::array<const BindingSet*, kMaxBindingSets> m_bindingSets{};   // by set index
-    std::vector<UsedBinding> m_usedBindings;   // the bound items the pipeline uses (last check)
+    // The bound items the pipeline uses (last check) and how it accesses them (parallel): in a
+    // cached check of the set, or in the storage below.
+    std::span<const UsedBinding> m_used;
+    std::span<const ShaderAccess> m_accesses;
+    std::vector<UsedBinding> m_usedStorage;
+    std::vector<ShaderAccess> m_accessStorage;
     struct RecordedVertexBuffer {
         uint32_t slot;
         const Buffer* buffer;

@@ -106,6 +106,22 @@ Pipeline::~Pipeline() {
     if (m_context->makeCurrentForTeardown()) m_context->gl.glDeleteProgram(m_program);
 }
 
+namespace {
+// Interned binding signatures: what the binding checks read of a pipeline's bindings. The map only
+// grows, so an id is never given to another signature.
+uint64_t bindingSignatureId(const std::vector<ShaderBinding>& bindings) {
+    using Key = std::vector<std::tuple<uint32_t, uint32_t, int, int>>;
+    Key key;
+    key.reserve(bindings.size());
+    for (const ShaderBinding& b : bindings)
+        key.emplace_back(b.set, b.binding, int(b.type), b.dimension ? int(*b.dimension) : -1);
+    static std::mutex mutex;
+    static std::map<Key, uint64_t> ids;
+    const std::lock_guard lock(mutex);
+    return ids.try_emplace(std::move(key), ids.size() + 1).first->second;
+}
+}  // namespace
+
 void Pipeline::link(const std::vector<const Shader*>& shaders, const std::string& debugName) {
     const GLFunctions& gl = m_context->gl;
     m_program = gl.glCreateProgram();
@@ -153,6 +169,14 @@ void Pipeline::link(const std::vector<const Shader*>& shaders, const std::string
             m_bindings.push_back(binding);
         }
     }
+    m_bindingSignature = bindingSignatureId(m_bindings);
+    for (const ShaderBinding& binding : m_bindings) {
+        if (binding.set >= kMaxBindingSets)
+            m_cacheableBindings = false;
+        else if (std::find(m_usedSets.begin(), m_usedSets.end(), binding.set) == m_usedSets.end())
+            m_usedSets.push_back(binding.set);
+    }
+    std::sort(m_usedSets.begin(), m_usedSets.end());
     m_baseInstanceLocation = gl.glGetUniformLocation(m_program, "SPIRV_Cross_BaseInstance");
     gl.glUseProgram(0);
     if (!debugName.empty() && gl.glObjectLabel && !m_context->isES())
