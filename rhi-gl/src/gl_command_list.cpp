@@ -29,16 +29,6 @@ T* cast(Device& device, const Handle& handle, const char* what, const char* kind
     return result;
 }
 
-GLenum primitiveMode(PrimitiveTopology topology) {
-    switch (topology) {
-        case PrimitiveTopology::TriangleList: return GL_TRIANGLES;
-        case PrimitiveTopology::TriangleStrip: return GL_TRIANGLE_STRIP;
-        case PrimitiveTopology::LineList: return GL_LINES;
-        case PrimitiveTopology::PointList: return GL_POINTS;
-    }
-    return GL_TRIANGLES;
-}
-
 // glMemoryBarrier bits for a shader reading (or writing) a binding.
 GLbitfield shaderAccessBarrier(ResourceType type) {
     switch (type) {
@@ -117,7 +107,7 @@ void CommandList::throwWrongPassState(const char* what) const {
 
 void CommandList::begin() {
     m_keepAlive.beginRecording();
-    m_commands.clear();
+    m_commandCount = 0;   // m_commands keeps its size: the storage is reused
     m_renderPasses.clear();
     m_uploads.clear();
     m_labels.clear();
@@ -128,12 +118,9 @@ void CommandList::begin() {
     m_inRenderPass = false;
     m_pipelineChecked = false;
     m_bindingsChecked = false;
-    m_stateWritesStorage = false;
-    m_stateSamplesTextures = false;
     m_pipeline = nullptr;
     m_bindingSets = {};
-    m_used = {};
-    m_accesses = {};
+    m_found = {};
     m_usedStorage.clear();
     m_accessStorage.clear();
     m_vertexBuffers.clear();
@@ -163,22 +150,10 @@ void CommandList::requireCompatiblePipeline(const char* what) const {
                                 m_passDepthFormat == Format::Unknown ? "none" : toString(m_passDepthFormat)));
 }
 
-void CommandList::requireBindings(const char* what) {
+void CommandList::requireBindingsCached(const char* what) {
     const Pipeline& pipeline = *m_pipeline;
     const std::span<const uint32_t> sets = pipeline.usedSets();
-    if (pipeline.cacheableBindings() && sets.size() == 1) {
-        // One set (the common case): its cached check holds everything, in the pipeline's order.
-        if (const BindingSet* set = m_bindingSets[sets[0]]) {
-            if (const BindingSet::Validated* check = set->validated(pipeline.bindingSignature(), sets[0])) {
-                m_used = check->used;
-                m_accesses = check->accesses;
-                m_stateWritesStorage = check->writesStorage;
-                m_stateSamplesTextures = check->samplesTextures;
-                if (check->usesTextures) requireTextureUses(what);
-                return;
-            }
-        }
-    } else if (pipeline.cacheableBindings() && !sets.empty()) {
+    if (pipeline.cacheableBindings() && !sets.empty()) {
         std::array<const BindingSet::Validated*, kMaxBindingSets> checks{};
         bool all = true;
         for (const uint32_t index : sets) {
@@ -186,13 +161,17 @@ void CommandList::requireBindings(const char* what) {
             checks[index] = set ? set->validated(pipeline.bindingSignature(), index) : nullptr;
             all = all && checks[index];
         }
+        if (all && sets.size() == 1) {
+            m_found = checks[sets[0]]->found;
+            if (m_found.usesTextures) requireTextureUses(what);
+            return;
+        }
         if (all) {
             // Each check lists its set's items in the pipeline's order: interleave them back.
             std::array<size_t, kMaxBindingSets> next{};
             m_usedStorage.clear();
             m_accessStorage.clear();
-            m_stateWritesStorage = m_stateSamplesTextures = false;
-            bool usesTextures = false;
+            m_found = {};
             for (const ShaderBinding& binding : pipeline.bindings()) {
                 const BindingSet::Validated& check = *checks[binding.set];
                 const size_t i = next[binding.set]++;
@@ -200,13 +179,13 @@ void CommandList::requireBindings(const char* what) {
                 m_accessStorage.push_back(check.accesses[i]);
             }
             for (const uint32_t index : sets) {
-                m_stateWritesStorage = m_stateWritesStorage || checks[index]->writesStorage;
-                m_stateSamplesTextures = m_stateSamplesTextures || checks[index]->samplesTextures;
-                usesTextures = usesTextures || checks[index]->usesTextures;
+                m_found.writesStorage = m_found.writesStorage || checks[index]->found.writesStorage;
+                m_found.samplesTextures = m_found.samplesTextures || checks[index]->found.samplesTextures;
+                m_found.usesTextures = m_found.usesTextures || checks[index]->found.usesTextures;
             }
-            m_used = m_usedStorage;
-            m_accesses = m_accessStorage;
-            if (usesTextures) requireTextureUses(what);
+            m_found.used = m_usedStorage;
+            m_found.accesses = m_accessStorage;
+            if (m_found.usesTextures) requireTextureUses(what);
             return;
         }
     }
@@ -218,11 +197,7 @@ void CommandList::requireBindingsUncached(const char* what) {
     // same mistake, so catch it here with the binding named.
     m_usedStorage.clear();
     m_accessStorage.clear();
-    m_used = {};
-    m_accesses = {};
-    m_stateWritesStorage = false;
-    m_stateSamplesTextures = false;
-    bool usesTextures = false;
+    m_found = {};
     for (const ShaderBinding& binding : m_pipeline->bindings()) {
         const BindingItem* found = nullptr;
         const BindingSet* set = binding.set < kMaxBindingSets ? m_bindingSets[binding.set] : nullptr;
@@ -242,10 +217,10 @@ void CommandList::requireBindingsUncached(const char* what) {
                                     what, binding.binding, binding.glName));
         m_usedStorage.push_back({binding.set, found});
         m_accessStorage.push_back(set->itemAccess(size_t(found - set->desc().items.data())));
-        m_stateWritesStorage = m_stateWritesStorage || isShaderWrite(found->type);
-        m_stateSamplesTextures = m_stateSamplesTextures || found->type == ResourceType::SampledTexture;
+        m_found.writesStorage = m_found.writesStorage || isShaderWrite(found->type);
+        m_found.samplesTextures = m_found.samplesTextures || found->type == ResourceType::SampledTexture;
         if (!found->texture) continue;
-        usesTextures = true;
+        m_found.usesTextures = true;
         const TextureDimension viewed = found->viewDimension.value_or(found->texture->desc().dimension);
         if (binding.dimension && viewed != *binding.dimension)
             throw Error(ErrorCode::InvalidUsage,
@@ -254,8 +229,8 @@ void CommandList::requireBindingsUncached(const char* what) {
                                     what, binding.binding, toString(found->texture->desc().dimension),
                                     found->texture->desc().debugName, toString(viewed), toString(*binding.dimension)));
     }
-    m_used = m_usedStorage;
-    m_accesses = m_accessStorage;
+    m_found.used = m_usedStorage;
+    m_found.accesses = m_accessStorage;
     if (m_pipeline->cacheableBindings()) {
         // Every binding found its item: keep each set's part for the next check with this set.
         for (const uint32_t index : m_pipeline->usedSets()) {
@@ -267,29 +242,33 @@ void CommandList::requireBindingsUncached(const char* what) {
                 const BindingItem& item = *m_usedStorage[i].item;
                 check->used.push_back(m_usedStorage[i]);
                 check->accesses.push_back(m_accessStorage[i]);
-                check->writesStorage = check->writesStorage || isShaderWrite(item.type);
-                check->usesTextures = check->usesTextures || item.texture;
-                check->samplesTextures = check->samplesTextures || item.type == ResourceType::SampledTexture;
+                check->found.writesStorage = check->found.writesStorage || isShaderWrite(item.type);
+                check->found.usesTextures = check->found.usesTextures || item.texture;
+                check->found.samplesTextures =
+                    check->found.samplesTextures || item.type == ResourceType::SampledTexture;
             }
+            check->found.used = check->used;
+            check->found.accesses = check->accesses;
             const BindingSet::Validated* kept = m_bindingSets[index]->addValidated(std::move(check));
             if (m_pipeline->usedSets().size() == 1) {
                 // The list's spans may as well point at the kept check (the set outlives them).
-                m_used = kept->used;
-                m_accesses = kept->accesses;
+                m_found.used = kept->found.used;
+                m_found.accesses = kept->found.accesses;
             }
         }
     }
-    if (usesTextures) requireTextureUses(what);
+    if (m_found.usesTextures) requireTextureUses(what);
 }
 
 void CommandList::requireTextureUses(const char* what) const {
-    validateViewOverlaps(m_used, openPass(), what);
+    const std::span<const UsedBinding> used = m_found.used;
+    validateViewOverlaps(used, openPass(), what);
     if (m_device.isES()) {
         // Mip ranges are texture state on ES (BASE/MAX_LEVEL): one range per texture per draw.
-        for (size_t i = 0; i < m_used.size(); ++i)
+        for (size_t i = 0; i < used.size(); ++i)
             for (size_t j = 0; j < i; ++j) {
-                const BindingItem& a = *m_used[i].item;
-                const BindingItem& b = *m_used[j].item;
+                const BindingItem& a = *used[i].item;
+                const BindingItem& b = *used[j].item;
                 if (!a.texture || a.texture != b.texture || a.type != ResourceType::SampledTexture ||
                     b.type != ResourceType::SampledTexture)
                     continue;
@@ -307,9 +286,9 @@ void CommandList::requireTextureUses(const char* what) const {
 }
 
 void CommandList::recordMipRanges() {
-    if (!m_stateSamplesTextures || !m_device.isES()) return;   // desktop GL binds texture views instead
+    if (!m_device.isES()) return;   // desktop GL binds texture views instead
     const auto first = uint32_t(m_mipRanges.size());
-    for (const UsedBinding& used : m_used) {
+    for (const UsedBinding& used : m_found.used) {
         if (used.item->type != ResourceType::SampledTexture) continue;
         const ResolvedTextureView view = resolveTextureView(*used.item);
         // The binding set, held by the keep-alive, holds the texture.
@@ -331,26 +310,12 @@ void CommandList::requireVertexBuffers(const char* what) const {
     }
 }
 
-void CommandList::requireDrawState(const char* what) {
-    // Each check passed with the same inputs before, unless they changed since: same errors, at
-    // the first draw that would have reported them, in the same order.
-    if (!m_pipelineChecked) {
-        requireVertexBuffers(what);
-        requireCompatiblePipeline(what);
-        m_pipelineChecked = true;
-    }
-    if (!m_bindingsChecked) {
-        requireBindings(what);
-        recordMipRanges();
-        m_bindingsChecked = true;
-    }
-}
-
-GLbitfield CommandList::hazardBits(const void* resource, uint64_t begin, uint64_t end, GLbitfield needs) const {
-    for (const PendingWrite& write : m_pendingWrites)
-        if (write.resource == resource && write.begin < end && begin < write.end && (write.unsynchronized & needs))
-            return needs;
-    return 0;
+// requireDrawState: each check passed with the same inputs before, unless they changed since:
+// same errors, at the first draw that would have reported them, in the same order.
+void CommandList::requirePipelineState(const char* what) {
+    requireVertexBuffers(what);
+    requireCompatiblePipeline(what);
+    m_pipelineChecked = true;
 }
 
 void CommandList::recordBarrier(GLbitfield bits) {
@@ -363,25 +328,10 @@ void CommandList::recordBarrier(GLbitfield bits) {
     });
 }
 
-void CommandList::addPendingWrite(const void* resource, uint64_t begin, uint64_t end) {
-    // Neighbouring slices written one after another (one dispatch per slice) merge into one entry,
-    // so the list stays short and each check stays cheap.
-    if (!m_pendingWrites.empty()) {
-        PendingWrite& last = m_pendingWrites.back();
-        if (last.resource == resource && last.unsynchronized == GL_ALL_BARRIER_BITS && begin <= last.end &&
-            last.begin <= end) {
-            last.begin = std::min(last.begin, begin);
-            last.end = std::max(last.end, end);
-            return;
-        }
-    }
-    m_pendingWrites.push_back({resource, begin, end, GL_ALL_BARRIER_BITS});
-}
-
 void CommandList::trackPendingShaderAccesses(bool drawing, bool indexed) {
     if (!m_pendingWrites.empty()) {
         GLbitfield needed = 0;
-        for (const ShaderAccess& access : m_accesses) needed |= hazardBits(access.resource, access.begin, access.end, access.needs);
+        for (const ShaderAccess& access : m_found.accesses) needed |= hazardBits(access.resource, access.begin, access.end, access.needs);
         if (drawing) {
             for (const RecordedVertexBuffer& vertices : m_vertexBuffers)
                 needed |= bufferHazard(vertices.buffer, vertices.offset, UINT64_MAX, GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT);
@@ -389,8 +339,8 @@ void CommandList::trackPendingShaderAccesses(bool drawing, bool indexed) {
         }
         recordBarrier(needed);
     }
-    if (!m_stateWritesStorage) return;
-    for (const ShaderAccess& access : m_accesses)
+    if (!m_found.writesStorage) return;
+    for (const ShaderAccess& access : m_found.accesses)
         if (access.write) addPendingWrite(access.resource, access.begin, access.end);
 }
 
@@ -729,7 +679,37 @@ void CommandList::replay() {
         }
     };
     Replayer replayer{*this, device, gl};
-    for (const Command& command : m_commands) std::visit(replayer, command);
+    // A switch rather than std::visit, whose table of out-of-line calls costs a call per command.
+    static_assert(std::variant_size_v<Command> == 22, "one case per command below");
+#define JANUS_REPLAY_CASE(N) \
+    case N: replayer(*std::get_if<N>(&command)); break;
+    for (const Command& command : std::span(m_commands).first(m_commandCount)) {
+        switch (command.index()) {
+                JANUS_REPLAY_CASE(0)
+                JANUS_REPLAY_CASE(1)
+                JANUS_REPLAY_CASE(2)
+                JANUS_REPLAY_CASE(3)
+                JANUS_REPLAY_CASE(4)
+                JANUS_REPLAY_CASE(5)
+                JANUS_REPLAY_CASE(6)
+                JANUS_REPLAY_CASE(7)
+                JANUS_REPLAY_CASE(8)
+                JANUS_REPLAY_CASE(9)
+                JANUS_REPLAY_CASE(10)
+                JANUS_REPLAY_CASE(11)
+                JANUS_REPLAY_CASE(12)
+                JANUS_REPLAY_CASE(13)
+                JANUS_REPLAY_CASE(14)
+                JANUS_REPLAY_CASE(15)
+                JANUS_REPLAY_CASE(16)
+                JANUS_REPLAY_CASE(17)
+                JANUS_REPLAY_CASE(18)
+                JANUS_REPLAY_CASE(19)
+                JANUS_REPLAY_CASE(20)
+                JANUS_REPLAY_CASE(21)
+        }
+    }
+#undef JANUS_REPLAY_CASE
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -803,20 +783,13 @@ void Device::bindPipeline(const Pipeline& pipeline) {
     pipeline.applyState();
 }
 
-void Device::bindBindingSet(uint32_t set, const BindingSet& bindings) {
-    if (m_boundSets[set] == &bindings) return;
-    // GL binding points are shared by all sets: a set binding at the same points replaces them.
-    for (const BindingSet*& bound : m_boundSets)
-        if (bound && (bound->bindingPoints() & bindings.bindingPoints())) bound = nullptr;
-    m_boundSets[set] = &bindings;
+// The texture and image items of a set (bindBindingSet binds its buffer ranges).
+void Device::bindTextures(const BindingSet& bindings) {
     const GLFunctions& f = gl();
-    for (const BindingSet::BufferRange& b : bindings.bufferRanges())
-        f.glBindBufferRange(b.target, b.index, b.buffer, b.offset, b.size);
-    if (!bindings.hasTextures()) return;
     for (const BindingItem& item : bindings.desc().items) {
         switch (item.type) {
             case ResourceType::UniformBuffer:
-            case ResourceType::StorageBuffer: break;   // bound above
+            case ResourceType::StorageBuffer: break;   // bindBindingSet bound them
             case ResourceType::SampledTexture: {
                 auto* texture = static_cast<const Texture*>(item.texture.get());
                 auto* sampler = static_cast<const Sampler*>(item.sampler.get());
@@ -871,9 +844,7 @@ void Device::setIndexBuffer(GLuint buffer, IndexType type, uint64_t offset) {
     m_indexOffset = offset;
 }
 
-void Device::bindVertexAttributes(int64_t baseVertexOffset, uint32_t baseInstanceOffset) {
-    if (!m_vertexStateDirty && baseVertexOffset == m_vertexStateBase && baseInstanceOffset == m_vertexStateInstanceBase)
-        return;
+void Device::specifyVertexAttributes(int64_t baseVertexOffset, uint32_t baseInstanceOffset) {
     m_vertexStateDirty = false;
     m_vertexStateBase = baseVertexOffset;
     m_vertexStateInstanceBase = baseInstanceOffset;
@@ -912,34 +883,17 @@ void Device::bindVertexAttributes(int64_t baseVertexOffset, uint32_t baseInstanc
     m_enabledAttributes = wanted;
 }
 
-void Device::setBaseInstance(uint32_t firstInstance) {
-    // SPIRV-Cross emulates gl_InstanceIndex as gl_InstanceID + this uniform (0 after linking).
-    const GLint location = m_pipeline->baseInstanceLocation();
-    if (location < 0 || GLint(firstInstance) == m_pipeline->baseInstanceValue) return;
-    gl().glUniform1i(location, GLint(firstInstance));
-    m_pipeline->baseInstanceValue = GLint(firstInstance);
-}
-
-void Device::draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance) {
-    const GLFunctions& f = gl();
-    const GLenum mode = primitiveMode(m_pipeline->graphics().topology);
-    setBaseInstance(firstInstance);
-    if (firstInstance != 0 && !isES()) {
-        bindVertexAttributes(0, 0);
-        f.glDrawArraysInstancedBaseInstance(mode, GLint(firstVertex), GLsizei(vertexCount), GLsizei(instanceCount),
-                                            firstInstance);
-        return;
-    }
-    // ES 3.0 has no base instance: the per-instance attribute pointers start at firstInstance
-    // instead (gl_InstanceIndex gets it from the base-instance uniform above).
-    bindVertexAttributes(0, isES() ? firstInstance : 0);
-    f.glDrawArraysInstanced(mode, GLint(firstVertex), GLsizei(vertexCount), GLsizei(instanceCount));
+void Device::drawBaseInstance(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex,
+                              uint32_t firstInstance) {
+    bindVertexAttributes(0, 0);
+    gl().glDrawArraysInstancedBaseInstance(m_pipeline->mode(), GLint(firstVertex), GLsizei(vertexCount),
+                                           GLsizei(instanceCount), firstInstance);
 }
 
 void Device::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex, int32_t vertexOffset,
                            uint32_t firstInstance) {
     const GLFunctions& f = gl();
-    const GLenum mode = primitiveMode(m_pipeline->graphics().topology);
+    const GLenum mode = m_pipeline->mode();
     const GLenum type = m_indexType == IndexType::UInt16 ? GL_UNSIGNED_SHORT : GL_UNSIGNED_INT;
     const uint64_t indexSize = m_indexType == IndexType::UInt16 ? 2 : 4;
     const auto indices = reinterpret_cast<const void*>(uintptr_t(m_indexOffset + uint64_t(firstIndex) * indexSize));

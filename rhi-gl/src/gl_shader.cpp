@@ -93,6 +93,12 @@ Shader::~Shader() {
 // The shaders are this device's (checked by Device::create*PipelineImpl, or internal).
 Pipeline::Pipeline(ContextPtr context, const GraphicsPipelineDesc& desc)
     : m_context(std::move(context)), m_graphics(desc) {
+    switch (desc.topology) {
+        case PrimitiveTopology::TriangleList: m_mode = GL_TRIANGLES; break;
+        case PrimitiveTopology::TriangleStrip: m_mode = GL_TRIANGLE_STRIP; break;
+        case PrimitiveTopology::LineList: m_mode = GL_LINES; break;
+        case PrimitiveTopology::PointList: m_mode = GL_POINTS; break;
+    }
     link({static_cast<const Shader*>(desc.vertexShader.get()), static_cast<const Shader*>(desc.fragmentShader.get())},
          desc.debugName);
 }
@@ -177,6 +183,7 @@ void Pipeline::link(const std::vector<const Shader*>& shaders, const std::string
             m_usedSets.push_back(binding.set);
     }
     std::sort(m_usedSets.begin(), m_usedSets.end());
+    if (m_cacheableBindings && m_usedSets.size() == 1) m_singleSet = m_usedSets[0];
     m_baseInstanceLocation = gl.glGetUniformLocation(m_program, "SPIRV_Cross_BaseInstance");
     gl.glUseProgram(0);
     if (!debugName.empty() && gl.glObjectLabel && !m_context->isES())

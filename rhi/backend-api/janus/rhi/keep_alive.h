@@ -48,12 +48,20 @@ public:
             }
             return;
         }
+        add(handle, mark);
+    }
+
+private:
+    // A new entry; out of line, so the inline part above leaves its callers' frames small.
+    template <class Interface>
+    [[gnu::noinline]] void add(const std::shared_ptr<Interface>& handle, KeepMark& mark) {
         mark.slot.store(uint32_t(m_entries.size()), std::memory_order_relaxed);
         m_entries.push_back({&mark, m_recordingId});
         m_objects.push_back(handle);
         ++m_used;
     }
 
+public:
     // End of a recording: lets go of what it did not use.
     void releaseUnused() {
         if (m_used == m_entries.size()) return;   // the same objects as before, or more
