@@ -29,16 +29,6 @@ T* cast(Device& device, const Handle& handle, const char* what, const char* kind
     return result;
 }
 
-GLenum primitiveMode(PrimitiveTopology topology) {
-    switch (topology) {
-        case PrimitiveTopology::TriangleList: return GL_TRIANGLES;
-        case PrimitiveTopology::TriangleStrip: return GL_TRIANGLE_STRIP;
-        case PrimitiveTopology::LineList: return GL_LINES;
-        case PrimitiveTopology::PointList: return GL_POINTS;
-    }
-    return GL_TRIANGLES;
-}
-
 // glMemoryBarrier bits for a shader reading (or writing) a binding.
 GLbitfield shaderAccessBarrier(ResourceType type) {
     switch (type) {
@@ -64,17 +54,40 @@ std::pair<uint64_t, uint64_t> boundRange(const BindingItem& item) {
 BindingSet::BindingSet(const BindingSetDesc& desc) : m_desc(desc) {
     for (const BindingItem& item : m_desc.items) {
         m_bindingPoints |= item.binding < 63 ? uint64_t(1) << item.binding : ~uint64_t(0) << 63;
+        const GLbitfield needs = shaderAccessBarrier(item.type);
+        const bool write = isShaderWrite(item.type);
         if (!item.buffer) {
             m_hasTextures = true;
+            m_itemAccesses.push_back({item.texture.get(), 0, UINT64_MAX, needs, write});
             continue;
         }
         // Items are validated: the buffer is this device's and the range lies inside it.
         const auto [begin, end] = boundRange(item);
+        m_itemAccesses.push_back({item.buffer.get(), begin, end, needs, write});
         m_bufferRanges.push_back({item.type == ResourceType::UniformBuffer ? GLenum(GL_UNIFORM_BUFFER)
                                                                           : GLenum(GL_SHADER_STORAGE_BUFFER),
                                   item.binding, static_cast<const Buffer*>(item.buffer.get())->name(),
                                   GLintptr(begin), GLsizeiptr(end - begin)});
     }
+}
+
+const BindingSet::Validated* BindingSet::findValidated(uint64_t signature, uint32_t set) const {
+    const std::lock_guard lock(m_validatedMutex);
+    for (const std::unique_ptr<Validated>& check : m_validated)
+        if (check->signature == signature && check->set == set) {
+            m_lastValidated.store(check.get(), std::memory_order_release);
+            return check.get();
+        }
+    return nullptr;
+}
+
+const BindingSet::Validated* BindingSet::addValidated(std::unique_ptr<Validated> check) const {
+    const std::lock_guard lock(m_validatedMutex);
+    for (const std::unique_ptr<Validated>& existing : m_validated)
+        if (existing->signature == check->signature && existing->set == check->set) return existing.get();   // another list's
+    m_validated.push_back(std::move(check));
+    m_lastValidated.store(m_validated.back().get(), std::memory_order_release);
+    return m_validated.back().get();
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -94,7 +107,7 @@ void CommandList::throwWrongPassState(const char* what) const {
 
 void CommandList::begin() {
     m_keepAlive.beginRecording();
-    m_commands.clear();
+    m_commandCount = 0;   // m_commands keeps its size: the storage is reused
     m_renderPasses.clear();
     m_uploads.clear();
     m_labels.clear();
@@ -105,10 +118,11 @@ void CommandList::begin() {
     m_inRenderPass = false;
     m_pipelineChecked = false;
     m_bindingsChecked = false;
-    m_stateWritesStorage = false;
     m_pipeline = nullptr;
     m_bindingSets = {};
-    m_usedBindings.clear();
+    m_found = {};
+    m_usedStorage.clear();
+    m_accessStorage.clear();
     m_vertexBuffers.clear();
     m_indexBuffer = nullptr;
     m_indexOffset = 0;
@@ -136,15 +150,58 @@ void CommandList::requireCompatiblePipeline(const char* what) const {
                                 m_passDepthFormat == Format::Unknown ? "none" : toString(m_passDepthFormat)));
 }
 
-void CommandList::requireBindings(const char* what) {
+void CommandList::requireBindingsCached(const char* what) {
+    const Pipeline& pipeline = *m_pipeline;
+    const std::span<const uint32_t> sets = pipeline.usedSets();
+    if (pipeline.cacheableBindings() && !sets.empty()) {
+        std::array<const BindingSet::Validated*, kMaxBindingSets> checks{};
+        bool all = true;
+        for (const uint32_t index : sets) {
+            const BindingSet* set = m_bindingSets[index];
+            checks[index] = set ? set->validated(pipeline.bindingSignature(), index) : nullptr;
+            all = all && checks[index];
+        }
+        if (all && sets.size() == 1) {
+            m_found = checks[sets[0]]->found;
+            if (m_found.usesTextures) requireTextureUses(what);
+            return;
+        }
+        if (all) {
+            // Each check lists its set's items in the pipeline's order: interleave them back.
+            std::array<size_t, kMaxBindingSets> next{};
+            m_usedStorage.clear();
+            m_accessStorage.clear();
+            m_found = {};
+            for (const ShaderBinding& binding : pipeline.bindings()) {
+                const BindingSet::Validated& check = *checks[binding.set];
+                const size_t i = next[binding.set]++;
+                m_usedStorage.push_back(check.used[i]);
+                m_accessStorage.push_back(check.accesses[i]);
+            }
+            for (const uint32_t index : sets) {
+                m_found.writesStorage = m_found.writesStorage || checks[index]->found.writesStorage;
+                m_found.samplesTextures = m_found.samplesTextures || checks[index]->found.samplesTextures;
+                m_found.usesTextures = m_found.usesTextures || checks[index]->found.usesTextures;
+            }
+            m_found.used = m_usedStorage;
+            m_found.accesses = m_accessStorage;
+            if (m_found.usesTextures) requireTextureUses(what);
+            return;
+        }
+    }
+    requireBindingsUncached(what);
+}
+
+void CommandList::requireBindingsUncached(const char* what) {
     // GL would silently read whatever is bound at a unit; Vulkan's validation would flag the
     // same mistake, so catch it here with the binding named.
-    m_usedBindings.clear();
-    m_stateWritesStorage = false;
-    bool usesTextures = false;
+    m_usedStorage.clear();
+    m_accessStorage.clear();
+    m_found = {};
     for (const ShaderBinding& binding : m_pipeline->bindings()) {
         const BindingItem* found = nullptr;
-        if (const BindingSet* set = binding.set < kMaxBindingSets ? m_bindingSets[binding.set] : nullptr) {
+        const BindingSet* set = binding.set < kMaxBindingSets ? m_bindingSets[binding.set] : nullptr;
+        if (set) {
             for (const BindingItem& item : set->desc().items)
                 if (item.binding == binding.binding) found = &item;
         }
@@ -158,10 +215,12 @@ void CommandList::requireBindings(const char* what) {
                         fmt::format("{}: binding {} is a different resource type in the binding set than in the "
                                     "shader ({})",
                                     what, binding.binding, binding.glName));
-        m_usedBindings.push_back({binding.set, found});
-        m_stateWritesStorage = m_stateWritesStorage || isShaderWrite(found->type);
+        m_usedStorage.push_back({binding.set, found});
+        m_accessStorage.push_back(set->itemAccess(size_t(found - set->desc().items.data())));
+        m_found.writesStorage = m_found.writesStorage || isShaderWrite(found->type);
+        m_found.samplesTextures = m_found.samplesTextures || found->type == ResourceType::SampledTexture;
         if (!found->texture) continue;
-        usesTextures = true;
+        m_found.usesTextures = true;
         const TextureDimension viewed = found->viewDimension.value_or(found->texture->desc().dimension);
         if (binding.dimension && viewed != *binding.dimension)
             throw Error(ErrorCode::InvalidUsage,
@@ -170,14 +229,46 @@ void CommandList::requireBindings(const char* what) {
                                     what, binding.binding, toString(found->texture->desc().dimension),
                                     found->texture->desc().debugName, toString(viewed), toString(*binding.dimension)));
     }
-    if (!usesTextures) return;   // the checks below look at textures only
-    validateViewOverlaps(m_usedBindings, openPass(), what);
+    m_found.used = m_usedStorage;
+    m_found.accesses = m_accessStorage;
+    if (m_pipeline->cacheableBindings()) {
+        // Every binding found its item: keep each set's part for the next check with this set.
+        for (const uint32_t index : m_pipeline->usedSets()) {
+            auto check = std::make_unique<BindingSet::Validated>();
+            check->signature = m_pipeline->bindingSignature();
+            check->set = index;
+            for (size_t i = 0; i < m_usedStorage.size(); ++i) {
+                if (m_usedStorage[i].set != index) continue;
+                const BindingItem& item = *m_usedStorage[i].item;
+                check->used.push_back(m_usedStorage[i]);
+                check->accesses.push_back(m_accessStorage[i]);
+                check->found.writesStorage = check->found.writesStorage || isShaderWrite(item.type);
+                check->found.usesTextures = check->found.usesTextures || item.texture;
+                check->found.samplesTextures =
+                    check->found.samplesTextures || item.type == ResourceType::SampledTexture;
+            }
+            check->found.used = check->used;
+            check->found.accesses = check->accesses;
+            const BindingSet::Validated* kept = m_bindingSets[index]->addValidated(std::move(check));
+            if (m_pipeline->usedSets().size() == 1) {
+                // The list's spans may as well point at the kept check (the set outlives them).
+                m_found.used = kept->found.used;
+                m_found.accesses = kept->found.accesses;
+            }
+        }
+    }
+    if (m_found.usesTextures) requireTextureUses(what);
+}
+
+void CommandList::requireTextureUses(const char* what) const {
+    const std::span<const UsedBinding> used = m_found.used;
+    validateViewOverlaps(used, openPass(), what);
     if (m_device.isES()) {
         // Mip ranges are texture state on ES (BASE/MAX_LEVEL): one range per texture per draw.
-        for (size_t i = 0; i < m_usedBindings.size(); ++i)
+        for (size_t i = 0; i < used.size(); ++i)
             for (size_t j = 0; j < i; ++j) {
-                const BindingItem& a = *m_usedBindings[i].item;
-                const BindingItem& b = *m_usedBindings[j].item;
+                const BindingItem& a = *used[i].item;
+                const BindingItem& b = *used[j].item;
                 if (!a.texture || a.texture != b.texture || a.type != ResourceType::SampledTexture ||
                     b.type != ResourceType::SampledTexture)
                     continue;
@@ -197,7 +288,7 @@ void CommandList::requireBindings(const char* what) {
 void CommandList::recordMipRanges() {
     if (!m_device.isES()) return;   // desktop GL binds texture views instead
     const auto first = uint32_t(m_mipRanges.size());
-    for (const UsedBinding& used : m_usedBindings) {
+    for (const UsedBinding& used : m_found.used) {
         if (used.item->type != ResourceType::SampledTexture) continue;
         const ResolvedTextureView view = resolveTextureView(*used.item);
         // The binding set, held by the keep-alive, holds the texture.
@@ -219,26 +310,12 @@ void CommandList::requireVertexBuffers(const char* what) const {
     }
 }
 
-void CommandList::requireDrawState(const char* what) {
-    // Each check passed with the same inputs before, unless they changed since: same errors, at
-    // the first draw that would have reported them, in the same order.
-    if (!m_pipelineChecked) {
-        requireVertexBuffers(what);
-        requireCompatiblePipeline(what);
-        m_pipelineChecked = true;
-    }
-    if (!m_bindingsChecked) {
-        requireBindings(what);
-        recordMipRanges();
-        m_bindingsChecked = true;
-    }
-}
-
-GLbitfield CommandList::hazardBits(const void* resource, uint64_t begin, uint64_t end, GLbitfield needs) const {
-    for (const PendingWrite& write : m_pendingWrites)
-        if (write.resource == resource && write.begin < end && begin < write.end && (write.unsynchronized & needs))
-            return needs;
-    return 0;
+// requireDrawState: each check passed with the same inputs before, unless they changed since:
+// same errors, at the first draw that would have reported them, in the same order.
+void CommandList::requirePipelineState(const char* what) {
+    requireVertexBuffers(what);
+    requireCompatiblePipeline(what);
+    m_pipelineChecked = true;
 }
 
 void CommandList::recordBarrier(GLbitfield bits) {
@@ -251,34 +328,10 @@ void CommandList::recordBarrier(GLbitfield bits) {
     });
 }
 
-void CommandList::addPendingWrite(const void* resource, uint64_t begin, uint64_t end) {
-    // Neighbouring slices written one after another (one dispatch per slice) merge into one entry,
-    // so the list stays short and each check stays cheap.
-    if (!m_pendingWrites.empty()) {
-        PendingWrite& last = m_pendingWrites.back();
-        if (last.resource == resource && last.unsynchronized == GL_ALL_BARRIER_BITS && begin <= last.end &&
-            last.begin <= end) {
-            last.begin = std::min(last.begin, begin);
-            last.end = std::max(last.end, end);
-            return;
-        }
-    }
-    m_pendingWrites.push_back({resource, begin, end, GL_ALL_BARRIER_BITS});
-}
-
-void CommandList::trackShaderAccesses(bool drawing, bool indexed) {
+void CommandList::trackPendingShaderAccesses(bool drawing, bool indexed) {
     if (!m_pendingWrites.empty()) {
         GLbitfield needed = 0;
-        for (const UsedBinding& used : m_usedBindings) {
-            const BindingItem& item = *used.item;
-            const GLbitfield needs = shaderAccessBarrier(item.type);
-            if (item.buffer) {
-                const auto [begin, end] = boundRange(item);
-                needed |= bufferHazard(item.buffer.get(), begin, end, needs);
-            } else {
-                needed |= textureHazard(item.texture.get(), needs);
-            }
-        }
+        for (const ShaderAccess& access : m_found.accesses) needed |= hazardBits(access.resource, access.begin, access.end, access.needs);
         if (drawing) {
             for (const RecordedVertexBuffer& vertices : m_vertexBuffers)
                 needed |= bufferHazard(vertices.buffer, vertices.offset, UINT64_MAX, GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT);
@@ -286,16 +339,9 @@ void CommandList::trackShaderAccesses(bool drawing, bool indexed) {
         }
         recordBarrier(needed);
     }
-    if (!m_stateWritesStorage) return;
-    for (const UsedBinding& used : m_usedBindings) {
-        const BindingItem& item = *used.item;
-        if (item.type == ResourceType::StorageBuffer) {
-            const auto [begin, end] = boundRange(item);
-            addPendingWrite(item.buffer.get(), begin, end);
-        } else if (item.type == ResourceType::StorageImage) {
-            addPendingWrite(item.texture.get(), 0, UINT64_MAX);
-        }
-    }
+    if (!m_found.writesStorage) return;
+    for (const ShaderAccess& access : m_found.accesses)
+        if (access.write) addPendingWrite(access.resource, access.begin, access.end);
 }
 
 void CommandList::end() {
@@ -633,7 +679,37 @@ void CommandList::replay() {
         }
     };
     Replayer replayer{*this, device, gl};
-    for (const Command& command : m_commands) std::visit(replayer, command);
+    // A switch rather than std::visit, whose table of out-of-line calls costs a call per command.
+    static_assert(std::variant_size_v<Command> == 22, "one case per command below");
+#define JANUS_REPLAY_CASE(N) \
+    case N: replayer(*std::get_if<N>(&command)); break;
+    for (const Command& command : std::span(m_commands).first(m_commandCount)) {
+        switch (command.index()) {
+                JANUS_REPLAY_CASE(0)
+                JANUS_REPLAY_CASE(1)
+                JANUS_REPLAY_CASE(2)
+                JANUS_REPLAY_CASE(3)
+                JANUS_REPLAY_CASE(4)
+                JANUS_REPLAY_CASE(5)
+                JANUS_REPLAY_CASE(6)
+                JANUS_REPLAY_CASE(7)
+                JANUS_REPLAY_CASE(8)
+                JANUS_REPLAY_CASE(9)
+                JANUS_REPLAY_CASE(10)
+                JANUS_REPLAY_CASE(11)
+                JANUS_REPLAY_CASE(12)
+                JANUS_REPLAY_CASE(13)
+                JANUS_REPLAY_CASE(14)
+                JANUS_REPLAY_CASE(15)
+                JANUS_REPLAY_CASE(16)
+                JANUS_REPLAY_CASE(17)
+                JANUS_REPLAY_CASE(18)
+                JANUS_REPLAY_CASE(19)
+                JANUS_REPLAY_CASE(20)
+                JANUS_REPLAY_CASE(21)
+        }
+    }
+#undef JANUS_REPLAY_CASE
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -707,20 +783,13 @@ void Device::bindPipeline(const Pipeline& pipeline) {
     pipeline.applyState();
 }
 
-void Device::bindBindingSet(uint32_t set, const BindingSet& bindings) {
-    if (m_boundSets[set] == &bindings) return;
-    // GL binding points are shared by all sets: a set binding at the same points replaces them.
-    for (const BindingSet*& bound : m_boundSets)
-        if (bound && (bound->bindingPoints() & bindings.bindingPoints())) bound = nullptr;
-    m_boundSets[set] = &bindings;
+// The texture and image items of a set (bindBindingSet binds its buffer ranges).
+void Device::bindTextures(const BindingSet& bindings) {
     const GLFunctions& f = gl();
-    for (const BindingSet::BufferRange& b : bindings.bufferRanges())
-        f.glBindBufferRange(b.target, b.index, b.buffer, b.offset, b.size);
-    if (!bindings.hasTextures()) return;
     for (const BindingItem& item : bindings.desc().items) {
         switch (item.type) {
             case ResourceType::UniformBuffer:
-            case ResourceType::StorageBuffer: break;   // bound above
+            case ResourceType::StorageBuffer: break;   // bindBindingSet bound them
             case ResourceType::SampledTexture: {
                 auto* texture = static_cast<const Texture*>(item.texture.get());
                 auto* sampler = static_cast<const Sampler*>(item.sampler.get());
@@ -775,9 +844,7 @@ void Device::setIndexBuffer(GLuint buffer, IndexType type, uint64_t offset) {
     m_indexOffset = offset;
 }
 
-void Device::bindVertexAttributes(int64_t baseVertexOffset, uint32_t baseInstanceOffset) {
-    if (!m_vertexStateDirty && baseVertexOffset == m_vertexStateBase && baseInstanceOffset == m_vertexStateInstanceBase)
-        return;
+void Device::specifyVertexAttributes(int64_t baseVertexOffset, uint32_t baseInstanceOffset) {
     m_vertexStateDirty = false;
     m_vertexStateBase = baseVertexOffset;
     m_vertexStateInstanceBase = baseInstanceOffset;
@@ -816,34 +883,17 @@ void Device::bindVertexAttributes(int64_t baseVertexOffset, uint32_t baseInstanc
     m_enabledAttributes = wanted;
 }
 
-void Device::setBaseInstance(uint32_t firstInstance) {
-    // SPIRV-Cross emulates gl_InstanceIndex as gl_InstanceID + this uniform (0 after linking).
-    const GLint location = m_pipeline->baseInstanceLocation();
-    if (location < 0 || GLint(firstInstance) == m_pipeline->baseInstanceValue) return;
-    gl().glUniform1i(location, GLint(firstInstance));
-    m_pipeline->baseInstanceValue = GLint(firstInstance);
-}
-
-void Device::draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance) {
-    const GLFunctions& f = gl();
-    const GLenum mode = primitiveMode(m_pipeline->graphics().topology);
-    setBaseInstance(firstInstance);
-    if (firstInstance != 0 && !isES()) {
-        bindVertexAttributes(0, 0);
-        f.glDrawArraysInstancedBaseInstance(mode, GLint(firstVertex), GLsizei(vertexCount), GLsizei(instanceCount),
-                                            firstInstance);
-        return;
-    }
-    // ES 3.0 has no base instance: the per-instance attribute pointers start at firstInstance
-    // instead (gl_InstanceIndex gets it from the base-instance uniform above).
-    bindVertexAttributes(0, isES() ? firstInstance : 0);
-    f.glDrawArraysInstanced(mode, GLint(firstVertex), GLsizei(vertexCount), GLsizei(instanceCount));
+void Device::drawBaseInstance(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex,
+                              uint32_t firstInstance) {
+    bindVertexAttributes(0, 0);
+    gl().glDrawArraysInstancedBaseInstance(m_pipeline->mode(), GLint(firstVertex), GLsizei(vertexCount),
+                                           GLsizei(instanceCount), firstInstance);
 }
 
 void Device::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex, int32_t vertexOffset,
                            uint32_t firstInstance) {
     const GLFunctions& f = gl();
-    const GLenum mode = primitiveMode(m_pipeline->graphics().topology);
+    const GLenum mode = m_pipeline->mode();
     const GLenum type = m_indexType == IndexType::UInt16 ? GL_UNSIGNED_SHORT : GL_UNSIGNED_INT;
     const uint64_t indexSize = m_indexType == IndexType::UInt16 ? 2 : 4;
     const auto indices = reinterpret_cast<const void*>(uintptr_t(m_indexOffset + uint64_t(firstIndex) * indexSize));

@@ -189,6 +189,7 @@ Device::Device(const DeviceDesc& desc) : Device(desc, createPlatform(desc)) {}
 Device::Device(const DeviceDesc& desc, std::unique_ptr<Platform> platform) {
     const bool es = desc.backend == Backend::GLES;
     m_context = std::make_shared<Context>(std::move(platform), es);
+    m_es = es;
     m_context->messageCallback = desc.messageCallback;
     const GLFunctions& f = gl();
 
@@ -492,6 +493,7 @@ void Device::execute(const CommandListHandle& commandList) {
     // list that set it (and each list must set its own pipeline and buffers anyway).
     m_pipeline = nullptr;
     m_boundSets = {};
+    m_boundPoints = {};
     m_vertexBuffers.clear();
     m_indexBuffer = 0;
     m_vertexStateDirty = true;

@@ -2,14 +2,17 @@
 // differences are flags on Context and on the device's capabilities).
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <functional>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <span>
 #include <string>
 #include <tuple>
+#include <type_traits>
 #include <utility>
 #include <variant>
 #include <vector>
@@ -215,6 +218,20 @@ public:
     // The value that uniform holds (program state, so it survives switching programs).
     mutable GLint baseInstanceValue = 0;
     const std::vector<ShaderBinding>& bindings() const { return m_bindings; }
+    // What binding checks are cached under (BindingSet::validated): an id per distinct list of
+    // (set, binding, type, dimension), the same for pipelines whose shaders use the same
+    // bindings, never reused by another list (ids are not addresses, so a pipeline destroyed
+    // and another made at the same address cannot hit its entries).
+    uint64_t bindingSignature() const { return m_bindingSignature; }
+    // The set indices the bindings use (each once, ascending), all < kMaxBindingSets; and
+    // cacheableBindings() is false when some binding uses a set index >= kMaxBindingSets (nothing can
+    // be bound there: the uncached check reports it).
+    std::span<const uint32_t> usedSets() const { return m_usedSets; }
+    bool cacheableBindings() const { return m_cacheableBindings; }
+    // The one set index the bindings use, or kMaxBindingSets (several, none, or not cacheable).
+    uint32_t singleSet() const { return m_singleSet; }
+    // The glDraw* mode of the topology.
+    GLenum mode() const { return m_mode; }
     // Applies rasterizer, depth and blend state.
     void applyState() const;
     KeepMark keepMark;
@@ -228,6 +245,31 @@ private:
     GLuint m_program = 0;
     GLint m_baseInstanceLocation = -1;
     std::vector<ShaderBinding> m_bindings;
+    uint64_t m_bindingSignature = 0;
+    std::vector<uint32_t> m_usedSets;
+    bool m_cacheableBindings = true;
+    uint32_t m_singleSet = kMaxBindingSets;
+    GLenum m_mode = GL_TRIANGLES;
+};
+
+// How a draw or dispatch accesses one binding item, for hazard tracking: the resource (IBuffer
+// or ITexture), its bytes (textures: 0..UINT64_MAX), the glMemoryBarrier bits a read of it
+// waits for and whether shaders may write it (storage buffers and images).
+struct ShaderAccess {
+    const void* resource;
+    uint64_t begin, end;
+    GLbitfield needs;
+    bool write;
+};
+
+// What a passed binding check found: the bound items the pipeline uses, how it accesses them
+// (parallel to `used`) and what kinds they include.
+struct UsedBindings {
+    std::span<const UsedBinding> used;
+    std::span<const ShaderAccess> accesses;
+    bool writesStorage = false;     // a storage buffer or image
+    bool samplesTextures = false;   // a sampled texture
+    bool usesTextures = false;      // a texture or image
 };
 
 class BindingSet final : public IBindingSet {
@@ -249,13 +291,48 @@ public:
     };
     std::span<const BufferRange> bufferRanges() const { return m_bufferRanges; }
     bool hasTextures() const { return m_hasTextures; }
+    // The access of desc().items[i], resolved when the set is made.
+    const ShaderAccess& itemAccess(size_t i) const { return m_itemAccesses[i]; }
+
+    // A passed binding check, cached in the set: every binding of the pipelines with binding
+    // signature `signature` at set index `set` has an item of its type (and view dimension) in
+    // this set. `used` / `accesses` are those items in the pipeline's binding order. Immutable
+    // once made; owned by the set, so they live as long as it (and a set made later at the same
+    // address starts with none).
+    struct Validated {
+        uint64_t signature;
+        uint32_t set;
+        UsedBindings found;   // views of the vectors below (never moved: the check is on the heap)
+        std::vector<UsedBinding> used;
+        std::vector<ShaderAccess> accesses;
+    };
+    // The check for (signature, set) if it passed before, else null. The last one found or
+    // added is compared without a lock; others are looked up under the set's mutex (several
+    // command lists may record with one set at once).
+    const Validated* validated(uint64_t signature, uint32_t set) const {
+        if (const Validated* last = lastValidated(signature, set)) [[likely]] return last;
+        return findValidated(signature, set);
+    }
+    // The same, looking at the last one only.
+    const Validated* lastValidated(uint64_t signature, uint32_t set) const {
+        const Validated* last = m_lastValidated.load(std::memory_order_acquire);
+        return last && last->signature == signature && last->set == set ? last : nullptr;
+    }
+    // Keeps a passed check (unless one for its key is there already) and returns the kept one.
+    const Validated* addValidated(std::unique_ptr<Validated> check) const;
     KeepMark keepMark;
 
 private:
+    const Validated* findValidated(uint64_t signature, uint32_t set) const;
+
     BindingSetDesc m_desc;
     uint64_t m_bindingPoints = 0;
     std::vector<BufferRange> m_bufferRanges;
+    std::vector<ShaderAccess> m_itemAccesses;
     bool m_hasTextures = false;
+    mutable std::atomic<const Validated*> m_lastValidated{nullptr};
+    mutable std::mutex m_validatedMutex;
+    mutable std::vector<std::unique_ptr<Validated>> m_validated;
 };
 
 class TimerQuery final : public ITimerQuery {
@@ -361,7 +438,17 @@ public:
 
 private:
     template <typename T>
-    void record(T command) { m_commands.emplace_back(std::move(command)); }
+    void record(T command) {
+        // Into the storage of earlier recordings; growing is out of line, so recording a command
+        // is a store and an increment.
+        static_assert(std::is_trivially_copyable_v<Command>);
+        if (m_commandCount == m_commandCapacity) [[unlikely]] growCommands();
+        m_commands[m_commandCount++] = Command(std::in_place_type<T>, command);
+    }
+    [[gnu::noinline]] void growCommands() {
+        m_commands.resize(std::max<size_t>(256, m_commands.size() * 2));
+        m_commandCapacity = m_commands.size();
+    }
     // Inline checks per command; the throwing halves are out of line.
     void requireRecording(const char* what) const {
         if (!m_recording) [[unlikely]] throwNotRecording(what);
@@ -379,10 +466,40 @@ private:
     // Draw and dispatch state is validated when it changed since the last check, not per
     // command: m_pipelineChecked covers the pipeline against the vertex buffers and the pass's
     // formats, m_bindingsChecked the pipeline's bindings against the sets (and the pass).
-    void requireDrawState(const char* what);
+    void requireDrawState(const char* what) {
+        if (!m_pipelineChecked) [[unlikely]] requirePipelineState(what);
+        if (!m_bindingsChecked) {
+            requireBindings(what);
+            if (m_found.samplesTextures) recordMipRanges();
+            m_bindingsChecked = true;
+        }
+    }
+    void requirePipelineState(const char* what);
     void requireCompatiblePipeline(const char* what) const;
-    // Checks what the pipeline's shaders use against the bound sets; fills m_usedBindings.
-    void requireBindings(const char* what);
+    // Checks what the pipeline's shaders use against the bound sets; points m_found at the
+    // items they use. Each set's part of a passed check is cached in the set
+    // (BindingSet::Validated) under the pipeline's binding signature: when every set the
+    // pipeline uses has it, only the checks that depend on more than one set or on the render
+    // pass (textures only) run again.
+    void requireBindings(const char* what) {
+        // Inline: one set whose last check is the pipeline's (a set bound per draw).
+        const Pipeline& pipeline = *m_pipeline;
+        const uint32_t index = pipeline.singleSet();
+        if (index < kMaxBindingSets) {
+            if (const BindingSet* set = m_bindingSets[index]) {
+                if (const BindingSet::Validated* check = set->lastValidated(pipeline.bindingSignature(), index)) {
+                    m_found = check->found;
+                    if (m_found.usesTextures) requireTextureUses(what);
+                    return;
+                }
+            }
+        }
+        requireBindingsCached(what);
+    }
+    void requireBindingsCached(const char* what);
+    void requireBindingsUncached(const char* what);
+    // The checks of textures across bindings and against the pass, on m_found.
+    void requireTextureUses(const char* what) const;
     // GLES: re-applies the mip ranges of the sampled textures a draw uses right before it (an
     // item of a set bound later, unused by the draw, may have set another range on the texture).
     void recordMipRanges();
@@ -399,7 +516,12 @@ private:
         GLbitfield unsynchronized;
     };
     // The subset of `needs` a command must wait for before it accesses [begin, end) of `resource`.
-    GLbitfield hazardBits(const void* resource, uint64_t begin, uint64_t end, GLbitfield needs) const;
+    GLbitfield hazardBits(const void* resource, uint64_t begin, uint64_t end, GLbitfield needs) const {
+        for (const PendingWrite& write : m_pendingWrites)
+            if (write.resource == resource && write.begin < end && begin < write.end && (write.unsynchronized & needs))
+                return needs;
+        return 0;
+    }
     GLbitfield bufferHazard(const IBuffer* buffer, uint64_t begin, uint64_t end, GLbitfield needs) const {
         return m_pendingWrites.empty() ? 0 : hazardBits(buffer, begin, end, needs);
     }
@@ -409,11 +531,30 @@ private:
     void recordBarrier(GLbitfield bits);   // no barrier for 0
     // Before a draw or dispatch: waits for what its bindings (and a draw's vertex and index
     // buffers) read, then notes what its storage bindings write.
-    void trackShaderAccesses(bool drawing, bool indexed);
-    void addPendingWrite(const void* resource, uint64_t begin, uint64_t end);
+    void trackShaderAccesses(bool drawing, bool indexed) {
+        if (m_pendingWrites.empty() && !m_found.writesStorage) return;   // nothing to wait for or note
+        trackPendingShaderAccesses(drawing, indexed);
+    }
+    void trackPendingShaderAccesses(bool drawing, bool indexed);
+    void addPendingWrite(const void* resource, uint64_t begin, uint64_t end) {
+        // Neighbouring slices written one after another (one dispatch per slice) merge into one
+        // entry, so the list stays short and each check stays cheap.
+        if (!m_pendingWrites.empty()) {
+            PendingWrite& last = m_pendingWrites.back();
+            if (last.resource == resource && last.unsynchronized == GL_ALL_BARRIER_BITS && begin <= last.end &&
+                last.begin <= end) {
+                last.begin = std::min(last.begin, begin);
+                last.end = std::max(last.end, end);
+                return;
+            }
+        }
+        m_pendingWrites.push_back({resource, begin, end, GL_ALL_BARRIER_BITS});
+    }
 
     Device& m_device;
-    std::vector<Command> m_commands;
+    std::vector<Command> m_commands;   // the first m_commandCount are this recording's
+    size_t m_commandCount = 0;
+    size_t m_commandCapacity = 0;   // m_commands.size()
     // Command payloads that own memory, referenced by index from m_commands.
     std::vector<RenderPassDesc> m_renderPasses;
     std::vector<std::byte> m_uploads;
@@ -427,12 +568,15 @@ private:
     bool m_inRenderPass = false;
     bool m_pipelineChecked = false;
     bool m_bindingsChecked = false;
-    bool m_stateWritesStorage = false;   // m_usedBindings has storage items
     const Pipeline* m_pipeline = nullptr;   // last pipeline set (held by m_keepAlive)
     std::vector<Format> m_passColorFormats;   // formats of the open render pass
     Format m_passDepthFormat = Format::Unknown;
     std::array<const BindingSet*, kMaxBindingSets> m_bindingSets{};   // by set index
-    std::vector<UsedBinding> m_usedBindings;   // the bound items the pipeline uses (last check)
+    // The bound items the pipeline uses (last check) and how it accesses them (parallel): in a
+    // cached check of the set, or in the storage below.
+    UsedBindings m_found;
+    std::vector<UsedBinding> m_usedStorage;
+    std::vector<ShaderAccess> m_accessStorage;
     struct RecordedVertexBuffer {
         uint32_t slot;
         const Buffer* buffer;
@@ -490,11 +634,42 @@ public:
                           TextureSubresource srcSub);
     void beginRenderPass(const RenderPassDesc& desc);
     void bindPipeline(const Pipeline& pipeline);
-    void bindBindingSet(uint32_t set, const BindingSet& bindings);
+    void bindBindingSet(uint32_t set, const BindingSet& bindings) {
+        if (m_boundSets[set] == &bindings) return;
+        // GL binding points are shared by all sets: a set binding at the same points replaces them.
+        const uint64_t points = bindings.bindingPoints();
+        m_boundPoints[set] = 0;   // replaced below either way
+        static_assert(kMaxBindingSets == 4, "the next line names every index");
+        if ((m_boundPoints[0] | m_boundPoints[1] | m_boundPoints[2] | m_boundPoints[3]) & points)
+            for (uint32_t i = 0; i < kMaxBindingSets; ++i)
+                if (m_boundPoints[i] & points) {
+                    m_boundSets[i] = nullptr;
+                    m_boundPoints[i] = 0;
+                }
+        m_boundSets[set] = &bindings;
+        m_boundPoints[set] = points;
+        const GLFunctions& f = gl();
+        for (const BindingSet::BufferRange& b : bindings.bufferRanges())
+            f.glBindBufferRange(b.target, b.index, b.buffer, b.offset, b.size);
+        if (bindings.hasTextures()) bindTextures(bindings);
+    }
+    void bindTextures(const BindingSet& bindings);
     void applyMipRanges(std::span<const TextureMipRange> ranges);
     void setVertexBuffer(uint32_t slot, GLuint buffer, uint64_t offset);
     void setIndexBuffer(GLuint buffer, IndexType type, uint64_t offset);
-    void draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance);
+    void draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance) {
+        const Pipeline& pipeline = *m_pipeline;
+        setBaseInstance(firstInstance);
+        if (firstInstance != 0 && !m_es) [[unlikely]] {
+            drawBaseInstance(vertexCount, instanceCount, firstVertex, firstInstance);
+            return;
+        }
+        // ES 3.0 has no base instance: the per-instance attribute pointers start at firstInstance
+        // instead (gl_InstanceIndex gets it from the base-instance uniform above).
+        bindVertexAttributes(0, m_es ? firstInstance : 0);
+        gl().glDrawArraysInstanced(pipeline.mode(), GLint(firstVertex), GLsizei(vertexCount), GLsizei(instanceCount));
+    }
+    void drawBaseInstance(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance);
     void drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex, int32_t vertexOffset,
                      uint32_t firstInstance);
     void dispatch(uint32_t x, uint32_t y, uint32_t z);
@@ -510,8 +685,19 @@ private:
     void setupDefaultState();
     // Offsets (in elements) of the per-vertex and per-instance attributes: ES 3.0's stand-in for
     // base vertex and base instance.
-    void bindVertexAttributes(int64_t baseVertexOffset, uint32_t baseInstanceOffset);
-    void setBaseInstance(uint32_t firstInstance);
+    void bindVertexAttributes(int64_t baseVertexOffset, uint32_t baseInstanceOffset) {
+        if (!m_vertexStateDirty && baseVertexOffset == m_vertexStateBase && baseInstanceOffset == m_vertexStateInstanceBase)
+            return;
+        specifyVertexAttributes(baseVertexOffset, baseInstanceOffset);
+    }
+    void specifyVertexAttributes(int64_t baseVertexOffset, uint32_t baseInstanceOffset);
+    void setBaseInstance(uint32_t firstInstance) {
+        // SPIRV-Cross emulates gl_InstanceIndex as gl_InstanceID + this uniform (0 after linking).
+        const GLint location = m_pipeline->baseInstanceLocation();
+        if (location < 0 || GLint(firstInstance) == m_pipeline->baseInstanceValue) return;
+        gl().glUniform1i(location, GLint(firstInstance));
+        m_pipeline->baseInstanceValue = GLint(firstInstance);
+    }
     bool hasExtension(std::string_view name) const;
 
     ContextPtr m_context;
@@ -525,6 +711,8 @@ private:
     // The set last bound at each index whose GL bindings are still in place (a later set with
     // overlapping binding points clears the entry): binding it again changes nothing.
     std::array<const BindingSet*, kMaxBindingSets> m_boundSets{};
+    std::array<uint64_t, kMaxBindingSets> m_boundPoints{};   // bindingPoints() of m_boundSets (0: none)
+    bool m_es = false;   // isES(), read per draw
     struct VertexBinding { GLuint buffer = 0; uint64_t offset = 0; };
     std::map<uint32_t, VertexBinding> m_vertexBuffers;
     GLuint m_indexBuffer = 0;

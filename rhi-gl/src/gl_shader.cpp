@@ -93,6 +93,12 @@ Shader::~Shader() {
 // The shaders are this device's (checked by Device::create*PipelineImpl, or internal).
 Pipeline::Pipeline(ContextPtr context, const GraphicsPipelineDesc& desc)
     : m_context(std::move(context)), m_graphics(desc) {
+    switch (desc.topology) {
+        case PrimitiveTopology::TriangleList: m_mode = GL_TRIANGLES; break;
+        case PrimitiveTopology::TriangleStrip: m_mode = GL_TRIANGLE_STRIP; break;
+        case PrimitiveTopology::LineList: m_mode = GL_LINES; break;
+        case PrimitiveTopology::PointList: m_mode = GL_POINTS; break;
+    }
     link({static_cast<const Shader*>(desc.vertexShader.get()), static_cast<const Shader*>(desc.fragmentShader.get())},
          desc.debugName);
 }
@@ -105,6 +111,22 @@ Pipeline::Pipeline(ContextPtr context, const ComputePipelineDesc& desc)
 Pipeline::~Pipeline() {
     if (m_context->makeCurrentForTeardown()) m_context->gl.glDeleteProgram(m_program);
 }
+
+namespace {
+// Interned binding signatures: what the binding checks read of a pipeline's bindings. The map only
+// grows, so an id is never given to another signature.
+uint64_t bindingSignatureId(const std::vector<ShaderBinding>& bindings) {
+    using Key = std::vector<std::tuple<uint32_t, uint32_t, int, int>>;
+    Key key;
+    key.reserve(bindings.size());
+    for (const ShaderBinding& b : bindings)
+        key.emplace_back(b.set, b.binding, int(b.type), b.dimension ? int(*b.dimension) : -1);
+    static std::mutex mutex;
+    static std::map<Key, uint64_t> ids;
+    const std::lock_guard lock(mutex);
+    return ids.try_emplace(std::move(key), ids.size() + 1).first->second;
+}
+}  // namespace
 
 void Pipeline::link(const std::vector<const Shader*>& shaders, const std::string& debugName) {
     const GLFunctions& gl = m_context->gl;
@@ -153,6 +175,15 @@ void Pipeline::link(const std::vector<const Shader*>& shaders, const std::string
             m_bindings.push_back(binding);
         }
     }
+    m_bindingSignature = bindingSignatureId(m_bindings);
+    for (const ShaderBinding& binding : m_bindings) {
+        if (binding.set >= kMaxBindingSets)
+            m_cacheableBindings = false;
+        else if (std::find(m_usedSets.begin(), m_usedSets.end(), binding.set) == m_usedSets.end())
+            m_usedSets.push_back(binding.set);
+    }
+    std::sort(m_usedSets.begin(), m_usedSets.end());
+    if (m_cacheableBindings && m_usedSets.size() == 1) m_singleSet = m_usedSets[0];
     m_baseInstanceLocation = gl.glGetUniformLocation(m_program, "SPIRV_Cross_BaseInstance");
     gl.glUseProgram(0);
     if (!debugName.empty() && gl.glObjectLabel && !m_context->isES())
