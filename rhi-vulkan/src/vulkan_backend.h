@@ -550,6 +550,10 @@ private:
     void access(std::initializer_list<ResourceAccess> accesses);
 
     ContextPtr m_context;
+    struct DrawArguments {
+        uint32_t count, instances, first, firstInstance;
+        int32_t vertexOffset;   // drawIndexed only
+    } m_drawArguments{};   // draw()'s and drawIndexed()'s, across the bind (see draw())
     CommandMemory m_commandMemory;   // the pool's host memory; outlives it
     VkCommandPool m_pool = VK_NULL_HANDLE;
     VkCommandBuffer m_prologue = VK_NULL_HANDLE;   // query resets, which must precede the work

@@ -474,37 +474,42 @@ void CommandList::trackVertexBuffers(const Pipeline& pipeline) {
     const uint32_t changed = m_dirtyGraphicsSets & pipeline.usedSets;
     const uint32_t untracked = pipeline.usedSets & ~m_passTrackedSets;
     if ((changed & (changed - 1)) != 0 || (untracked & ~changed) != 0) [[unlikely]] return false;
-    if (changed) {
-        const uint32_t s = uint32_t(std::countr_zero(changed));
-        const BindingSet* bindingSet = m_bindingSets[s];
-        const BindingSet::LayoutUse* use = bindingSet ? bindingSet->lastUseWith(pipeline.sets[s]->layout) : nullptr;
-        if (!use) [[unlikely]] return false;
-        m_graphicsSetUses[s] = use;
-        m_dirtyGraphicsSets = 0;   // as bindDescriptorSets: every set the pipeline uses is bound
-        m_context->cmdBindDescriptorSets(m_commands, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.layout, s, 1, &use->set,
-                                         0, nullptr);
+    if (!changed) return true;   // then nothing is untracked either
+    const uint32_t s = uint32_t(std::countr_zero(changed));
+    const BindingSet* bindingSet = m_bindingSets[s];
+    const BindingSet::LayoutUse* use = bindingSet ? bindingSet->lastUseWith(pipeline.sets[s]->layout) : nullptr;
+    if (!use) [[unlikely]] return false;
+    if (untracked) {   // the changed set; nothing is modified before the checks pass
+        if (use->hasTextureItems || use->accesses.size() != 1) [[unlikely]] return false;
+        const ResourceAccess& a = use->accesses[0];
+        if (a.write || a.resource != m_passReads.resource) [[unlikely]] return false;
+        m_passReads.range.begin = std::min(m_passReads.range.begin, a.range.begin);   // as trackDrawBindings
+        m_passReads.range.end = std::max(m_passReads.range.end, a.range.end);
+        m_passReads.stages |= a.stages;
+        m_passTrackedSets |= untracked;
     }
-    if (!untracked) return true;
-    const BindingSet::LayoutUse& use = *m_graphicsSetUses[std::countr_zero(untracked)];
-    if (use.hasTextureItems || use.accesses.size() != 1) [[unlikely]] return false;
-    const ResourceAccess& a = use.accesses[0];
-    if (a.write || a.resource != m_passReads.resource) [[unlikely]] return false;
-    m_passReads.range.begin = std::min(m_passReads.range.begin, a.range.begin);   // as trackDrawBindings
-    m_passReads.range.end = std::max(m_passReads.range.end, a.range.end);
-    m_passReads.stages |= a.stages;
-    m_passTrackedSets |= untracked;
+    m_graphicsSetUses[s] = use;
+    m_dirtyGraphicsSets = 0;   // as bindDescriptorSets: every set the pipeline uses is bound
+    // Last, so that only `this` is needed after this call into the driver.
+    m_context->cmdBindDescriptorSets(m_commands, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.layout, s, 1, &use->set, 0,
+                                     nullptr);
     return true;
 }
 
 void CommandList::prepareDrawGeneral(std::string_view call) { prepareDraw(call); }
 
 void CommandList::draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance) {
+    // The arguments wait in the list while the bind calls into the driver: held in registers
+    // across that call they cost four saved registers on every draw.
+    m_drawArguments = {vertexCount, instanceCount, firstVertex, firstInstance};
     if (!prepareDrawFast()) [[unlikely]] prepareDrawGeneral("draw()");
-    m_context->cmdDraw(m_commands, vertexCount, instanceCount, firstVertex, firstInstance);
+    const DrawArguments& a = m_drawArguments;
+    m_context->cmdDraw(m_commands, a.count, a.instances, a.first, a.firstInstance);
 }
 
 void CommandList::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex, int32_t vertexOffset,
                               uint32_t firstInstance) {
+    m_drawArguments = {indexCount, instanceCount, firstIndex, firstInstance, vertexOffset};   // as in draw()
     if (!prepareDrawFast()) [[unlikely]] prepareDrawGeneral("drawIndexed()");
     if (!m_indexBuffer)
         throw Error(ErrorCode::InvalidUsage, "drawIndexed(): no index buffer is bound; call setIndexBuffer()");
@@ -513,7 +518,8 @@ void CommandList::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint3
                                       VK_PIPELINE_STAGE_VERTEX_INPUT_BIT, VK_ACCESS_INDEX_READ_BIT, false));
         m_passTrackedIndices = true;
     }
-    m_context->cmdDrawIndexed(m_commands, indexCount, instanceCount, firstIndex, vertexOffset, firstInstance);
+    const DrawArguments& a = m_drawArguments;
+    m_context->cmdDrawIndexed(m_commands, a.count, a.instances, a.first, a.vertexOffset, a.firstInstance);
 }
 
 void CommandList::prepareDispatchGeneral() {
