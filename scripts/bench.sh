@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Runs the RHI overhead benchmark (bench/, target janus_bench_rhi) and prints a Markdown table:
 # per draw / per dispatch CPU cost of the Janus RHI against the same work issued with raw Vulkan /
-# raw GL in the same run, and the ratio RHI/raw (target: <= 1.1x).
+# raw GL in the same run, and the ratio RHI/raw (target: <= 1.1x). For Vulkan it also prints the
+# ratio against raw Vulkan recording into the RHI's command-pool memory (what the RHI's own code
+# adds, the allocator's effect taken out: docs/BENCHMARKS.md, "Command memory").
 #
 # Usage: scripts/bench.sh [--build-dir DIR] [--repetitions N] [--min-time SECONDS] [--json FILE]
 #   --build-dir    CMake build directory (default: build-bench); the target is built if missing
@@ -59,7 +61,7 @@ while [[ $# -gt 0 ]]; do
     --min-time) min_time="$2"; shift 2 ;;
     --json) json_out="$2"; shift 2 ;;
     --from-json) from_json="$2"; shift 2 ;;
-    -h|--help) sed -n '2,21p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,23p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "bench.sh: unknown argument '$1' (try --help)" >&2; exit 2 ;;
   esac
 done
