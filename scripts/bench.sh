@@ -9,9 +9,14 @@
 #   --build-dir    CMake build directory (default: build-bench); the target is built if missing
 #   --repetitions  runs of each benchmark; the table uses the median (default: 5)
 #   --min-time     minimum timed seconds per run (default: 0.2)
+#   --processes    run the whole benchmark in N fresh processes and take the medians over all
+#                  their repetitions (default: 1). Where a driver's heap lands in a process
+#                  changes its speed (llvmpipe's GL draws: 0.99x in one process, 1.43x in the
+#                  next), so a ratio from one process can be that process's luck.
 #   --json         also keep Google Benchmark's JSON output in FILE
 #   --from-json    make the table from FILE (a --json file, or janus_bench_rhi's
-#                  --benchmark_out from another machine, e.g. scripts/gpu_check.sh's) without running
+#                  --benchmark_out from another machine, e.g. scripts/gpu_check.sh's) without
+#                  running; repeat it for the runs of several processes
 #
 # Instructions: scripts/bench.sh instructions [--build-dir DIR] [--filter REGEX] [--runs N]
 #   the same comparisons counted in instructions per operation with callgrind (steady state, two
@@ -51,27 +56,36 @@ fi
 build_dir="$repo_root/build-bench"
 repetitions=5
 min_time=0.2
+processes=1
 json_out=""
-from_json=""
+from_json=()
 
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --build-dir) build_dir="$(realpath -m "$2")"; shift 2 ;;
     --repetitions) repetitions="$2"; shift 2 ;;
     --min-time) min_time="$2"; shift 2 ;;
+    --processes) processes="$2"; shift 2 ;;
     --json) json_out="$2"; shift 2 ;;
-    --from-json) from_json="$2"; shift 2 ;;
-    -h|--help) sed -n '2,23p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    --from-json) from_json+=("$2"); shift 2 ;;
+    -h|--help) sed -n '2,28p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "bench.sh: unknown argument '$1' (try --help)" >&2; exit 2 ;;
   esac
 done
 if ! [[ "$repetitions" =~ ^[1-9][0-9]*$ ]]; then
   echo "bench.sh: --repetitions must be a positive integer, got '$repetitions'" >&2; exit 2
 fi
+if ! [[ "$processes" =~ ^[1-9][0-9]*$ ]]; then
+  echo "bench.sh: --processes must be a positive integer, got '$processes'" >&2; exit 2
+fi
 
-if [[ -n "$from_json" ]]; then
-  [[ -f "$from_json" ]] || { echo "bench.sh: --from-json: no file '$from_json'" >&2; exit 2; }
-  json_file="$from_json"
+scratch="$(mktemp -d)"
+trap 'rm -rf "$scratch"' EXIT
+if [[ ${#from_json[@]} -gt 0 ]]; then
+  for file in "${from_json[@]}"; do
+    [[ -f "$file" ]] || { echo "bench.sh: --from-json: no file '$file'" >&2; exit 2; }
+  done
+  reports=("${from_json[@]}")
 else
   binary="$build_dir/bench/janus_bench_rhi"
   if [[ ! -x "$binary" ]]; then
@@ -80,15 +94,26 @@ else
     fi
     ninja -C "$build_dir" janus_bench_rhi >&2
   fi
-  json_file="$(mktemp --suffix=.json)"
-  trap 'rm -f "$json_file"' EXIT
   # Random interleaving runs raw and RHI repetitions in shuffled order, so a burst of load from
   # other processes does not land on one side only.
-  "$binary" --benchmark_format=json --benchmark_out_format=json --benchmark_out="$json_file" \
-    --benchmark_repetitions="$repetitions" --benchmark_min_time="$min_time" \
-    --benchmark_enable_random_interleaving=true >/dev/null
-  [[ -n "$json_out" ]] && cp "$json_file" "$json_out"
+  reports=()
+  for ((p = 0; p < processes; ++p)); do
+    "$binary" --benchmark_format=json --benchmark_out_format=json --benchmark_out="$scratch/process$p.json" \
+      --benchmark_repetitions="$repetitions" --benchmark_min_time="$min_time" \
+      --benchmark_enable_random_interleaving=true >/dev/null
+    reports+=("$scratch/process$p.json")
+  done
 fi
+# One report: the first process's context, every process's runs.
+json_file="$scratch/all.json"
+python3 - "$json_file" "${reports[@]}" <<'MERGE'
+import json, sys
+reports = [json.load(open(path)) for path in sys.argv[2:]]
+merged = {"context": reports[0]["context"], "benchmarks": [run for r in reports for run in r["benchmarks"]]}
+merged["context"]["processes"] = sum(r["context"].get("processes", 1) for r in reports)
+json.dump(merged, open(sys.argv[1], "w"), indent=1)
+MERGE
+[[ -n "$json_out" ]] && cp "$json_file" "$json_out"
 
 python3 - "$json_file" <<'EOF'
 import json
@@ -114,9 +139,10 @@ def median(key, counter):
 
 context = report["context"]
 repetitions = max((len(r) for r in runs.values()), default=0)
+processes = context.get("processes", 1)
 print(f"Run {context['date']} on {context['host_name']} ({context['num_cpus']} CPUs); "
       f"{context.get('ops_per_frame', '?')} ops per frame into a {context.get('target', '?')} target; "
-      f"median of {repetitions} repetition(s).")
+      f"median of {repetitions} repetition(s)" + (f" from {processes} processes." if processes > 1 else "."))
 print()
 print(f"| backend | work | raw ns/op | RHI ns/op | ratio RHI/raw | target <= {TARGET}x | wait raw ns/op | wait RHI ns/op |")
 print("|---|---|---:|---:|---:|---|---:|---:|")

@@ -13,8 +13,9 @@
 #   renderer_tests.txt   vulkan, gl_egl, gles), then janus_renderer_tests the same way
 #   forward/             janus bench forward at 1920x1080 (issue 10 items 5 and 6: the cut-off
 #                        error table and the per-pass GPU times)
-#   bench_rhi.json       janus_bench_rhi, 5 repetitions (item 4); bench_rhi.md is its table when
-#                        python3 is there (else: scripts/bench.sh --from-json bench_rhi.json here)
+#   bench_rhi.p*.json    janus_bench_rhi in 3 fresh processes of 3 repetitions each (item 4);
+#                        bench_rhi.md is their table when python3 is there (else here:
+#                        scripts/bench.sh --from-json bench_rhi.p0.json --from-json ...)
 #   summary.txt          one line per step: its exit status, time and the suites' totals
 # and packs them into OUT/gpu-check.tar.gz (the device returns at most 8 files), with
 # summary.txt also beside it.
@@ -100,15 +101,20 @@ sharded_suite rhi_tests 200 janus_rhi_tests
 sharded_suite renderer_tests 240 janus_renderer_tests
 if [[ $quick == 1 ]]; then
   step forward 120 janus bench forward --quick --out "$results/forward"
-  step bench_rhi 120 janus_bench_rhi --benchmark_filter='vulkan' --benchmark_min_time=0.05 \
-    --benchmark_out="$results/bench_rhi.json" --benchmark_out_format=json
+  bench_processes=1 bench_options=(--benchmark_filter='vulkan' --benchmark_min_time=0.05)
 else
   step forward 150 janus bench forward --size 1920x1080 --out "$results/forward"
-  step bench_rhi 150 janus_bench_rhi --benchmark_repetitions=5 --benchmark_enable_random_interleaving=true \
-    --benchmark_out="$results/bench_rhi.json" --benchmark_out_format=json
+  # Three fresh processes: a ratio from one process can be where its driver's heap happened to land.
+  bench_processes=3 bench_options=(--benchmark_repetitions=3 --benchmark_enable_random_interleaving=true)
 fi
-if command -v python3 >/dev/null && [[ -s "$results/bench_rhi.json" ]]; then
-  bash "$repo_root/scripts/bench.sh" --from-json "$results/bench_rhi.json" > "$results/bench_rhi.md" 2>&1
+from_json=()
+for ((p = 0; p < bench_processes; ++p)); do
+  step "bench_rhi.p$p" 60 janus_bench_rhi "${bench_options[@]}" \
+    --benchmark_out="$results/bench_rhi.p$p.json" --benchmark_out_format=json
+  [[ -s "$results/bench_rhi.p$p.json" ]] && from_json+=(--from-json "$results/bench_rhi.p$p.json")
+done
+if command -v python3 >/dev/null && [[ ${#from_json[@]} -gt 0 ]]; then
+  bash "$repo_root/scripts/bench.sh" "${from_json[@]}" > "$results/bench_rhi.md" 2>&1
 fi
 
 mkdir -p "$out"
