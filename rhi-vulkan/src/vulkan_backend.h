@@ -201,18 +201,23 @@ public:
     // The accesses of one command: a barrier first if any conflicts, then tracks them all (all
     // are checked before any is tracked: a command does not conflict with itself).
     void access(VkCommandBuffer cmd, std::span<const ResourceAccess> accesses);
-    // One access: a dispatch binding one storage range, the common case, inline.
+    // One access: a dispatch binding one storage range. Inline and without calls for the common
+    // case (the resource touched last, no conflict, its range continuing the last one tracked);
+    // anything else is accessOneGeneral's, which starts over (nothing is changed before).
     [[gnu::always_inline]] void accessOne(VkCommandBuffer cmd, const ResourceAccess& only) {
-        Tracked* tracked = m_unknownWrites ? nullptr : find(only.resource);
-        if (m_unknownWrites || (tracked && conflicts(*tracked, only))) [[unlikely]] {
-            barrier(cmd);
-            tracked = nullptr;
+        Tracked* tracked = m_lastFound;
+        if (!m_unknownWrites && tracked && tracked->resource == only.resource && !tracked->writes.hullOverlaps(only.range) &&
+            !(only.write && tracked->reads.hullOverlaps(only.range))) [[likely]] {   // no conflict, even by hull
+            RangeSet& set = only.write ? tracked->writes : tracked->reads;
+            if (set.extendLast(only.range)) [[likely]] {
+                m_srcStages |= only.stages;
+                if (only.write) m_srcAccess |= only.access & kWriteAccess;
+                return;
+            }
         }
-        if (tracked)
-            record(*tracked, only);
-        else
-            record(only);
+        accessOneGeneral(cmd, only);
     }
+    [[gnu::noinline]] void accessOneGeneral(VkCommandBuffer cmd, const ResourceAccess& only);
     bool hasWrites() const { return m_unknownWrites || m_srcAccess != 0; }
     void barrier(VkCommandBuffer cmd);
     // The next barrier() forgets what it would order without recording it (tests only).
@@ -229,18 +234,21 @@ private:
         // From the first range's begin to the last one's end; {max, 0} (overlapping nothing) when
         // empty. Most checks end at it: one compare pair, no look at the vector.
         KeyRange hull{UINT64_MAX, 0};
+        bool hullOverlaps(KeyRange range) const { return range.begin < hull.end && hull.begin < range.end; }
         bool overlaps(KeyRange range) const {
-            if (!(range.begin < hull.end && hull.begin < range.end)) return false;
+            if (!hullOverlaps(range)) return false;
             return ranges.size() == 1 || overlapsAny(range);   // one range: it is the hull
         }
         void add(KeyRange range) {
-            hull.begin = std::min(hull.begin, range.begin);
-            hull.end = std::max(hull.end, range.end);
-            if (!ranges.empty() && ranges.back().begin <= range.begin && range.begin <= ranges.back().end) {
-                ranges.back().end = std::max(ranges.back().end, range.end);   // extends the last range
-                return;
-            }
-            insert(range);
+            if (!extendLast(range)) insert(range);
+        }
+        // Adds `range` if it starts inside or right after the last range (a run of neighbouring
+        // slices); false (nothing changed) otherwise.
+        bool extendLast(KeyRange range) {
+            if (ranges.empty() || range.begin < ranges.back().begin || ranges.back().end < range.begin) return false;
+            ranges.back().end = std::max(ranges.back().end, range.end);
+            hull.end = std::max(hull.end, range.end);   // the last range ends the hull
+            return true;
         }
         bool overlapsAny(KeyRange range) const;
         void insert(KeyRange range);
@@ -554,6 +562,7 @@ private:
         uint32_t count, instances, first, firstInstance;
         int32_t vertexOffset;   // drawIndexed only
     } m_drawArguments{};   // draw()'s and drawIndexed()'s, across the bind (see draw())
+    std::array<uint32_t, 3> m_dispatchGroups{};   // dispatch()'s, the same way
     CommandMemory m_commandMemory;   // the pool's host memory; outlives it
     VkCommandPool m_pool = VK_NULL_HANDLE;
     VkCommandBuffer m_prologue = VK_NULL_HANDLE;   // query resets, which must precede the work

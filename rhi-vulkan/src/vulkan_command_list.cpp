@@ -578,8 +578,10 @@ void CommandList::prepareDispatchGeneral() {
 }
 
 void CommandList::dispatchImpl(uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ) {   // counts within limits
+    m_dispatchGroups = {groupsX, groupsY, groupsZ};   // across the calls, as draw()'s arguments
     if (!prepareDispatchFast()) [[unlikely]] prepareDispatchGeneral();
-    m_context->cmdDispatch(m_commands, groupsX, groupsY, groupsZ);
+    const std::array<uint32_t, 3>& g = m_dispatchGroups;
+    m_context->cmdDispatch(m_commands, g[0], g[1], g[2]);
 }
 
 // Transfers: arguments are validated (rhi/src/validation.cpp); ranges and subresources exist.

@@ -14,6 +14,8 @@ bool HazardTracker::RangeSet::overlapsAny(KeyRange range) const {
 }
 
 void HazardTracker::RangeSet::insert(KeyRange range) {
+    hull.begin = std::min(hull.begin, range.begin);
+    hull.end = std::max(hull.end, range.end);
     if (ranges.empty() || ranges.back().end < range.begin) {
         ranges.push_back(range);   // past everything tracked
         return;
@@ -32,6 +34,18 @@ void HazardTracker::RangeSet::insert(KeyRange range) {
         *first = range;
         ranges.erase(first + 1, last);
     }
+}
+
+void HazardTracker::accessOneGeneral(VkCommandBuffer cmd, const ResourceAccess& only) {
+    Tracked* tracked = m_unknownWrites ? nullptr : find(only.resource);
+    if (m_unknownWrites || (tracked && conflicts(*tracked, only))) {
+        barrier(cmd);
+        tracked = nullptr;
+    }
+    if (tracked)
+        record(*tracked, only);
+    else
+        record(only);
 }
 
 void HazardTracker::reset() {

@@ -63,6 +63,47 @@ TEST(VulkanHazardTrackerTest, WriteAfterReadConflictsAndReadAfterReadDoesNot) {
     EXPECT_FALSE(tracker.conflicts(read(&g_bufferA, 0, 200)));
 }
 
+// accessOne, a dispatch's path (inline for a run of neighbouring slices): a conflicting access
+// gets a barrier first. The barrier is observed through what the tracker forgot: it is omitted
+// (omitNextBarrier), so no command buffer is needed, and an omitted barrier still forgets.
+TEST(VulkanHazardTrackerTest, AccessOneBarriersBeforeAConflictingAccess) {
+    HazardTracker tracker = cleanTracker();
+    for (uint64_t i = 0; i < 10; ++i) tracker.accessOne(VK_NULL_HANDLE, write(&g_bufferA, i * 16, i * 16 + 16));
+    ASSERT_TRUE(tracker.conflicts(read(&g_bufferA, 40, 41))) << "ten neighbouring writes are all tracked";
+    tracker.omitNextBarrier();
+    tracker.accessOne(VK_NULL_HANDLE, read(&g_bufferA, 40, 41));   // read after write: a barrier first
+    EXPECT_FALSE(tracker.conflicts(read(&g_bufferA, 0, 160))) << "the writes before the barrier are ordered";
+    EXPECT_TRUE(tracker.conflicts(write(&g_bufferA, 40, 41))) << "the read after it is tracked";
+    EXPECT_FALSE(tracker.conflicts(write(&g_bufferA, 41, 42)));
+}
+
+// The same where the read continues the last read range (the inline path's case) but reaches a
+// write tracked since.
+TEST(VulkanHazardTrackerTest, AccessOneBarriersBeforeAReadContinuingAnotherIntoAWrite) {
+    HazardTracker tracker = cleanTracker();
+    tracker.accessOne(VK_NULL_HANDLE, read(&g_bufferA, 0, 16));
+    tracker.accessOne(VK_NULL_HANDLE, write(&g_bufferA, 32, 48));   // no conflict with [0, 16)
+    ASSERT_TRUE(tracker.conflicts(read(&g_bufferA, 16, 40)));
+    tracker.omitNextBarrier();
+    tracker.accessOne(VK_NULL_HANDLE, read(&g_bufferA, 16, 40));   // continues [0, 16), reaches the write
+    EXPECT_FALSE(tracker.conflicts(read(&g_bufferA, 32, 48))) << "the write was ordered by a barrier";
+    EXPECT_FALSE(tracker.conflicts(write(&g_bufferA, 0, 16))) << "and so was the first read";
+    EXPECT_TRUE(tracker.conflicts(write(&g_bufferA, 20, 21))) << "the read after the barrier is tracked";
+}
+
+// And a write continuing the last write range into a read tracked since (write after read).
+TEST(VulkanHazardTrackerTest, AccessOneBarriersBeforeAWriteContinuingAnotherIntoARead) {
+    HazardTracker tracker = cleanTracker();
+    tracker.accessOne(VK_NULL_HANDLE, write(&g_bufferA, 0, 16));
+    tracker.accessOne(VK_NULL_HANDLE, read(&g_bufferA, 20, 30));   // no conflict with [0, 16)
+    ASSERT_TRUE(tracker.conflicts(write(&g_bufferA, 16, 24)));
+    tracker.omitNextBarrier();
+    tracker.accessOne(VK_NULL_HANDLE, write(&g_bufferA, 16, 24));   // continues [0, 16), reaches the read
+    EXPECT_FALSE(tracker.conflicts(read(&g_bufferA, 0, 16))) << "the first write was ordered by a barrier";
+    EXPECT_FALSE(tracker.conflicts(write(&g_bufferA, 24, 30))) << "and so was the read";
+    EXPECT_TRUE(tracker.conflicts(read(&g_bufferA, 16, 24))) << "the write after the barrier is tracked";
+}
+
 TEST(VulkanHazardTrackerTest, ABarrierForgetsEverything) {
     HazardTracker tracker = cleanTracker();
     tracker.record(write(&g_bufferA, 0, 16));
