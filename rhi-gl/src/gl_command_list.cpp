@@ -116,8 +116,7 @@ void CommandList::begin() {
     m_recording = true;
     m_recorded = false;
     m_inRenderPass = false;
-    m_pipelineChecked = false;
-    m_bindingsChecked = false;
+    invalidateDrawState();
     m_pipeline = nullptr;
     m_bindingSets = {};
     m_found = {};
@@ -320,6 +319,7 @@ void CommandList::requirePipelineState(const char* what) {
 
 void CommandList::recordBarrier(GLbitfield bits) {
     if (!bits) return;   // nothing to wait for
+    m_drawReady = false;
     record(command::MemoryBarrier{bits});
     // The barrier orders every earlier write for the accesses it names.
     std::erase_if(m_pendingWrites, [bits](PendingWrite& write) {
@@ -356,6 +356,7 @@ void CommandList::end() {
     for (const PendingWrite& write : m_pendingWrites) pending |= write.unsynchronized;
     recordBarrier(pending);
     m_keepAlive.releaseUnused();
+    m_drawReady = false;
     m_recording = false;
     m_recorded = true;
 }
@@ -370,7 +371,7 @@ void CommandList::beginRenderPassImpl(const RenderPassDesc& desc) {
     if (desc.depth) needed |= textureHazard(desc.depth->texture.get(), GL_FRAMEBUFFER_BARRIER_BIT);
     recordBarrier(needed);
     m_inRenderPass = true;
-    m_pipelineChecked = m_bindingsChecked = false;   // new attachments to match and not to sample
+    invalidateDrawState();   // new attachments to match and not to sample
     // The stored description holds the attachments.
     m_renderPasses.push_back(desc);
     m_passColorFormats.clear();
@@ -382,7 +383,7 @@ void CommandList::beginRenderPassImpl(const RenderPassDesc& desc) {
 void CommandList::endRenderPass() {
     requireInsideRenderPass("endRenderPass");
     m_inRenderPass = false;
-    m_pipelineChecked = m_bindingsChecked = false;
+    invalidateDrawState();
 }
 
 void CommandList::setViewport(const Viewport& viewport) {
@@ -409,7 +410,7 @@ void CommandList::setPipeline(const PipelineHandle& handle) {
     m_keepAlive.keep(handle, pipeline->keepMark);
     if (pipeline == m_pipeline) return;   // replay would bind the same program again
     m_pipeline = pipeline;
-    m_pipelineChecked = m_bindingsChecked = false;
+    invalidateDrawState();
     record(command::BindPipeline{pipeline});
 }
 
@@ -418,8 +419,22 @@ void CommandList::setBindingSetImpl(uint32_t set, const BindingSetHandle& handle
     BindingSet* bindings = cast<BindingSet>(m_device, handle, "setBindingSet", "binding set");
     m_keepAlive.keep(handle, bindings->keepMark);
     m_bindingSets[set] = bindings;
-    m_bindingsChecked = false;
     record(command::BindBindingSet{set, bindings});
+    // The set the pipeline's bindings all use, with a cached check for them, no texture (whose
+    // checks depend on the pass) and no storage write (tracked per draw or dispatch): the check
+    // at the next draw or dispatch would take this result, so take it now. It cannot fail, and nothing but the pipeline, the sets and
+    // the pass (each of which clears it) changes it before then.
+    if (const Pipeline* pipeline = m_pipeline; pipeline && pipeline->singleSet() == set) {
+        const BindingSet::Validated* check = bindings->lastValidated(pipeline->bindingSignature(), set);
+        if (check && !check->found.usesTextures && !check->found.writesStorage) {
+            // A ready draw stays ready: nothing it depends on besides the items changed.
+            m_found = check->found;
+            m_bindingsChecked = true;
+            return;
+        }
+    }
+    m_bindingsChecked = false;
+    m_drawReady = false;
 }
 
 void CommandList::setVertexBuffer(uint32_t slot, const BufferHandle& handle, uint64_t offset) {
@@ -439,6 +454,7 @@ void CommandList::setVertexBuffer(uint32_t slot, const BufferHandle& handle, uin
     else
         m_vertexBuffers.push_back({slot, buffer, offset});
     m_pipelineChecked = false;
+    m_drawReady = false;
     record(command::SetVertexBuffer{slot, buffer->name(), offset});
 }
 
@@ -459,17 +475,37 @@ void CommandList::setIndexBuffer(const BufferHandle& handle, IndexType type, uin
     record(command::SetIndexBuffer{buffer->name(), type, offset});
 }
 
+// A draw whose state is ready (see invalidateDrawState) is only recorded: every check below would
+// pass and the tracking do nothing. Anything else, and a full command store, takes the checked
+// path, which is the whole of what draw did before.
 void CommandList::draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance) {
+    if (!m_drawReady || m_commandCount == m_commandCapacity) [[unlikely]]
+        return drawChecked(vertexCount, instanceCount, firstVertex, firstInstance);
+    m_commands[m_commandCount++] = Command(std::in_place_type<command::Draw>,
+                                           command::Draw{vertexCount, instanceCount, firstVertex, firstInstance});
+}
+
+void CommandList::drawChecked(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance) {
     requireInsideRenderPass("draw");
     if (!m_pipeline || m_pipeline->isCompute())
         throw Error(ErrorCode::InvalidUsage, "draw: no graphics pipeline is set; call setPipeline() first");
     requireDrawState("draw");
     trackShaderAccesses(true, false);
     record(command::Draw{vertexCount, instanceCount, firstVertex, firstInstance});
+    m_drawReady = m_pendingWrites.empty() && !m_found.writesStorage;
 }
 
 void CommandList::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex, int32_t vertexOffset,
                                 uint32_t firstInstance) {
+    if (!m_drawReady || !m_indexBuffer || m_commandCount == m_commandCapacity) [[unlikely]]
+        return drawIndexedChecked(indexCount, instanceCount, firstIndex, vertexOffset, firstInstance);
+    m_commands[m_commandCount++] =
+        Command(std::in_place_type<command::DrawIndexed>,
+                command::DrawIndexed{indexCount, instanceCount, firstIndex, vertexOffset, firstInstance});
+}
+
+void CommandList::drawIndexedChecked(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex,
+                                     int32_t vertexOffset, uint32_t firstInstance) {
     requireInsideRenderPass("drawIndexed");
     if (!m_pipeline || m_pipeline->isCompute())
         throw Error(ErrorCode::InvalidUsage, "drawIndexed: no graphics pipeline is set; call setPipeline() first");
@@ -478,6 +514,7 @@ void CommandList::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint3
         throw Error(ErrorCode::InvalidUsage, "drawIndexed: no index buffer is set; call setIndexBuffer() first");
     trackShaderAccesses(true, true);
     record(command::DrawIndexed{indexCount, instanceCount, firstIndex, vertexOffset, firstInstance});
+    m_drawReady = m_pendingWrites.empty() && !m_found.writesStorage;
 }
 
 void CommandList::dispatchImpl(uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ) {   // Compute; counts in limits

@@ -474,6 +474,18 @@ private:
             m_bindingsChecked = true;
         }
     }
+    // A draw whose checks and hazard tracking would all pass and do nothing: recording, in a
+    // render pass, a graphics pipeline set, pipeline state and bindings checked, no write pending
+    // and none by the bound items. Set by the checked path of draw (and kept by a setBindingSet
+    // whose check is cached), cleared by everything that changes one of these.
+    void invalidateDrawState() {
+        m_pipelineChecked = m_bindingsChecked = false;
+        m_drawReady = false;
+    }
+    // The checks and tracking of draw / drawIndexed, then the command (out of line).
+    void drawChecked(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance);
+    void drawIndexedChecked(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex, int32_t vertexOffset,
+                            uint32_t firstInstance);
     void requirePipelineState(const char* what);
     void requireCompatiblePipeline(const char* what) const;
     // Checks what the pipeline's shaders use against the bound sets; points m_found at the
@@ -537,6 +549,7 @@ private:
     }
     void trackPendingShaderAccesses(bool drawing, bool indexed);
     void addPendingWrite(const void* resource, uint64_t begin, uint64_t end) {
+        m_drawReady = false;
         // Neighbouring slices written one after another (one dispatch per slice) merge into one
         // entry, so the list stays short and each check stays cheap.
         if (!m_pendingWrites.empty()) {
@@ -568,6 +581,7 @@ private:
     bool m_inRenderPass = false;
     bool m_pipelineChecked = false;
     bool m_bindingsChecked = false;
+    bool m_drawReady = false;   // see invalidateDrawState()
     const Pipeline* m_pipeline = nullptr;   // last pipeline set (held by m_keepAlive)
     std::vector<Format> m_passColorFormats;   // formats of the open render pass
     Format m_passDepthFormat = Format::Unknown;

@@ -198,5 +198,37 @@ TEST_P(GLBarriersTest, ListWithoutShaderWritesHasNoBarrier) {
     EXPECT_EQ(readBufferAs<uint32_t>(copy), std::vector<uint32_t>{7});
 }
 
+// (g) A write still pending after a draw that did not wait for it: the next draw, whose new set
+// reads the written buffer, waits for it, though the set's binding check is cached (binding it
+// then checks nothing at the draw) and the draw before needed no checks.
+TEST_P(GLBarriersTest, ADrawAfterOneThatLeftAWritePendingIsTracked) {
+    BufferHandle written = createBuffer(BufferUsage::Storage | BufferUsage::Uniform, 256);
+    PipelineHandle increment = computePipeline("bench_increment_comp");
+    BindingSetHandle counter = storageSlice(written, 0, sizeof(uint32_t));
+    PipelineHandle reading = fullscreenPipeline("rt_std140_read_frag", Format::R32_UINT);
+    BindingSetHandle other = device().createBindingSet(
+        BindingSetDesc().add(BindingItem::uniformBuffer(0, createBuffer(BufferUsage::Uniform, 256))));
+    BindingSetHandle readsWritten = device().createBindingSet(BindingSetDesc().add(BindingItem::uniformBuffer(0, written)));
+    TextureHandle target = createTexture2D(Format::R32_UINT, 32, 1, TextureUsage::RenderTarget);
+    auto draws = [&](ICommandList& cmd) {
+        cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(target)));
+        cmd.setPipeline(reading);
+        cmd.setBindingSet(0, other);
+        cmd.draw(3);
+        cmd.setBindingSet(0, readsWritten);
+        cmd.draw(3);
+        cmd.endRenderPass();
+    };
+    EXPECT_EQ(submitLogged(draws), (std::vector<std::string>{"draw", "draw"}));   // caches both sets' checks
+    const std::vector<std::string> calls = submitLogged([&](ICommandList& cmd) {
+        cmd.setPipeline(increment);
+        cmd.setBindingSet(0, counter);
+        cmd.dispatch(1);
+        draws(cmd);
+    });
+    EXPECT_EQ(calls, (std::vector<std::string>{"dispatch", "draw", barrier(GL_UNIFORM_BARRIER_BIT), "draw",
+                                               barrier(GL_ALL_BARRIER_BITS & ~GL_UNIFORM_BARRIER_BIT)}));
+}
+
 }  // namespace
 }  // namespace janus::rhi::test
