@@ -422,8 +422,9 @@ void CommandList::setBindingSetImpl(uint32_t set, const BindingSetHandle& handle
     record(command::BindBindingSet{set, bindings});
     // The set the pipeline's bindings all use, with a cached check for them, no texture (whose
     // checks depend on the pass) and no storage write (tracked per draw or dispatch): the check
-    // at the next draw or dispatch would take this result, so take it now. It cannot fail, and nothing but the pipeline, the sets and
-    // the pass (each of which clears it) changes it before then.
+    // at the next draw or dispatch would take this result, so take it now. It cannot fail, and
+    // nothing but the pipeline, the sets and the pass (each of which clears it) changes it
+    // before then.
     if (const Pipeline* pipeline = m_pipeline; pipeline && pipeline->singleSet() == set) {
         const BindingSet::Validated* check = bindings->lastValidated(pipeline->bindingSignature(), set);
         if (check && !check->found.usesTextures && !check->found.writesStorage) {
