@@ -572,7 +572,9 @@ void CommandList::prepareDispatchGeneral() {
                                          0, nullptr);
     }
     const std::span<const ResourceAccess> accesses = m_computeSetUses[s]->accesses;
-    if (accesses.size() != 1) [[unlikely]] return false;   // the general path binds nothing twice
+    // Several accesses: the general path tracks them; it finds the set bound (its dirty bit is
+    // clear), so it does not bind it again.
+    if (accesses.size() != 1) [[unlikely]] return false;
     m_hazards.accessOne(m_commands, accesses[0]);
     return true;
 }
