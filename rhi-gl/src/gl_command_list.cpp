@@ -44,6 +44,13 @@ bool isShaderWrite(ResourceType type) {
     return type == ResourceType::StorageBuffer || type == ResourceType::StorageImage;
 }
 
+// Notes in `found` the kinds of binding `item` is (storage write, sampled texture, any texture).
+void addKinds(UsedBindings& found, const BindingItem& item) {
+    found.writesStorage = found.writesStorage || isShaderWrite(item.type);
+    found.samplesTextures = found.samplesTextures || item.type == ResourceType::SampledTexture;
+    found.usesTextures = found.usesTextures || item.texture;
+}
+
 // The bytes a buffer binding shows.
 std::pair<uint64_t, uint64_t> boundRange(const BindingItem& item) {
     const uint64_t end = item.range ? item.offset + item.range : item.buffer->desc().size;
@@ -176,11 +183,7 @@ void CommandList::requireBindingsCached(const char* what) {
                 const size_t i = next[binding.set]++;
                 m_usedStorage.push_back(check.used[i]);
                 m_accessStorage.push_back(check.accesses[i]);
-            }
-            for (const uint32_t index : sets) {
-                m_found.writesStorage = m_found.writesStorage || checks[index]->found.writesStorage;
-                m_found.samplesTextures = m_found.samplesTextures || checks[index]->found.samplesTextures;
-                m_found.usesTextures = m_found.usesTextures || checks[index]->found.usesTextures;
+                addKinds(m_found, *check.used[i].item);
             }
             m_found.used = m_usedStorage;
             m_found.accesses = m_accessStorage;
@@ -216,10 +219,8 @@ void CommandList::requireBindingsUncached(const char* what) {
                                     what, binding.binding, binding.glName));
         m_usedStorage.push_back({binding.set, found});
         m_accessStorage.push_back(set->itemAccess(size_t(found - set->desc().items.data())));
-        m_found.writesStorage = m_found.writesStorage || isShaderWrite(found->type);
-        m_found.samplesTextures = m_found.samplesTextures || found->type == ResourceType::SampledTexture;
+        addKinds(m_found, *found);
         if (!found->texture) continue;
-        m_found.usesTextures = true;
         const TextureDimension viewed = found->viewDimension.value_or(found->texture->desc().dimension);
         if (binding.dimension && viewed != *binding.dimension)
             throw Error(ErrorCode::InvalidUsage,
@@ -238,13 +239,9 @@ void CommandList::requireBindingsUncached(const char* what) {
             check->set = index;
             for (size_t i = 0; i < m_usedStorage.size(); ++i) {
                 if (m_usedStorage[i].set != index) continue;
-                const BindingItem& item = *m_usedStorage[i].item;
                 check->used.push_back(m_usedStorage[i]);
                 check->accesses.push_back(m_accessStorage[i]);
-                check->found.writesStorage = check->found.writesStorage || isShaderWrite(item.type);
-                check->found.usesTextures = check->found.usesTextures || item.texture;
-                check->found.samplesTextures =
-                    check->found.samplesTextures || item.type == ResourceType::SampledTexture;
+                addKinds(check->found, *m_usedStorage[i].item);
             }
             check->found.used = check->used;
             check->found.accesses = check->accesses;
@@ -477,13 +474,11 @@ void CommandList::setIndexBuffer(const BufferHandle& handle, IndexType type, uin
 }
 
 // A draw whose state is ready (see invalidateDrawState) is only recorded: every check below would
-// pass and the tracking do nothing. Anything else, and a full command store, takes the checked
-// path, which is the whole of what draw did before.
+// pass and the tracking do nothing. Anything else takes the checked path, which is the whole of
+// what draw did before.
 void CommandList::draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance) {
-    if (!m_drawReady || m_commandCount == m_commandCapacity) [[unlikely]]
-        return drawChecked(vertexCount, instanceCount, firstVertex, firstInstance);
-    m_commands[m_commandCount++] = Command(std::in_place_type<command::Draw>,
-                                           command::Draw{vertexCount, instanceCount, firstVertex, firstInstance});
+    if (!m_drawReady) [[unlikely]] return drawChecked(vertexCount, instanceCount, firstVertex, firstInstance);
+    record(command::Draw{vertexCount, instanceCount, firstVertex, firstInstance});
 }
 
 void CommandList::drawChecked(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance) {
@@ -498,11 +493,9 @@ void CommandList::drawChecked(uint32_t vertexCount, uint32_t instanceCount, uint
 
 void CommandList::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex, int32_t vertexOffset,
                                 uint32_t firstInstance) {
-    if (!m_drawReady || !m_indexBuffer || m_commandCount == m_commandCapacity) [[unlikely]]
+    if (!m_drawReady || !m_indexBuffer) [[unlikely]]
         return drawIndexedChecked(indexCount, instanceCount, firstIndex, vertexOffset, firstInstance);
-    m_commands[m_commandCount++] =
-        Command(std::in_place_type<command::DrawIndexed>,
-                command::DrawIndexed{indexCount, instanceCount, firstIndex, vertexOffset, firstInstance});
+    record(command::DrawIndexed{indexCount, instanceCount, firstIndex, vertexOffset, firstInstance});
 }
 
 void CommandList::drawIndexedChecked(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex,
