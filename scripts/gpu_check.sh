@@ -10,9 +10,12 @@
 # Steps, each under its own time limit (the whole run stays under about 8 minutes):
 #   info.txt             janus info (backends, platforms, driver)
 #   rhi_tests.txt        janus_rhi_tests, 4 shards in parallel (JANUS_TEST_BACKENDS from run.sh:
-#   renderer_tests.txt   vulkan, gl_egl, gles), then janus_renderer_tests the same way
+#   renderer_tests.txt   vulkan, gl_egl, gles), then janus_renderer_tests the same way; a crashed
+#                        shard's last test is named in the summary; renderer_tests_images/ holds
+#                        the images failing renderer tests wrote
 #   forward/             janus bench forward at 1920x1080 (issue 10 items 5 and 6: the cut-off
 #                        error table and the per-pass GPU times)
+#   parity_helmet/      janus parity of DamagedHelmet at 512x512 (cross-driver: --against it here)
 #   bench_rhi.p*.json    janus_bench_rhi in 3 fresh processes of 3 repetitions each (item 4);
 #                        bench_rhi.md is their table when python3 is there (else here:
 #                        scripts/bench.sh --from-json bench_rhi.p0.json --from-json ...)
@@ -20,17 +23,22 @@
 # and packs them into OUT/gpu-check.tar.gz (the device returns at most 8 files), with
 # summary.txt also beside it.
 #
+# The archive is rewritten after every step, so a run cut off by the device's time limit still
+# returns what it finished; --budget (seconds, default 480) shortens the last steps' limits so
+# that the whole run ends inside it.
+#
 # Options: --out DIR (required), --build-dir DIR (run local binaries instead of .gpu/run.sh),
-# --quick (small sizes and short runs: for trying the script, not for numbers).
+# --budget SECONDS, --quick (small sizes and short runs: for trying the script, not for numbers).
 set -uo pipefail
 
 repo_root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-out="" build_dir="" quick=0
+out="" build_dir="" quick=0 budget=480
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --out) out="$2"; shift 2 ;;
     --build-dir) build_dir="$(realpath -m "$2")"; shift 2 ;;
     --quick) quick=1; shift ;;
+    --budget) budget="$2"; shift 2 ;;
     -h|--help) sed -n '2,25p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "gpu_check.sh: unknown argument '$1' (try --help)" >&2; exit 2 ;;
   esac
@@ -58,6 +66,7 @@ if [[ -z "$build_dir" && ! -f "$repo_root/.gpu/run.sh" ]]; then
 fi
 
 results="$(mktemp -d)"
+mkdir -p "$out"
 trap 'rm -rf "$results"' EXIT
 summary="$results/summary.txt"
 {
@@ -65,35 +74,59 @@ summary="$results/summary.txt"
   command -v nvidia-smi >/dev/null && nvidia-smi --query-gpu=name,driver_version --format=csv,noheader
 } > "$summary"
 
+# What has finished so far, into OUT: the device returns OUT even when its time limit ends the run.
+publish() {
+  cp "$summary" "$out/summary.txt.$BASHPID" && mv "$out/summary.txt.$BASHPID" "$out/summary.txt"
+  tar -czf "$out/gpu-check.tar.gz.$BASHPID" -C "$results" . && mv "$out/gpu-check.tar.gz.$BASHPID" "$out/gpu-check.tar.gz"
+}
+
 # step NAME LIMIT_SECONDS PROGRAM ARGS...: `run`s it, output into NAME.txt, a summary line with
-# status and time.
+# status and time. The limit shrinks to what is left of the budget; a step with under 10 s left
+# is skipped.
 step() {
   local name="$1" limit="$2"; shift 2
-  local start=$SECONDS status
+  local start=$SECONDS status left=$((budget - SECONDS))
+  if ((left < 10)); then echo "$name: skipped (budget of $budget s spent)" >> "$summary"; return 124; fi
+  ((limit > left)) && limit=$left
   timeout --kill-after=10 "$limit" bash -c 'run "$@"' run "$@" > "$results/$name.txt" 2>&1
   status=$?
   local verdict="exit $status"
   [[ $status == 124 || $status == 137 ]] && verdict="TIMED OUT after ${limit} s"
   echo "$name: $verdict, $((SECONDS - start)) s" >> "$summary"
+  publish
   return $status
 }
 
-# A gtest suite in 4 parallel shards; the totals of all shards go to the summary.
+# A gtest suite in 4 parallel shards; the totals of all shards go to the summary. The full
+# output is kept (not --gtest_brief): its "[ RUN      ]" lines are flushed before each test, so a
+# shard that crashes names the test it crashed in. Images the renderer tests write on a failure
+# (under $TMPDIR/janus-renderer-tests) come back in NAME_images/.
 sharded_suite() {
   local name="$1" limit="$2" program="$3"
   local shards=4 pids=() i
+  local tmp="$results/$name.tmp"
+  mkdir -p "$tmp"
   for ((i = 0; i < shards; ++i)); do
-    GTEST_TOTAL_SHARDS=$shards GTEST_SHARD_INDEX=$i \
-      step "$name.shard$i" "$limit" "$program" --gtest_brief=1 $([[ $quick == 1 ]] && echo --gtest_filter='*Orientation*:*Clear*') &
+    TMPDIR="$tmp" GTEST_TOTAL_SHARDS=$shards GTEST_SHARD_INDEX=$i \
+      step "$name.shard$i" "$limit" "$program" $([[ $quick == 1 ]] && echo --gtest_filter='*Orientation*:*Clear*') &
     pids+=($!)
   done
   for pid in "${pids[@]}"; do wait "$pid"; done
+  for ((i = 0; i < shards; ++i)); do
+    # A shard that ended without its summary line crashed (or timed out) in its last test started.
+    if ! grep -q '^\[==========\] .* ran\.' "$results/$name.shard$i.txt"; then
+      echo "$name.shard$i: ended in $(grep '^\[ RUN      \]' "$results/$name.shard$i.txt" | tail -1 | cut -c14-)" >> "$summary"
+    fi
+  done
   cat "$results/$name".shard*.txt > "$results/$name.txt"
   rm -f "$results/$name".shard*.txt
+  [[ -d "$tmp/janus-renderer-tests" ]] && mv "$tmp/janus-renderer-tests" "$results/${name}_images"
+  rm -rf "$tmp"
   local passed failed
   passed=$(grep -ho '^\[  PASSED  \] [0-9]*' "$results/$name.txt" | awk '{s += $4} END {print s + 0}')
   failed=$(grep -c '^\[  FAILED  \] .* ms)$' "$results/$name.txt")
   echo "$name: $passed passed, $failed failed (failures: grep FAILED $name.txt)" >> "$summary"
+  publish
 }
 
 step info 60 janus info
@@ -104,8 +137,12 @@ if [[ $quick == 1 ]]; then
   bench_processes=1 bench_options=(--benchmark_filter='vulkan' --benchmark_min_time=0.05)
 else
   step forward 150 janus bench forward --size 1920x1080 --out "$results/forward"
+  # Images for a cross-driver comparison here: janus parity ... --against parity_helmet
+  step parity_helmet 60 janus parity "$repo_root/../shared/scenes/DamagedHelmet/glTF/DamagedHelmet.gltf" \
+    --size 512x512 --out "$results/parity_helmet"
   # Three fresh processes: a ratio from one process can be where its driver's heap happened to land.
-  bench_processes=3 bench_options=(--benchmark_repetitions=3 --benchmark_enable_random_interleaving=true)
+  # No random interleaving: see bench.sh.
+  bench_processes=3 bench_options=(--benchmark_repetitions=3)
 fi
 from_json=()
 for ((p = 0; p < bench_processes; ++p)); do
@@ -116,8 +153,5 @@ done
 if command -v python3 >/dev/null && [[ ${#from_json[@]} -gt 0 ]]; then
   bash "$repo_root/scripts/bench.sh" "${from_json[@]}" > "$results/bench_rhi.md" 2>&1
 fi
-
-mkdir -p "$out"
-cp "$summary" "$out/summary.txt"
-tar -czf "$out/gpu-check.tar.gz" -C "$results" .
+publish
 cat "$summary"
