@@ -1,6 +1,7 @@
 // `janus bench forward`: the many-lights scene at several light counts, culling modes, feature
 // paths and backends; frame time, culling time and culling efficiency, with ratios against naive
-// from the same run; the intensity cut-off's error; forward.md / forward.json / forward.png.
+// from the same run; the intensity cut-off's error (with a picture of where it is, for the
+// smallest cut-off); forward.md / forward.json / forward.png / cutoff-error-<backend>-<path>.png.
 #include <algorithm>
 #include <charconv>
 #include <chrono>
@@ -142,6 +143,7 @@ int runForward(const BenchOptions& options) {
         std::string backend, path;
         float cutoff = 0.0f;
         double maxError = 0.0, meanError = 0.0, psnr = 0.0, ms = 0.0, referenceMs = 0.0;
+        uint32_t maxX = 0, maxY = 0;   // the pixel with the largest error (row 0 on top)
     };
     std::vector<CutoffRow> cutoffRows;
     const uint32_t cutoffLights = std::min<uint32_t>(*std::max_element(counts.begin(), counts.end()), 128);
@@ -196,9 +198,19 @@ int runForward(const BenchOptions& options) {
                 const std::vector<float>& a = reference.hdr->pixels;
                 const std::vector<float>& b = m.hdr->pixels;
                 size_t samples = 0;
+                // Where the error is: a picture of it for the smallest cut-off (linear, white = the
+                // largest error), where a lost light shows as a bright patch.
+                const bool picture = cutoff == *std::min_element(cutoffs.begin(), cutoffs.end());
+                renderer::ImageRGBA8 errorImage{size.width, size.height, {}};
+                std::vector<double> pixelError(picture ? a.size() / 4 : 0, 0.0);
                 for (size_t i = 0; i < a.size(); ++i) {
                     if (i % 4 == 3) continue;   // alpha carries no radiance
                     const double error = std::abs(double(a[i]) - double(b[i]));
+                    if (error > row.maxError) {
+                        row.maxX = uint32_t(i / 4 % size.width);
+                        row.maxY = uint32_t(i / 4 / size.width);
+                    }
+                    if (picture) pixelError[i / 4] = std::max(pixelError[i / 4], error);
                     row.maxError = std::max(row.maxError, error);
                     sum += error;
                     sumSq += error * error;
@@ -211,6 +223,15 @@ int runForward(const BenchOptions& options) {
                 row.psnr = mse > 0 ? 10.0 * std::log10(peak * peak / mse) : INFINITY;
                 row.ms = frameMs(m);
                 row.referenceMs = frameMs(reference);
+                if (picture && row.maxError > 0.0) {
+                    errorImage.pixels.resize(pixelError.size() * 4);
+                    for (size_t p = 0; p < pixelError.size(); ++p) {
+                        const auto v = uint8_t(std::lround(255.0 * pixelError[p] / row.maxError));
+                        errorImage.pixels[p * 4 + 0] = errorImage.pixels[p * 4 + 1] = errorImage.pixels[p * 4 + 2] = v;
+                        errorImage.pixels[p * 4 + 3] = 255;
+                    }
+                    renderer::writePNG(outDir / fmt::format("cutoff-error-{}-{}.png", row.backend, row.path), errorImage);
+                }
                 cutoffRows.push_back(row);
             }
         }
@@ -253,14 +274,15 @@ int runForward(const BenchOptions& options) {
         json["rows"].push_back(j);
     }
     md += fmt::format("\n## Intensity cut-off error ({} lights without a range, tiles-depth vs infinite-range naive)\n\n"
-                      "| backend | path | cut-off (lux) | max abs error | mean abs error | PSNR dB | frame ms | reference ms |\n"
-                      "|---|---|---:|---:|---:|---:|---:|---:|\n",
+                      "| backend | path | cut-off (lux) | max abs error | at pixel | mean abs error | PSNR dB | frame ms | reference ms |\n"
+                      "|---|---|---:|---:|---|---:|---:|---:|---:|\n",
                       cutoffLights);
     json["cutoffs"] = nlohmann::json::array();
     for (const CutoffRow& row : cutoffRows) {
-        md += fmt::format("| {} | {} | {} | {:.4g} | {:.4g} | {:.1f} | {:.3f} | {:.3f} |\n", row.backend, row.path, row.cutoff, row.maxError,
-                          row.meanError, row.psnr, row.ms, row.referenceMs);
+        md += fmt::format("| {} | {} | {} | {:.4g} | ({}, {}) | {:.4g} | {:.1f} | {:.3f} | {:.3f} |\n", row.backend, row.path, row.cutoff,
+                          row.maxError, row.maxX, row.maxY, row.meanError, row.psnr, row.ms, row.referenceMs);
         json["cutoffs"].push_back({{"backend", row.backend}, {"path", row.path}, {"cutoff", row.cutoff}, {"maxAbsError", row.maxError},
+                                   {"maxAbsErrorAt", {row.maxX, row.maxY}},
                                    {"meanAbsError", row.meanError}, {"psnr", std::isinf(row.psnr) ? 999.0 : row.psnr},
                                    {"frameMs", row.ms}, {"referenceMs", row.referenceMs}});
     }
@@ -296,7 +318,8 @@ Command addBenchCommand(CLI::App& parent) {
                                                    "'janus bench probes' the GGX prefilter's accuracy vs time, "
                                                    "'janus bench gi' the probe GI's accuracy vs time");
     CLI::App* forward = app->add_subcommand("forward", "Many-lights scene: naive / tiles-2d / tiles-depth on each path and backend; "
-                                                       "writes forward.md, forward.json, forward.png to --out");
+                                                       "writes forward.md, forward.json, forward.png and cutoff-error-<backend>-<path>.png (where the smallest "
+                                                       "cut-off's error is, white = its largest) to --out");
     app->require_subcommand(1);
     forward->add_option("--lights", options->lights, "Comma-separated local-light counts")->default_str(options->lights);
     forward->add_option("--modes", options->modes, "Comma-separated culling modes")->default_str(options->modes);
