@@ -37,7 +37,7 @@ GLbitfield shaderAccessBarrier(ResourceType type) {
         case ResourceType::SampledTexture: return GL_TEXTURE_FETCH_BARRIER_BIT;
         case ResourceType::StorageImage: return GL_SHADER_IMAGE_ACCESS_BARRIER_BIT;
     }
-    return GL_ALL_BARRIER_BITS;
+    return kEveryMemoryBarrierBit;
 }
 
 bool isShaderWrite(ResourceType type) {
@@ -228,6 +228,8 @@ void CommandList::requireBindingsUncached(const char* what) {
                                     "the shader's type or set BindingItem::viewDimension",
                                     what, binding.binding, toString(found->texture->desc().dimension),
                                     found->texture->desc().debugName, toString(viewed), toString(*binding.dimension)));
+        requireSamplerMatchesShader(*found, binding.depthCompare,
+                                    fmt::format("{}: set {} binding {} ({})", what, binding.set, binding.binding, binding.glName));
     }
     m_found.used = m_usedStorage;
     m_found.accesses = m_accessStorage;
@@ -570,7 +572,7 @@ void CommandList::copyTextureToBufferImpl(const BufferHandle& dstHandle, uint64_
     m_keepAlive.keep(srcHandle, src->keepMark);
     // The texture is read through a framebuffer, glGetTexImage or (ES depth) a draw sampling it:
     // every kind of access.
-    recordBarrier(textureHazard(src, GL_ALL_BARRIER_BITS) |
+    recordBarrier(textureHazard(src, kEveryMemoryBarrierBit) |
                   bufferHazard(dst, dstOffset, UINT64_MAX, GL_BUFFER_UPDATE_BARRIER_BIT));
     record(command::CopyTextureToBuffer{dst, dstOffset, src, srcSub});
 }
@@ -594,7 +596,7 @@ void CommandList::generateMipsImpl(const TextureHandle& handle) {
     Texture* texture = cast<Texture>(m_device, handle, "generateMips", "texture");
     m_keepAlive.keep(handle, texture->keepMark);
     // How the driver reads and writes the levels is its own business.
-    recordBarrier(textureHazard(texture, GL_ALL_BARRIER_BITS));
+    recordBarrier(textureHazard(texture, kEveryMemoryBarrierBit));
     record(command::GenerateMips{texture});
 }
 
@@ -811,6 +813,7 @@ void Device::bindPipeline(const Pipeline& pipeline) {
     // Attribute pointers depend on the vertex layout only, which many pipelines share.
     if (!m_pipeline || !sameVertexLayout(m_pipeline->graphics(), pipeline.graphics())) m_vertexStateDirty = true;
     m_pipeline = &pipeline;
+    m_context->replayPipeline = &pipeline.debugName();
     pipeline.applyState();
 }
 
@@ -923,6 +926,7 @@ void Device::drawBaseInstance(uint32_t vertexCount, uint32_t instanceCount, uint
 
 void Device::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex, int32_t vertexOffset,
                            uint32_t firstInstance) {
+    if (m_context->checkSamplerUnits) [[unlikely]] checkSamplerUnits("draw");
     const GLFunctions& f = gl();
     const GLenum mode = m_pipeline->mode();
     const GLenum type = m_indexType == IndexType::UInt16 ? GL_UNSIGNED_SHORT : GL_UNSIGNED_INT;
@@ -944,7 +948,32 @@ void Device::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t f
     f.glDrawElementsInstanced(mode, GLsizei(indexCount), type, indices, GLsizei(instanceCount));
 }
 
+void Device::checkSamplerUnits(const char* call) {
+    const GLFunctions& f = gl();
+    for (const Pipeline::SamplerUniform& sampler : m_pipeline->samplerUniforms()) {
+        f.glActiveTexture(GL_TEXTURE0 + GLenum(sampler.unit));
+        GLint texture = 0, samplerObject = 0, compareMode = GL_NONE;
+        f.glGetIntegerv(sampler.bindingQuery, &texture);
+        f.glGetIntegerv(GL_SAMPLER_BINDING, &samplerObject);
+        if (samplerObject != 0) f.glGetSamplerParameteriv(GLuint(samplerObject), GL_TEXTURE_COMPARE_MODE, &compareMode);
+        std::string problem;
+        if (texture == 0)
+            problem = fmt::format("no {} texture is bound there", sampler.targetName);
+        else if (sampler.shadow && compareMode == GL_NONE)
+            problem = "it is a shadow sampler, but the sampler bound there does not compare (SamplerDesc::setCompare)";
+        else if (!sampler.shadow && compareMode != GL_NONE)
+            problem = "the sampler bound there compares depth, but the shader's sampler is not a shadow sampler";
+        if (problem.empty()) continue;
+        m_context->collectDebugMessage(
+            {MessageSeverity::Error,
+             fmt::format("GL {} check: pipeline '{}' samples '{}' through texture unit {}, but {}; drivers leave that "
+                         "undefined (NVIDIA reports it as id 131222)",
+                         call, m_pipeline->debugName(), sampler.name, sampler.unit, problem)});
+    }
+}
+
 void Device::dispatch(uint32_t x, uint32_t y, uint32_t z) {
+    if (m_context->checkSamplerUnits) [[unlikely]] checkSamplerUnits("dispatch");
     const GLFunctions& f = gl();
     f.glDispatchCompute(x, y, z);
 }

@@ -40,7 +40,11 @@ void APIENTRY onDebugMessage(GLenum /*source*/, GLenum type, GLuint id, GLenum s
     // Called from inside the driver (any GL call, glDelete* in destructors too): nothing may
     // unwind through it.
     try {
-        context->collectDebugMessage({*ours, fmt::format("GL debug (id {}): {}", id, message)});
+        context->collectDebugMessage(
+            {*ours, context->replayPipeline
+                        ? fmt::format("GL debug (id {}): {} (replaying a command list; last pipeline bound: '{}')", id,
+                                      message, *context->replayPipeline)
+                        : fmt::format("GL debug (id {}): {}", id, message)});
     } catch (const std::exception& e) {
         std::fprintf(stderr, "janus: gl: the debug message callback threw (%s); the message is still collected\n",
                      e.what());
@@ -223,7 +227,10 @@ Device::Device(const DeviceDesc& desc, std::unique_ptr<Platform> platform) {
     properties.capabilities = detectCapabilities();
     properties.formats = queryFormatCapabilities(properties.capabilities);
     setProperties(std::move(properties));
-    if (desc.enableValidation) setupDebugOutput();
+    if (desc.enableValidation) {
+        setupDebugOutput();
+        m_context->checkSamplerUnits = true;
+    }
     setupDefaultState();
 }
 
@@ -498,6 +505,10 @@ void Device::execute(const CommandListHandle& commandList) {
     m_indexBuffer = 0;
     m_vertexStateDirty = true;
     m_boundIndexBuffer = 0;
+    struct ForgetReplayPipeline {
+        Context& context;
+        ~ForgetReplayPipeline() { context.replayPipeline = nullptr; }
+    } forget{*m_context};
     list->replay();
     m_pipeline = nullptr;
 }

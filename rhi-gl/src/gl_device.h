@@ -84,6 +84,9 @@ public:
     std::vector<DebugMessage> takeDebugMessages();
     std::vector<DebugMessage> takePerformanceMessages();
     std::function<void(const DebugMessage&)> messageCallback;
+    // The debug name of the pipeline a list's replay bound last (empty outside replay): driver
+    // messages name it, since a message about a draw rarely says which one.
+    const std::string* replayPipeline = nullptr;
 
     GLFunctions gl;
     GLuint vertexArray = 0;
@@ -92,6 +95,9 @@ public:
     bool zeroToOneClipDepth = false;
     // glClearTexImage exists (GL 4.4, ARB/EXT_clear_texture): new textures are zeroed with it.
     bool clearTexImage = false;
+    // Validation is on: each draw and dispatch checks what its program's samplers will read
+    // (Device::checkSamplerUnits).
+    bool checkSamplerUnits = false;
 
 private:
     std::unique_ptr<Platform> m_platform;
@@ -236,8 +242,23 @@ public:
     void applyState() const;
     KeepMark keepMark;
 
+    // The program's active sampler uniforms, each element of an array apart (only with
+    // Context::checkSamplerUnits): what Device::checkSamplerUnits compares with the bound state.
+    struct SamplerUniform {
+        std::string name;
+        GLint unit = 0;
+        GLenum bindingQuery = 0;   // GL_TEXTURE_BINDING_2D, ..._CUBE_MAP, ...
+        const char* targetName = "";
+        bool shadow = false;       // sampler*Shadow: needs a depth texture and a comparing sampler
+    };
+    const std::vector<SamplerUniform>& samplerUniforms() const { return m_samplerUniforms; }
+    const std::string& debugName() const { return m_debugName; }
+
 private:
     void link(const std::vector<const Shader*>& shaders, const std::string& debugName);
+    void findSamplerUniforms();
+    std::vector<SamplerUniform> m_samplerUniforms;
+    std::string m_debugName;
 
     ContextPtr m_context;
     bool m_compute = false;
@@ -397,6 +418,16 @@ using Command = std::variant<command::BeginRenderPass, command::SetViewport, com
                              command::GenerateMips, command::BeginTimer, command::EndTimer, command::PushDebugGroup,
                              command::PopDebugGroup>;
 
+// Every bit glMemoryBarrier takes in OpenGL 4.3 and OpenGL ES 3.1. GL_ALL_BARRIER_BITS is valid
+// only whole: a pending write that started from it and had some bits issued would leave
+// undefined bits set, which NVIDIA rejects (GL_INVALID_VALUE) where Mesa ignores them.
+inline constexpr GLbitfield kEveryMemoryBarrierBit =
+    GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT | GL_ELEMENT_ARRAY_BARRIER_BIT | GL_UNIFORM_BARRIER_BIT |
+    GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_COMMAND_BARRIER_BIT |
+    GL_PIXEL_BUFFER_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT |
+    GL_FRAMEBUFFER_BARRIER_BIT | GL_TRANSFORM_FEEDBACK_BARRIER_BIT | GL_ATOMIC_COUNTER_BARRIER_BIT |
+    GL_SHADER_STORAGE_BARRIER_BIT;
+
 class CommandList final : public ICommandList {
 public:
     explicit CommandList(Device& device) : m_device(device) {}
@@ -554,14 +585,14 @@ private:
         // entry, so the list stays short and each check stays cheap.
         if (!m_pendingWrites.empty()) {
             PendingWrite& last = m_pendingWrites.back();
-            if (last.resource == resource && last.unsynchronized == GL_ALL_BARRIER_BITS && begin <= last.end &&
+            if (last.resource == resource && last.unsynchronized == kEveryMemoryBarrierBit && begin <= last.end &&
                 last.begin <= end) {
                 last.begin = std::min(last.begin, begin);
                 last.end = std::max(last.end, end);
                 return;
             }
         }
-        m_pendingWrites.push_back({resource, begin, end, GL_ALL_BARRIER_BITS});
+        m_pendingWrites.push_back({resource, begin, end, kEveryMemoryBarrierBit});
     }
 
     Device& m_device;
@@ -673,6 +704,7 @@ public:
     void setIndexBuffer(GLuint buffer, IndexType type, uint64_t offset);
     void draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance) {
         const Pipeline& pipeline = *m_pipeline;
+        if (m_context->checkSamplerUnits) [[unlikely]] checkSamplerUnits("draw");
         setBaseInstance(firstInstance);
         if (firstInstance != 0 && !m_es) [[unlikely]] {
             drawBaseInstance(vertexCount, instanceCount, firstVertex, firstInstance);
@@ -687,6 +719,11 @@ public:
     void drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex, int32_t vertexOffset,
                      uint32_t firstInstance);
     void dispatch(uint32_t x, uint32_t y, uint32_t z);
+    // Validation: reports (as an error debug message) a sampler of the current program whose
+    // texture unit has no texture of its target bound, and a shadow sampler read without depth
+    // comparison (or a plain one with it). Drivers leave these undefined; NVIDIA reports them
+    // (id 131222), Mesa does not, so without this check they would surface on users' machines.
+    void checkSamplerUnits(const char* call);
     void memoryBarrier(GLbitfield bits);
     void timestamp(GLuint query);
     uint32_t renderWidth() const { return m_renderWidth; }

@@ -84,6 +84,9 @@ class Platform;
     X(PFNGLGETPROGRAMINFOLOGPROC, glGetProgramInfoLog)                                                        \
     X(PFNGLUSEPROGRAMPROC, glUseProgram)                                                                      \
     X(PFNGLGETUNIFORMLOCATIONPROC, glGetUniformLocation)                                                      \
+    X(PFNGLGETACTIVEUNIFORMPROC, glGetActiveUniform)                                                          \
+    X(PFNGLGETUNIFORMIVPROC, glGetUniformiv)                                                                  \
+    X(PFNGLGETSAMPLERPARAMETERIVPROC, glGetSamplerParameteriv)                                                \
     X(PFNGLUNIFORM1IPROC, glUniform1i)                                                                        \
     X(PFNGLUNIFORM1UIPROC, glUniform1ui)                                                                      \
     X(PFNGLGETUNIFORMBLOCKINDEXPROC, glGetUniformBlockIndex)                                                  \

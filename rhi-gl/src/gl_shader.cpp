@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <optional>
 #include <regex>
 #include <sstream>
 
@@ -113,14 +114,15 @@ Pipeline::~Pipeline() {
 }
 
 namespace {
-// Interned binding signatures: what the binding checks read of a pipeline's bindings. The map only
+// Interned binding signatures: what the binding checks read of a pipeline's bindings (dimension
+// and depth compare share one field). The map only
 // grows, so an id is never given to another signature.
 uint64_t bindingSignatureId(const std::vector<ShaderBinding>& bindings) {
     using Key = std::vector<std::tuple<uint32_t, uint32_t, int, int>>;
     Key key;
     key.reserve(bindings.size());
     for (const ShaderBinding& b : bindings)
-        key.emplace_back(b.set, b.binding, int(b.type), b.dimension ? int(*b.dimension) : -1);
+        key.emplace_back(b.set, b.binding, int(b.type), (b.dimension ? int(*b.dimension) : -1) * 2 + int(b.depthCompare));
     static std::mutex mutex;
     static std::map<Key, uint64_t> ids;
     const std::lock_guard lock(mutex);
@@ -185,9 +187,65 @@ void Pipeline::link(const std::vector<const Shader*>& shaders, const std::string
     std::sort(m_usedSets.begin(), m_usedSets.end());
     if (m_cacheableBindings && m_usedSets.size() == 1) m_singleSet = m_usedSets[0];
     m_baseInstanceLocation = gl.glGetUniformLocation(m_program, "SPIRV_Cross_BaseInstance");
+    m_debugName = debugName;
+    if (m_context->checkSamplerUnits) findSamplerUniforms();
     gl.glUseProgram(0);
     if (!debugName.empty() && gl.glObjectLabel && !m_context->isES())
         gl.glObjectLabel(GL_PROGRAM, m_program, GLsizei(debugName.size()), debugName.data());
+}
+
+namespace {
+struct SamplerType {
+    GLenum bindingQuery;
+    const char* targetName;
+    bool shadow;
+};
+std::optional<SamplerType> samplerType(GLenum type) {
+    switch (type) {
+        case GL_SAMPLER_2D: case GL_INT_SAMPLER_2D: case GL_UNSIGNED_INT_SAMPLER_2D:
+            return SamplerType{GL_TEXTURE_BINDING_2D, "2D", false};
+        case GL_SAMPLER_2D_SHADOW: return SamplerType{GL_TEXTURE_BINDING_2D, "2D", true};
+        case GL_SAMPLER_3D: case GL_INT_SAMPLER_3D: case GL_UNSIGNED_INT_SAMPLER_3D:
+            return SamplerType{GL_TEXTURE_BINDING_3D, "3D", false};
+        case GL_SAMPLER_CUBE: case GL_INT_SAMPLER_CUBE: case GL_UNSIGNED_INT_SAMPLER_CUBE:
+            return SamplerType{GL_TEXTURE_BINDING_CUBE_MAP, "cube map", false};
+        case GL_SAMPLER_CUBE_SHADOW: return SamplerType{GL_TEXTURE_BINDING_CUBE_MAP, "cube map", true};
+        case GL_SAMPLER_2D_ARRAY: case GL_INT_SAMPLER_2D_ARRAY: case GL_UNSIGNED_INT_SAMPLER_2D_ARRAY:
+            return SamplerType{GL_TEXTURE_BINDING_2D_ARRAY, "2D array", false};
+        case GL_SAMPLER_2D_ARRAY_SHADOW: return SamplerType{GL_TEXTURE_BINDING_2D_ARRAY, "2D array", true};
+        case GL_SAMPLER_CUBE_MAP_ARRAY: case GL_INT_SAMPLER_CUBE_MAP_ARRAY: case GL_UNSIGNED_INT_SAMPLER_CUBE_MAP_ARRAY:
+            return SamplerType{GL_TEXTURE_BINDING_CUBE_MAP_ARRAY, "cube map array", false};
+        case GL_SAMPLER_CUBE_MAP_ARRAY_SHADOW: return SamplerType{GL_TEXTURE_BINDING_CUBE_MAP_ARRAY, "cube map array", true};
+        default: return std::nullopt;   // not a sampler (images use image units)
+    }
+}
+}  // namespace
+
+// Called with the program in use, after link() set each sampler's unit.
+void Pipeline::findSamplerUniforms() {
+    const GLFunctions& gl = m_context->gl;
+    GLint count = 0, maxLength = 0;
+    gl.glGetProgramiv(m_program, GL_ACTIVE_UNIFORMS, &count);
+    gl.glGetProgramiv(m_program, GL_ACTIVE_UNIFORM_MAX_LENGTH, &maxLength);
+    std::string name(size_t(std::max(maxLength, 1)), '\0');
+    for (GLint i = 0; i < count; ++i) {
+        GLint size = 0;
+        GLenum type = 0;
+        GLsizei length = 0;
+        gl.glGetActiveUniform(m_program, GLuint(i), GLsizei(name.size()), &length, &size, &type, name.data());
+        const std::optional<SamplerType> sampler = samplerType(type);
+        if (!sampler) continue;
+        std::string base(name.data(), size_t(length));
+        if (base.ends_with("[0]")) base.resize(base.size() - 3);
+        for (GLint element = 0; element < size; ++element) {
+            const std::string elementName = size > 1 ? fmt::format("{}[{}]", base, element) : base;
+            const GLint location = gl.glGetUniformLocation(m_program, elementName.c_str());
+            if (location < 0) continue;
+            GLint unit = 0;
+            gl.glGetUniformiv(m_program, location, &unit);
+            m_samplerUniforms.push_back({elementName, unit, sampler->bindingQuery, sampler->targetName, sampler->shadow});
+        }
+    }
 }
 
 namespace {

@@ -77,8 +77,10 @@ GlslTranslation translateToGlsl(const ShaderDesc& desc, const GlslTarget& target
                 break;
         }
         std::optional<TextureDimension> dimension;
+        bool depthCompare = false;
         if (type == ResourceType::SampledTexture || type == ResourceType::StorageImage) {
             const auto& image = compiler.get_type(resource.type_id).image;
+            depthCompare = type == ResourceType::SampledTexture && image.depth;
             switch (image.dim) {
                 case spv::Dim3D: dimension = TextureDimension::Texture3D; break;
                 case spv::DimCube:
@@ -89,7 +91,7 @@ GlslTranslation translateToGlsl(const ShaderDesc& desc, const GlslTarget& target
                     break;
             }
         }
-        result.bindings.push_back({type, set, binding, glName, dimension});
+        result.bindings.push_back({type, set, binding, glName, dimension, depthCompare});
     };
     for (const auto& r : resources.uniform_buffers) flatten(r, ResourceType::UniformBuffer);
     for (const auto& r : resources.storage_buffers) flatten(r, ResourceType::StorageBuffer);

@@ -19,6 +19,7 @@ struct ShaderBinding {
     uint32_t binding;
     std::string glName;   // block name (buffers) or uniform name (textures, images)
     std::optional<TextureDimension> dimension;   // textures and images
+    bool depthCompare = false;   // a shadow sampler (sampler2DShadow and kin)
 };
 
 // A vertex shader input (from reflection), to check the pipeline's vertex attributes against.

@@ -49,6 +49,7 @@ struct ReflectedBinding {
     uint32_t count = 1;
     VkShaderStageFlags stages = 0;
     VkImageViewType viewType = VK_IMAGE_VIEW_TYPE_2D;   // images only: the view the shader expects
+    bool depthCompare = false;   // a shadow sampler (sampler2DShadow and kin)
     // Storage buffers / images: whether some stage may write it (no NonWritable decoration).
     // Uniform buffers and sampled textures are never written.
     bool written = false;
@@ -85,6 +86,8 @@ public:
     bool bresenhamLines = false;
     uint32_t timestampValidBits = 0;
     bool debugUtils = false;
+    // Command pools allocate host memory through each list's CommandMemory (useCommandMemory()).
+    bool commandMemory = false;
 
     PFN_vkCmdBeginRendering cmdBeginRendering = nullptr;
     PFN_vkCmdEndRendering cmdEndRendering = nullptr;
@@ -515,6 +518,7 @@ public:
     void waitUntilDone();
     // The host memory the driver records this list's commands into (tests look at it).
     const CommandMemory& commandMemory() const { return m_commandMemory; }
+    bool usesCommandMemory() const { return m_poolCallbacks != nullptr; }
 
 private:
     enum class State { Initial, Recording, Executable };
@@ -563,7 +567,8 @@ private:
         int32_t vertexOffset;   // drawIndexed only
     } m_drawArguments{};   // draw()'s and drawIndexed()'s, across the bind (see draw())
     std::array<uint32_t, 3> m_dispatchGroups{};   // dispatch()'s, the same way
-    CommandMemory m_commandMemory;   // the pool's host memory; outlives it
+    CommandMemory m_commandMemory;   // the pool's host memory where Context::commandMemory; outlives it
+    const VkAllocationCallbacks* m_poolCallbacks;   // m_commandMemory's, or none (the driver's own)
     VkCommandPool m_pool = VK_NULL_HANDLE;
     VkCommandBuffer m_prologue = VK_NULL_HANDLE;   // query resets, which must precede the work
     VkCommandBuffer m_commands = VK_NULL_HANDLE;

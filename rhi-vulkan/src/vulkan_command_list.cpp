@@ -47,11 +47,12 @@ void CommandList::access(std::initializer_list<ResourceAccess> accesses) {
     m_hazards.access(m_commands, std::span(accesses.begin(), accesses.size()));
 }
 
-CommandList::CommandList(ContextPtr context) : m_context(std::move(context)) {
+CommandList::CommandList(ContextPtr context)
+    : m_context(std::move(context)), m_poolCallbacks(m_context->commandMemory ? m_commandMemory.callbacks() : nullptr) {
     VkDevice device = m_context->device;
     VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
     poolInfo.queueFamilyIndex = m_context->queueFamily;
-    check(vkCreateCommandPool(device, &poolInfo, m_commandMemory.callbacks(), &m_pool), ErrorCode::OutOfMemory,
+    check(vkCreateCommandPool(device, &poolInfo, m_poolCallbacks, &m_pool), ErrorCode::OutOfMemory,
           "vkCreateCommandPool");
     VkCommandBufferAllocateInfo allocInfo{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
     allocInfo.commandPool = m_pool;
@@ -62,7 +63,7 @@ CommandList::CommandList(ContextPtr context) : m_context(std::move(context)) {
     VkResult result = vkAllocateCommandBuffers(device, &allocInfo, buffers);
     if (result == VK_SUCCESS) result = vkCreateFence(device, &fenceInfo, nullptr, &m_fence);
     if (result != VK_SUCCESS) {
-        vkDestroyCommandPool(device, m_pool, m_commandMemory.callbacks());
+        vkDestroyCommandPool(device, m_pool, m_poolCallbacks);
         check(result, ErrorCode::OutOfMemory, "creating a command list");
     }
     m_prologue = buffers[0];
@@ -72,7 +73,7 @@ CommandList::CommandList(ContextPtr context) : m_context(std::move(context)) {
 CommandList::~CommandList() {
     if (m_pending) vkWaitForFences(m_context->device, 1, &m_fence, VK_TRUE, UINT64_MAX);
     vkDestroyFence(m_context->device, m_fence, nullptr);
-    vkDestroyCommandPool(m_context->device, m_pool, m_commandMemory.callbacks());
+    vkDestroyCommandPool(m_context->device, m_pool, m_poolCallbacks);
 }
 
 void CommandList::waitUntilDone() {

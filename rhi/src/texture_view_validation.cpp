@@ -252,4 +252,21 @@ void validateViewOverlaps(std::span<const UsedBinding> bindings, const RenderPas
     }
 }
 
+void requireSamplerMatchesShader(const BindingItem& item, bool shaderCompares, std::string_view where) {
+    if (item.type != ResourceType::SampledTexture || !item.sampler) return;
+    const bool samplerCompares = item.sampler->desc().compare.has_value();
+    if (samplerCompares == shaderCompares) return;
+    const std::string texture = item.texture ? fmt::format("texture '{}'", item.texture->desc().debugName) : "its texture";
+    if (shaderCompares)
+        throw Error(ErrorCode::InvalidUsage,
+                    fmt::format("{}: the shader declares a shadow sampler (it compares depth), but the binding reads {} "
+                                "through a sampler without compare; give that sampler SamplerDesc::setCompare",
+                                where, texture));
+    throw Error(ErrorCode::InvalidUsage,
+                fmt::format("{}: the sampler for {} compares depth (SamplerDesc::compare), but the shader declares a "
+                            "plain sampler, not a shadow sampler; use a sampler without compare or declare "
+                            "sampler2DShadow",
+                            where, texture));
+}
+
 }  // namespace janus::rhi

@@ -200,5 +200,37 @@ TEST_P(BindingCheckTest, ASetThatPassedInOnePassIsCheckedAgainstTheNextPass) {
     }
 }
 
+// rt_sample_at_shadow_frag declares a sampler2DShadow, rt_sample_at_2d_frag a sampler2D: each
+// must get a sampler that compares exactly when its shader's does. Drivers leave a mismatch
+// undefined (NVIDIA's GL reports it as undefined behaviour; Mesa and lavapipe draw something), so
+// the binding check names it, with the same error on every backend.
+TEST_P(BindingCheckTest, ASamplerComparesExactlyWhenTheShaderDeclaresAShadowSampler) {
+    TextureHandle depth = createTexture2D(Format::D32_FLOAT, 1, 1, TextureUsage::Sampled);
+    const float stored = 0.25f;
+    device().writeTexture(depth, {}, &stored, sizeof stored);
+    TextureHandle target = createTexture2D(Format::RGBA8_UNORM, 1, 1, TextureUsage::RenderTarget);
+    PipelineHandle shadow = fullscreenPipeline("rt_sample_at_shadow_frag", Format::RGBA8_UNORM);
+    PipelineHandle plain = fullscreenPipeline("rt_sample_at_2d_frag", Format::RGBA8_UNORM);
+    const std::array<float, 4 * 32> lookups{0.5f, 0.5f, 0.125f, 0.0f};   // texel centre, reference 0.125
+    BufferHandle coords = createBuffer(BufferUsage::Uniform, std::as_bytes(std::span(lookups)));
+    auto setWith = [&](const SamplerHandle& sampler) {
+        return device().createBindingSet(
+            BindingSetDesc().add(BindingItem::uniformBuffer(0, coords)).add(BindingItem::sampledTexture(1, depth, sampler)));
+    };
+    BindingSetHandle comparing = setWith(device().createSampler(
+        SamplerDesc().setFilter(Filter::Nearest).setAddress(AddressMode::ClampToEdge).setCompare(CompareOp::LessOrEqual)));
+    BindingSetHandle plainSampling = setWith(nearestClampSampler());
+    CommandListHandle list = device().createCommandList();
+    EXPECT_TRUE(recordingThrows(*list, drawInto(target, shadow, {plainSampling}), {"binding 1", "shadow sampler", "setCompare"}));
+    EXPECT_TRUE(recordingThrows(*list, drawInto(target, plain, {comparing}), {"binding 1", "compares depth", "sampler2DShadow"}));
+    // Matched, both draw: the comparison (reference <= texel: 0.125 <= 0.25) passes; the plain
+    // lookup reads 0.25.
+    record(list, drawInto(target, shadow, {comparing}));
+    device().waitIdle();
+    EXPECT_EQ(readTextureAs<Rgba8>(target), std::vector<Rgba8>(1, Rgba8{255, 255, 255, 255}));
+    record(list, drawInto(target, plain, {plainSampling}));
+    EXPECT_EQ(readTextureAs<Rgba8>(target)[0].r, 64) << "0.25 of 255, rounded";
+}
+
 }  // namespace
 }  // namespace janus::rhi::test

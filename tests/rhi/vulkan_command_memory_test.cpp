@@ -4,7 +4,10 @@
 // system), and that a command list's driver records into it.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <cstring>
+#include <memory>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -115,6 +118,9 @@ TEST_P(VulkanCommandListMemoryTest, ReRecordingReusesTheListsMemory) {
     const BufferHandle source = createBuffer(BufferUsage::Vertex, 4096);
     const BufferHandle target = createBuffer(BufferUsage::Vertex, 4096);
     const CommandListHandle list = device().createCommandList();
+    if (!dynamic_cast<const vulkan::CommandList&>(*list).usesCommandMemory())
+        GTEST_SKIP() << device().info().driverInfo << ": command pools use the driver's own memory (only lavapipe's use "
+                     << "the lists', unless JANUS_VULKAN_COMMAND_MEMORY=on)";
     const CommandMemory& memory = dynamic_cast<const vulkan::CommandList&>(*list).commandMemory();
     auto record = [&] {
         list->begin();
@@ -138,6 +144,28 @@ TEST_P(VulkanCommandListMemoryTest, ReRecordingReusesTheListsMemory) {
         EXPECT_EQ(memory.reservedBytes(), reserved) << "round " << round;
         EXPECT_EQ(memory.liveBlocks(), live) << "round " << round;
     }
+}
+
+// Which drivers get command memory: lavapipe, unless JANUS_VULKAN_COMMAND_MEMORY says on or off.
+TEST_P(VulkanCommandListMemoryTest, LavapipeUsesItAndTheEnvironmentDecidesWhenSet) {
+    auto usesIt = [](const IDevice& device) {
+        const CommandListHandle list = const_cast<IDevice&>(device).createCommandList();
+        return dynamic_cast<const vulkan::CommandList&>(*list).usesCommandMemory();
+    };
+    const char* forced = std::getenv("JANUS_VULKAN_COMMAND_MEMORY");
+    if (!forced || !*forced)
+        EXPECT_EQ(usesIt(device()), device().info().deviceName.starts_with("llvmpipe")) << device().info().driverInfo;
+    const std::string saved = forced ? forced : "";
+    for (const auto& [value, expected] : std::vector<std::pair<std::string, bool>>{{"on", true}, {"off", false}, {"1", true}, {"0", false}}) {
+        ::setenv("JANUS_VULKAN_COMMAND_MEMORY", value.c_str(), 1);
+        std::unique_ptr<IDevice> other = createDevice(DeviceDesc().setBackend(Backend::Vulkan));
+        EXPECT_EQ(usesIt(*other), expected) << "JANUS_VULKAN_COMMAND_MEMORY=" << value;
+    }
+    ::setenv("JANUS_VULKAN_COMMAND_MEMORY", "sometimes", 1);
+    EXPECT_TRUE(throwsRhiError([] { createDevice(DeviceDesc().setBackend(Backend::Vulkan)); }, ErrorCode::BackendUnavailable,
+                               {"JANUS_VULKAN_COMMAND_MEMORY='sometimes'", "on or off"}));
+    if (forced) ::setenv("JANUS_VULKAN_COMMAND_MEMORY", saved.c_str(), 1);
+    else ::unsetenv("JANUS_VULKAN_COMMAND_MEMORY");
 }
 
 JANUS_INSTANTIATE_BACKEND_TESTS(VulkanCommandListMemoryTest);

@@ -34,6 +34,13 @@ ResolvedTextureView validateTextureView(const BindingItem& item, const Capabilit
 // The same resolution without checks, for items validated when their set was created.
 ResolvedTextureView resolveTextureView(const BindingItem& item);
 
+// A sampled texture item against how the shader declares it: a shadow sampler (sampler2DShadow and
+// kin, which compare) needs a sampler with SamplerDesc::compare, any other sampler one without.
+// Drivers leave the mismatch undefined (NVIDIA's GL reports it, Mesa and lavapipe say nothing), so
+// every backend checks it when it first pairs a set with a pipeline. `where` names the binding and
+// the shader's variable. Throws InvalidUsage.
+void requireSamplerMatchesShader(const BindingItem& item, bool shaderCompares, std::string_view where);
+
 // True when `view` shows all of `desc` with its own dimension (what binding the texture itself gives).
 bool isWholeTexture(const ResolvedTextureView& view, const TextureDesc& desc);
 
