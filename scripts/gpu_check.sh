@@ -28,17 +28,19 @@
 # that the whole run ends inside it.
 #
 # Options: --out DIR (required), --build-dir DIR (run local binaries instead of .gpu/run.sh),
-# --budget SECONDS, --quick (small sizes and short runs: for trying the script, not for numbers).
+# --budget SECONDS, --quick (small sizes and short runs: for trying the script, not for numbers),
+# --tests-only (info and the two suites: to check fixes when little device time is left).
 set -uo pipefail
 
 repo_root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-out="" build_dir="" quick=0 budget=480
+out="" build_dir="" quick=0 budget=480 tests_only=0
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --out) out="$2"; shift 2 ;;
     --build-dir) build_dir="$(realpath -m "$2")"; shift 2 ;;
     --quick) quick=1; shift ;;
     --budget) budget="$2"; shift 2 ;;
+    --tests-only) tests_only=1; shift ;;
     -h|--help) sed -n '2,25p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "gpu_check.sh: unknown argument '$1' (try --help)" >&2; exit 2 ;;
   esac
@@ -77,7 +79,11 @@ summary="$results/summary.txt"
 # What has finished so far, into OUT: the device returns OUT even when its time limit ends the run.
 publish() {
   cp "$summary" "$out/summary.txt.$BASHPID" && mv "$out/summary.txt.$BASHPID" "$out/summary.txt"
-  tar -czf "$out/gpu-check.tar.gz.$BASHPID" -C "$results" . && mv "$out/gpu-check.tar.gz.$BASHPID" "$out/gpu-check.tar.gz"
+  # Shards still running write into their suite's .tmp folder: left out. (tar exits 1 when a file
+  # changed while read; the archive is still whole.)
+  tar -czf "$out/gpu-check.tar.gz.$BASHPID" --exclude='./*.tmp' -C "$results" . 2>/dev/null
+  [[ -s "$out/gpu-check.tar.gz.$BASHPID" ]] && mv "$out/gpu-check.tar.gz.$BASHPID" "$out/gpu-check.tar.gz"
+  rm -f "$out/gpu-check.tar.gz.$BASHPID"
 }
 
 # step NAME LIMIT_SECONDS PROGRAM ARGS...: `run`s it, output into NAME.txt, a summary line with
@@ -132,6 +138,11 @@ sharded_suite() {
 step info 60 janus info
 sharded_suite rhi_tests 200 janus_rhi_tests
 sharded_suite renderer_tests 240 janus_renderer_tests
+if [[ $tests_only == 1 ]]; then
+  publish
+  cat "$summary"
+  exit 0
+fi
 if [[ $quick == 1 ]]; then
   step forward 120 janus bench forward --quick --out "$results/forward"
   bench_processes=1 bench_options=(--benchmark_filter='vulkan' --benchmark_min_time=0.05)

@@ -510,6 +510,11 @@ void Device::execute(const CommandListHandle& commandList) {
         ~ForgetReplayPipeline() { context.replayPipeline = nullptr; }
     } forget{*m_context};
     list->replay();
+    // No program stays in use after the list: NVIDIA checks the program in use for undefined
+    // sampling on later calls that draw nothing (a texture read back or uploaded), and by then a
+    // texture it sampled may be gone (id 131222, seen after cube captures). The next list binds
+    // its own pipeline anyway.
+    if (m_pipeline) gl().glUseProgram(0);
     m_pipeline = nullptr;
 }
 

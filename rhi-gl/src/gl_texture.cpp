@@ -318,8 +318,12 @@ std::vector<std::byte> Device::readDepthThroughColor(const Texture& texture, Tex
     f.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     f.glDrawArraysInstanced(GL_TRIANGLES, 0, 3, 1);
     std::vector<std::byte> depth = downloadTexture(color, {});
-    // A command list may be mid-replay (copyTextureToBuffer): give it its pipeline back.
-    if (m_pipeline) m_pipeline->applyState();
+    // A command list may be mid-replay (copyTextureToBuffer): give it its pipeline back. Else no
+    // program stays in use (see Device::execute): `flat`, which it samples, is deleted below.
+    if (m_pipeline)
+        m_pipeline->applyState();
+    else
+        f.glUseProgram(0);
     return depth;
 }
 

@@ -381,5 +381,22 @@ TEST_P(FormatCapabilityTest, GenerateMips) {
     }
 }
 
+// An sRGB texture's mips average light, not encoded values: black and white make mid grey in
+// linear light (0.5, stored as sRGB 188), not the encoded midpoint (128). Textures minified in a
+// scene show the difference (text on a label turns darker), so every backend must agree.
+TEST_P(FormatCapabilityTest, SrgbMipsAverageInLinearLight) {
+    if (!has(Format::RGBA8_SRGB, FormatCapability::GenerateMips)) GTEST_SKIP() << "rgba8_srgb has no mip generation here";
+    TextureHandle texture = createTexture2D(Format::RGBA8_SRGB, 2, 2, TextureUsage::Sampled, 2);
+    const std::vector<uint8_t> texels = {0, 0, 0, 0, 255, 255, 255, 255, 0, 0, 0, 0, 255, 255, 255, 255};
+    device().writeTexture(texture, {}, texels.data(), texels.size());
+    submit([&](ICommandList& cmd) { cmd.generateMips(texture); });
+    const std::vector<std::byte> mip = device().readTexture(texture, {1, 0});
+    ASSERT_EQ(mip.size(), 4u);
+    // sRGB encoding of 0.5 is 187.5: either neighbour is a correct rounding. Alpha is linear.
+    for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(int(mip[c]), 187.5, 0.5) << "channel " << c << " (128 would be the average of the encoded values)";
+    EXPECT_NEAR(int(mip[3]), 127.5, 0.5) << "alpha";
+}
+
 }  // namespace
 }  // namespace janus::rhi::test
