@@ -86,7 +86,8 @@ public:
     bool bresenhamLines = false;
     uint32_t timestampValidBits = 0;
     bool debugUtils = false;
-    // Command pools allocate host memory through each list's CommandMemory (useCommandMemory()).
+    // Command pools allocate host memory through each list's CommandMemory (on unless
+    // JANUS_VULKAN_COMMAND_MEMORY=off; vulkan_device.cpp, useCommandMemory()).
     bool commandMemory = false;
 
     PFN_vkCmdBeginRendering cmdBeginRendering = nullptr;

@@ -212,25 +212,21 @@ void pickPhysicalDevice(Context& ctx) {
     ctx.apiVersion = std::min(ctx.properties.apiVersion, uint32_t(VK_API_VERSION_1_3));
 }
 
-// Whether command pools get the lists' CommandMemory allocation callbacks. They pay where the
-// driver allocates every recorded command through the host allocator: lavapipe does (three
-// mallocs per bind + dispatch), and its draws and dispatches got 2-4x cheaper with them. A
-// driver that records into memory of its own gains nothing and pays for the callbacks: on NVIDIA
-// (H200, driver 580) raw Vulkan draws took 66 ns with them against 55 without. So on for
-// lavapipe only, unless JANUS_VULKAN_COMMAND_MEMORY says on or off (for measuring).
-bool useCommandMemory(VkPhysicalDevice gpu) {
-    if (const char* forced = std::getenv("JANUS_VULKAN_COMMAND_MEMORY"); forced && *forced) {
-        const std::string_view value(forced);
-        if (value == "on" || value == "1") return true;
-        if (value == "off" || value == "0") return false;
-        throw Error(ErrorCode::BackendUnavailable,
-                    fmt::format("JANUS_VULKAN_COMMAND_MEMORY='{}' is not on or off; set one of those or unset it", value));
-    }
-    VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
-    VkPhysicalDeviceProperties2 props2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
-    props2.pNext = &driver;
-    vkGetPhysicalDeviceProperties2(gpu, &props2);
-    return driver.driverID == VK_DRIVER_ID_MESA_LLVMPIPE;
+// Whether command pools get the lists' CommandMemory allocation callbacks: yes unless
+// JANUS_VULKAN_COMMAND_MEMORY says off (for measuring; "on" or "1" forces them too). They pay
+// where the driver allocates every recorded command through the host allocator: lavapipe does
+// (three mallocs per bind + dispatch), and its draws and dispatches got 2-4x cheaper with them.
+// On NVIDIA (H200, driver 580) four processes gave no clear answer either way: raw draws into
+// the callbacks took 66, 92, 94 and 61 ns against 55, 70, 94 and 83 ns without, so they stay
+// on everywhere (docs/BENCHMARKS.md, "NVIDIA H200").
+bool useCommandMemory() {
+    const char* forced = std::getenv("JANUS_VULKAN_COMMAND_MEMORY");
+    if (!forced || !*forced) return true;
+    const std::string_view value(forced);
+    if (value == "on" || value == "1") return true;
+    if (value == "off" || value == "0") return false;
+    throw Error(ErrorCode::BackendUnavailable,
+                fmt::format("JANUS_VULKAN_COMMAND_MEMORY='{}' is not on or off; set one of those or unset it", value));
 }
 
 void createLogicalDevice(Context& ctx) {
@@ -434,7 +430,7 @@ public:
         m_context->messageCallback = desc.messageCallback;
         createInstance(*m_context, desc);
         pickPhysicalDevice(*m_context);
-        m_context->commandMemory = useCommandMemory(m_context->physicalDevice);
+        m_context->commandMemory = useCommandMemory();
         createLogicalDevice(*m_context);
         DeviceProperties properties;
         properties.info = describe(*m_context);

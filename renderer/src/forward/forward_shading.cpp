@@ -197,9 +197,12 @@ const GpuScene::MeshPipelines& ForwardShading::pipelines(bool prepass, const Vie
                                               rhi::Format::Unknown, state.view.depthFormat, state.view.mirrored, "depth prepass");
     } else {
         // After a depth prepass the forward pass only shades the surfaces the prepass kept
-        // (forward.vert's invariant position gives both the same depth bits).
+        // (forward.vert's invariant position gives both the same depth bits). Without one it
+        // also tests LessOrEqual, so an exact depth tie (coplanar surfaces, or two surfaces
+        // meeting in an edge through a pixel centre) goes to the later instance in both frames:
+        // with Less the earlier one won here and the later one after a prepass.
         const rhi::DepthState depth = state.tiled ? rhi::DepthState{true, false, rhi::CompareOp::LessOrEqual}
-                                                  : rhi::DepthState{true, true, rhi::CompareOp::Less};
+                                                  : rhi::DepthState{true, true, rhi::CompareOp::LessOrEqual};
         made = m_gpuScene.createMeshPipelines(m_vertexShader, m_forwardShader, depth, state.view.colorFormat, state.view.depthFormat,
                                               state.view.mirrored, "forward");
     }
