@@ -3,7 +3,8 @@
 # all, its start included, so this is prepared here and run there once.
 #
 # Here:   bash ../shared/gpu/pack.sh build .gpu          (see ../shared/gpu/README.md)
-# There:  bash scripts/gpu_check.sh --out "$OUT"          (device `run` with carry [".gpu"])
+#         tar -czf .gpu-pack/gpu.tar.gz .gpu              (.gpu is over the device's 64 MiB)
+# There:  bash scripts/gpu_check.sh --out "$OUT"          (device `run` with carry [".gpu-pack"])
 # Try the script itself here with local binaries:
 #         scripts/gpu_check.sh --build-dir build --out /tmp/gpu-check --quick
 #
@@ -62,8 +63,14 @@ run() {
 }
 export -f run   # `timeout` runs it through bash -c
 export build_dir repo_root
+# .gpu is over the device's 64 MiB with Embree: it travels as .gpu-pack/gpu.tar.gz
+# (tar -czf .gpu-pack/gpu.tar.gz .gpu here, carry [".gpu-pack"]) and is unpacked here.
+if [[ -z "$build_dir" && ! -f "$repo_root/.gpu/run.sh" && -f "$repo_root/.gpu-pack/gpu.tar.gz" ]]; then
+  tar -xzf "$repo_root/.gpu-pack/gpu.tar.gz" -C "$repo_root"
+fi
 if [[ -z "$build_dir" && ! -f "$repo_root/.gpu/run.sh" ]]; then
-  echo "gpu_check.sh: no .gpu/run.sh: pack a build first (bash ../shared/gpu/pack.sh build .gpu) and carry .gpu" >&2
+  echo "gpu_check.sh: no .gpu/run.sh: pack a build first (bash ../shared/gpu/pack.sh build .gpu; then carry .gpu, or" \
+       "tar -czf .gpu-pack/gpu.tar.gz .gpu and carry .gpu-pack)" >&2
   exit 2
 fi
 
