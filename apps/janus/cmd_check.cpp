@@ -24,6 +24,7 @@ struct CheckOptions {
     std::string out;
     std::string size = "64x64";
     std::string tolerance = "1";
+    std::string edgePixels = std::to_string(kDefaultEdgePixels);
     std::string glPlatform = "egl";
     bool validation = false;
     bool allowOutsidePaths = false;
@@ -320,6 +321,7 @@ struct Report {
     std::vector<std::string> paths;
     ImageSize size;
     uint32_t tolerance = 1;
+    uint64_t edgePixels = kDefaultEdgePixels;
     std::string glPlatform;
     std::vector<ConfigurationAvailability> availability;
     std::vector<std::string> sheets;   // per configuration: contact sheet file name, "" when unavailable
@@ -340,7 +342,8 @@ std::string markdown(const Report& report) {
     for (const std::string& path : report.paths) quoted.push_back(fmt::format("`{}`", path));
     md += fmt::format("- paths: {}\n", joined(quoted, ", "));
     md += fmt::format("- {}\n", countsText(report));
-    md += fmt::format("- size {}x{}, tolerance {} step(s) of 1/255\n", report.size.width, report.size.height, report.tolerance);
+    md += fmt::format("- size {}x{}, tolerance {} step(s) of 1/255, up to {} edge pixel(s) beyond it\n", report.size.width,
+                      report.size.height, report.tolerance, report.edgePixels);
     md += fmt::format("- result: **{}** (exit {})\n\n", counts.passed() ? "PASSED" : "FAILED",
                       counts.passed() ? 0 : int(ExitCode::ComparisonFailed));
 
@@ -456,6 +459,7 @@ nlohmann::json reportJson(const Report& report) {
             {"width", report.size.width},
             {"height", report.size.height},
             {"tolerance", report.tolerance},
+            {"edgePixels", report.edgePixels},
             {"glPlatform", report.glPlatform},
             {"passed", counts.passed()},
             {"exitCode", counts.passed() ? 0 : int(ExitCode::ComparisonFailed)},
@@ -556,7 +560,7 @@ FileResult checkFile(const std::filesystem::path& path, size_t index, size_t ind
     if (scene) {
         std::vector<const renderer::ImageRGBA8*> pointers;
         for (const auto& image : images) pointers.push_back(image ? &*image : nullptr);
-        for (const PairComparison& comparison : compareAllPairs(pointers, report.tolerance)) {
+        for (const PairComparison& comparison : compareAllPairs(pointers, report.tolerance, report.edgePixels)) {
             if (!comparison.difference) continue;
             const Configuration& a = kConfigurations[comparison.a];
             const Configuration& b = kConfigurations[comparison.b];
@@ -609,6 +613,7 @@ int run(const CheckOptions& options) {
     base.glPlatform = parseGLPlatformOption(options.glPlatform);
     base.validation = options.validation;
     const uint32_t tolerance = parseTolerance(options.tolerance);
+    const uint64_t edgePixels = parseEdgePixels(options.edgePixels);
     if (options.paths.empty())
         throw UsageError("give at least one PATH: a .gltf / .glb file or a folder to search, e.g. 'janus check assets --out report'");
     if (options.out.empty()) throw UsageError("--out DIR is required: where to write check.md, check.json and the contact sheets");
@@ -624,6 +629,7 @@ int run(const CheckOptions& options) {
     report.paths = options.paths;
     report.size = base.size;
     report.tolerance = tolerance;
+    report.edgePixels = edgePixels;
     report.glPlatform = options.glPlatform;
     report.availability = probeConfigurations(base.glPlatform, base.size);
     if (std::none_of(report.availability.begin(), report.availability.end(), [](const auto& a) { return a.available; })) {
@@ -710,6 +716,7 @@ Command addCheckCommand(CLI::App& parent) {
                     "Largest allowed channel difference, in steps of 1/255, for two configurations to agree")
         ->default_str("1")
         ->type_name("STEPS");
+    addEdgePixelsOption(*app, options->edgePixels);
     addGLPlatformOption(*app, options->glPlatform);
     addEnvironmentOptions(*app, options->environment);
     addAllowOutsidePathsFlag(*app, options->allowOutsidePaths);

@@ -18,6 +18,7 @@ struct ParityOptions {
     std::string size = "256x256";
     std::string out;
     std::string tolerance = "1";
+    std::string edgePixels = std::to_string(kDefaultEdgePixels);
     std::string against;                  // another machine's `janus parity --out` directory
     std::string againstTolerance = "1";
     std::string glPlatform = "egl";
@@ -73,11 +74,11 @@ void checkAgainstSummary(const AgainstDirectory& against, const std::string& sce
 // One comparison's table row and JSON fields (`pair` or an --against entry): the heat map is written
 // to `heatmap`. JSON has no infinity: identical images say so and carry a null PSNR.
 void recordDifference(const std::string& name, const renderer::ImageRGBA8& a, const renderer::ImageRGBA8& b,
-                      const renderer::ImageDifference& diff, bool passed, const std::filesystem::path& heatmap,
+                      const renderer::ImageDifference& diff, uint32_t tolerance, bool passed, const std::filesystem::path& heatmap,
                       std::vector<std::vector<std::string>>& rows, nlohmann::json& entry) {
     renderer::writePNG(heatmap, renderer::differenceHeatmap(a, b, kHeatmapFullScaleSteps));
     rows.push_back({name, std::to_string(diff.maxChannelDifference), psnrText(diff.psnr),
-                    fmt::format("{} / {}", diff.differingPixels, diff.totalPixels), passed ? "ok" : "FAIL"});
+                    fmt::format("{} / {}", diff.differingPixels, diff.totalPixels), pairResultText(diff, tolerance, passed)});
     entry["compared"] = true;
     entry["maxChannelDifference"] = diff.maxChannelDifference;
     entry["identical"] = std::isinf(diff.psnr);
@@ -115,7 +116,7 @@ nlohmann::json compareAgainst(const AgainstDirectory& against, const std::vector
                                          r.stem, ours.width, ours.height));
         const renderer::ImageDifference diff = renderer::compareImages(ours, other, against.tolerance);
         const bool ok = diff.differingPixels == 0;
-        recordDifference(r.stem, ours, other, diff, ok, outDir / fmt::format("against-{}.png", r.stem), rows, entry);
+        recordDifference(r.stem, ours, other, diff, against.tolerance, ok, outDir / fmt::format("against-{}.png", r.stem), rows, entry);
         passed = passed && ok;
         anyCompared = true;
         entries.push_back(std::move(entry));
@@ -134,6 +135,7 @@ int run(const ParityOptions& options) {
     base.validation = options.validation;
     base.lighting = parseLightingOptions(options.lighting);
     const uint32_t tolerance = parseTolerance(options.tolerance);
+    const uint64_t edgePixels = parseEdgePixels(options.edgePixels);
     if (options.out.empty()) throw UsageError("--out DIR is required: where to write the images and parity.json");
     const std::optional<AgainstDirectory> against = parseAgainst(options);
 
@@ -162,8 +164,8 @@ int run(const ParityOptions& options) {
         throw InputError(fmt::format("cannot create --out directory '{}': {}; choose another path", options.out, ec.message()));
     checkOutputFile(outDir / "parity.json", "--out");
 
-    std::printf("parity: %s at %ux%u, tolerance %u step(s)\n", sceneLabel(scenePath).c_str(), base.size.width,
-                base.size.height, tolerance);
+    std::printf("parity: %s at %ux%u, tolerance %u step(s), up to %llu edge pixel(s) beyond it\n", sceneLabel(scenePath).c_str(),
+                base.size.width, base.size.height, tolerance, static_cast<unsigned long long>(edgePixels));
     if (const std::string pose = poseLine(scene); !pose.empty()) std::printf("pose: %s\n", pose.c_str());
     std::printf("\n");
 
@@ -188,13 +190,13 @@ int run(const ParityOptions& options) {
         {"pair", "max diff", "PSNR dB", fmt::format("pixels > {} step(s)", tolerance), "result"}};
     std::vector<const renderer::ImageRGBA8*> images;
     for (const ConfigurationResult& r : results) images.push_back(r.image.empty() ? nullptr : &r.outcome->display);
-    for (const PairComparison& comparison : compareAllPairs(images, tolerance)) {
+    for (const PairComparison& comparison : compareAllPairs(images, tolerance, edgePixels)) {
         const ConfigurationResult& a = results[comparison.a];
         const ConfigurationResult& b = results[comparison.b];
         const std::string pairName = fmt::format("{} vs {}", a.stem, b.stem);
         nlohmann::json pair{{"a", a.stem}, {"b", b.stem}};
         if (comparison.difference) {
-            recordDifference(pairName, a.outcome->display, b.outcome->display, *comparison.difference, comparison.passed,
+            recordDifference(pairName, a.outcome->display, b.outcome->display, *comparison.difference, tolerance, comparison.passed,
                              outDir / fmt::format("diff-{}-vs-{}.png", a.stem, b.stem), pairRows, pair);
             passed = passed && comparison.passed;
         } else {
@@ -230,6 +232,7 @@ int run(const ParityOptions& options) {
                                  {"width", base.size.width},
                                  {"height", base.size.height},
                                  {"tolerance", tolerance},
+                                 {"edgePixels", edgePixels},
                                  {"heatmapFullScaleSteps", kHeatmapFullScaleSteps},
                                  {"passed", passed},
                                  {"configurations", configsJson},
@@ -267,6 +270,7 @@ Command addParityCommand(CLI::App& parent) {
                     "Largest allowed channel difference, in steps of 1/255, for a pair to agree")
         ->default_str("1")
         ->type_name("STEPS");
+    addEdgePixelsOption(*app, options->edgePixels);
     app->add_option("--against", options->against,
                     "The --out directory of a parity run on another machine (same scene and --size): compare each "
                     "configuration's image with its image there")

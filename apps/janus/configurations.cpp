@@ -65,19 +65,44 @@ uint32_t parseTolerance(std::string_view text) {
 
 std::string psnrText(double psnr) { return std::isinf(psnr) ? "inf" : fmt::format("{:.2f}", psnr); }
 
-std::vector<PairComparison> compareAllPairs(const std::vector<const renderer::ImageRGBA8*>& images, uint32_t tolerance) {
+std::vector<PairComparison> compareAllPairs(const std::vector<const renderer::ImageRGBA8*>& images, uint32_t tolerance,
+                                            uint64_t edgePixels) {
     std::vector<PairComparison> pairs;
     for (size_t i = 0; i < images.size(); ++i) {
         for (size_t j = i + 1; j < images.size(); ++j) {
             PairComparison pair{i, j};
             if (images[i] && images[j]) {
                 pair.difference = renderer::compareImages(*images[i], *images[j], tolerance);
-                pair.passed = pair.difference->maxChannelDifference <= tolerance;
+                pair.passed = pair.difference->maxChannelDifference <= tolerance || pair.difference->differingPixels <= edgePixels;
             }
             pairs.push_back(pair);
         }
     }
     return pairs;
+}
+
+uint64_t parseEdgePixels(std::string_view text) {
+    uint64_t value = 0;
+    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (error != std::errc{} || end != text.data() + text.size() || value > (uint64_t(1) << 32))
+        throw UsageError(fmt::format("--edge-pixels '{}' is not a whole number of pixels in 0..2^32 (default {}; 0 allows none)",
+                                     text, kDefaultEdgePixels));
+    return value;
+}
+
+void addEdgePixelsOption(CLI::App& app, std::string& edgePixels) {
+    edgePixels = std::to_string(kDefaultEdgePixels);
+    app.add_option("--edge-pixels", edgePixels,
+                   "Pixels two configurations may have beyond --tolerance and still agree: GL and Vulkan may break a tie "
+                   "differently where a pixel centre lies on an edge between two triangles (0: none)")
+        ->default_str(std::to_string(kDefaultEdgePixels))
+        ->type_name("N");
+}
+
+std::string pairResultText(const renderer::ImageDifference& difference, uint32_t tolerance, bool passed) {
+    if (!passed) return "FAIL";
+    if (difference.maxChannelDifference <= tolerance) return "ok";
+    return fmt::format("ok ({} edge pixel{})", difference.differingPixels, difference.differingPixels == 1 ? "" : "s");
 }
 
 }  // namespace janus::cli

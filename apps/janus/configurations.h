@@ -64,14 +64,30 @@ uint32_t parseTolerance(std::string_view text);
 // "inf" for identical images, else two decimals.
 std::string psnrText(double psnr);
 
+// Pixels a pair may have beyond the tolerance and still agree (--edge-pixels): where a pixel
+// centre lies exactly on an edge between two triangles, GL (rasterising with y up) and Vulkan (y
+// down) may break the tie differently and shade that pixel from the other triangle. The renderer
+// suite allows the same 4 (tests/renderer/renderer_test_support.cpp); seen: one interior pixel,
+// 2 steps, of DamagedHelmet at 512x512 on llvmpipe. A real bug changes far more pixels.
+inline constexpr uint64_t kDefaultEdgePixels = 4;
+
+// --edge-pixels: a pixel count in 0..2^32; throws UsageError.
+uint64_t parseEdgePixels(std::string_view text);
+// Adds --edge-pixels N (parity and check), stored as text for parseEdgePixels.
+void addEdgePixelsOption(CLI::App& app, std::string& edgePixels);
+
 // One pair of configurations compared (i < j, indices into the images given).
 struct PairComparison {
     size_t a = 0, b = 0;
     std::optional<renderer::ImageDifference> difference;   // nothing: one of the two did not render
-    bool passed = false;                                    // compared and within the tolerance
+    bool passed = false;   // compared, and within the tolerance or at most `edgePixels` pixels beyond it
 };
 
 // Every pair (i < j, in order) of `images`; a null image did not render, and its pairs are not compared.
-std::vector<PairComparison> compareAllPairs(const std::vector<const renderer::ImageRGBA8*>& images, uint32_t tolerance);
+std::vector<PairComparison> compareAllPairs(const std::vector<const renderer::ImageRGBA8*>& images, uint32_t tolerance,
+                                            uint64_t edgePixels);
+
+// The result column of a compared pair: "ok", "ok (N edge pixel(s))" or "FAIL".
+std::string pairResultText(const renderer::ImageDifference& difference, uint32_t tolerance, bool passed);
 
 }  // namespace janus::cli

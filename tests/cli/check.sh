@@ -2,7 +2,7 @@
 # `janus check`: usage and input errors; the shared scenes (../shared/scenes) at 48x48 with
 # check.json's structure, counts, detected features, thumbnails and contact sheets checked pixel
 # by pixel; a small folder of our own (a malformed .gltf, a .glb, a duplicate) with gles made
-# unavailable; divergence at --tolerance 0. Needs the backends; about 45 s on llvmpipe.
+# unavailable; divergence at --tolerance 0 --edge-pixels 0. Needs the backends; about 45 s on llvmpipe.
 source "$(dirname "$0")/common.bash" "$@"
 
 SCENES="$REPO_ROOT/../shared/scenes"
@@ -12,7 +12,7 @@ CORNELL="$SCENES/cornell-box/cornellBox.gltf"
 # ---- help, usage and input errors (no device is opened) --------------------------------------
 run_janus check --help
 [[ $rc == 0 ]] || fail "janus check --help: exit $rc"
-for text in --out --size --tolerance --gl-platform --validation --allow-outside-paths --env '^  0  ' '^  1  ' '^  3  ' '^  4  '; do
+for text in --out --size --tolerance --edge-pixels --gl-platform --validation --allow-outside-paths --env '^  0  ' '^  1  ' '^  3  ' '^  4  '; do
   grep -Eq -- "$text" "$TMP/stdout" || fail "janus check --help does not mention $text"
 done
 
@@ -69,7 +69,7 @@ check(len({f["path"] for f in files}) == len(files), "a file is listed twice")
 check(len(j["configurations"]) == 5, "not five configurations")
 available = [c["available"] for c in j["configurations"]]
 names = [c["configuration"] for c in j["configurations"]]
-tolerance = j["tolerance"]
+tolerance, edge_pixels = j["tolerance"], j["edgePixels"]
 for f in files:
     what = f["path"]
     check(f["status"] in file_states, f"{what}: status {f['status']}")
@@ -91,8 +91,9 @@ for f in files:
         p = f["parity"]
         rendered = states.count("rendered")
         check(p["pairsCompared"] == rendered * (rendered - 1) // 2 == len(p["pairs"]), f"{what}: {p['pairsCompared']} pairs compared for {rendered} renders")
-        over = [q for q in p["pairs"] if q["maxChannelDifference"] > tolerance]
-        check(all(q["passed"] == (q["maxChannelDifference"] <= tolerance) for q in p["pairs"]), f"{what}: a pair's passed disagrees with the tolerance")
+        over = [q for q in p["pairs"] if q["maxChannelDifference"] > tolerance and q["differingPixels"] > edge_pixels]
+        check(all(q["passed"] == (q["maxChannelDifference"] <= tolerance or q["differingPixels"] <= edge_pixels) for q in p["pairs"]),
+              f"{what}: a pair's passed disagrees with the tolerance and the edge pixels")
         check(all(os.path.isfile(os.path.join(out, q["heatmap"])) for q in over), f"{what}: a heat map of a diverging pair is missing")
         if p["pairs"]:
             check(p["maxChannelDifference"] == max(q["maxChannelDifference"] for q in p["pairs"]), f"{what}: wrong max diff")
@@ -229,8 +230,8 @@ grep -q "^## Loader warnings" "$small/check.md" && grep -q "ignoring glTF extens
 grep -q "gles/fallback unavailable" "$TMP/stdout" || fail "the console does not say gles/fallback is unavailable"
 grep -Eq '^\[2/3\] refused +.*broken.gltf: .*malformed' "$TMP/stdout" || fail "no progress line with the refusal: $(cat "$TMP/stdout")"
 
-# ---- divergence: --tolerance 0 fails exactly when some pair differs at all --------------------
-run_janus check "$CORNELL" --size 48x48 --tolerance 0 --out "$TMP/strict"
+# ---- divergence: --tolerance 0 --edge-pixels 0 fails exactly when some pair differs at all ------
+run_janus check "$CORNELL" --size 48x48 --tolerance 0 --edge-pixels 0 --out "$TMP/strict"
 check_report "$TMP/strict" 48 48 "$rc"
 differs=$(python3 -c 'import json,sys; f=json.load(open(sys.argv[1]))["files"][0]; print(int((f["parity"]["maxChannelDifference"] or 0) > 0))' "$TMP/strict/check.json" || echo unknown)
 if [[ $differs == 1 ]]; then
