@@ -93,8 +93,8 @@ uint64_t parseEdgePixels(std::string_view text) {
 void addEdgePixelsOption(CLI::App& app, std::string& edgePixels) {
     edgePixels = std::to_string(kDefaultEdgePixels);
     app.add_option("--edge-pixels", edgePixels,
-                   "Pixels two configurations may have beyond --tolerance and still agree: GL and Vulkan may break a tie "
-                   "differently where a pixel centre lies on an edge between two triangles (0: none)")
+                   "Pixels two configurations may have beyond --tolerance and still agree: a pixel centre on (or within "
+                   "rounding of) an edge between two triangles may go to either triangle on GL and Vulkan (0: none)")
         ->default_str(std::to_string(kDefaultEdgePixels))
         ->type_name("N");
 }

@@ -64,11 +64,12 @@ uint32_t parseTolerance(std::string_view text);
 // "inf" for identical images, else two decimals.
 std::string psnrText(double psnr);
 
-// Pixels a pair may have beyond the tolerance and still agree (--edge-pixels): where a pixel
-// centre lies exactly on an edge between two triangles, GL (rasterising with y up) and Vulkan (y
-// down) may break the tie differently and shade that pixel from the other triangle. The renderer
-// suite allows the same 4 (tests/renderer/renderer_test_support.cpp); seen: one interior pixel,
-// 2 steps, of DamagedHelmet at 512x512 on llvmpipe. A real bug changes far more pixels.
+// Pixels a pair may have beyond the tolerance and still agree (--edge-pixels): a pixel centre on
+// an edge between two triangles, or within rounding of one, may go to either triangle on GL and
+// Vulkan (the two compile the vertex shader separately, so positions can differ in the last bit,
+// and they apply the tie-break rule with y up and y down). The renderer suite allows the same 4
+// (tests/renderer/renderer_test_support.cpp); seen: one interior pixel, 2 steps, of DamagedHelmet
+// at 512x512 on llvmpipe. A real bug changes far more pixels.
 inline constexpr uint64_t kDefaultEdgePixels = 4;
 
 // --edge-pixels: a pixel count in 0..2^32; throws UsageError.
