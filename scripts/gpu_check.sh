@@ -3,7 +3,8 @@
 # all, its start included, so this is prepared here and run there once.
 #
 # Here:   bash ../shared/gpu/pack.sh build .gpu          (see ../shared/gpu/README.md)
-#         tar -czf .gpu-pack/gpu.tar.gz .gpu              (.gpu is over the device's 64 MiB)
+#         git rev-parse --short HEAD > .gpu-pack/commit; tar -czf .gpu-pack/gpu.tar.gz .gpu
+#                                                         (.gpu is over the device's 64 MiB)
 # There:  bash scripts/gpu_check.sh --out "$OUT"          (device `run` with carry [".gpu-pack"])
 # Try the script itself here with local binaries:
 #         scripts/gpu_check.sh --build-dir build --out /tmp/gpu-check --quick
@@ -79,7 +80,10 @@ mkdir -p "$out"
 trap 'rm -rf "$results"' EXIT
 summary="$results/summary.txt"
 {
-  echo "gpu_check.sh at $(git -C "$repo_root" rev-parse --short HEAD 2>/dev/null || echo '?') on $(hostname), $(date -u +%FT%TZ)"
+  # The device's copy of .git can lag behind the tree it was sent with: the commit the build was
+  # packed at is in .gpu-pack/commit when written there (docs/TESTING.md, "On a GPU machine").
+  commit=$(cat "$repo_root/.gpu-pack/commit" 2>/dev/null || git -C "$repo_root" rev-parse --short HEAD 2>/dev/null || echo '?')
+  echo "gpu_check.sh, build of $commit, on $(hostname), $(date -u +%FT%TZ)"
   command -v nvidia-smi >/dev/null && nvidia-smi --query-gpu=name,driver_version --format=csv,noheader
 } > "$summary"
 
