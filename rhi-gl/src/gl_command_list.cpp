@@ -12,19 +12,28 @@
 namespace janus::rhi::gl {
 
 namespace {
+// Out of line and cold: formatting a message inside cast() would give every per-call path that
+// uses it (setBindingSet, setPipeline, ...) a larger stack frame and more registers to save.
+[[noreturn, gnu::cold, gnu::noinline]] void throwForeignHandle(const char* what, const char* kind) {
+    throw Error(ErrorCode::InvalidUsage, fmt::format("{}: the {} is null or comes from another backend", what, kind));
+}
+[[noreturn, gnu::cold, gnu::noinline]] void throwOtherDevice(const char* what, const char* kind) {
+    throw Error(ErrorCode::InvalidUsage,
+                fmt::format("{}: the {} was created by another device; use resources of this device", what, kind));
+}
+
 // The backend object behind a handle. T is final, so comparing the dynamic type is the whole
 // check dynamic_cast would make, without its walk of the class hierarchy (this runs per command).
 template <typename T, typename Handle>
 T* cast(Device& device, const Handle& handle, const char* what, const char* kind) {
     static_assert(std::is_final_v<T>);
-    if (!handle || typeid(*handle) != typeid(T))
-        throw Error(ErrorCode::InvalidUsage, fmt::format("{}: the {} is null or comes from another backend", what, kind));
+    if (!handle || typeid(*handle) != typeid(T)) [[unlikely]]
+        throwForeignHandle(what, kind);
     T* result = static_cast<T*>(handle.get());
     if constexpr (requires { result->owner(); }) {
         // GL names mean nothing in another context.
-        if (result->owner() != &device.context())
-            throw Error(ErrorCode::InvalidUsage,
-                        fmt::format("{}: the {} was created by another device; use resources of this device", what, kind));
+        if (result->owner() != &device.context()) [[unlikely]]
+            throwOtherDevice(what, kind);
     }
     return result;
 }
@@ -926,7 +935,7 @@ void Device::drawBaseInstance(uint32_t vertexCount, uint32_t instanceCount, uint
 
 void Device::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex, int32_t vertexOffset,
                            uint32_t firstInstance) {
-    if (m_context->checkSamplerUnits) [[unlikely]] checkSamplerUnits("draw");
+    if (m_checkSamplerUnits) [[unlikely]] checkSamplerUnits("draw");
     const GLFunctions& f = gl();
     const GLenum mode = m_pipeline->mode();
     const GLenum type = m_indexType == IndexType::UInt16 ? GL_UNSIGNED_SHORT : GL_UNSIGNED_INT;
@@ -973,7 +982,7 @@ void Device::checkSamplerUnits(const char* call) {
 }
 
 void Device::dispatch(uint32_t x, uint32_t y, uint32_t z) {
-    if (m_context->checkSamplerUnits) [[unlikely]] checkSamplerUnits("dispatch");
+    if (m_checkSamplerUnits) [[unlikely]] checkSamplerUnits("dispatch");
     const GLFunctions& f = gl();
     f.glDispatchCompute(x, y, z);
 }

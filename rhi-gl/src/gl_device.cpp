@@ -229,7 +229,7 @@ Device::Device(const DeviceDesc& desc, std::unique_ptr<Platform> platform) {
     setProperties(std::move(properties));
     if (desc.enableValidation) {
         setupDebugOutput();
-        m_context->checkSamplerUnits = true;
+        m_context->checkSamplerUnits = m_checkSamplerUnits = true;
     }
     setupDefaultState();
 }

@@ -704,7 +704,7 @@ public:
     void setIndexBuffer(GLuint buffer, IndexType type, uint64_t offset);
     void draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance) {
         const Pipeline& pipeline = *m_pipeline;
-        if (m_context->checkSamplerUnits) [[unlikely]] checkSamplerUnits("draw");
+        if (m_checkSamplerUnits) [[unlikely]] checkSamplerUnits("draw");
         setBaseInstance(firstInstance);
         if (firstInstance != 0 && !m_es) [[unlikely]] {
             drawBaseInstance(vertexCount, instanceCount, firstVertex, firstInstance);
@@ -764,6 +764,7 @@ private:
     std::array<const BindingSet*, kMaxBindingSets> m_boundSets{};
     std::array<uint64_t, kMaxBindingSets> m_boundPoints{};   // bindingPoints() of m_boundSets (0: none)
     bool m_es = false;   // isES(), read per draw
+    bool m_checkSamplerUnits = false;   // m_context->checkSamplerUnits, read per draw
     struct VertexBinding { GLuint buffer = 0; uint64_t offset = 0; };
     std::map<uint32_t, VertexBinding> m_vertexBuffers;
     GLuint m_indexBuffer = 0;
