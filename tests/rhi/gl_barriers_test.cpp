@@ -13,6 +13,7 @@
 
 #include "backend_test.h"
 #include "gl_device.h"
+#include "gl_entry_points.h"
 
 namespace janus::rhi::test {
 namespace {
@@ -60,25 +61,16 @@ protected:
         if (backend() == Backend::Vulkan) GTEST_SKIP() << "GL's glMemoryBarrier policy";
         JANUS_REQUIRE_CAPABILITY(Capability::Compute);
         JANUS_REQUIRE_CAPABILITY(Capability::StorageBuffers);
-        m_gl = &dynamic_cast<gl::Device&>(device()).context().gl;
-        m_log.memoryBarrier = m_gl->glMemoryBarrier;
-        m_log.dispatchCompute = m_gl->glDispatchCompute;
-        m_log.drawArraysInstanced = m_gl->glDrawArraysInstanced;
-        m_log.copyBufferSubData = m_gl->glCopyBufferSubData;
+        gl::GLFunctions& gl = dynamic_cast<gl::Device&>(device()).context().gl;
         g_log = &m_log;
-        m_gl->glMemoryBarrier = loggedMemoryBarrier;
-        m_gl->glDispatchCompute = loggedDispatchCompute;
-        m_gl->glDrawArraysInstanced = loggedDrawArraysInstanced;
-        m_gl->glCopyBufferSubData = loggedCopyBufferSubData;
+        m_log.memoryBarrier = m_overrides.replace(gl.glMemoryBarrier, loggedMemoryBarrier);
+        m_log.dispatchCompute = m_overrides.replace(gl.glDispatchCompute, loggedDispatchCompute);
+        m_log.drawArraysInstanced = m_overrides.replace(gl.glDrawArraysInstanced, loggedDrawArraysInstanced);
+        m_log.copyBufferSubData = m_overrides.replace(gl.glCopyBufferSubData, loggedCopyBufferSubData);
     }
     void TearDown() override {
-        if (m_gl) {
-            m_gl->glMemoryBarrier = m_log.memoryBarrier;
-            m_gl->glDispatchCompute = m_log.dispatchCompute;
-            m_gl->glDrawArraysInstanced = m_log.drawArraysInstanced;
-            m_gl->glCopyBufferSubData = m_log.copyBufferSubData;
-            g_log = nullptr;
-        }
+        m_overrides.restoreAll();
+        g_log = nullptr;
         BackendTest::TearDown();
     }
     // The calls the last submit() made (readBuffer's own copy is left out).
@@ -91,7 +83,7 @@ protected:
     }
 
 private:
-    gl::GLFunctions* m_gl = nullptr;
+    GLEntryPointOverrides m_overrides;
     GLCallLog m_log;
 };
 JANUS_INSTANTIATE_BACKEND_TESTS(GLBarriersTest);

@@ -17,6 +17,7 @@
 
 #include "backend_test.h"
 #include "gl_device.h"
+#include "gl_entry_points.h"
 
 namespace janus::rhi::test {
 namespace {
@@ -50,22 +51,15 @@ protected:
         if (IsSkipped() || HasFatalFailure()) return;   // configuration not selected: no device
         if (backend() == Backend::Vulkan) GTEST_SKIP() << "the GL backend's draw-time check";
         m_gl = &dynamic_cast<gl::Device&>(device()).context().gl;
-        m_dropped.bindTexture = m_gl->glBindTexture;
-        m_dropped.bindSampler = m_gl->glBindSampler;
-        m_dropped.drawArraysInstanced = m_gl->glDrawArraysInstanced;
-        m_dropped.enable = m_gl->glEnable;
         g_dropped = &m_dropped;
-        m_gl->glBindTexture = droppingBindTexture;
-        m_gl->glBindSampler = droppingBindSampler;
-        m_gl->glDrawArraysInstanced = drawAfterABadEnable;
+        m_dropped.enable = m_gl->glEnable;
+        m_dropped.bindTexture = m_overrides.replace(m_gl->glBindTexture, droppingBindTexture);
+        m_dropped.bindSampler = m_overrides.replace(m_gl->glBindSampler, droppingBindSampler);
+        m_dropped.drawArraysInstanced = m_overrides.replace(m_gl->glDrawArraysInstanced, drawAfterABadEnable);
     }
     void TearDown() override {
-        if (m_gl) {
-            m_gl->glBindTexture = m_dropped.bindTexture;
-            m_gl->glBindSampler = m_dropped.bindSampler;
-            m_gl->glDrawArraysInstanced = m_dropped.drawArraysInstanced;
-            g_dropped = nullptr;
-        }
+        m_overrides.restoreAll();
+        g_dropped = nullptr;
         BackendTest::TearDown();
     }
     // One fullscreen draw of `fragmentShader` with `set` at 0, replayed with the chosen binds
@@ -109,6 +103,7 @@ protected:
 
 private:
     gl::GLFunctions* m_gl = nullptr;
+    GLEntryPointOverrides m_overrides;
     DroppedBinds m_dropped;
 };
 JANUS_INSTANTIATE_BACKEND_TESTS(GLReplayChecksTest);
