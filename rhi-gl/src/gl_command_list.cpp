@@ -969,9 +969,9 @@ void Device::checkSamplerUnits(const char* call) {
         if (texture == 0)
             problem = fmt::format("no {} texture is bound there", sampler.targetName);
         else if (sampler.shadow && compareMode == GL_NONE)
-            problem = "it is a shadow sampler, but the sampler bound there does not compare (SamplerDesc::setCompare)";
+            problem = "the sampler bound there does not compare, and the shader's is a shadow sampler (SamplerDesc::setCompare)";
         else if (!sampler.shadow && compareMode != GL_NONE)
-            problem = "the sampler bound there compares depth, but the shader's sampler is not a shadow sampler";
+            problem = "the sampler bound there compares depth, and the shader's is not a shadow sampler";
         if (problem.empty()) continue;
         m_context->collectDebugMessage(
             {MessageSeverity::Error,
