@@ -1,5 +1,9 @@
 // Sampling: cube face order and orientation, 3D slices, explicit mip levels, depth-compare
 // samplers and sRGB decoding, each through exact texel-centre lookups (rt_sample_at_*).
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+
 #include "backend_test.h"
 
 namespace janus::rhi::test {
@@ -167,6 +171,43 @@ TEST_P(SamplingTest, SamplerLodRangeClampsTheLevel) {
         SamplerDesc().setFilter(Filter::Nearest).setAddress(AddressMode::ClampToEdge).setLodRange(1, 1));
     std::vector<Rgba8> seen = sampleAt("rt_sample_at_2d_frag", texture, onlyLevel1, {{0.25f, 0.25f, 0, 0}});
     EXPECT_EQ(seen, std::vector<Rgba8>{level1}) << "lod 0 clamped to minLod 1";
+}
+
+// Implicit level of detail, from the derivatives of a minified texture: a 64x64 texture drawn
+// over 24x24 pixels is minified by 64 / 24, so lambda = log2(8 / 3) = 1.415 and trilinear
+// filtering mixes level 1 (red 0) and level 2 (red 255) 58.5 : 41.5, red 106. Every backend must
+// agree: a driver that shortens the blend between levels ("trilinear optimisation") or computes
+// another level of detail shows minified texture detail differently. On NVIDIA (H200) gl and
+// gles differ from vulkan in minified text (docs/TESTING.md, "On a GPU machine"); this pins down
+// whether the level of detail or its blend is why.
+TEST_P(SamplingTest, ImplicitLodOfAMinifiedQuadBlendsTheExpectedLevels) {
+    constexpr uint32_t kTexture = 64, kTarget = 24, kMips = 7;
+    TextureHandle texture = createTexture2D(Format::RGBA8_UNORM, kTexture, kTexture, TextureUsage::Sampled, kMips);
+    for (uint32_t mip = 0; mip < kMips; ++mip) {
+        const uint32_t size = mipExtent(kTexture, mip);
+        // Red: 255 on level 2 only; green: 40 per level, to tell levels apart in a failure.
+        const std::vector<Rgba8> texels(size_t(size) * size, Rgba8{uint8_t(mip == 2 ? 255 : 0), uint8_t(40 * mip), 0, 255});
+        device().writeTexture(texture, {mip, 0}, texels.data(), texels.size() * sizeof(Rgba8));
+    }
+    SamplerHandle trilinear =
+        device().createSampler(SamplerDesc().setFilter(Filter::Linear).setAddress(AddressMode::ClampToEdge));
+    BindingSetHandle bindings =
+        device().createBindingSet(BindingSetDesc().add(BindingItem::sampledTexture(0, texture, trilinear)));
+    TextureHandle target = createTexture2D(Format::RGBA8_UNORM, kTarget, kTarget, TextureUsage::RenderTarget);
+    drawFullscreen(RenderPassDesc().addColor(Attachment::clear(target)), fullscreenPipeline("rt_sample_2d_frag", Format::RGBA8_UNORM),
+                   {bindings});
+    const std::vector<Rgba8> seen = readTextureAs<Rgba8>(target);
+    // 0.415 of the way from level 1 to 2: red 105.9, green 56.6. Tolerance 12 steps (lambda within
+    // about 0.05): implementations approximate log2 and keep the level of detail's fraction to a
+    // few bits (lavapipe and llvmpipe give red 99, lambda 1.388); a blend shortened around the
+    // levels, or another level, is 20 or more steps off.
+    const double lambda = std::log2(double(kTexture) / kTarget), fraction = lambda - 1.0;
+    const Rgba8 expected{uint8_t(std::lround(255 * fraction)), uint8_t(std::lround(40 + 40 * fraction)), 0, 255};
+    int worst = 0;
+    for (const Rgba8& c : seen) worst = std::max({worst, std::abs(int(c.r) - expected.r), std::abs(int(c.g) - expected.g)});
+    EXPECT_LE(worst, 12) << "expected about " << testing::PrintToString(expected) << " everywhere; pixel (0, 0) is "
+                        << testing::PrintToString(seen.front()) << ", (" << kTarget / 2 << ", " << kTarget / 2 << ") is "
+                        << testing::PrintToString(seen[(kTarget / 2) * kTarget + kTarget / 2]);
 }
 
 TEST_P(SamplingTest, DepthCompareSamplerCompares) {
