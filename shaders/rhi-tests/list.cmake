@@ -4,6 +4,7 @@ janus_add_shader(janus_shaders NAME rt_fullscreen_vert SOURCE ${_rt}/fullscreen.
 janus_add_shader(janus_shaders NAME rt_vertex_color_vert SOURCE ${_rt}/vertex_color.vert)
 janus_add_shader(janus_shaders NAME rt_vertex_color_frag SOURCE ${_rt}/vertex_color.frag)
 janus_add_shader(janus_shaders NAME rt_sample_2d_frag SOURCE ${_rt}/sample_2d.frag)
+janus_add_shader(janus_shaders NAME rt_uv_frag SOURCE ${_rt}/uv.frag)
 janus_add_shader(janus_shaders NAME rt_sample_stretched_frag SOURCE ${_rt}/sample_stretched.frag)
 janus_add_shader(janus_shaders NAME rt_two_textures_frag SOURCE ${_rt}/two_textures.frag)
 janus_add_shader(janus_shaders NAME rt_two_textures_two_sets_frag SOURCE ${_rt}/two_textures.frag DEFINES SEPARATE_SETS)

@@ -37,6 +37,29 @@ TEST_P(OrientationTest, PatternLandsAtTheExpectedRows) {
     EXPECT_TRUE(imagesEqual(reference, expected, 8)) << "test bug: the reference rasteriser disagrees";
 }
 
+// Varyings are sampled at pixel centres on every backend: pixel (x, y) of a W x H target sees
+// the full-screen triangle's vUv at ((x + 0.5) / W, (y + 0.5) / H), row 0 at v = 0, and window x
+// x + 0.5. A half-pixel offset (as a y flip done one row off would give) moves every minified
+// texture lookup; on NVIDIA gl and gles differ from vulkan along the edges of minified label
+// textures (docs/TESTING.md, "On a GPU machine"), and this tells rasterisation apart.
+TEST_P(OrientationTest, VaryingsAreSampledAtPixelCentres) {
+    constexpr uint32_t kWidth = 16, kHeight = 8;   // not square: a transpose shows up too
+    if (!device().formatCapabilities(Format::RGBA32_FLOAT).has(FormatCapability::RenderTarget))
+        GTEST_SKIP() << "rgba32f is no render target here";
+    TextureHandle target = createTexture2D(Format::RGBA32_FLOAT, kWidth, kHeight, TextureUsage::RenderTarget);
+    drawFullscreen(RenderPassDesc().addColor(Attachment::clear(target)), fullscreenPipeline("rt_uv_frag", Format::RGBA32_FLOAT), {});
+    const std::vector<Color> seen = readTextureAs<Color>(target);
+    ASSERT_EQ(seen.size(), size_t(kWidth) * kHeight);
+    for (uint32_t y = 0; y < kHeight; ++y)
+        for (uint32_t x = 0; x < kWidth; ++x) {
+            const Color& c = seen[size_t(y) * kWidth + x];
+            // 1e-5: the interpolation's float rounding; half a pixel would be 0.03 or more here.
+            EXPECT_NEAR(c[0], (x + 0.5f) / kWidth, 1e-5f) << "u at (" << x << ", " << y << ")";
+            EXPECT_NEAR(c[1], (y + 0.5f) / kHeight, 1e-5f) << "v at (" << x << ", " << y << ")";
+            EXPECT_EQ(c[2], x + 0.5f) << "gl_FragCoord.x at (" << x << ", " << y << ")";
+        }
+}
+
 // A texture uploaded with texel (0, 0) distinct must show it at row 0, column 0 of a target
 // that samples it: a Y flip on upload, in sampling or in readback shows up here.
 TEST_P(OrientationTest, SampledTexelZeroReachesRowZero) {
