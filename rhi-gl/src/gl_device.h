@@ -408,6 +408,8 @@ struct BeginTimer { TimerQuery* timer; };
 struct EndTimer { TimerQuery* timer; };
 struct PushDebugGroup { uint32_t label; };   // index into CommandList::m_labels
 struct PopDebugGroup {};
+// A set bound right before a draw, recorded as one command: replay dispatches once per draw.
+struct BindSetAndDraw { uint32_t set; const BindingSet* bindings; Draw draw; };
 }  // namespace command
 
 using Command = std::variant<command::BeginRenderPass, command::SetViewport, command::SetScissor, command::BindPipeline,
@@ -416,7 +418,7 @@ using Command = std::variant<command::BeginRenderPass, command::SetViewport, com
                              command::MemoryBarrier, command::WriteBuffer, command::CopyBuffer,
                              command::CopyBufferToTexture, command::CopyTextureToBuffer, command::CopyTexture,
                              command::GenerateMips, command::BeginTimer, command::EndTimer, command::PushDebugGroup,
-                             command::PopDebugGroup>;
+                             command::PopDebugGroup, command::BindSetAndDraw>;
 
 // Every bit glMemoryBarrier takes in OpenGL 4.3 and OpenGL ES 3.1. GL_ALL_BARRIER_BITS is valid
 // only whole: a pending write that started from it and had some bits issued would leave
@@ -475,6 +477,17 @@ private:
         static_assert(std::is_trivially_copyable_v<Command>);
         if (m_commandCount == m_commandCapacity) [[unlikely]] growCommands();
         m_commands[m_commandCount++] = Command(std::in_place_type<T>, command);
+    }
+    // A draw right after a set bind takes the bind's place as one BindSetAndDraw.
+    void recordDraw(command::Draw draw) {
+        if (m_commandCount != 0) {
+            Command& last = m_commands[m_commandCount - 1];
+            if (const auto* bind = std::get_if<command::BindBindingSet>(&last)) {
+                last = Command(std::in_place_type<command::BindSetAndDraw>, command::BindSetAndDraw{bind->set, bind->bindings, draw});
+                return;
+            }
+        }
+        record(draw);
     }
     [[gnu::noinline]] void growCommands() {
         m_commands.resize(std::max<size_t>(256, m_commands.size() * 2));
