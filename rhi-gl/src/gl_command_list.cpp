@@ -489,7 +489,7 @@ void CommandList::setIndexBuffer(const BufferHandle& handle, IndexType type, uin
 // what draw did before.
 void CommandList::draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance) {
     if (!m_drawReady) [[unlikely]] return drawChecked(vertexCount, instanceCount, firstVertex, firstInstance);
-    recordDraw(command::Draw{vertexCount, instanceCount, firstVertex, firstInstance});
+    recordDraw<command::BindSetAndDraw>(command::Draw{vertexCount, instanceCount, firstVertex, firstInstance});
 }
 
 void CommandList::drawChecked(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance) {
@@ -498,7 +498,7 @@ void CommandList::drawChecked(uint32_t vertexCount, uint32_t instanceCount, uint
         throw Error(ErrorCode::InvalidUsage, "draw: no graphics pipeline is set; call setPipeline() first");
     requireDrawState("draw");
     trackShaderAccesses(true, false);
-    recordDraw(command::Draw{vertexCount, instanceCount, firstVertex, firstInstance});
+    recordDraw<command::BindSetAndDraw>(command::Draw{vertexCount, instanceCount, firstVertex, firstInstance});
     m_drawReady = m_pendingWrites.empty() && !m_found.writesStorage;
 }
 
@@ -506,7 +506,7 @@ void CommandList::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint3
                                 uint32_t firstInstance) {
     if (!m_drawReady || !m_indexBuffer) [[unlikely]]
         return drawIndexedChecked(indexCount, instanceCount, firstIndex, vertexOffset, firstInstance);
-    record(command::DrawIndexed{indexCount, instanceCount, firstIndex, vertexOffset, firstInstance});
+    recordDraw<command::BindSetAndDrawIndexed>(command::DrawIndexed{indexCount, instanceCount, firstIndex, vertexOffset, firstInstance});
 }
 
 void CommandList::drawIndexedChecked(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex,
@@ -518,7 +518,7 @@ void CommandList::drawIndexedChecked(uint32_t indexCount, uint32_t instanceCount
     if (!m_indexBuffer)
         throw Error(ErrorCode::InvalidUsage, "drawIndexed: no index buffer is set; call setIndexBuffer() first");
     trackShaderAccesses(true, true);
-    record(command::DrawIndexed{indexCount, instanceCount, firstIndex, vertexOffset, firstInstance});
+    recordDraw<command::BindSetAndDrawIndexed>(command::DrawIndexed{indexCount, instanceCount, firstIndex, vertexOffset, firstInstance});
     m_drawReady = m_pendingWrites.empty() && !m_found.writesStorage;
 }
 
@@ -673,6 +673,10 @@ void CommandList::replay() {
             device.bindBindingSet(c.set, *c.bindings);
             (*this)(c.draw);
         }
+        void operator()(const command::BindSetAndDrawIndexed& c) {
+            device.bindBindingSet(c.set, *c.bindings);
+            (*this)(c.draw);
+        }
         void operator()(const command::DrawIndexed& c) {
             device.drawIndexed(c.indexCount, c.instanceCount, c.firstIndex, c.vertexOffset, c.firstInstance);
         }
@@ -726,7 +730,7 @@ void CommandList::replay() {
     };
     Replayer replayer{*this, device, gl};
     // A switch rather than std::visit, whose table of out-of-line calls costs a call per command.
-    static_assert(std::variant_size_v<Command> == 23, "one case per command below");
+    static_assert(std::variant_size_v<Command> == 24, "one case per command below");
 #define JANUS_REPLAY_CASE(N) \
     case N: replayer(*std::get_if<N>(&command)); break;
     for (const Command& command : std::span(m_commands).first(m_commandCount)) {
@@ -754,6 +758,7 @@ void CommandList::replay() {
                 JANUS_REPLAY_CASE(20)
                 JANUS_REPLAY_CASE(21)
                 JANUS_REPLAY_CASE(22)
+                JANUS_REPLAY_CASE(23)
         }
     }
 #undef JANUS_REPLAY_CASE

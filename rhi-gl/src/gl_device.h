@@ -410,6 +410,7 @@ struct PushDebugGroup { uint32_t label; };   // index into CommandList::m_labels
 struct PopDebugGroup {};
 // A set bound right before a draw, recorded as one command: replay dispatches once per draw.
 struct BindSetAndDraw { uint32_t set; const BindingSet* bindings; Draw draw; };
+struct BindSetAndDrawIndexed { uint32_t set; const BindingSet* bindings; DrawIndexed draw; };
 }  // namespace command
 
 using Command = std::variant<command::BeginRenderPass, command::SetViewport, command::SetScissor, command::BindPipeline,
@@ -418,7 +419,7 @@ using Command = std::variant<command::BeginRenderPass, command::SetViewport, com
                              command::MemoryBarrier, command::WriteBuffer, command::CopyBuffer,
                              command::CopyBufferToTexture, command::CopyTextureToBuffer, command::CopyTexture,
                              command::GenerateMips, command::BeginTimer, command::EndTimer, command::PushDebugGroup,
-                             command::PopDebugGroup, command::BindSetAndDraw>;
+                             command::PopDebugGroup, command::BindSetAndDraw, command::BindSetAndDrawIndexed>;
 
 // Every bit glMemoryBarrier takes in OpenGL 4.3 and OpenGL ES 3.1. GL_ALL_BARRIER_BITS is valid
 // only whole: a pending write that started from it and had some bits issued would leave
@@ -478,12 +479,13 @@ private:
         if (m_commandCount == m_commandCapacity) [[unlikely]] growCommands();
         m_commands[m_commandCount++] = Command(std::in_place_type<T>, command);
     }
-    // A draw right after a set bind takes the bind's place as one BindSetAndDraw.
-    void recordDraw(command::Draw draw) {
+    // A draw right after a set bind takes the bind's place as one BindSetAndDraw(Indexed).
+    template <class Merged, class DrawCommand>
+    void recordDraw(DrawCommand draw) {
         if (m_commandCount != 0) {
             Command& last = m_commands[m_commandCount - 1];
             if (const auto* bind = std::get_if<command::BindBindingSet>(&last)) {
-                last = Command(std::in_place_type<command::BindSetAndDraw>, command::BindSetAndDraw{bind->set, bind->bindings, draw});
+                last = Command(std::in_place_type<Merged>, Merged{bind->set, bind->bindings, draw});
                 return;
             }
         }

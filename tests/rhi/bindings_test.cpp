@@ -1,6 +1,8 @@
 // Binding model and buffer layouts: two textures plus a UBO each read their own resource, in one
 // set or two; UBO ranges at offsets; std140 read in a fragment shader; std140 and std430 read
 // and written by a compute shader, compared with C++ structs.
+#include <array>
+
 #include "backend_test.h"
 
 namespace janus::rhi::test {
@@ -71,6 +73,41 @@ TEST_P(BindingTest, BindingSetsCanBeSwitchedBetweenDraws) {
     });
     std::vector<Rgba8> expected(16);
     for (size_t i = 0; i < 16; ++i) expected[i] = i % 4 < 2 ? Rgba8{255, 0, 0, 255} : Rgba8{0, 0, 255, 255};
+    EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(target), expected, 4));
+}
+
+// The same with each set bound right before its draw or drawIndexed, which the GL backend records
+// as one command (rhi-gl/README.md, "Command lists"): each draw must still see its own set. (It
+// fails on gl when that command drops the bind.)
+TEST_P(BindingTest, ASetBoundRightBeforeEachDrawIsTheOneItSees) {
+    TextureHandle target = createTexture2D(Format::RGBA8_UNORM, 4, 4, TextureUsage::RenderTarget);
+    PipelineHandle pipeline = fullscreenPipeline("rt_sample_2d_frag", Format::RGBA8_UNORM);
+    SamplerHandle sampler = nearestClampSampler();
+    const std::array<Rgba8, 4> colours = {Rgba8{255, 0, 0, 255}, Rgba8{0, 0, 255, 255}, Rgba8{0, 255, 0, 255}, Rgba8{255, 255, 0, 255}};
+    std::vector<BindingSetHandle> sets;
+    for (Rgba8 c : colours) {
+        TextureHandle texture = createTexture2D(Format::RGBA8_UNORM, 1, 1);
+        device().writeTexture(texture, {}, &c, sizeof c);
+        sets.push_back(device().createBindingSet(BindingSetDesc().add(BindingItem::sampledTexture(0, texture, sampler))));
+    }
+    // fullscreen.vert needs no vertex buffer: the indices are its vertex ids.
+    BufferHandle indices = createBufferFrom(BufferUsage::Index, std::vector<uint32_t>{0, 1, 2});
+    submit([&](ICommandList& cmd) {
+        cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(target)));
+        cmd.setPipeline(pipeline);
+        cmd.setIndexBuffer(indices, IndexType::UInt32, 0);
+        for (uint32_t column = 0; column < 4; ++column) {
+            cmd.setScissor({int32_t(column), 0, 1, 4});
+            cmd.setBindingSet(0, sets[column]);
+            if (column % 2 == 0)
+                cmd.draw(3);
+            else
+                cmd.drawIndexed(3);
+        }
+        cmd.endRenderPass();
+    });
+    std::vector<Rgba8> expected(16);
+    for (size_t i = 0; i < 16; ++i) expected[i] = colours[i % 4];
     EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(target), expected, 4));
 }
 
