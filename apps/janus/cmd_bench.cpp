@@ -201,7 +201,6 @@ int runForward(const BenchOptions& options) {
                 // Where the error is: a picture of it for the smallest cut-off (linear, white = the
                 // largest error), where a lost light shows as a bright patch.
                 const bool picture = cutoff == *std::min_element(cutoffs.begin(), cutoffs.end());
-                renderer::ImageRGBA8 errorImage{size.width, size.height, {}};
                 std::vector<double> pixelError(picture ? a.size() / 4 : 0, 0.0);
                 for (size_t i = 0; i < a.size(); ++i) {
                     if (i % 4 == 3) continue;   // alpha carries no radiance
@@ -224,7 +223,7 @@ int runForward(const BenchOptions& options) {
                 row.ms = frameMs(m);
                 row.referenceMs = frameMs(reference);
                 if (picture && row.maxError > 0.0) {
-                    errorImage.pixels.resize(pixelError.size() * 4);
+                    renderer::ImageRGBA8 errorImage{size.width, size.height, std::vector<uint8_t>(pixelError.size() * 4)};
                     for (size_t p = 0; p < pixelError.size(); ++p) {
                         const auto v = uint8_t(std::lround(255.0 * pixelError[p] / row.maxError));
                         errorImage.pixels[p * 4 + 0] = errorImage.pixels[p * 4 + 1] = errorImage.pixels[p * 4 + 2] = v;

@@ -237,8 +237,9 @@ void CommandList::requireBindingsUncached(const char* what) {
                                     "the shader's type or set BindingItem::viewDimension",
                                     what, binding.binding, toString(found->texture->desc().dimension),
                                     found->texture->desc().debugName, toString(viewed), toString(*binding.dimension)));
-        requireSamplerMatchesShader(*found, binding.depthCompare,
-                                    fmt::format("{}: set {} binding {} ({})", what, binding.set, binding.binding, binding.glName));
+        requireSamplerMatchesShader(*found, binding.depthCompare, [&] {
+            return fmt::format("{}: set {} binding {} ({})", what, binding.set, binding.binding, binding.glName);
+        });
     }
     m_found.used = m_usedStorage;
     m_found.accesses = m_accessStorage;

@@ -225,7 +225,7 @@ public:
     mutable GLint baseInstanceValue = 0;
     const std::vector<ShaderBinding>& bindings() const { return m_bindings; }
     // What binding checks are cached under (BindingSet::validated): an id per distinct list of
-    // (set, binding, type, dimension), the same for pipelines whose shaders use the same
+    // (set, binding, type, dimension, depth compare), the same for pipelines whose shaders use the same
     // bindings, never reused by another list (ids are not addresses, so a pipeline destroyed
     // and another made at the same address cannot hit its entries).
     uint64_t bindingSignature() const { return m_bindingSignature; }
@@ -249,7 +249,7 @@ public:
         GLint unit = 0;
         GLenum bindingQuery = 0;   // GL_TEXTURE_BINDING_2D, ..._CUBE_MAP, ...
         const char* targetName = "";
-        bool shadow = false;       // sampler*Shadow: needs a depth texture and a comparing sampler
+        bool shadow = false;       // sampler*Shadow: needs a comparing sampler
     };
     const std::vector<SamplerUniform>& samplerUniforms() const { return m_samplerUniforms; }
     const std::string& debugName() const { return m_debugName; }

@@ -143,7 +143,7 @@ const BindingSet::LayoutUse& BindingSet::createOrFind(const DescriptorSetLayoutI
                                     set, b.binding, b.name, viewTypeName(b.viewType),
                                     toString(item->texture->desc().dimension), item->texture->desc().debugName,
                                     toString(resolveTextureView(*item).dimension)));
-        requireSamplerMatchesShader(*item, b.depthCompare, fmt::format("set {} binding {} ('{}')", set, b.binding, b.name));
+        requireSamplerMatchesShader(*item, b.depthCompare, [&] { return fmt::format("set {} binding {} ('{}')", set, b.binding, b.name); });
         items.push_back(&*item);
     }
 

@@ -252,10 +252,7 @@ void validateViewOverlaps(std::span<const UsedBinding> bindings, const RenderPas
     }
 }
 
-void requireSamplerMatchesShader(const BindingItem& item, bool shaderCompares, std::string_view where) {
-    if (item.type != ResourceType::SampledTexture || !item.sampler) return;
-    const bool samplerCompares = item.sampler->desc().compare.has_value();
-    if (samplerCompares == shaderCompares) return;
+void throwSamplerShaderMismatch(const BindingItem& item, bool shaderCompares, std::string_view where) {
     const std::string texture = item.texture ? fmt::format("texture '{}'", item.texture->desc().debugName) : "its texture";
     if (shaderCompares)
         throw Error(ErrorCode::InvalidUsage,

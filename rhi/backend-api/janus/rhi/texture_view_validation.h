@@ -1,4 +1,5 @@
-// Backend-neutral checks of array textures and texture views (rhi/src/texture_view_validation.cpp).
+// Backend-neutral checks of array textures, texture views and sampled items against their shader
+// (rhi/src/texture_view_validation.cpp).
 // Every backend calls these, so the same mistake gets the same ErrorCode and message everywhere.
 #pragma once
 
@@ -37,9 +38,15 @@ ResolvedTextureView resolveTextureView(const BindingItem& item);
 // A sampled texture item against how the shader declares it: a shadow sampler (sampler2DShadow and
 // kin, which compare) needs a sampler with SamplerDesc::compare, any other sampler one without.
 // Drivers leave the mismatch undefined (NVIDIA's GL reports it, Mesa and lavapipe say nothing), so
-// every backend checks it when it first pairs a set with a pipeline. `where` names the binding and
-// the shader's variable. Throws InvalidUsage.
-void requireSamplerMatchesShader(const BindingItem& item, bool shaderCompares, std::string_view where);
+// every backend checks it when it first pairs a set with a pipeline. `where()` names the binding
+// and the shader's variable; it is called only for the message. Throws InvalidUsage.
+[[noreturn]] void throwSamplerShaderMismatch(const BindingItem& item, bool shaderCompares, std::string_view where);
+template <class Where>
+void requireSamplerMatchesShader(const BindingItem& item, bool shaderCompares, Where&& where) {
+    if (item.type != ResourceType::SampledTexture || !item.sampler || item.sampler->desc().compare.has_value() == shaderCompares)
+        return;
+    throwSamplerShaderMismatch(item, shaderCompares, where());
+}
 
 // True when `view` shows all of `desc` with its own dimension (what binding the texture itself gives).
 bool isWholeTexture(const ResolvedTextureView& view, const TextureDesc& desc);
