@@ -106,6 +106,7 @@ nlohmann::json toJson(const std::vector<BackendReport>& reports, rhi::GLPlatform
         entry["driver"] = r.info.driverInfo;
         entry["platform"] = r.info.platform;
         entry["shadingLanguage"] = r.info.shadingLanguage;
+        entry["driverSettings"] = r.info.driverSettings;
         nlohmann::json caps = nlohmann::json::object();
         for (rhi::Capability cap : rhi::kAllCapabilities) caps[rhi::toString(cap)] = r.caps.has(cap);
         entry["capabilities"] = caps;
@@ -157,12 +158,13 @@ void printText(const std::vector<BackendReport>& reports, rhi::GLPlatform platfo
             out += fmt::format("    reason: {}\n", r.reason);
             continue;
         }
-        out += formatTable({{"API version", r.info.apiVersion},
-                            {"device", r.info.deviceName},
-                            {"driver", r.info.driverInfo},
-                            {"platform", r.info.platform},
-                            {"shading language", r.info.shadingLanguage}},
-                           4);
+        std::vector<std::vector<std::string>> rows{{"API version", r.info.apiVersion},
+                                                   {"device", r.info.deviceName},
+                                                   {"driver", r.info.driverInfo},
+                                                   {"platform", r.info.platform},
+                                                   {"shading language", r.info.shadingLanguage}};
+        if (!r.info.driverSettings.empty()) rows.push_back({"driver settings", r.info.driverSettings});
+        out += formatTable(rows, 4);
     }
 
     if (std::none_of(reports.begin(), reports.end(), [](const BackendReport& r) { return r.available; })) {

@@ -11,6 +11,7 @@
 #include <glm/gtc/packing.hpp>
 
 #include "janus/rhi/backends.h"
+#include "janus/rhi/driver_settings.h"
 
 namespace janus::rhi::gl {
 
@@ -223,6 +224,7 @@ Device::Device(const DeviceDesc& desc, std::unique_ptr<Platform> platform) {
     info.driverInfo = glString(GL_VENDOR);
     info.platform = m_context->platformName();
     info.shadingLanguage = es ? "ESSL 300" : "GLSL 430";
+    info.driverSettings = detail::glDriverSettingsNote(info.driverInfo);
 
     properties.capabilities = detectCapabilities();
     properties.formats = queryFormatCapabilities(properties.capabilities);

@@ -1,5 +1,6 @@
 // Runtime backend choice.
 #include "janus/rhi/backends.h"
+#include "janus/rhi/driver_settings.h"
 
 namespace janus::rhi {
 
@@ -8,6 +9,7 @@ std::unique_ptr<IDevice> createDevice(const DeviceDesc& desc) {
         throw Error(ErrorCode::InvalidDescription,
                     "DeviceDesc::enableSynchronizationValidation needs enableValidation: synchronisation "
                     "validation is part of the validation layer; set both");
+    detail::requestDriverSettings();   // before any driver starts: see driver_settings.cpp
     switch (desc.backend) {
         case Backend::Vulkan: return vulkan::createDevice(desc);
         case Backend::GL:

@@ -166,6 +166,9 @@ struct DeviceInfo {
                                  // EGL display: "egl (surfaceless)", "egl (device 0: /dev/dri/card0)",
                                  // "egl (default display)" (docs/ARCHITECTURE.md, "GL context platforms")
     std::string shadingLanguage; // "SPIR-V 1.5", "GLSL 430", "ESSL 300"
+    std::string driverSettings;  // driver settings that change results, and who chose them; empty
+                                 // where none apply. NVIDIA GL: its texture filtering "image
+                                 // settings" (docs/ARCHITECTURE.md, "Driver settings")
 };
 
 struct Capabilities {
