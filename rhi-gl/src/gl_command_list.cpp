@@ -957,15 +957,27 @@ void Device::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t f
         f.glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, m_indexBuffer);
         m_boundIndexBuffer = m_indexBuffer;
     }
+    // As in draw(): one instance through the plain entry points, which GL defines as the
+    // instanced ones with one instance.
     if (!isES()) {
         bindVertexAttributes(0, 0);
+        if (instanceCount == 1 && firstInstance == 0) [[likely]] {
+            if (vertexOffset == 0)
+                f.glDrawElements(mode, GLsizei(indexCount), type, indices);
+            else
+                f.glDrawElementsBaseVertex(mode, GLsizei(indexCount), type, indices, vertexOffset);
+            return;
+        }
         f.glDrawElementsInstancedBaseVertexBaseInstance(mode, GLsizei(indexCount), type, indices, GLsizei(instanceCount),
                                                         vertexOffset, firstInstance);
         return;
     }
     // ES 3.0 has no base vertex or base instance: shift the attribute pointers instead.
     bindVertexAttributes(vertexOffset, firstInstance);
-    f.glDrawElementsInstanced(mode, GLsizei(indexCount), type, indices, GLsizei(instanceCount));
+    if (instanceCount == 1) [[likely]]
+        f.glDrawElements(mode, GLsizei(indexCount), type, indices);
+    else
+        f.glDrawElementsInstanced(mode, GLsizei(indexCount), type, indices, GLsizei(instanceCount));
 }
 
 void Device::checkSamplerUnits(const char* call) {

@@ -728,7 +728,12 @@ public:
         // ES 3.0 has no base instance: the per-instance attribute pointers start at firstInstance
         // instead (gl_InstanceIndex gets it from the base-instance uniform above).
         bindVertexAttributes(0, m_es ? firstInstance : 0);
-        gl().glDrawArraysInstanced(pipeline.mode(), GLint(firstVertex), GLsizei(vertexCount), GLsizei(instanceCount));
+        // One instance through the plain entry point, the call an application makes for it (and
+        // the overhead bench's raw side): GL defines it as the instanced draw with one instance.
+        if (instanceCount == 1) [[likely]]
+            gl().glDrawArrays(pipeline.mode(), GLint(firstVertex), GLsizei(vertexCount));
+        else
+            gl().glDrawArraysInstanced(pipeline.mode(), GLint(firstVertex), GLsizei(vertexCount), GLsizei(instanceCount));
     }
     void drawBaseInstance(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance);
     void drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex, int32_t vertexOffset,

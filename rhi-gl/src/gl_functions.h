@@ -99,6 +99,8 @@ class Platform;
     X(PFNGLVERTEXATTRIBDIVISORPROC, glVertexAttribDivisor)                                                    \
     X(PFNGLENABLEVERTEXATTRIBARRAYPROC, glEnableVertexAttribArray)                                            \
     X(PFNGLDISABLEVERTEXATTRIBARRAYPROC, glDisableVertexAttribArray)                                          \
+    X(PFNGLDRAWARRAYSPROC, glDrawArrays)                                                                      \
+    X(PFNGLDRAWELEMENTSPROC, glDrawElements)                                                                  \
     X(PFNGLDRAWARRAYSINSTANCEDPROC, glDrawArraysInstanced)                                                    \
     X(PFNGLDRAWELEMENTSINSTANCEDPROC, glDrawElementsInstanced)                                                \
     X(PFNGLGENQUERIESPROC, glGenQueries)                                                                      \
@@ -117,6 +119,7 @@ class Platform;
     X(PFNGLCOPYIMAGESUBDATAPROC, glCopyImageSubData, nullptr)                                                 \
     X(PFNGLDRAWARRAYSINSTANCEDBASEINSTANCEPROC, glDrawArraysInstancedBaseInstance, nullptr)                   \
     X(PFNGLDRAWELEMENTSINSTANCEDBASEVERTEXBASEINSTANCEPROC, glDrawElementsInstancedBaseVertexBaseInstance, nullptr) \
+    X(PFNGLDRAWELEMENTSBASEVERTEXPROC, glDrawElementsBaseVertex, nullptr)                                     \
     X(PFNGLQUERYCOUNTERPROC, glQueryCounter, "glQueryCounterEXT")                                             \
     X(PFNGLGETQUERYOBJECTUI64VPROC, glGetQueryObjectui64v, "glGetQueryObjectui64vEXT")                        \
     X(PFNGLDEBUGMESSAGECALLBACKPROC, glDebugMessageCallback, "glDebugMessageCallbackKHR")                     \

@@ -316,7 +316,7 @@ std::vector<std::byte> Device::readDepthThroughColor(const Texture& texture, Tex
     // ES treats a depth texture under linear filtering as incomplete, even for texelFetch.
     f.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     f.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    f.glDrawArraysInstanced(GL_TRIANGLES, 0, 3, 1);
+    f.glDrawArrays(GL_TRIANGLES, 0, 3);
     std::vector<std::byte> depth = downloadTexture(color, {});
     // A command list may be mid-replay (copyTextureToBuffer): give it its pipeline back. Else no
     // program stays in use (see Device::execute): `flat`, which it samples, is deleted below.

@@ -185,10 +185,12 @@ TEST_P(BufferTest, CommandListsCanBeExecutedAgainAndReRecorded) {
 class InstancingTest : public BackendTest {
 protected:
     // Draws a 2-column-wide rectangle at the left of an 8x2 target, instance k moved right by
-    // 2k columns and coloured by per-instance attribute k; returns the target.
-    std::vector<Rgba8> drawInstances(uint32_t count, uint32_t firstInstance) {
+    // 2k columns and coloured by per-instance attribute k (indexed: through indices 0..5);
+    // returns the target.
+    std::vector<Rgba8> drawInstances(uint32_t count, uint32_t firstInstance, bool indexed = false) {
         BufferHandle vertices = createBufferFrom(BufferUsage::Vertex, rectangle(-1, -1, -0.5f, 1, {0, 0, 0, 0}));
         BufferHandle instances = createBufferFrom(BufferUsage::Vertex, kInstanceColors);
+        BufferHandle indices = createBufferFrom(BufferUsage::Index, std::vector<uint16_t>{0, 1, 2, 3, 4, 5});
         GraphicsPipelineDesc desc;
         desc.setShaders(shader("rt_instanced_vert"), shader("rt_vertex_color_frag"))
             .addVertexBuffer({0, sizeof(ColorVertex), false})
@@ -203,7 +205,12 @@ protected:
             cmd.setPipeline(pipeline);
             cmd.setVertexBuffer(0, vertices);
             cmd.setVertexBuffer(1, instances);
-            cmd.draw(6, count, 0, firstInstance);
+            if (indexed) {
+                cmd.setIndexBuffer(indices, IndexType::UInt16);
+                cmd.drawIndexed(6, count, 0, 0, firstInstance);
+            } else {
+                cmd.draw(6, count, 0, firstInstance);
+            }
             cmd.endRenderPass();
         });
         return readTextureAs<Rgba8>(target);
@@ -225,6 +232,19 @@ TEST_P(InstancingTest, EveryInstanceGetsItsAttributeAndIndex) {
 TEST_P(InstancingTest, FirstInstanceOffsetsAttributesAndIndex) {
     const std::vector<Rgba8> image = drawInstances(3, 1);
     EXPECT_TRUE(imagesEqual(image, expectedColumns(1, 3), 8)) << "instances 1..3 in columns 2..7, columns 0-1 clear";
+}
+
+// One instance other than the first: GL draws it through a base-instance call, ES 3.0 through the
+// plain draw with the per-instance pointers shifted (tests/rhi/gl_draw_calls_test.cpp).
+TEST_P(InstancingTest, OneInstanceWithAFirstInstance) {
+    EXPECT_TRUE(imagesEqual(drawInstances(1, 2), expectedColumns(2, 1), 8)) << "instance 2 in columns 4-5 only";
+}
+
+// The same through indexed draws (six indices into the rectangle's six vertices).
+TEST_P(InstancingTest, IndexedInstancesGetTheirAttributesAndIndex) {
+    EXPECT_TRUE(imagesEqual(drawInstances(4, 0, true), expectedColumns(0, 4), 8));
+    EXPECT_TRUE(imagesEqual(drawInstances(3, 1, true), expectedColumns(1, 3), 8));
+    EXPECT_TRUE(imagesEqual(drawInstances(1, 2, true), expectedColumns(2, 1), 8));
 }
 
 }  // namespace

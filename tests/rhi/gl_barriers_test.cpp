@@ -23,6 +23,7 @@ struct GLCallLog {
     std::vector<std::string> calls;
     PFNGLMEMORYBARRIERPROC memoryBarrier = nullptr;
     PFNGLDISPATCHCOMPUTEPROC dispatchCompute = nullptr;
+    PFNGLDRAWARRAYSPROC drawArrays = nullptr;
     PFNGLDRAWARRAYSINSTANCEDPROC drawArraysInstanced = nullptr;
     PFNGLCOPYBUFFERSUBDATAPROC copyBufferSubData = nullptr;
 };
@@ -37,6 +38,10 @@ void APIENTRY loggedMemoryBarrier(GLbitfield bits) {
 void APIENTRY loggedDispatchCompute(GLuint x, GLuint y, GLuint z) {
     g_log->calls.push_back("dispatch");
     g_log->dispatchCompute(x, y, z);
+}
+void APIENTRY loggedDrawArrays(GLenum mode, GLint first, GLsizei count) {
+    g_log->calls.push_back("draw");
+    g_log->drawArrays(mode, first, count);
 }
 void APIENTRY loggedDrawArraysInstanced(GLenum mode, GLint first, GLsizei count, GLsizei instances) {
     g_log->calls.push_back("draw");
@@ -65,6 +70,7 @@ protected:
         g_log = &m_log;
         m_log.memoryBarrier = m_overrides.replace(gl.glMemoryBarrier, loggedMemoryBarrier);
         m_log.dispatchCompute = m_overrides.replace(gl.glDispatchCompute, loggedDispatchCompute);
+        m_log.drawArrays = m_overrides.replace(gl.glDrawArrays, loggedDrawArrays);
         m_log.drawArraysInstanced = m_overrides.replace(gl.glDrawArraysInstanced, loggedDrawArraysInstanced);
         m_log.copyBufferSubData = m_overrides.replace(gl.glCopyBufferSubData, loggedCopyBufferSubData);
     }

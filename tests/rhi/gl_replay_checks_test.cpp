@@ -25,7 +25,7 @@ namespace {
 struct DroppedBinds {
     PFNGLBINDTEXTUREPROC bindTexture = nullptr;
     PFNGLBINDSAMPLERPROC bindSampler = nullptr;
-    PFNGLDRAWARRAYSINSTANCEDPROC drawArraysInstanced = nullptr;
+    PFNGLDRAWARRAYSPROC drawArrays = nullptr;
     PFNGLENABLEPROC enable = nullptr;
     bool dropTextures = false;
     bool dropSamplers = false;
@@ -39,9 +39,9 @@ void APIENTRY droppingBindTexture(GLenum target, GLuint texture) {
 void APIENTRY droppingBindSampler(GLuint unit, GLuint sampler) {
     g_dropped->bindSampler(unit, g_dropped->dropSamplers ? 0 : sampler);
 }
-void APIENTRY drawAfterABadEnable(GLenum mode, GLint first, GLsizei count, GLsizei instances) {
+void APIENTRY drawAfterABadEnable(GLenum mode, GLint first, GLsizei count) {
     if (g_dropped->badEnableBeforeDraws) g_dropped->enable(0xFFFFu);   // GL_INVALID_ENUM
-    g_dropped->drawArraysInstanced(mode, first, count, instances);
+    g_dropped->drawArrays(mode, first, count);
 }
 
 class GLReplayChecksTest : public BackendTest {
@@ -55,7 +55,7 @@ protected:
         m_dropped.enable = m_gl->glEnable;
         m_dropped.bindTexture = m_overrides.replace(m_gl->glBindTexture, droppingBindTexture);
         m_dropped.bindSampler = m_overrides.replace(m_gl->glBindSampler, droppingBindSampler);
-        m_dropped.drawArraysInstanced = m_overrides.replace(m_gl->glDrawArraysInstanced, drawAfterABadEnable);
+        m_dropped.drawArrays = m_overrides.replace(m_gl->glDrawArrays, drawAfterABadEnable);   // draw(3): one instance
     }
     void TearDown() override {
         m_overrides.restoreAll();
