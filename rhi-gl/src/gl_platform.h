@@ -7,6 +7,8 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
+#include <vector>
 
 namespace janus::rhi::gl {
 
@@ -38,15 +40,25 @@ enum class EglDisplayKind { Automatic, Surfaceless, Device, Default };
 
 struct EglOptions {
     EglDisplayKind display = EglDisplayKind::Automatic;
-    // Device only: the index into eglQueryDevicesEXT's list. Unset: the first device that starts.
+    // Device only: the index into eglQueryDevicesEXT's list, or else a name of the device (see
+    // eglDeviceNamed). Neither: the first device that starts.
     std::optional<uint32_t> deviceIndex;
+    std::string deviceName;
 };
 
 // JANUS_EGL_PLATFORM (surfaceless | device | default; unset or empty: automatic) and
-// JANUS_EGL_DEVICE (an index; implies the device display). Null means unset. Throws
-// Error(BackendUnavailable) for a value it does not understand, naming the variable.
+// JANUS_EGL_DEVICE (an index, or a device's name; implies the device display). Null means unset.
+// Throws Error(BackendUnavailable) for a value it does not understand, naming the variable.
 EglOptions parseEglOptions(const char* platformVariable, const char* deviceVariable);
 EglOptions eglOptionsFromEnvironment();
+
+// The names an EGL device answers to in JANUS_EGL_DEVICE: its DRM device file and render node,
+// whole or without their folder ("/dev/dri/card1", "card1", "/dev/dri/renderD128", "renderD128"),
+// and "software" for Mesa's software renderer (EGL_MESA_device_software), which has no node.
+// Returns the index of the first device in `namesPerDevice` (eglQueryDevicesEXT's order) that has
+// `wanted` among its names.
+std::optional<uint32_t> eglDeviceNamed(const std::vector<std::vector<std::string>>& namesPerDevice,
+                                       std::string_view wanted);
 
 // Throws Error(BackendUnavailable) saying what is missing; with Automatic, what each display said.
 std::unique_ptr<Platform> createEglPlatform(GLApi api, bool debugContext, const EglOptions& options);

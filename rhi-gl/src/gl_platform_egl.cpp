@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cstdlib>
 #include <string_view>
@@ -158,7 +159,40 @@ std::string deviceLabel(EGLDeviceEXT device, EGLDisplay display, PFNEGLQUERYDEVI
     return label;
 }
 
-std::unique_ptr<Platform> startOnDevice(GLApi api, bool debugContext, std::optional<uint32_t> deviceIndex) {
+// What JANUS_EGL_DEVICE may call the device (eglDeviceNamed).
+std::vector<std::string> deviceNames(EGLDeviceEXT device, PFNEGLQUERYDEVICESTRINGEXTPROC queryDeviceString) {
+    std::vector<std::string> names;
+    const char* deviceExtensions = queryDeviceString(device, EGL_EXTENSIONS);
+    auto addFile = [&](const char* file) {
+        if (!file || !*file) return;
+        const std::string path = file;
+        names.push_back(path);
+        if (const size_t slash = path.rfind('/'); slash != std::string::npos && slash + 1 < path.size())
+            names.push_back(path.substr(slash + 1));
+    };
+    if (hasExtension(deviceExtensions, "EGL_EXT_device_drm")) addFile(queryDeviceString(device, EGL_DRM_DEVICE_FILE_EXT));
+    if (hasExtension(deviceExtensions, "EGL_EXT_device_drm_render_node"))
+        addFile(queryDeviceString(device, EGL_DRM_RENDER_NODE_FILE_EXT));
+    if (hasExtension(deviceExtensions, "EGL_MESA_device_software")) names.emplace_back("software");
+    return names;
+}
+
+// "0 (/dev/dri/card0, renderD128), 1 (software)": the list a failed choice by name shows.
+std::string describeDeviceNames(const std::vector<std::vector<std::string>>& namesPerDevice) {
+    std::string text;
+    for (size_t i = 0; i < namesPerDevice.size(); ++i) {
+        std::string names;
+        for (const std::string& name : namesPerDevice[i]) {
+            if (name.find('/') == std::string::npos && !names.empty()) continue;   // a path's short form
+            names += fmt::format("{}{}", names.empty() ? "" : ", ", name);
+        }
+        text += fmt::format("{}{} ({})", i == 0 ? "" : ", ", i, names.empty() ? "no name: use the index" : names);
+    }
+    return text;
+}
+
+std::unique_ptr<Platform> startOnDevice(GLApi api, bool debugContext, std::optional<uint32_t> deviceIndex,
+                                        const std::string& deviceName = {}) {
     const char* client = clientExtensions();
     const bool enumeration =
         hasExtension(client, "EGL_EXT_device_enumeration") || hasExtension(client, "EGL_EXT_device_base");
@@ -178,6 +212,15 @@ std::unique_ptr<Platform> startOnDevice(GLApi api, bool debugContext, std::optio
         unavailable(fmt::format("eglQueryDevicesEXT failed ({})", lastEglError()));
     devices.resize(size_t(std::max(count, 0)));
     if (devices.empty()) unavailable("EGL lists no devices (eglQueryDevicesEXT)");
+    if (!deviceName.empty()) {
+        std::vector<std::vector<std::string>> names;
+        for (EGLDeviceEXT device : devices) names.push_back(deviceNames(device, queryDeviceString));
+        deviceIndex = eglDeviceNamed(names, deviceName);
+        if (!deviceIndex)
+            unavailable(fmt::format("JANUS_EGL_DEVICE='{}' names no EGL device; EGL lists {} device{}, by index "
+                                    "and names: {}",
+                                    deviceName, names.size(), names.size() == 1 ? "" : "s", describeDeviceNames(names)));
+    }
     if (deviceIndex && *deviceIndex >= devices.size())
         unavailable(fmt::format("JANUS_EGL_DEVICE={} but EGL lists {} device{} (indices 0..{})", *deviceIndex,
                                 devices.size(), devices.size() == 1 ? "" : "s", devices.size() - 1));
@@ -230,17 +273,30 @@ EglOptions parseEglOptions(const char* platformVariable, const char* deviceVaria
 
     const std::string_view device = deviceVariable ? deviceVariable : "";
     if (device.empty()) return options;
-    uint32_t index = 0;
-    const auto [end, error] = std::from_chars(device.data(), device.data() + device.size(), index);
-    if (error != std::errc() || end != device.data() + device.size())
-        unavailable(fmt::format("JANUS_EGL_DEVICE='{}' is not a device index (0, 1, ...)", device));
     if (options.display != EglDisplayKind::Automatic && options.display != EglDisplayKind::Device)
         unavailable(fmt::format("JANUS_EGL_DEVICE={} picks an EGL device, but JANUS_EGL_PLATFORM={} asks for "
                                 "another display; unset one of them",
                                 device, platform));
     options.display = EglDisplayKind::Device;
+    const bool digits = std::all_of(device.begin(), device.end(), [](char c) { return c >= '0' && c <= '9'; });
+    if (!digits) {
+        options.deviceName = device;   // whether a device has it, only the device list can say
+        return options;
+    }
+    uint32_t index = 0;
+    const auto [end, error] = std::from_chars(device.data(), device.data() + device.size(), index);
+    if (error != std::errc() || end != device.data() + device.size())
+        unavailable(fmt::format("JANUS_EGL_DEVICE='{}' is not a device index (0, 1, ...)", device));
     options.deviceIndex = index;
     return options;
+}
+
+std::optional<uint32_t> eglDeviceNamed(const std::vector<std::vector<std::string>>& namesPerDevice,
+                                       std::string_view wanted) {
+    for (size_t i = 0; i < namesPerDevice.size(); ++i)
+        for (const std::string& name : namesPerDevice[i])
+            if (name == wanted) return uint32_t(i);
+    return std::nullopt;
 }
 
 EglOptions eglOptionsFromEnvironment() {
@@ -250,7 +306,7 @@ EglOptions eglOptionsFromEnvironment() {
 std::unique_ptr<Platform> createEglPlatform(GLApi api, bool debugContext, const EglOptions& options) {
     switch (options.display) {
         case EglDisplayKind::Surfaceless: return startSurfaceless(api, debugContext);
-        case EglDisplayKind::Device: return startOnDevice(api, debugContext, options.deviceIndex);
+        case EglDisplayKind::Device: return startOnDevice(api, debugContext, options.deviceIndex, options.deviceName);
         case EglDisplayKind::Default: return startOnDefaultDisplay(api, debugContext);
         case EglDisplayKind::Automatic: break;
     }

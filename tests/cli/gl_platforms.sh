@@ -39,10 +39,18 @@ if python3 -c "import json, sys; j = json.load(open(sys.argv[1])); sys.exit(0 if
   JANUS_EGL_DEVICE=0 expect_success info --json
   cp "$TMP/stdout" "$TMP/device0.json"
   json_check "$TMP/device0.json" "$(entry gl)['platform'].startswith('egl (device 0: ')" "JANUS_EGL_DEVICE=0 did not pick device 0"
+  # Mesa's software device answers to "software" (janus info names it "... software renderer").
+  if grep -q "software renderer" "$TMP/device0.json"; then
+    JANUS_EGL_DEVICE=software expect_success render --backend gles --path fallback --size 16x8 --out "$TMP/software-gles.png"
+    check_png "$TMP/software-gles.png" 16 8
+  fi
 else
   echo "note: this EGL has no usable device display: $(python3 -c "import json, sys; j = json.load(open(sys.argv[1])); print($(entry gl)['reason'])" "$TMP/device.json")"
 fi
 JANUS_EGL_DEVICE=4096 expect_error 4 "JANUS_EGL_DEVICE=4096|EGL_EXT_platform_device" render --backend gl --path fallback --size 8x8 --out "$TMP/no-device.png"
+# By name: a name no device has is an error listing the devices' names (exit 4: backend unavailable).
+JANUS_EGL_DEVICE=renderD999 expect_error 4 "JANUS_EGL_DEVICE='renderD999' names no EGL device|EGL_EXT_platform_device" \
+  render --backend gl --path fallback --size 8x8 --out "$TMP/no-named-device.png"
 
 # A value janus does not know: GL is unavailable naming the variable, Vulkan is unaffected.
 JANUS_EGL_PLATFORM=wayland expect_success info --json

@@ -115,14 +115,39 @@ TEST(EglOptions, EnvironmentValuesPickTheDisplay) {
 TEST(EglOptions, UnknownValuesAreBackendUnavailableNamingTheVariable) {
     EXPECT_TRUE(throwsRhiError([] { parseEglOptions("wayland", nullptr); }, ErrorCode::BackendUnavailable,
                                {"JANUS_EGL_PLATFORM='wayland'", "surfaceless, device or default"}));
-    EXPECT_TRUE(throwsRhiError([] { parseEglOptions(nullptr, "first"); }, ErrorCode::BackendUnavailable,
-                               {"JANUS_EGL_DEVICE='first'"}));
-    EXPECT_TRUE(throwsRhiError([] { parseEglOptions(nullptr, "-1"); }, ErrorCode::BackendUnavailable,
-                               {"JANUS_EGL_DEVICE='-1'"}));
-    EXPECT_TRUE(throwsRhiError([] { parseEglOptions(nullptr, "1x"); }, ErrorCode::BackendUnavailable,
-                               {"JANUS_EGL_DEVICE='1x'"}));
+    EXPECT_TRUE(throwsRhiError([] { parseEglOptions(nullptr, "99999999999"); }, ErrorCode::BackendUnavailable,
+                               {"JANUS_EGL_DEVICE='99999999999'", "not a device index"}));
     EXPECT_TRUE(throwsRhiError([] { parseEglOptions("surfaceless", "0"); }, ErrorCode::BackendUnavailable,
                                {"JANUS_EGL_DEVICE=0", "JANUS_EGL_PLATFORM=surfaceless", "unset one"}));
+    EXPECT_TRUE(throwsRhiError([] { parseEglOptions("default", "renderD128"); }, ErrorCode::BackendUnavailable,
+                               {"JANUS_EGL_DEVICE=renderD128", "JANUS_EGL_PLATFORM=default", "unset one"}));
+}
+
+// Anything but digits is a name: which device has it, only EGL's device list can say.
+TEST(EglOptions, ANameImpliesTheDeviceDisplay) {
+    for (const char* name : {"renderD128", "/dev/dri/card1", "software", "first", "-1", "1x"}) {
+        const EglOptions options = parseEglOptions(nullptr, name);
+        EXPECT_EQ(options.display, EglDisplayKind::Device) << name;
+        EXPECT_EQ(options.deviceName, name);
+        EXPECT_FALSE(options.deviceIndex.has_value()) << name;
+    }
+    EXPECT_EQ(parseEglOptions("device", "card0").deviceName, "card0");
+    EXPECT_EQ(parseEglOptions(nullptr, "2").deviceName, "") << "digits are an index";
+}
+
+TEST(EglOptions, ADeviceIsFoundByAnyOfItsNames) {
+    const std::vector<std::vector<std::string>> devices = {
+        {"/dev/dri/card0", "card0", "/dev/dri/renderD128", "renderD128"},
+        {"/dev/dri/card1", "card1", "/dev/dri/renderD129", "renderD129"},
+        {"software"}};
+    EXPECT_EQ(eglDeviceNamed(devices, "/dev/dri/card1"), 1u);
+    EXPECT_EQ(eglDeviceNamed(devices, "card1"), 1u);
+    EXPECT_EQ(eglDeviceNamed(devices, "renderD128"), 0u);
+    EXPECT_EQ(eglDeviceNamed(devices, "/dev/dri/renderD129"), 1u);
+    EXPECT_EQ(eglDeviceNamed(devices, "software"), 2u);
+    EXPECT_EQ(eglDeviceNamed(devices, "card2"), std::nullopt);
+    EXPECT_EQ(eglDeviceNamed(devices, "card"), std::nullopt) << "whole names only";
+    EXPECT_EQ(eglDeviceNamed(devices, "dri/card0"), std::nullopt) << "a path whole or a file name";
 }
 
 // --- the EGL displays, each forced ----------------------------------------------------------------
@@ -151,6 +176,22 @@ TEST_P(EglDisplayTest, DeviceDisplayRendersAndIsNamed) {
     // Asked for by index: device 0 is the first the automatic device search tries.
     const std::string byIndex = renderOnEglDisplay(GetParam(), {EglDisplayKind::Device, 0u});
     EXPECT_TRUE(byIndex.starts_with("egl (device 0: ")) << byIndex;
+}
+
+// Mesa's software device answers to "software" (the device list here has no other).
+TEST_P(EglDisplayTest, ADeviceChosenByNameRendersOrIsUnavailableListingTheNames) {
+    if (!(clientExtension("EGL_EXT_device_enumeration") || clientExtension("EGL_EXT_device_base")) ||
+        !clientExtension("EGL_EXT_platform_device"))
+        GTEST_SKIP() << "this EGL does not offer EGL_EXT_device_enumeration and EGL_EXT_platform_device";
+    const GLApi api = GetParam() == Backend::GLES ? GLApi::ES30 : GLApi::DesktopCore43;
+    EglOptions bogus{EglDisplayKind::Device, std::nullopt, "renderD999"};
+    EXPECT_TRUE(throwsRhiError([&] { createEglPlatform(api, false, bogus); }, ErrorCode::BackendUnavailable,
+                               {"JANUS_EGL_DEVICE='renderD999' names no EGL device", "by index and names: 0 ("}));
+    const std::string first = renderOnEglDisplay(GetParam(), {EglDisplayKind::Device, 0u});
+    if (first.find("software renderer") == std::string::npos) GTEST_SKIP() << "device 0 is " << first << ", not Mesa's software one";
+    const std::string bySoftware = renderOnEglDisplay(GetParam(), {EglDisplayKind::Device, std::nullopt, "software"});
+    EXPECT_TRUE(bySoftware.starts_with("egl (device ")) << bySoftware;
+    EXPECT_NE(bySoftware.find("software renderer"), std::string::npos) << bySoftware;
 }
 
 TEST_P(EglDisplayTest, ADeviceIndexPastTheListIsBackendUnavailableSayingHowManyThereAre) {
