@@ -524,7 +524,9 @@ TEST_P(GgxPrefilterTest, HardCasesStayFinite) {
             const float largest = expectFinite(prefilter, hard.name);
             if (std::string(hard.name) == "all black") {
                 EXPECT_EQ(largest, 0.0f);
-                if (bright) EXPECT_EQ(prefilter.readBrightTexels().found, 0u);
+                if (bright) {
+                    EXPECT_EQ(prefilter.readBrightTexels().found, 0u);
+                }
             } else {
                 EXPECT_LE(largest, 65504.0f);
             }

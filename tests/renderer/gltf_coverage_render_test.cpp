@@ -169,7 +169,9 @@ TEST_P(KhronosSelfCheckTest, VertexColorTestRowsMatch) {
         EXPECT_GT(test[c] * 5, sample[c] * 4) << where;
         EXPECT_LT(test[c] * 4, sample[c] * 5) << where;
         for (size_t other = 0; other < 3; ++other)
-            if (other != c) EXPECT_LT(test[other], 5u) << where;
+            if (other != c) {
+                EXPECT_LT(test[other], 5u) << where;
+            }
     }
     if (testing::Test::HasFailure()) writePNG(test_support::outputDir() / fmt::format("vertex-color-test-{}.png", label), output.display);
 }

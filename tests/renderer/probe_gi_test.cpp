@@ -602,8 +602,6 @@ TEST_P(ProbeGiTest, TheRedWallBleedsOntoTheFloor) {
     const uint32_t y0 = 66, y1 = 80;
     const glm::dvec3 gainLeft = meanHdr(a.hdr, 20, y0, 28, y1) / glm::max(meanHdr(b.hdr, 20, y0, 28, y1), glm::dvec3(1e-6));
     const glm::dvec3 gainRight = meanHdr(a.hdr, 70, y0, 78, y1) / glm::max(meanHdr(b.hdr, 70, y0, 78, y1), glm::dvec3(1e-6));
-    const glm::dvec3 l = meanHdr(a.hdr, 20, y0, 28, y1), lw = meanHdr(b.hdr, 20, y0, 28, y1);
-    const glm::dvec3 r = meanHdr(a.hdr, 70, y0, 78, y1), rw = meanHdr(b.hdr, 70, y0, 78, y1);
     const std::string values = fmt::format("{}: gain left ({:.3f}, {:.3f}, {:.3f}) right ({:.3f}, {:.3f}, {:.3f})", GetParam().name(),
                                            gainLeft.r, gainLeft.g, gainLeft.b, gainRight.r, gainRight.g, gainRight.b);
     // Next to the red wall GI adds more red than green, next to the green wall more green than red.

@@ -220,7 +220,9 @@ TEST_P(RenderTest, MatchesVulkanComputeAndReportsItsPasses) {
     auto pass = [&](const std::string& name) -> const PassReport& {
         return *std::find_if(report.passes.begin(), report.passes.end(), [&](const PassReport& p) { return p.name == name; });
     };
-    if (shadows) EXPECT_EQ(pass("shadow-map").draws, scene.instances.size() - blended);
+    if (shadows) {
+        EXPECT_EQ(pass("shadow-map").draws, scene.instances.size() - blended);
+    }
     if (scene.irradianceVolume) {
         // One dispatch each | one draw for the bricks, one per volume slice (Y x 9) for the SH.
         EXPECT_EQ(pass("gi-brick-radiance" + path).dispatches, compute ? 1u : 0u);
@@ -229,7 +231,9 @@ TEST_P(RenderTest, MatchesVulkanComputeAndReportsItsPasses) {
         EXPECT_EQ(pass("gi-probe-sh" + path).draws, compute ? 0u : scene.irradianceVolume->probeCounts.y * 9);
     }
     EXPECT_EQ(pass("forward").draws, scene.instances.size() - blended);
-    if (blended > 0) EXPECT_GE(pass("transparent").draws, blended);   // double-sided ones draw twice
+    if (blended > 0) {
+        EXPECT_GE(pass("transparent").draws, blended);   // double-sided ones draw twice
+    }
     ASSERT_EQ(report.probeUpdates.size(), scene.reflectionProbes.size());
     for (const ProbeUpdateReport& update : report.probeUpdates) {
         // 6 prefiltered mips: one dispatch each | one draw per face and mip (36), then 7 x 6 copies.

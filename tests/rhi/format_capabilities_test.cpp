@@ -292,7 +292,9 @@ TEST_P(FormatCapabilityTest, Storage) {
         SCOPED_TRACE(info.name);
         // Whatever the driver offers (NVIDIA's Vulkan driver offers D32_SFLOAT): no GLSL image
         // format names a depth format, and GL has no depth image load/store.
-        if (isDepth(format)) EXPECT_FALSE(has(format, FormatCapability::Storage)) << "a depth format as a storage image";
+        if (isDepth(format)) {
+            EXPECT_FALSE(has(format, FormatCapability::Storage)) << "a depth format as a storage image";
+        }
         if (!has(format, FormatCapability::Storage)) {
             expectUnsupported(format, FormatCapability::Storage,
                               [&] { createTexture2D(format, kSize, kSize, TextureUsage::Storage); });
