@@ -69,21 +69,26 @@ std::pair<uint64_t, uint64_t> boundRange(const BindingItem& item) {
 
 BindingSet::BindingSet(const BindingSetDesc& desc) : m_desc(desc) {
     for (const BindingItem& item : m_desc.items) {
-        m_bindingPoints |= item.binding < 63 ? uint64_t(1) << item.binding : ~uint64_t(0) << 63;
+        m_replay.bindingPoints |= item.binding < 63 ? uint64_t(1) << item.binding : ~uint64_t(0) << 63;
         const GLbitfield needs = shaderAccessBarrier(item.type);
         const bool write = isShaderWrite(item.type);
         if (!item.buffer) {
-            m_hasTextures = true;
+            m_replay.hasTextures = true;
             m_itemAccesses.push_back({item.texture.get(), 0, UINT64_MAX, needs, write});
             continue;
         }
         // Items are validated: the buffer is this device's and the range lies inside it.
         const auto [begin, end] = boundRange(item);
         m_itemAccesses.push_back({item.buffer.get(), begin, end, needs, write});
-        m_bufferRanges.push_back({item.type == ResourceType::UniformBuffer ? GLenum(GL_UNIFORM_BUFFER)
-                                                                          : GLenum(GL_SHADER_STORAGE_BUFFER),
-                                  item.binding, static_cast<const Buffer*>(item.buffer.get())->name(),
-                                  GLintptr(begin), GLsizeiptr(end - begin)});
+        m_moreBufferRanges.push_back({GLintptr(begin), GLsizeiptr(end - begin),
+                                      static_cast<const Buffer*>(item.buffer.get())->name(), item.binding,
+                                      item.type == ResourceType::UniformBuffer ? GLenum(GL_UNIFORM_BUFFER)
+                                                                               : GLenum(GL_SHADER_STORAGE_BUFFER)});
+    }
+    m_replay.rangeCount = uint32_t(m_moreBufferRanges.size());
+    if (m_replay.rangeCount <= kInlineBufferRanges) {
+        std::copy(m_moreBufferRanges.begin(), m_moreBufferRanges.end(), m_replay.ranges.begin());
+        m_moreBufferRanges = {};
     }
 }
 

@@ -293,25 +293,34 @@ struct UsedBindings {
     bool usesTextures = false;      // a texture or image
 };
 
-class BindingSet final : public IBindingSet {
+// Every draw that binds a set reads it twice: recording reads its first cache line (the vtable
+// pointer the handle's type check reads, keepMark, the last binding check) and replay its second
+// (binding points, the buffer range of a one-buffer set). Aligned to a line and laid out so, such
+// a bind touches two lines of the set and no other allocation of it: applications draw with many
+// sets (a uniform slice per draw), so these lines are rarely in the first-level cache.
+class alignas(64) BindingSet final : public IBindingSet {
 public:
     explicit BindingSet(const BindingSetDesc& desc);
     const BindingSetDesc& desc() const override { return m_desc; }
     // Bit b: the set binds something at GL binding point / unit b (all bits from 63 up). Two sets
     // whose masks are disjoint cannot overwrite each other's bindings.
-    uint64_t bindingPoints() const { return m_bindingPoints; }
+    uint64_t bindingPoints() const { return m_replay.bindingPoints; }
     // The buffer items as the glBindBufferRange calls that bind them, resolved when the set is
     // made (replay binds them without visiting the items' objects); the textures and images are
     // bound from the items.
     struct BufferRange {
-        GLenum target;
-        GLuint index;
-        GLuint buffer;
         GLintptr offset;
         GLsizeiptr size;
+        GLuint buffer;
+        GLuint index;   // the binding point
+        GLenum target;  // GL_UNIFORM_BUFFER or GL_SHADER_STORAGE_BUFFER
     };
-    std::span<const BufferRange> bufferRanges() const { return m_bufferRanges; }
-    bool hasTextures() const { return m_hasTextures; }
+    std::span<const BufferRange> bufferRanges() const {
+        if (m_replay.rangeCount <= kInlineBufferRanges) [[likely]]
+            return {m_replay.ranges.data(), m_replay.rangeCount};
+        return m_moreBufferRanges;
+    }
+    bool hasTextures() const { return m_replay.hasTextures; }
     // The access of desc().items[i], resolved when the set is made.
     const ShaderAccess& itemAccess(size_t i) const { return m_itemAccesses[i]; }
 
@@ -341,17 +350,24 @@ public:
     }
     // Keeps a passed check (unless one for its key is there already) and returns the kept one.
     const Validated* addValidated(std::unique_ptr<Validated> check) const;
-    KeepMark keepMark;
+    KeepMark keepMark;   // first line, after the vtable pointer
 
 private:
+    static constexpr uint32_t kInlineBufferRanges = 1;   // a set of one buffer: the common per-draw set
     const Validated* findValidated(uint64_t signature, uint32_t set) const;
 
+    mutable std::atomic<const Validated*> m_lastValidated{nullptr};   // first line
+    // The second line: all that replay reads of a set with one buffer and no texture.
+    struct alignas(64) ReplayState {
+        uint64_t bindingPoints = 0;
+        uint32_t rangeCount = 0;
+        bool hasTextures = false;
+        std::array<BufferRange, kInlineBufferRanges> ranges{};
+    } m_replay;
+    static_assert(sizeof(ReplayState) == 64, "replay reads one cache line of a set");
+    std::vector<BufferRange> m_moreBufferRanges;   // all of them, when more than kInlineBufferRanges
     BindingSetDesc m_desc;
-    uint64_t m_bindingPoints = 0;
-    std::vector<BufferRange> m_bufferRanges;
     std::vector<ShaderAccess> m_itemAccesses;
-    bool m_hasTextures = false;
-    mutable std::atomic<const Validated*> m_lastValidated{nullptr};
     mutable std::mutex m_validatedMutex;
     mutable std::vector<std::unique_ptr<Validated>> m_validated;
 };

@@ -1,4 +1,4 @@
-// Which GL entry point each kind of draw replays as. A draw of one instance goes through the plain
+// Which GL entry point each kind of draw replays as, and what of a binding set replay reads. A draw of one instance goes through the plain
 // entry point (glDrawArrays, glDrawElements, glDrawElementsBaseVertex), the call an application
 // makes for it and the one the overhead bench's raw side makes (bench/raw_gl.cpp); GL defines it
 // as the instanced call with one instance, so only the entry point differs. Instanced draws and
@@ -122,6 +122,41 @@ TEST_P(GLDrawCallsTest, InstancedDrawsKeepTheInstancedEntryPoints) {
               Calls{es ? "glDrawArrays" : "glDrawArraysInstancedBaseInstance"});
     EXPECT_EQ(entryPointsOf([](ICommandList& cmd) { cmd.drawIndexed(3, 1, 0, 0, 1); }),
               Calls{es ? "glDrawElements" : "glDrawElementsInstancedBaseVertexBaseInstance"});
+}
+
+// What replay binds of a set, and where it reads it: a one-buffer set (the common per-draw set)
+// keeps its binding points and its buffer range in the set's second cache line, so binding it
+// touches no other allocation (gl_device.h, BindingSet); larger sets keep their ranges apart.
+TEST_P(GLDrawCallsTest, BindingSetsKeepTheirBufferRangesForReplay) {
+    const std::vector<std::byte> bytes(1024);
+    BufferHandle uniforms = createBuffer(BufferUsage::Uniform, bytes);
+    BindingSetHandle one = device().createBindingSet(BindingSetDesc().add(BindingItem::uniformBuffer(3, uniforms, 256, 64)));
+    const auto& oneSet = dynamic_cast<const gl::BindingSet&>(*one);
+    const auto address = reinterpret_cast<uintptr_t>(&oneSet);
+    EXPECT_EQ(address % 64, 0u) << "the set is aligned to a cache line";
+    ASSERT_EQ(oneSet.bufferRanges().size(), 1u);
+    const auto range = reinterpret_cast<uintptr_t>(oneSet.bufferRanges().data());
+    EXPECT_GE(range, address + 64) << "the range is in the set's second line";
+    EXPECT_LE(range + sizeof(gl::BindingSet::BufferRange), address + 128) << "the range is in the set's second line";
+    const gl::BindingSet::BufferRange& r = oneSet.bufferRanges()[0];
+    EXPECT_EQ(r.target, GLenum(GL_UNIFORM_BUFFER));
+    EXPECT_EQ(r.index, 3u);
+    EXPECT_EQ(r.offset, 256);
+    EXPECT_EQ(r.size, 64);
+    EXPECT_EQ(oneSet.bindingPoints(), uint64_t(1) << 3);
+    EXPECT_FALSE(oneSet.hasTextures());
+
+    BindingSetHandle three = device().createBindingSet(BindingSetDesc()
+                                                           .add(BindingItem::uniformBuffer(0, uniforms, 0, 256))
+                                                           .add(BindingItem::uniformBuffer(1, uniforms, 256, 256))
+                                                           .add(BindingItem::uniformBuffer(5, uniforms, 512, 128)));
+    const auto& threeSet = dynamic_cast<const gl::BindingSet&>(*three);
+    ASSERT_EQ(threeSet.bufferRanges().size(), 3u);
+    EXPECT_EQ(threeSet.bufferRanges()[1].index, 1u);
+    EXPECT_EQ(threeSet.bufferRanges()[2].index, 5u);
+    EXPECT_EQ(threeSet.bufferRanges()[2].offset, 512);
+    EXPECT_EQ(threeSet.bufferRanges()[2].size, 128);
+    EXPECT_EQ(threeSet.bindingPoints(), uint64_t(0b100011));
 }
 
 }  // namespace
