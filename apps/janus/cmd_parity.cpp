@@ -224,6 +224,9 @@ int run(const ParityOptions& options) {
         if (r.outcome) {
             entry["device"] = r.outcome->device.deviceName;
             entry["apiVersion"] = r.outcome->device.apiVersion;
+            // What a driver was told that changes images (NVIDIA GL's filtering): an --against
+            // comparison across machines needs it.
+            if (!r.outcome->device.driverSettings.empty()) entry["driverSettings"] = r.outcome->device.driverSettings;
             entry["report"] = r.outcome->report.toJson();
         }
         configsJson.push_back(std::move(entry));

@@ -17,6 +17,11 @@ json_check "$TMP/info.json" '[b["name"] for b in j["backends"]] == ["vulkan", "g
 json_check "$TMP/info.json" 'j["glPlatform"] == "egl"' "glPlatform is not egl by default"
 json_check "$TMP/info.json" 'all(isinstance(b["available"], bool) for b in j["backends"])' "'available' is not a bool"
 json_check "$TMP/info.json" 'all(b["available"] or b["reason"] for b in j["backends"])' "an unavailable backend has no reason"
+# Driver settings that change results (docs/ARCHITECTURE.md "Driver settings"): a string on every
+# available backend, empty unless the driver is NVIDIA's GL, whose row names the variable.
+json_check "$TMP/info.json" 'all(isinstance(b["driverSettings"], str) for b in j["backends"] if b["available"])' "'driverSettings' is not a string"
+json_check "$TMP/info.json" 'all(b["driverSettings"] == "" or (b["name"] != "vulkan" and "__GL_OpenGLImageSettings" in b["driverSettings"]) for b in j["backends"] if b["available"])' \
+  "'driverSettings' is set where no setting applies, or does not name the variable"
 capabilities='["compute", "storage-buffers", "storage-images", "render-to-3d-slice", "render-to-cube-face-mip", "float-render-targets", "float32-blend", "timestamp-queries", "independent-blend", "cube-arrays", "texture-views"]'
 json_check "$TMP/info.json" "all(sorted(b['capabilities']) == sorted($capabilities) for b in j['backends'] if b['available'])" \
   "an available backend does not report every capability"

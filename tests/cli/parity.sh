@@ -23,6 +23,7 @@ done
 
 json_check "$out/parity.json" 'j["passed"] is True and j["tolerance"] == 1 and j["edgePixels"] == 4 and j["width"] == 64 and j["height"] == 64' "parity.json does not record a pass at 64x64, tolerance 1, 4 edge pixels"
 json_check "$out/parity.json" 'len(j["configurations"]) == 5 and all(c["ran"] for c in j["configurations"])' "not every configuration ran"
+json_check "$out/parity.json" 'all(c.get("driverSettings", "x") != "" for c in j["configurations"])' "an empty 'driverSettings' was recorded"
 json_check "$out/parity.json" 'len(j["pairs"]) == 10 and all(p["compared"] and p["maxChannelDifference"] <= 1 for p in j["pairs"])' "a pair exceeds one step"
 
 # The same renders fail a zero tolerance without edge pixels exactly when some pair differs at all.
