@@ -177,7 +177,8 @@ std::vector<std::string> deviceNames(EGLDeviceEXT device, PFNEGLQUERYDEVICESTRIN
     return names;
 }
 
-// "0 (/dev/dri/card0, renderD128), 1 (software)": the list a failed choice by name shows.
+// "0 (/dev/dri/card0, /dev/dri/renderD128), 1 (software)": the list a failed choice by name shows
+// (each path once; its file name alone also matches).
 std::string describeDeviceNames(const std::vector<std::vector<std::string>>& namesPerDevice) {
     std::string text;
     for (size_t i = 0; i < namesPerDevice.size(); ++i) {
