@@ -147,7 +147,10 @@ nlohmann::json toJson(const std::vector<BackendReport>& reports, rhi::GLPlatform
         };
         backends.push_back(std::move(entry));
     }
-    return {{"glPlatform", rhi::toString(platform)}, {"backends", backends}};
+    nlohmann::json eglDevices = nlohmann::json::array();
+    for (const rhi::EglDeviceListing& d : rhi::listEglDevices())
+        eglDevices.push_back({{"index", d.index}, {"names", d.names}});
+    return {{"glPlatform", rhi::toString(platform)}, {"backends", backends}, {"eglDevices", eglDevices}};
 }
 
 void printText(const std::vector<BackendReport>& reports, rhi::GLPlatform platform) {
@@ -165,6 +168,20 @@ void printText(const std::vector<BackendReport>& reports, rhi::GLPlatform platfo
                                                    {"shading language", r.info.shadingLanguage}};
         if (!r.info.driverSettings.empty()) rows.push_back({"driver settings", r.info.driverSettings});
         out += formatTable(rows, 4);
+    }
+
+    // What JANUS_EGL_DEVICE can name (its index or any of its names).
+    const std::vector<rhi::EglDeviceListing> eglDevices = rhi::listEglDevices();
+    if (eglDevices.empty()) {
+        out += "\nEGL devices: none listed (this EGL cannot enumerate devices)\n";
+    } else {
+        std::vector<std::vector<std::string>> rows;
+        for (const rhi::EglDeviceListing& d : eglDevices) {
+            std::string names;
+            for (const std::string& name : d.names) names += (names.empty() ? "" : ", ") + name;
+            rows.push_back({std::to_string(d.index), names.empty() ? "(no name: use the index)" : names});
+        }
+        out += "\nEGL devices (JANUS_EGL_DEVICE=<index or name>)\n" + formatTable(rows);
     }
 
     if (std::none_of(reports.begin(), reports.end(), [](const BackendReport& r) { return r.available; })) {

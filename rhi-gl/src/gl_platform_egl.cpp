@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "gl_platform.h"
+#include "janus/rhi/backends.h"
 #include "janus/rhi/rhi.h"
 
 namespace janus::rhi::gl {
@@ -192,26 +193,39 @@ std::string describeDeviceNames(const std::vector<std::vector<std::string>>& nam
     return text;
 }
 
-std::unique_ptr<Platform> startOnDevice(GLApi api, bool debugContext, std::optional<uint32_t> deviceIndex,
-                                        const std::string& deviceName = {}) {
+// The devices EGL can open displays on, in eglQueryDevicesEXT's order. Throws BackendUnavailable
+// saying what EGL lacks.
+struct EglDevices {
+    std::vector<EGLDeviceEXT> devices;
+    PFNEGLQUERYDEVICESTRINGEXTPROC queryDeviceString = nullptr;
+};
+EglDevices enumerateDevices() {
     const char* client = clientExtensions();
     const bool enumeration =
         hasExtension(client, "EGL_EXT_device_enumeration") || hasExtension(client, "EGL_EXT_device_base");
     if (!enumeration || !hasExtension(client, "EGL_EXT_platform_device"))
         unavailable("EGL does not offer EGL device displays (EGL_EXT_device_enumeration and EGL_EXT_platform_device)");
     auto queryDevices = requireEntryPoint<PFNEGLQUERYDEVICESEXTPROC>("eglQueryDevicesEXT", "EGL_EXT_device_enumeration");
-    auto queryDeviceString =
+    EglDevices result;
+    result.queryDeviceString =
         requireEntryPoint<PFNEGLQUERYDEVICESTRINGEXTPROC>("eglQueryDeviceStringEXT", "EGL_EXT_device_query");
-    auto getPlatformDisplay =
-        requireEntryPoint<PFNEGLGETPLATFORMDISPLAYEXTPROC>("eglGetPlatformDisplayEXT", "EGL_EXT_platform_base");
-
     EGLint count = 0;
     if (!queryDevices(0, nullptr, &count))
         unavailable(fmt::format("eglQueryDevicesEXT failed ({})", lastEglError()));
-    std::vector<EGLDeviceEXT> devices(size_t(std::max(count, 0)));
-    if (count > 0 && !queryDevices(count, devices.data(), &count))
+    result.devices.resize(size_t(std::max(count, 0)));
+    if (count > 0 && !queryDevices(count, result.devices.data(), &count))
         unavailable(fmt::format("eglQueryDevicesEXT failed ({})", lastEglError()));
-    devices.resize(size_t(std::max(count, 0)));
+    result.devices.resize(size_t(std::max(count, 0)));
+    return result;
+}
+
+std::unique_ptr<Platform> startOnDevice(GLApi api, bool debugContext, std::optional<uint32_t> deviceIndex,
+                                        const std::string& deviceName = {}) {
+    const EglDevices found = enumerateDevices();
+    const std::vector<EGLDeviceEXT>& devices = found.devices;
+    const PFNEGLQUERYDEVICESTRINGEXTPROC queryDeviceString = found.queryDeviceString;
+    auto getPlatformDisplay =
+        requireEntryPoint<PFNEGLGETPLATFORMDISPLAYEXTPROC>("eglGetPlatformDisplayEXT", "EGL_EXT_platform_base");
     if (devices.empty()) unavailable("EGL lists no devices (eglQueryDevicesEXT)");
     if (!deviceName.empty()) {
         std::vector<std::vector<std::string>> names;
@@ -290,6 +304,18 @@ EglOptions parseEglOptions(const char* platformVariable, const char* deviceVaria
         unavailable(fmt::format("JANUS_EGL_DEVICE='{}' is not a device index (0, 1, ...)", device));
     options.deviceIndex = index;
     return options;
+}
+
+std::vector<EglDeviceListing> listEglDevices() {
+    std::vector<EglDeviceListing> listing;
+    try {
+        const EglDevices found = enumerateDevices();
+        for (size_t i = 0; i < found.devices.size(); ++i)
+            listing.push_back({uint32_t(i), deviceNames(found.devices[i], found.queryDeviceString)});
+    } catch (const Error&) {
+        return {};   // no device enumeration: nothing to choose from
+    }
+    return listing;
 }
 
 std::optional<uint32_t> eglDeviceNamed(const std::vector<std::vector<std::string>>& namesPerDevice,

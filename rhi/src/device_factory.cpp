@@ -36,4 +36,6 @@ std::vector<BackendProbe> probeBackends(GLPlatform glPlatform) {
     return result;
 }
 
+std::vector<EglDeviceListing> listEglDevices() { return gl::listEglDevices(); }
+
 }  // namespace janus::rhi

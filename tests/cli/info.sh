@@ -10,6 +10,8 @@ done
 if grep -q ': unavailable$' "$TMP/stdout" && ! grep -q '^    reason: .' "$TMP/stdout"; then
   fail "janus info lists an unavailable backend without a reason"
 fi
+# The EGL devices section: listed by index, or said to be none.
+grep -Eq '^EGL devices( \(JANUS_EGL_DEVICE=<index or name>\)$|: none listed)' "$TMP/stdout" || fail "janus info has no EGL devices section"
 
 expect_success info --json
 cp "$TMP/stdout" "$TMP/info.json"
@@ -17,6 +19,9 @@ json_check "$TMP/info.json" '[b["name"] for b in j["backends"]] == ["vulkan", "g
 json_check "$TMP/info.json" 'j["glPlatform"] == "egl"' "glPlatform is not egl by default"
 json_check "$TMP/info.json" 'all(isinstance(b["available"], bool) for b in j["backends"])' "'available' is not a bool"
 json_check "$TMP/info.json" 'all(b["available"] or b["reason"] for b in j["backends"])' "an unavailable backend has no reason"
+# The EGL devices JANUS_EGL_DEVICE can name, by index (0, 1, ...) with their names.
+json_check "$TMP/info.json" 'isinstance(j["eglDevices"], list) and all(d["index"] == i and isinstance(d["names"], list) for i, d in enumerate(j["eglDevices"]))' \
+  "'eglDevices' is not a list of devices by index with their names"
 # Driver settings that change results (docs/ARCHITECTURE.md "Driver settings"): a string on every
 # available backend, empty unless the driver is NVIDIA's GL, whose row names the variable.
 json_check "$TMP/info.json" 'all(isinstance(b["driverSettings"], str) for b in j["backends"] if b["available"])' "'driverSettings' is not a string"

@@ -194,6 +194,28 @@ TEST_P(EglDisplayTest, ADeviceChosenByNameRendersOrIsUnavailableListingTheNames)
     EXPECT_NE(bySoftware.find("software renderer"), std::string::npos) << bySoftware;
 }
 
+// rhi::listEglDevices (what `janus info` shows): every device it lists starts when asked for by
+// its index and by each of its names.
+TEST_P(EglDisplayTest, EveryListedDeviceStartsByItsIndexAndEachOfItsNames) {
+    if (!(clientExtension("EGL_EXT_device_enumeration") || clientExtension("EGL_EXT_device_base")) ||
+        !clientExtension("EGL_EXT_platform_device")) {
+        EXPECT_TRUE(listEglDevices().empty()) << "devices listed where EGL cannot enumerate them";
+        GTEST_SKIP() << "this EGL does not offer EGL_EXT_device_enumeration and EGL_EXT_platform_device";
+    }
+    const std::vector<EglDeviceListing> listed = listEglDevices();
+    ASSERT_FALSE(listed.empty()) << "EGL enumerates devices but none is listed";
+    for (size_t i = 0; i < listed.size(); ++i) {
+        EXPECT_EQ(listed[i].index, i);
+        const std::string prefix = fmt::format("egl (device {}: ", i);
+        const std::string byIndex = renderOnEglDisplay(GetParam(), {EglDisplayKind::Device, uint32_t(i)});
+        EXPECT_TRUE(byIndex.starts_with(prefix)) << byIndex;
+        for (const std::string& name : listed[i].names) {
+            const std::string byName = renderOnEglDisplay(GetParam(), {EglDisplayKind::Device, std::nullopt, name});
+            EXPECT_TRUE(byName.starts_with(prefix)) << name << " started " << byName;
+        }
+    }
+}
+
 TEST_P(EglDisplayTest, ADeviceIndexPastTheListIsBackendUnavailableSayingHowManyThereAre) {
     if (!(clientExtension("EGL_EXT_device_enumeration") || clientExtension("EGL_EXT_device_base")) ||
         !clientExtension("EGL_EXT_platform_device"))

@@ -747,4 +747,13 @@ struct BackendProbe {
 };
 std::vector<BackendProbe> probeBackends(GLPlatform glPlatform = GLPlatform::EGL);
 
+// The EGL devices the GL backends can be pointed at (JANUS_EGL_DEVICE takes the index or any of
+// the names: the DRM device file and render node, whole or without their folder, "software" for
+// Mesa's software renderer). Empty where EGL cannot enumerate devices. Starts no device.
+struct EglDeviceListing {
+    uint32_t index = 0;
+    std::vector<std::string> names;   // may be empty: choose such a device by its index
+};
+std::vector<EglDeviceListing> listEglDevices();
+
 }  // namespace janus::rhi
