@@ -91,7 +91,6 @@ uint64_t parseEdgePixels(std::string_view text) {
 }
 
 void addEdgePixelsOption(CLI::App& app, std::string& edgePixels) {
-    edgePixels = std::to_string(kDefaultEdgePixels);
     app.add_option("--edge-pixels", edgePixels,
                    "Pixels two configurations may have beyond --tolerance and still agree: a pixel centre on (or within "
                    "rounding of) an edge between two triangles may go to either triangle on GL and Vulkan (0: none)")

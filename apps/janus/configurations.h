@@ -74,7 +74,8 @@ inline constexpr uint64_t kDefaultEdgePixels = 4;
 
 // --edge-pixels: a pixel count in 0..2^32; throws UsageError.
 uint64_t parseEdgePixels(std::string_view text);
-// Adds --edge-pixels N (parity and check), stored as text for parseEdgePixels.
+// Adds --edge-pixels N (parity and check), stored as text for parseEdgePixels; `edgePixels` holds
+// the default (std::to_string(kDefaultEdgePixels)) until the option is given.
 void addEdgePixelsOption(CLI::App& app, std::string& edgePixels);
 
 // One pair of configurations compared (i < j, indices into the images given).

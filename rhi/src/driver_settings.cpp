@@ -13,7 +13,6 @@
 #include "janus/rhi/driver_settings.h"
 
 #include <cstdlib>
-#include <mutex>
 
 #include <fmt/format.h>
 
