@@ -33,7 +33,7 @@ Buffer::Buffer(ContextPtr context, const BufferDesc& desc) : m_context(std::move
 }
 
 Buffer::~Buffer() {
-    if (m_context->makeCurrentForTeardown()) m_context->gl.glDeleteBuffers(1, &m_name);
+    m_context->deleteObjects(GLObjectKind::Buffer, std::span(&m_name, 1));
 }
 
 }  // namespace janus::rhi::gl

@@ -16,7 +16,19 @@
 namespace janus::rhi::gl {
 
 namespace {
-thread_local Context* t_currentContext = nullptr;
+// The context current on this thread, if one of ours is. Released when the thread exits, so a
+// worker thread that used a device and ended leaves it free for the next thread.
+struct CurrentContext {
+    std::shared_ptr<ContextBinding> binding;
+    ~CurrentContext() { release(); }
+    void release() noexcept {
+        if (!binding) return;
+        binding->platform->releaseCurrent();
+        binding->thread.store(std::thread::id(), std::memory_order_release);
+        binding.reset();
+    }
+};
+thread_local CurrentContext t_current;
 
 // GL_EXT_disjoint_timer_query's token; glcorearb.h lacks it.
 constexpr GLenum kGpuDisjointEXT = 0x8FBB;
@@ -72,26 +84,98 @@ const T& ownResource(const std::shared_ptr<Interface>& handle, const Context& co
 // Context
 
 Context::Context(std::unique_ptr<Platform> platform, bool es)
-    : m_platform(std::move(platform)), m_es(es), m_platformName(m_platform->describe()) {
-    // Creating the platform made its context current, replacing whichever was.
-    t_currentContext = nullptr;
-    gl.load(*m_platform, es);
-    t_currentContext = this;
+    : m_binding(std::make_shared<ContextBinding>()), m_es(es), m_platformName(platform->describe()) {
+    m_binding->platform = std::move(platform);
+    // Creating the platform made its context current here, replacing whichever of ours was.
+    t_current.release();
+    m_binding->thread.store(std::this_thread::get_id(), std::memory_order_relaxed);
+    t_current.binding = m_binding;
+    gl.load(*m_binding->platform, es);
 }
 
 Context::~Context() {
     if (makeCurrentForTeardown()) {
+        deleteDeferred();
         for (auto& [key, fbo] : m_framebuffers) gl.glDeleteFramebuffers(1, &fbo);
         if (vertexArray) gl.glDeleteVertexArrays(1, &vertexArray);
+        t_current.release();
     }
-    if (t_currentContext == this) t_currentContext = nullptr;
-    // m_platform goes next: destroying the context itself only asks the platform, which never throws.
+    // The binding goes next, and with it the platform (unless a thread that holds the context
+    // still references it: that thread destroys it when it lets go). Neither throws.
 }
 
+bool Context::currentHere() const { return t_current.binding.get() == m_binding.get(); }
+
 void Context::makeCurrent() {
-    if (t_currentContext == this) return;
-    m_platform->makeCurrent();
-    t_currentContext = this;
+    if (!currentHere()) [[unlikely]] acquire();
+    if (m_hasDeferred.load(std::memory_order_acquire)) [[unlikely]] deleteDeferred();
+}
+
+void Context::acquire() {
+    std::thread::id none;
+    if (!m_binding->thread.compare_exchange_strong(none, std::this_thread::get_id(), std::memory_order_acquire))
+        throw Error(ErrorCode::InvalidUsage,
+                    fmt::format("the {} device's context ({}) is current on another thread: a GL device is used by one "
+                                "thread at a time (no Capability::ConcurrentDeviceCalls); call detachFromThread() on "
+                                "that thread when it is done with the device, or let it exit",
+                                m_es ? "gles" : "gl", m_platformName));
+    // Another context of ours current here is let go first: EGL keeps one current context per
+    // client API, so a GL context would otherwise stay bound here beside a GLES one.
+    t_current.release();
+    try {
+        m_binding->platform->makeCurrent();
+    } catch (...) {
+        m_binding->thread.store(none, std::memory_order_release);
+        throw;
+    }
+    t_current.binding = m_binding;
+}
+
+void Context::releaseFromThread() noexcept {
+    if (!currentHere()) return;
+    deleteDeferred();
+    gl.glFlush();   // what this thread issued reaches the GPU before another thread's work
+    t_current.release();
+}
+
+void Context::deleteObjects(GLObjectKind kind, std::span<const GLuint> names) noexcept {
+    if (currentHere()) return deleteNow(kind, names);
+    try {
+        const std::lock_guard lock(m_deferredMutex);
+        for (GLuint name : names) m_deferred.emplace_back(kind, name);
+        m_hasDeferred.store(true, std::memory_order_release);
+    } catch (...) {
+        // Out of memory: the objects stay until the context is destroyed, which frees them all.
+    }
+}
+
+void Context::deleteNow(GLObjectKind kind, std::span<const GLuint> names) {
+    const auto count = GLsizei(names.size());
+    switch (kind) {
+        case GLObjectKind::Buffer: gl.glDeleteBuffers(count, names.data()); break;
+        case GLObjectKind::Texture:
+            for (GLuint name : names) forgetTexture(name);
+            gl.glDeleteTextures(count, names.data());
+            break;
+        case GLObjectKind::Sampler: gl.glDeleteSamplers(count, names.data()); break;
+        case GLObjectKind::Shader:
+            for (GLuint name : names) gl.glDeleteShader(name);
+            break;
+        case GLObjectKind::Program:
+            for (GLuint name : names) gl.glDeleteProgram(name);
+            break;
+        case GLObjectKind::Query: gl.glDeleteQueries(count, names.data()); break;
+    }
+}
+
+void Context::deleteDeferred() {
+    std::vector<std::pair<GLObjectKind, GLuint>> deferred;
+    {
+        const std::lock_guard lock(m_deferredMutex);
+        deferred.swap(m_deferred);
+        m_hasDeferred.store(false, std::memory_order_relaxed);
+    }
+    for (const auto& [kind, name] : deferred) deleteNow(kind, std::span(&name, 1));
 }
 
 bool Context::makeCurrentForTeardown() noexcept {
@@ -247,6 +331,8 @@ bool Device::hasExtension(std::string_view name) const {
 
 Capabilities Device::detectCapabilities() {
     Capabilities caps;
+    // A context is current on one thread at a time (Context::makeCurrent).
+    caps.concurrentDeviceCalls = false;
     const GLFunctions& f = gl();
     auto integer = [&](GLenum name) {
         GLint v = 0;

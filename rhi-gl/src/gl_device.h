@@ -11,6 +11,7 @@
 #include <mutex>
 #include <span>
 #include <string>
+#include <thread>
 #include <tuple>
 #include <type_traits>
 #include <utility>
@@ -51,24 +52,44 @@ struct FramebufferKey {
 
 class Texture;
 
+// The GL objects resource destructors delete (Context::deleteObjects).
+enum class GLObjectKind : uint8_t { Buffer, Texture, Sampler, Shader, Program, Query };
+
+// A context's platform and the thread it is current on: what a thread needs to let go of the
+// context, held by the context and by that thread (so a context destroyed elsewhere is still
+// released, and its platform destroyed, when the thread lets go: docs/ARCHITECTURE.md, "Threads").
+struct ContextBinding {
+    std::unique_ptr<Platform> platform;
+    std::atomic<std::thread::id> thread{};   // the thread it is current on; std::thread::id() for none
+};
+
 // The context and everything tied to it. Shared by the device and every resource, so GL objects
 // can be deleted (with their context current) in whatever order handles are released.
 class Context {
 public:
+    // `platform`'s context is current on the calling thread (creating it made it so).
     Context(std::unique_ptr<Platform> platform, bool es);
     ~Context();
     Context(const Context&) = delete;
     Context& operator=(const Context&) = delete;
 
-    // Makes this context current on the calling thread unless it already is. Throws
-    // Error(DeviceLost) when the platform refuses.
+    // Makes this context current on the calling thread unless it already is, and deletes what
+    // destructors on other threads left for it. A context is current on one thread at a time:
+    // throws Error(InvalidUsage) while another thread holds it (until that thread calls
+    // releaseFromThread() or exits), Error(DeviceLost) when the platform refuses.
     void makeCurrent();
-    // For destructors, which must never throw: makes the context current and returns true, or,
-    // when the platform refuses (at process exit the driver's EGL may already be shut down, and
-    // static objects are destroyed after it), returns false and says so on stderr, once per
-    // context. The caller then leaves its GL objects to the driver; from then on every call
-    // returns false at once.
+    // Where the context is current on the calling thread: flushes and unbinds it there.
+    void releaseFromThread() noexcept;
+    // For Device's and Context's destructors, which must never throw: makes the context current
+    // and returns true, or, when that fails (another thread holds it; at process exit the driver's
+    // EGL may already be shut down, and static objects are destroyed after it), returns false and
+    // says so on stderr, once per context. The caller then leaves its GL objects to the driver;
+    // from then on every call returns false at once.
     bool makeCurrentForTeardown() noexcept;
+    // For resource destructors, which may run on any thread: deletes the objects now where the
+    // context is current on the calling thread, else at its next makeCurrent (or destruction).
+    // Never throws.
+    void deleteObjects(GLObjectKind kind, std::span<const GLuint> names) noexcept;
 
     bool isES() const { return m_es; }
     const std::string& platformName() const { return m_platformName; }
@@ -100,13 +121,22 @@ public:
     bool checkSamplerUnits = false;
 
 private:
-    std::unique_ptr<Platform> m_platform;
+    bool currentHere() const;
+    void acquire();
+    void deleteNow(GLObjectKind kind, std::span<const GLuint> names);
+    void deleteDeferred();
+
+    std::shared_ptr<ContextBinding> m_binding;
     bool m_es;
     bool m_unreachableAtTeardown = false;   // makeCurrentForTeardown failed (and said so)
     std::string m_platformName;
     std::map<FramebufferKey, GLuint> m_framebuffers;
     std::vector<DebugMessage> m_debugMessages;
     std::vector<DebugMessage> m_performanceMessages;   // severity Performance, apart from the above
+    // Objects whose handles were released on a thread where the context was not current.
+    std::mutex m_deferredMutex;
+    std::vector<std::pair<GLObjectKind, GLuint>> m_deferred;
+    std::atomic<bool> m_hasDeferred{false};
 };
 using ContextPtr = std::shared_ptr<Context>;
 
@@ -686,6 +716,7 @@ public:
 
     void execute(const CommandListHandle& commandList) override;
     void waitIdle() override;
+    void detachFromThread() override { m_context->releaseFromThread(); }
 
     void writeBufferImpl(const BufferHandle& buffer, const void* data, uint64_t size, uint64_t offset) override;
     std::vector<std::byte> readBufferImpl(const BufferHandle& buffer, uint64_t offset, uint64_t size) override;

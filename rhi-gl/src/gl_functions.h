@@ -33,6 +33,7 @@ class Platform;
     X(PFNGLBLENDEQUATIONSEPARATEPROC, glBlendEquationSeparate)                                                \
     X(PFNGLPIXELSTOREIPROC, glPixelStorei)                                                                    \
     X(PFNGLFINISHPROC, glFinish)                                                                              \
+    X(PFNGLFLUSHPROC, glFlush)                                                                                \
     X(PFNGLGENBUFFERSPROC, glGenBuffers)                                                                      \
     X(PFNGLDELETEBUFFERSPROC, glDeleteBuffers)                                                                \
     X(PFNGLBINDBUFFERPROC, glBindBuffer)                                                                      \

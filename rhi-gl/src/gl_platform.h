@@ -20,6 +20,9 @@ public:
     // Binds this platform's context to the calling thread. Throws Error(DeviceLost) when the
     // window-system layer refuses (e.g. it was shut down before us at process exit).
     virtual void makeCurrent() = 0;
+    // Unbinds this platform's context from the calling thread, where it is current, so that
+    // another thread can make it current (a context is current on at most one thread).
+    virtual void releaseCurrent() noexcept = 0;
     // Any GL entry point (core or extension), or null when the context does not export it.
     virtual void* getProcAddress(const char* name) const = 0;
     // DeviceInfo::platform: "osmesa", or "egl (<display>)" naming the EGL display it runs on:
@@ -80,6 +83,7 @@ struct OsmesaEntryPoints {
     OsmesaContext (*createContextAttribs)(const int* attribList, OsmesaContext sharedContext) = nullptr;
     void (*destroyContext)(OsmesaContext context) = nullptr;
     unsigned char (*makeCurrent)(OsmesaContext context, void* buffer, unsigned type, int width, int height) = nullptr;
+    OsmesaContext (*getCurrentContext)() = nullptr;
     void (*(*getProcAddress)(const char* name))() = nullptr;
     std::string libraryName;   // the name that loaded
 };

@@ -103,6 +103,12 @@ public:
             throw Error(ErrorCode::DeviceLost, fmt::format("eglMakeCurrent failed ({})", lastEglError()));
     }
 
+    void releaseCurrent() noexcept override {
+        // eglMakeCurrent(EGL_NO_CONTEXT) releases the current context of the bound API.
+        if (!eglBindAPI(m_api == GLApi::DesktopCore43 ? EGL_OPENGL_API : EGL_OPENGL_ES_API)) return;
+        if (eglGetCurrentContext() == m_context) eglMakeCurrent(m_display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+    }
+
     void* getProcAddress(const char* name) const override {
         return reinterpret_cast<void*>(eglGetProcAddress(name));
     }

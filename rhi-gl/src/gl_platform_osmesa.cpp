@@ -60,6 +60,11 @@ public:
             throw Error(ErrorCode::DeviceLost, "OSMesaMakeCurrent failed");
     }
 
+    void releaseCurrent() noexcept override {
+        if (m_osmesa.getCurrentContext() != m_context) return;
+        m_osmesa.makeCurrent(nullptr, nullptr, 0, 0, 0);   // all null: no context on this thread
+    }
+
     void* getProcAddress(const char* name) const override {
         return reinterpret_cast<void*>(m_osmesa.getProcAddress(name));
     }
@@ -107,6 +112,7 @@ OsmesaEntryPoints loadOsmesa(std::span<const char* const> libraryNames) {
     lookUp(entryPoints.createContextAttribs, "OSMesaCreateContextAttribs");
     lookUp(entryPoints.destroyContext, "OSMesaDestroyContext");
     lookUp(entryPoints.makeCurrent, "OSMesaMakeCurrent");
+    lookUp(entryPoints.getCurrentContext, "OSMesaGetCurrentContext");
     lookUp(entryPoints.getProcAddress, "OSMesaGetProcAddress");
     return entryPoints;
 }

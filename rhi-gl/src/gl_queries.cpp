@@ -8,7 +8,7 @@ TimerQuery::TimerQuery(ContextPtr context) : m_context(std::move(context)) {
 }
 
 TimerQuery::~TimerQuery() {
-    if (m_context->makeCurrentForTeardown()) m_context->gl.glDeleteQueries(2, m_queries);
+    m_context->deleteObjects(GLObjectKind::Query, m_queries);
 }
 
 void Device::timestamp(GLuint query) { gl().glQueryCounter(query, GL_TIMESTAMP); }

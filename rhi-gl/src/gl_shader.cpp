@@ -85,7 +85,7 @@ Shader::Shader(ContextPtr context, const ShaderDesc& desc) : m_context(std::move
 }
 
 Shader::~Shader() {
-    if (m_context->makeCurrentForTeardown()) m_context->gl.glDeleteShader(m_name);
+    m_context->deleteObjects(GLObjectKind::Shader, std::span(&m_name, 1));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -110,7 +110,7 @@ Pipeline::Pipeline(ContextPtr context, const ComputePipelineDesc& desc)
 }
 
 Pipeline::~Pipeline() {
-    if (m_context->makeCurrentForTeardown()) m_context->gl.glDeleteProgram(m_program);
+    m_context->deleteObjects(GLObjectKind::Program, std::span(&m_program, 1));
 }
 
 namespace {

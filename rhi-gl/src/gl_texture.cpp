@@ -144,10 +144,8 @@ void Texture::zeroContents() const {
 }
 
 Texture::~Texture() {
-    if (!m_context->makeCurrentForTeardown()) return;
-    m_context->forgetTexture(m_name);
-    for (auto& [key, view] : m_views) m_context->gl.glDeleteTextures(1, &view);
-    m_context->gl.glDeleteTextures(1, &m_name);
+    for (auto& [key, view] : m_views) m_context->deleteObjects(GLObjectKind::Texture, std::span(&view, 1));
+    m_context->deleteObjects(GLObjectKind::Texture, std::span(&m_name, 1));
 }
 
 namespace {
@@ -353,7 +351,7 @@ Sampler::Sampler(ContextPtr context, const SamplerDesc& desc, bool anisotropySup
 }
 
 Sampler::~Sampler() {
-    if (m_context->makeCurrentForTeardown()) m_context->gl.glDeleteSamplers(1, &m_name);
+    m_context->deleteObjects(GLObjectKind::Sampler, std::span(&m_name, 1));
 }
 
 }  // namespace janus::rhi::gl

@@ -370,6 +370,9 @@ Capabilities queryCapabilities(const Context& ctx) {
     caps.independentBlend = ctx.enabledFeatures.independentBlend;
     caps.cubeArrays = ctx.enabledFeatures.imageCubeArray;   // enabled whenever the device has it
     caps.textureViews = true;   // VkImageView of any layer range / compatible type is core Vulkan
+    // What Vulkan leaves to the application (queue submission, descriptor pools, the caches of
+    // layouts and views) is locked here; everything else is per command list or immutable.
+    caps.concurrentDeviceCalls = true;
 
     Limits& limits = caps.limits;
     limits.maxTextureSize2D = l.maxImageDimension2D;
@@ -468,6 +471,8 @@ public:
         native<CommandList>(commandList, "execute(): the command list")->submit();
     }
     void waitIdle() override { m_context->waitIdle(); }
+    // Nothing is tied to a thread: the queue, descriptor pools and caches take locks of their own.
+    void detachFromThread() override {}
 
     void writeBufferImpl(const BufferHandle& buffer, const void* data, uint64_t size, uint64_t offset) override {
         auto* dst = native<Buffer>(buffer, "writeBuffer(): the buffer");

@@ -60,6 +60,7 @@ const char* toString(Capability cap) {
         case Capability::IndependentBlend: return "independent-blend";
         case Capability::CubeArrays: return "cube-arrays";
         case Capability::TextureViews: return "texture-views";
+        case Capability::ConcurrentDeviceCalls: return "concurrent-device-calls";
     }
     return "unknown";
 }
@@ -77,6 +78,7 @@ bool Capabilities::has(Capability cap) const {
         case Capability::IndependentBlend: return independentBlend;
         case Capability::CubeArrays: return cubeArrays;
         case Capability::TextureViews: return textureViews;
+        case Capability::ConcurrentDeviceCalls: return concurrentDeviceCalls;
     }
     return false;
 }

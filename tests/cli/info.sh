@@ -27,7 +27,7 @@ json_check "$TMP/info.json" 'isinstance(j["eglDevices"], list) and all(d["index"
 json_check "$TMP/info.json" 'all(isinstance(b["driverSettings"], str) for b in j["backends"] if b["available"])' "'driverSettings' is not a string"
 json_check "$TMP/info.json" 'all(b["driverSettings"] == "" or (b["name"] != "vulkan" and "__GL_OpenGLImageSettings" in b["driverSettings"]) for b in j["backends"] if b["available"])' \
   "'driverSettings' is set where no setting applies, or does not name the variable"
-capabilities='["compute", "storage-buffers", "storage-images", "render-to-3d-slice", "render-to-cube-face-mip", "float-render-targets", "float32-blend", "timestamp-queries", "independent-blend", "cube-arrays", "texture-views"]'
+capabilities='["compute", "storage-buffers", "storage-images", "render-to-3d-slice", "render-to-cube-face-mip", "float-render-targets", "float32-blend", "timestamp-queries", "independent-blend", "cube-arrays", "texture-views", "concurrent-device-calls"]'
 json_check "$TMP/info.json" "all(sorted(b['capabilities']) == sorted($capabilities) for b in j['backends'] if b['available'])" \
   "an available backend does not report every capability"
 json_check "$TMP/info.json" 'all(b["apiVersion"] and b["device"] and b["shadingLanguage"] and b["limits"]["maxTextureSize2D"] > 0 for b in j["backends"] if b["available"])' \
@@ -47,7 +47,7 @@ json_check "$TMP/info.json" "all(b['formats']['rgba8']['render-target'] and b['f
 # With the table: when any backend starts, the capability table lists every capability.
 run_janus info
 if grep -q ': available$' "$TMP/stdout"; then
-  for capability in compute storage-buffers storage-images render-to-3d-slice render-to-cube-face-mip float-render-targets float32-blend timestamp-queries independent-blend cube-arrays texture-views; do
+  for capability in compute storage-buffers storage-images render-to-3d-slice render-to-cube-face-mip float-render-targets float32-blend timestamp-queries independent-blend cube-arrays texture-views concurrent-device-calls; do
     grep -Eq "^  $capability +" "$TMP/stdout" || fail "janus info capability table lacks $capability"
   done
   for backend in vulkan gl gles; do

@@ -187,8 +187,13 @@ TEST_P(ErrorTest, CapabilityTableIsHonest) {
     EXPECT_EQ(c.storageImages, full);
     EXPECT_EQ(c.cubeArrays, full);
     EXPECT_EQ(c.textureViews, full);
+    // A GL context is current on one thread at a time (ThreadingTest).
+    EXPECT_EQ(c.concurrentDeviceCalls, backend() == Backend::Vulkan);
     if (full) {
-        for (Capability cap : kAllCapabilities) EXPECT_TRUE(c.has(cap)) << toString(cap) << " on " << GetParam().name;
+        for (Capability cap : kAllCapabilities) {
+            if (cap == Capability::ConcurrentDeviceCalls) continue;
+            EXPECT_TRUE(c.has(cap)) << toString(cap) << " on " << GetParam().name;
+        }
     } else {
         EXPECT_TRUE(c.renderToVolumeSlice);   // ES 3.0 core (glFramebufferTextureLayer)
         EXPECT_TRUE(c.renderToCubeFaceMip);   // ES 3.0 core
@@ -216,6 +221,7 @@ TEST_P(ErrorTest, CapabilityTableIsHonest) {
             case Capability::IndependentBlend: flag = c.independentBlend; break;
             case Capability::CubeArrays: flag = c.cubeArrays; break;
             case Capability::TextureViews: flag = c.textureViews; break;
+            case Capability::ConcurrentDeviceCalls: flag = c.concurrentDeviceCalls; break;
         }
         EXPECT_EQ(c.has(cap), flag) << toString(cap);
     }

@@ -87,7 +87,8 @@ TEST(OsmesaLoading, TheInstalledLibraryLoadsAtRunTime) {
     if (!configurationSelected("gl_osmesa")) GTEST_SKIP() << "gl_osmesa is not in JANUS_TEST_BACKENDS";
     const OsmesaEntryPoints osmesa = loadOsmesa(kOsmesaLibraryNames);
     EXPECT_EQ(osmesa.libraryName, "libOSMesa.so.8");
-    EXPECT_TRUE(osmesa.createContextAttribs && osmesa.destroyContext && osmesa.makeCurrent && osmesa.getProcAddress);
+    EXPECT_TRUE(osmesa.createContextAttribs && osmesa.destroyContext && osmesa.makeCurrent && osmesa.getCurrentContext &&
+                osmesa.getProcAddress);
 }
 
 TEST(OsmesaLoading, GlesIsRefusedBeforeLookingForTheLibrary) {

@@ -37,6 +37,7 @@ public:
         }
         m_real->makeCurrent();
     }
+    void releaseCurrent() noexcept override { m_real->releaseCurrent(); }
     void* getProcAddress(const char* name) const override { return m_real->getProcAddress(name); }
     std::string describe() const override { return m_real->describe(); }
 

@@ -121,13 +121,15 @@ enum class Capability {
     CubeArrays,              // TextureDimension::TextureCubeArray (samplerCubeArray / imageCubeArray)
     TextureViews,            // binding views with a layer/face subrange or another dimension than the
                              // texture's (one cube face as 2D, ...); mip ranges need no capability
+    ConcurrentDeviceCalls,   // device calls from several threads at once (Vulkan); without it one
+                             // thread at a time (GL: see IDevice::detachFromThread)
 };
 const char* toString(Capability cap);
 inline constexpr std::array kAllCapabilities = {
     Capability::Compute,           Capability::StorageBuffers,     Capability::StorageImages,
     Capability::RenderToVolumeSlice, Capability::RenderToCubeFaceMip, Capability::FloatRenderTargets,
     Capability::FloatBlend,        Capability::TimestampQueries,   Capability::IndependentBlend,
-    Capability::CubeArrays,        Capability::TextureViews,
+    Capability::CubeArrays,        Capability::TextureViews,       Capability::ConcurrentDeviceCalls,
 };
 
 struct Limits {
@@ -183,6 +185,7 @@ struct Capabilities {
     bool independentBlend = false;
     bool cubeArrays = false;
     bool textureViews = false;
+    bool concurrentDeviceCalls = false;
     Limits limits;
     Conventions conventions;
 
@@ -685,6 +688,13 @@ public:
     // Submits recorded work. Work runs in submission order.
     virtual void execute(const CommandListHandle& commandList) = 0;
     virtual void waitIdle() = 0;
+
+    // Threads (docs/ARCHITECTURE.md, "Threads"). Recording a command list and releasing handles
+    // are fine on any thread. Device calls: from several threads at once where
+    // Capability::ConcurrentDeviceCalls (Vulkan), else one thread at a time (GL: its context
+    // stays current on the thread that used the device last, and a call from another thread
+    // throws InvalidUsage until that thread calls detachFromThread() or exits). Vulkan: nothing.
+    virtual void detachFromThread() = 0;
 
     // Immediate transfers: wait for all executed work, then act. Rows tightly packed; row 0 is
     // the row at v = 0 (see Conventions).
