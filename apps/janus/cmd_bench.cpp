@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <set>
 #include <memory>
 
 #include <fmt/format.h>
@@ -31,6 +32,7 @@ struct BenchOptions {
     uint32_t warmup = 2;
     std::string glPlatform = "egl";
     bool quick = false;
+    std::set<std::string> given;   // the options given on the command line (--quick does not override them)
 };
 
 double median(std::vector<double> values) {
@@ -107,35 +109,56 @@ struct Row {
     double speedupVsNaive = 0.0;   // naive frame ms / this frame ms, same backend, path and count
 };
 
+// A comma-separated option's items: a UsageError for a list with none (`--lights ''`), which
+// would otherwise run nothing and write empty tables.
+std::vector<std::string> listItems(const std::string& text, std::string_view option, std::string_view example) {
+    std::vector<std::string> items = splitList(text);
+    if (items.empty()) throw UsageError(fmt::format("{} '{}' is empty; give at least one entry, such as {}", option, text, example));
+    return items;
+}
+
 int runForward(const BenchOptions& options) {
+    // --quick sets small defaults for tests; an option given explicitly wins over them (and is
+    // checked like any other value).
+    const bool quick = options.quick;
+    auto given = [&](const char* name) { return options.given.count(name) > 0; };
+    const std::string lightsText = quick && !given("--lights") ? "0,64" : options.lights;
     std::vector<uint32_t> counts;
-    for (const std::string& item : splitList(options.quick ? "0,64" : options.lights)) {
+    for (const std::string& item : listItems(lightsText, "--lights", "0,64")) {
         uint32_t n = 0;
         const auto [end, error] = std::from_chars(item.data(), item.data() + item.size(), n);
-        if (error != std::errc() || end != item.data() + item.size() || n > renderer::kMaxLocalLights) throw UsageError(fmt::format("--lights '{}' must be a comma-separated list of light counts 0..16384", options.lights));
+        if (error != std::errc() || end != item.data() + item.size() || n > renderer::kMaxLocalLights) throw UsageError(fmt::format("--lights '{}' must be a comma-separated list of light counts 0..16384", lightsText));
         counts.push_back(n);
     }
     std::vector<renderer::LightCulling> modes;
-    for (const std::string& item : splitList(options.modes)) {
+    for (const std::string& item : listItems(options.modes, "--modes", "naive,tiles-depth")) {
         const std::optional<renderer::LightCulling> mode = renderer::parseLightCulling(item);
         if (!mode || *mode == renderer::LightCulling::Auto)
             throw UsageError(fmt::format("--modes '{}': each mode must be naive, tiles-2d or tiles-depth", options.modes));
         modes.push_back(*mode);
     }
     std::vector<renderer::FeaturePath> paths;
-    for (const std::string& item : splitList(options.paths)) paths.push_back(parsePathOption(item));
+    for (const std::string& item : listItems(options.paths, "--paths", "compute,fallback")) paths.push_back(parsePathOption(item));
     std::vector<rhi::Backend> backends;
-    for (const std::string& item : splitList(options.backends)) backends.push_back(parseBackendOption(item));
+    for (const std::string& item : listItems(options.backends, "--backends", "vulkan,gl")) backends.push_back(parseBackendOption(item));
+    const std::string cutoffsText = quick && !given("--cutoffs") ? "0.01" : options.cutoffs;
     std::vector<float> cutoffs;
-    for (const std::string& item : splitList(options.quick ? "0.01" : options.cutoffs)) {
-        LightingOptions lighting;
-        lighting.intensityCutoff = item;
-        const renderer::LightingSettings parsed = parseLightingOptions(lighting);
-        if (*parsed.intensityCutoff <= 0.0f) throw UsageError("--cutoffs: each cut-off must be > 0 (0 is the reference)");
-        cutoffs.push_back(*parsed.intensityCutoff);
+    for (const std::string& item : listItems(cutoffsText, "--cutoffs", "0.01,0.001")) {
+        float cutoff = 0.0f;
+        const auto [end, error] = std::from_chars(item.data(), item.data() + item.size(), cutoff);
+        if (error != std::errc() || end != item.data() + item.size() || !std::isfinite(cutoff) || cutoff <= 0.0f)
+            throw UsageError(fmt::format("--cutoffs '{}': each cut-off must be a finite number > 0 (lux; 0 is the reference), "
+                                         "such as 0.01,0.001",
+                                         cutoffsText));
+        cutoffs.push_back(cutoff);
     }
-    const ImageSize size = parseSize(options.quick ? "64x64" : options.size);
-    const uint32_t frames = options.quick ? 1 : std::max(options.frames, 1u), warmup = options.quick ? 1 : options.warmup;
+    const ImageSize size = parseSize(quick && !given("--size") ? "64x64" : options.size);
+    if (options.frames < 1 || options.frames > 1000)
+        throw UsageError(fmt::format("--frames {} is not allowed; measure 1..1000 frames per row", options.frames));
+    if (options.warmup > 1000) throw UsageError(fmt::format("--warmup {} is not allowed; use 0..1000 frames", options.warmup));
+    const uint32_t frames = quick && !given("--frames") ? 1 : options.frames;
+    const uint32_t warmup = quick && !given("--warmup") ? 1 : options.warmup;
+    const rhi::GLPlatform glPlatform = parseGLPlatformOption(options.glPlatform);
     const std::filesystem::path outDir = benchOutputDir(options.out, "forward");
 
     std::vector<Row> rows;
@@ -147,12 +170,17 @@ int runForward(const BenchOptions& options) {
     };
     std::vector<CutoffRow> cutoffRows;
     const uint32_t cutoffLights = std::min<uint32_t>(*std::max_element(counts.begin(), counts.end()), 128);
+    std::vector<std::string> skipped;   // configurations that cannot run here, and why
     for (rhi::Backend backend : backends) {
         rhi::DeviceDesc desc;
-        desc.setBackend(backend).setGLPlatform(parseGLPlatformOption(options.glPlatform));
+        desc.setBackend(backend).setGLPlatform(glPlatform);
         std::unique_ptr<rhi::IDevice> device = rhi::createDevice(desc);
         for (renderer::FeaturePath path : paths) {
-            if (path == renderer::FeaturePath::Compute && !device->capabilities().has(rhi::Capability::Compute)) continue;
+            if (path == renderer::FeaturePath::Compute && !device->capabilities().has(rhi::Capability::Compute)) {
+                skipped.push_back(fmt::format("{}: the {} backend lacks the 'compute' capability", configurationLabel(backend, path),
+                                              rhi::toString(backend)));
+                continue;
+            }
             for (uint32_t count : counts) {
                 renderer::ManyLightsOptions sceneOptions;
                 sceneOptions.lightCount = count;
@@ -238,6 +266,11 @@ int runForward(const BenchOptions& options) {
         reportDebugMessages(rhi::toString(backend), messages);
     }
 
+    if (rows.empty())
+        throw UnavailableError(fmt::format("bench forward: no configuration could run ({}); choose --backends and --paths this machine "
+                                           "has (janus info)",
+                                           fmt::join(skipped, "; ")));
+
     // Auto threshold suggestion: smallest light count at which the best tiled mode beats naive,
     // per backend/path.
     std::map<std::string, uint32_t> threshold;
@@ -292,6 +325,11 @@ int runForward(const BenchOptions& options) {
         json["autoThreshold"][key] = count;
     }
     if (threshold.empty()) md += "- none: tiled never beat naive at these counts\n";
+    json["skipped"] = skipped;
+    if (!skipped.empty()) {
+        md += "\nSkipped:\n\n";
+        for (const std::string& item : skipped) md += "- " + item + "\n";
+    }
 
     // Plot: frame ms vs light count, one line per backend/path/mode.
     std::vector<PlotSeries> series;
@@ -329,7 +367,8 @@ Command addBenchCommand(CLI::App& parent) {
     forward->add_option("--frames", options->frames, "Measured frames per row (median)")->default_str("5");
     forward->add_option("--warmup", options->warmup, "Frames rendered before measuring")->default_str("2");
     forward->add_option("--out,-o", options->out, "Output directory; required")->type_name("DIR");
-    forward->add_flag("--quick", options->quick, "Tiny run for tests: 64x64, lights 0,64, one frame, one cut-off");
+    forward->add_flag("--quick", options->quick,
+                      "Tiny run for tests: 64x64, lights 0,64, one frame after one warm-up, cut-off 0.01; options given explicitly win");
     addGLPlatformOption(*forward, options->glPlatform);
     app->footer(kExitCodeHelp);
     forward->footer(kExitCodeHelp);
@@ -337,7 +376,11 @@ Command addBenchCommand(CLI::App& parent) {
     std::function<int()> runGi = addBenchGiCommand(*app);
     CLI::App* gi = app->get_subcommand("gi");
     return {app, [options, forward, gi, runProbes, runGi] {
-                if (forward->parsed()) return runForward(*options);
+                if (forward->parsed()) {
+                    for (const char* name : {"--lights", "--cutoffs", "--size", "--frames", "--warmup"})
+                        if (forward->count(name) > 0) options->given.insert(name);
+                    return runForward(*options);
+                }
                 return gi->parsed() ? runGi() : runProbes();
             }};
 }

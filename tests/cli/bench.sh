@@ -8,6 +8,27 @@ source "$(dirname "$0")/common.bash" "$@"
 expect_error 2 "--modes 'naive,auto': each mode must be naive, tiles-2d or tiles-depth" \
   bench forward --quick --modes naive,auto --out "$TMP/bench"
 expect_error 2 "--lights 'x' must be a comma-separated list" bench forward --lights x --out "$TMP/bench"
+# Empty lists, a zero frame count and a bad cut-off are usage errors before any device opens (an
+# empty --lights crashed); --quick does not hide a bad explicit value, nor does it override one.
+for option in --lights --modes --paths --backends --cutoffs; do
+  expect_error 2 "^janus: error: $option '' is empty; give at least one entry" bench forward "$option" "" --out "$TMP/bench"
+  expect_error 2 "$option ',' is empty" bench forward --quick "$option" , --out "$TMP/bench"
+done
+expect_error 2 "--frames 0 is not allowed" bench forward --frames 0 --out "$TMP/bench"
+expect_error 2 "--cutoffs 'nan': each cut-off must be a finite number > 0" bench forward --cutoffs nan --out "$TMP/bench"
+expect_error 2 "--cutoffs '0.01,0'" bench forward --cutoffs 0.01,0 --out "$TMP/bench"
+expect_error 2 "--size 'abc' is not WIDTHxHEIGHT" bench forward --quick --size abc --out "$TMP/bench"
+expect_error 2 "--lights '0,99999' must be" bench forward --quick --lights 0,99999 --out "$TMP/bench"
+[[ -e $TMP/bench ]] && fail "a bench forward usage error created --out"
+# Nothing can run: gles has no compute path.
+expect_error 4 "bench forward: no configuration could run \\(gles/compute: " \
+  bench forward --quick --backends gles --paths compute --out "$TMP/bench-none"
+[[ -e $TMP/bench-none/forward.json ]] && fail "bench forward wrote forward.json though nothing ran"
+# An explicit option wins over --quick's default: 8 lights, not 0 and 64.
+expect_success bench forward --quick --lights 8 --modes naive --backends vulkan --paths fallback --size 32x16 --out "$TMP/bench-explicit"
+json_check "$TMP/bench-explicit/forward.json" '[r["lights"] for r in j["rows"]] == [8] and j["size"] == [32, 16]' \
+  "bench forward --quick ignored the explicit --lights 8 / --size 32x16"
+
 
 expect_success bench forward --quick --backends vulkan,gl --out "$TMP/bench"
 for file in forward.md forward.json forward.png; do
