@@ -54,6 +54,7 @@ LocalLights::LocalLights(rhi::IDevice& device, const Scene& scene, const Resolve
     if (tiled()) {
         m_tilesX = m_grid.tilesX();
         m_tilesY = m_grid.tilesY();
+        checkTileStorageFits();
     }
     if (!m_lights.empty()) {
         LightCullingReport report;
@@ -116,6 +117,30 @@ void LocalLights::setLights(std::span<const Light> lights) {
     uploadLights();
 }
 
+void LocalLights::checkTileStorageFits() const {
+    // Checked when the renderer is made, before any resource: the tile lists (a count and
+    // maxLightsPerTile entries per tile, 32 bits each) must fit one storage buffer binding on the
+    // compute path and one data texture on the fallback path.
+    const size_t words = size_t(tileCount()) * (1 + m_lighting.maxLightsPerTile);
+    const rhi::Limits& limits = m_device.capabilities().limits;
+    const char* advice = "use larger tiles or a smaller maxLightsPerTile (janus: --tile-size, --max-lights-per-tile)";
+    if (m_path == FeaturePath::Compute) {
+        const uint64_t bytes = uint64_t(words) * 4;
+        if (limits.maxStorageBufferRange != 0 && bytes > limits.maxStorageBufferRange)
+            throw RendererError(fmt::format("the tile light lists ({}x{} tiles of {} px, up to {} lights each) need a {}-byte storage "
+                                            "buffer on the compute path, more than this device's largest storage buffer range ({}); {}",
+                                            m_tilesX, m_tilesY, m_lighting.tileSize, m_lighting.maxLightsPerTile, bytes,
+                                            limits.maxStorageBufferRange, advice));
+    } else {
+        const size_t height = (words + kDataTextureWidth - 1) / kDataTextureWidth;
+        if (height > limits.maxTextureSize2D)
+            throw RendererError(fmt::format("the tile light lists ({}x{} tiles of {} px, up to {} lights each) need a {}x{} texture on "
+                                            "the fallback path, more than this device's maximum 2D texture size {}; {}",
+                                            m_tilesX, m_tilesY, m_lighting.tileSize, m_lighting.maxLightsPerTile,
+                                            std::min<size_t>(words, kDataTextureWidth), height, limits.maxTextureSize2D, advice));
+    }
+}
+
 void LocalLights::createTileStorage(size_t words) {
     if (m_tileBuffer || m_tileTexture) return;
     if (m_path == FeaturePath::Compute)
@@ -130,7 +155,7 @@ rhi::TextureHandle LocalLights::createDataTexture(rhi::Format format, size_t ele
     const size_t height = (elements + kDataTextureWidth - 1) / kDataTextureWidth;
     if (height > m_device.capabilities().limits.maxTextureSize2D)
         throw RendererError(fmt::format("the {} need a {}x{} texture on the fallback path, more than this device's maximum 2D "
-                                        "texture size {}; use larger tiles or a smaller maxLightsPerTile",
+                                        "texture size {}; use larger tiles or a smaller maxLightsPerTile (janus: --tile-size, --max-lights-per-tile)",
                                         name, width, height, m_device.capabilities().limits.maxTextureSize2D));
     return m_device.createTexture(
         rhi::TextureDesc{}.setFormat(format).setSize(width, uint32_t(height)).setUsage(rhi::TextureUsage::Sampled).setDebugName(name));
