@@ -500,6 +500,62 @@ std::string formatTable(const std::vector<std::vector<std::string>>& rows, size_
     return out;
 }
 
+std::string validUtf8(std::string_view text) {
+    std::string out;
+    out.reserve(text.size());
+    size_t i = 0;
+    while (i < text.size()) {
+        const auto byte = static_cast<unsigned char>(text[i]);
+        // The length of the sequence this byte starts and the range its second byte must be in
+        // (RFC 3629: no overlong forms, no surrogates, nothing above U+10FFFF).
+        size_t length = 0;
+        unsigned char lo = 0x80, hi = 0xBF;
+        if (byte < 0x80) length = 1;
+        else if (byte >= 0xC2 && byte <= 0xDF) length = 2;
+        else if (byte == 0xE0) length = 3, lo = 0xA0;
+        else if (byte >= 0xE1 && byte <= 0xEC) length = 3;
+        else if (byte == 0xED) length = 3, hi = 0x9F;
+        else if (byte >= 0xEE && byte <= 0xEF) length = 3;
+        else if (byte == 0xF0) length = 4, lo = 0x90;
+        else if (byte >= 0xF1 && byte <= 0xF3) length = 4;
+        else if (byte == 0xF4) length = 4, hi = 0x8F;
+        bool valid = length != 0 && i + length <= text.size();
+        for (size_t k = 1; valid && k < length; ++k) {
+            const auto next = static_cast<unsigned char>(text[i + k]);
+            valid = k == 1 ? next >= lo && next <= hi : next >= 0x80 && next <= 0xBF;
+        }
+        if (valid) {
+            out.append(text.substr(i, length));
+            i += length;
+        } else {
+            out += fmt::format("\\x{:02X}", byte);
+            ++i;
+        }
+    }
+    return out;
+}
+
+namespace {
+
+nlohmann::json withValidUtf8(const nlohmann::json& json) {
+    if (json.is_string()) return validUtf8(json.get_ref<const std::string&>());
+    if (json.is_array()) {
+        nlohmann::json out = nlohmann::json::array();
+        for (const nlohmann::json& item : json) out.push_back(withValidUtf8(item));
+        return out;
+    }
+    if (json.is_object()) {
+        nlohmann::json out = nlohmann::json::object();
+        for (const auto& [key, value] : json.items()) out[validUtf8(key)] = withValidUtf8(value);
+        return out;
+    }
+    return json;
+}
+
+}  // namespace
+
+std::string jsonFileText(const nlohmann::json& json) { return withValidUtf8(json).dump(2) + "\n"; }
+
 std::vector<std::string> splitList(const std::string& text) {
     std::vector<std::string> items;
     std::stringstream stream(text);
@@ -520,7 +576,7 @@ std::filesystem::path benchOutputDir(const std::string& out, const std::string& 
 void writeBenchOutputs(const std::filesystem::path& dir, const std::string& stem, const std::string& markdown,
                        const nlohmann::json& json, const renderer::ImageRGBA8& plot) {
     renderer::writeFileAtomically(dir / (stem + ".md"), markdown);
-    renderer::writeFileAtomically(dir / (stem + ".json"), json.dump(2) + "\n");
+    renderer::writeFileAtomically(dir / (stem + ".json"), jsonFileText(json));
     renderer::writePNG(dir / (stem + ".png"), plot);
     std::fputs(markdown.c_str(), stdout);
     std::printf("\nwrote %s, %s.json, %s.png\n", (dir / (stem + ".md")).c_str(), stem.c_str(), stem.c_str());

@@ -221,6 +221,14 @@ void writeBenchOutputs(const std::filesystem::path& dir, const std::string& stem
 
 std::string formatTable(const std::vector<std::vector<std::string>>& rows, size_t indent = 2);
 
+// JSON may only hold valid UTF-8, but file names need not be (a name is bytes on Linux): `text`
+// with each byte that is not part of a valid UTF-8 sequence written as the four characters \xNN
+// (upper-case hex), the rest unchanged.
+std::string validUtf8(std::string_view text);
+// `json` as the files janus writes hold it: indented by 2, a newline at the end, every string
+// (and object key) passed through validUtf8, so a path of any bytes never makes the dump throw.
+std::string jsonFileText(const nlohmann::json& json);
+
 // ---- subcommands --------------------------------------------------------------------------
 
 // A registered subcommand: its CLI11 app (options bound) and what to run when it was chosen.

@@ -679,7 +679,7 @@ int run(const CheckOptions& options) {
     for (size_t c = 0; c < kConfigurations.size(); ++c)
         if (!report.sheets[c].empty()) renderer::writePNG(outDir / report.sheets[c], sheets[c]);
     renderer::writeFileAtomically(outDir / "check.md", markdown(report));
-    renderer::writeFileAtomically(outDir / "check.json", reportJson(report).dump(2) + "\n");
+    renderer::writeFileAtomically(outDir / "check.json", jsonFileText(reportJson(report)));
 
     const bool passed = report.counts.passed();
     std::printf("\ncheck %s: %s in %.1f s\nreport: %s, check.json, contact-*.png\n", passed ? "PASSED" : "FAILED",

@@ -247,7 +247,7 @@ int run(const ParityOptions& options) {
         summary["time"] = scene.posedTime;
     }
     const std::filesystem::path summaryPath = outDir / "parity.json";
-    renderer::writeFileAtomically(summaryPath, summary.dump(2) + "\n");
+    renderer::writeFileAtomically(summaryPath, jsonFileText(summary));
 
     std::printf("\nparity %s; details in %s\n", passed ? "PASSED" : "FAILED", summaryPath.c_str());
     return passed ? 0 : static_cast<int>(ExitCode::ComparisonFailed);

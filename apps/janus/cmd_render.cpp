@@ -96,7 +96,7 @@ int run(const RenderOptions& options) {
     if (reportPath) {
         nlohmann::json report = outcome.report.toJson();
         report["sceneWarnings"] = scene.warnings;   // what the loader ignored (also printed on stderr when it loaded)
-        renderer::writeFileAtomically(*reportPath, report.dump(2) + "\n");
+        renderer::writeFileAtomically(*reportPath, jsonFileText(report));
     }
 
     std::printf("rendered %s with %s at %ux%u on %s\n", sceneLabel(scenePath).c_str(),

@@ -17,4 +17,17 @@ for config in vulkan:compute gl:compute vulkan:fallback; do
 done
 [[ -e $TMP/big.png ]] && fail "a refused render wrote its image"
 
+# ---- paths that are not valid UTF-8 are escaped in JSON (check / parity exited 5) ---------------
+bad=$'bad\xffname'
+mkdir -p "$TMP/utf"
+cp "$BOX/BoxTextured0.bin" "$BOX/CesiumLogoFlat.png" "$TMP/utf/"
+cp "$BOX/BoxTextured.gltf" "$TMP/utf/$bad.gltf"
+expect_success check "$TMP/utf" --size 16x16 --out "$TMP/check-utf"
+json_check "$TMP/check-utf/check.json" 'j["files"][0]["path"].endswith("/bad\\xFFname.gltf") and j["counts"]["rendered"] == 1' \
+  "check.json does not name the file with its invalid byte escaped"
+run_janus parity "$TMP/utf/$bad.gltf" --size 16x16 --out "$TMP/parity-utf"
+[[ $rc == 0 || $rc == 1 ]] || fail "parity on a non-UTF-8 path: exit $rc: $(cat "$TMP/stderr")"
+json_check "$TMP/parity-utf/parity.json" 'j["scene"].endswith("/bad\\xFFname.gltf")' \
+  "parity.json does not name the scene with its invalid byte escaped"
+
 finish
