@@ -5,6 +5,8 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <iterator>
 #include <new>
 #include <system_error>
 #include <sstream>
@@ -12,6 +14,8 @@
 #include <unistd.h>
 
 #include <fmt/format.h>
+
+#include "gltf_features.h"
 
 namespace janus::cli {
 namespace {
@@ -160,8 +164,95 @@ void checkOutputFile(const std::filesystem::path& file, std::string_view optionN
                                      optionName, file.string(), directory.string()));
 }
 
+std::string notRegularFileKind(const std::filesystem::path& file) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::file_status status = fs::status(file, ec);
+    switch (status.type()) {
+        case fs::file_type::regular:
+        case fs::file_type::not_found:
+        case fs::file_type::none:
+            return "";
+        case fs::file_type::directory: return "a directory";
+        case fs::file_type::fifo: return "a FIFO";
+        case fs::file_type::character: return "a character device";
+        case fs::file_type::block: return "a block device";
+        case fs::file_type::socket: return "a socket";
+        default: return "not a regular file";
+    }
+}
+
+namespace {
+
+// Where `path` really is: links, `..` and `.` resolved as far as the file system allows.
+std::filesystem::path resolvedPath(const std::filesystem::path& path) {
+    std::error_code ec;
+    std::filesystem::path resolved = std::filesystem::weakly_canonical(path, ec);
+    if (ec) resolved = std::filesystem::absolute(path, ec).lexically_normal();
+    return resolved;
+}
+
+bool sameFile(const std::filesystem::path& a, const std::filesystem::path& b) {
+    std::error_code ec;
+    if (std::filesystem::equivalent(a, b, ec) && !ec) return true;   // also hard links
+    return resolvedPath(a) == resolvedPath(b);
+}
+
+}  // namespace
+
+void checkOutputsDistinct(const std::vector<NamedPath>& outputs, const std::vector<NamedPath>& inputs) {
+    for (size_t i = 0; i < outputs.size(); ++i) {
+        if (outputs[i].second.empty()) continue;
+        for (size_t k = i + 1; k < outputs.size(); ++k)
+            if (!outputs[k].second.empty() && sameFile(outputs[i].second, outputs[k].second))
+                throw UsageError(fmt::format("{} '{}' and {} '{}' are the same file; give each output a file of its own",
+                                             outputs[i].first, outputs[i].second.string(), outputs[k].first, outputs[k].second.string()));
+        for (const auto& [what, input] : inputs)
+            if (!input.empty() && sameFile(outputs[i].second, input))
+                throw UsageError(fmt::format("{} '{}' is {} '{}': writing it would overwrite an input; choose another path",
+                                             outputs[i].first, outputs[i].second.string(), what, input.string()));
+    }
+}
+
+std::vector<NamedPath> sceneInputFiles(const std::optional<std::filesystem::path>& scenePath) {
+    std::vector<NamedPath> files;
+    std::error_code ec;
+    if (!scenePath || !std::filesystem::exists(*scenePath, ec) || !notRegularFileKind(*scenePath).empty()) return files;
+    files.emplace_back("the scene file", *scenePath);
+    auto addGltf = [&files](const std::filesystem::path& gltf) {
+        for (const std::filesystem::path& file : gltfReferencedFiles(gltf)) files.emplace_back("a file the glTF reads", file);
+    };
+    const std::string extension = lowerCaseExtension(*scenePath);
+    if (extension == ".gltf" || extension == ".glb") {
+        addGltf(*scenePath);
+    } else if (extension == ".json") {
+        std::ifstream in(*scenePath, std::ios::binary);
+        const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        const nlohmann::json root = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
+        if (!root.is_object()) return files;
+        if (const auto gltf = root.find("gltf"); gltf != root.end() && gltf->is_string()) {
+            const std::filesystem::path gltfPath = scenePath->parent_path() / gltf->get<std::string>();
+            files.emplace_back("the scene's glTF", gltfPath);
+            if (notRegularFileKind(gltfPath).empty()) addGltf(gltfPath);
+        }
+        if (const auto environment = root.find("environment"); environment != root.end() && environment->is_object())
+            if (const auto map = environment->find("map"); map != environment->end() && map->is_string())
+                files.emplace_back("the scene's environment map", scenePath->parent_path() / map->get<std::string>());
+    }
+    return files;
+}
+
+std::string lowerCaseExtension(const std::filesystem::path& path) {
+    std::string extension = path.extension().string();
+    for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return extension;
+}
+
 void addSceneArgument(CLI::App& app, std::string& scene) {
-    app.add_option("scene", scene, ".gltf, .glb or .json scene file (default: the built-in scene)")->type_name("SCENE");
+    app.add_option("scene", scene, ".gltf, .glb or .json scene file (extension in any case), or a built-in scene: many-lights[:N] (the "
+                                   "many-lights hall with N local lights, 0..16384, default 128) or probes (the reflection-probe scene); "
+                                   "a file of that name wins (default: the built-in room)")
+        ->type_name("SCENE");
 }
 
 void addAllowOutsidePathsFlag(CLI::App& app, bool& allow) {
@@ -218,6 +309,8 @@ renderer::Scene loadSceneOrDefault(const std::optional<std::filesystem::path>& s
     if (std::filesystem::is_directory(*scenePath, ec))
         throw InputError(fmt::format("scene '{}' is a directory; give the .gltf, .glb or .json file inside it",
                                      scenePath->string()));
+    if (const std::string kind = notRegularFileKind(*scenePath); !kind.empty())
+        throw InputError(fmt::format("scene '{}' is {}, not a regular file; give a .gltf, .glb or .json file", scenePath->string(), kind));
     return renderer::loadScene(*scenePath, options);
 }
 
@@ -331,8 +424,7 @@ EnvironmentOverride parseEnvironmentOptions(const EnvironmentOptions& options) {
     }
     if (!options.map.empty()) {
         const std::filesystem::path map = options.map;
-        std::string extension = map.extension().string();
-        for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));
+        const std::string extension = lowerCaseExtension(map);
         if (extension != ".hdr" && extension != ".exr")
             throw UsageError(fmt::format("--env '{}' must name an equirectangular .hdr or .exr image", options.map));
         std::error_code ec;
@@ -340,6 +432,8 @@ EnvironmentOverride parseEnvironmentOptions(const EnvironmentOptions& options) {
             throw InputError(fmt::format("--env '{}' does not exist; give an existing .hdr or .exr sky", options.map));
         if (std::filesystem::is_directory(map, ec))
             throw InputError(fmt::format("--env '{}' is a directory; give the .hdr or .exr file inside it", options.map));
+        if (const std::string kind = notRegularFileKind(map); !kind.empty())
+            throw InputError(fmt::format("--env '{}' is {}, not a regular file; give an .hdr or .exr image file", options.map, kind));
         environment.map = std::filesystem::absolute(map).lexically_normal();
     }
     return environment;

@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -81,6 +82,25 @@ std::vector<std::string> splitList(const std::string& text);        // "a,b,,c" 
 // Fails early (InputError) when `file` could not be created: its directory is missing or is
 // not a directory, or `file` itself is a directory. Saves a render that could not be saved.
 void checkOutputFile(const std::filesystem::path& file, std::string_view optionName);
+
+// `path`'s extension in lower case (".GLB" -> ".glb"): janus dispatches on extensions in any case.
+std::string lowerCaseExtension(const std::filesystem::path& path);
+
+// "" when `file` (after following symbolic links) is a regular file or does not exist; else what
+// it is instead ("a directory", "a FIFO", "a character device", ...). Inputs must be regular
+// files: a FIFO blocks the reader, a device such as /dev/zero never ends.
+std::string notRegularFileKind(const std::filesystem::path& file);
+
+// Outputs must not overwrite inputs or each other: UsageError (exit 2) when two outputs name the
+// same file, or an output names an input (compared after resolving links, `..` and `.`, so
+// `a.png`, `./a.png` and a link to it are one file). Each entry is (what, path), e.g.
+// ("--report", "a.json") or ("the scene file", "scene.gltf"); empty paths are skipped.
+using NamedPath = std::pair<std::string, std::filesystem::path>;
+void checkOutputsDistinct(const std::vector<NamedPath>& outputs, const std::vector<NamedPath>& inputs);
+// The files a scene reads, for checkOutputsDistinct: the scene file; for a .json scene file its
+// "gltf" and "environment.map"; for a glTF its buffers and images (not data: URIs). Nothing for
+// a built-in scene. Read from the JSON alone, never failing (the loader reports bad files).
+std::vector<NamedPath> sceneInputFiles(const std::optional<std::filesystem::path>& scenePath);
 
 // The scene file given on the command line, the built-in many-lights scene ("many-lights" or
 // "many-lights:N", N local lights, default 128; a file of that name wins), or the default scene.

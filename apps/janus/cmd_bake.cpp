@@ -25,6 +25,7 @@ int run(const BakeOptions& options) {
     const rhi::GLPlatform platform = parseGLPlatformOption(options.glPlatform);
     std::optional<std::filesystem::path> scenePath;
     if (!options.scene.empty()) scenePath = options.scene;
+    checkOutputsDistinct({{"--out", outPath}}, sceneInputFiles(scenePath));   // never overwrite the scene or what it reads
     const renderer::Scene scene = loadSceneOrDefault(scenePath, options.allowOutsidePaths);
     if (!scene.irradianceVolume)
         throw InputError(fmt::format("{} has no irradiance volume to bake; give its scene file an \"irradianceVolume\" (docs/SCENES.md) "

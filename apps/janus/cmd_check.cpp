@@ -34,8 +34,7 @@ struct CheckOptions {
 // ---- finding the files ----------------------------------------------------------------------
 
 bool isGltfName(const std::filesystem::path& path) {
-    std::string extension = path.extension().string();
-    for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));
+    const std::string extension = lowerCaseExtension(path);
     return extension == ".gltf" || extension == ".glb";
 }
 
@@ -59,6 +58,9 @@ std::vector<std::filesystem::path> findGltfFiles(const std::vector<std::string>&
         if (!std::filesystem::is_directory(path, ec)) {
             if (!isGltfName(path))
                 throw InputError(fmt::format("PATH '{}' is not a .gltf or .glb file; give one, or a folder to search", argument));
+            if (const std::string kind = notRegularFileKind(path); !kind.empty())
+                throw InputError(fmt::format("PATH '{}' is {}, not a regular file; give .gltf / .glb files or folders that hold some",
+                                             argument, kind));
             add(path);
             continue;
         }

@@ -74,6 +74,11 @@ int run(const RenderOptions& options) {
     const AnimationOverride animation = parseAnimationOptions(options.animation);
     std::optional<std::filesystem::path> scenePath;
     if (!options.scene.empty()) scenePath = options.scene;
+    // No output may replace another or an input (the scene, what it reads, the sky, the bake).
+    std::vector<NamedPath> inputs = sceneInputFiles(scenePath);
+    if (environment.map) inputs.emplace_back("the --env file", *environment.map);
+    if (!request.giBakeFile.empty()) inputs.emplace_back("the --gi-bake file", request.giBakeFile);
+    checkOutputsDistinct({{"--out", outPath}, {"--hdr", hdrPath.value_or("")}, {"--report", reportPath.value_or("")}}, inputs);
 
     renderer::Scene scene = loadSceneOrDefault(scenePath, parseSceneLoadOptions(options.sceneChoice, options.allowOutsidePaths));
     applyEnvironmentOverride(scene, environment);

@@ -1,6 +1,8 @@
 #include "gltf_features.h"
 
 #include <array>
+#include <cctype>
+#include <optional>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
@@ -165,24 +167,26 @@ GltfUsage scanGltfJson(const nlohmann::json& root) {
     return usage;
 }
 
-GltfUsage scanGltfUsage(std::string_view bytes) {
+namespace {
+
+// The JSON text of a whole .gltf or of a .glb's JSON chunk; nullopt with `error` set otherwise.
+std::optional<std::string_view> gltfJsonText(std::string_view bytes, std::string& error) {
     std::string_view text = bytes;
     if (bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0) {
-        if (bytes.size() < kGlbHeaderBytes + kChunkHeaderBytes) return failed("the .glb is shorter than its header");
+        if (bytes.size() < kGlbHeaderBytes + kChunkHeaderBytes) return error = "the .glb is shorter than its header", std::nullopt;
         const uint32_t length = readU32(bytes.data() + kGlbHeaderBytes);
-        if (readU32(bytes.data() + kGlbHeaderBytes + 4) != kJsonChunkType) return failed("the .glb's first chunk is not JSON");
+        if (readU32(bytes.data() + kGlbHeaderBytes + 4) != kJsonChunkType) return error = "the .glb's first chunk is not JSON", std::nullopt;
         if (uint64_t(kGlbHeaderBytes) + kChunkHeaderBytes + length > bytes.size())
-            return failed("the .glb's JSON chunk runs past the end of the file");
+            return error = "the .glb's JSON chunk runs past the end of the file", std::nullopt;
         text = bytes.substr(kGlbHeaderBytes + kChunkHeaderBytes, length);
     }
-    const json root = json::parse(text.begin(), text.end(), nullptr, /*allow_exceptions=*/false);
-    if (root.is_discarded()) return failed("the glTF JSON does not parse");
-    return scanGltfJson(root);
+    return text;
 }
 
-GltfUsage scanGltfFile(const std::filesystem::path& path) {
+// A .gltf whole, or a .glb's header and JSON chunk; nullopt with `error` when it cannot be read.
+std::optional<std::string> readGltfHead(const std::filesystem::path& path, std::string& error) {
     std::ifstream in(path, std::ios::binary);
-    if (!in) return failed(fmt::format("cannot open '{}'", path.string()));
+    if (!in) return error = fmt::format("cannot open '{}'", path.string()), std::nullopt;
     std::string bytes(kGlbHeaderBytes + kChunkHeaderBytes, '\0');
     in.read(bytes.data(), std::streamsize(bytes.size()));
     bytes.resize(size_t(in.gcount()));
@@ -202,8 +206,63 @@ GltfUsage scanGltfFile(const std::filesystem::path& path) {
     } else {
         bytes.append(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
     }
-    if (in.bad()) return failed(fmt::format("cannot read '{}'", path.string()));
-    return scanGltfUsage(bytes);
+    if (in.bad()) return error = fmt::format("cannot read '{}'", path.string()), std::nullopt;
+    return bytes;
+}
+
+std::string percentDecoded(std::string_view uri) {
+    std::string out;
+    for (size_t i = 0; i < uri.size(); ++i) {
+        if (uri[i] == '%' && i + 2 < uri.size() && std::isxdigit(static_cast<unsigned char>(uri[i + 1])) &&
+            std::isxdigit(static_cast<unsigned char>(uri[i + 2]))) {
+            out += char(std::stoi(std::string(uri.substr(i + 1, 2)), nullptr, 16));
+            i += 2;
+        } else {
+            out += uri[i];
+        }
+    }
+    return out;
+}
+
+}  // namespace
+
+GltfUsage scanGltfUsage(std::string_view bytes) {
+    std::string error;
+    const std::optional<std::string_view> text = gltfJsonText(bytes, error);
+    if (!text) return failed(error);
+    const json root = json::parse(text->begin(), text->end(), nullptr, /*allow_exceptions=*/false);
+    if (root.is_discarded()) return failed("the glTF JSON does not parse");
+    return scanGltfJson(root);
+}
+
+GltfUsage scanGltfFile(const std::filesystem::path& path) {
+    std::string error;
+    const std::optional<std::string> bytes = readGltfHead(path, error);
+    if (!bytes) return failed(error);
+    return scanGltfUsage(*bytes);
+}
+
+std::vector<std::filesystem::path> gltfReferencedFiles(const std::filesystem::path& path) {
+    std::vector<std::filesystem::path> files;
+    std::string error;
+    const std::optional<std::string> bytes = readGltfHead(path, error);
+    if (!bytes) return files;
+    const std::optional<std::string_view> text = gltfJsonText(*bytes, error);
+    if (!text) return files;
+    const json root = json::parse(text->begin(), text->end(), nullptr, /*allow_exceptions=*/false);
+    if (!root.is_object()) return files;
+    for (const char* list : {"buffers", "images"}) {
+        const json& items = member(root, list);
+        if (!items.is_array()) continue;
+        for (const json& item : items) {
+            const json& uri = member(item, "uri");
+            if (!uri.is_string()) continue;
+            const std::string& text = uri.get_ref<const std::string&>();
+            if (text.empty() || text.rfind("data:", 0) == 0) continue;
+            files.push_back(path.parent_path() / percentDecoded(text));
+        }
+    }
+    return files;
 }
 
 }  // namespace janus::cli

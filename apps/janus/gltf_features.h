@@ -40,4 +40,9 @@ GltfUsage scanGltfJson(const nlohmann::json& root);
 // be read gives `error`, never an exception.
 GltfUsage scanGltfFile(const std::filesystem::path& path);
 
+// The files a glTF's JSON names (buffers[].uri and images[].uri that are not data: URIs,
+// percent-decoded), resolved against the glTF's folder; empty when its JSON cannot be read.
+// For refusing an output that would overwrite an input.
+std::vector<std::filesystem::path> gltfReferencedFiles(const std::filesystem::path& path);
+
 }  // namespace janus::cli

@@ -30,4 +30,64 @@ run_janus parity "$TMP/utf/$bad.gltf" --size 16x16 --out "$TMP/parity-utf"
 json_check "$TMP/parity-utf/parity.json" 'j["scene"].endswith("/bad\\xFFname.gltf")' \
   "parity.json does not name the scene with its invalid byte escaped"
 
+# ---- outputs never overwrite each other or an input: exit 2 before anything renders -------------
+mkdir -p "$TMP/box" "$TMP/cornell"
+cp "$BOX"/* "$TMP/box/"
+cp "$SCENES/cornell-box/"* "$TMP/cornell/"
+B=$TMP/box/BoxTextured.gltf
+cp "$B" "$TMP/box-before.gltf"
+expect_error 2 "--out '.*/a.png' and --report '.*/a.png' are the same file" render --size 8x8 --out "$TMP/a.png" --report "$TMP/a.png"
+expect_error 2 "--hdr '.*/h.pfm' and --report '.*/./h.pfm' are the same file" \
+  render --size 8x8 --out "$TMP/a.png" --hdr "$TMP/h.pfm" --report "$TMP/./h.pfm"
+touch "$TMP/target.png"
+ln -s target.png "$TMP/link.png"
+expect_error 2 "--out '.*/link.png' and --report '.*/target.png' are the same file" \
+  render --size 8x8 --out "$TMP/link.png" --report "$TMP/target.png"
+expect_error 2 "--report '.*/BoxTextured.gltf' is the scene file" render "$B" --size 8x8 --out "$TMP/a.png" --report "$B"
+expect_error 2 "--report '.*/BoxTextured0.bin' is a file the glTF reads" render "$B" --size 8x8 --out "$TMP/a.png" --report "$TMP/box/BoxTextured0.bin"
+expect_error 2 "--out '.*/CesiumLogoFlat.png' is a file the glTF reads" render "$B" --size 8x8 --out "$TMP/box/CesiumLogoFlat.png"
+cp "$SCENES/env/chinese_garden_1k.hdr" "$TMP/sky.hdr"
+expect_error 2 "--report '.*/sky.hdr' is the --env file" render --size 8x8 --env "$TMP/sky.hdr" --out "$TMP/a.png" --report "$TMP/sky.hdr"
+echo '{"gltf": "box/BoxTextured.gltf"}' >"$TMP/scene.json"
+expect_error 2 "--report '.*/BoxTextured.gltf' is the scene's glTF" render "$TMP/scene.json" --size 8x8 --out "$TMP/a.png" --report "$B"
+expect_error 2 "--report '.*/scene.json' is the scene file" render "$TMP/scene.json" --size 8x8 --out "$TMP/a.png" --report "$TMP/scene.json"
+expect_error 2 "--out '.*/cornellBox.gltf' is the scene file" bake "$TMP/cornell/cornellBox.gltf" --out "$TMP/cornell/cornellBox.gltf"
+expect_error 2 "--out '.*/cornellBox.bin' is a file the glTF reads" bake "$TMP/cornell/cornellBox.gltf" --out "$TMP/cornell/cornellBox.bin"
+cmp -s "$B" "$TMP/box-before.gltf" || fail "a refused render changed its input scene"
+[[ -e $TMP/a.png ]] && fail "a refused render wrote --out"
+cmp -s "$TMP/cornell/cornellBox.bin" "$SCENES/cornell-box/cornellBox.bin" || fail "a refused bake changed the scene's buffer"
+
+# ---- inputs that are not regular files: exit 3 naming the file, never a hang or unbounded read ---
+ln -s /dev/zero "$TMP/zero.gltf"
+mkfifo "$TMP/fifo.gltf" "$TMP/fifo.json" "$TMP/fifo.hdr"
+expect_error 3 "PATH '.*/zero.gltf' is a character device, not a regular file" check "$TMP/zero.gltf" --out "$TMP/never"
+expect_error 3 "PATH '.*/fifo.gltf' is a FIFO, not a regular file" check "$TMP/fifo.gltf" --out "$TMP/never"
+expect_error 3 "scene '.*/zero.gltf' is a character device, not a regular file" render "$TMP/zero.gltf" --out "$TMP/a.png"
+expect_error 3 "scene '.*/fifo.json' is a FIFO, not a regular file" render "$TMP/fifo.json" --out "$TMP/a.png"
+expect_error 3 "scene '.*/fifo.gltf' is a FIFO" parity "$TMP/fifo.gltf" --out "$TMP/never"
+expect_error 3 "scene '.*/fifo.gltf' is a FIFO" bake "$TMP/fifo.gltf" --out "$TMP/x.bake"
+expect_error 3 "--env '.*/fifo.hdr' is a FIFO, not a regular file" render --env "$TMP/fifo.hdr" --out "$TMP/a.png"
+echo '{"gltf": "zero.gltf"}' >"$TMP/zero-scene.json"
+expect_error 3 "zero.gltf: not a regular file" render "$TMP/zero-scene.json" --out "$TMP/a.png"
+[[ -e $TMP/never ]] && fail "a refused check or parity created --out"
+
+# ---- extensions in any case ---------------------------------------------------------------------
+cp "$B" "$TMP/box/UPPER.GLTF"
+expect_success render "$TMP/box/UPPER.GLTF" --size 8x8 --out "$TMP/upper.png"
+echo '{"gltf": "box/UPPER.GLTF"}' >"$TMP/UPPER.JSON"
+expect_success render "$TMP/UPPER.JSON" --size 8x8 --out "$TMP/upper-json.png"
+python3 - "$B" "$TMP/box/BoxTextured0.bin" "$TMP/box/UPPER.GLB" <<'PY'
+import json, struct, sys
+gltf, binary = json.load(open(sys.argv[1])), open(sys.argv[2], "rb").read()
+gltf["buffers"] = [{"byteLength": len(binary)}]
+text = json.dumps(gltf).encode()
+text += b" " * (-len(text) % 4)
+binary += b"\0" * (-len(binary) % 4)
+body = struct.pack("<I4s", len(text), b"JSON") + text + struct.pack("<I4s", len(binary), b"BIN\0") + binary
+open(sys.argv[3], "wb").write(struct.pack("<4sII", b"glTF", 2, 12 + len(body)) + body)
+PY
+expect_success render "$TMP/box/UPPER.GLB" --size 8x8 --out "$TMP/upper-glb.png"
+expect_success check "$TMP/box/UPPER.GLB" "$TMP/box/UPPER.GLTF" --size 8x8 --out "$TMP/check-upper"
+json_check "$TMP/check-upper/check.json" 'j["counts"]["rendered"] == 2 and j["counts"]["refused"] == 0' "check refused an upper-case .GLB / .GLTF"
+
 finish

@@ -117,6 +117,8 @@ std::string readWholeFile(const std::filesystem::path& path, const char* what) {
         throw ImageIOError(fmt::format("cannot read {} '{}': no such file", what, path.string()));
     if (std::filesystem::is_directory(path, ec))
         throw ImageIOError(fmt::format("cannot read {} '{}': it is a directory", what, path.string()));
+    if (!std::filesystem::is_regular_file(path, ec))
+        throw ImageIOError(fmt::format("cannot read {} '{}': it is not a regular file (a FIFO or device)", what, path.string()));
     std::ifstream in(path, std::ios::binary);
     if (!in) throw ImageIOError(fmt::format("cannot read {} '{}': {}", what, path.string(), describeErrno(errno)));
     std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

@@ -167,6 +167,8 @@ std::string environmentMapProblem(const std::filesystem::path& map) {
     std::error_code ec;
     if (!std::filesystem::exists(map, ec)) return fmt::format("environment map '{}' does not exist", map.string());
     if (std::filesystem::is_directory(map, ec)) return fmt::format("environment map '{}' is a directory, not an image", map.string());
+    if (!std::filesystem::is_regular_file(map, ec))
+        return fmt::format("environment map '{}' is not a regular file (a FIFO or device); give an image file", map.string());
     return {};
 }
 
@@ -354,14 +356,26 @@ void validateLoaded(const std::filesystem::path& path, const Scene& scene) {
 
 }  // namespace
 
+// The scene type by extension, in any case (".GLB" is a .glb).
+static std::string lowerExtension(const std::filesystem::path& path) {
+    std::string extension = path.extension().string();
+    for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return extension;
+}
+
 Scene loadSceneFromMemory(std::string_view bytes, const std::filesystem::path& path, const SceneLoadOptions& options) {
     Scene scene;
-    if (path.extension() == ".json") {
+    const std::string extension = lowerExtension(path);
+    if (extension == ".json") {
         scene = loadSceneFile(bytes, path, options);
-    } else if (path.extension() == ".gltf" || path.extension() == ".glb") {
+    } else if (extension == ".gltf" || extension == ".glb") {
         bool hasCamera = false;
         scene = detail::loadGltfFromMemory(bytes, path, hasCamera, options);
-        finishGltfScene(scene, hasCamera);
+        try {
+            finishGltfScene(scene, hasCamera);
+        } catch (const SceneError& e) {
+            fail(path, e.what());
+        }
     } else {
         fail(path, "unknown scene type; use a .gltf, .glb or .json scene file (see docs/SCENES.md)");
     }
@@ -371,16 +385,24 @@ Scene loadSceneFromMemory(std::string_view bytes, const std::filesystem::path& p
 
 Scene loadScene(const std::filesystem::path& path, const SceneLoadOptions& options) {
     Scene scene;
-    if (path.extension() == ".json") {
+    const std::string extension = lowerExtension(path);
+    if (extension == ".json") {
+        std::error_code ec;
+        if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
+            fail(path, "not a regular file (a directory, FIFO or device); give a scene file");
         std::ifstream in(path, std::ios::binary);
         if (!in) fail(path, "no such file or not readable");
         const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
         if (in.bad()) fail(path, "no such file or not readable");
         scene = loadSceneFile(bytes, path, options);
-    } else if (path.extension() == ".gltf" || path.extension() == ".glb") {
+    } else if (extension == ".gltf" || extension == ".glb") {
         bool hasCamera = false;
         scene = detail::loadGltf(path, hasCamera, options);
-        finishGltfScene(scene, hasCamera);
+        try {
+            finishGltfScene(scene, hasCamera);
+        } catch (const SceneError& e) {
+            fail(path, e.what());
+        }
     } else {
         std::error_code ec;
         if (!std::filesystem::exists(path, ec)) fail(path, "no such file");

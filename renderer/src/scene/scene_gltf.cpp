@@ -1634,9 +1634,11 @@ private:
 
 Scene loadGltf(const std::filesystem::path& path, bool& hasCamera, const SceneLoadOptions& options) {
     std::error_code ec;
-    if (!std::filesystem::is_regular_file(path, ec))
+    if (!std::filesystem::exists(path, ec))
         throw SceneError(fmt::format("{}: no such file (check the path; scene files resolve 'gltf' relative to themselves)",
                                      path.string()));
+    if (!std::filesystem::is_regular_file(path, ec))
+        throw SceneError(fmt::format("{}: not a regular file (a directory, FIFO or device); give a .gltf or .glb file", path.string()));
     std::vector<char> bytes;
     {
         std::ifstream in(path, std::ios::binary);
@@ -1652,8 +1654,9 @@ Scene loadGltf(const std::filesystem::path& path, bool& hasCamera, const SceneLo
 Scene loadGltfFromMemory(std::string_view bytes, const std::filesystem::path& path, bool& hasCamera, const SceneLoadOptions& options) {
     std::error_code ec;
     if (bytes.size() > UINT32_MAX) throw SceneError(fmt::format("{}: is larger than 4 GiB, which glTF files cannot be", path.string()));
-    const std::string extension = path.extension().string();
-    const bool binary = extension == ".glb" || extension == ".GLB";
+    std::string extension = path.extension().string();
+    for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));
+    const bool binary = extension == ".glb";
 
     LoadContext context;
     context.folder = std::filesystem::absolute(path, ec).parent_path().lexically_normal();
