@@ -444,6 +444,46 @@ void applyEnvironmentOverride(renderer::Scene& scene, const EnvironmentOverride&
     if (environment.intensity) scene.environment.intensity = *environment.intensity;
 }
 
+void loadEnvironmentImage(renderer::Scene& scene, bool fromEnvOption, std::string_view sceneLabel) {
+    renderer::Environment& environment = scene.environment;
+    if (environment.map.empty()) return;
+    const std::string source = fromEnvOption ? std::string("given by --env") : fmt::format("the \"environment.map\" of {}", sceneLabel);
+    try {
+        const std::string extension = lowerCaseExtension(environment.map);
+        if (extension != ".hdr" && extension != ".exr")
+            throw renderer::ImageIOError(fmt::format("'{}' is not an .hdr or .exr image", environment.map.string()));
+        environment.image = std::make_shared<const renderer::ImageRGBAF>(
+            extension == ".exr" ? renderer::readEXR(environment.map) : renderer::readRadianceHDR(environment.map));
+    } catch (const renderer::ImageIOError& e) {
+        throw InputError(fmt::format("environment map '{}' ({}) cannot be read: {}; give an equirectangular .hdr (Radiance RGBE) or "
+                                     ".exr image",
+                                     environment.map.string(), source, e.what()));
+    }
+    environment.map.clear();   // the image is used from now on
+}
+
+void checkLightingOptions(const renderer::LightingSettings& lighting, const renderer::Scene& scene, std::string_view sceneLabel) {
+    // Where each setting comes from: the option, else the scene's "quality" key (the loader checked its value).
+    std::optional<renderer::LightCulling> culling = lighting.culling;
+    std::string cullingFrom = "--culling";
+    if (!culling && scene.quality.is_object() && scene.quality.contains("lightCulling") && scene.quality["lightCulling"].is_string()) {
+        culling = renderer::parseLightCulling(scene.quality["lightCulling"].get<std::string>());
+        cullingFrom = fmt::format("{}'s \"quality\".\"lightCulling\"", sceneLabel);
+    }
+    std::optional<float> cutoff = lighting.intensityCutoff;
+    std::string cutoffFrom = "--intensity-cutoff";
+    if (!cutoff && scene.quality.is_object() && scene.quality.contains("intensityCutoff") && scene.quality["intensityCutoff"].is_number()) {
+        cutoff = scene.quality["intensityCutoff"].get<float>();
+        cutoffFrom = fmt::format("{}'s \"quality\".\"intensityCutoff\"", sceneLabel);
+    }
+    if (!lighting.culling && !lighting.intensityCutoff) return;   // the scene's own settings, checked when it loaded
+    if (cutoff && *cutoff == 0.0f && culling &&
+        (*culling == renderer::LightCulling::Tiles2D || *culling == renderer::LightCulling::TilesDepth))
+        throw UsageError(fmt::format("{} 0 gives lights without a range an infinite range, which only naive culling renders, but {} is "
+                                     "{}; use --culling naive, or a cut-off above 0 (--intensity-cutoff 0.01)",
+                                     cutoffFrom, cullingFrom, renderer::toString(*culling)));
+}
+
 void addAnimationOptions(CLI::App& app, AnimationOptions& options) {
     app.add_option("--time", options.time,
                    "Pose the scene at this time in seconds (>= 0; past the last keyframe the animation holds its end; default: "

@@ -155,12 +155,24 @@ struct EnvironmentOptions {
 void addEnvironmentOptions(CLI::App& app, EnvironmentOptions& options);
 struct EnvironmentOverride {
     std::optional<std::filesystem::path> map;   // absolute
+    std::shared_ptr<const renderer::ImageRGBAF> image;   // the map, once read (check reads it once for every file)
     std::optional<float> intensity;
 };
 // Checks the options before any scene is loaded: UsageError for a bad intensity or an extension
 // other than .hdr/.exr, InputError (exit 3) naming the file when the map is missing.
 EnvironmentOverride parseEnvironmentOptions(const EnvironmentOptions& options);
 void applyEnvironmentOverride(renderer::Scene& scene, const EnvironmentOverride& environment);
+
+// Reads the scene's environment map (Environment::map: --env's, or a scene file's
+// "environment.map") into Environment::image now, before any device opens, so a file that is not
+// a readable .hdr / .exr is an InputError (exit 3) naming it and where it came from, and parity and
+// check read it once for every configuration. `fromEnvOption`: the map is --env's.
+void loadEnvironmentImage(renderer::Scene& scene, bool fromEnvOption, std::string_view sceneLabel);
+
+// The lighting options (render, parity) against each other and the scene file's "quality" keys,
+// before any device opens: UsageError naming the options (and keys) that conflict, e.g.
+// --intensity-cutoff 0 with --culling tiles-depth.
+void checkLightingOptions(const renderer::LightingSettings& lighting, const renderer::Scene& scene, std::string_view sceneLabel);
 
 // --time SECONDS and --animation NAME|INDEX, shared by render and parity: the pose the scene is
 // rendered at (docs/SCENES.md, "Animations"). Empty strings = not given (the scene's own pose:

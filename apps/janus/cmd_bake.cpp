@@ -26,7 +26,8 @@ int run(const BakeOptions& options) {
     std::optional<std::filesystem::path> scenePath;
     if (!options.scene.empty()) scenePath = options.scene;
     checkOutputsDistinct({{"--out", outPath}}, sceneInputFiles(scenePath));   // never overwrite the scene or what it reads
-    const renderer::Scene scene = loadSceneOrDefault(scenePath, options.allowOutsidePaths);
+    renderer::Scene scene = loadSceneOrDefault(scenePath, options.allowOutsidePaths);
+    loadEnvironmentImage(scene, false, sceneLabel(scenePath));   // exit 3 for a sky it cannot read, before the device opens
     if (!scene.irradianceVolume)
         throw InputError(fmt::format("{} has no irradiance volume to bake; give its scene file an \"irradianceVolume\" (docs/SCENES.md) "
                                      "or its glTF a node named IrradianceVolume...",

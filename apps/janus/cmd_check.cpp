@@ -517,6 +517,10 @@ FileResult checkFile(const std::filesystem::path& path, size_t index, size_t ind
         scene = renderer::loadScene(path, loadOptions);
         result.warnings = scene->warnings;
         applyEnvironmentOverride(*scene, environment);
+        if (environment.map) {   // read once, before the first file (run)
+            scene->environment.image = environment.image;
+            scene->environment.map.clear();
+        }
     } catch (const renderer::SceneError& e) {
         result.status = FileStatus::Refused;
         result.reason = loaderReason(e.what(), path);
@@ -623,9 +627,16 @@ int run(const CheckOptions& options) {
     std::error_code ec;
     if (std::filesystem::exists(outDir, ec) && !std::filesystem::is_directory(outDir, ec))
         throw InputError(fmt::format("--out '{}' is a file; give a directory for the report", options.out));
-    const EnvironmentOverride environment = parseEnvironmentOptions(options.environment);
+    EnvironmentOverride environment = parseEnvironmentOptions(options.environment);
 
     const std::vector<std::filesystem::path> files = findGltfFiles(options.paths);
+    if (environment.map) {
+        // The sky every file is lit by, read once and now: one that cannot be read is exit 3.
+        renderer::Scene sky;
+        sky.environment.map = *environment.map;
+        loadEnvironmentImage(sky, true, "");
+        environment.image = sky.environment.image;
+    }
 
     Report report;
     report.paths = options.paths;

@@ -152,6 +152,8 @@ int run(const ParityOptions& options) {
     if (!options.scene.empty()) scenePath = options.scene;
     renderer::Scene scene = loadSceneOrDefault(scenePath, parseSceneLoadOptions(options.sceneChoice, options.allowOutsidePaths));
     applyEnvironmentOverride(scene, environment);
+    loadEnvironmentImage(scene, environment.map.has_value(), sceneLabel(scenePath));   // exit 3 for a sky it cannot read
+    checkLightingOptions(base.lighting, scene, sceneLabel(scenePath));
     applyAnimationOverride(scene, animation, sceneLabel(scenePath));
 
     if (against) {

@@ -82,7 +82,13 @@ int run(const RenderOptions& options) {
 
     renderer::Scene scene = loadSceneOrDefault(scenePath, parseSceneLoadOptions(options.sceneChoice, options.allowOutsidePaths));
     applyEnvironmentOverride(scene, environment);
+    loadEnvironmentImage(scene, environment.map.has_value(), sceneLabel(scenePath));   // exit 3 for a sky it cannot read
+    checkLightingOptions(request.lighting, scene, sceneLabel(scenePath));
     applyAnimationOverride(scene, animation, sceneLabel(scenePath));
+    if (!scene.irradianceVolume && !request.giBakeFile.empty())
+        throw InputError(fmt::format("--gi-bake '{}': {} has no irradiance volume for a bake to fill; give the scene the bake was made "
+                                     "for, or leave --gi-bake out",
+                                     request.giBakeFile.string(), sceneLabel(scenePath)));
     if (scene.irradianceVolume && request.giBakeFile.empty())
         std::fprintf(stderr, "janus: note: baking the scene's irradiance volume now (the gi-bake pass); janus bake SCENE --out FILE "
                              "saves a bake that --gi-bake FILE reuses\n");

@@ -81,6 +81,10 @@ void Renderer::Impl::createFeatures(const Scene& scene) {
     // The probes go over the finished HDR image, before the tonemap.
     if (settings.debugView == DebugView::Gi && scene.irradianceVolume)
         features.push_back(std::make_unique<GiProbeView>(device, *scene.irradianceVolume, *probeGi));
+    if ((settings.debugView == DebugView::Gi || settings.debugView == DebugView::GiLight) && !scene.irradianceVolume)
+        fmt::print(stderr, "janus renderer: warning: no GI to show: scene '{}' has no irradiance volume, so the {} debug view is black; "
+                           "give the scene an \"irradianceVolume\" (docs/SCENES.md) or a glTF node named IrradianceVolume...\n",
+                   scene.name, toString(settings.debugView));
     features.push_back(std::make_unique<Tonemap>(device, scene.environment.exposure, settings.path, gpuScene->pointSampler()));
     if (settings.debugView == DebugView::Tiles) features.push_back(std::make_unique<TileHeatmap>(device, *localLights, settings.path));
 }

@@ -71,6 +71,39 @@ echo '{"gltf": "zero.gltf"}' >"$TMP/zero-scene.json"
 expect_error 3 "zero.gltf: not a regular file" render "$TMP/zero-scene.json" --out "$TMP/a.png"
 [[ -e $TMP/never ]] && fail "a refused check or parity created --out"
 
+# ---- bad input in files is exit 3 (or 2 for conflicting options), before any device opens --------
+echo "this is not a Radiance HDR image" >"$TMP/fake.hdr"
+expect_error 3 "environment map '.*/fake.hdr' \\(given by --env\\) cannot be read" render "$B" --env "$TMP/fake.hdr" --size 8x8 --out "$TMP/a.png"
+expect_error 3 "environment map '.*/fake.hdr' \\(given by --env\\) cannot be read" parity "$B" --env "$TMP/fake.hdr" --size 8x8 --out "$TMP/never"
+expect_error 3 "environment map '.*/fake.hdr' \\(given by --env\\) cannot be read" check "$B" --env "$TMP/fake.hdr" --size 8x8 --out "$TMP/never"
+echo '{"gltf": "box/BoxTextured.gltf", "environment": {"map": "fake.hdr"}}' >"$TMP/fake-sky.json"
+expect_error 3 "environment map '.*/fake.hdr' \\(the \"environment.map\" of .*/fake-sky.json\\) cannot be read" \
+  render "$TMP/fake-sky.json" --size 8x8 --out "$TMP/a.png"
+for quality in '"lightCulling": "bogus"' '"tileSize": 7' '"maxLightsPerTile": 0' '"shadowMapSize": -5' '"intensityCutoff": -1'; do
+  key=${quality%%\":*}
+  key=${key#\"}
+  echo "{\"gltf\": \"box/BoxTextured.gltf\", \"quality\": {$quality}}" >"$TMP/quality.json"
+  expect_error 3 "scene: .*/quality.json: \"quality\": .*$key" render "$TMP/quality.json" --size 8x8 --out "$TMP/a.png"
+done
+python3 - "$TMP/lights.json" <<'PY'
+import json, sys
+lights = [{"type": "point", "position": [i % 100 * 0.01, 0.5, i // 100 * 0.01], "intensity": 1.0} for i in range(20000)]
+json.dump({"gltf": "box/BoxTextured.gltf", "lights": lights}, open(sys.argv[1], "w"))
+PY
+expect_error 3 "lights.json: the scene has 20000 point/spot lights that light something; at most 16384" render "$TMP/lights.json" --out "$TMP/a.png"
+expect_error 2 "--intensity-cutoff 0 gives lights without a range an infinite range.*tiles-depth; use --culling naive" \
+  render many-lights:8 --intensity-cutoff 0 --culling tiles-depth --out "$TMP/a.png"
+echo '{"gltf": "box/BoxTextured.gltf", "quality": {"intensityCutoff": 0}}' >"$TMP/cutoff0.json"
+expect_error 2 "\"quality\".\"intensityCutoff\" 0 .* but --culling is tiles-2d; use --culling naive" \
+  render "$TMP/cutoff0.json" --culling tiles-2d --out "$TMP/a.png"
+[[ -e $TMP/a.png ]] && fail "a refused render wrote --out"
+
+# ---- --gi-bake and --debug gi on a scene without an irradiance volume --------------------------
+echo "not a bake" >"$TMP/other.bake"
+expect_error 3 "--gi-bake '.*/other.bake': .*BoxTextured.gltf has no irradiance volume" render "$B" --gi-bake "$TMP/other.bake" --size 8x8 --out "$TMP/a.png"
+expect_success render "$B" --debug gi --size 8x8 --out "$TMP/gi.png"
+grep -q "warning: no GI to show: .* has no irradiance volume" "$TMP/stderr" || fail "--debug gi without a volume does not warn: $(cat "$TMP/stderr")"
+
 # ---- extensions in any case ---------------------------------------------------------------------
 cp "$B" "$TMP/box/UPPER.GLTF"
 expect_success render "$TMP/box/UPPER.GLTF" --size 8x8 --out "$TMP/upper.png"

@@ -1,5 +1,6 @@
 // loadScene (glTF or JSON scene file), validateScene and the geometry helpers they share.
 // The scene-file format is documented in docs/SCENES.md.
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <fstream>
@@ -12,6 +13,9 @@
 #include <nlohmann/json.hpp>
 
 #include "animation.h"
+#include "forward/lighting_settings.h"
+#include "janus/renderer/light_grid.h"
+#include "janus/renderer/renderer.h"
 #include "scene_internal.h"
 
 namespace janus::renderer {
@@ -305,7 +309,15 @@ Scene loadSceneFile(std::string_view bytes, const std::filesystem::path& path, c
         detail::addProbesFromMarkers(scene);
         if (root.contains("irradianceVolume")) scene.irradianceVolume = detail::parseIrradianceVolume(path, root["irradianceVolume"], scene);
         detail::addIrradianceVolumeFromMarkers(scene);
-        if (root.contains("quality")) scene.quality = objectAt(path, root, "quality");
+        if (root.contains("quality")) {
+            scene.quality = objectAt(path, root, "quality");
+            // The lighting keys are checked now, naming the file, not when a renderer is made.
+            try {
+                (void)resolveLighting(LightingSettings{}, scene.quality);
+            } catch (const RendererError& e) {
+                fail(path, fmt::format("\"quality\": {}", e.what()));
+            }
+        }
         return scene;
     } catch (const json::exception& e) {
         fail(path, fmt::format("invalid scene file: {}", e.what()));
@@ -548,6 +560,14 @@ void validateScene(const Scene& scene) {
     }
     for (size_t i = 0; i < scene.lights.size(); ++i)
         if (const char* problem = detail::lightProblem(scene.lights[i])) throw SceneError(fmt::format("light {} {}", i, problem));
+    const size_t localLights = size_t(std::count_if(scene.lights.begin(), scene.lights.end(), [](const Light& light) {
+        return light.type != LightType::Directional && light.intensity > 0.0f && std::max({light.color.r, light.color.g, light.color.b}) > 0.0f &&
+               !(light.range && *light.range <= 0.0f);
+    }));
+    if (localLights > kMaxLocalLights)
+        throw SceneError(fmt::format("the scene has {} point/spot lights that light something; at most {} are supported (dim the others "
+                                     "to intensity 0)",
+                                     localLights, kMaxLocalLights));
     for (size_t i = 0; i < scene.markers.size(); ++i)
         if (!allFinite(scene.markers[i].world))
             throw SceneError(fmt::format("marker {} has a NaN or infinite transform", label(scene.markers[i].name, i)));
