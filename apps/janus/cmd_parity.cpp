@@ -21,6 +21,7 @@ struct ParityOptions {
     std::string edgePixels = std::to_string(kDefaultEdgePixels);
     std::string against;                  // another machine's `janus parity --out` directory
     std::string againstTolerance = "1";
+    bool againstToleranceGiven = false;
     std::string glPlatform = "egl";
     bool validation = false;
     bool allowOutsidePaths = false;
@@ -39,8 +40,12 @@ struct AgainstDirectory {
 };
 
 std::optional<AgainstDirectory> parseAgainst(const ParityOptions& options) {
-    if (options.against.empty()) return std::nullopt;
-    AgainstDirectory against{options.against, parseTolerance(options.againstTolerance)};
+    if (options.against.empty()) {
+        if (options.againstToleranceGiven)
+            throw UsageError("--against-tolerance applies to --against DIR, which is not given; add --against or leave it out");
+        return std::nullopt;
+    }
+    AgainstDirectory against{options.against, parseTolerance(options.againstTolerance, "--against-tolerance")};
     std::error_code ec;
     if (!std::filesystem::is_directory(against.dir, ec))
         throw InputError(fmt::format("--against '{}' is not a directory; give the --out directory of a janus parity run", options.against));
@@ -60,6 +65,20 @@ void checkAgainstSummary(const AgainstDirectory& against, const std::string& sce
         width = other.at("width").get<uint32_t>();
         height = other.at("height").get<uint32_t>();
         otherScene = other.value("scene", std::string());
+        // Every image the other run says it wrote must be there, or its configuration would
+        // silently count as "not in --against".
+        if (other.contains("configurations") && other["configurations"].is_array())
+            for (const nlohmann::json& config : other["configurations"]) {
+                if (!config.is_object() || !config.value("ran", false) || !config.contains("image") || !config["image"].is_string()) continue;
+                const std::filesystem::path image = against.dir / config["image"].get<std::string>();
+                std::error_code ec;
+                if (!std::filesystem::is_regular_file(image, ec))
+                    throw InputError(fmt::format("--against: {} lists {} as rendered, but '{}' is missing; copy that run's whole --out "
+                                                 "directory",
+                                                 path.string(), config["image"].get<std::string>(), image.string()));
+            }
+    } catch (const InputError&) {
+        throw;
     } catch (const std::exception& e) {
         throw InputError(fmt::format("--against: cannot read {} as a janus parity summary: {}", path.string(), e.what()));
     }
@@ -165,6 +184,17 @@ int run(const ParityOptions& options) {
     if (ec)
         throw InputError(fmt::format("cannot create --out directory '{}': {}; choose another path", options.out, ec.message()));
     checkOutputFile(outDir / "parity.json", "--out");
+    // A previous run's images in the same --out must not pass for this run's: every file a parity
+    // run writes besides parity.json (which is replaced) is removed first.
+    for (size_t i = 0; i < kConfigurations.size(); ++i) {
+        const std::string stem = configurationFileStem(kConfigurations[i].backend, kConfigurations[i].path);
+        std::filesystem::remove(outDir / (stem + ".png"), ec);
+        std::filesystem::remove(outDir / fmt::format("against-{}.png", stem), ec);
+        for (size_t k = i + 1; k < kConfigurations.size(); ++k)
+            std::filesystem::remove(
+                outDir / fmt::format("diff-{}-vs-{}.png", stem, configurationFileStem(kConfigurations[k].backend, kConfigurations[k].path)),
+                ec);
+    }
 
     std::printf("parity: %s at %ux%u, tolerance %u step(s), up to %llu edge pixel(s) beyond it\n", sceneLabel(scenePath).c_str(),
                 base.size.width, base.size.height, tolerance, static_cast<unsigned long long>(edgePixels));
@@ -292,7 +322,10 @@ Command addParityCommand(CLI::App& parent) {
     addSceneChoiceOptions(*app, options->sceneChoice);
     app->add_flag("--validation", options->validation,
                   "Enable Vulkan validation layers / GL debug output; a configuration with errors fails");
-    return {app, [options] { return run(*options); }};
+    return {app, [options, app] {
+                options->againstToleranceGiven = app->count("--against-tolerance") > 0;
+                return run(*options);
+            }};
 }
 
 }  // namespace janus::cli

@@ -55,11 +55,11 @@ std::vector<ConfigurationAvailability> probeConfigurations(rhi::GLPlatform platf
     return result;
 }
 
-uint32_t parseTolerance(std::string_view text) {
+uint32_t parseTolerance(std::string_view text, std::string_view option) {
     uint32_t steps = 0;
     const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), steps);
     if (error != std::errc() || end != text.data() + text.size() || text.empty() || steps > 255)
-        throw UsageError(fmt::format("--tolerance '{}' is not a whole number of 1/255 steps in 0..255 (default 1)", text));
+        throw UsageError(fmt::format("{} '{}' is not a whole number of 1/255 steps in 0..255 (default 1)", option, text));
     return steps;
 }
 

@@ -59,7 +59,7 @@ struct ConfigurationAvailability {
 std::vector<ConfigurationAvailability> probeConfigurations(rhi::GLPlatform platform, ImageSize size);
 
 // --tolerance: whole 1/255 steps in 0..255; throws UsageError.
-uint32_t parseTolerance(std::string_view text);
+uint32_t parseTolerance(std::string_view text, std::string_view option = "--tolerance");   // UsageError naming `option`
 
 // "inf" for identical images, else two decimals.
 std::string psnrText(double psnr);

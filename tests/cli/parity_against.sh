@@ -28,10 +28,37 @@ grep -Eq "^  gl-fallback +20 .*FAIL" "$TMP/stdout" || fail "the against table do
 json_check "$TMP/machine-c/parity.json" '[c["configuration"] for c in j["against"]["configurations"] if not c["passed"]] == ["gl-fallback"] and j["passed"] is False' "only gl-fallback must fail against machine-a"
 expect_success parity --size 32x32 --out "$TMP/machine-d" --against "$TMP/machine-a" --against-tolerance 20
 
-# Configurations the other machine did not render are said, not failed.
+# An image the other run lists as rendered but that is missing is an input error naming it, not
+# "not in --against".
 rm "$TMP/machine-a/gles-fallback.png"
+expect_error 3 "--against: .*parity.json lists gles-fallback.png as rendered, but '.*/machine-a/gles-fallback.png' is missing" \
+  parity --size 32x32 --out "$TMP/machine-e" --against "$TMP/machine-a" --against-tolerance 20
+# Configurations the other machine did not render (not "ran" in its parity.json) are said, not failed.
+python3 - "$TMP/machine-a/parity.json" <<'PY'
+import json, sys
+j = json.load(open(sys.argv[1]))
+for c in j["configurations"]:
+    if (c["backend"], c["path"]) == ("gles", "fallback"):
+        c["ran"] = False
+        c["error"] = "not on that machine"
+        del c["image"]
+json.dump(j, open(sys.argv[1], "w"))
+PY
 expect_success parity --size 32x32 --out "$TMP/machine-e" --against "$TMP/machine-a" --against-tolerance 20
 grep -Eq "^  gles-fallback +- +- +- +not in --against" "$TMP/stdout" || fail "a missing image is not reported: $(cat "$TMP/stdout")"
+
+# --against-tolerance is checked and named as itself, and needs --against.
+expect_error 2 "^janus: error: --against-tolerance '300' is not a whole number" \
+  parity --size 32x32 --out "$TMP/x" --against "$TMP/machine-a" --against-tolerance 300
+expect_error 2 "--against-tolerance applies to --against DIR, which is not given" parity --size 32x32 --out "$TMP/x" --against-tolerance 5
+
+# A second run into the same --out that cannot run some configurations leaves none of the first
+# run's images behind (here: OSMesa has no GLES, so gles-fallback does not run).
+run_janus parity --size 32x32 --out "$TMP/machine-e" --gl-platform osmesa
+[[ $rc == 1 ]] || fail "parity under OSMesa without gles: exit $rc, expected 1"
+[[ -e $TMP/machine-e/gles-fallback.png || -e $TMP/machine-e/diff-gl-fallback-vs-gles-fallback.png || -e $TMP/machine-e/against-vulkan-compute.png ]] &&
+  fail "a stale image of the previous run is left in --out: $(ls "$TMP/machine-e")"
+check_png "$TMP/machine-e/gl-fallback.png" 32 32
 
 expect_error 3 "--against '.*nowhere' is not a directory" parity --size 32x32 --out "$TMP/x" --against "$TMP/nowhere"
 mkdir -p "$TMP/empty"
