@@ -500,6 +500,10 @@ AnimationOverride parseAnimationOptions(const AnimationOptions& options) {
         const std::string& text = options.time;
         float time = 0.0f;
         const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), time);
+        if (error == std::errc::result_out_of_range && end == text.data() + text.size())
+            throw UsageError(fmt::format("--time '{}' is too large (or too small) for a float; give a finite number of seconds >= 0, "
+                                         "such as 0.5",
+                                         text));
         if (error != std::errc() || end != text.data() + text.size())
             throw UsageError(fmt::format("--time '{}' is not a number; give the time in seconds, such as 0.5", text));
         if (!std::isfinite(time) || time < 0.0f)

@@ -123,4 +123,19 @@ expect_success render "$TMP/box/UPPER.GLB" --size 8x8 --out "$TMP/upper-glb.png"
 expect_success check "$TMP/box/UPPER.GLB" "$TMP/box/UPPER.GLTF" --size 8x8 --out "$TMP/check-upper"
 json_check "$TMP/check-upper/check.json" 'j["counts"]["rendered"] == 2 and j["counts"]["refused"] == 0' "check refused an upper-case .GLB / .GLTF"
 
+# ---- messages name the key and the real problem -------------------------------------------------
+echo '{"gltf": "box/BoxTextured.gltf", "name": 5}' >"$TMP/name.json"
+expect_error 3 "name.json: \"name\" must be a string, got 5" render "$TMP/name.json" --out "$TMP/a.png"
+echo '{"gltf": "box/BoxTextured.gltf", "defaultLight": "no"}' >"$TMP/default-light.json"
+expect_error 3 "default-light.json: \"defaultLight\" must be true or false, got \"no\"" render "$TMP/default-light.json" --out "$TMP/a.png"
+python3 - "$B" "$TMP/box/huge.gltf" <<'PY'
+import json, sys
+gltf = json.load(open(sys.argv[1]))
+for node in gltf["nodes"]:
+    if "mesh" in node:
+        node["scale"] = [1e30, 1e30, 1e30]   # finite, but the bounds' extent overflows float
+json.dump(gltf, open(sys.argv[2], "w"))
+PY
+expect_error 3 "huge.gltf: the scene is too large to frame with a camera" render "$TMP/box/huge.gltf" --out "$TMP/a.png"
+
 finish

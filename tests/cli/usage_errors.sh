@@ -16,6 +16,9 @@ run_janus render --help
 for option in --backend --path --size --out --hdr --report --gl-platform --validation; do
   grep -q -- "$option" "$TMP/stdout" || fail "janus render --help does not mention $option"
 done
+for scene in 'many-lights\[:N\]' probes; do   # the built-in scenes a user can name
+  grep -q -- "$scene" "$TMP/stdout" || fail "janus render --help does not mention the built-in scene $scene"
+done
 run_janus parity --help
 for option in --size --out --tolerance --gl-platform --culling --tile-size --max-lights-per-tile --intensity-cutoff --no-shadows --env --env-intensity; do
   grep -q -- "$option" "$TMP/stdout" || fail "janus parity --help does not mention $option"
@@ -71,6 +74,7 @@ expect_error 2 "--env '.*sky' must name"            parity --env "$TMP/sky" --ou
 expect_error 2 "--env-intensity '-1' is not allowed" render --env-intensity=-1 --out "$out"
 expect_error 2 "--env-intensity 'inf'"               render --env-intensity inf --out "$out"
 expect_error 2 "--env-intensity 'bright'"            parity --env-intensity bright --out "$TMP/parity"
+expect_error 2 "--time '1e300' is too large"         render --time 1e300 --out "$out"
 
 # Nothing may have been written by any of the failures above.
 if [[ -e $out || -e $TMP/parity ]]; then fail "a failed command left output behind"; fi

@@ -104,6 +104,10 @@ void frameSceneBounds(Scene& scene) {
     const float radius = std::max(glm::length(hi - lo) * 0.5f, 1e-3f);
     Camera& camera = scene.camera;
     const float distance = radius / std::sin(camera.fovYRadians * 0.5f);
+    if (!std::isfinite(center.x + center.y + center.z) || !std::isfinite(distance * 2.0f + radius * 2.0f))
+        throw SceneError(fmt::format("the scene is too large to frame with a camera: its bounds ({}, {}, {}) to ({}, {}, {}) overflow "
+                                     "float math; scale its nodes down, or give it a camera",
+                                     lo.x, lo.y, lo.z, hi.x, hi.y, hi.z));
     // A little above the centre so floors and tops read as such.
     const glm::vec3 direction = glm::normalize(glm::vec3(0.0f, 0.25f, 1.0f));
     camera.target = center;
@@ -179,6 +183,8 @@ std::string environmentMapProblem(const std::filesystem::path& map) {
 Light parseLight(const std::filesystem::path& file, const json& j, size_t index) {
     if (!j.is_object()) fail(file, fmt::format("lights[{}] must be an object", index));
     Light light;
+    if (j.contains("type") && !j["type"].is_string())
+        fail(file, fmt::format("lights[{}].type must be a string (directional, point or spot), got {}", index, j["type"].dump()));
     const std::string type = j.value("type", "directional");
     if (type == "directional") light.type = LightType::Directional;
     else if (type == "point") light.type = LightType::Point;
@@ -217,6 +223,8 @@ Scene loadSceneFile(std::string_view bytes, const std::filesystem::path& path, c
         } catch (const SceneError& e) {
             fail(path, fmt::format("its \"gltf\" could not be loaded: {}", e.what()));   // name both files
         }
+        if (root.contains("name") && !root["name"].is_string())
+            fail(path, fmt::format("\"name\" must be a string, got {}", root["name"].dump()));
         scene.name = root.value("name", path.stem().string());
         // The pose, before the camera frames the scene: "animation" (a name or an index) and
         // "time" (seconds >= 0); either defaults to the glTF's (animation 0 at t = 0).
@@ -262,7 +270,13 @@ Scene loadSceneFile(std::string_view bytes, const std::filesystem::path& path, c
             camera.node = -1;   // placed by the scene file: animations do not move it
             hasCamera = true;
         }
-        if (!hasCamera) detail::frameSceneBounds(scene);
+        if (!hasCamera) {
+            try {
+                detail::frameSceneBounds(scene);
+            } catch (const SceneError& e) {
+                fail(path, e.what());
+            }
+        }
         if (root.contains("environment")) {
             const json& e = objectAt(path, root, "environment");
             scene.environment.ambientColor = vec3(path, e, "ambientColor", scene.environment.ambientColor);
@@ -295,6 +309,8 @@ Scene loadSceneFile(std::string_view bytes, const std::filesystem::path& path, c
                 if (!found) fail(path, fmt::format("meshLayers names node '{}', but no mesh node of the glTF has that name", node));
             }
         }
+        if (root.contains("defaultLight") && !root["defaultLight"].is_boolean())
+            fail(path, fmt::format("\"defaultLight\" must be true or false, got {}", root["defaultLight"].dump()));
         if (scene.lights.empty() && root.value("defaultLight", true)) scene.lights.push_back(detail::defaultKeyLight());
         if (root.contains("markers")) {
             if (!root["markers"].is_array()) fail(path, "\"markers\" must be an array");
