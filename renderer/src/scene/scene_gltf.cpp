@@ -24,6 +24,7 @@
 #include <tiny_gltf.h>
 #include <turbojpeg.h>
 
+#include "scene/gltf_schema.h"
 #include "scene_internal.h"
 
 namespace janus::renderer::detail {
@@ -217,8 +218,7 @@ std::optional<uint64_t> unsignedAt(const nlohmann::json& object, const char* key
 // Checks what tinygltf would read before it reads anything, so each problem is refused by name:
 // every buffer and image URI (path rule, data: URIs) and the bytes of images stored in buffer
 // views (tinygltf does not bounds-check them). A JSON that does not parse is left to tinygltf.
-void checkReferences(std::string_view text, LoadContext& context) {
-    const nlohmann::json root = nlohmann::json::parse(text.begin(), text.end(), nullptr, /*allow_exceptions=*/false);
+void checkReferences(const nlohmann::json& root, LoadContext& context) {
     if (!root.is_object()) return;
     auto array = [&](const char* key) -> const nlohmann::json& {
         static const nlohmann::json empty = nlohmann::json::array();
@@ -255,10 +255,8 @@ void checkReferences(std::string_view text, LoadContext& context) {
 // glTF lets an animation channel's target have no node (KHR_animation_pointer targets a JSON
 // pointer instead); tinygltf drops such channels without a word. One warning each (the file
 // loads without them). Later channels of that animation are numbered as tinygltf keeps them.
-std::vector<std::string> nodelessChannels(std::string_view text) {
+std::vector<std::string> nodelessChannels(const nlohmann::json& root) {
     std::vector<std::string> warnings;
-    if (text.find("\"channels\"") == std::string_view::npos) return warnings;   // no animation: not worth a parse
-    const nlohmann::json root = nlohmann::json::parse(text.begin(), text.end(), nullptr, /*allow_exceptions=*/false);
     if (!root.is_object() || !root.contains("animations") || !root["animations"].is_array()) return warnings;
     const nlohmann::json& animations = root["animations"];
     for (size_t a = 0; a < animations.size(); ++a) {
@@ -1668,8 +1666,14 @@ Scene loadGltfFromMemory(std::string_view bytes, const std::filesystem::path& pa
     context.allowOutside = options.allowPathsOutsideSceneFolder;
     std::vector<std::string> skipped;   // animation channels without a target node (tinygltf drops them)
     if (std::optional<std::string_view> text = binary ? glbJson(bytes) : std::string_view(bytes.data(), bytes.size())) {
-        checkReferences(*text, context);
-        skipped = nodelessChannels(*text);
+        // JSON that does not parse is left to tinygltf, which says where.
+        const nlohmann::json root = nlohmann::json::parse(text->begin(), text->end(), nullptr, /*allow_exceptions=*/false);
+        if (!root.is_discarded()) {
+            if (const std::string problem = gltfSchemaProblem(root); !problem.empty())
+                throw SceneError(fmt::format("{}: malformed glTF: {}", path.string(), problem));
+            checkReferences(root, context);
+            skipped = nodelessChannels(root);
+        }
     }
     if (!context.refusal.empty()) throw SceneError(fmt::format("{}: {}", path.string(), context.refusal));
 
