@@ -1,7 +1,10 @@
 // janus: inspect backends, render a scene, and check that all configurations agree.
+#include <csignal>
 #include <vector>
 
 #include <fmt/format.h>
+
+#include "janus/renderer/image.h"
 
 #include "cli_common.h"
 
@@ -15,9 +18,30 @@ int usageFailure(const std::string& message, const CLI::App& failedIn) {
     return static_cast<int>(ExitCode::UsageError);
 }
 
+// Ctrl-C, kill, a closed terminal: the files being written are unlinked (their targets keep what
+// they held), then the signal takes its default course, so the exit status says which it was.
+extern "C" void onTerminatingSignal(int signal) {
+    janus::renderer::removeTemporaryFilesNow();
+    std::signal(signal, SIG_DFL);
+    std::raise(signal);
+}
+
+void handleTerminatingSignals() {
+    for (int signal : {SIGINT, SIGTERM, SIGHUP}) {
+        struct sigaction action {};
+        action.sa_handler = onTerminatingSignal;
+        sigemptyset(&action.sa_mask);
+        sigaction(signal, &action, nullptr);
+    }
+    // Past a file size limit (ulimit -f) a write fails with EFBIG and says so, instead of the
+    // process dying of SIGXFSZ with its temporary file left behind.
+    std::signal(SIGXFSZ, SIG_IGN);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+    handleTerminatingSignals();
     CLI::App app("janus: renders glTF scenes through one graphics API abstraction on Vulkan, OpenGL and "
                  "OpenGL ES, and checks that every configuration produces the same pixels.",
                  "janus");

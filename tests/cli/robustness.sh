@@ -17,6 +17,19 @@ for config in vulkan:compute gl:compute vulkan:fallback; do
 done
 [[ -e $TMP/big.png ]] && fail "a refused render wrote its image"
 
+# ---- a write past the file size limit: exit 3 saying so, and no temporary file ---------------------
+# janus ignores SIGXFSZ, so the write fails with EFBIG and the error path removes the temporary
+# file; before, the signal killed janus (exit 153) and ".a.pfm.tmp-XXXXXX" stayed behind.
+mkdir -p "$TMP/limited"
+rc=0
+(ulimit -f 8 && exec "$JANUS" render --size 128x128 --out "$TMP/limited/a.png" --hdr "$TMP/limited/a.pfm") \
+  >"$TMP/stdout" 2>"$TMP/stderr" || rc=$?
+[[ $rc == 3 ]] || fail "a write past ulimit -f: exit $rc, expected 3: $(cat "$TMP/stderr")"
+grep -q "cannot write '.*/a.pfm': File too large after .* bytes; the file size limit (ulimit -f) is below what the file needs" \
+  "$TMP/stderr" || fail "a write past ulimit -f does not say so: $(cat "$TMP/stderr")"
+leftover=$(find "$TMP/limited" -name '.*tmp*')
+[[ -z $leftover ]] || fail "a write past ulimit -f left $leftover"
+
 # ---- paths that are not valid UTF-8 are escaped in JSON (check / parity exited 5) ---------------
 bad=$'bad\xffname'
 mkdir -p "$TMP/utf"

@@ -16,6 +16,8 @@
 #include <vector>
 
 #include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "janus/renderer/image.h"
 
@@ -308,6 +310,41 @@ TEST_F(ImageFiles, FailedWriteLeavesPreviousFileAndNoPartialFile) {
 
     EXPECT_TRUE(threw) << "a write beyond RLIMIT_FSIZE did not throw";
     EXPECT_NE(message.find(file.string()), std::string::npos) << message;
+    EXPECT_EQ(readFile(file), before);
+    EXPECT_EQ(directoryEntries(dir), std::vector<std::string>{"image.png"});
+}
+
+// A write cut short by a signal runs no destructor: the handler's removeTemporaryFilesNow() is
+// what removes the temporary file (janus's main calls it on SIGINT, SIGTERM and SIGHUP). A child
+// process gets SIGXFSZ in the middle of its write, deterministically, from its file size limit;
+// its handler does what janus's does and exits. Before, ".image.png.tmp-XXXXXX" stayed behind.
+extern "C" void removeTemporaryFilesAndExit(int) {
+    removeTemporaryFilesNow();
+    _exit(42);
+}
+
+TEST_F(ImageFiles, AWriteInterruptedByASignalLeavesNoTemporaryFileWhenTheHandlerAsks) {
+    const fs::path file = dir / "image.png";
+    writePNG(file, patternImage(8, 8));
+    const std::string before = readFile(file);
+    const pid_t child = ::fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+        std::signal(SIGXFSZ, removeTemporaryFilesAndExit);
+        rlimit limited{};
+        ::getrlimit(RLIMIT_FSIZE, &limited);
+        limited.rlim_cur = 4096;
+        ::setrlimit(RLIMIT_FSIZE, &limited);
+        try {
+            writeFileAtomically(file, std::string(64 * 1024, 'x'));
+        } catch (...) {
+        }
+        _exit(1);   // the signal did not come
+    }
+    int status = 0;
+    ASSERT_EQ(::waitpid(child, &status, 0), child);
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 42) << "the write was not interrupted by SIGXFSZ";
     EXPECT_EQ(readFile(file), before);
     EXPECT_EQ(directoryEntries(dir), std::vector<std::string>{"image.png"});
 }

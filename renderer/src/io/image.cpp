@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <bit>
 #include <cerrno>
 #include <cmath>
@@ -52,8 +53,36 @@ void checkImageShape(const std::filesystem::path& path, const Image& image, cons
                                        what, path.string(), image.pixels.size(), image.width, image.height, expected));
 }
 
+// The temporary files being written, for removeTemporaryFilesNow(), which a signal handler calls:
+// fixed slots of fixed size, read there without a lock or an allocation. A slot is claimed (1),
+// filled, and then published (2); the handler unlinks published ones only.
+struct TemporaryFileSlot {
+    std::atomic<int> state{0};   // 0 free, 1 being filled, 2 holds a path
+    char path[4096];
+};
+std::array<TemporaryFileSlot, 32> g_temporaryFiles;
+
+// The slot now holding `path`, or -1 when none is free or the path does not fit (the file is then
+// only removed by its owner, as before).
+int publishTemporaryFile(const std::string& path) {
+    if (path.size() >= sizeof(TemporaryFileSlot::path)) return -1;
+    for (size_t i = 0; i < g_temporaryFiles.size(); ++i) {
+        int expected = 0;
+        if (!g_temporaryFiles[i].state.compare_exchange_strong(expected, 1, std::memory_order_acquire)) continue;
+        std::memcpy(g_temporaryFiles[i].path, path.c_str(), path.size() + 1);
+        g_temporaryFiles[i].state.store(2, std::memory_order_release);
+        return int(i);
+    }
+    return -1;
+}
+
+void withdrawTemporaryFile(int slot) {
+    if (slot >= 0) g_temporaryFiles[size_t(slot)].state.store(0, std::memory_order_release);
+}
+
 // Closes the descriptor and unlinks the temporary file unless release() was called, so every
-// early exit (exception included) leaves nothing behind.
+// early exit (exception included) leaves nothing behind; removeTemporaryFilesNow() covers the exits
+// that run no destructor (a signal).
 class TemporaryFile {
 public:
     explicit TemporaryFile(const std::filesystem::path& target) {
@@ -69,12 +98,14 @@ public:
                                            target.string(), directory.string(), describeErrno(error)));
         }
         m_path = pattern;
+        m_slot = publishTemporaryFile(m_path);
         // mkstemp creates the file 0600; outputs are ordinary files others may read.
         ::fchmod(m_fd, 0644);
     }
     ~TemporaryFile() {
         if (m_fd >= 0) ::close(m_fd);
         if (!m_path.empty()) ::unlink(m_path.c_str());
+        withdrawTemporaryFile(m_slot);
     }
     TemporaryFile(const TemporaryFile&) = delete;
     TemporaryFile& operator=(const TemporaryFile&) = delete;
@@ -88,11 +119,17 @@ public:
         m_fd = -1;
         return result;
     }
-    void release() { m_path.clear(); }
+    // After the rename: the path is the target's now.
+    void release() {
+        withdrawTemporaryFile(m_slot);
+        m_slot = -1;
+        m_path.clear();
+    }
 
 private:
     int m_fd = -1;
     std::string m_path;
+    int m_slot = -1;   // in g_temporaryFiles
 };
 
 void writeAll(const std::filesystem::path& target, TemporaryFile& file, const std::string& bytes) {
@@ -103,8 +140,10 @@ void writeAll(const std::filesystem::path& target, TemporaryFile& file, const st
         if (written < 0) {
             if (errno == EINTR) continue;
             const int error = errno;
-            throw ImageIOError(fmt::format("cannot write '{}': {} after {} of {} bytes; free some space or choose another location",
-                                           target.string(), describeErrno(error), bytes.size() - left, bytes.size()));
+            throw ImageIOError(fmt::format("cannot write '{}': {} after {} of {} bytes; {}", target.string(), describeErrno(error),
+                                           bytes.size() - left, bytes.size(),
+                                           error == EFBIG ? "the file size limit (ulimit -f) is below what the file needs"
+                                                          : "free some space or choose another location"));
         }
         data += written;
         left -= size_t(written);
@@ -191,6 +230,11 @@ void writeFileAtomically(const std::filesystem::path& path, const std::string& b
                                        path.string(), describeErrno(error)));
     }
     file.release();
+}
+
+void removeTemporaryFilesNow() noexcept {
+    for (TemporaryFileSlot& slot : g_temporaryFiles)
+        if (slot.state.load(std::memory_order_acquire) == 2) ::unlink(slot.path);
 }
 
 void writePNG(const std::filesystem::path& path, const ImageRGBA8& image) {

@@ -58,6 +58,10 @@ ImageRGBAF decodeRadianceHDR(std::string_view bytes, const std::string& name);
 
 // Writes `bytes` to `path` atomically (temporary file + rename). Throws ImageIOError.
 void writeFileAtomically(const std::filesystem::path& path, const std::string& bytes);
+// Unlinks the temporary files of writes in progress (their targets stay as they were). Async-
+// signal-safe, for a SIGINT / SIGTERM handler, after which the process must not go on writing:
+// a program that is interrupted leaves no ".<name>.tmp-XXXXXX" behind (janus's main does this).
+void removeTemporaryFilesNow() noexcept;
 
 struct ImageDifference {
     uint32_t maxChannelDifference = 0;   // in 1/255 steps
