@@ -14,8 +14,7 @@
 
 #include "animation.h"
 #include "forward/lighting_settings.h"
-#include "janus/renderer/light_grid.h"
-#include "janus/renderer/renderer.h"
+#include "janus/renderer/settings.h"
 #include "scene_internal.h"
 
 namespace janus::renderer {

@@ -18,7 +18,6 @@
 
 namespace janus::renderer {
 
-inline constexpr uint32_t kMaxLocalLights = 16384;        // one 512-word bitmask per tile in light_cull.comp
 inline constexpr uint32_t kDataTextureWidth = 1024;       // fallback path: element e at texel (e % 1024, e / 1024)
 // Smaller culling radii are raised to this: its square (1e-36) is still a normal float, so
 // 1 / radius^2 stays finite and never underflows to 0, which the layout reserves for "infinite".

@@ -59,6 +59,10 @@ struct RenderSettings {
     std::filesystem::path giBakeFile;
 };
 
+// Point and spot lights that light something, at most: one 512-word bitmask per tile in
+// light_cull.comp. validateScene refuses more (SceneError), so loading says so before any device.
+inline constexpr uint32_t kMaxLocalLights = 16384;
+
 class RendererError : public std::runtime_error {
 public:
     using std::runtime_error::runtime_error;
