@@ -599,7 +599,7 @@ TEST(ForwardPlusLimits, MoreThan16384LocalLightsIsRefusedWithTheCountAndTheLimit
         Renderer renderer(device, scene, settingsFor(LightCulling::TilesDepth, 32));
         renderer.renderFrame();
         FAIL() << "16385 local lights were accepted";
-    } catch (const RendererError& e) {
+    } catch (const SceneError& e) {   // validateScene, in the constructor (and when a file loads)
         EXPECT_NE(std::string(e.what()).find("16385"), std::string::npos) << e.what();
         EXPECT_NE(std::string(e.what()).find("16384"), std::string::npos) << e.what();
     }

@@ -84,13 +84,10 @@ const std::vector<Malformed>& malformedFiles() {
          },
          {"extensions.KHR_lights_punctual.lights[0].type: must be one of \"directional\", \"point\", \"spot\"; it is a string "
           "\"area\""}},
-        {"texture transform scale of one number",
-         [](json& g) {
-             g["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {
-                 {"index", 0}, {"extensions", {{"KHR_texture_transform", {{"scale", {2}}}}}}};
-         },
-         {"materials[0].pbrMetallicRoughness.baseColorTexture.extensions.KHR_texture_transform.scale: must be an array of 2 "
-          "numbers; it has 1"}},
+        {"texture index as a string",
+         [](json& g) { g["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", "0"}}; },
+         {"materials[0].pbrMetallicRoughness.baseColorTexture.index: must be an integer in [0, 4294967295]; it is a string "
+          "\"0\""}},
     };
     return cases;
 }

@@ -13,7 +13,10 @@ namespace janus::renderer::detail {
 
 // The first problem as "<where>: <what is wrong and what the schema wants>" (where is a path such
 // as "nodes[2].matrix"), or "" when every checked property is well-formed. Properties Janus does
-// not read, extensions included (but KHR_lights_punctual), are not checked.
+// not read are not checked, and neither are the ones the loader checks itself with the mesh's or
+// material's name (the material extensions and KHR_texture_transform, a sparse index type, a
+// primitive mode above 6, an animation's interpolation); of the extensions, only
+// KHR_lights_punctual is.
 std::string gltfSchemaProblem(const nlohmann::json& root);
 
 }  // namespace janus::renderer::detail
