@@ -84,6 +84,20 @@ const std::vector<Malformed>& malformedFiles() {
          },
          {"extensions.KHR_lights_punctual.lights[0].type: must be one of \"directional\", \"point\", \"spot\"; it is a string "
           "\"area\""}},
+        {"spot cone wider than a half sphere",
+         [](json& g) {
+             g["extensionsUsed"] = {"KHR_lights_punctual"};
+             g["extensions"]["KHR_lights_punctual"]["lights"] =
+                 json::array({{{"type", "spot"}, {"spot", {{"innerConeAngle", 0.1}, {"outerConeAngle", 3.5}}}}});
+         },
+         {"extensions.KHR_lights_punctual.lights[0].spot.outerConeAngle: must be a number in [0, 1.5707963267948966]; it is 3.5"}},
+        {"spot inner cone not inside the outer one",
+         [](json& g) {
+             g["extensionsUsed"] = {"KHR_lights_punctual"};
+             g["extensions"]["KHR_lights_punctual"]["lights"] =
+                 json::array({{{"type", "spot"}, {"spot", {{"innerConeAngle", 0.6}, {"outerConeAngle", 0.5}}}}});
+         },
+         {"extensions.KHR_lights_punctual.lights[0].spot.innerConeAngle: must be less than outerConeAngle (0.5); it is 0.6"}},
         {"texture index as a string",
          [](json& g) { g["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", "0"}}; },
          {"materials[0].pbrMetallicRoughness.baseColorTexture.index: must be an integer in [0, 4294967295]; it is a string "

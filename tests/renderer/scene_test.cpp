@@ -25,6 +25,7 @@ using nlohmann::json;
 
 using test_support::sceneErrorOf;
 using test_support::TinyGltf;
+using test_support::contains;
 
 const fs::path kSharedScenes = JANUS_SHARED_SCENES_DIR;
 // This suite's own data sits next to it (tests/renderer/data), not in JANUS_TEST_DATA_DIR.
@@ -771,6 +772,28 @@ TEST(DefaultScene, SpheresAreClosedAndWoundOutwards) {
             const glm::vec3 face = glm::cross(b.position - a.position, c.position - a.position);
             ASSERT_GT(glm::dot(face, a.normal + b.normal + c.normal), 0.0f) << "mesh " << m << " triangle " << i / 3;
         }
+    }
+}
+
+// A scene file's spot light follows KHR_lights_punctual's rule, 0 <= inner < outer <= 90 degrees;
+// an inner cone wider than the outer one or an outer one of 200 degrees loaded without a word
+// (found by exploratory testing of the CLI).
+TEST(SceneLoading, SceneFileSpotConesMustNestWithinAHalfSphere) {
+    TinyGltf file;
+    file.write();
+    const Scene good = loadScene(file.writeText(
+        "good.json", R"({"gltf": "tri.gltf", "lights": [{"type": "spot", "innerConeDegrees": 10, "outerConeDegrees": 90}]})"));
+    ASSERT_FALSE(good.lights.empty());
+    EXPECT_FLOAT_EQ(good.lights.back().outerConeAngle, glm::radians(90.0f));
+    for (const char* cones : {R"("innerConeDegrees": 40, "outerConeDegrees": 30)", R"("outerConeDegrees": 200)",
+                              R"("innerConeDegrees": -5, "outerConeDegrees": 30)"}) {
+        SCOPED_TRACE(cones);
+        const std::string message = sceneErrorOf([&] {
+            loadScene(file.writeText("bad.json", fmt::format(R"({{"gltf": "tri.gltf", "lights": [{{"type": "spot", {}}}]}})", cones)));
+        });
+        EXPECT_TRUE(contains(message, "bad.json")) << message;
+        EXPECT_TRUE(contains(message, "lights[0] has innerConeDegrees")) << message;
+        EXPECT_TRUE(contains(message, "a spot light needs 0 <= innerConeDegrees < outerConeDegrees <= 90")) << message;
     }
 }
 

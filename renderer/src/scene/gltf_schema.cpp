@@ -360,9 +360,15 @@ void checkRoot(const json& root) {
                 l.number("intensity");
                 l.number("range");
                 if (const json* spot = l.object("spot")) {
+                    // The extension's schema and text: 0 <= innerConeAngle < outerConeAngle <= pi / 2.
                     At s(*spot, l.path("spot"));
-                    s.number("innerConeAngle");
-                    s.number("outerConeAngle");
+                    constexpr double kHalfPi = 1.57079632679489661923;
+                    s.number("innerConeAngle", 0.0, kHalfPi);
+                    s.number("outerConeAngle", 0.0, kHalfPi);
+                    const double inner = s.find("innerConeAngle") ? s.find("innerConeAngle")->get<double>() : 0.0;
+                    const double outer = s.find("outerConeAngle") ? s.find("outerConeAngle")->get<double>() : kHalfPi / 2.0;
+                    if (!(inner < outer))
+                        s.fail("innerConeAngle", fmt::format("must be less than outerConeAngle ({}); it is {}", outer, inner));
                 }
             });
 }

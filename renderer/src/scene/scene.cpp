@@ -198,6 +198,14 @@ Light parseLight(const std::filesystem::path& file, const json& j, size_t index)
     if (j.contains("range")) light.range = number(file, j, "range", 0.0f);
     light.innerConeAngle = glm::radians(number(file, j, "innerConeDegrees", glm::degrees(light.innerConeAngle)));
     light.outerConeAngle = glm::radians(number(file, j, "outerConeDegrees", glm::degrees(light.outerConeAngle)));
+    // KHR_lights_punctual's rule, which the glTF loader checks too.
+    if (light.type == LightType::Spot && (j.contains("innerConeDegrees") || j.contains("outerConeDegrees"))) {
+        const float inner = glm::degrees(light.innerConeAngle), outer = glm::degrees(light.outerConeAngle);
+        if (!(inner >= 0.0f && inner < outer && outer <= 90.0f))
+            fail(file, fmt::format("lights[{}] has innerConeDegrees {} and outerConeDegrees {}; a spot light needs "
+                                   "0 <= innerConeDegrees < outerConeDegrees <= 90",
+                                   index, inner, outer));
+    }
     if (j.contains("layers")) light.renderingLayers = layerMask(file, j["layers"], fmt::format("lights[{}].layers", index));
     return light;
 }
