@@ -251,7 +251,7 @@ std::string lowerCaseExtension(const std::filesystem::path& path) {
 void addSceneArgument(CLI::App& app, std::string& scene) {
     app.add_option("scene", scene, ".gltf, .glb or .json scene file (extension in any case), or a built-in scene: many-lights[:N] (the "
                                    "many-lights hall with N local lights, 0..16384, default 128) or probes (the reflection-probe scene); "
-                                   "a file of that name wins (default: the built-in room)")
+                                   "a file (not a folder) of that name wins (default: the built-in room)")
         ->type_name("SCENE");
 }
 
@@ -287,21 +287,30 @@ std::optional<uint32_t> parseManyLightsSceneName(std::string_view text) {
     return count;
 }
 
+namespace {
+// A built-in scene's name, unless a regular file (or a link to one) of that name is there: a
+// folder named "probes" (say, for output) does not hide the built-in scene.
+bool namesBuiltInScene(const std::filesystem::path& scenePath) {
+    std::error_code ec;
+    if (std::filesystem::is_regular_file(scenePath, ec)) return false;
+    return parseManyLightsSceneName(scenePath.string()) || scenePath.string() == kProbesSceneName;
+}
+}  // namespace
+
 renderer::Scene loadSceneOrDefault(const std::optional<std::filesystem::path>& scenePath, const renderer::SceneLoadOptions& options) {
     std::error_code ec;
-    const bool builtIn = !scenePath || (!std::filesystem::exists(*scenePath, ec) && (parseManyLightsSceneName(scenePath->string()) ||
-                                                                                     scenePath->string() == kProbesSceneName));
+    const bool builtIn = !scenePath || namesBuiltInScene(*scenePath);
     if (builtIn && (options.scene || options.camera))
         throw UsageError(fmt::format("{} picks a glTF file's scene or camera; the {} has one of each, give a .gltf, .glb or .json scene",
                                      options.scene ? "--scene" : "--camera", sceneLabel(scenePath)));
     if (!scenePath) return renderer::defaultScene();
-    if (!std::filesystem::exists(*scenePath, ec)) {
+    if (builtIn) {
         if (const std::optional<uint32_t> lights = parseManyLightsSceneName(scenePath->string())) {
             renderer::ManyLightsOptions options;
             options.lightCount = *lights;
             return renderer::manyLightsScene(options);
         }
-        if (scenePath->string() == kProbesSceneName) return renderer::probesScene();
+        return renderer::probesScene();
     }
     if (!std::filesystem::exists(*scenePath, ec))
         throw InputError(fmt::format("scene file '{}' does not exist; give a .gltf, .glb or .json scene, "
@@ -341,8 +350,7 @@ renderer::SceneLoadOptions parseSceneLoadOptions(const SceneChoiceOptions& choic
 
 std::string sceneLabel(const std::optional<std::filesystem::path>& scenePath) {
     if (!scenePath) return "built-in default scene";
-    std::error_code ec;
-    if (!std::filesystem::exists(*scenePath, ec) && (parseManyLightsSceneName(scenePath->string()) || scenePath->string() == kProbesSceneName))
+    if (namesBuiltInScene(*scenePath))
         return fmt::format("built-in {} scene", scenePath->string());
     return scenePath->string();
 }

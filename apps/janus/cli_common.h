@@ -103,7 +103,8 @@ void checkOutputsDistinct(const std::vector<NamedPath>& outputs, const std::vect
 std::vector<NamedPath> sceneInputFiles(const std::optional<std::filesystem::path>& scenePath);
 
 // The scene file given on the command line, the built-in many-lights scene ("many-lights" or
-// "many-lights:N", N local lights, default 128; a file of that name wins), or the default scene.
+// "many-lights:N", N local lights, default 128; a regular file of that name wins, a folder does
+// not), or the default scene.
 inline constexpr std::string_view kManyLightsSceneName = "many-lights";
 inline constexpr std::string_view kProbesSceneName = "probes";   // renderer::probesScene()
 std::optional<uint32_t> parseManyLightsSceneName(std::string_view text);   // nullopt: not that name; throws UsageError for a bad N

@@ -30,6 +30,15 @@ grep -q "cannot write '.*/a.pfm': File too large after .* bytes; the file size l
 leftover=$(find "$TMP/limited" -name '.*tmp*')
 [[ -z $leftover ]] || fail "a write past ulimit -f left $leftover"
 
+# ---- a folder named like a built-in scene does not hide it (only a file of that name wins) -------
+# Before, a folder "probes" in the working directory (say, for output) made `render probes` fail
+# with "scene 'probes' is a directory".
+mkdir -p "$TMP/cwd/probes"
+rc=0
+(cd "$TMP/cwd" && exec "$JANUS" render probes --size 16x16 --out probes/p.png) >"$TMP/stdout" 2>"$TMP/stderr" || rc=$?
+[[ $rc == 0 ]] || fail "render probes beside a folder named probes: exit $rc: $(cat "$TMP/stderr")"
+check_png "$TMP/cwd/probes/p.png" 16 16
+
 # ---- paths that are not valid UTF-8 are escaped in JSON (check / parity exited 5) ---------------
 bad=$'bad\xffname'
 mkdir -p "$TMP/utf"
