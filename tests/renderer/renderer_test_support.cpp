@@ -106,15 +106,7 @@ RenderSettings settingsFor(LightCulling culling, uint32_t size) {
     return settings;
 }
 
-const char* cullingName(LightCulling mode) {
-    switch (mode) {
-    case LightCulling::Auto: return "auto";
-    case LightCulling::Naive: return "naive";
-    case LightCulling::Tiles2D: return "tiles-2d";
-    case LightCulling::TilesDepth: return "tiles-depth";
-    }
-    return "unknown";
-}
+const char* cullingName(LightCulling mode) { return toString(mode); }
 
 bool hasPassStartingWith(const FrameReport& report, std::string_view prefix) {
     return std::any_of(report.passes.begin(), report.passes.end(), [&](const PassReport& pass) { return pass.name.starts_with(prefix); });
