@@ -20,6 +20,11 @@
 namespace janus::cli {
 namespace {
 
+// Options whose empty value would otherwise read as "not given" (they hold a string that is
+// parsed later): --env-intensity '' is a mistake to name, not the default.
+const CLI::Validator kNotEmpty([](std::string& value) { return value.empty() ? std::string("is empty; give a value or leave the option out") : std::string(); },
+                               "", "not empty");
+
 int exitStatus(ExitCode code) { return static_cast<int>(code); }
 
 // Library messages may span lines (driver logs); the contract is one line per error.
@@ -326,10 +331,12 @@ renderer::Scene loadSceneOrDefault(const std::optional<std::filesystem::path>& s
 void addSceneChoiceOptions(CLI::App& app, SceneChoiceOptions& options) {
     app.add_option("--scene", options.scene, "Which glTF scene to render: its index in the file's \"scenes\" (default: the file's "
                                              "\"scene\", else 0)")
-        ->type_name("N");
+        ->type_name("N")
+        ->check(kNotEmpty);
     app.add_option("--camera", options.camera, "Which glTF camera to look through: its index in the file's \"cameras\" (default: the "
                                                "first camera, perspective or orthographic, else one that frames the scene)")
-        ->type_name("N");
+        ->type_name("N")
+        ->check(kNotEmpty);
 }
 
 renderer::SceneLoadOptions parseSceneLoadOptions(const SceneChoiceOptions& choice, bool allowOutsidePaths) {
@@ -415,9 +422,11 @@ renderer::DebugView parseDebugOption(std::string_view text) {
 void addEnvironmentOptions(CLI::App& app, EnvironmentOptions& options) {
     app.add_option("--env", options.map,
                    "Equirectangular sky (.hdr or .exr) that lights the scene and is its background; replaces the scene's")
-        ->type_name("FILE.hdr|FILE.exr");
+        ->type_name("FILE.hdr|FILE.exr")
+        ->check(kNotEmpty);
     app.add_option("--env-intensity", options.intensity, "Multiplies the sky's radiance, a finite number >= 0 (default: scene, then 1)")
-        ->type_name("X");
+        ->type_name("X")
+        ->check(kNotEmpty);
 }
 
 EnvironmentOverride parseEnvironmentOptions(const EnvironmentOptions& options) {
@@ -496,10 +505,12 @@ void addAnimationOptions(CLI::App& app, AnimationOptions& options) {
     app.add_option("--time", options.time,
                    "Pose the scene at this time in seconds (>= 0; past the last keyframe the animation holds its end; default: "
                    "the scene file's \"time\", else 0)")
-        ->type_name("SECONDS");
+        ->type_name("SECONDS")
+        ->check(kNotEmpty);
     app.add_option("--animation", options.animation,
                    "Which glTF animation --time samples: its name or index (default: the scene file's \"animation\", else 0)")
-        ->type_name("NAME|INDEX");
+        ->type_name("NAME|INDEX")
+        ->check(kNotEmpty);
 }
 
 AnimationOverride parseAnimationOptions(const AnimationOptions& options) {

@@ -41,6 +41,11 @@ expect_error 2 "unknown command 'frobnicate'" frobnicate
 expect_error 2 "--bogus"                     render --bogus --out "$out"
 expect_error 2 "--bogus"                     parity --bogus --out "$TMP/parity"
 expect_error 2 "--bogus"                     info --bogus
+# An empty value is a mistake to name, not the option left out (these were taken as not given).
+for option in --env --env-intensity --time --animation --scene --camera; do
+  expect_error 2 "^janus: error: $option: is empty; give a value or leave the option out" render "$option" "" --out "$out"
+done
+expect_error 2 "^janus: error: --env-intensity: is empty" parity --env-intensity "" --out "$TMP/parity"
 expect_error 2 "unknown backend 'metal'.*vulkan, gl, gles" render --backend metal --out "$out"
 expect_error 2 "unknown --path 'fast'.*compute or fallback" render --path fast --out "$out"
 expect_error 2 "unknown --gl-platform 'wayland'.*egl or osmesa" render --gl-platform wayland --out "$out"
