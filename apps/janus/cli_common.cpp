@@ -247,12 +247,6 @@ std::vector<NamedPath> sceneInputFiles(const std::optional<std::filesystem::path
     return files;
 }
 
-std::string lowerCaseExtension(const std::filesystem::path& path) {
-    std::string extension = path.extension().string();
-    for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return extension;
-}
-
 void addSceneArgument(CLI::App& app, std::string& scene) {
     app.add_option("scene", scene, ".gltf, .glb or .json scene file (extension in any case), or a built-in scene: many-lights[:N] (the "
                                    "many-lights hall with N local lights, 0..16384, default 128) or probes (the reflection-probe scene); "

@@ -83,8 +83,7 @@ std::vector<std::string> splitList(const std::string& text);        // "a,b,,c" 
 // not a directory, or `file` itself is a directory. Saves a render that could not be saved.
 void checkOutputFile(const std::filesystem::path& file, std::string_view optionName);
 
-// `path`'s extension in lower case (".GLB" -> ".glb"): janus dispatches on extensions in any case.
-std::string lowerCaseExtension(const std::filesystem::path& path);
+using renderer::lowerCaseExtension;   // janus dispatches on extensions in any case
 
 // "" when `file` (after following symbolic links) is a regular file or does not exist; else what
 // it is instead ("a directory", "a FIFO", "a character device", ...). Inputs must be regular

@@ -97,9 +97,7 @@ int runProbes(const ProbesOptions& options) {
     std::string envLabel;
     renderer::ImageRGBAF sky;
     if (env.map) {
-        std::string extension = env.map->extension().string();
-        for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));
-        sky = extension == ".exr" ? renderer::readEXR(*env.map) : renderer::readRadianceHDR(*env.map);
+        sky = lowerCaseExtension(*env.map) == ".exr" ? renderer::readEXR(*env.map) : renderer::readRadianceHDR(*env.map);
         envLabel = fmt::format("{} ({}x{} equirect)", env.map->filename().string(), sky.width, sky.height);
     } else {
         sky = renderer::syntheticProbeSky();

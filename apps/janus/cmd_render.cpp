@@ -29,11 +29,7 @@ struct RenderOptions {
     SceneChoiceOptions sceneChoice;
 };
 
-bool hasExtension(const std::filesystem::path& file, std::string_view extension) {
-    std::string actual = file.extension().string();
-    for (char& c : actual) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return actual == extension;
-}
+bool hasExtension(const std::filesystem::path& file, std::string_view extension) { return lowerCaseExtension(file) == extension; }
 
 int run(const RenderOptions& options) {
     // Everything that can be checked without a GPU is checked first, so a typo never costs a render.

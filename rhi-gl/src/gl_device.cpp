@@ -94,8 +94,7 @@ Context::Context(std::unique_ptr<Platform> platform, bool es)
 }
 
 Context::~Context() {
-    if (makeCurrentForTeardown()) {
-        deleteDeferred();
+    if (makeCurrentForTeardown()) {   // which also deletes what other threads released
         for (auto& [key, fbo] : m_framebuffers) gl.glDeleteFramebuffers(1, &fbo);
         if (vertexArray) gl.glDeleteVertexArrays(1, &vertexArray);
         t_current.release();

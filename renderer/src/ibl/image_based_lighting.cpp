@@ -20,8 +20,7 @@ const DfgTable& sharedDfgTable() {
 }  // namespace
 
 ImageRGBAF readEnvironmentMap(const std::filesystem::path& path) {
-    std::string extension = path.extension().string();
-    std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    const std::string extension = lowerCaseExtension(path);
     try {
         if (extension == ".hdr") return readRadianceHDR(path);
         if (extension == ".exr") return readEXR(path);

@@ -5,6 +5,7 @@
 #include <array>
 #include <atomic>
 #include <bit>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -230,6 +231,12 @@ void writeFileAtomically(const std::filesystem::path& path, const std::string& b
                                        path.string(), describeErrno(error)));
     }
     file.release();
+}
+
+std::string lowerCaseExtension(const std::filesystem::path& path) {
+    std::string extension = path.extension().string();
+    for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return extension;
 }
 
 void removeTemporaryFilesNow() noexcept {

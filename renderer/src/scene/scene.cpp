@@ -166,8 +166,7 @@ const json& objectAt(const std::filesystem::path& file, const json& parent, cons
 // Why `map` cannot be an environment map, or "" when it can: the extension must be .hdr or .exr
 // (any case) and the file must exist. Shared by the scene-file loader and validateScene.
 std::string environmentMapProblem(const std::filesystem::path& map) {
-    std::string extension = map.extension().string();
-    for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));
+    const std::string extension = lowerCaseExtension(map);
     if (extension != ".hdr" && extension != ".exr")
         return fmt::format("environment map '{}' is not a supported sky; use an equirectangular .hdr (Radiance RGBE) or .exr image",
                            map.string());
@@ -391,16 +390,9 @@ void validateLoaded(const std::filesystem::path& path, const Scene& scene) {
 
 }  // namespace
 
-// The scene type by extension, in any case (".GLB" is a .glb).
-static std::string lowerExtension(const std::filesystem::path& path) {
-    std::string extension = path.extension().string();
-    for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return extension;
-}
-
 Scene loadSceneFromMemory(std::string_view bytes, const std::filesystem::path& path, const SceneLoadOptions& options) {
     Scene scene;
-    const std::string extension = lowerExtension(path);
+    const std::string extension = lowerCaseExtension(path);
     if (extension == ".json") {
         scene = loadSceneFile(bytes, path, options);
     } else if (extension == ".gltf" || extension == ".glb") {
@@ -420,7 +412,7 @@ Scene loadSceneFromMemory(std::string_view bytes, const std::filesystem::path& p
 
 Scene loadScene(const std::filesystem::path& path, const SceneLoadOptions& options) {
     Scene scene;
-    const std::string extension = lowerExtension(path);
+    const std::string extension = lowerCaseExtension(path);
     if (extension == ".json") {
         std::error_code ec;
         if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))

@@ -1652,9 +1652,7 @@ Scene loadGltf(const std::filesystem::path& path, bool& hasCamera, const SceneLo
 Scene loadGltfFromMemory(std::string_view bytes, const std::filesystem::path& path, bool& hasCamera, const SceneLoadOptions& options) {
     std::error_code ec;
     if (bytes.size() > UINT32_MAX) throw SceneError(fmt::format("{}: is larger than 4 GiB, which glTF files cannot be", path.string()));
-    std::string extension = path.extension().string();
-    for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));
-    const bool binary = extension == ".glb";
+    const bool binary = lowerCaseExtension(path) == ".glb";
 
     LoadContext context;
     context.folder = std::filesystem::absolute(path, ec).parent_path().lexically_normal();

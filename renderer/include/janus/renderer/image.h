@@ -56,6 +56,10 @@ ImageRGBAF decodePFM(std::string_view bytes, const std::string& name);
 ImageRGBAF decodeEXR(std::string_view bytes, const std::string& name);
 ImageRGBAF decodeRadianceHDR(std::string_view bytes, const std::string& name);
 
+// `path`'s extension in lower case (".GLB" -> ".glb"): Janus tells scene, image and sky files by
+// their extension, in any case.
+std::string lowerCaseExtension(const std::filesystem::path& path);
+
 // Writes `bytes` to `path` atomically (temporary file + rename). Throws ImageIOError.
 void writeFileAtomically(const std::filesystem::path& path, const std::string& bytes);
 // Unlinks the temporary files of writes in progress (their targets stay as they were). Async-
