@@ -422,6 +422,13 @@ TEST(GltfLights, RangeZeroOrNegativeIsKeptAndNoRangeIsInfinite) {
     ASSERT_TRUE(scene.lights[1].range.has_value());
     EXPECT_EQ(*scene.lights[1].range, -2.5f);
     EXPECT_FALSE(scene.lights[2].range.has_value());
+    // The two dark lights are named with their file, glTF light index and node.
+    std::vector<std::string> dark;
+    for (const std::string& warning : scene.warnings)
+        if (contains(warning, "lights nothing")) dark.push_back(warning);
+    ASSERT_EQ(dark.size(), 2u);
+    EXPECT_TRUE(contains(dark[0], ".gltf: KHR_lights_punctual light 0 on node 'lamp 0' lights nothing (its range is <= 0)")) << dark[0];
+    EXPECT_TRUE(contains(dark[1], "KHR_lights_punctual light 1 on node 'lamp 1' lights nothing")) << dark[1];
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include <algorithm>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <glm/gtc/type_ptr.hpp>
 #include <nlohmann/json.hpp>
 
@@ -795,6 +796,34 @@ TEST(SceneLoading, SceneFileSpotConesMustNestWithinAHalfSphere) {
         EXPECT_TRUE(contains(message, "lights[0] has innerConeDegrees")) << message;
         EXPECT_TRUE(contains(message, "a spot light needs 0 <= innerConeDegrees < outerConeDegrees <= 90")) << message;
     }
+}
+
+// A light that lights nothing is named where the user can find it: the scene file and its index in
+// "lights" (the warning used to come from the renderer, naming only its packed index, no file).
+TEST(SceneLoading, SceneFileDarkLightsAreNamedInWarnings) {
+    TinyGltf file;
+    file.write();
+    const Scene scene = loadScene(file.writeText("dark.json", R"({"gltf": "tri.gltf", "lights": [
+        {"type": "point", "intensity": 5},
+        {"type": "point", "intensity": 5, "range": 0},
+        {"type": "spot", "intensity": 0},
+        {"type": "point", "intensity": 5, "color": [0, 0, 0]},
+        {"type": "directional", "intensity": 0}]})"));
+    std::vector<std::string> dark;
+    for (const std::string& warning : scene.warnings)
+        if (contains(warning, "lights nothing")) dark.push_back(warning);
+    ASSERT_EQ(dark.size(), 3u) << fmt::format("{}", fmt::join(scene.warnings, "\n"));
+    EXPECT_TRUE(contains(dark[0], "dark.json: lights[1] lights nothing (its range is <= 0)")) << dark[0];
+    EXPECT_TRUE(contains(dark[1], "dark.json: lights[2] lights nothing (its intensity is <= 0)")) << dark[1];
+    EXPECT_TRUE(contains(dark[2], "dark.json: lights[3] lights nothing (its colour is black)")) << dark[2];
+    // The same reasons for lights made in code; a directional light is never "dark" here (it is
+    // looped directly, not packed).
+    EXPECT_EQ(darkLightReason(scene.lights.back()), nullptr);
+    Light point;
+    point.type = LightType::Point;
+    EXPECT_EQ(darkLightReason(point), nullptr);
+    point.range = -1.0f;
+    EXPECT_STREQ(darkLightReason(point), "its range is <= 0");
 }
 
 }  // namespace

@@ -17,15 +17,6 @@ namespace {
 
 float maxChannel(const glm::vec3& c) { return std::max(c.r, std::max(c.g, c.b)); }
 
-const char* lightTypeName(LightType type) {
-    switch (type) {
-    case LightType::Directional: return "directional";
-    case LightType::Point: return "point";
-    case LightType::Spot: return "spot";
-    }
-    return "?";
-}
-
 }  // namespace
 
 float cullingRadius(const Light& light, float intensityCutoff) {
@@ -36,18 +27,12 @@ float cullingRadius(const Light& light, float intensityCutoff) {
 
 PackedLights packLocalLights(const Scene& scene, float intensityCutoff) { return packLocalLights(scene.lights, intensityCutoff); }
 
-PackedLights packLocalLights(std::span<const Light> lights, float intensityCutoff, bool warnSkipped) {
+PackedLights packLocalLights(std::span<const Light> lights, float intensityCutoff) {
     PackedLights packed;
     for (size_t i = 0; i < lights.size(); ++i) {
         const Light& light = lights[i];
         if (light.type == LightType::Directional) continue;
-        const char* why = nullptr;
-        if (light.range && !(*light.range > 0.0f)) why = "its range is <= 0";
-        else if (!(light.intensity > 0.0f)) why = "its intensity is <= 0";
-        else if (!(maxChannel(light.color) > 0.0f)) why = "its colour is black";
-        if (why) {
-            if (warnSkipped)
-                std::fprintf(stderr, "janus: warning: %s light %zu lights nothing (%s); skipped\n", lightTypeName(light.type), i, why);
+        if (darkLightReason(light)) {
             ++packed.skipped;
             continue;
         }

@@ -93,7 +93,7 @@ void LocalLights::uploadLights() {
 }
 
 void LocalLights::checkLights(std::span<const Light> lights) const {
-    const size_t lit = packLocalLights(lights, m_lighting.intensityCutoff, false).lights.size();
+    const size_t lit = packLocalLights(lights, m_lighting.intensityCutoff).lights.size();
     if (lit <= m_lights.size()) return;
     throw RendererError(fmt::format("setLights: {} point/spot lights light something, but this renderer was made for at most {}: its "
                                     "light array, culling mode and passes are planned for that many; give at most {} (dim the others to "
@@ -102,7 +102,7 @@ void LocalLights::checkLights(std::span<const Light> lights) const {
 }
 
 void LocalLights::setLights(std::span<const Light> lights) {
-    std::vector<PackedLight> packed = packLocalLights(lights, m_lighting.intensityCutoff, false).lights;
+    std::vector<PackedLight> packed = packLocalLights(lights, m_lighting.intensityCutoff).lights;
     // Placeholders keep the array's size, so the culling mode and the light count the passes
     // were set up with stay true. Radiance 0 and layer mask 0 make their contribution exactly 0
     // (x + 0 == x), so the image is the one a renderer made with only the lit lights shows.

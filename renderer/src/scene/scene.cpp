@@ -303,7 +303,11 @@ Scene loadSceneFile(std::string_view bytes, const std::filesystem::path& path, c
         }
         if (root.contains("lights")) {
             if (!root["lights"].is_array()) fail(path, "\"lights\" must be an array");
-            for (size_t i = 0; i < root["lights"].size(); ++i) scene.lights.push_back(parseLight(path, root["lights"][i], i));
+            for (size_t i = 0; i < root["lights"].size(); ++i) {
+                scene.lights.push_back(parseLight(path, root["lights"][i], i));
+                if (const char* why = darkLightReason(scene.lights.back()))
+                    scene.warnings.push_back(fmt::format("{}: lights[{}] lights nothing ({}); the renderer skips it", path.string(), i, why));
+            }
         }
         if (root.contains("meshLayers")) {
             // Keyed by glTF node name; every instance of that node's mesh gets the mask.
@@ -452,6 +456,14 @@ const char* lightProblem(const Light& light) {
 }
 
 }  // namespace detail
+
+const char* darkLightReason(const Light& light) {
+    if (light.type == LightType::Directional) return nullptr;
+    if (light.range && !(*light.range > 0.0f)) return "its range is <= 0";
+    if (!(light.intensity > 0.0f)) return "its intensity is <= 0";
+    if (!(std::max({light.color.r, light.color.g, light.color.b}) > 0.0f)) return "its colour is black";
+    return nullptr;
+}
 
 void validateScene(const Scene& scene) {
     for (size_t m = 0; m < scene.meshes.size(); ++m) {

@@ -1529,6 +1529,9 @@ private:
         if (hasExplicitRange(index)) light.range = float(gltfLight.range);
         light.innerConeAngle = float(gltfLight.spot.innerConeAngle);
         light.outerConeAngle = float(gltfLight.spot.outerConeAngle);
+        if (const char* why = darkLightReason(light))
+            warn(fmt::format("KHR_lights_punctual light {}{} on node '{}' lights nothing ({}); the renderer skips it", index,
+                             gltfLight.name.empty() ? std::string() : fmt::format(" ('{}')", gltfLight.name), nodeName, why));
         scene.lights.push_back(light);
     }
 

@@ -52,13 +52,12 @@ struct PackedLights {
 // irradiance falls to the cut-off. Cut-off <= 0 without a range: +infinity.
 float cullingRadius(const Light& light, float intensityCutoff);
 
-// Point and spot lights of the scene in scene order, minus those that light nothing (range <= 0,
-// zero intensity or colour), which are named in a warning on stderr. Throws RendererError past
-// kMaxLocalLights.
+// Point and spot lights of the scene in scene order, minus those that light nothing
+// (darkLightReason: range <= 0, zero intensity or colour), which `skipped` counts; loadScene has
+// named them in Scene::warnings. Throws RendererError past kMaxLocalLights.
 PackedLights packLocalLights(const Scene& scene, float intensityCutoff);
-// The same for a light list (sceneLightIndex indexes it); `warnSkipped` false leaves out the
-// warnings (Renderer::setLights: a light dimmed to zero is deliberate).
-PackedLights packLocalLights(std::span<const Light> lights, float intensityCutoff, bool warnSkipped = true);
+// The same for a light list (sceneLightIndex indexes it).
+PackedLights packLocalLights(std::span<const Light> lights, float intensityCutoff);
 
 // std140 mirror of light_cull.comp's CullUniforms block (set 0, binding 0).
 struct CullUniforms {

@@ -507,4 +507,10 @@ Scene probesScene();
 // nothing (the renderer skips it).
 void validateScene(const Scene& scene);
 
+// Why a point or spot light lights nothing ("its range is <= 0", "its intensity is <= 0", "its
+// colour is black"), or nullptr when it lights something. The renderer skips such lights
+// (PackedLights::skipped counts them); loadScene names each in Scene::warnings with its file and
+// its place there (a scene file's lights[i], a glTF light and node).
+const char* darkLightReason(const Light& light);
+
 }  // namespace janus::renderer
