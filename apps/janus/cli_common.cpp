@@ -7,10 +7,12 @@
 #include <cstdio>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <new>
 #include <system_error>
 #include <sstream>
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <fmt/format.h>
@@ -216,6 +218,24 @@ void checkOutputsDistinct(const std::vector<NamedPath>& outputs, const std::vect
             if (!input.empty() && sameFile(outputs[i].second, input))
                 throw UsageError(fmt::format("{} '{}' is {} '{}': writing it would overwrite an input; choose another path",
                                              outputs[i].first, outputs[i].second.string(), what, input.string()));
+    }
+}
+
+void checkFolderOutputs(const std::filesystem::path& dir, std::string_view option, const std::vector<std::string>& names,
+                        const std::vector<NamedPath>& inputs) {
+    std::map<std::pair<dev_t, ino_t>, const NamedPath*> inputFiles;
+    for (const NamedPath& input : inputs) {
+        struct stat info {};
+        if (!input.second.empty() && ::stat(input.second.c_str(), &info) == 0) inputFiles.emplace(std::pair(info.st_dev, info.st_ino), &input);
+    }
+    if (inputFiles.empty()) return;
+    for (const std::string& name : names) {
+        const std::filesystem::path output = dir / name;
+        struct stat info {};
+        if (::stat(output.c_str(), &info) != 0) continue;
+        if (const auto found = inputFiles.find(std::pair(info.st_dev, info.st_ino)); found != inputFiles.end())
+            throw UsageError(fmt::format("{} '{}' would overwrite '{}', which is {} '{}'; choose another {} folder", option, dir.string(),
+                                         output.string(), found->second->first, found->second->second.string(), option));
     }
 }
 

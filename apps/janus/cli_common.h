@@ -100,6 +100,12 @@ void checkOutputsDistinct(const std::vector<NamedPath>& outputs, const std::vect
 // "gltf" and "environment.map"; for a glTF its buffers and images (not data: URIs). Nothing for
 // a built-in scene. Read from the JSON alone, never failing (the loader reports bad files).
 std::vector<NamedPath> sceneInputFiles(const std::optional<std::filesystem::path>& scenePath);
+// The same rule for commands that write a folder of files (parity, check, bench): UsageError
+// (exit 2) when a file `names` gives inside `dir`, which the command would write or replace,
+// is one of `inputs` (the same file: compared by device and inode, so links count). Names are
+// relative to `dir`; only files that exist can be inputs, so this costs one stat per name.
+void checkFolderOutputs(const std::filesystem::path& dir, std::string_view option, const std::vector<std::string>& names,
+                        const std::vector<NamedPath>& inputs);
 
 // The scene file given on the command line, the built-in many-lights scene ("many-lights" or
 // "many-lights:N", N local lights, default 128; a regular file of that name wins, a folder does

@@ -159,6 +159,15 @@ int runGi(const GiOptions& options) {
     const uint32_t directions = options.quick ? 256 : options.referenceDirections;
     const uint32_t samples = options.quick ? 16 : options.referenceSamples;
     const std::vector<Variant> variants = makeVariants(*scene.irradianceVolume, sweeps, options.quick);
+    {
+        // What this bench writes in --out (gi.md/json/png and the default row's pictures) must not be
+        // the scene or a file it reads.
+        std::vector<std::string> outputs{"gi.md", "gi.json", "gi.png", "gi-reference.pfm",
+                                         fmt::format("gi-reference-{}-bounces.pfm", variants.front().volume.bounces)};
+        for (rhi::Backend backend : backends)
+            for (renderer::FeaturePath path : paths) outputs.push_back(fmt::format("gi-{}-{}.pfm", rhi::toString(backend), renderer::toString(path)));
+        checkFolderOutputs(outDir, "--out", outputs, sceneInputFiles(scenePath));
+    }
 
     // The reference: per probe layout and bounce count (0 = converged), computed when first needed.
     const auto referenceStart = std::chrono::steady_clock::now();

@@ -494,6 +494,12 @@ std::string safeStem(const std::filesystem::path& path) {
     return stem.empty() ? "file" : stem;
 }
 
+// What the thumbnails of files[index] start with: its 1-based number (so names sort in the order
+// checked and two files of one name stay apart) and its stem.
+std::string thumbnailPrefix(size_t index, size_t indexDigits, const std::filesystem::path& path) {
+    return fmt::format("{:0{}}-{}", index + 1, indexDigits, safeStem(path));
+}
+
 // The loader's message without the "<path>: " it starts with (the report names the file already).
 std::string loaderReason(std::string_view message, const std::filesystem::path& path) {
     const std::string prefix = path.string() + ": ";
@@ -536,7 +542,7 @@ FileResult checkFile(const std::filesystem::path& path, size_t index, size_t ind
         result.reason = fmt::format("internal error while loading: {} (please report this)", e.what());
     }
 
-    const std::string prefix = fmt::format("{:0{}}-{}", index + 1, indexDigits, safeStem(path));
+    const std::string prefix = thumbnailPrefix(index, indexDigits, path);
     std::vector<std::optional<renderer::ImageRGBA8>> images(kConfigurations.size());
     for (size_t c = 0; c < kConfigurations.size(); ++c) {
         ConfigOutcome& outcome = result.configs[c];
@@ -597,6 +603,23 @@ FileResult checkFile(const std::filesystem::path& path, size_t index, size_t ind
     return result;
 }
 
+// Every file a check writes in --out: the reports, a contact sheet per configuration, and per
+// glTF file a thumbnail per configuration and a difference heatmap per pair.
+std::vector<std::string> checkOutputNames(const std::vector<std::filesystem::path>& files, size_t indexDigits) {
+    std::vector<std::string> names{"check.md", "check.json"};
+    std::vector<std::string> stems;
+    for (const Configuration& config : kConfigurations) stems.push_back(configurationFileStem(config.backend, config.path));
+    for (const std::string& stem : stems) names.push_back(fmt::format("contact-{}.png", stem));
+    for (size_t i = 0; i < files.size(); ++i) {
+        const std::string prefix = thumbnailPrefix(i, indexDigits, files[i]);
+        for (size_t a = 0; a < stems.size(); ++a) {
+            names.push_back(fmt::format("thumbnails/{}-{}.png", prefix, stems[a]));
+            for (size_t b = a + 1; b < stems.size(); ++b) names.push_back(fmt::format("thumbnails/{}-diff-{}-vs-{}.png", prefix, stems[a], stems[b]));
+        }
+    }
+    return names;
+}
+
 // The console line for a finished file.
 std::string progressLine(const FileResult& file, size_t index, size_t total) {
     const int width = int(std::to_string(total).size());
@@ -652,6 +675,15 @@ int run(const CheckOptions& options) {
         throw UnavailableError(fmt::format("no configuration can render on this machine ({}); run 'janus info'", reasons));
     }
 
+    const size_t indexDigits = std::max<size_t>(3, std::to_string(files.size()).size());
+    std::vector<NamedPath> inputs;
+    for (const std::filesystem::path& file : files) {
+        inputs.emplace_back("a file being checked", file);
+        for (const std::filesystem::path& read : gltfReferencedFiles(file)) inputs.emplace_back(fmt::format("a file '{}' reads", file.string()), read);
+    }
+    if (environment.map) inputs.emplace_back("the --env file", *environment.map);
+    checkFolderOutputs(outDir, "--out", checkOutputNames(files, indexDigits), inputs);
+
     std::filesystem::create_directories(outDir / "thumbnails", ec);
     if (ec)
         throw InputError(fmt::format("cannot create --out directory '{}': {}; choose another path", options.out, ec.message()));
@@ -676,7 +708,6 @@ int run(const CheckOptions& options) {
                 tolerance, unavailable.c_str());
     std::fflush(stdout);
 
-    const size_t indexDigits = std::max<size_t>(3, std::to_string(files.size()).size());
     const auto started = std::chrono::steady_clock::now();
     for (size_t i = 0; i < files.size(); ++i) {
         const auto fileStarted = std::chrono::steady_clock::now();

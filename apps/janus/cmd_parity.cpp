@@ -147,6 +147,20 @@ nlohmann::json compareAgainst(const AgainstDirectory& against, const std::vector
     return {{"dir", against.dir.string()}, {"tolerance", against.tolerance}, {"configurations", entries}};
 }
 
+// Every file a parity run writes in --out: parity.json, an image per configuration, a comparison
+// per configuration with --against and a difference image per pair.
+std::vector<std::string> parityOutputNames() {
+    std::vector<std::string> names{"parity.json"};
+    for (size_t i = 0; i < kConfigurations.size(); ++i) {
+        const std::string stem = configurationFileStem(kConfigurations[i].backend, kConfigurations[i].path);
+        names.push_back(stem + ".png");
+        names.push_back(fmt::format("against-{}.png", stem));
+        for (size_t k = i + 1; k < kConfigurations.size(); ++k)
+            names.push_back(fmt::format("diff-{}-vs-{}.png", stem, configurationFileStem(kConfigurations[k].backend, kConfigurations[k].path)));
+    }
+    return names;
+}
+
 int run(const ParityOptions& options) {
     RenderRequest base;
     base.size = parseSize(options.size);
@@ -184,17 +198,19 @@ int run(const ParityOptions& options) {
     if (ec)
         throw InputError(fmt::format("cannot create --out directory '{}': {}; choose another path", options.out, ec.message()));
     checkOutputFile(outDir / "parity.json", "--out");
+    const std::vector<std::string> outputs = parityOutputNames();
+    std::vector<NamedPath> inputs = sceneInputFiles(scenePath);
+    if (environment.map) inputs.emplace_back("the --env file", *environment.map);
+    if (against) {
+        inputs.emplace_back("--against's summary", against->dir / "parity.json");
+        for (const Configuration& config : kConfigurations)
+            inputs.emplace_back("an --against image", against->dir / (configurationFileStem(config.backend, config.path) + ".png"));
+    }
+    checkFolderOutputs(outDir, "--out", outputs, inputs);
     // A previous run's images in the same --out must not pass for this run's: every file a parity
     // run writes besides parity.json (which is replaced) is removed first.
-    for (size_t i = 0; i < kConfigurations.size(); ++i) {
-        const std::string stem = configurationFileStem(kConfigurations[i].backend, kConfigurations[i].path);
-        std::filesystem::remove(outDir / (stem + ".png"), ec);
-        std::filesystem::remove(outDir / fmt::format("against-{}.png", stem), ec);
-        for (size_t k = i + 1; k < kConfigurations.size(); ++k)
-            std::filesystem::remove(
-                outDir / fmt::format("diff-{}-vs-{}.png", stem, configurationFileStem(kConfigurations[k].backend, kConfigurations[k].path)),
-                ec);
-    }
+    for (const std::string& name : outputs)
+        if (name != "parity.json") std::filesystem::remove(outDir / name, ec);
 
     std::printf("parity: %s at %ux%u, tolerance %u step(s), up to %llu edge pixel(s) beyond it\n", sceneLabel(scenePath).c_str(),
                 base.size.width, base.size.height, tolerance, static_cast<unsigned long long>(edgePixels));

@@ -79,6 +79,32 @@ cmp -s "$B" "$TMP/box-before.gltf" || fail "a refused render changed its input s
 [[ -e $TMP/a.png ]] && fail "a refused render wrote --out"
 cmp -s "$TMP/cornell/cornellBox.bin" "$SCENES/cornell-box/cornellBox.bin" || fail "a refused bake changed the scene's buffer"
 
+# Commands that write a folder (parity, check, bench gi) refuse an --out where a file they would
+# write or replace is one they read. Before, parity deleted a texture named like its images
+# before it rendered, and check and bench gi wrote over such files.
+mkdir -p "$TMP/named"
+cp "$BOX/BoxTextured0.bin" "$TMP/named/"
+cp "$BOX/CesiumLogoFlat.png" "$TMP/named/vulkan-compute.png"
+cp "$BOX/CesiumLogoFlat.png" "$TMP/named/contact-gl-fallback.png"
+sed 's/CesiumLogoFlat.png/vulkan-compute.png/' "$BOX/BoxTextured.gltf" >"$TMP/named/parity-box.gltf"
+sed 's/CesiumLogoFlat.png/contact-gl-fallback.png/' "$BOX/BoxTextured.gltf" >"$TMP/named/check-box.gltf"
+expect_error 2 "--out '.*/named' would overwrite '.*/named/vulkan-compute.png', which is a file the glTF reads" \
+  parity "$TMP/named/parity-box.gltf" --size 8x8 --out "$TMP/named"
+cmp -s "$TMP/named/vulkan-compute.png" "$BOX/CesiumLogoFlat.png" || fail "a refused parity removed or changed the scene's texture"
+[[ -e $TMP/named/parity.json ]] && fail "a refused parity wrote parity.json"
+expect_error 2 "--out '.*/named' would overwrite '.*/named/contact-gl-fallback.png', which is a file '.*/check-box.gltf' reads" \
+  check "$TMP/named" --size 8x8 --out "$TMP/named"
+cmp -s "$TMP/named/contact-gl-fallback.png" "$BOX/CesiumLogoFlat.png" || fail "a refused check changed a scene's texture"
+[[ -e $TMP/named/check.json ]] && fail "a refused check wrote check.json"
+mkdir -p "$TMP/gi-named"
+printf '{"gltf": "%s", "irradianceVolume": {"probes": 2}}\n' "$SCENES/cornell-box/cornellBox.gltf" >"$TMP/gi-named/gi.json"
+cp "$TMP/gi-named/gi.json" "$TMP/gi-before.json"
+expect_error 2 "--out '.*/gi-named' would overwrite '.*/gi-named/gi.json', which is the scene file" \
+  bench gi "$TMP/gi-named/gi.json" --quick --out "$TMP/gi-named"
+cmp -s "$TMP/gi-named/gi.json" "$TMP/gi-before.json" || fail "a refused bench gi changed its scene file"
+# A folder that shares no file with the inputs is fine, also when it holds the scene.
+expect_success parity "$TMP/named/check-box.gltf" --size 8x8 --out "$TMP/named"
+
 # ---- inputs that are not regular files: exit 3 naming the file, never a hang or unbounded read ---
 ln -s /dev/zero "$TMP/zero.gltf"
 mkfifo "$TMP/fifo.gltf" "$TMP/fifo.json" "$TMP/fifo.hdr"
