@@ -400,19 +400,14 @@ void CommandList::endRenderPass() {
     invalidateDrawState();
 }
 
-void CommandList::setViewport(const Viewport& viewport) {
+// Values validated by the front (rhi/src/validation.cpp).
+void CommandList::setViewportImpl(const Viewport& viewport) {
     requireInsideRenderPass("setViewport");
-    if (!(viewport.width > 0 && viewport.height > 0))
-        throw Error(ErrorCode::InvalidUsage,
-                    fmt::format("setViewport: width {} and height {} must be > 0", viewport.width, viewport.height));
     record(command::SetViewport{viewport});
 }
 
-void CommandList::setScissor(const ScissorRect& scissor) {
+void CommandList::setScissorImpl(const ScissorRect& scissor) {
     requireInsideRenderPass("setScissor");
-    if (scissor.x < 0 || scissor.y < 0)
-        throw Error(ErrorCode::InvalidUsage,
-                    fmt::format("setScissor: offset ({}, {}) is negative; scissor offsets must be >= 0", scissor.x, scissor.y));
     record(command::SetScissor{scissor});
 }
 

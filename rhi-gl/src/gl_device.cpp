@@ -410,6 +410,19 @@ Capabilities Device::detectCapabilities() {
     }
     // GL 4.4 / ES 3.1 report the stride limit; before, 2048 is what Vulkan guarantees too.
     limits.maxVertexStride = desktopAtLeast(4, 4) ? integer(GL_MAX_VERTEX_ATTRIB_STRIDE) : 2048;
+    GLint viewportDims[2] = {0, 0};
+    f.glGetIntegerv(GL_MAX_VIEWPORT_DIMS, viewportDims);
+    limits.maxViewportSize = uint32_t(std::max(std::min(viewportDims[0], viewportDims[1]), 0));
+    // GL 4.1 reports the bounds range; before (ES 3.0) the range Vulkan guarantees for this size,
+    // which keeps the backend's float-to-GLint conversion of the viewport in range.
+    if (desktopAtLeast(4, 1)) {
+        GLfloat bounds[2] = {0.0f, 0.0f};
+        f.glGetFloatv(GL_VIEWPORT_BOUNDS_RANGE, bounds);
+        limits.viewportBoundsRange = {bounds[0], bounds[1]};
+    } else {
+        const float most = float(limits.maxViewportSize);
+        limits.viewportBoundsRange = {-2.0f * most, 2.0f * most - 1.0f};
+    }
     if (m_anisotropy) {
         constexpr GLenum kMaxTextureMaxAnisotropy = 0x84FF;   // EXT/ARB_texture_filter_anisotropic
         GLfloat most = 1.0f;

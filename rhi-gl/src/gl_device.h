@@ -485,8 +485,8 @@ public:
     void end() override;
     void beginRenderPassImpl(const RenderPassDesc& desc) override;
     void endRenderPass() override;
-    void setViewport(const Viewport& viewport) override;
-    void setScissor(const ScissorRect& scissor) override;
+    void setViewportImpl(const Viewport& viewport) override;
+    void setScissorImpl(const ScissorRect& scissor) override;
     void setPipeline(const PipelineHandle& pipeline) override;
     void setBindingSetImpl(uint32_t set, const BindingSetHandle& bindings) override;
     void setVertexBuffer(uint32_t slot, const BufferHandle& buffer, uint64_t offset) override;

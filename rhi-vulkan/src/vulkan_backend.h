@@ -487,8 +487,8 @@ public:
     void end() override;
     void beginRenderPassImpl(const RenderPassDesc& desc) override;
     void endRenderPass() override;
-    void setViewport(const Viewport& viewport) override;
-    void setScissor(const ScissorRect& scissor) override;
+    void setViewportImpl(const Viewport& viewport) override;
+    void setScissorImpl(const ScissorRect& scissor) override;
     void setPipeline(const PipelineHandle& pipeline) override;
     void setBindingSetImpl(uint32_t set, const BindingSetHandle& bindings) override;
     void setVertexBuffer(uint32_t slot, const BufferHandle& buffer, uint64_t offset) override;
@@ -531,6 +531,7 @@ private:
         if (m_state != State::Recording || m_inRenderPass) [[unlikely]] throwNotRecordingOrInPass(call);
     }
     [[noreturn]] void throwNotRecording(std::string_view call) const;
+    void requireInsideRenderPass(std::string_view call) const;
     // setBindingSet's checks in full (out of line), then bindSet.
     void setBindingSetChecked(uint32_t set, const BindingSetHandle& bindings);
     void bindSet(uint32_t set, const BindingSetHandle& bindings, BindingSet* bindingSet);

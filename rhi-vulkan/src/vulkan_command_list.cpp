@@ -87,6 +87,13 @@ void CommandList::throwNotRecording(std::string_view call) const {
     throw Error(ErrorCode::InvalidUsage, fmt::format("{}: the command list is not recording; call begin() first", call));
 }
 
+void CommandList::requireInsideRenderPass(std::string_view call) const {
+    requireRecording(call);
+    if (!m_inRenderPass)
+        throw Error(ErrorCode::InvalidUsage, fmt::format("{}: needs a render pass (the next one would reset it); call "
+                                                         "beginRenderPass() first", call));
+}
+
 void CommandList::throwNotRecordingOrInPass(std::string_view call) const {
     requireRecording(call);
     throw Error(ErrorCode::InvalidUsage,
@@ -225,8 +232,8 @@ void CommandList::beginRenderPassImpl(const RenderPassDesc& desc) {
     m_passTrackedIndices = false;
     m_passColorFormats = std::move(colorFormats);
     m_passDepthFormat = desc.depth ? desc.depth->texture->desc().format : Format::Unknown;
-    setViewport({0, 0, float(extent->width), float(extent->height), 0, 1});
-    setScissor({0, 0, extent->width, extent->height});
+    setViewportImpl({0, 0, float(extent->width), float(extent->height), 0, 1});
+    setScissorImpl({0, 0, extent->width, extent->height});
 }
 
 void CommandList::endRenderPass() {
@@ -238,23 +245,16 @@ void CommandList::endRenderPass() {
     m_passDesc = {};
 }
 
-void CommandList::setViewport(const Viewport& v) {
-    requireRecording("setViewport()");
-    if (!(v.width > 0) || !(v.height > 0))
-        throw Error(ErrorCode::InvalidUsage,
-                    fmt::format("setViewport(): width and height must be > 0 (got {}x{})", v.width, v.height));
-    if (v.minDepth < 0 || v.minDepth > 1 || v.maxDepth < 0 || v.maxDepth > 1)
-        throw Error(ErrorCode::InvalidUsage, fmt::format("setViewport(): minDepth {} / maxDepth {} must be in [0, 1]",
-                                                         v.minDepth, v.maxDepth));
+// Values validated by the front (rhi/src/validation.cpp).
+void CommandList::setViewportImpl(const Viewport& v) {
+    requireInsideRenderPass("setViewport()");
     // Positive height: row 0 is at the top and NDC y = -1 maps to it (no flip, see rhi.h).
     VkViewport viewport{v.x, v.y, v.width, v.height, v.minDepth, v.maxDepth};
     vkCmdSetViewport(m_commands, 0, 1, &viewport);
 }
 
-void CommandList::setScissor(const ScissorRect& s) {
-    requireRecording("setScissor()");
-    if (s.x < 0 || s.y < 0)
-        throw Error(ErrorCode::InvalidUsage, fmt::format("setScissor(): x and y must be >= 0 (got {}, {})", s.x, s.y));
+void CommandList::setScissorImpl(const ScissorRect& s) {
+    requireInsideRenderPass("setScissor()");
     VkRect2D rect{{s.x, s.y}, {s.width, s.height}};
     vkCmdSetScissor(m_commands, 0, 1, &rect);
 }

@@ -393,6 +393,8 @@ Capabilities queryCapabilities(const Context& ctx) {
     limits.maxVertexBuffers = l.maxVertexInputBindings;
     limits.maxVertexAttributes = l.maxVertexInputAttributes;
     limits.maxVertexStride = l.maxVertexInputBindingStride;
+    limits.maxViewportSize = std::min(l.maxViewportDimensions[0], l.maxViewportDimensions[1]);
+    limits.viewportBoundsRange = {l.viewportBoundsRange[0], l.viewportBoundsRange[1]};
     limits.maxSamplerAnisotropy = ctx.enabledFeatures.samplerAnisotropy ? l.maxSamplerAnisotropy : 1.0f;
     caps.conventions = Conventions{true, true};
     return caps;

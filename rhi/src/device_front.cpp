@@ -118,6 +118,16 @@ void ICommandList::beginRenderPass(const RenderPassDesc& desc) {
     beginRenderPassImpl(desc);
 }
 
+void ICommandList::setViewport(const Viewport& viewport) {
+    detail::validateViewport(*m_properties, viewport);
+    setViewportImpl(viewport);
+}
+
+void ICommandList::setScissor(const ScissorRect& scissor) {
+    detail::validateScissor(scissor);
+    setScissorImpl(scissor);
+}
+
 void ICommandList::writeBuffer(const BufferHandle& dst, const void* data, uint64_t size, uint64_t dstOffset) {
     detail::validateWriteBuffer(dst, data, size, dstOffset, "ICommandList::writeBuffer()");
     writeBufferImpl(dst, data, size, dstOffset);

@@ -455,6 +455,29 @@ void validateRenderPass(const DeviceProperties& device, const RenderPassDesc& de
     if (desc.depth) check(*desc.depth, "depth", true);
 }
 
+void validateViewport(const DeviceProperties& device, const Viewport& v) {
+    const Limits& limits = device.capabilities.limits;
+    const auto most = float(limits.maxViewportSize);
+    if (!(v.width > 0 && v.width <= most && v.height > 0 && v.height <= most))
+        misuse(fmt::format("setViewport(): the viewport is {}x{}; width and height must be in (0, {}] "
+                           "(Limits::maxViewportSize)", v.width, v.height, limits.maxViewportSize));
+    const float lo = limits.viewportBoundsRange[0], hi = limits.viewportBoundsRange[1];
+    if (!(v.x >= lo && v.y >= lo && double(v.x) + v.width <= hi && double(v.y) + v.height <= hi))
+        misuse(fmt::format("setViewport(): the viewport ({}, {}) + {}x{} leaves this device's bounds range [{}, {}] "
+                           "(Limits::viewportBoundsRange); move or shrink it", v.x, v.y, v.width, v.height, lo, hi));
+    if (!(v.minDepth >= 0 && v.minDepth <= 1 && v.maxDepth >= 0 && v.maxDepth <= 1))
+        misuse(fmt::format("setViewport(): minDepth {} / maxDepth {} must be in [0, 1]", v.minDepth, v.maxDepth));
+}
+
+void validateScissor(const ScissorRect& s) {
+    constexpr int64_t most = INT32_MAX;
+    if (s.x < 0 || s.y < 0)
+        misuse(fmt::format("setScissor(): offset ({}, {}) is negative; scissor offsets must be >= 0", s.x, s.y));
+    if (int64_t(s.x) + s.width > most || int64_t(s.y) + s.height > most)
+        misuse(fmt::format("setScissor(): ({}, {}) + {}x{} reaches past {} (INT32_MAX); clamp the rectangle to the "
+                           "render target", s.x, s.y, s.width, s.height, most));
+}
+
 // ---------------------------------------------------------------------------------------------
 // Transfers
 

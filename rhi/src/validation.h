@@ -24,6 +24,8 @@ void validateComputePipeline(const DeviceProperties& device, const ComputePipeli
 void validateBindingSet(const DeviceProperties& device, const BindingSetDesc& desc);
 void validateTimerQuery(const DeviceProperties& device);
 void validateRenderPass(const DeviceProperties& device, const RenderPassDesc& desc);
+void validateViewport(const DeviceProperties& device, const Viewport& viewport);
+void validateScissor(const ScissorRect& scissor);
 
 // Transfers; `call` names the call in messages ("writeBuffer()", "ICommandList::copyTexture()").
 void validateWriteBuffer(const BufferHandle& buffer, const void* data, uint64_t size, uint64_t offset,

@@ -56,6 +56,9 @@ TEST_P(ValidationTest, SameMistakeSameErrorCodeOnEveryBackend) {
     auto record = [&](const std::function<void(ICommandList&)>& body) { submit(body); };
     auto bindings = [&](BindingItem item) { dev.createBindingSet(BindingSetDesc().add(std::move(item))); };
     auto pass = [&](RenderPassDesc desc) { record([&](ICommandList& cmd) { cmd.beginRenderPass(desc); cmd.endRenderPass(); }); };
+    auto inPass = [&](const std::function<void(ICommandList&)>& body) {
+        record([&](ICommandList& cmd) { cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(color))); body(cmd); cmd.endRenderPass(); });
+    };
 
     const std::vector<Mistake> mistakes = {
         // BufferDesc
@@ -190,6 +193,20 @@ TEST_P(ValidationTest, SameMistakeSameErrorCodeOnEveryBackend) {
              BindingSetHandle set = dev.createBindingSet(BindingSetDesc());
              record([&](ICommandList& c) { c.setBindingSet(kMaxBindingSets, set); }); }},
         {"setBindingSet with null", kUsage, {"null"}, [&] { record([&](ICommandList& c) { c.setBindingSet(0, nullptr); }); }},
+        // Viewport and scissor (Vulkan used to pass NaN and out-of-range values to the driver and
+        // accept them outside a pass; GL to reject only some of them).
+        {"viewport minDepth NaN", kUsage, {"minDepth"}, [&] { inPass([&](ICommandList& c) { c.setViewport({0, 0, 4, 4, NAN, 1}); }); }},
+        {"viewport maxDepth above 1", kUsage, {"maxDepth"}, [&] { inPass([&](ICommandList& c) { c.setViewport({0, 0, 4, 4, 0, 2}); }); }},
+        {"viewport x NaN", kUsage, {"viewportBoundsRange"}, [&] { inPass([&](ICommandList& c) { c.setViewport({NAN, 0, 4, 4, 0, 1}); }); }},
+        {"viewport past the bounds range", kUsage, {"viewportBoundsRange"}, [&] {
+             inPass([&](ICommandList& c) { c.setViewport({limits.viewportBoundsRange[1], 0, 4, 4, 0, 1}); }); }},
+        {"viewport wider than maxViewportSize", kUsage, {"maxViewportSize"}, [&] {
+             inPass([&](ICommandList& c) { c.setViewport({0, 0, float(limits.maxViewportSize) * 2, 4, 0, 1}); }); }},
+        {"viewport of infinite height", kUsage, {"maxViewportSize"}, [&] { inPass([&](ICommandList& c) { c.setViewport({0, 0, 4, INFINITY, 0, 1}); }); }},
+        {"viewport outside a render pass", kUsage, {"setViewport", "beginRenderPass"}, [&] { record([&](ICommandList& c) { c.setViewport({0, 0, 4, 4, 0, 1}); }); }},
+        {"scissor past INT32_MAX", kUsage, {"INT32_MAX"}, [&] { inPass([&](ICommandList& c) { c.setScissor({1, 0, 0x7fffffffu, 4}); }); }},
+        {"scissor at a negative offset", kUsage, {"negative"}, [&] { inPass([&](ICommandList& c) { c.setScissor({-1, 0, 4, 4}); }); }},
+        {"scissor outside a render pass", kUsage, {"setScissor", "beginRenderPass"}, [&] { record([&](ICommandList& c) { c.setScissor({0, 0, 4, 4}); }); }},
         {"dispatch above maxComputeWorkGroupCount", kUsage, {"maxComputeWorkGroupCount"}, [&] {
              record([&](ICommandList& c) { c.dispatch(limits.maxComputeWorkGroupCount[0] + 1); }); }, Capability::Compute},
     };

@@ -149,6 +149,10 @@ struct Limits {
     uint32_t maxVertexBuffers = 0;           // vertex buffer slots are 0 .. maxVertexBuffers - 1
     uint32_t maxVertexAttributes = 0;        // attribute locations are 0 .. maxVertexAttributes - 1
     uint32_t maxVertexStride = 0;            // VertexBufferLayout::stride
+    uint32_t maxViewportSize = 0;            // Viewport::width / height
+    // Where a viewport may lie: x, y >= [0] and x + width, y + height <= [1] (Vulkan's
+    // viewportBoundsRange, GL's GL_VIEWPORT_BOUNDS_RANGE).
+    std::array<float, 2> viewportBoundsRange{0.0f, 0.0f};
     float maxSamplerAnisotropy = 1.0f;       // 1 without anisotropic filtering
 };
 
@@ -554,11 +558,15 @@ struct RenderPassDesc {
     RenderPassDesc& setDepth(Attachment a) { depth = std::move(a); return *this; }
 };
 
+// Checked against Limits::maxViewportSize and viewportBoundsRange: width and height in
+// (0, maxViewportSize], the rectangle inside the bounds range, depths in [0, 1] (minDepth may be
+// above maxDepth); no value may be NaN.
 struct Viewport {
     float x = 0, y = 0, width = 0, height = 0;   // y counts rows from row 0 (top)
     float minDepth = 0, maxDepth = 1;
 };
 
+// x, y >= 0; x + width and y + height at most INT32_MAX.
 struct ScissorRect {
     int32_t x = 0, y = 0;
     uint32_t width = 0, height = 0;
@@ -591,11 +599,12 @@ public:
     virtual void begin() = 0;   // resets and starts recording
     virtual void end() = 0;
 
-    // Render passes. Viewport and scissor default to the full attachment.
+    // Render passes. Viewport and scissor default to the full attachment; they are set inside a
+    // render pass (InvalidUsage outside one: the next pass would reset them).
     void beginRenderPass(const RenderPassDesc& desc);
     virtual void endRenderPass() = 0;
-    virtual void setViewport(const Viewport& viewport) = 0;
-    virtual void setScissor(const ScissorRect& scissor) = 0;
+    void setViewport(const Viewport& viewport);
+    void setScissor(const ScissorRect& scissor);
     virtual void setPipeline(const PipelineHandle& pipeline) = 0;
     void setBindingSet(uint32_t set, const BindingSetHandle& bindings) {
         if (set >= kMaxBindingSets || !bindings) [[unlikely]] throwInvalidSetBinding(set);
@@ -638,6 +647,8 @@ public:
 protected:
     // Called with validated arguments only.
     virtual void beginRenderPassImpl(const RenderPassDesc& desc) = 0;
+    virtual void setViewportImpl(const Viewport& viewport) = 0;
+    virtual void setScissorImpl(const ScissorRect& scissor) = 0;
     virtual void setBindingSetImpl(uint32_t set, const BindingSetHandle& bindings) = 0;
     virtual void dispatchImpl(uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ) = 0;
     virtual void writeBufferImpl(const BufferHandle& dst, const void* data, uint64_t size, uint64_t dstOffset) = 0;
