@@ -441,6 +441,18 @@ void validateRenderPass(const DeviceProperties& device, const RenderPassDesc& de
             requireCapability(device, Capability::RenderToVolumeSlice, where + ": a 3D texture slice");
         if (isCubeLike(td.dimension) && sub.mipLevel > 0)
             requireCapability(device, Capability::RenderToCubeFaceMip, where + ": a cube face at mip > 0");
+        // Clear values every backend stores alike: Vulkan needs depth in [0, 1] (without
+        // VK_EXT_depth_range_unrestricted), and a float outside an unsigned integer's range does
+        // not convert to one (C++ leaves it undefined; the backends converted differently).
+        if (a.loadOp == LoadOp::Clear && depth && !(a.clearDepth >= 0.0f && a.clearDepth <= 1.0f))
+            invalid(fmt::format("{}: clearDepth is {}; it must be in [0, 1]", where, a.clearDepth));
+        if (a.loadOp == LoadOp::Clear && formatInfo(td.format).kind == FormatKind::UInt)
+            for (float c : a.clearColor)
+                if (!(c >= 0.0f && c < 4294967296.0f))
+                    invalid(fmt::format("{}: clearColor ({}, {}, {}, {}) of the unsigned integer texture '{}' ({}) "
+                                        "holds {}; each value must be in [0, 2^32)", where, a.clearColor[0],
+                                        a.clearColor[1], a.clearColor[2], a.clearColor[3], td.debugName,
+                                        toString(td.format), c));
         const uint32_t w = mipExtent(td.width, sub.mipLevel), h = mipExtent(td.height, sub.mipLevel);
         if (width == 0) {
             width = w;

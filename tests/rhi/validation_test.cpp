@@ -42,6 +42,7 @@ TEST_P(ValidationTest, SameMistakeSameErrorCodeOnEveryBackend) {
     TextureHandle other = createTexture2D(Format::RGBA16_FLOAT, 4, 4, TextureUsage::Sampled);
     TextureHandle depth = createTexture2D(Format::D32_FLOAT, 4, 4, TextureUsage::RenderTarget);
     TextureHandle uintTexture = createTexture2D(Format::R32_UINT, 4, 4, TextureUsage::Sampled);
+    TextureHandle uintTarget = createTexture2D(Format::R32_UINT, 4, 4, TextureUsage::RenderTarget);
     TextureHandle array = dev.createTexture(TextureDesc()
                                                 .setDimension(TextureDimension::Texture2DArray)
                                                 .setSize(4, 4)
@@ -166,6 +167,14 @@ TEST_P(ValidationTest, SameMistakeSameErrorCodeOnEveryBackend) {
         {"attachment mip that does not exist", kDesc, {"mip 1"}, [&] { pass(RenderPassDesc().addColor(Attachment::clear(color, {}, {1, 0}))); }},
         {"attachment layer past an array's last", kDesc, {"layer 3"},
          [&] { pass(RenderPassDesc().addColor(Attachment::clear(array, {}, {0, 3}))); }},
+        // Clear values (Vulkan stored a depth of 2 or NaN, which it may not without
+        // VK_EXT_depth_range_unrestricted; the backends converted -3 to an unsigned integer differently).
+        {"clearDepth above 1", kDesc, {"clearDepth"}, [&] { pass(RenderPassDesc().setDepth(Attachment::clearDepthTo(depth, 2.0f))); }},
+        {"clearDepth NaN", kDesc, {"clearDepth"}, [&] { pass(RenderPassDesc().setDepth(Attachment::clearDepthTo(depth, NAN))); }},
+        {"negative clear value of an unsigned integer texture", kDesc, {"clearColor", "r32ui"}, [&] {
+             pass(RenderPassDesc().addColor(Attachment::clear(uintTarget, {-3, 0, 0, 0}))); }},
+        {"clear value of an unsigned integer texture above 2^32", kDesc, {"clearColor"}, [&] {
+             pass(RenderPassDesc().addColor(Attachment::clear(uintTarget, {5e9f, 0, 0, 0}))); }},
         {"attachment without texture", kDesc, {"null"}, [&] { pass(RenderPassDesc().addColor(Attachment::clear(nullptr))); }},
         // Immediate transfers
         {"writeBuffer past the end", kUsage, {"writeBuffer"}, [&] { dev.writeBuffer(uniforms, bytes.data(), 64, 1000); }},
