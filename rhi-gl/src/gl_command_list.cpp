@@ -456,6 +456,9 @@ void CommandList::setVertexBuffer(uint32_t slot, const BufferHandle& handle, uin
     if (offset >= buffer->desc().size)
         throw Error(ErrorCode::InvalidUsage, fmt::format("setVertexBuffer: offset {} is past the end of buffer '{}' ({} bytes)",
                                                          offset, buffer->desc().debugName, buffer->desc().size));
+    if (const uint32_t slots = properties().capabilities.limits.maxVertexBuffers; slot >= slots)
+        throw Error(ErrorCode::InvalidUsage,
+                    fmt::format("setVertexBuffer: slot {} is above the device's {} slots (Limits::maxVertexBuffers)", slot, slots));
     m_keepAlive.keep(handle, buffer->keepMark);
     auto existing = std::find_if(m_vertexBuffers.begin(), m_vertexBuffers.end(),
                                  [&](const RecordedVertexBuffer& b) { return b.slot == slot; });

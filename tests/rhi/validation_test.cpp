@@ -216,6 +216,10 @@ TEST_P(ValidationTest, SameMistakeSameErrorCodeOnEveryBackend) {
         {"scissor past INT32_MAX", kUsage, {"INT32_MAX"}, [&] { inPass([&](ICommandList& c) { c.setScissor({1, 0, 0x7fffffffu, 4}); }); }},
         {"scissor at a negative offset", kUsage, {"negative"}, [&] { inPass([&](ICommandList& c) { c.setScissor({-1, 0, 4, 4}); }); }},
         {"scissor outside a render pass", kUsage, {"setScissor", "beginRenderPass"}, [&] { record([&](ICommandList& c) { c.setScissor({0, 0, 4, 4}); }); }},
+        // Vertex buffer slots (GL used to record any slot).
+        {"setVertexBuffer above maxVertexBuffers", kUsage, {"slot"}, [&] {
+             BufferHandle vb = createBuffer(BufferUsage::Vertex, 64);
+             record([&](ICommandList& c) { c.setVertexBuffer(limits.maxVertexBuffers, vb); }); }},
         {"dispatch above maxComputeWorkGroupCount", kUsage, {"maxComputeWorkGroupCount"}, [&] {
              record([&](ICommandList& c) { c.dispatch(limits.maxComputeWorkGroupCount[0] + 1); }); }, Capability::Compute},
     };
