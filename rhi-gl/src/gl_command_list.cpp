@@ -149,6 +149,7 @@ void CommandList::begin() {
     m_passColorFormats.clear();
     m_passDepthFormat = Format::Unknown;
     m_debugGroupDepth = 0;
+    m_timers.clear();
 }
 
 void CommandList::requireCompatiblePipeline(const char* what) const {
@@ -613,9 +614,20 @@ void CommandList::generateMipsImpl(const TextureHandle& handle) {
     record(command::GenerateMips{texture});
 }
 
+CommandList::TimerUse& CommandList::timerUse(const TimerQuery* timer) {
+    for (TimerUse& use : m_timers)
+        if (use.timer == timer) return use;
+    return m_timers.emplace_back(TimerUse{timer});
+}
+
 void CommandList::beginTimer(const TimerQueryHandle& handle) {
     requireRecording("beginTimer");
     TimerQuery* timer = cast<TimerQuery>(m_device, handle, "beginTimer", "timer");
+    TimerUse& use = timerUse(timer);
+    if (use.began)
+        throw Error(ErrorCode::InvalidUsage,
+                    "beginTimer: this timer was already begun in this command list; use one timer per measurement");
+    use.began = true;
     m_keepAlive.keep(handle, timer->keepMark);
     record(command::BeginTimer{timer});
 }
@@ -623,6 +635,11 @@ void CommandList::beginTimer(const TimerQueryHandle& handle) {
 void CommandList::endTimer(const TimerQueryHandle& handle) {
     requireRecording("endTimer");
     TimerQuery* timer = cast<TimerQuery>(m_device, handle, "endTimer", "timer");
+    TimerUse& use = timerUse(timer);
+    if (!use.began || use.ended)
+        throw Error(ErrorCode::InvalidUsage, use.ended ? "endTimer: this timer was already ended in this command list"
+                                                       : "endTimer: call beginTimer() on this timer first in this command list");
+    use.ended = true;
     m_keepAlive.keep(handle, timer->keepMark);
     record(command::EndTimer{timer});
 }

@@ -693,6 +693,14 @@ private:
     uint64_t m_indexOffset = 0;
     std::vector<PendingWrite> m_pendingWrites;
     int m_debugGroupDepth = 0;
+    // The timers this recording began and ended: each once per list, begun before it ends (as on
+    // Vulkan, where both timestamps live in the list).
+    struct TimerUse {
+        const TimerQuery* timer = nullptr;
+        bool began = false, ended = false;
+    };
+    std::vector<TimerUse> m_timers;
+    TimerUse& timerUse(const TimerQuery* timer);
 };
 
 // ---------------------------------------------------------------------------------------------

@@ -220,6 +220,19 @@ TEST_P(ValidationTest, SameMistakeSameErrorCodeOnEveryBackend) {
         {"setVertexBuffer above maxVertexBuffers", kUsage, {"slot"}, [&] {
              BufferHandle vb = createBuffer(BufferUsage::Vertex, 64);
              record([&](ICommandList& c) { c.setVertexBuffer(limits.maxVertexBuffers, vb); }); }},
+        // Timers: begun and ended once in one command list (GL used to accept each of these).
+        {"endTimer without beginTimer", kUsage, {"beginTimer"}, [&] {
+             TimerQueryHandle t = dev.createTimerQuery(); record([&](ICommandList& c) { c.endTimer(t); }); }, Capability::TimestampQueries},
+        {"beginTimer twice", kUsage, {"already begun"}, [&] {
+             TimerQueryHandle t = dev.createTimerQuery();
+             record([&](ICommandList& c) { c.beginTimer(t); c.beginTimer(t); c.endTimer(t); }); }, Capability::TimestampQueries},
+        {"endTimer twice", kUsage, {"already ended"}, [&] {
+             TimerQueryHandle t = dev.createTimerQuery();
+             record([&](ICommandList& c) { c.beginTimer(t); c.endTimer(t); c.endTimer(t); }); }, Capability::TimestampQueries},
+        {"a timer begun in one list and ended in another", kUsage, {"beginTimer"}, [&] {
+             TimerQueryHandle t = dev.createTimerQuery();
+             record([&](ICommandList& c) { c.beginTimer(t); });
+             record([&](ICommandList& c) { c.endTimer(t); }); }, Capability::TimestampQueries},
         {"dispatch above maxComputeWorkGroupCount", kUsage, {"maxComputeWorkGroupCount"}, [&] {
              record([&](ICommandList& c) { c.dispatch(limits.maxComputeWorkGroupCount[0] + 1); }); }, Capability::Compute},
     };
