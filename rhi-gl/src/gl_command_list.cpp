@@ -25,14 +25,14 @@ namespace {
 // The backend object behind a handle. T is final, so comparing the dynamic type is the whole
 // check dynamic_cast would make, without its walk of the class hierarchy (this runs per command).
 template <typename T, typename Handle>
-T* cast(Device& device, const Handle& handle, const char* what, const char* kind) {
+T* cast(const Context& context, const Handle& handle, const char* what, const char* kind) {
     static_assert(std::is_final_v<T>);
     if (!handle || typeid(*handle) != typeid(T)) [[unlikely]]
         throwForeignHandle(what, kind);
     T* result = static_cast<T*>(handle.get());
     if constexpr (requires { result->owner(); }) {
         // GL names mean nothing in another context.
-        if (result->owner() != &device.context()) [[unlikely]]
+        if (result->owner() != &context) [[unlikely]]
             throwOtherDevice(what, kind);
     }
     return result;
@@ -277,7 +277,7 @@ void CommandList::requireBindingsUncached(const char* what) {
 void CommandList::requireTextureUses(const char* what) const {
     const std::span<const UsedBinding> used = m_found.used;
     validateViewOverlaps(used, openPass(), what);
-    if (m_device.isES()) {
+    if (m_es) {
         // Mip ranges are texture state on ES (BASE/MAX_LEVEL): one range per texture per draw.
         for (size_t i = 0; i < used.size(); ++i)
             for (size_t j = 0; j < i; ++j) {
@@ -300,7 +300,7 @@ void CommandList::requireTextureUses(const char* what) const {
 }
 
 void CommandList::recordMipRanges() {
-    if (!m_device.isES()) return;   // desktop GL binds texture views instead
+    if (!m_es) return;   // desktop GL binds texture views instead
     const auto first = uint32_t(m_mipRanges.size());
     for (const UsedBinding& used : m_found.used) {
         if (used.item->type != ResourceType::SampledTexture) continue;
@@ -379,8 +379,8 @@ void CommandList::end() {
 // `desc` is validated (rhi/src/validation.cpp); the attachments must still be this device's.
 void CommandList::beginRenderPassImpl(const RenderPassDesc& desc) {
     requireOutsideRenderPass("beginRenderPass");
-    for (const Attachment& a : desc.colors) cast<Texture>(m_device, a.texture, "beginRenderPass", "attachment texture");
-    if (desc.depth) cast<Texture>(m_device, desc.depth->texture, "beginRenderPass", "attachment texture");
+    for (const Attachment& a : desc.colors) cast<Texture>(*m_context, a.texture, "beginRenderPass", "attachment texture");
+    if (desc.depth) cast<Texture>(*m_context, desc.depth->texture, "beginRenderPass", "attachment texture");
     GLbitfield needed = 0;
     for (const Attachment& a : desc.colors) needed |= textureHazard(a.texture.get(), GL_FRAMEBUFFER_BARRIER_BIT);
     if (desc.depth) needed |= textureHazard(desc.depth->texture.get(), GL_FRAMEBUFFER_BARRIER_BIT);
@@ -414,7 +414,7 @@ void CommandList::setScissorImpl(const ScissorRect& scissor) {
 
 void CommandList::setPipeline(const PipelineHandle& handle) {
     requireRecording("setPipeline");
-    Pipeline* pipeline = cast<Pipeline>(m_device, handle, "setPipeline", "pipeline");
+    Pipeline* pipeline = cast<Pipeline>(*m_context, handle, "setPipeline", "pipeline");
     if (pipeline->isCompute() && m_inRenderPass)
         throw Error(ErrorCode::InvalidUsage, "setPipeline: a compute pipeline cannot be set inside a render pass");
     m_keepAlive.keep(handle, pipeline->keepMark);
@@ -426,7 +426,7 @@ void CommandList::setPipeline(const PipelineHandle& handle) {
 
 void CommandList::setBindingSetImpl(uint32_t set, const BindingSetHandle& handle) {
     requireRecording("setBindingSet");
-    BindingSet* bindings = cast<BindingSet>(m_device, handle, "setBindingSet", "binding set");
+    BindingSet* bindings = cast<BindingSet>(*m_context, handle, "setBindingSet", "binding set");
     m_keepAlive.keep(handle, bindings->keepMark);
     m_bindingSets[set] = bindings;
     record(command::BindBindingSet{set, bindings});
@@ -450,7 +450,7 @@ void CommandList::setBindingSetImpl(uint32_t set, const BindingSetHandle& handle
 
 void CommandList::setVertexBuffer(uint32_t slot, const BufferHandle& handle, uint64_t offset) {
     requireRecording("setVertexBuffer");
-    Buffer* buffer = cast<Buffer>(m_device, handle, "setVertexBuffer", "buffer");
+    Buffer* buffer = cast<Buffer>(*m_context, handle, "setVertexBuffer", "buffer");
     if (!any(buffer->desc().usage, BufferUsage::Vertex))
         throw Error(ErrorCode::InvalidUsage,
                     fmt::format("setVertexBuffer: buffer '{}' lacks BufferUsage::Vertex", buffer->desc().debugName));
@@ -474,7 +474,7 @@ void CommandList::setVertexBuffer(uint32_t slot, const BufferHandle& handle, uin
 
 void CommandList::setIndexBuffer(const BufferHandle& handle, IndexType type, uint64_t offset) {
     requireRecording("setIndexBuffer");
-    Buffer* buffer = cast<Buffer>(m_device, handle, "setIndexBuffer", "buffer");
+    Buffer* buffer = cast<Buffer>(*m_context, handle, "setIndexBuffer", "buffer");
     if (!any(buffer->desc().usage, BufferUsage::Index))
         throw Error(ErrorCode::InvalidUsage,
                     fmt::format("setIndexBuffer: buffer '{}' lacks BufferUsage::Index", buffer->desc().debugName));
@@ -543,7 +543,7 @@ void CommandList::dispatchImpl(uint32_t groupsX, uint32_t groupsY, uint32_t grou
 // Each waits for shader writes to what it touches, with the bits for how GL touches it.
 void CommandList::writeBufferImpl(const BufferHandle& handle, const void* data, uint64_t size, uint64_t dstOffset) {
     requireOutsideRenderPass("writeBuffer");
-    Buffer* buffer = cast<Buffer>(m_device, handle, "writeBuffer", "buffer");
+    Buffer* buffer = cast<Buffer>(*m_context, handle, "writeBuffer", "buffer");
     m_keepAlive.keep(handle, buffer->keepMark);
     recordBarrier(bufferHazard(buffer, dstOffset, dstOffset + size, GL_BUFFER_UPDATE_BARRIER_BIT));
     // The data is copied now: the caller's memory need not outlive the call.
@@ -556,8 +556,8 @@ void CommandList::writeBufferImpl(const BufferHandle& handle, const void* data, 
 void CommandList::copyBufferImpl(const BufferHandle& dstHandle, uint64_t dstOffset, const BufferHandle& srcHandle,
                                  uint64_t srcOffset, uint64_t size) {
     requireOutsideRenderPass("copyBuffer");
-    Buffer* dst = cast<Buffer>(m_device, dstHandle, "copyBuffer", "destination buffer");
-    Buffer* src = cast<Buffer>(m_device, srcHandle, "copyBuffer", "source buffer");
+    Buffer* dst = cast<Buffer>(*m_context, dstHandle, "copyBuffer", "destination buffer");
+    Buffer* src = cast<Buffer>(*m_context, srcHandle, "copyBuffer", "source buffer");
     m_keepAlive.keep(dstHandle, dst->keepMark);
     m_keepAlive.keep(srcHandle, src->keepMark);
     recordBarrier(bufferHazard(dst, dstOffset, dstOffset + size, GL_BUFFER_UPDATE_BARRIER_BIT) |
@@ -568,8 +568,8 @@ void CommandList::copyBufferImpl(const BufferHandle& dstHandle, uint64_t dstOffs
 void CommandList::copyBufferToTextureImpl(const TextureHandle& dstHandle, TextureSubresource dstSub,
                                           const BufferHandle& srcHandle, uint64_t srcOffset) {
     requireOutsideRenderPass("copyBufferToTexture");
-    Texture* dst = cast<Texture>(m_device, dstHandle, "copyBufferToTexture", "texture");
-    Buffer* src = cast<Buffer>(m_device, srcHandle, "copyBufferToTexture", "buffer");
+    Texture* dst = cast<Texture>(*m_context, dstHandle, "copyBufferToTexture", "texture");
+    Buffer* src = cast<Buffer>(*m_context, srcHandle, "copyBufferToTexture", "buffer");
     m_keepAlive.keep(dstHandle, dst->keepMark);
     m_keepAlive.keep(srcHandle, src->keepMark);
     recordBarrier(textureHazard(dst, GL_TEXTURE_UPDATE_BARRIER_BIT) |
@@ -580,8 +580,8 @@ void CommandList::copyBufferToTextureImpl(const TextureHandle& dstHandle, Textur
 void CommandList::copyTextureToBufferImpl(const BufferHandle& dstHandle, uint64_t dstOffset,
                                           const TextureHandle& srcHandle, TextureSubresource srcSub) {
     requireOutsideRenderPass("copyTextureToBuffer");
-    Buffer* dst = cast<Buffer>(m_device, dstHandle, "copyTextureToBuffer", "buffer");
-    Texture* src = cast<Texture>(m_device, srcHandle, "copyTextureToBuffer", "texture");
+    Buffer* dst = cast<Buffer>(*m_context, dstHandle, "copyTextureToBuffer", "buffer");
+    Texture* src = cast<Texture>(*m_context, srcHandle, "copyTextureToBuffer", "texture");
     m_keepAlive.keep(dstHandle, dst->keepMark);
     m_keepAlive.keep(srcHandle, src->keepMark);
     // The texture is read through a framebuffer, glGetTexImage or (ES depth) a draw sampling it:
@@ -594,8 +594,8 @@ void CommandList::copyTextureToBufferImpl(const BufferHandle& dstHandle, uint64_
 void CommandList::copyTextureImpl(const TextureHandle& dstHandle, TextureSubresource dstSub,
                                   const TextureHandle& srcHandle, TextureSubresource srcSub) {
     requireOutsideRenderPass("copyTexture");
-    Texture* dst = cast<Texture>(m_device, dstHandle, "copyTexture", "destination texture");
-    Texture* src = cast<Texture>(m_device, srcHandle, "copyTexture", "source texture");
+    Texture* dst = cast<Texture>(*m_context, dstHandle, "copyTexture", "destination texture");
+    Texture* src = cast<Texture>(*m_context, srcHandle, "copyTexture", "source texture");
     m_keepAlive.keep(dstHandle, dst->keepMark);
     m_keepAlive.keep(srcHandle, src->keepMark);
     // glCopyImageSubData, or on ES a blit between framebuffers.
@@ -607,7 +607,7 @@ void CommandList::copyTextureImpl(const TextureHandle& dstHandle, TextureSubreso
 // The format's GenerateMips capability (colour-renderable and filterable) is validated.
 void CommandList::generateMipsImpl(const TextureHandle& handle) {
     requireOutsideRenderPass("generateMips");
-    Texture* texture = cast<Texture>(m_device, handle, "generateMips", "texture");
+    Texture* texture = cast<Texture>(*m_context, handle, "generateMips", "texture");
     m_keepAlive.keep(handle, texture->keepMark);
     // How the driver reads and writes the levels is its own business.
     recordBarrier(textureHazard(texture, kEveryMemoryBarrierBit));
@@ -622,7 +622,7 @@ CommandList::TimerUse& CommandList::timerUse(const TimerQuery* timer) {
 
 void CommandList::beginTimer(const TimerQueryHandle& handle) {
     requireRecording("beginTimer");
-    TimerQuery* timer = cast<TimerQuery>(m_device, handle, "beginTimer", "timer");
+    TimerQuery* timer = cast<TimerQuery>(*m_context, handle, "beginTimer", "timer");
     TimerUse& use = timerUse(timer);
     if (use.began)
         throw Error(ErrorCode::InvalidUsage,
@@ -634,7 +634,7 @@ void CommandList::beginTimer(const TimerQueryHandle& handle) {
 
 void CommandList::endTimer(const TimerQueryHandle& handle) {
     requireRecording("endTimer");
-    TimerQuery* timer = cast<TimerQuery>(m_device, handle, "endTimer", "timer");
+    TimerQuery* timer = cast<TimerQuery>(*m_context, handle, "endTimer", "timer");
     TimerUse& use = timerUse(timer);
     if (!use.began || use.ended)
         throw Error(ErrorCode::InvalidUsage, use.ended ? "endTimer: this timer was already ended in this command list"
@@ -661,10 +661,9 @@ void CommandList::popDebugGroup() {
 // ---------------------------------------------------------------------------------------------
 // Replay
 
-void CommandList::replay() {
+void CommandList::replay(Device& device) {
     if (m_recording || !m_recorded)
         throw Error(ErrorCode::InvalidUsage, "execute() needs a command list that was recorded with begin() ... end()");
-    Device& device = m_device;
     const GLFunctions& gl = device.gl();
     struct Replayer {
         CommandList& list;

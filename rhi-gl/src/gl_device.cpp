@@ -587,7 +587,7 @@ TimerQueryHandle Device::createTimerQueryImpl() {
     return std::make_shared<TimerQuery>(m_context);
 }
 
-CommandListHandle Device::createCommandListImpl() { return std::make_shared<CommandList>(*this); }
+CommandListHandle Device::createCommandListImpl() { return std::make_shared<CommandList>(m_context); }
 
 // ---------------------------------------------------------------------------------------------
 // Execution
@@ -595,6 +595,9 @@ CommandListHandle Device::createCommandListImpl() { return std::make_shared<Comm
 void Device::execute(const CommandListHandle& commandList) {
     auto* list = dynamic_cast<CommandList*>(commandList.get());
     if (!list) throw Error(ErrorCode::InvalidUsage, "execute() was given a command list from another backend or none");
+    if (list->owner() != m_context.get())
+        throw Error(ErrorCode::InvalidUsage, "execute(): the command list was created by another device; record it with "
+                                             "a command list of this device");
     m_context->makeCurrent();
     // Replay state never carries over between lists: what it points at is only kept alive by the
     // list that set it (and each list must set its own pipeline and buffers anyway).
@@ -609,7 +612,7 @@ void Device::execute(const CommandListHandle& commandList) {
         Context& context;
         ~ForgetReplayPipeline() { context.replayPipeline = nullptr; }
     } forget{*m_context};
-    list->replay();
+    list->replay(*this);
     // No program stays in use after the list: NVIDIA checks the program in use for undefined
     // sampling on later calls that draw nothing (a texture read back or uploaded), and by then a
     // texture it sampled may be gone (id 131222, seen after cube captures). The next list binds

@@ -479,7 +479,10 @@ inline constexpr GLbitfield kEveryMemoryBarrierBit =
 
 class CommandList final : public ICommandList {
 public:
-    explicit CommandList(Device& device) : m_device(device) {}
+    // The list holds the device's context, not the device: it may be recorded (and released)
+    // after the device is gone, like any resource.
+    explicit CommandList(ContextPtr context) : m_context(std::move(context)), m_es(m_context->isES()) {}
+    const Context* owner() const { return m_context.get(); }
 
     void begin() override;
     void end() override;
@@ -514,7 +517,7 @@ public:
     void omitNextBarrierForTesting() override {}
 
     // Called by Device::execute.
-    void replay();
+    void replay(Device& device);   // on the device that made it (Device::execute checks)
 
 private:
     template <typename T>
@@ -656,7 +659,8 @@ private:
         m_pendingWrites.push_back({resource, begin, end, kEveryMemoryBarrierBit});
     }
 
-    Device& m_device;
+    ContextPtr m_context;
+    bool m_es = false;
     std::vector<Command> m_commands;   // the first m_commandCount are this recording's
     size_t m_commandCount = 0;
     size_t m_commandCapacity = 0;   // m_commands.size()

@@ -482,6 +482,7 @@ class CommandList final : public ICommandList {
 public:
     explicit CommandList(ContextPtr context);
     ~CommandList() override;
+    const Context* owner() const { return m_context.get(); }
 
     void begin() override;
     void end() override;

@@ -470,7 +470,12 @@ public:
     CommandListHandle createCommandListImpl() override { return std::make_shared<CommandList>(m_context); }
 
     void execute(const CommandListHandle& commandList) override {
-        native<CommandList>(commandList, "execute(): the command list")->submit();
+        auto* list = native<CommandList>(commandList, "execute(): the command list");
+        // Its commands name this device's objects only if this device made it.
+        if (list->owner() != m_context.get())
+            throw Error(ErrorCode::InvalidUsage, "execute(): the command list was created by another device; record it "
+                                                 "with a command list of this device");
+        list->submit();
     }
     void waitIdle() override { m_context->waitIdle(); }
     // Nothing is tied to a thread: the queue, descriptor pools and caches take locks of their own.

@@ -176,6 +176,36 @@ TEST_P(ErrorTest, OutOfRangeTransfersThrow) {
     EXPECT_TRUE(throwsRhiError([&] { device().readTexture(texture, {0, 1}); }, misuse)) << "layer that does not exist";
 }
 
+// A command list belongs to the device that made it: another device refuses to execute it (GL
+// replayed it on the other device's context, Vulkan submitted it to its own device's queue).
+TEST_P(ErrorTest, ACommandListRunsOnlyOnTheDeviceThatMadeIt) {
+    std::unique_ptr<IDevice> other = createDevice(DeviceDesc().setBackend(backend()).setGLPlatform(GetParam().glPlatform));
+    BufferHandle buffer = createBuffer(BufferUsage::Uniform, 16);
+    CommandListHandle list = device().createCommandList();
+    list->begin();
+    list->writeBuffer(buffer, "abcd", 4);
+    list->end();
+    EXPECT_TRUE(throwsRhiError([&] { other->execute(list); }, ErrorCode::InvalidUsage, {"another device"}));
+    other.reset();
+    device().execute(list);
+    EXPECT_EQ(readBufferAs<char>(buffer, 0, 4), (std::vector<char>{'a', 'b', 'c', 'd'}));
+}
+
+// Like any resource, a command list may outlive its device: recording and releasing it then
+// touch nothing of the device (the GL list read the destroyed device; scripts/sanitize.sh's
+// AddressSanitizer reports that as a heap-use-after-free).
+TEST_P(ErrorTest, ACommandListMayBeRecordedAndReleasedAfterItsDevice) {
+    std::unique_ptr<IDevice> other = createDevice(DeviceDesc().setBackend(backend()).setGLPlatform(GetParam().glPlatform));
+    BufferHandle buffer = other->createBuffer(BufferDesc().setSize(16).setUsage(BufferUsage::Uniform));
+    CommandListHandle list = other->createCommandList();
+    other.reset();
+    list->begin();
+    list->writeBuffer(buffer, "abcd", 4);
+    list->end();
+    list.reset();
+    buffer.reset();
+}
+
 // gles stands in for compute-less devices (docs/ARCHITECTURE.md); vulkan and gl have it all.
 TEST_P(ErrorTest, CapabilityTableIsHonest) {
     const Capabilities& c = caps();
