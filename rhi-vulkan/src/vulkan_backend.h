@@ -162,15 +162,19 @@ void fullBarrier(VkCommandBuffer cmd);
 // Makes all device writes visible to the host once the submission's fence has signalled.
 void hostBarrier(VkCommandBuffer cmd);
 
-// Casts an RHI handle to this backend's class; throws InvalidUsage for null or foreign objects.
-// The backend classes are final, so comparing the dynamic type is exact and cheaper than
-// dynamic_cast (this runs on every bind and draw).
+// Casts an RHI handle to this backend's class; throws InvalidUsage for null or foreign objects:
+// another backend's, or another device's (`owner`: the context of the device using it; its Vulkan
+// handles mean nothing in another VkDevice). The backend classes are final, so comparing the
+// dynamic type is exact and cheaper than dynamic_cast (this runs on every bind and draw).
 [[noreturn]] void throwNotThisBackend(bool null, std::string_view what);
+[[noreturn]] void throwOtherDevice(std::string_view what);
 template <class Native, class Interface>
-Native* native(const std::shared_ptr<Interface>& handle, std::string_view what) {
+Native* native(const std::shared_ptr<Interface>& handle, std::string_view what, const Context* owner) {
     static_assert(std::is_final_v<Native>);
     if (!handle || typeid(*handle) != typeid(Native)) [[unlikely]] throwNotThisBackend(!handle, what);
-    return static_cast<Native*>(handle.get());
+    auto* object = static_cast<Native*>(handle.get());
+    if (object->owner() != owner) [[unlikely]] throwOtherDevice(what);
+    return object;
 }
 
 // What one command does to one resource, for hazard tracking. Buffers are tracked by byte
@@ -294,6 +298,7 @@ private:
 class Buffer final : public IBuffer {
 public:
     Buffer(ContextPtr context, const BufferDesc& desc);
+    const Context* owner() const { return m_context.get(); }   // the device that made it
     ~Buffer() override;
     const BufferDesc& desc() const override { return m_desc; }
 
@@ -327,6 +332,7 @@ private:
 class Texture final : public ITexture {
 public:
     Texture(ContextPtr context, const TextureDesc& desc);
+    const Context* owner() const { return m_context.get(); }   // the device that made it
     ~Texture() override;
     const TextureDesc& desc() const override { return m_desc; }
 
@@ -364,6 +370,7 @@ private:
 class Sampler final : public ISampler {
 public:
     Sampler(ContextPtr context, const SamplerDesc& desc);
+    const Context* owner() const { return m_context.get(); }   // the device that made it
     ~Sampler() override;
     const SamplerDesc& desc() const override { return m_desc; }
 
@@ -377,6 +384,7 @@ private:
 class Shader final : public IShader {
 public:
     Shader(ContextPtr context, const ShaderDesc& desc);
+    const Context* owner() const { return m_context.get(); }   // the device that made it
     ~Shader() override;
     const ShaderDesc& desc() const override { return m_desc; }
     std::string translatedSource() const override { return {}; }
@@ -393,6 +401,7 @@ private:
 class Pipeline final : public IPipeline {
 public:
     Pipeline(ContextPtr context, const GraphicsPipelineDesc& desc);
+    const Context* owner() const { return m_context.get(); }   // the device that made it
     Pipeline(ContextPtr context, const ComputePipelineDesc& desc);
     ~Pipeline() override;
     bool isCompute() const override { return m_compute; }
@@ -416,6 +425,7 @@ private:
 class alignas(64) BindingSet final : public IBindingSet {
 public:
     BindingSet(ContextPtr context, const BindingSetDesc& desc);
+    const Context* owner() const { return m_context.get(); }   // the device that made it
     ~BindingSet() override;
     const BindingSetDesc& desc() const override { return m_desc; }
 
@@ -469,6 +479,7 @@ private:
 class TimerQuery final : public ITimerQuery {
 public:
     explicit TimerQuery(ContextPtr context);
+    const Context* owner() const { return m_context.get(); }   // the device that made it
     ~TimerQuery() override;
 
     VkQueryPool pool = VK_NULL_HANDLE;

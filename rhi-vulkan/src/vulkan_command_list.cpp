@@ -167,7 +167,7 @@ void CommandList::beginRenderPassImpl(const RenderPassDesc& desc) {
     std::vector<Format> colorFormats;
     std::vector<ResourceAccess> attachmentAccesses;
     auto attach = [&](const Attachment& a, bool depth, const std::string& what) {
-        auto* texture = native<Texture>(a.texture, what);
+        auto* texture = native<Texture>(a.texture, what, m_context.get());
         const TextureDesc& tdesc = texture->desc();
         const VkExtent3D e = texture->extent(a.subresource.mipLevel);
         extent = VkExtent2D{e.width, e.height};
@@ -261,7 +261,7 @@ void CommandList::setScissorImpl(const ScissorRect& s) {
 
 void CommandList::setPipeline(const PipelineHandle& handle) {
     requireRecording("setPipeline()");
-    auto* pipeline = native<Pipeline>(handle, "setPipeline(): the pipeline");
+    auto* pipeline = native<Pipeline>(handle, "setPipeline(): the pipeline", m_context.get());
     if (pipeline == m_computePipeline || pipeline == m_graphicsPipeline) return;   // already bound
     m_keepAlive.keep(handle, pipeline->keepMark);
     if (pipeline->isCompute()) {
@@ -284,14 +284,15 @@ void CommandList::setPipeline(const PipelineHandle& handle) {
 // libraries) takes the checked path.
 void CommandList::setBindingSetImpl(uint32_t set, const BindingSetHandle& bindings) {   // set < kMaxBindingSets
     IBindingSet* object = bindings.get();   // not null: the front end checked
-    if (m_state != State::Recording || &typeid(*object) != &typeid(BindingSet)) [[unlikely]]
+    if (m_state != State::Recording || &typeid(*object) != &typeid(BindingSet) ||
+        static_cast<BindingSet*>(object)->owner() != m_context.get()) [[unlikely]]
         return setBindingSetChecked(set, bindings);
     bindSet(set, bindings, static_cast<BindingSet*>(object));
 }
 
 void CommandList::setBindingSetChecked(uint32_t set, const BindingSetHandle& bindings) {
     requireRecording("setBindingSet()");
-    bindSet(set, bindings, native<BindingSet>(bindings, "setBindingSet(): the binding set"));
+    bindSet(set, bindings, native<BindingSet>(bindings, "setBindingSet(): the binding set", m_context.get()));
 }
 
 [[gnu::always_inline]] inline void CommandList::bindSet(uint32_t set, const BindingSetHandle& bindings,
@@ -329,7 +330,7 @@ void CommandList::throwNoBindingSet(const Pipeline& pipeline, uint32_t set) cons
 
 void CommandList::setVertexBuffer(uint32_t slot, const BufferHandle& handle, uint64_t offset) {
     requireRecording("setVertexBuffer()");
-    auto* buffer = native<Buffer>(handle, "setVertexBuffer(): the buffer");
+    auto* buffer = native<Buffer>(handle, "setVertexBuffer(): the buffer", m_context.get());
     if (!any(buffer->desc().usage, BufferUsage::Vertex))
         throw Error(ErrorCode::InvalidUsage,
                     fmt::format("setVertexBuffer(): buffer '{}' lacks BufferUsage::Vertex", buffer->desc().debugName));
@@ -351,7 +352,7 @@ void CommandList::setVertexBuffer(uint32_t slot, const BufferHandle& handle, uin
 
 void CommandList::setIndexBuffer(const BufferHandle& handle, IndexType type, uint64_t offset) {
     requireRecording("setIndexBuffer()");
-    auto* buffer = native<Buffer>(handle, "setIndexBuffer(): the buffer");
+    auto* buffer = native<Buffer>(handle, "setIndexBuffer(): the buffer", m_context.get());
     if (!any(buffer->desc().usage, BufferUsage::Index))
         throw Error(ErrorCode::InvalidUsage,
                     fmt::format("setIndexBuffer(): buffer '{}' lacks BufferUsage::Index", buffer->desc().debugName));
@@ -590,7 +591,7 @@ void CommandList::dispatchImpl(uint32_t groupsX, uint32_t groupsY, uint32_t grou
 // Transfers: arguments are validated (rhi/src/validation.cpp); ranges and subresources exist.
 void CommandList::writeBufferImpl(const BufferHandle& dst, const void* data, uint64_t size, uint64_t dstOffset) {
     requireOutsideRenderPass("writeBuffer()");
-    auto* buffer = native<Buffer>(dst, "writeBuffer(): the buffer");
+    auto* buffer = native<Buffer>(dst, "writeBuffer(): the buffer", m_context.get());
     auto staging = std::make_shared<StagingBuffer>(m_context, size);
     std::memcpy(staging->mapped, data, size);
     m_keepAlive.keep(dst, buffer->keepMark);
@@ -604,8 +605,8 @@ void CommandList::writeBufferImpl(const BufferHandle& dst, const void* data, uin
 void CommandList::copyBufferImpl(const BufferHandle& dst, uint64_t dstOffset, const BufferHandle& src,
                                  uint64_t srcOffset, uint64_t size) {
     requireOutsideRenderPass("copyBuffer()");
-    auto* to = native<Buffer>(dst, "copyBuffer(): the destination");
-    auto* from = native<Buffer>(src, "copyBuffer(): the source");
+    auto* to = native<Buffer>(dst, "copyBuffer(): the destination", m_context.get());
+    auto* from = native<Buffer>(src, "copyBuffer(): the source", m_context.get());
     m_keepAlive.keep(dst, to->keepMark);
     m_keepAlive.keep(src, from->keepMark);
     access({transferRead(*from, srcOffset, size), transferWrite(*to, dstOffset, size)});
@@ -616,8 +617,8 @@ void CommandList::copyBufferImpl(const BufferHandle& dst, uint64_t dstOffset, co
 void CommandList::copyBufferToTextureImpl(const TextureHandle& dst, TextureSubresource dstSub, const BufferHandle& src,
                                           uint64_t srcOffset) {
     requireOutsideRenderPass("copyBufferToTexture()");
-    auto* texture = native<Texture>(dst, "copyBufferToTexture(): the texture");
-    auto* buffer = native<Buffer>(src, "copyBufferToTexture(): the buffer");
+    auto* texture = native<Texture>(dst, "copyBufferToTexture(): the texture", m_context.get());
+    auto* buffer = native<Buffer>(src, "copyBufferToTexture(): the buffer", m_context.get());
     m_keepAlive.keep(dst, texture->keepMark);
     m_keepAlive.keep(src, buffer->keepMark);
     access({transferRead(*buffer, srcOffset, texture->subresourceSize(dstSub.mipLevel)),
@@ -633,8 +634,8 @@ void CommandList::copyBufferToTextureImpl(const TextureHandle& dst, TextureSubre
 void CommandList::copyTextureToBufferImpl(const BufferHandle& dst, uint64_t dstOffset, const TextureHandle& src,
                                           TextureSubresource srcSub) {
     requireOutsideRenderPass("copyTextureToBuffer()");
-    auto* buffer = native<Buffer>(dst, "copyTextureToBuffer(): the buffer");
-    auto* texture = native<Texture>(src, "copyTextureToBuffer(): the texture");
+    auto* buffer = native<Buffer>(dst, "copyTextureToBuffer(): the buffer", m_context.get());
+    auto* texture = native<Texture>(src, "copyTextureToBuffer(): the texture", m_context.get());
     m_keepAlive.keep(dst, buffer->keepMark);
     m_keepAlive.keep(src, texture->keepMark);
     access({transferRead(*texture, keysOf(srcSub)),
@@ -650,8 +651,8 @@ void CommandList::copyTextureToBufferImpl(const BufferHandle& dst, uint64_t dstO
 void CommandList::copyTextureImpl(const TextureHandle& dst, TextureSubresource dstSub, const TextureHandle& src,
                                   TextureSubresource srcSub) {
     requireOutsideRenderPass("copyTexture()");
-    auto* to = native<Texture>(dst, "copyTexture(): the destination");
-    auto* from = native<Texture>(src, "copyTexture(): the source");
+    auto* to = native<Texture>(dst, "copyTexture(): the destination", m_context.get());
+    auto* from = native<Texture>(src, "copyTexture(): the source", m_context.get());
     const VkExtent3D srcExtent = from->copyExtent(srcSub);
     m_keepAlive.keep(dst, to->keepMark);
     m_keepAlive.keep(src, from->keepMark);
@@ -668,7 +669,7 @@ void CommandList::copyTextureImpl(const TextureHandle& dst, TextureSubresource d
 // The format's GenerateMips capability (blit source/destination, linear filter) is validated.
 void CommandList::generateMipsImpl(const TextureHandle& handle) {
     requireOutsideRenderPass("generateMips()");
-    auto* texture = native<Texture>(handle, "generateMips(): the texture");
+    auto* texture = native<Texture>(handle, "generateMips(): the texture", m_context.get());
     const TextureDesc& desc = texture->desc();
     m_keepAlive.keep(handle, texture->keepMark);
     for (uint32_t level = 1; level < desc.mipLevels; ++level) {
@@ -686,7 +687,7 @@ void CommandList::generateMipsImpl(const TextureHandle& handle) {
 }
 
 CommandList::TimerUse& CommandList::timerUse(const TimerQueryHandle& handle) {
-    auto* timer = native<TimerQuery>(handle, "the timer");
+    auto* timer = native<TimerQuery>(handle, "the timer", m_context.get());
     for (TimerUse& use : m_timers)
         if (use.timer.get() == timer) return use;
     m_timers.push_back({std::shared_ptr<TimerQuery>(handle, timer)});

@@ -81,7 +81,12 @@ void fullBarrier(VkCommandBuffer cmd) {
 
 // Makes all device writes visible to the host once the submission's fence has signalled.
 void throwNotThisBackend(bool null, std::string_view what) {
-    throw Error(ErrorCode::InvalidUsage, std::string(what) + (null ? " is null" : " was not created by this Vulkan device"));
+    throw Error(ErrorCode::InvalidUsage, std::string(what) + (null ? " is null" : " was not created by a Vulkan device"));
+}
+
+void throwOtherDevice(std::string_view what) {
+    throw Error(ErrorCode::InvalidUsage,
+                std::string(what) + " was created by another device; use resources of this device");
 }
 
 void hostBarrier(VkCommandBuffer cmd) {

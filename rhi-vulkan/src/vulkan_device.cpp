@@ -470,19 +470,14 @@ public:
     CommandListHandle createCommandListImpl() override { return std::make_shared<CommandList>(m_context); }
 
     void execute(const CommandListHandle& commandList) override {
-        auto* list = native<CommandList>(commandList, "execute(): the command list");
-        // Its commands name this device's objects only if this device made it.
-        if (list->owner() != m_context.get())
-            throw Error(ErrorCode::InvalidUsage, "execute(): the command list was created by another device; record it "
-                                                 "with a command list of this device");
-        list->submit();
+        native<CommandList>(commandList, "execute(): the command list", m_context.get())->submit();
     }
     void waitIdle() override { m_context->waitIdle(); }
     // Nothing is tied to a thread: the queue, descriptor pools and caches take locks of their own.
     void detachFromThread() override {}
 
     void writeBufferImpl(const BufferHandle& buffer, const void* data, uint64_t size, uint64_t offset) override {
-        auto* dst = native<Buffer>(buffer, "writeBuffer(): the buffer");
+        auto* dst = native<Buffer>(buffer, "writeBuffer(): the buffer", m_context.get());
         StagingBuffer staging(m_context, size);
         std::memcpy(staging.mapped, data, size);
         m_context->submitAndWait([&](VkCommandBuffer cmd) {
@@ -492,7 +487,7 @@ public:
     }
 
     std::vector<std::byte> readBufferImpl(const BufferHandle& buffer, uint64_t offset, uint64_t size) override {
-        auto* src = native<Buffer>(buffer, "readBuffer(): the buffer");
+        auto* src = native<Buffer>(buffer, "readBuffer(): the buffer", m_context.get());
         StagingBuffer staging(m_context, size);
         m_context->submitAndWait([&](VkCommandBuffer cmd) {
             VkBufferCopy region{offset, 0, size};
@@ -502,7 +497,7 @@ public:
     }
 
     void writeTextureImpl(const TextureHandle& texture, TextureSubresource sub, const void* data, uint64_t size) override {
-        auto* dst = native<Texture>(texture, "writeTexture(): the texture");
+        auto* dst = native<Texture>(texture, "writeTexture(): the texture", m_context.get());
         StagingBuffer staging(m_context, size);
         std::memcpy(staging.mapped, data, size);
         m_context->submitAndWait([&](VkCommandBuffer cmd) {
@@ -515,7 +510,7 @@ public:
     }
 
     std::vector<std::byte> readTextureImpl(const TextureHandle& texture, TextureSubresource sub) override {
-        auto* src = native<Texture>(texture, "readTexture(): the texture");
+        auto* src = native<Texture>(texture, "readTexture(): the texture", m_context.get());
         const uint64_t size = src->subresourceSize(sub.mipLevel);
         StagingBuffer staging(m_context, size);
         m_context->submitAndWait([&](VkCommandBuffer cmd) {
@@ -529,7 +524,7 @@ public:
     }
 
     std::optional<double> timerSeconds(const TimerQueryHandle& timer) override {
-        auto* query = native<TimerQuery>(timer, "timerSeconds(): the timer");
+        auto* query = native<TimerQuery>(timer, "timerSeconds(): the timer", m_context.get());
         if (!query->submitted) return std::nullopt;
         uint64_t stamps[2] = {};
         check(vkGetQueryPoolResults(m_context->device, query->pool, 0, 2, sizeof(stamps), stamps, sizeof(uint64_t),

@@ -132,8 +132,9 @@ VkBlendOp toVkBlendOp(BlendOp op) {
     return VK_BLEND_OP_ADD;
 }
 
-const Shader& shaderOf(const ShaderHandle& handle, std::string_view field, const std::string& pipelineName) {
-    return *native<Shader>(handle, fmt::format("pipeline '{}': {}", pipelineName, field));
+const Shader& shaderOf(const ShaderHandle& handle, std::string_view field, const std::string& pipelineName,
+                       const Context* owner) {
+    return *native<Shader>(handle, fmt::format("pipeline '{}': {}", pipelineName, field), owner);
 }
 
 }  // namespace
@@ -188,8 +189,8 @@ void Pipeline::createLayout(const std::vector<const Shader*>& shaders) {
 Pipeline::Pipeline(ContextPtr context, const GraphicsPipelineDesc& desc)
     : graphicsDesc(desc), debugName(desc.debugName), m_context(std::move(context)) {
     // `desc` is validated (rhi/src/validation.cpp): formats, blend, vertex input and bindings.
-    std::vector<const Shader*> shaders{&shaderOf(desc.vertexShader, "vertexShader", debugName),
-                                       &shaderOf(desc.fragmentShader, "fragmentShader", debugName)};
+    std::vector<const Shader*> shaders{&shaderOf(desc.vertexShader, "vertexShader", debugName, m_context.get()),
+                                       &shaderOf(desc.fragmentShader, "fragmentShader", debugName, m_context.get())};
     m_shaders = {desc.vertexShader, desc.fragmentShader};
 
     std::vector<VkFormat> colorFormats;
@@ -294,7 +295,7 @@ Pipeline::Pipeline(ContextPtr context, const GraphicsPipelineDesc& desc)
 
 Pipeline::Pipeline(ContextPtr context, const ComputePipelineDesc& desc)
     : debugName(desc.debugName), m_context(std::move(context)), m_compute(true) {
-    const Shader& shader = shaderOf(desc.computeShader, "computeShader", debugName);
+    const Shader& shader = shaderOf(desc.computeShader, "computeShader", debugName, m_context.get());
     m_shaders = {desc.computeShader};
     createLayout({&shader});
     VkComputePipelineCreateInfo info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};

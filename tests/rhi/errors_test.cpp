@@ -191,6 +191,43 @@ TEST_P(ErrorTest, ACommandListRunsOnlyOnTheDeviceThatMadeIt) {
     EXPECT_EQ(readBufferAs<char>(buffer, 0, 4), (std::vector<char>{'a', 'b', 'c', 'd'}));
 }
 
+// Every object belongs to the device that made it; using it with another device is InvalidUsage
+// naming it on every backend (Vulkan used another VkDevice's handles: undefined behaviour).
+TEST_P(ErrorTest, ObjectsOfAnotherDeviceAreRefused) {
+    std::unique_ptr<IDevice> other = createDevice(DeviceDesc().setBackend(backend()).setGLPlatform(GetParam().glPlatform));
+    BufferHandle buffer = other->createBuffer(BufferDesc().setSize(256).setUsage(BufferUsage::Uniform | BufferUsage::Vertex));
+    TextureHandle texture = other->createTexture(
+        TextureDesc().setSize(4, 4).setUsage(TextureUsage::Sampled | TextureUsage::RenderTarget).setDebugName("theirs"));
+    SamplerHandle sampler = other->createSampler(SamplerDesc());
+    const ShaderDesc vsDesc = ShaderDesc().setStage(ShaderStage::Vertex).setSpirv(janus::shaders::get("rt_vertex_color_vert"));
+    ShaderHandle theirVs = other->createShader(vsDesc);
+    TextureHandle mine = createTexture2D(Format::RGBA8_UNORM, 4, 4, TextureUsage::Sampled | TextureUsage::RenderTarget);
+    std::vector<std::byte> bytes(64);
+    const std::vector<std::pair<const char*, std::function<void()>>> uses = {
+        {"readBuffer", [&] { device().readBuffer(buffer); }},
+        {"writeBuffer", [&] { device().writeBuffer(buffer, bytes.data(), 4); }},
+        {"readTexture", [&] { device().readTexture(texture, {}); }},
+        {"writeTexture", [&] { device().writeTexture(texture, {}, bytes.data(), 64); }},
+        {"a binding set's buffer", [&] { device().createBindingSet(BindingSetDesc().add(BindingItem::uniformBuffer(0, buffer))); }},
+        {"a binding set's texture", [&] {
+             device().createBindingSet(BindingSetDesc().add(BindingItem::sampledTexture(0, texture, nearestClampSampler()))); }},
+        {"a binding set's sampler", [&] {
+             device().createBindingSet(BindingSetDesc().add(BindingItem::sampledTexture(0, mine, sampler))); }},
+        {"a pipeline's shader", [&] {
+             device().createGraphicsPipeline(GraphicsPipelineDesc()
+                                                 .setShaders(theirVs, shader("rt_vertex_color_frag"))
+                                                 .addVertexBuffer({0, sizeof(ColorVertex), false})
+                                                 .addVertexAttribute({0, VertexFormat::Float4, 0, offsetof(ColorVertex, x)})
+                                                 .addVertexAttribute({1, VertexFormat::Float4, 0, offsetof(ColorVertex, r)})
+                                                 .addColorFormat(Format::RGBA8_UNORM)); }},
+        {"an attachment", [&] { submit([&](ICommandList& c) { c.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(texture))); }); }},
+        {"a vertex buffer", [&] { submit([&](ICommandList& c) { c.setVertexBuffer(0, buffer); }); }},
+        {"a copy source", [&] { submit([&](ICommandList& c) { c.copyBuffer(createBuffer(BufferUsage::None, 16), 0, buffer, 0, 16); }); }},
+    };
+    for (const auto& [what, use] : uses)
+        EXPECT_TRUE(throwsRhiError(use, ErrorCode::InvalidUsage, {"another device"})) << what;
+}
+
 // Like any resource, a command list may outlive its device: recording and releasing it then
 // touch nothing of the device (the GL list read the destroyed device; scripts/sanitize.sh's
 // AddressSanitizer reports that as a heap-use-after-free).
