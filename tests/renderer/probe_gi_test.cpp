@@ -399,6 +399,20 @@ Scene emissiveRoom(const std::array<glm::vec3, 6>& emission, bool bricks = true,
 
 // Every sample of the bake's G-buffer sees the wall its direction points at (six walls, six
 // emissions): no face, and no face's mirror image, is mixed up.
+// A bake file for a scene without an irradiance volume was ignored without a word (janus render
+// refused it, the library did not).
+TEST_P(ProbeGiTest, ABakeFileForASceneWithoutAVolumeIsRefused) {
+    RenderSettings withFile = settings(32, 32);
+    withFile.giBakeFile = "no-volume.bake";
+    try {
+        Renderer renderer(device(), defaultScene(), withFile);
+        ADD_FAILURE() << "the bake file was ignored";
+    } catch (const GiBakeFileError& e) {
+        EXPECT_NE(std::string(e.what()).find("no irradiance volume"), std::string::npos) << e.what();
+    }
+    expectNoMessages();
+}
+
 TEST_P(ProbeGiTest, BakeSamplesSeeTheWallTheirDirectionPointsAt) {
     device().takeDebugMessages();
     const std::array<glm::vec3, 6> colours = {glm::vec3(1, 0, 0), glm::vec3(0, 1, 0), glm::vec3(0, 0, 1),

@@ -42,6 +42,10 @@ ProbeGi::ProbeGi(rhi::IDevice& device, const Scene& scene, const GpuScene& gpuSc
     m_pointSampler = device.createSampler(rhi::SamplerDesc{}.setFilter(rhi::Filter::Nearest).setAddress(rhi::AddressMode::ClampToEdge));
     m_standInUniforms = makeUniformBuffer(device, GiVolumeUniforms{}, "no irradiance volume");   // origin.w 0: off
     if (!scene.irradianceVolume) {
+        if (!bakeFile.empty())
+            throw GiBakeFileError(fmt::format("{}: RenderSettings::giBakeFile is set but the scene has no irradiance volume for a "
+                                              "bake to fill; give the scene the bake was made for, or leave giBakeFile empty",
+                                              bakeFile.string()));
         m_standInVolume = device.createTexture(rhi::TextureDesc{}
                                                    .setDimension(rhi::TextureDimension::Texture3D)
                                                    .setFormat(rhi::Format::RGBA16_FLOAT)
