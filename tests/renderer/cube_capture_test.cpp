@@ -9,6 +9,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
+#include <string>
 
 #include <fmt/format.h>
 #include <glm/gtc/packing.hpp>
@@ -186,6 +188,27 @@ TEST_P(CubeCaptureTest, RefusesTargetsThatAreNotFloatCubeRenderTargets) {
     capture.cube = 1;
     EXPECT_THROW(renderer.renderCubeCapture(capture), RendererError);   // a cube map holds one cube
     device().takeDebugMessages();
+}
+
+// A NaN or infinite position or an infinite far plane made NaN view or projection matrices and a
+// capture of nothing (no error); now each is a RendererError naming it.
+TEST_P(CubeCaptureTest, RefusesANonFinitePositionOrFarPlane) {
+    Renderer renderer(device(), defaultScene(), settings());
+    CubeCaptureDesc capture;
+    capture.target = makeCube();
+    capture.farPlane = std::numeric_limits<float>::infinity();
+    EXPECT_THROW(renderer.renderCubeCapture(capture), RendererError);
+    capture.farPlane = 100.0f;
+    for (float bad : {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity()}) {
+        capture.position = glm::vec3(0.0f, bad, 0.0f);
+        try {
+            renderer.renderCubeCapture(capture);
+            ADD_FAILURE() << "position y " << bad << " was accepted";
+        } catch (const RendererError& e) {
+            EXPECT_NE(std::string(e.what()).find("position"), std::string::npos) << e.what();
+        }
+    }
+    expectNoMessages();
 }
 
 TEST_P(CubeCaptureTest, TheMainFrameReportListsItsView) {

@@ -1,5 +1,7 @@
 #include "janus/renderer/scene_view.h"
 
+#include <cmath>
+
 #include <fmt/format.h>
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -42,8 +44,10 @@ const char* cubeFaceName(uint32_t face) {
 std::array<SceneView, 6> makeCubeFaceViews(const glm::vec3& position, uint32_t size, float nearPlane, float farPlane,
                                            const std::string& namePrefix) {
     if (size == 0) throw RendererError("cube views: the face size must be at least 1");
-    if (!(nearPlane > 0.0f) || !(farPlane > nearPlane))
-        throw RendererError(fmt::format("cube views: near {} and far {} must satisfy 0 < near < far", nearPlane, farPlane));
+    if (!(nearPlane > 0.0f) || !(farPlane > nearPlane) || !std::isfinite(farPlane))
+        throw RendererError(fmt::format("cube views: near {} and far {} must be finite with 0 < near < far", nearPlane, farPlane));
+    if (!std::isfinite(position.x) || !std::isfinite(position.y) || !std::isfinite(position.z))
+        throw RendererError(fmt::format("cube views: the position ({}, {}, {}) must be finite", position.x, position.y, position.z));
     std::array<SceneView, 6> views;
     for (uint32_t face = 0; face < 6; ++face) {
         Camera camera;
