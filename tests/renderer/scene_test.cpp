@@ -457,6 +457,26 @@ TEST(SceneErrors, ColoursOutsideHalfFloatRangeAreRefused) {
     EXPECT_NO_THROW(validateScene(fine));
 }
 
+// -1 means "the default material" / "no texture"; other negative indices (a computed index gone
+// wrong) were taken as -1 without a word.
+TEST(SceneErrors, NegativeMaterialAndTextureIndicesOtherThanMinusOneAreRefused) {
+    {
+        Scene scene = defaultScene();
+        scene.meshes.at(0).material = -2;
+        const std::string message = sceneErrorOf([&] { validateScene(scene); });
+        EXPECT_NE(message.find("material -2"), std::string::npos) << message;
+    }
+    {
+        Scene scene = defaultScene();
+        scene.materials.at(0).normalTexture = -7;
+        const std::string message = sceneErrorOf([&] { validateScene(scene); });
+        EXPECT_NE(message.find("normalTexture is texture -7"), std::string::npos) << message;
+    }
+    Scene fine = defaultScene();
+    fine.meshes.at(0).material = -1;
+    EXPECT_NO_THROW(validateScene(fine));
+}
+
 TEST(SceneErrors, ValidateSceneCatchesNaNInScenesBuiltInCode) {
     const float nan = std::numeric_limits<float>::quiet_NaN();
     {

@@ -482,8 +482,9 @@ void validateScene(const Scene& scene) {
             if (glm::any(glm::lessThan(v.color, glm::vec4(0.0f))) || glm::any(glm::greaterThan(v.color, glm::vec4(kMaxColorValue))))
                 throw SceneError(fmt::format("mesh {} has a vertex colour ({}, {}, {}, {}) outside [0, {}]", m, v.color.r, v.color.g,
                                              v.color.b, v.color.a, kMaxColorValue));
-        if (mesh.material >= int32_t(scene.materials.size()))
-            throw SceneError(fmt::format("mesh {} uses material {} but the scene has {}", m, mesh.material, scene.materials.size()));
+        if (mesh.material < -1 || mesh.material >= int32_t(scene.materials.size()))
+            throw SceneError(fmt::format("mesh {} uses material {} but the scene has {} (-1 = the default material)", m, mesh.material,
+                                         scene.materials.size()));
         if (mesh.joints.size() != mesh.weights.size() || (!mesh.joints.empty() && mesh.joints.size() != mesh.vertices.size()))
             throw SceneError(fmt::format("mesh {} has {} joint sets and {} weight sets for {} vertices; skinned meshes have one of each "
                                          "per vertex",
@@ -541,8 +542,9 @@ void validateScene(const Scene& scene) {
         if (!(material.occlusionStrength >= 0.0f && material.occlusionStrength <= 1.0f))
             throw SceneError(fmt::format("material {} has occlusionTexture.strength {} outside [0, 1]", name, material.occlusionStrength));
         for (const Material::TextureSlot& slot : material.textureSlots()) {
-            if (slot.texture >= int32_t(scene.textures.size()))
-                throw SceneError(fmt::format("material {} uses texture {} but the scene has {}", name, slot.texture, scene.textures.size()));
+            if (slot.texture < -1 || slot.texture >= int32_t(scene.textures.size()))
+                throw SceneError(fmt::format("material {} {} is texture {} but the scene has {} (-1 = none)", name, slot.name,
+                                             slot.texture, scene.textures.size()));
             const TextureTransform& transform = *slot.transform;
             if (!allFinite(transform.offset, transform.rotation, transform.scale))
                 throw SceneError(fmt::format("material {} {} has a NaN or infinite texture transform", name, slot.name));
