@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "janus/rhi/texture_view_validation.h"
 #include "shader_reflection.h"
@@ -524,6 +525,18 @@ void validateWriteTexture(const DeviceProperties& device, const TextureHandle& t
                            expected, mipExtent(texture->desc().width, sub.mipLevel),
                            mipExtent(texture->desc().height, sub.mipLevel)));
     if (!data) misuse("writeTexture(): data is null");
+    // Depth values outside [0, 1] were kept by Vulkan (which may not store them without
+    // VK_EXT_depth_range_unrestricted) and clamped by GL: refuse them, as the clear depth.
+    if (texture->desc().format == Format::D32_FLOAT) {
+        const auto* bytes = static_cast<const std::byte*>(data);
+        for (uint64_t i = 0; i < size / 4; ++i) {
+            float depth;
+            std::memcpy(&depth, bytes + 4 * i, 4);
+            if (!(depth >= 0.0f && depth <= 1.0f))
+                misuse(fmt::format("writeTexture(): texel {} of the d32f texture '{}' holds depth {}; depths must be in [0, 1]",
+                                   i, textureName(*texture), depth));
+        }
+    }
 }
 
 void validateReadTexture(const DeviceProperties& device, const TextureHandle& texture, TextureSubresource sub) {

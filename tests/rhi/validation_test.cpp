@@ -181,6 +181,11 @@ TEST_P(ValidationTest, SameMistakeSameErrorCodeOnEveryBackend) {
         {"writeBuffer without data", kUsage, {"null"}, [&] { dev.writeBuffer(uniforms, nullptr, 64); }},
         {"readBuffer from past the end", kUsage, {"readBuffer"}, [&] { dev.readBuffer(uniforms, 2048); }},
         {"writeTexture of the wrong size", kUsage, {"size"}, [&] { dev.writeTexture(color, {}, bytes.data(), 60); }},
+        // Vulkan kept a depth of 2 (which it may not store without VK_EXT_depth_range_unrestricted), GL clamped it to 1.
+        {"writeTexture of a depth above 1", kUsage, {"depth 2", "[0, 1]"}, [&] {
+             std::vector<float> depths(16, 0.5f);
+             depths[5] = 2.0f;
+             dev.writeTexture(depth, {}, depths.data(), depths.size() * sizeof(float)); }},
         {"readTexture of a missing mip", kUsage, {"mip level 1"}, [&] { dev.readTexture(color, {1, 0}); }},
         {"readTexture of a missing layer", kUsage, {"layer 1"}, [&] { dev.readTexture(color, {0, 1}); }},
         {"readTexture of a missing array layer", kUsage, {"layer 3"}, [&] { dev.readTexture(array, {0, 3}); }},
