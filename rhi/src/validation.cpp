@@ -120,6 +120,11 @@ void requireFormatCapability(const DeviceProperties& device, Format format, Form
 void validateBuffer(const DeviceProperties& device, const BufferDesc& desc) {
     const std::string name = named("BufferDesc", desc.debugName);
     if (desc.size == 0) invalid(fmt::format("{}: size is 0; give it the number of bytes it must hold", name));
+    constexpr auto kBufferUsages =
+        uint32_t(BufferUsage::Vertex | BufferUsage::Index | BufferUsage::Uniform | BufferUsage::Storage);
+    if (uint32_t(desc.usage) & ~kBufferUsages)
+        invalid(fmt::format("{}: usage {:#x} has bits that are no BufferUsage ({:#x}); combine Vertex, Index, Uniform and "
+                            "Storage", name, uint32_t(desc.usage), uint32_t(desc.usage) & ~kBufferUsages));
     const uint64_t most = device.capabilities.limits.maxBufferSize;
     if (most && desc.size > most)
         invalid(fmt::format("{}: size {} is above this device's largest buffer ({} bytes, Limits::maxBufferSize); "
@@ -131,6 +136,14 @@ TextureDesc validateTexture(const DeviceProperties& device, const TextureDesc& d
     const std::string name = fmt::format("{} ({} {}x{}x{}, {})", named("TextureDesc", desc.debugName),
                                          toString(desc.dimension), desc.width, desc.height, desc.depth,
                                          toString(desc.format));
+    // Values outside the enums (a cast from a file or a wire format gone wrong): GL raised
+    // GL_INVALID_ENUM for such a dimension and Vulkan made some image, no error either way.
+    if (uint32_t(desc.dimension) > uint32_t(TextureDimension::TextureCubeArray))
+        invalid(fmt::format("{}: dimension {} is not a TextureDimension", name, uint32_t(desc.dimension)));
+    constexpr auto kTextureUsages = uint32_t(TextureUsage::Sampled | TextureUsage::RenderTarget | TextureUsage::Storage);
+    if (uint32_t(desc.usage) & ~kTextureUsages)
+        invalid(fmt::format("{}: usage {:#x} has bits that are no TextureUsage ({:#x}); combine Sampled, RenderTarget and "
+                            "Storage", name, uint32_t(desc.usage), uint32_t(desc.usage) & ~kTextureUsages));
     if (desc.format == Format::Unknown || size_t(desc.format) >= device.formats.size())
         invalid(fmt::format("{}: format is Unknown; pick a concrete Format", name));
     if (desc.width == 0 || desc.height == 0 || desc.depth == 0)

@@ -74,6 +74,13 @@ TEST_P(ValidationTest, SameMistakeSameErrorCodeOnEveryBackend) {
          [&] { dev.createTexture(TextureDesc().setDimension(TextureDimension::Texture3D).setFormat(Format::D32_FLOAT).setSize(4, 4, 4)); }},
         {"too many mips", kDesc, {"mipLevels"}, [&] { dev.createTexture(TextureDesc().setSize(4, 4).setMipLevels(4)); }},
         {"texture usage None", kDesc, {"usage"}, [&] { dev.createTexture(TextureDesc().setSize(4, 4).setUsage(TextureUsage::None)); }},
+        // Values outside the enums (GL raised GL_INVALID_ENUM for the dimension, Vulkan made an image).
+        {"texture dimension outside the enum", kDesc, {"dimension 77"}, [&] {
+             dev.createTexture(TextureDesc().setDimension(TextureDimension(77)).setSize(4, 4)); }},
+        {"texture usage bit outside the enum", kDesc, {"TextureUsage"}, [&] {
+             dev.createTexture(TextureDesc().setSize(4, 4).setUsage(TextureUsage::Sampled | TextureUsage(0x100))); }},
+        {"buffer usage bit outside the enum", kDesc, {"BufferUsage"}, [&] {
+             dev.createBuffer(BufferDesc().setSize(16).setUsage(BufferUsage::Vertex | BufferUsage(0x100))); }},
         {"texture format Unknown", kDesc, {"format"}, [&] { dev.createTexture(TextureDesc().setFormat(Format::Unknown).setSize(4, 4)); }},
         {"2D texture above maxTextureSize2D", kDesc, {"maxTextureSize2D"},
          [&] { dev.createTexture(TextureDesc().setSize(limits.maxTextureSize2D + 1, 1)); }},
