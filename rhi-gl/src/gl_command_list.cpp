@@ -67,7 +67,7 @@ std::pair<uint64_t, uint64_t> boundRange(const BindingItem& item) {
 }
 }  // namespace
 
-BindingSet::BindingSet(const BindingSetDesc& desc) : m_desc(desc) {
+BindingSet::BindingSet(const Context& owner, const BindingSetDesc& desc) : m_owner(&owner), m_desc(desc) {
     for (const BindingItem& item : m_desc.items) {
         m_replay.bindingPoints |= item.binding < 63 ? uint64_t(1) << item.binding : ~uint64_t(0) << 63;
         const GLbitfield needs = shaderAccessBarrier(item.type);

@@ -579,7 +579,7 @@ BindingSetHandle Device::createBindingSetImpl(const BindingSetDesc& desc) {
         if (item.texture) ownResource<Texture>(item.texture, *m_context, where.c_str(), "texture");
         if (item.sampler) ownResource<Sampler>(item.sampler, *m_context, where.c_str(), "sampler");
     }
-    return std::make_shared<BindingSet>(desc);
+    return std::make_shared<BindingSet>(context(), desc);
 }
 
 TimerQueryHandle Device::createTimerQueryImpl() {

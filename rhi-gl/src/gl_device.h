@@ -324,14 +324,17 @@ struct UsedBindings {
 };
 
 // Every draw that binds a set reads it twice: recording reads its first cache line (the vtable
-// pointer the handle's type check reads, keepMark, the last binding check) and replay its second
+// pointer the handle's type check reads, keepMark, the last binding check, the owner) and replay its second
 // (binding points, the buffer range of a one-buffer set). Aligned to a line and laid out so, such
 // a bind touches two lines of the set and no other allocation of it: applications draw with many
 // sets (a uniform slice per draw), so these lines are rarely in the first-level cache.
 class alignas(64) BindingSet final : public IBindingSet {
 public:
-    explicit BindingSet(const BindingSetDesc& desc);
+    BindingSet(const Context& owner, const BindingSetDesc& desc);
     const BindingSetDesc& desc() const override { return m_desc; }
+    // The context whose GL names the items hold: binding the set in another is refused. Compared,
+    // never dereferenced (the set does not keep its context alive; its items' objects do).
+    const Context* owner() const { return m_owner; }
     // Bit b: the set binds something at GL binding point / unit b (all bits from 63 up). Two sets
     // whose masks are disjoint cannot overwrite each other's bindings.
     uint64_t bindingPoints() const { return m_replay.bindingPoints; }
@@ -387,6 +390,7 @@ private:
     const Validated* findValidated(uint64_t signature, uint32_t set) const;
 
     mutable std::atomic<const Validated*> m_lastValidated{nullptr};   // first line
+    const Context* m_owner;                                            // first line
     // The second line: all that replay reads of a set with one buffer and no texture.
     struct alignas(64) ReplayState {
         uint64_t bindingPoints = 0;

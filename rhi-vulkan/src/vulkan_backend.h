@@ -425,14 +425,16 @@ private:
 class alignas(64) BindingSet final : public IBindingSet {
 public:
     BindingSet(ContextPtr context, const BindingSetDesc& desc);
-    const Context* owner() const { return m_context.get(); }   // the device that made it
+    const Context* owner() const { return m_owner; }   // the device that made it
     ~BindingSet() override;
     const BindingSetDesc& desc() const override { return m_desc; }
 
     // The descriptor set holding these resources for one set layout, and what a command using
     // it reads and writes. Never moves once created (`accesses` may point into it).
-    // What a bind and the next draw/dispatch read comes first: with the object's header it fills
-    // one cache line (the object is aligned to one), and fewAccesses[0] starts the next.
+    // What a bind and the next draw/dispatch read comes first: a bind reads the first cache line
+    // (the object is aligned to one: its header, the owner, layout and set), the draw or dispatch
+    // `accesses` and `hasTextureItems` at the line's end and the next one's start, where
+    // fewAccesses[0] lies too.
     struct LayoutUse {
         VkDescriptorSetLayout layout = VK_NULL_HANDLE;
         VkDescriptorSet set = VK_NULL_HANDLE;
@@ -467,7 +469,8 @@ public:
 
 private:
     std::atomic<const LayoutUse*> m_last{nullptr};
-    LayoutUse m_firstUse;   // the first layout used (usually the only one), inline
+    const Context* m_owner;   // m_context, in the line a bind reads (checked on every bind)
+    LayoutUse m_firstUse;     // the first layout used (usually the only one), inline
 
     const LayoutUse& createOrFind(const DescriptorSetLayoutInfo& layout, uint32_t set);
     ContextPtr m_context;

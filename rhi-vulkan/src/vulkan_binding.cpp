@@ -98,7 +98,7 @@ ResourceAccess accessOf(const BindingItem& item, const ReflectedBinding& b) {
 }  // namespace
 
 // `desc` is validated (rhi/src/validation.cpp); what is left is that its objects are this device's.
-BindingSet::BindingSet(ContextPtr context, const BindingSetDesc& desc) : m_context(std::move(context)), m_desc(desc) {
+BindingSet::BindingSet(ContextPtr context, const BindingSetDesc& desc) : m_owner(context.get()), m_context(std::move(context)), m_desc(desc) {
     for (const BindingItem& item : desc.items) {
         if (item.buffer) native<Buffer>(item.buffer, fmt::format("binding {}: the buffer", item.binding), m_context.get());
         if (item.texture) native<Texture>(item.texture, fmt::format("binding {}: the texture", item.binding), m_context.get());

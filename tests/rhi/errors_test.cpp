@@ -202,6 +202,19 @@ TEST_P(ErrorTest, ObjectsOfAnotherDeviceAreRefused) {
     const ShaderDesc vsDesc = ShaderDesc().setStage(ShaderStage::Vertex).setSpirv(janus::shaders::get("rt_vertex_color_vert"));
     ShaderHandle theirVs = other->createShader(vsDesc);
     TextureHandle mine = createTexture2D(Format::RGBA8_UNORM, 4, 4, TextureUsage::Sampled | TextureUsage::RenderTarget);
+    BindingSetHandle theirSet = other->createBindingSet(BindingSetDesc().add(BindingItem::uniformBuffer(0, buffer)));
+    const auto vertexColorPipeline = [](IDevice& on) {
+        return on.createGraphicsPipeline(
+            GraphicsPipelineDesc()
+                .setShaders(on.createShader(ShaderDesc().setStage(ShaderStage::Vertex).setSpirv(janus::shaders::get("rt_vertex_color_vert"))),
+                            on.createShader(ShaderDesc().setStage(ShaderStage::Fragment).setSpirv(janus::shaders::get("rt_vertex_color_frag"))))
+                .addVertexBuffer({0, sizeof(ColorVertex), false})
+                .addVertexAttribute({0, VertexFormat::Float4, 0, offsetof(ColorVertex, x)})
+                .addVertexAttribute({1, VertexFormat::Float4, 0, offsetof(ColorVertex, r)})
+                .addColorFormat(Format::RGBA8_UNORM));
+    };
+    PipelineHandle theirPipeline = vertexColorPipeline(*other);
+    TimerQueryHandle theirTimer = other->createTimerQuery();
     std::vector<std::byte> bytes(64);
     const std::vector<std::pair<const char*, std::function<void()>>> uses = {
         {"readBuffer", [&] { device().readBuffer(buffer); }},
@@ -223,6 +236,17 @@ TEST_P(ErrorTest, ObjectsOfAnotherDeviceAreRefused) {
         {"an attachment", [&] { submit([&](ICommandList& c) { c.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(texture))); }); }},
         {"a vertex buffer", [&] { submit([&](ICommandList& c) { c.setVertexBuffer(0, buffer); }); }},
         {"a copy source", [&] { submit([&](ICommandList& c) { c.copyBuffer(createBuffer(BufferUsage::None, 16), 0, buffer, 0, 16); }); }},
+        // GL bound another context's names here, and Vulkan another VkDevice's descriptor set.
+        {"a binding set", [&] { submit([&](ICommandList& c) { c.setBindingSet(0, theirSet); }); }},
+        {"a binding set after this device's pipeline", [&] {
+             PipelineHandle mineToo = vertexColorPipeline(device());
+             submit([&](ICommandList& c) {
+                 c.setPipeline(mineToo);
+                 c.setBindingSet(0, theirSet);
+             }); }},
+        {"a pipeline", [&] { submit([&](ICommandList& c) { c.setPipeline(theirPipeline); }); }},
+        {"a timer", [&] { submit([&](ICommandList& c) { c.beginTimer(theirTimer); }); }},
+        {"a timer's result", [&] { device().timerSeconds(theirTimer); }},
     };
     for (const auto& [what, use] : uses)
         EXPECT_TRUE(throwsRhiError(use, ErrorCode::InvalidUsage, {"another device"})) << what;
