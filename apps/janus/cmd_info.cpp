@@ -70,6 +70,8 @@ std::vector<std::pair<std::string, std::string>> limitRows(const rhi::Limits& l)
         {"max vertex buffers", std::to_string(l.maxVertexBuffers)},
         {"max vertex attributes", std::to_string(l.maxVertexAttributes)},
         {"max vertex stride", std::to_string(l.maxVertexStride)},
+        {"max viewport size", std::to_string(l.maxViewportSize)},
+        {"viewport bounds", fmt::format("[{:g}, {:g}]", l.viewportBoundsRange[0], l.viewportBoundsRange[1])},
         {"max sampler anisotropy", fmt::format("{:g}", l.maxSamplerAnisotropy)},
     };
 }
@@ -128,6 +130,8 @@ nlohmann::json toJson(const std::vector<BackendReport>& reports, rhi::GLPlatform
             {"maxVertexBuffers", l.maxVertexBuffers},
             {"maxVertexAttributes", l.maxVertexAttributes},
             {"maxVertexStride", l.maxVertexStride},
+            {"maxViewportSize", l.maxViewportSize},
+            {"viewportBoundsRange", l.viewportBoundsRange},
             {"maxSamplerAnisotropy", l.maxSamplerAnisotropy},
         };
         nlohmann::json formats = nlohmann::json::object();

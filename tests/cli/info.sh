@@ -34,6 +34,8 @@ json_check "$TMP/info.json" 'all(b["apiVersion"] and b["device"] and b["shadingL
   "an available backend lacks API version, device, shading language or limits"
 json_check "$TMP/info.json" 'all(b["limits"]["maxTextureArrayLayers"] >= 256 for b in j["backends"] if b["available"])' \
   "an available backend reports no maxTextureArrayLayers (at least 256 on GL 4.3 / ES 3.0 / Vulkan)"
+json_check "$TMP/info.json" 'all(b["limits"]["maxViewportSize"] >= 4096 and b["limits"]["viewportBoundsRange"][0] < 0 < b["limits"]["viewportBoundsRange"][1] for b in j["backends"] if b["available"])' \
+  "an available backend reports no viewport limits (at least 4096, bounds around 0)"
 # The format table: every format, with its kind and every format capability as a bool.
 formats='["rgba8", "rgba8_srgb", "rgba16f", "rgba32f", "r11g11b10f", "r32ui", "rgba32ui", "r32f", "d32f"]'
 format_caps='["sampled", "filterable", "compare-filterable", "render-target", "blendable", "storage", "copyable", "generate-mips"]'
@@ -57,6 +59,7 @@ if grep -q ': available$' "$TMP/stdout"; then
   done
   grep -Eq "^  d32f +depth +4 " "$TMP/stdout" || fail "janus info format table lacks d32f (kind, size)"
   grep -Eq "^  max texture array layers +[0-9]" "$TMP/stdout" || fail "janus info limits table lacks max texture array layers"
+  grep -Eq "^  viewport bounds +\[-[0-9]" "$TMP/stdout" || fail "janus info limits table lacks the viewport bounds"
 fi
 
 expect_success info --gl-platform osmesa --json
