@@ -491,6 +491,11 @@ void validateViewport(const DeviceProperties& device, const Viewport& v) {
     if (!(v.x >= lo && v.y >= lo && double(v.x) + v.width <= hi && double(v.y) + v.height <= hi))
         misuse(fmt::format("setViewport(): the viewport ({}, {}) + {}x{} leaves this device's bounds range [{}, {}] "
                            "(Limits::viewportBoundsRange); move or shrink it", v.x, v.y, v.width, v.height, lo, hi));
+    // GL's glViewport and ES take integers (glViewportIndexedf is GL 4.1+, not ES): a fraction
+    // Vulkan keeps would be dropped there, and the backends' images would differ without a word.
+    if (v.x != std::floor(v.x) || v.y != std::floor(v.y) || v.width != std::floor(v.width) || v.height != std::floor(v.height))
+        misuse(fmt::format("setViewport(): the viewport ({}, {}) + {}x{} is not in whole pixels; round it (GL and GL ES "
+                           "take whole pixels only)", v.x, v.y, v.width, v.height));
     if (!(v.minDepth >= 0 && v.minDepth <= 1 && v.maxDepth >= 0 && v.maxDepth <= 1))
         misuse(fmt::format("setViewport(): minDepth {} / maxDepth {} must be in [0, 1]", v.minDepth, v.maxDepth));
 }

@@ -224,6 +224,9 @@ TEST_P(ValidationTest, SameMistakeSameErrorCodeOnEveryBackend) {
         {"viewport wider than maxViewportSize", kUsage, {"maxViewportSize"}, [&] {
              inPass([&](ICommandList& c) { c.setViewport({0, 0, float(limits.maxViewportSize) * 2, 4, 0, 1}); }); }},
         {"viewport of infinite height", kUsage, {"maxViewportSize"}, [&] { inPass([&](ICommandList& c) { c.setViewport({0, 0, 4, INFINITY, 0, 1}); }); }},
+        // GL (glViewport) and ES take whole pixels; Vulkan would keep the fraction: silently different images.
+        {"viewport at a fractional x", kUsage, {"whole pixels"}, [&] { inPass([&](ICommandList& c) { c.setViewport({0.5f, 0, 4, 4, 0, 1}); }); }},
+        {"viewport of fractional height", kUsage, {"whole pixels"}, [&] { inPass([&](ICommandList& c) { c.setViewport({0, 0, 4, 3.25f, 0, 1}); }); }},
         {"viewport outside a render pass", kUsage, {"setViewport", "beginRenderPass"}, [&] { record([&](ICommandList& c) { c.setViewport({0, 0, 4, 4, 0, 1}); }); }},
         {"scissor past INT32_MAX", kUsage, {"INT32_MAX"}, [&] { inPass([&](ICommandList& c) { c.setScissor({1, 0, 0x7fffffffu, 4}); }); }},
         {"scissor at a negative offset", kUsage, {"negative"}, [&] { inPass([&](ICommandList& c) { c.setScissor({-1, 0, 4, 4}); }); }},

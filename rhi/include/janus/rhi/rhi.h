@@ -560,7 +560,8 @@ struct RenderPassDesc {
 
 // Checked against Limits::maxViewportSize and viewportBoundsRange: width and height in
 // (0, maxViewportSize], the rectangle inside the bounds range, depths in [0, 1] (minDepth may be
-// above maxDepth); no value may be NaN.
+// above maxDepth); no value may be NaN. x, y, width and height are whole pixels (GL and ES take
+// no fractions, so a fractional viewport is refused on every backend).
 struct Viewport {
     float x = 0, y = 0, width = 0, height = 0;   // y counts rows from row 0 (top)
     float minDepth = 0, maxDepth = 1;
