@@ -472,7 +472,7 @@ void CommandList::setVertexBuffer(uint32_t slot, const BufferHandle& handle, uin
     record(command::SetVertexBuffer{slot, buffer->name(), offset});
 }
 
-void CommandList::setIndexBuffer(const BufferHandle& handle, IndexType type, uint64_t offset) {
+void CommandList::setIndexBufferImpl(const BufferHandle& handle, IndexType type, uint64_t offset) {
     requireRecording("setIndexBuffer");
     Buffer* buffer = cast<Buffer>(*m_context, handle, "setIndexBuffer", "buffer");
     if (!any(buffer->desc().usage, BufferUsage::Index))

@@ -350,7 +350,7 @@ void CommandList::setVertexBuffer(uint32_t slot, const BufferHandle& handle, uin
     m_passTrackedVertices = false;
 }
 
-void CommandList::setIndexBuffer(const BufferHandle& handle, IndexType type, uint64_t offset) {
+void CommandList::setIndexBufferImpl(const BufferHandle& handle, IndexType type, uint64_t offset) {
     requireRecording("setIndexBuffer()");
     auto* buffer = native<Buffer>(handle, "setIndexBuffer(): the buffer", m_context.get());
     if (!any(buffer->desc().usage, BufferUsage::Index))

@@ -96,6 +96,12 @@ void ICommandList::throwInvalidSetBinding(uint32_t set) const {
     throw Error(ErrorCode::InvalidUsage, "setBindingSet(): the binding set is null");
 }
 
+void ICommandList::throwInvalidIndexType(IndexType type) const {
+    // Both backends took any value but UInt16 as 32-bit indices.
+    throw Error(ErrorCode::InvalidUsage, fmt::format("setIndexBuffer(): index type {} is outside IndexType; use "
+                                                     "IndexType::UInt16 or IndexType::UInt32", uint32_t(type)));
+}
+
 void ICommandList::throwInvalidDispatch(uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ) const {
     const Capabilities& caps = m_properties->capabilities;
     if (!caps.compute)

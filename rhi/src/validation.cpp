@@ -90,6 +90,18 @@ bool sameBlend(const BlendAttachment& a, const BlendAttachment& b) {
                           a.srcAlpha == b.srcAlpha && a.dstAlpha == b.dstAlpha && a.alphaOp == b.alphaOp));
 }
 
+// Values outside an enum (a cast from a file or a wire format gone wrong) are refused before any
+// backend: their switches fell back to different defaults (CullMode(77) culled every triangle on
+// GL and none on Vulkan; LoadOp(77) loaded on GL and was DONT_CARE on Vulkan).
+template <class E>
+void checkEnum(E value, E last, std::string_view where, std::string_view field, std::string_view choices) {
+    if (uint32_t(value) > uint32_t(last))
+        invalid(fmt::format("{}: {} is {}, which is outside its enum; use one of {}", where, field, uint32_t(value),
+                            choices));
+}
+
+constexpr std::string_view kCompareOps = "Never, Less, Equal, LessOrEqual, Greater, NotEqual, GreaterOrEqual, Always";
+
 bool isFloat32(Format f) { return formatInfo(f).kind == FormatKind::Float && formatInfo(f).bytesPerPixel / formatInfo(f).channels == 4; }
 
 }  // namespace
@@ -198,6 +210,15 @@ TextureDesc validateTexture(const DeviceProperties& device, const TextureDesc& d
 }
 
 void validateSampler(const DeviceProperties& device, const SamplerDesc& desc) {
+    constexpr std::string_view kFilters = "Nearest, Linear";
+    constexpr std::string_view kAddressModes = "Repeat, MirroredRepeat, ClampToEdge";
+    checkEnum(desc.minFilter, Filter::Linear, "SamplerDesc", "minFilter", kFilters);
+    checkEnum(desc.magFilter, Filter::Linear, "SamplerDesc", "magFilter", kFilters);
+    checkEnum(desc.mipFilter, Filter::Linear, "SamplerDesc", "mipFilter", kFilters);
+    checkEnum(desc.addressU, AddressMode::ClampToEdge, "SamplerDesc", "addressU", kAddressModes);
+    checkEnum(desc.addressV, AddressMode::ClampToEdge, "SamplerDesc", "addressV", kAddressModes);
+    checkEnum(desc.addressW, AddressMode::ClampToEdge, "SamplerDesc", "addressW", kAddressModes);
+    if (desc.compare) checkEnum(*desc.compare, CompareOp::Always, "SamplerDesc", "compare", kCompareOps);
     if (!(desc.minLod <= desc.maxLod))
         invalid(fmt::format("SamplerDesc: minLod {} is above maxLod {}; swap them", desc.minLod, desc.maxLod));
     if (!(desc.maxAnisotropy >= 1.0f))
@@ -210,6 +231,9 @@ void validateSampler(const DeviceProperties& device, const SamplerDesc& desc) {
 
 void validateShader(const DeviceProperties& device, const ShaderDesc& desc) {
     const std::string name = named("ShaderDesc", desc.debugName);
+    if (desc.stage != ShaderStage::Vertex && desc.stage != ShaderStage::Fragment && desc.stage != ShaderStage::Compute)
+        invalid(fmt::format("{}: stage {} is not one ShaderStage; use Vertex, Fragment or Compute", name,
+                            uint32_t(desc.stage)));
     if (desc.stage == ShaderStage::Compute) requireCapability(device, Capability::Compute, name + ": a compute shader");
     const ShaderReflection reflection = reflectShader(desc);
     for (const ReflectedResource& r : reflection.resources) {
@@ -262,6 +286,31 @@ void validateGraphicsPipeline(const DeviceProperties& device, const GraphicsPipe
     const Limits& limits = caps.limits;
     const IShader& vs = shaderOf(desc.vertexShader, ShaderStage::Vertex, "vertexShader", name);
     const IShader& fs = shaderOf(desc.fragmentShader, ShaderStage::Fragment, "fragmentShader", name);
+
+    // Enums (blend states whose blending is off too: Vulkan requires valid values either way).
+    checkEnum(desc.topology, PrimitiveTopology::PointList, name, "topology",
+              "TriangleList, TriangleStrip, LineList, PointList");
+    checkEnum(desc.raster.cullMode, CullMode::Back, name, "raster.cullMode", "None, Front, Back");
+    checkEnum(desc.raster.frontFace, FrontFace::Clockwise, name, "raster.frontFace", "CounterClockwise, Clockwise");
+    checkEnum(desc.depth.compare, CompareOp::Always, name, "depth.compare", kCompareOps);
+    for (size_t i = 0; i < desc.blend.size(); ++i) {
+        const BlendAttachment& b = desc.blend[i];
+        constexpr std::string_view kFactors = "the BlendFactor values Zero .. OneMinusDstAlpha";
+        constexpr std::string_view kOps = "Add, Subtract, ReverseSubtract, Min, Max";
+        const std::string field = fmt::format("blend[{}].", i);
+        checkEnum(b.srcColor, BlendFactor::OneMinusDstAlpha, name, field + "srcColor", kFactors);
+        checkEnum(b.dstColor, BlendFactor::OneMinusDstAlpha, name, field + "dstColor", kFactors);
+        checkEnum(b.colorOp, BlendOp::Max, name, field + "colorOp", kOps);
+        checkEnum(b.srcAlpha, BlendFactor::OneMinusDstAlpha, name, field + "srcAlpha", kFactors);
+        checkEnum(b.dstAlpha, BlendFactor::OneMinusDstAlpha, name, field + "dstAlpha", kFactors);
+        checkEnum(b.alphaOp, BlendOp::Max, name, field + "alphaOp", kOps);
+        if (b.writeMask & ~0xFu)
+            invalid(fmt::format("{}: blend[{}].writeMask {:#x} has bits above the four RGBA bits (0xF); use 0xF for "
+                                "all channels", name, i, b.writeMask));
+    }
+    for (const VertexAttribute& a : desc.vertexAttributes)
+        checkEnum(a.format, VertexFormat::UInt1, name, fmt::format("the format of vertex attribute location {}", a.location),
+                  "Float1, Float2, Float3, Float4, UByte4Norm, UInt1");
 
     // Attachments.
     if (desc.colorFormats.empty() && desc.depthFormat == Format::Unknown)
@@ -364,6 +413,8 @@ void validateBindingSet(const DeviceProperties& device, const BindingSetDesc& de
             if (desc.items[j].binding == item.binding)
                 invalid(fmt::format("{}: binding {} appears twice in the set; give each binding one item", where,
                                     item.binding));
+        checkEnum(item.type, ResourceType::StorageImage, where, "type",
+                  "UniformBuffer, StorageBuffer, SampledTexture, StorageImage");
         switch (item.type) {
             case ResourceType::UniformBuffer:
             case ResourceType::StorageBuffer: {
@@ -438,6 +489,8 @@ void validateRenderPass(const DeviceProperties& device, const RenderPassDesc& de
     auto check = [&](const Attachment& a, const std::string& which, bool depth) {
         const std::string where = "RenderPassDesc " + which;
         if (!a.texture) invalid(fmt::format("{}: texture is null; give it a texture", where));
+        checkEnum(a.loadOp, LoadOp::DontCare, where, "loadOp", "Load, Clear, DontCare");
+        checkEnum(a.storeOp, StoreOp::DontCare, where, "storeOp", "Store, DontCare");
         const TextureDesc& td = a.texture->desc();
         if (!any(td.usage, TextureUsage::RenderTarget))
             invalid(fmt::format("{}: texture '{}' lacks TextureUsage::RenderTarget", where, td.debugName));

@@ -81,6 +81,39 @@ TEST_P(ValidationTest, SameMistakeSameErrorCodeOnEveryBackend) {
              dev.createTexture(TextureDesc().setSize(4, 4).setUsage(TextureUsage::Sampled | TextureUsage(0x100))); }},
         {"buffer usage bit outside the enum", kDesc, {"BufferUsage"}, [&] {
              dev.createBuffer(BufferDesc().setSize(16).setUsage(BufferUsage::Vertex | BufferUsage(0x100))); }},
+        // The other enums: each backend's switch fell back to its own default (CullMode 77 culled
+        // every triangle on GL and none on Vulkan; LoadOp 77 loaded on GL, DONT_CARE on Vulkan).
+        {"topology outside the enum", kDesc, {"topology", "77"}, [&] {
+             dev.createGraphicsPipeline(pipelineDesc().setTopology(PrimitiveTopology(77))); }},
+        {"cull mode outside the enum", kDesc, {"raster.cullMode", "77"}, [&] {
+             auto d = pipelineDesc(); d.raster.cullMode = CullMode(77); dev.createGraphicsPipeline(d); }},
+        {"front face outside the enum", kDesc, {"raster.frontFace"}, [&] {
+             auto d = pipelineDesc(); d.raster.frontFace = FrontFace(77); dev.createGraphicsPipeline(d); }},
+        {"depth compare outside the enum", kDesc, {"depth.compare"}, [&] {
+             dev.createGraphicsPipeline(pipelineDesc().setDepthFormat(Format::D32_FLOAT).setDepth({true, true, CompareOp(77)})); }},
+        {"blend factor outside the enum", kDesc, {"blend[0].dstColor"}, [&] {
+             auto d = pipelineDesc(); d.blend[0] = BlendAttachment::alpha(); d.blend[0].dstColor = BlendFactor(77); dev.createGraphicsPipeline(d); }},
+        {"blend op outside the enum, blending off", kDesc, {"blend[0].alphaOp"}, [&] {
+             auto d = pipelineDesc(); d.blend[0].alphaOp = BlendOp(-1); dev.createGraphicsPipeline(d); }},
+        {"write mask above RGBA", kDesc, {"writeMask", "0xff"}, [&] {
+             auto d = pipelineDesc(); d.blend[0].writeMask = 0xFF; dev.createGraphicsPipeline(d); }},
+        {"vertex format outside the enum", kDesc, {"vertex attribute location 0", "77"}, [&] {
+             auto d = pipelineDesc(); d.vertexAttributes[0].format = VertexFormat(77); dev.createGraphicsPipeline(d); }},
+        {"sampler filter outside the enum", kDesc, {"magFilter"}, [&] { SamplerDesc d; d.magFilter = Filter(77); dev.createSampler(d); }},
+        {"sampler address mode outside the enum", kDesc, {"addressW"}, [&] { SamplerDesc d; d.addressW = AddressMode(77); dev.createSampler(d); }},
+        {"sampler compare outside the enum", kDesc, {"compare"}, [&] {
+             dev.createSampler(SamplerDesc().setFilter(Filter::Nearest).setCompare(CompareOp(77))); }},
+        {"shader stage outside the enum", kDesc, {"stage 3"}, [&] {
+             dev.createShader(ShaderDesc().setStage(ShaderStage(3)).setSpirv(janus::shaders::get("rt_vertex_color_vert"))); }},
+        {"binding type outside the enum", kDesc, {"binding 0", "type"}, [&] {
+             BindingItem item = BindingItem::uniformBuffer(0, uniforms); item.type = ResourceType(77); bindings(item); }},
+        {"load op outside the enum", kDesc, {"loadOp"}, [&] {
+             Attachment a = Attachment::clear(color); a.loadOp = LoadOp(77); pass(RenderPassDesc().addColor(a)); }},
+        {"store op outside the enum", kDesc, {"storeOp"}, [&] {
+             Attachment a = Attachment::clear(color); a.storeOp = StoreOp(77); pass(RenderPassDesc().addColor(a)); }},
+        {"index type outside the enum", kUsage, {"index type 77"}, [&] {
+             BufferHandle indices = createBuffer(BufferUsage::Index, 64);
+             record([&](ICommandList& c) { c.setIndexBuffer(indices, IndexType(77)); }); }},
         {"texture format Unknown", kDesc, {"format"}, [&] { dev.createTexture(TextureDesc().setFormat(Format::Unknown).setSize(4, 4)); }},
         {"2D texture above maxTextureSize2D", kDesc, {"maxTextureSize2D"},
          [&] { dev.createTexture(TextureDesc().setSize(limits.maxTextureSize2D + 1, 1)); }},
