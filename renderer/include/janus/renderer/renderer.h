@@ -69,7 +69,9 @@ IrradianceBakeSummary bakeIrradianceVolume(rhi::IDevice& device, const Scene& sc
 class Renderer {
 public:
     // Uploads the scene. Throws RendererError for settings the device cannot honour (absurd
-    // sizes; the compute path on a device without compute names the capability).
+    // sizes; the compute path on a device without compute names the capability). The renderer
+    // keeps a reference to `device`, which must outlive it: its destructor waits for the device's
+    // work to finish (RHI handles may outlive their device; a renderer may not).
     Renderer(rhi::IDevice& device, const Scene& scene, const RenderSettings& settings);
     ~Renderer();
     Renderer(const Renderer&) = delete;
