@@ -118,6 +118,14 @@ TEST_P(ErrorTest, SynchronizationValidationWithoutValidationIsInvalid) {
                                {"enableSynchronizationValidation", "enableValidation"}));
 }
 
+// Values outside the enums name the field on every backend (a GLPlatform(77) was taken as EGL).
+TEST_P(ErrorTest, DeviceDescEnumsOutOfRangeAreInvalid) {
+    DeviceDesc desc = DeviceDesc().setBackend(GetParam().backend).setGLPlatform(static_cast<GLPlatform>(77));
+    EXPECT_TRUE(throwsRhiError([&] { createDevice(desc); }, ErrorCode::InvalidDescription, {"DeviceDesc::glPlatform", "77"}));
+    desc.setGLPlatform(GetParam().glPlatform).setBackend(static_cast<Backend>(77));
+    EXPECT_TRUE(throwsRhiError([&] { createDevice(desc); }, ErrorCode::InvalidDescription, {"DeviceDesc::backend", "77"}));
+}
+
 TEST_P(ErrorTest, BufferSizeZeroIsInvalid) {
     EXPECT_TRUE(throwsRhiError([&] { createBuffer(BufferUsage::Vertex, 0); }, ErrorCode::InvalidDescription, {"size"}));
 }
