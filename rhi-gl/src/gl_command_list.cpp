@@ -448,18 +448,10 @@ void CommandList::setBindingSetImpl(uint32_t set, const BindingSetHandle& handle
     m_drawReady = false;
 }
 
-void CommandList::setVertexBuffer(uint32_t slot, const BufferHandle& handle, uint64_t offset) {
+// Usage, offset and slot validated by the front (rhi/src/validation.cpp).
+void CommandList::setVertexBufferImpl(uint32_t slot, const BufferHandle& handle, uint64_t offset) {
     requireRecording("setVertexBuffer");
     Buffer* buffer = cast<Buffer>(*m_context, handle, "setVertexBuffer", "buffer");
-    if (!any(buffer->desc().usage, BufferUsage::Vertex))
-        throw Error(ErrorCode::InvalidUsage,
-                    fmt::format("setVertexBuffer: buffer '{}' lacks BufferUsage::Vertex", buffer->desc().debugName));
-    if (offset >= buffer->desc().size)
-        throw Error(ErrorCode::InvalidUsage, fmt::format("setVertexBuffer: offset {} is past the end of buffer '{}' ({} bytes)",
-                                                         offset, buffer->desc().debugName, buffer->desc().size));
-    if (const uint32_t slots = properties().capabilities.limits.maxVertexBuffers; slot >= slots)
-        throw Error(ErrorCode::InvalidUsage,
-                    fmt::format("setVertexBuffer: slot {} is above the device's {} slots (Limits::maxVertexBuffers)", slot, slots));
     m_keepAlive.keep(handle, buffer->keepMark);
     auto existing = std::find_if(m_vertexBuffers.begin(), m_vertexBuffers.end(),
                                  [&](const RecordedVertexBuffer& b) { return b.slot == slot; });
@@ -472,17 +464,10 @@ void CommandList::setVertexBuffer(uint32_t slot, const BufferHandle& handle, uin
     record(command::SetVertexBuffer{slot, buffer->name(), offset});
 }
 
+// Type, usage and offset validated by the front (rhi/src/validation.cpp).
 void CommandList::setIndexBufferImpl(const BufferHandle& handle, IndexType type, uint64_t offset) {
     requireRecording("setIndexBuffer");
     Buffer* buffer = cast<Buffer>(*m_context, handle, "setIndexBuffer", "buffer");
-    if (!any(buffer->desc().usage, BufferUsage::Index))
-        throw Error(ErrorCode::InvalidUsage,
-                    fmt::format("setIndexBuffer: buffer '{}' lacks BufferUsage::Index", buffer->desc().debugName));
-    const uint64_t indexSize = type == IndexType::UInt16 ? 2 : 4;
-    if (offset % indexSize != 0 || offset >= buffer->desc().size)
-        throw Error(ErrorCode::InvalidUsage,
-                    fmt::format("setIndexBuffer: offset {} must be a multiple of {} inside the buffer ({} bytes)",
-                                offset, indexSize, buffer->desc().size));
     m_keepAlive.keep(handle, buffer->keepMark);
     m_indexBuffer = buffer;
     m_indexOffset = offset;

@@ -506,7 +506,7 @@ public:
     void setScissorImpl(const ScissorRect& scissor) override;
     void setPipeline(const PipelineHandle& pipeline) override;
     void setBindingSetImpl(uint32_t set, const BindingSetHandle& bindings) override;
-    void setVertexBuffer(uint32_t slot, const BufferHandle& buffer, uint64_t offset) override;
+    void setVertexBufferImpl(uint32_t slot, const BufferHandle& buffer, uint64_t offset) override;
     void setIndexBufferImpl(const BufferHandle& buffer, IndexType type, uint64_t offset) override;
     void draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance) override;
     void drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex, int32_t vertexOffset,

@@ -328,18 +328,10 @@ void CommandList::throwNoBindingSet(const Pipeline& pipeline, uint32_t set) cons
     dirtyMask = 0;   // only now: a failed bind above is reported again on the next draw
 }
 
-void CommandList::setVertexBuffer(uint32_t slot, const BufferHandle& handle, uint64_t offset) {
+// Usage, offset and slot validated by the front (rhi/src/validation.cpp).
+void CommandList::setVertexBufferImpl(uint32_t slot, const BufferHandle& handle, uint64_t offset) {
     requireRecording("setVertexBuffer()");
     auto* buffer = native<Buffer>(handle, "setVertexBuffer(): the buffer", m_context.get());
-    if (!any(buffer->desc().usage, BufferUsage::Vertex))
-        throw Error(ErrorCode::InvalidUsage,
-                    fmt::format("setVertexBuffer(): buffer '{}' lacks BufferUsage::Vertex", buffer->desc().debugName));
-    if (offset >= buffer->desc().size)
-        throw Error(ErrorCode::InvalidUsage, fmt::format("setVertexBuffer(): offset {} is past the end of the {}-byte "
-                                                         "buffer", offset, buffer->desc().size));
-    if (slot >= m_context->properties.limits.maxVertexInputBindings)
-        throw Error(ErrorCode::InvalidUsage, fmt::format("setVertexBuffer(): slot {} is above the device's {} slots",
-                                                         slot, m_context->properties.limits.maxVertexInputBindings));
     if (m_vertexBindings.size() <= slot) m_vertexBindings.resize(slot + 1);
     VertexBinding& binding = m_vertexBindings[slot];
     if (binding.buffer == buffer && binding.offset == offset) return;   // already bound
@@ -350,17 +342,10 @@ void CommandList::setVertexBuffer(uint32_t slot, const BufferHandle& handle, uin
     m_passTrackedVertices = false;
 }
 
+// Type, usage and offset validated by the front (rhi/src/validation.cpp).
 void CommandList::setIndexBufferImpl(const BufferHandle& handle, IndexType type, uint64_t offset) {
     requireRecording("setIndexBuffer()");
     auto* buffer = native<Buffer>(handle, "setIndexBuffer(): the buffer", m_context.get());
-    if (!any(buffer->desc().usage, BufferUsage::Index))
-        throw Error(ErrorCode::InvalidUsage,
-                    fmt::format("setIndexBuffer(): buffer '{}' lacks BufferUsage::Index", buffer->desc().debugName));
-    const uint64_t indexSize = type == IndexType::UInt16 ? 2 : 4;
-    if (offset % indexSize || offset >= buffer->desc().size)
-        throw Error(ErrorCode::InvalidUsage,
-                    fmt::format("setIndexBuffer(): offset {} must be a multiple of {} inside the {}-byte buffer", offset,
-                                indexSize, buffer->desc().size));
     const VkIndexType indexType = type == IndexType::UInt16 ? VK_INDEX_TYPE_UINT16 : VK_INDEX_TYPE_UINT32;
     if (m_indexBuffer == buffer && m_indexOffset == offset && m_indexType == indexType) return;   // already bound
     m_keepAlive.keep(handle, buffer->keepMark);

@@ -96,12 +96,6 @@ void ICommandList::throwInvalidSetBinding(uint32_t set) const {
     throw Error(ErrorCode::InvalidUsage, "setBindingSet(): the binding set is null");
 }
 
-void ICommandList::throwInvalidIndexType(IndexType type) const {
-    // Both backends took any value but UInt16 as 32-bit indices.
-    throw Error(ErrorCode::InvalidUsage, fmt::format("setIndexBuffer(): index type {} is outside IndexType; use "
-                                                     "IndexType::UInt16 or IndexType::UInt32", uint32_t(type)));
-}
-
 void ICommandList::throwInvalidDispatch(uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ) const {
     const Capabilities& caps = m_properties->capabilities;
     if (!caps.compute)
@@ -127,6 +121,16 @@ void ICommandList::beginRenderPass(const RenderPassDesc& desc) {
 void ICommandList::setViewport(const Viewport& viewport) {
     detail::validateViewport(*m_properties, viewport);
     setViewportImpl(viewport);
+}
+
+void ICommandList::setVertexBuffer(uint32_t slot, const BufferHandle& buffer, uint64_t offset) {
+    detail::validateVertexBufferBind(*m_properties, slot, buffer, offset);
+    setVertexBufferImpl(slot, buffer, offset);
+}
+
+void ICommandList::setIndexBuffer(const BufferHandle& buffer, IndexType type, uint64_t offset) {
+    detail::validateIndexBufferBind(buffer, type, offset);
+    setIndexBufferImpl(buffer, type, offset);
 }
 
 void ICommandList::setScissor(const ScissorRect& scissor) {

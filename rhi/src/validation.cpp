@@ -562,6 +562,32 @@ void validateScissor(const ScissorRect& s) {
                            "render target", s.x, s.y, s.width, s.height, most));
 }
 
+void validateVertexBufferBind(const DeviceProperties& device, uint32_t slot, const BufferHandle& buffer, uint64_t offset) {
+    if (!buffer) misuse("setVertexBuffer(): the buffer is null");
+    const BufferDesc& desc = buffer->desc();
+    if (!any(desc.usage, BufferUsage::Vertex))
+        misuse(fmt::format("setVertexBuffer(): buffer '{}' lacks BufferUsage::Vertex", desc.debugName));
+    if (offset >= desc.size)
+        misuse(fmt::format("setVertexBuffer(): offset {} is past the end of buffer '{}' ({} bytes)", offset, desc.debugName,
+                           desc.size));
+    if (const uint32_t slots = device.capabilities.limits.maxVertexBuffers; slot >= slots)
+        misuse(fmt::format("setVertexBuffer(): slot {} is above the device's {} slots (Limits::maxVertexBuffers)", slot, slots));
+}
+
+void validateIndexBufferBind(const BufferHandle& buffer, IndexType type, uint64_t offset) {
+    if (type != IndexType::UInt16 && type != IndexType::UInt32)
+        misuse(fmt::format("setIndexBuffer(): index type {} is outside IndexType; use IndexType::UInt16 or IndexType::UInt32",
+                           uint32_t(type)));
+    if (!buffer) misuse("setIndexBuffer(): the buffer is null");
+    const BufferDesc& desc = buffer->desc();
+    if (!any(desc.usage, BufferUsage::Index))
+        misuse(fmt::format("setIndexBuffer(): buffer '{}' lacks BufferUsage::Index", desc.debugName));
+    const uint64_t indexSize = type == IndexType::UInt16 ? 2 : 4;
+    if (offset % indexSize != 0 || offset >= desc.size)
+        misuse(fmt::format("setIndexBuffer(): offset {} must be a multiple of {} inside the buffer ({} bytes)", offset,
+                           indexSize, desc.size));
+}
+
 // ---------------------------------------------------------------------------------------------
 // Transfers
 

@@ -26,6 +26,10 @@ void validateTimerQuery(const DeviceProperties& device);
 void validateRenderPass(const DeviceProperties& device, const RenderPassDesc& desc);
 void validateViewport(const DeviceProperties& device, const Viewport& viewport);
 void validateScissor(const ScissorRect& scissor);
+// setVertexBuffer / setIndexBuffer: the buffer's usage, the offset inside it, the slot against
+// Limits::maxVertexBuffers, the index type (both backends took any value but UInt16 as 32-bit).
+void validateVertexBufferBind(const DeviceProperties& device, uint32_t slot, const BufferHandle& buffer, uint64_t offset);
+void validateIndexBufferBind(const BufferHandle& buffer, IndexType type, uint64_t offset);
 
 // Transfers; `call` names the call in messages ("writeBuffer()", "ICommandList::copyTexture()").
 void validateWriteBuffer(const BufferHandle& buffer, const void* data, uint64_t size, uint64_t offset,

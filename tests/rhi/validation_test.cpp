@@ -268,6 +268,18 @@ TEST_P(ValidationTest, SameMistakeSameErrorCodeOnEveryBackend) {
         {"setVertexBuffer above maxVertexBuffers", kUsage, {"slot"}, [&] {
              BufferHandle vb = createBuffer(BufferUsage::Vertex, 64);
              record([&](ICommandList& c) { c.setVertexBuffer(limits.maxVertexBuffers, vb); }); }},
+        {"setVertexBuffer of a buffer without Vertex usage", kUsage, {"BufferUsage::Vertex"}, [&] {
+             BufferHandle ib = createBuffer(BufferUsage::Index, 64);
+             record([&](ICommandList& c) { c.setVertexBuffer(0, ib); }); }},
+        {"setVertexBuffer past the buffer's end", kUsage, {"offset 64", "past the end"}, [&] {
+             BufferHandle vb = createBuffer(BufferUsage::Vertex, 64);
+             record([&](ICommandList& c) { c.setVertexBuffer(0, vb, 64); }); }},
+        {"setIndexBuffer of a buffer without Index usage", kUsage, {"BufferUsage::Index"}, [&] {
+             BufferHandle vb = createBuffer(BufferUsage::Vertex, 64);
+             record([&](ICommandList& c) { c.setIndexBuffer(vb, IndexType::UInt32); }); }},
+        {"setIndexBuffer at a misaligned offset", kUsage, {"offset 2", "multiple of 4"}, [&] {
+             BufferHandle ib = createBuffer(BufferUsage::Index, 64);
+             record([&](ICommandList& c) { c.setIndexBuffer(ib, IndexType::UInt32, 2); }); }},
         // Timers: begun and ended once in one command list (GL used to accept each of these).
         {"endTimer without beginTimer", kUsage, {"beginTimer"}, [&] {
              TimerQueryHandle t = dev.createTimerQuery(); record([&](ICommandList& c) { c.endTimer(t); }); }, Capability::TimestampQueries},

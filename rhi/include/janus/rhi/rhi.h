@@ -592,8 +592,8 @@ struct DeviceProperties {
 // executed.
 //
 // The non-virtual calls validate their arguments (rhi/src/validation.cpp) and then call the
-// backend's protected ...Impl; the per-draw calls (binds, draws) go to the backend directly, but
-// setBindingSet, setIndexBuffer and dispatch check inline first.
+// backend's protected ...Impl; the per-draw calls (pipeline, draws) go to the backend directly,
+// and setBindingSet and dispatch check inline first.
 class ICommandList {
 public:
     virtual ~ICommandList() = default;
@@ -612,11 +612,8 @@ public:
         if (set >= kMaxBindingSets || !bindings) [[unlikely]] throwInvalidSetBinding(set);
         setBindingSetImpl(set, bindings);
     }
-    virtual void setVertexBuffer(uint32_t slot, const BufferHandle& buffer, uint64_t offset = 0) = 0;
-    void setIndexBuffer(const BufferHandle& buffer, IndexType type, uint64_t offset = 0) {
-        if (type != IndexType::UInt16 && type != IndexType::UInt32) [[unlikely]] throwInvalidIndexType(type);
-        setIndexBufferImpl(buffer, type, offset);
-    }
+    void setVertexBuffer(uint32_t slot, const BufferHandle& buffer, uint64_t offset = 0);
+    void setIndexBuffer(const BufferHandle& buffer, IndexType type, uint64_t offset = 0);
     virtual void draw(uint32_t vertexCount, uint32_t instanceCount = 1, uint32_t firstVertex = 0, uint32_t firstInstance = 0) = 0;
     virtual void drawIndexed(uint32_t indexCount, uint32_t instanceCount = 1, uint32_t firstIndex = 0, int32_t vertexOffset = 0, uint32_t firstInstance = 0) = 0;
 
@@ -655,6 +652,7 @@ protected:
     virtual void setViewportImpl(const Viewport& viewport) = 0;
     virtual void setScissorImpl(const ScissorRect& scissor) = 0;
     virtual void setBindingSetImpl(uint32_t set, const BindingSetHandle& bindings) = 0;
+    virtual void setVertexBufferImpl(uint32_t slot, const BufferHandle& buffer, uint64_t offset) = 0;
     virtual void setIndexBufferImpl(const BufferHandle& buffer, IndexType type, uint64_t offset) = 0;
     virtual void dispatchImpl(uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ) = 0;
     virtual void writeBufferImpl(const BufferHandle& dst, const void* data, uint64_t size, uint64_t dstOffset) = 0;
@@ -669,7 +667,6 @@ protected:
 private:
     friend class IDevice;
     [[noreturn]] void throwInvalidSetBinding(uint32_t set) const;
-    [[noreturn]] void throwInvalidIndexType(IndexType type) const;
     [[noreturn]] void throwInvalidDispatch(uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ) const;
     std::shared_ptr<const DeviceProperties> m_properties;   // set by IDevice::createCommandList
 };
