@@ -69,7 +69,7 @@ std::pair<uint64_t, uint64_t> boundRange(const BindingItem& item) {
 
 BindingSet::BindingSet(const Context& owner, const BindingSetDesc& desc) : m_owner(&owner), m_desc(desc) {
     for (const BindingItem& item : m_desc.items) {
-        m_replay.bindingPoints |= item.binding < 63 ? uint64_t(1) << item.binding : ~uint64_t(0) << 63;
+        m_replay.bindingPoints |= bindingPointBit(item.binding);
         const GLbitfield needs = shaderAccessBarrier(item.type);
         const bool write = isShaderWrite(item.type);
         if (!item.buffer) {
@@ -841,10 +841,10 @@ void Device::bindPipeline(const Pipeline& pipeline) {
     pipeline.applyState();
 }
 
-// The texture and image items of a set (bindBindingSet binds its buffer ranges).
-void Device::bindTextures(const BindingSet& bindings) {
+void Device::bindTextures(const BindingSet& bindings, uint64_t points) {
     const GLFunctions& f = gl();
     for (const BindingItem& item : bindings.desc().items) {
+        if (!(bindingPointBit(item.binding) & points)) continue;
         switch (item.type) {
             case ResourceType::UniformBuffer:
             case ResourceType::StorageBuffer: break;   // bindBindingSet bound them
@@ -879,6 +879,43 @@ void Device::bindTextures(const BindingSet& bindings) {
             }
         }
     }
+}
+
+// `set` takes `points`: the other sets lose those of theirs.
+void Device::takePoints(uint32_t set, uint64_t points) {
+    for (uint32_t i = 0; i < kMaxBindingSets; ++i) {
+        const uint64_t taken = i == set ? 0 : m_setPoints[i] & points;
+        if (!taken) continue;
+        m_takenPoints[i] |= taken;
+        m_boundSets[i] = nullptr;
+        m_drawChecks |= kRestoreTakenPoints;
+    }
+}
+
+// Binds again, from the set the list bound at its index, each point the pipeline reads that
+// another set took: every binding then shows the item of the set the shader declares it in, as
+// on Vulkan. Points the pipeline does not read stay taken (the next pipeline may need them back).
+void Device::restoreTakenPoints() {
+    const Pipeline& pipeline = *m_pipeline;
+    const GLFunctions& f = gl();
+    for (const uint32_t set : pipeline.usedSets()) {   // each bound by the list (checked when recorded)
+        const uint64_t points = pipeline.setPoints(set) & m_takenPoints[set];
+        if (!points) continue;
+        const BindingSet& bindings = *m_listSets[set];
+        for (const BindingSet::BufferRange& b : bindings.bufferRanges())
+            if (bindingPointBit(b.index) & points) f.glBindBufferRange(b.target, b.index, b.buffer, b.offset, b.size);
+        if (bindings.hasTextures()) bindTextures(bindings, points);
+        m_takenPoints[set] &= ~points;
+        takePoints(set, points);
+    }
+    static_assert(kMaxBindingSets == 4, "the next line names every index");
+    if (!(m_takenPoints[0] | m_takenPoints[1] | m_takenPoints[2] | m_takenPoints[3]))
+        m_drawChecks &= uint8_t(~kRestoreTakenPoints);
+}
+
+void Device::runDrawChecks(const char* call) {
+    if (m_drawChecks & kRestoreTakenPoints) restoreTakenPoints();
+    if (m_drawChecks & kCheckSamplerUnits) checkSamplerUnits(call);
 }
 
 void Device::applyMipRanges(std::span<const TextureMipRange> ranges) {
@@ -950,7 +987,7 @@ void Device::drawBaseInstance(uint32_t vertexCount, uint32_t instanceCount, uint
 
 void Device::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex, int32_t vertexOffset,
                            uint32_t firstInstance) {
-    if (m_checkSamplerUnits) [[unlikely]] checkSamplerUnits("draw");
+    if (m_drawChecks) [[unlikely]] runDrawChecks("draw");
     const GLFunctions& f = gl();
     const GLenum mode = m_pipeline->mode();
     const GLenum type = m_indexType == IndexType::UInt16 ? GL_UNSIGNED_SHORT : GL_UNSIGNED_INT;
@@ -1009,7 +1046,7 @@ void Device::checkSamplerUnits(const char* call) {
 }
 
 void Device::dispatch(uint32_t x, uint32_t y, uint32_t z) {
-    if (m_checkSamplerUnits) [[unlikely]] checkSamplerUnits("dispatch");
+    if (m_drawChecks) [[unlikely]] runDrawChecks("dispatch");
     const GLFunctions& f = gl();
     f.glDispatchCompute(x, y, z);
 }

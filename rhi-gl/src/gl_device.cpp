@@ -314,7 +314,8 @@ Device::Device(const DeviceDesc& desc, std::unique_ptr<Platform> platform) {
     setProperties(std::move(properties));
     if (desc.enableValidation) {
         setupDebugOutput();
-        m_context->checkSamplerUnits = m_checkSamplerUnits = true;
+        m_context->checkSamplerUnits = true;
+        m_drawChecks |= kCheckSamplerUnits;
     }
     setupDefaultState();
 }
@@ -602,8 +603,11 @@ void Device::execute(const CommandListHandle& commandList) {
     // Replay state never carries over between lists: what it points at is only kept alive by the
     // list that set it (and each list must set its own pipeline and buffers anyway).
     m_pipeline = nullptr;
+    m_listSets = {};
+    m_setPoints = {};
+    m_takenPoints = {};
     m_boundSets = {};
-    m_boundPoints = {};
+    m_drawChecks &= uint8_t(~kRestoreTakenPoints);
     m_vertexBuffers.clear();
     m_indexBuffer = 0;
     m_vertexStateDirty = true;

@@ -240,6 +240,12 @@ private:
     std::vector<ShaderInput> m_inputs;
 };
 
+// GL binding point / unit b as a bit of a mask; bindings from 63 up share the top bit (a set's
+// masks may then overlap where its items do not: only ever more work, never a missed overlap).
+constexpr uint64_t bindingPointBit(uint32_t binding) {
+    return binding < 63 ? uint64_t(1) << binding : uint64_t(1) << 63;
+}
+
 class Pipeline final : public IPipeline {
 public:
     const Context* owner() const { return m_context.get(); }
@@ -266,6 +272,8 @@ public:
     bool cacheableBindings() const { return m_cacheableBindings; }
     // The one set index the bindings use, or kMaxBindingSets (several, none, or not cacheable).
     uint32_t singleSet() const { return m_singleSet; }
+    // The binding points (bindingPointBit) the shaders read from set `set` < kMaxBindingSets.
+    uint64_t setPoints(uint32_t set) const { return m_setPoints[set]; }
     // The glDraw* mode of the topology.
     GLenum mode() const { return m_mode; }
     // Applies rasterizer, depth and blend state.
@@ -300,6 +308,7 @@ private:
     std::vector<uint32_t> m_usedSets;
     bool m_cacheableBindings = true;
     uint32_t m_singleSet = kMaxBindingSets;
+    std::array<uint64_t, kMaxBindingSets> m_setPoints{};
     GLenum m_mode = GL_TRIANGLES;
 };
 
@@ -335,8 +344,8 @@ public:
     // The context whose GL names the items hold: binding the set in another is refused. Compared,
     // never dereferenced (the set does not keep its context alive; its items' objects do).
     const Context* owner() const { return m_owner; }
-    // Bit b: the set binds something at GL binding point / unit b (all bits from 63 up). Two sets
-    // whose masks are disjoint cannot overwrite each other's bindings.
+    // The binding points / units the set binds (bindingPointBit of each item). Two sets whose
+    // masks are disjoint cannot overwrite each other's bindings.
     uint64_t bindingPoints() const { return m_replay.bindingPoints; }
     // The buffer items as the glBindBufferRange calls that bind them, resolved when the set is
     // made (replay binds them without visiting the items' objects); the textures and images are
@@ -757,32 +766,33 @@ public:
                           TextureSubresource srcSub);
     void beginRenderPass(const RenderPassDesc& desc);
     void bindPipeline(const Pipeline& pipeline);
+    // GL has one binding point per number for all sets: a set takes the points of its items from
+    // whatever was there, also from the other sets. What the current pipeline reads of a set whose
+    // points were taken is bound again before its next draw or dispatch (restoreTakenPoints).
     void bindBindingSet(uint32_t set, const BindingSet& bindings) {
         if (m_boundSets[set] == &bindings) return;
-        // GL binding points are shared by all sets: a set binding at the same points replaces them.
         const uint64_t points = bindings.bindingPoints();
-        m_boundPoints[set] = 0;   // replaced below either way
-        static_assert(kMaxBindingSets == 4, "the next line names every index");
-        if ((m_boundPoints[0] | m_boundPoints[1] | m_boundPoints[2] | m_boundPoints[3]) & points)
-            for (uint32_t i = 0; i < kMaxBindingSets; ++i)
-                if (m_boundPoints[i] & points) {
-                    m_boundSets[i] = nullptr;
-                    m_boundPoints[i] = 0;
-                }
+        m_listSets[set] = &bindings;
         m_boundSets[set] = &bindings;
-        m_boundPoints[set] = points;
+        m_takenPoints[set] = 0;
+        m_setPoints[set] = 0;   // so the next line finds the other sets' points only
+        static_assert(kMaxBindingSets == 4, "the next line names every index");
+        if ((m_setPoints[0] | m_setPoints[1] | m_setPoints[2] | m_setPoints[3]) & points) [[unlikely]]
+            takePoints(set, points);
+        m_setPoints[set] = points;
         const GLFunctions& f = gl();
         for (const BindingSet::BufferRange& b : bindings.bufferRanges())
             f.glBindBufferRange(b.target, b.index, b.buffer, b.offset, b.size);
-        if (bindings.hasTextures()) bindTextures(bindings);
+        if (bindings.hasTextures()) bindTextures(bindings, ~uint64_t(0));
     }
-    void bindTextures(const BindingSet& bindings);
+    // The texture and image items of a set at `points` (bindBindingSet binds its buffer ranges).
+    void bindTextures(const BindingSet& bindings, uint64_t points);
     void applyMipRanges(std::span<const TextureMipRange> ranges);
     void setVertexBuffer(uint32_t slot, GLuint buffer, uint64_t offset);
     void setIndexBuffer(GLuint buffer, IndexType type, uint64_t offset);
     void draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance) {
         const Pipeline& pipeline = *m_pipeline;
-        if (m_checkSamplerUnits) [[unlikely]] checkSamplerUnits("draw");
+        if (m_drawChecks) [[unlikely]] runDrawChecks("draw");
         setBaseInstance(firstInstance);
         if (firstInstance != 0 && !m_es) [[unlikely]] {
             drawBaseInstance(vertexCount, instanceCount, firstVertex, firstInstance);
@@ -807,6 +817,8 @@ public:
     // comparison (or a plain one with it). Drivers leave these undefined; NVIDIA reports them
     // (id 131222), Mesa does not, so without this check they would surface on users' machines.
     void checkSamplerUnits(const char* call);
+    // What a draw or dispatch does first when m_drawChecks is not 0.
+    void runDrawChecks(const char* call);
     void memoryBarrier(GLbitfield bits);
     void timestamp(GLuint query);
     uint32_t renderWidth() const { return m_renderWidth; }
@@ -842,12 +854,19 @@ private:
 
     // Replay state.
     const Pipeline* m_pipeline = nullptr;
-    // The set last bound at each index whose GL bindings are still in place (a later set with
-    // overlapping binding points clears the entry): binding it again changes nothing.
+    // The set the list bound last at each index, its binding points, and those of them another
+    // set took since (restoreTakenPoints binds what the pipeline reads of those again).
+    std::array<const BindingSet*, kMaxBindingSets> m_listSets{};
+    std::array<uint64_t, kMaxBindingSets> m_setPoints{};
+    std::array<uint64_t, kMaxBindingSets> m_takenPoints{};
+    // m_listSets[i] while none of its points was taken (else null): binding it again changes nothing.
     std::array<const BindingSet*, kMaxBindingSets> m_boundSets{};
-    std::array<uint64_t, kMaxBindingSets> m_boundPoints{};   // bindingPoints() of m_boundSets (0: none)
+    void takePoints(uint32_t set, uint64_t points);
+    void restoreTakenPoints();
     bool m_es = false;   // isES(), read per draw
-    bool m_checkSamplerUnits = false;   // m_context->checkSamplerUnits, read per draw
+    // What a draw or dispatch checks first (runDrawChecks), one flag read per draw.
+    enum DrawCheck : uint8_t { kRestoreTakenPoints = 1, kCheckSamplerUnits = 2 };
+    uint8_t m_drawChecks = 0;
     struct VertexBinding { GLuint buffer = 0; uint64_t offset = 0; };
     std::map<uint32_t, VertexBinding> m_vertexBuffers;
     GLuint m_indexBuffer = 0;

@@ -182,6 +182,7 @@ void Pipeline::link(const std::vector<const Shader*>& shaders, const std::string
             m_cacheableBindings = false;
         else if (std::find(m_usedSets.begin(), m_usedSets.end(), binding.set) == m_usedSets.end())
             m_usedSets.push_back(binding.set);
+        if (binding.set < kMaxBindingSets) m_setPoints[binding.set] |= bindingPointBit(binding.binding);
     }
     std::sort(m_usedSets.begin(), m_usedSets.end());
     if (m_cacheableBindings && m_usedSets.size() == 1) m_singleSet = m_usedSets[0];
