@@ -329,7 +329,22 @@ void CommandList::requireVertexBuffers(const char* what) const {
 void CommandList::requirePipelineState(const char* what) {
     requireVertexBuffers(what);
     requireCompatiblePipeline(what);
+    m_drawLimits = drawRangeLimits(m_pipeline->graphics(), [&](uint32_t slot) {
+        for (const RecordedVertexBuffer& b : m_vertexBuffers)
+            if (b.slot == slot) return BoundVertexBuffer{b.buffer, b.offset};
+        return BoundVertexBuffer{};   // not reached: requireVertexBuffers found every slot
+    });
     m_pipelineChecked = true;
+}
+
+void CommandList::throwDrawOutOfRange(const DrawRange& range, bool indexed) const {
+    rhi::throwDrawOutOfRange(range, m_pipeline->graphics(),
+                             [&](uint32_t slot) {
+                                 for (const RecordedVertexBuffer& b : m_vertexBuffers)
+                                     if (b.slot == slot) return BoundVertexBuffer{b.buffer, b.offset};
+                                 return BoundVertexBuffer{};
+                             },
+                             indexed ? m_indexBuffer : nullptr, m_indexOffset, m_indexType);
 }
 
 void CommandList::recordBarrier(GLbitfield bits) {
@@ -471,6 +486,8 @@ void CommandList::setIndexBufferImpl(const BufferHandle& handle, IndexType type,
     m_keepAlive.keep(handle, buffer->keepMark);
     m_indexBuffer = buffer;
     m_indexOffset = offset;
+    m_indexType = type;
+    m_indexLimit = indexCountLimit(*buffer, offset, type);
     record(command::SetIndexBuffer{buffer->name(), type, offset});
 }
 
@@ -478,7 +495,9 @@ void CommandList::setIndexBufferImpl(const BufferHandle& handle, IndexType type,
 // pass and the tracking do nothing. Anything else takes the checked path, which is the whole of
 // what draw did before.
 void CommandList::draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance) {
-    if (!m_drawReady) [[unlikely]] return drawChecked(vertexCount, instanceCount, firstVertex, firstInstance);
+    if (!m_drawReady || uint64_t(firstVertex) + vertexCount > m_drawLimits.vertices ||
+        uint64_t(firstInstance) + instanceCount > m_drawLimits.instances) [[unlikely]]
+        return drawChecked(vertexCount, instanceCount, firstVertex, firstInstance);
     recordDraw<command::BindSetAndDraw>(command::Draw{vertexCount, instanceCount, firstVertex, firstInstance});
 }
 
@@ -487,6 +506,9 @@ void CommandList::drawChecked(uint32_t vertexCount, uint32_t instanceCount, uint
     if (!m_pipeline || m_pipeline->isCompute())
         throw Error(ErrorCode::InvalidUsage, "draw: no graphics pipeline is set; call setPipeline() first");
     requireDrawState("draw");
+    if (uint64_t(firstVertex) + vertexCount > m_drawLimits.vertices ||
+        uint64_t(firstInstance) + instanceCount > m_drawLimits.instances)
+        throwDrawOutOfRange({"draw", firstVertex, vertexCount, firstInstance, instanceCount}, false);
     trackShaderAccesses(true, false);
     recordDraw<command::BindSetAndDraw>(command::Draw{vertexCount, instanceCount, firstVertex, firstInstance});
     m_drawReady = m_pendingWrites.empty() && !m_found.writesStorage;
@@ -494,7 +516,8 @@ void CommandList::drawChecked(uint32_t vertexCount, uint32_t instanceCount, uint
 
 void CommandList::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex, int32_t vertexOffset,
                                 uint32_t firstInstance) {
-    if (!m_drawReady || !m_indexBuffer) [[unlikely]]
+    if (!m_drawReady || !m_indexBuffer || uint64_t(firstIndex) + indexCount > m_indexLimit ||
+        uint64_t(firstInstance) + instanceCount > m_drawLimits.instances) [[unlikely]]
         return drawIndexedChecked(indexCount, instanceCount, firstIndex, vertexOffset, firstInstance);
     recordDraw<command::BindSetAndDrawIndexed>(command::DrawIndexed{indexCount, instanceCount, firstIndex, vertexOffset, firstInstance});
 }
@@ -507,6 +530,8 @@ void CommandList::drawIndexedChecked(uint32_t indexCount, uint32_t instanceCount
     requireDrawState("drawIndexed");
     if (!m_indexBuffer)
         throw Error(ErrorCode::InvalidUsage, "drawIndexed: no index buffer is set; call setIndexBuffer() first");
+    if (uint64_t(firstIndex) + indexCount > m_indexLimit || uint64_t(firstInstance) + instanceCount > m_drawLimits.instances)
+        throwDrawOutOfRange({"drawIndexed", firstIndex, indexCount, firstInstance, instanceCount}, true);
     trackShaderAccesses(true, true);
     recordDraw<command::BindSetAndDrawIndexed>(command::DrawIndexed{indexCount, instanceCount, firstIndex, vertexOffset, firstInstance});
     m_drawReady = m_pendingWrites.empty() && !m_found.writesStorage;

@@ -21,6 +21,7 @@
 #include "gl_functions.h"
 #include "gl_platform.h"
 #include "gl_shader_translation.h"
+#include "janus/rhi/draw_range_validation.h"
 #include "janus/rhi/keep_alive.h"
 #include "janus/rhi/rhi.h"
 #include "janus/rhi/texture_view_validation.h"
@@ -595,6 +596,7 @@ private:
     void drawIndexedChecked(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex, int32_t vertexOffset,
                             uint32_t firstInstance);
     void requirePipelineState(const char* what);
+    [[noreturn]] void throwDrawOutOfRange(const DrawRange& range, bool indexed) const;
     void requireCompatiblePipeline(const char* what) const;
     // Checks what the pipeline's shaders use against the bound sets; points m_found at the
     // items they use. Each set's part of a passed check is cached in the set
@@ -692,6 +694,9 @@ private:
     bool m_bindingsChecked = false;
     bool m_drawReady = false;   // see invalidateDrawState()
     const Pipeline* m_pipeline = nullptr;   // last pipeline set (held by m_keepAlive)
+    // How far draws may read the vertex buffers (requirePipelineState) and the index buffer.
+    DrawRangeLimits m_drawLimits;
+    uint64_t m_indexLimit = 0;
     std::vector<Format> m_passColorFormats;   // formats of the open render pass
     Format m_passDepthFormat = Format::Unknown;
     std::array<const BindingSet*, kMaxBindingSets> m_bindingSets{};   // by set index
@@ -708,6 +713,7 @@ private:
     std::vector<RecordedVertexBuffer> m_vertexBuffers;   // slots given a buffer since begin()
     const Buffer* m_indexBuffer = nullptr;
     uint64_t m_indexOffset = 0;
+    IndexType m_indexType = IndexType::UInt32;
     std::vector<PendingWrite> m_pendingWrites;
     int m_debugGroupDepth = 0;
     // The timers this recording began and ended: each once per list, begun before it ends (as on

@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "janus/rhi/backends.h"
+#include "janus/rhi/draw_range_validation.h"
 #include "janus/rhi/keep_alive.h"
 #include "janus/rhi/texture_view_validation.h"
 #include "vulkan_command_memory.h"
@@ -565,6 +566,7 @@ private:
     // The common draw inline; false leaves the rest to prepareDraw (state-driven, so it picks up
     // wherever this stopped).
     bool prepareDrawFast();
+    [[noreturn]] void throwDrawOutOfRange(std::string_view call, bool indexed) const;
     [[gnu::noinline]] void prepareDrawGeneral(std::string_view call);
     // The same for dispatches.
     bool prepareDispatchFast();
@@ -583,6 +585,9 @@ private:
         uint32_t count, instances, first, firstInstance;
         int32_t vertexOffset;   // drawIndexed only
     } m_drawArguments{};   // draw()'s and drawIndexed()'s, across the bind (see draw())
+    // How far draws may read the bound vertex buffers (checkDrawState) and the index buffer.
+    DrawRangeLimits m_drawLimits;
+    uint64_t m_indexLimit = 0;
     std::array<uint32_t, 3> m_dispatchGroups{};   // dispatch()'s, the same way
     CommandMemory m_commandMemory;   // the pool's host memory where Context::commandMemory; outlives it
     const VkAllocationCallbacks* m_poolCallbacks;   // m_commandMemory's, or none (the driver's own)

@@ -614,6 +614,10 @@ public:
     }
     void setVertexBuffer(uint32_t slot, const BufferHandle& buffer, uint64_t offset = 0);
     void setIndexBuffer(const BufferHandle& buffer, IndexType type, uint64_t offset = 0);
+    // Draws read only inside their buffers: firstVertex + vertexCount vertices must fit in every
+    // per-vertex slot (from its offset), firstInstance + instanceCount in every per-instance slot,
+    // firstIndex + indexCount in the index buffer (InvalidUsage otherwise; index values are not
+    // checked).
     virtual void draw(uint32_t vertexCount, uint32_t instanceCount = 1, uint32_t firstVertex = 0, uint32_t firstInstance = 0) = 0;
     virtual void drawIndexed(uint32_t indexCount, uint32_t instanceCount = 1, uint32_t firstIndex = 0, int32_t vertexOffset = 0, uint32_t firstInstance = 0) = 0;
 

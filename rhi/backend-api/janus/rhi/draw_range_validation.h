@@ -1,0 +1,53 @@
+// Backend-neutral range checks of draws against the bound vertex and index buffers
+// (rhi/src/draw_range_validation.cpp), as WebGPU has them: a draw may not read a vertex, an
+// instance or an index past the end of its buffer. Drivers leave such reads undefined (Mesa reads
+// zeros, other drivers what lies there, or fault); every backend checks them, so the same mistake
+// is the same InvalidUsage everywhere. The limits are computed when the pipeline or a buffer
+// changes, so a draw checks its range with two compares. Index values of indexed draws are not
+// checked (that would read the index buffer): vertices they name past the end stay undefined.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <string_view>
+
+#include "janus/rhi/rhi.h"
+
+namespace janus::rhi {
+
+// A buffer bound at a vertex slot, and where its vertex data starts.
+struct BoundVertexBuffer {
+    const IBuffer* buffer = nullptr;
+    uint64_t offset = 0;
+};
+// The buffer bound at each slot the pipeline reads (every such slot has one: checked first).
+using VertexBufferLookup = std::function<BoundVertexBuffer(uint32_t slot)>;
+
+// How far a draw may read: firstVertex + vertexCount <= vertices (draw only; indexed draws are
+// checked against indices) and firstInstance + instanceCount <= instances.
+struct DrawRangeLimits {
+    static constexpr uint64_t kUnlimited = std::numeric_limits<uint64_t>::max();
+    uint64_t vertices = kUnlimited;
+    uint64_t instances = kUnlimited;
+};
+DrawRangeLimits drawRangeLimits(const GraphicsPipelineDesc& desc, const VertexBufferLookup& bound);
+
+// How many indices of `type` the index buffer holds from `offset` (validated: inside the buffer).
+inline uint64_t indexCountLimit(const IBuffer& buffer, uint64_t offset, IndexType type) {
+    return (buffer.desc().size - offset) / (type == IndexType::UInt16 ? 2 : 4);
+}
+
+// What a draw asked for, for the message of a range it exceeds.
+struct DrawRange {
+    std::string_view call;            // "draw()", "drawIndexed()"
+    uint64_t first = 0, count = 0;    // vertices (draw) or indices (drawIndexed)
+    uint64_t firstInstance = 0, instanceCount = 0;
+};
+// Throws InvalidUsage naming the first range of `range` that exceeds its limit: the slot, its
+// buffer and what fits in it, or the index buffer. Call it only when one does.
+[[noreturn]] void throwDrawOutOfRange(const DrawRange& range, const GraphicsPipelineDesc& desc,
+                                      const VertexBufferLookup& bound, const IBuffer* indexBuffer,
+                                      uint64_t indexOffset, IndexType indexType);
+
+}  // namespace janus::rhi
