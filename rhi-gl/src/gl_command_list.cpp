@@ -243,9 +243,11 @@ void CommandList::requireBindingsUncached(const char* what) {
                                     "the shader's type or set BindingItem::viewDimension",
                                     what, binding.binding, toString(found->texture->desc().dimension),
                                     found->texture->desc().debugName, toString(viewed), toString(*binding.dimension)));
-        requireSamplerMatchesShader(*found, binding.depthCompare, [&] {
+        const auto where = [&] {
             return fmt::format("{}: set {} binding {} ({})", what, binding.set, binding.binding, binding.glName);
-        });
+        };
+        requireSamplerMatchesShader(*found, binding.depthCompare, where);
+        requireStorageFormatMatchesShader(*found, binding.imageFormat, where);
     }
     m_found.used = m_usedStorage;
     m_found.accesses = m_accessStorage;

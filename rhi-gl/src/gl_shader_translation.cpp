@@ -78,9 +78,11 @@ GlslTranslation translateToGlsl(const ShaderDesc& desc, const GlslTarget& target
         }
         std::optional<TextureDimension> dimension;
         bool depthCompare = false;
+        uint32_t imageFormat = 0;
         if (type == ResourceType::SampledTexture || type == ResourceType::StorageImage) {
             const auto& image = compiler.get_type(resource.type_id).image;
             depthCompare = type == ResourceType::SampledTexture && image.depth;
+            if (type == ResourceType::StorageImage) imageFormat = uint32_t(image.format);
             switch (image.dim) {
                 case spv::Dim3D: dimension = TextureDimension::Texture3D; break;
                 case spv::DimCube:
@@ -91,7 +93,7 @@ GlslTranslation translateToGlsl(const ShaderDesc& desc, const GlslTarget& target
                     break;
             }
         }
-        result.bindings.push_back({type, set, binding, glName, dimension, depthCompare});
+        result.bindings.push_back({type, set, binding, glName, dimension, depthCompare, imageFormat});
     };
     for (const auto& r : resources.uniform_buffers) flatten(r, ResourceType::UniformBuffer);
     for (const auto& r : resources.storage_buffers) flatten(r, ResourceType::StorageBuffer);

@@ -20,6 +20,7 @@ struct ShaderBinding {
     std::string glName;   // block name (buffers) or uniform name (textures, images)
     std::optional<TextureDimension> dimension;   // textures and images
     bool depthCompare = false;   // a shadow sampler (sampler2DShadow and kin)
+    uint32_t imageFormat = 0;    // storage images: the format qualifier (SPIR-V ImageFormat, 0: none)
 };
 
 // A vertex shader input (from reflection), to check the pipeline's vertex attributes against.

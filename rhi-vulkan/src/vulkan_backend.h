@@ -51,6 +51,7 @@ struct ReflectedBinding {
     VkShaderStageFlags stages = 0;
     VkImageViewType viewType = VK_IMAGE_VIEW_TYPE_2D;   // images only: the view the shader expects
     bool depthCompare = false;   // a shadow sampler (sampler2DShadow and kin)
+    uint32_t imageFormat = 0;    // storage images: the format qualifier (SPIR-V ImageFormat, 0: none)
     // Storage buffers / images: whether some stage may write it (no NonWritable decoration).
     // Uniform buffers and sampled textures are never written.
     bool written = false;

@@ -144,6 +144,7 @@ const BindingSet::LayoutUse& BindingSet::createOrFind(const DescriptorSetLayoutI
                                     toString(item->texture->desc().dimension), item->texture->desc().debugName,
                                     toString(resolveTextureView(*item).dimension)));
         requireSamplerMatchesShader(*item, b.depthCompare, [&] { return fmt::format("set {} binding {} ('{}')", set, b.binding, b.name); });
+        requireStorageFormatMatchesShader(*item, b.imageFormat, [&] { return fmt::format("set {} binding {} ('{}')", set, b.binding, b.name); });
         items.push_back(&*item);
     }
 

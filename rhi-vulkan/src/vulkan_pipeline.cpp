@@ -55,6 +55,7 @@ void reflect(const ShaderDesc& desc, VkShaderStageFlagBits stage, std::vector<Re
             b.stages = stage;
             b.viewType = viewTypeOf(spirType);
             b.depthCompare = type == VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER && spirType.image.depth;
+            if (type == VK_DESCRIPTOR_TYPE_STORAGE_IMAGE) b.imageFormat = uint32_t(spirType.image.format);
             // Hazard tracking treats a storage resource as written unless the shader says readonly.
             if (type == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER)
                 b.written = !compiler.get_buffer_block_flags(r.id).get(spv::DecorationNonWritable);

@@ -2,6 +2,7 @@
 #include "janus/rhi/texture_view_validation.h"
 
 #include <fmt/format.h>
+#include <spirv_cross/spirv.hpp>
 
 #include <algorithm>
 #include <string>
@@ -264,6 +265,64 @@ void throwSamplerShaderMismatch(const BindingItem& item, bool shaderCompares, st
                             "plain sampler, not a shadow sampler; use a sampler without compare or declare "
                             "sampler2DShadow",
                             where, texture));
+}
+
+namespace {
+// The GLSL name of a format qualifier, for messages.
+const char* qualifierName(uint32_t format) {
+    switch (spv::ImageFormat(format)) {
+        case spv::ImageFormatRgba32f: return "rgba32f";
+        case spv::ImageFormatRgba16f: return "rgba16f";
+        case spv::ImageFormatR32f: return "r32f";
+        case spv::ImageFormatRgba8: return "rgba8";
+        case spv::ImageFormatRgba8Snorm: return "rgba8_snorm";
+        case spv::ImageFormatRg32f: return "rg32f";
+        case spv::ImageFormatRg16f: return "rg16f";
+        case spv::ImageFormatR11fG11fB10f: return "r11f_g11f_b10f";
+        case spv::ImageFormatR16f: return "r16f";
+        case spv::ImageFormatRgba16: return "rgba16";
+        case spv::ImageFormatRgb10A2: return "rgb10_a2";
+        case spv::ImageFormatRg16: return "rg16";
+        case spv::ImageFormatRg8: return "rg8";
+        case spv::ImageFormatR16: return "r16";
+        case spv::ImageFormatR8: return "r8";
+        case spv::ImageFormatRgba32i: return "rgba32i";
+        case spv::ImageFormatRgba16i: return "rgba16i";
+        case spv::ImageFormatRgba8i: return "rgba8i";
+        case spv::ImageFormatR32i: return "r32i";
+        case spv::ImageFormatRgba32ui: return "rgba32ui";
+        case spv::ImageFormatRgba16ui: return "rgba16ui";
+        case spv::ImageFormatRgba8ui: return "rgba8ui";
+        case spv::ImageFormatR32ui: return "r32ui";
+        default: return "another format";
+    }
+}
+}  // namespace
+
+Format formatOfImageQualifier(uint32_t spirvImageFormat) {
+    switch (spv::ImageFormat(spirvImageFormat)) {
+        case spv::ImageFormatRgba8: return Format::RGBA8_UNORM;
+        case spv::ImageFormatRgba16f: return Format::RGBA16_FLOAT;
+        case spv::ImageFormatRgba32f: return Format::RGBA32_FLOAT;
+        case spv::ImageFormatR11fG11fB10f: return Format::R11G11B10_FLOAT;
+        case spv::ImageFormatR32ui: return Format::R32_UINT;
+        case spv::ImageFormatRgba32ui: return Format::RGBA32_UINT;
+        case spv::ImageFormatR32f: return Format::R32_FLOAT;
+        default: return Format::Unknown;
+    }
+}
+
+void throwStorageFormatMismatch(const BindingItem& item, uint32_t spirvImageFormat, std::string_view where) {
+    const TextureDesc& texture = item.texture->desc();
+    // The qualifier that declares the texture's format (the same words, but for R11G11B10).
+    const char* wanted = texture.format == Format::R11G11B10_FLOAT ? "r11f_g11f_b10f" : toString(texture.format);
+    const Format declared = formatOfImageQualifier(spirvImageFormat);
+    const std::string other = declared == Format::Unknown ? std::string() : fmt::format("make the texture {} or ", toString(declared));
+    throw Error(ErrorCode::InvalidUsage,
+                fmt::format("{}: the shader declares the storage image layout({}), but the binding's texture '{}' is "
+                            "{}; {}declare layout({}) (drivers leave a mismatch undefined)",
+                            where, qualifierName(spirvImageFormat), texture.debugName, toString(texture.format), other,
+                            wanted));
 }
 
 }  // namespace janus::rhi

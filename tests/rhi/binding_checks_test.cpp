@@ -232,5 +232,35 @@ TEST_P(BindingCheckTest, ASamplerComparesExactlyWhenTheShaderDeclaresAShadowSamp
     EXPECT_EQ(readTextureAs<Rgba8>(target)[0].r, 64) << "0.25 of 255, rounded";
 }
 
+// A storage image's texture must have the format its shader's qualifier declares
+// (layout(rgba16f) image2D). Drivers leave a mismatch undefined: Mesa converts to the texture's
+// format, other drivers reinterpret the bits; the check names both, with the same error on
+// every backend. Two pipelines alike but for the qualifier: a set that passed with one is
+// checked again with the other (the GL backend's cached checks are keyed by the qualifier).
+TEST_P(BindingCheckTest, AStorageImageHasTheFormatItsShaderDeclares) {
+    JANUS_REQUIRE_CAPABILITY(Capability::StorageImages);
+    TextureHandle half = device().createTexture(TextureDesc()
+                                                    .setFormat(Format::RGBA16_FLOAT)
+                                                    .setSize(2, 2)
+                                                    .setUsage(TextureUsage::Storage | TextureUsage::Sampled)
+                                                    .setDebugName("half"));
+    BindingSetHandle set = device().createBindingSet(BindingSetDesc().add(BindingItem::storageImage(0, half, 0)));
+    PipelineHandle declaresHalf = computePipeline("rt_fill_image_rgba16f_comp");
+    PipelineHandle declaresFloat = computePipeline("rt_fill_image_rgba32f_comp");
+    auto dispatchWith = [&](const PipelineHandle& pipeline) {
+        return [&, pipeline](ICommandList& cmd) {
+            cmd.setPipeline(pipeline);
+            cmd.setBindingSet(0, set);
+            cmd.dispatch(2, 2);
+        };
+    };
+    CommandListHandle list = device().createCommandList();
+    EXPECT_TRUE(recordingThrows(*list, dispatchWith(declaresFloat),
+                                {"binding 0", "layout(rgba32f)", "'half' is rgba16f", "declare layout(rgba16f)"}));
+    record(list, dispatchWith(declaresHalf));
+    EXPECT_TRUE(recordingThrows(*list, dispatchWith(declaresFloat), {"layout(rgba32f)"}))
+        << "after the set passed with a pipeline that declares rgba16f";
+}
+
 }  // namespace
 }  // namespace janus::rhi::test

@@ -48,6 +48,22 @@ void requireSamplerMatchesShader(const BindingItem& item, bool shaderCompares, W
     throwSamplerShaderMismatch(item, shaderCompares, where());
 }
 
+// A storage image item against the format qualifier its shader declares (`layout(rgba16f)
+// image2D`; `spirvImageFormat` is SPIR-V's ImageFormat operand, 0 = none): they must name the
+// same format. Drivers leave a mismatch undefined (Mesa converts to the texture's format, others
+// reinterpret the bits), so every backend checks it when it first pairs a set with a pipeline.
+// Throws InvalidUsage naming both formats.
+[[noreturn]] void throwStorageFormatMismatch(const BindingItem& item, uint32_t spirvImageFormat, std::string_view where);
+// The format a SPIR-V ImageFormat names, or Format::Unknown for none and for those no Format is.
+Format formatOfImageQualifier(uint32_t spirvImageFormat);
+template <class Where>
+void requireStorageFormatMatchesShader(const BindingItem& item, uint32_t spirvImageFormat, Where&& where) {
+    if (item.type != ResourceType::StorageImage || spirvImageFormat == 0 || !item.texture ||
+        formatOfImageQualifier(spirvImageFormat) == item.texture->desc().format)
+        return;
+    throwStorageFormatMismatch(item, spirvImageFormat, where());
+}
+
 // True when `view` shows all of `desc` with its own dimension (what binding the texture itself gives).
 bool isWholeTexture(const ResolvedTextureView& view, const TextureDesc& desc);
 
