@@ -354,9 +354,9 @@ void validateGraphicsPipeline(const DeviceProperties& device, const GraphicsPipe
         if (vb.slot >= limits.maxVertexBuffers)
             invalid(fmt::format("{}: vertex buffer slot {} is above Limits::maxVertexBuffers ({})", name, vb.slot,
                                 limits.maxVertexBuffers));
-        if (vb.stride == 0 || vb.stride > limits.maxVertexStride)
-            invalid(fmt::format("{}: vertex buffer slot {} has stride {}; it must be 1..{} (Limits::maxVertexStride)",
-                                name, vb.slot, vb.stride, limits.maxVertexStride));
+        if (vb.stride == 0 || vb.stride > limits.maxVertexStride || vb.stride % 4 != 0)
+            invalid(fmt::format("{}: vertex buffer slot {} has stride {}; it must be a multiple of 4 in 4..{} "
+                                "(Limits::maxVertexStride)", name, vb.slot, vb.stride, limits.maxVertexStride));
         for (size_t j = 0; j < i; ++j)
             if (desc.vertexBuffers[j].slot == vb.slot)
                 invalid(fmt::format("{}: vertex buffer slot {} has two VertexBufferLayouts; give each slot one", name,
@@ -372,6 +372,11 @@ void validateGraphicsPipeline(const DeviceProperties& device, const GraphicsPipe
         if (a.location >= limits.maxVertexAttributes)
             invalid(fmt::format("{}: vertex attribute location {} is above Limits::maxVertexAttributes ({})", name,
                                 a.location, limits.maxVertexAttributes));
+        // Vulkan needs the attribute's address aligned to its component size; WebGPU's rule,
+        // min(4, the format's size), covers that (every VertexFormat has 4 bytes or more).
+        if (const uint32_t alignment = std::min(4u, vertexFormatSize(a.format)); a.offset % alignment != 0)
+            invalid(fmt::format("{}: vertex attribute at location {} has offset {}; it must be a multiple of {}",
+                                name, a.location, a.offset, alignment));
         if (uint64_t(a.offset) + vertexFormatSize(a.format) > layout->stride)
             invalid(fmt::format("{}: vertex attribute at location {} (offset {}, {} bytes) does not fit in stride {}",
                                 name, a.location, a.offset, vertexFormatSize(a.format), layout->stride));
@@ -530,7 +535,19 @@ void validateRenderPass(const DeviceProperties& device, const RenderPassDesc& de
                                 height));
         }
     };
-    for (size_t i = 0; i < desc.colors.size(); ++i) check(desc.colors[i], fmt::format("colors[{}]", i), false);
+    for (size_t i = 0; i < desc.colors.size(); ++i) {
+        check(desc.colors[i], fmt::format("colors[{}]", i), false);
+        // One subresource written through two attachments: which write wins is undefined
+        // (Vulkan forbids it; GL draws both in an unspecified order).
+        for (size_t j = 0; j < i; ++j)
+            if (desc.colors[j].texture == desc.colors[i].texture &&
+                desc.colors[j].subresource.mipLevel == desc.colors[i].subresource.mipLevel &&
+                desc.colors[j].subresource.layer == desc.colors[i].subresource.layer)
+                invalid(fmt::format("RenderPassDesc colors[{}]: texture '{}' (mip {}, layer {}) is colors[{}] too; "
+                                    "render to each subresource through one attachment",
+                                    i, desc.colors[i].texture->desc().debugName, desc.colors[i].subresource.mipLevel,
+                                    desc.colors[i].subresource.layer, j));
+    }
     if (desc.depth) check(*desc.depth, "depth", true);
 }
 
@@ -570,6 +587,10 @@ void validateVertexBufferBind(const DeviceProperties& device, uint32_t slot, con
     if (offset >= desc.size)
         misuse(fmt::format("setVertexBuffer(): offset {} is past the end of buffer '{}' ({} bytes)", offset, desc.debugName,
                            desc.size));
+    // Vulkan needs each attribute's address aligned to its component size (undefined otherwise);
+    // as in WebGPU, offsets, strides and float attribute offsets are multiples of 4.
+    if (offset % 4 != 0)
+        misuse(fmt::format("setVertexBuffer(): offset {} is not a multiple of 4; align vertex data to 4 bytes", offset));
     if (const uint32_t slots = device.capabilities.limits.maxVertexBuffers; slot >= slots)
         misuse(fmt::format("setVertexBuffer(): slot {} is above the device's {} slots (Limits::maxVertexBuffers)", slot, slots));
 }

@@ -477,6 +477,33 @@ TEST(SceneErrors, NegativeMaterialAndTextureIndicesOtherThanMinusOneAreRefused) 
     EXPECT_NO_THROW(validateScene(fine));
 }
 
+// Spot lights made in code are held to glTF's rule, as loaded ones are (but for equal angles, a
+// hard edge). Before, any angles were rendered silently through their cosines: a negative angle
+// as its absolute value, 4 radians as a cone of 2.28, inner > outer as a hard edge.
+TEST(SceneErrors, SpotConesOfLightsMadeInCodeFollowTheGltfRule) {
+    auto withSpot = [](float inner, float outer) {
+        Scene scene = defaultScene();
+        Light spot;
+        spot.type = LightType::Spot;
+        spot.position = glm::vec3(0.0f, 1.0f, 0.0f);
+        spot.direction = glm::vec3(0.0f, -1.0f, 0.0f);
+        spot.innerConeAngle = inner;
+        spot.outerConeAngle = outer;
+        scene.lights.push_back(spot);
+        return scene;
+    };
+    const float halfPi = glm::half_pi<float>();
+    for (const auto& [inner, outer] : {std::pair{0.6f, 0.5f}, std::pair{-0.1f, 0.5f}, std::pair{0.2f, halfPi + 0.01f},
+                                       std::pair{0.2f, 4.0f}}) {
+        const std::string message = sceneErrorOf([&] { validateScene(withSpot(inner, outer)); });
+        EXPECT_NE(message.find("0 <= innerConeAngle <= outerConeAngle <= pi/2"), std::string::npos)
+            << "inner " << inner << ", outer " << outer << ": " << message;
+    }
+    EXPECT_NO_THROW(validateScene(withSpot(0.0f, halfPi)));
+    EXPECT_NO_THROW(validateScene(withSpot(0.3f, 0.4f)));
+    EXPECT_NO_THROW(validateScene(withSpot(0.4f, 0.4f)));
+}
+
 TEST(SceneErrors, ValidateSceneCatchesNaNInScenesBuiltInCode) {
     const float nan = std::numeric_limits<float>::quiet_NaN();
     {

@@ -262,6 +262,27 @@ TEST_P(RenderTargetTest, TwoColorAttachmentsGetTheirOwnOutputs) {
     EXPECT_EQ(readTextureAs<Rgba8>(cube, {0, 2}), std::vector<Rgba8>(16, Rgba8{0, 0, 0, 0})) << "other faces untouched";
 }
 
+// Two faces of one cube as the two attachments of a pass: different subresources of one texture
+// are separate targets (one subresource twice is refused: ValidationTest).
+TEST_P(RenderTargetTest, TwoFacesOfOneTextureAreTwoAttachments) {
+    TextureHandle cube = renderTarget(TextureDimension::TextureCube, Format::RGBA8_UNORM, 4, 1, 1);
+    GraphicsPipelineDesc desc;
+    desc.setShaders(shader("rt_vertex_color_vert"), shader("rt_two_outputs_frag"))
+        .addVertexBuffer({0, sizeof(ColorVertex), false})
+        .addVertexAttribute({0, VertexFormat::Float4, 0, offsetof(ColorVertex, x)})
+        .addVertexAttribute({1, VertexFormat::Float4, 0, offsetof(ColorVertex, r)})
+        .addColorFormat(Format::RGBA8_UNORM)
+        .addColorFormat(Format::RGBA8_UNORM);
+    PipelineHandle pipeline = device().createGraphicsPipeline(desc);
+    drawVertices(RenderPassDesc()
+                     .addColor(Attachment::clear(cube, {0, 0, 0, 0}, {0, 1}))
+                     .addColor(Attachment::clear(cube, {0, 0, 0, 0}, {0, 4})),
+                 pipeline, rectangle(-1, -1, 1, 1, {1, 0, 0.2f, 0.6f}));
+    EXPECT_EQ(readTextureAs<Rgba8>(cube, {0, 1}), std::vector<Rgba8>(16, Rgba8{255, 0, 51, 153})) << "location 0";
+    EXPECT_EQ(readTextureAs<Rgba8>(cube, {0, 4}), std::vector<Rgba8>(16, Rgba8{153, 51, 0, 255})) << "location 1 (abgr)";
+    EXPECT_EQ(readTextureAs<Rgba8>(cube, {0, 0}), std::vector<Rgba8>(16, Rgba8{0, 0, 0, 0})) << "other faces untouched";
+}
+
 TEST_P(RenderTargetTest, DontCareLoadThenFullDrawIsDefined) {
     TextureHandle texture = renderTarget(TextureDimension::Texture2D, Format::RGBA8_UNORM, 4, 1, 1);
     PipelineHandle pipeline = colorPipeline(Format::RGBA8_UNORM);

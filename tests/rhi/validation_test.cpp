@@ -164,6 +164,9 @@ TEST_P(ValidationTest, SameMistakeSameErrorCodeOnEveryBackend) {
         {"two attributes at one location", kDesc, {"location 1"}, [&] {
              dev.createGraphicsPipeline(pipelineDesc().addVertexAttribute({1, VertexFormat::Float1, 0, 0})); }},
         {"vertex buffer stride 0", kDesc, {"stride"}, [&] { auto d = pipelineDesc(); d.vertexBuffers[0].stride = 0; dev.createGraphicsPipeline(d); }},
+        {"vertex buffer stride not a multiple of 4", kDesc, {"stride 34", "multiple of 4"}, [&] { auto d = pipelineDesc(); d.vertexBuffers[0].stride = 34; dev.createGraphicsPipeline(d); }},
+        {"vertex attribute offset not a multiple of 4", kDesc, {"location 1", "offset 18", "multiple of 4"}, [&] {
+             auto d = pipelineDesc(); d.vertexBuffers[0].stride = 36; d.vertexAttributes[1].offset = 18; dev.createGraphicsPipeline(d); }},
         {"vertex buffer slot twice", kDesc, {"slot 0"}, [&] { dev.createGraphicsPipeline(pipelineDesc().addVertexBuffer({0, 16, false})); }},
         {"shader input without attribute", kDesc, {"location 1"}, [&] {
              auto d = pipelineDesc(); d.vertexAttributes.pop_back(); dev.createGraphicsPipeline(d); }},
@@ -216,6 +219,8 @@ TEST_P(ValidationTest, SameMistakeSameErrorCodeOnEveryBackend) {
         {"clear value of an unsigned integer texture above 2^32", kDesc, {"clearColor"}, [&] {
              pass(RenderPassDesc().addColor(Attachment::clear(uintTarget, {5e9f, 0, 0, 0}))); }},
         {"attachment without texture", kDesc, {"null"}, [&] { pass(RenderPassDesc().addColor(Attachment::clear(nullptr))); }},
+        {"one subresource as two colour attachments", kDesc, {"colors[1]", "is colors[0] too"},
+         [&] { pass(RenderPassDesc().addColor(Attachment::clear(array, {}, {0, 2})).addColor(Attachment::clear(array, {}, {0, 2}))); }},
         // Immediate transfers
         {"writeBuffer past the end", kUsage, {"writeBuffer"}, [&] { dev.writeBuffer(uniforms, bytes.data(), 64, 1000); }},
         {"writeBuffer without data", kUsage, {"null"}, [&] { dev.writeBuffer(uniforms, nullptr, 64); }},
@@ -274,6 +279,9 @@ TEST_P(ValidationTest, SameMistakeSameErrorCodeOnEveryBackend) {
         {"setVertexBuffer past the buffer's end", kUsage, {"offset 64", "past the end"}, [&] {
              BufferHandle vb = createBuffer(BufferUsage::Vertex, 64);
              record([&](ICommandList& c) { c.setVertexBuffer(0, vb, 64); }); }},
+        {"setVertexBuffer at an offset not a multiple of 4", kUsage, {"offset 6", "multiple of 4"}, [&] {
+             BufferHandle vb = createBuffer(BufferUsage::Vertex, 64);
+             record([&](ICommandList& c) { c.setVertexBuffer(0, vb, 6); }); }},
         {"setIndexBuffer of a buffer without Index usage", kUsage, {"BufferUsage::Index"}, [&] {
              BufferHandle vb = createBuffer(BufferUsage::Vertex, 64);
              record([&](ICommandList& c) { c.setIndexBuffer(vb, IndexType::UInt32); }); }},

@@ -452,6 +452,14 @@ const char* lightProblem(const Light& light) {
     if (light.intensity < 0 || light.color.r < 0 || light.color.g < 0 || light.color.b < 0) return "has a negative colour or intensity";
     // range <= 0 is allowed: such a light lights nothing and the renderer skips it.
     if (glm::length(light.direction) < 1e-6f) return "has a zero direction";
+    // glTF's rule (KHR_lights_punctual), which loaded lights follow already, but for equal angles:
+    // a hard-edged cone made in code (LightHardCases keeps it finite). Outside it the angles do not
+    // mean what they say: the shading uses their cosines (a negative angle acts as its absolute
+    // value, one past pi as a narrower cone), and inner > outer has no falloff to make.
+    if (light.type == LightType::Spot &&
+        !(light.innerConeAngle >= 0.0f && light.innerConeAngle <= light.outerConeAngle &&
+          light.outerConeAngle <= glm::half_pi<float>()))
+        return "is a spot light whose cone angles are not 0 <= innerConeAngle <= outerConeAngle <= pi/2 (radians)";
     return nullptr;
 }
 

@@ -247,6 +247,7 @@ struct Light {
     glm::vec3 position{0.0f};
     glm::vec3 direction{0.0f, -1.0f, 0.0f};   // direction the light travels
     std::optional<float> range;
+    // Spot cone half-angles in radians: 0 <= inner <= outer <= pi/2 (validateScene; equal: a hard edge).
     float innerConeAngle = 0.0f;
     float outerConeAngle = 0.7853982f;
     // Meshes this light lights: (renderingLayers & Instance::renderingLayers) != 0.
