@@ -129,6 +129,17 @@ PipelineHandle BackendTest::colorPipeline(Format colorFormat, Format depthFormat
     return device().createGraphicsPipeline(desc);
 }
 
+PipelineHandle BackendTest::instancedPipeline() {
+    GraphicsPipelineDesc desc;
+    desc.setShaders(shader("rt_instanced_vert"), shader("rt_vertex_color_frag"))
+        .addVertexBuffer({0, sizeof(ColorVertex), false})
+        .addVertexBuffer({1, sizeof(Color), true})
+        .addVertexAttribute({0, VertexFormat::Float4, 0, 0})
+        .addVertexAttribute({1, VertexFormat::Float4, 1, 0})
+        .addColorFormat(Format::RGBA8_UNORM);
+    return device().createGraphicsPipeline(desc);
+}
+
 PipelineHandle BackendTest::fullscreenPipeline(std::string_view fragmentShader, Format colorFormat) {
     GraphicsPipelineDesc desc;
     desc.setShaders(shader("rt_fullscreen_vert"), shader(fragmentShader))

@@ -88,6 +88,9 @@ protected:
     PipelineHandle colorPipeline(Format colorFormat, Format depthFormat = Format::Unknown,
                                  RasterState raster = {}, DepthState depth = {},
                                  BlendAttachment blend = {}, PrimitiveTopology topology = PrimitiveTopology::TriangleList);
+    // rt_instanced_vert + rt_vertex_color_frag into RGBA8: slot 0 per vertex (ColorVertex, the
+    // position read), slot 1 per instance (a Color each, the instance's colour).
+    PipelineHandle instancedPipeline();
     // rt_fullscreen_vert plus `fragmentShader` into one attachment of `colorFormat`.
     PipelineHandle fullscreenPipeline(std::string_view fragmentShader, Format colorFormat);
     // A compute pipeline of the embedded shader `name` (debug name the same).

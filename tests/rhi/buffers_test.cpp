@@ -191,14 +191,7 @@ protected:
         BufferHandle vertices = createBufferFrom(BufferUsage::Vertex, rectangle(-1, -1, -0.5f, 1, {0, 0, 0, 0}));
         BufferHandle instances = createBufferFrom(BufferUsage::Vertex, kInstanceColors);
         BufferHandle indices = createBufferFrom(BufferUsage::Index, std::vector<uint16_t>{0, 1, 2, 3, 4, 5});
-        GraphicsPipelineDesc desc;
-        desc.setShaders(shader("rt_instanced_vert"), shader("rt_vertex_color_frag"))
-            .addVertexBuffer({0, sizeof(ColorVertex), false})
-            .addVertexBuffer({1, sizeof(Color), true})
-            .addVertexAttribute({0, VertexFormat::Float4, 0, 0})
-            .addVertexAttribute({1, VertexFormat::Float4, 1, 0})
-            .addColorFormat(Format::RGBA8_UNORM);
-        PipelineHandle pipeline = device().createGraphicsPipeline(desc);
+        PipelineHandle pipeline = instancedPipeline();
         TextureHandle target = createTexture2D(Format::RGBA8_UNORM, 8, 2, TextureUsage::RenderTarget);
         submit([&](ICommandList& cmd) {
             cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(target, {0, 0, 0, 1})));

@@ -10,18 +10,6 @@ namespace {
 
 class DrawRangeTest : public BackendTest {
 protected:
-    struct Color { float r, g, b, a; };
-    // rt_vertex_color: slot 0 per vertex (ColorVertex); rt_instanced: plus slot 1 per instance (Color).
-    PipelineHandle instancedPipeline() {
-        GraphicsPipelineDesc desc;
-        desc.setShaders(shader("rt_instanced_vert"), shader("rt_vertex_color_frag"))
-            .addVertexBuffer({0, sizeof(ColorVertex), false})
-            .addVertexBuffer({1, sizeof(Color), true})
-            .addVertexAttribute({0, VertexFormat::Float4, 0, 0})
-            .addVertexAttribute({1, VertexFormat::Float4, 1, 0})
-            .addColorFormat(Format::RGBA8_UNORM);
-        return device().createGraphicsPipeline(desc);
-    }
     // Records `body` in a render pass on an 8x8 target; returns whether it threw InvalidUsage
     // naming `mentions` (or, with no mentions, that it did not throw and the list executed).
     testing::AssertionResult recordDraws(const std::function<void(ICommandList&)>& body,

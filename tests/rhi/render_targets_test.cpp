@@ -7,6 +7,18 @@ namespace {
 
 class RenderTargetTest : public BackendTest {
 protected:
+    // rt_vertex_color_vert + rt_two_outputs_frag: the vertex colour to RGBA8 attachment 0, its
+    // channels reversed (abgr) to RGBA8 attachment 1.
+    PipelineHandle twoOutputsPipeline() {
+        GraphicsPipelineDesc desc;
+        desc.setShaders(shader("rt_vertex_color_vert"), shader("rt_two_outputs_frag"))
+            .addVertexBuffer({0, sizeof(ColorVertex), false})
+            .addVertexAttribute({0, VertexFormat::Float4, 0, offsetof(ColorVertex, x)})
+            .addVertexAttribute({1, VertexFormat::Float4, 0, offsetof(ColorVertex, r)})
+            .addColorFormat(Format::RGBA8_UNORM)
+            .addColorFormat(Format::RGBA8_UNORM);
+        return device().createGraphicsPipeline(desc);
+    }
     // Clears every listed subresource of `texture` to its own colour, then draws the
     // orientation pattern over each (LoadOp::Load) and checks every subresource: pattern over
     // its own clear colour. Catches wrong face/slice/mip selection, incomplete framebuffers,
@@ -247,14 +259,7 @@ TEST_P(RenderTargetTest, TwoColorAttachmentsGetTheirOwnOutputs) {
     // Different kinds on purpose: a 2D texture and a cube face.
     TextureHandle flat = renderTarget(TextureDimension::Texture2D, Format::RGBA8_UNORM, 4, 1, 1);
     TextureHandle cube = renderTarget(TextureDimension::TextureCube, Format::RGBA8_UNORM, 4, 1, 1);
-    GraphicsPipelineDesc desc;
-    desc.setShaders(shader("rt_vertex_color_vert"), shader("rt_two_outputs_frag"))
-        .addVertexBuffer({0, sizeof(ColorVertex), false})
-        .addVertexAttribute({0, VertexFormat::Float4, 0, offsetof(ColorVertex, x)})
-        .addVertexAttribute({1, VertexFormat::Float4, 0, offsetof(ColorVertex, r)})
-        .addColorFormat(Format::RGBA8_UNORM)
-        .addColorFormat(Format::RGBA8_UNORM);
-    PipelineHandle pipeline = device().createGraphicsPipeline(desc);
+    PipelineHandle pipeline = twoOutputsPipeline();
     drawVertices(RenderPassDesc().addColor(Attachment::clear(flat)).addColor(Attachment::clear(cube, {0, 0, 0, 0}, {0, 3})),
                  pipeline, rectangle(-1, -1, 1, 1, {1, 0, 0.2f, 0.6f}));
     EXPECT_EQ(readTextureAs<Rgba8>(flat), std::vector<Rgba8>(16, Rgba8{255, 0, 51, 153})) << "location 0";
@@ -266,14 +271,7 @@ TEST_P(RenderTargetTest, TwoColorAttachmentsGetTheirOwnOutputs) {
 // are separate targets (one subresource twice is refused: ValidationTest).
 TEST_P(RenderTargetTest, TwoFacesOfOneTextureAreTwoAttachments) {
     TextureHandle cube = renderTarget(TextureDimension::TextureCube, Format::RGBA8_UNORM, 4, 1, 1);
-    GraphicsPipelineDesc desc;
-    desc.setShaders(shader("rt_vertex_color_vert"), shader("rt_two_outputs_frag"))
-        .addVertexBuffer({0, sizeof(ColorVertex), false})
-        .addVertexAttribute({0, VertexFormat::Float4, 0, offsetof(ColorVertex, x)})
-        .addVertexAttribute({1, VertexFormat::Float4, 0, offsetof(ColorVertex, r)})
-        .addColorFormat(Format::RGBA8_UNORM)
-        .addColorFormat(Format::RGBA8_UNORM);
-    PipelineHandle pipeline = device().createGraphicsPipeline(desc);
+    PipelineHandle pipeline = twoOutputsPipeline();
     drawVertices(RenderPassDesc()
                      .addColor(Attachment::clear(cube, {0, 0, 0, 0}, {0, 1}))
                      .addColor(Attachment::clear(cube, {0, 0, 0, 0}, {0, 4})),
