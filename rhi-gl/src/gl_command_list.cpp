@@ -235,6 +235,9 @@ void CommandList::requireBindingsUncached(const char* what) {
         m_usedStorage.push_back({binding.set, found});
         m_accessStorage.push_back(set->itemAccess(size_t(found - set->desc().items.data())));
         addKinds(m_found, *found);
+        requireBufferCoversBlock(*found, binding.blockSize, [&] {
+            return fmt::format("{}: set {} binding {} ({})", what, binding.set, binding.binding, binding.glName);
+        });
         if (!found->texture) continue;
         const TextureDimension viewed = found->viewDimension.value_or(found->texture->desc().dimension);
         if (binding.dimension && viewed != *binding.dimension)

@@ -262,7 +262,7 @@ public:
     mutable GLint baseInstanceValue = 0;
     const std::vector<ShaderBinding>& bindings() const { return m_bindings; }
     // What binding checks are cached under (BindingSet::validated): an id per distinct list of
-    // (set, binding, type, dimension, depth compare, image format), the same for pipelines whose shaders use the same
+    // (set, binding, type, dimension, depth compare, image format, block size), the same for pipelines whose shaders use the same
     // bindings, never reused by another list (ids are not addresses, so a pipeline destroyed
     // and another made at the same address cannot hit its entries).
     uint64_t bindingSignature() const { return m_bindingSignature; }

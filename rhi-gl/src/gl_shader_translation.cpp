@@ -93,7 +93,10 @@ GlslTranslation translateToGlsl(const ShaderDesc& desc, const GlslTarget& target
                     break;
             }
         }
-        result.bindings.push_back({type, set, binding, glName, dimension, depthCompare, imageFormat});
+        uint64_t blockSize = 0;
+        if (type == ResourceType::UniformBuffer || type == ResourceType::StorageBuffer)
+            blockSize = compiler.get_declared_struct_size_runtime_array(compiler.get_type(resource.base_type_id), 0);
+        result.bindings.push_back({type, set, binding, glName, dimension, depthCompare, imageFormat, blockSize});
     };
     for (const auto& r : resources.uniform_buffers) flatten(r, ResourceType::UniformBuffer);
     for (const auto& r : resources.storage_buffers) flatten(r, ResourceType::StorageBuffer);

@@ -21,6 +21,7 @@ struct ShaderBinding {
     std::optional<TextureDimension> dimension;   // textures and images
     bool depthCompare = false;   // a shadow sampler (sampler2DShadow and kin)
     uint32_t imageFormat = 0;    // storage images: the format qualifier (SPIR-V ImageFormat, 0: none)
+    uint64_t blockSize = 0;      // buffers: the block's bytes (storage: before a runtime array)
 };
 
 // A vertex shader input (from reflection), to check the pipeline's vertex attributes against.

@@ -52,6 +52,7 @@ struct ReflectedBinding {
     VkImageViewType viewType = VK_IMAGE_VIEW_TYPE_2D;   // images only: the view the shader expects
     bool depthCompare = false;   // a shadow sampler (sampler2DShadow and kin)
     uint32_t imageFormat = 0;    // storage images: the format qualifier (SPIR-V ImageFormat, 0: none)
+    uint64_t blockSize = 0;      // buffers: the block's bytes (storage: before a runtime array)
     // Storage buffers / images: whether some stage may write it (no NonWritable decoration).
     // Uniform buffers and sampled textures are never written.
     bool written = false;

@@ -143,8 +143,10 @@ const BindingSet::LayoutUse& BindingSet::createOrFind(const DescriptorSetLayoutI
                                     set, b.binding, b.name, viewTypeName(b.viewType),
                                     toString(item->texture->desc().dimension), item->texture->desc().debugName,
                                     toString(resolveTextureView(*item).dimension)));
-        requireSamplerMatchesShader(*item, b.depthCompare, [&] { return fmt::format("set {} binding {} ('{}')", set, b.binding, b.name); });
-        requireStorageFormatMatchesShader(*item, b.imageFormat, [&] { return fmt::format("set {} binding {} ('{}')", set, b.binding, b.name); });
+        const auto where = [&] { return fmt::format("set {} binding {} ('{}')", set, b.binding, b.name); };
+        requireSamplerMatchesShader(*item, b.depthCompare, where);
+        requireStorageFormatMatchesShader(*item, b.imageFormat, where);
+        requireBufferCoversBlock(*item, b.blockSize, where);
         items.push_back(&*item);
     }
 

@@ -191,9 +191,9 @@ VkFormatProperties Context::formatProperties(Format format) const {
 const DescriptorSetLayoutInfo& Context::descriptorSetLayout(const std::vector<ReflectedBinding>& bindings) {
     std::string key;
     for (const auto& b : bindings)
-        key += fmt::format("{}:{}:{}:{}:{}:{}:{}:{};", b.binding, int(b.type), b.count, b.stages, int(b.viewType),
+        key += fmt::format("{}:{}:{}:{}:{}:{}:{}:{}:{};", b.binding, int(b.type), b.count, b.stages, int(b.viewType),
                           b.written,   // written: the binding sets' hazard tracking reads it
-                          b.depthCompare, b.imageFormat);   // BindingSet::createOrFind checks items against them
+                          b.depthCompare, b.imageFormat, b.blockSize);   // BindingSet::createOrFind checks items against them
     std::lock_guard lock(m_layoutMutex);
     if (auto it = m_layouts.find(key); it != m_layouts.end()) return *it->second;
 

@@ -56,6 +56,8 @@ void reflect(const ShaderDesc& desc, VkShaderStageFlagBits stage, std::vector<Re
             b.viewType = viewTypeOf(spirType);
             b.depthCompare = type == VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER && spirType.image.depth;
             if (type == VK_DESCRIPTOR_TYPE_STORAGE_IMAGE) b.imageFormat = uint32_t(spirType.image.format);
+            if (type == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER || type == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER)
+                b.blockSize = compiler.get_declared_struct_size_runtime_array(compiler.get_type(r.base_type_id), 0);
             // Hazard tracking treats a storage resource as written unless the shader says readonly.
             if (type == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER)
                 b.written = !compiler.get_buffer_block_flags(r.id).get(spv::DecorationNonWritable);

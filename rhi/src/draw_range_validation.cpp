@@ -49,6 +49,18 @@ std::string span(uint64_t first, uint64_t count) {
 }
 }  // namespace
 
+void throwBufferRangeBelowBlock(const BindingItem& item, uint64_t blockSize, std::string_view where) {
+    const uint64_t range = item.range ? item.range : item.buffer->desc().size - item.offset;
+    const bool uniform = item.type == ResourceType::UniformBuffer;
+    throw Error(ErrorCode::InvalidUsage,
+                fmt::format("{}: the shader's {} block needs {} bytes{}, but the binding shows {} bytes of buffer {} "
+                            "(offset {}{}); bind a range of at least {} bytes (reads past it are undefined)",
+                            where, uniform ? "uniform" : "storage", blockSize,
+                            uniform ? "" : " (before its runtime array)", range, bufferName(*item.buffer), item.offset,
+                            item.range ? fmt::format(", range {}", item.range) : std::string(", to the end"),
+                            blockSize));
+}
+
 void throwDrawOutOfRange(const DrawRange& range, const GraphicsPipelineDesc& desc, const VertexBufferLookup& bound,
                          const IBuffer* indexBuffer, uint64_t indexOffset, IndexType indexType) {
     const bool indexed = indexBuffer != nullptr;

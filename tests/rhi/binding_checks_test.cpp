@@ -262,5 +262,50 @@ TEST_P(BindingCheckTest, AStorageImageHasTheFormatItsShaderDeclares) {
         << "after the set passed with a pipeline that declares rgba16f";
 }
 
+// A uniform or storage buffer binding must show at least the block its shader declares (a
+// storage block: its part before a runtime array). Reads past the range are undefined: Mesa read
+// zeros for the rest of the block, other drivers read on into the buffer. Refused on every
+// backend, as WebGPU does; a block that fits passes, and so does a storage block that is only a
+// runtime array, whatever its range (ComputeTest.StorageBufferBindingHonoursOffsetAndRange).
+TEST_P(BindingCheckTest, ABufferBindingHoldsTheBlockItsShaderDeclares) {
+    // rt_std140_read_frag's uniform block ends at byte 136 (tail at 128, a vec2).
+    TextureHandle target = createTexture2D(Format::R32_UINT, 32, 1, TextureUsage::RenderTarget);
+    PipelineHandle reading = fullscreenPipeline("rt_std140_read_frag", Format::R32_UINT);
+    BufferHandle buffer = createBuffer(BufferUsage::Uniform, 512);
+    auto uniformSet = [&](uint64_t offset, uint64_t range) {
+        return device().createBindingSet(BindingSetDesc().add(BindingItem::uniformBuffer(0, buffer, offset, range)));
+    };
+    CommandListHandle list = device().createCommandList();
+    EXPECT_TRUE(recordingThrows(*list, drawInto(target, reading, {uniformSet(0, 16)}),
+                                {"binding 0", "uniform block needs 136 bytes", "shows 16 bytes"}));
+    // The rest of the buffer from an offset (range 0): its last alignment-sized piece is too short
+    // where the alignment is below 136 bytes.
+    if (const uint64_t alignment = caps().limits.uniformBufferOffsetAlignment; alignment < 136) {
+        EXPECT_TRUE(recordingThrows(*list, drawInto(target, reading, {uniformSet(512 - alignment, 0)}), {"to the end"}));
+    }
+    record(list, drawInto(target, reading, {uniformSet(0, 136)}));
+    record(list, drawInto(target, reading, {uniformSet(0, 0)}));
+
+    if (!caps().compute || !caps().storageBuffers) return;
+    // rt_layout_std430_comp's source block (binding 0) ends at byte 104 (tail at 96).
+    PipelineHandle layout = computePipeline("rt_layout_std430_comp");
+    BufferHandle source = createBuffer(BufferUsage::Storage, 512), out = createBuffer(BufferUsage::Storage, 512);
+    auto storageSet = [&](uint64_t sourceRange) {
+        return device().createBindingSet(BindingSetDesc()
+                                             .add(BindingItem::storageBuffer(0, source, 0, sourceRange))
+                                             .add(BindingItem::storageBuffer(1, out, 0, 256))
+                                             .add(BindingItem::storageBuffer(2, out, 256, 256)));
+    };
+    auto dispatchWith = [&](const BindingSetHandle& set) {
+        return [&, set](ICommandList& cmd) {
+            cmd.setPipeline(layout);
+            cmd.setBindingSet(0, set);
+            cmd.dispatch(1);
+        };
+    };
+    EXPECT_TRUE(recordingThrows(*list, dispatchWith(storageSet(32)), {"binding 0", "storage block needs 104 bytes"}));
+    record(list, dispatchWith(storageSet(104)));
+}
+
 }  // namespace
 }  // namespace janus::rhi::test

@@ -16,6 +16,19 @@
 
 namespace janus::rhi {
 
+// A uniform or storage buffer item against the block its shader declares: the bound range must
+// hold the block (for a storage block ending in a runtime array: the part before it). Shader
+// reads past the range are undefined (Mesa reads zeros, other drivers the rest of the buffer),
+// so every backend checks this when it first pairs a set with a pipeline, as WebGPU does. `where()`
+// names the binding; it is called only for the message. Throws InvalidUsage.
+[[noreturn]] void throwBufferRangeBelowBlock(const BindingItem& item, uint64_t blockSize, std::string_view where);
+template <class Where>
+void requireBufferCoversBlock(const BindingItem& item, uint64_t blockSize, Where&& where) {
+    if (!item.buffer) return;
+    const uint64_t range = item.range ? item.range : item.buffer->desc().size - item.offset;
+    if (range < blockSize) throwBufferRangeBelowBlock(item, blockSize, where());
+}
+
 // A buffer bound at a vertex slot, and where its vertex data starts.
 struct BoundVertexBuffer {
     const IBuffer* buffer = nullptr;
