@@ -949,6 +949,9 @@ void Device::runDrawChecks(const char* call) {
 }
 
 void Device::applyMipRanges(std::span<const TextureMipRange> ranges) {
+    // A range is set on the texture bound at its unit: the pipeline's own first, where another
+    // set took the unit (restoreTakenPoints would come at the draw, after this).
+    if (m_drawChecks & kRestoreTakenPoints) restoreTakenPoints();
     for (const TextureMipRange& r : ranges) {
         if (r.texture->hasMipRange(r.baseMip, r.mipCount)) continue;
         gl().glActiveTexture(GL_TEXTURE0 + r.unit);   // where the binding set bound it

@@ -169,6 +169,25 @@ TEST_P(BindingNamespaceTest, AnItemAtANumberAnotherSetDeclaresChangesNothing) {
     EXPECT_EQ(drawWith(pipeline, {{0, set0}, {1, set1}}), expected);
 }
 
+// GLES shows a view's mips through the texture's BASE/MAX_LEVEL, set for the texture bound at the
+// binding's unit. Here that unit holds set 1's texture when the draw applies set 0's range, and
+// set 2 changed the range of set 0's texture in between: the range must reach set 0's texture,
+// not the one that took its unit. (Failed on gles: the draw sampled mip 0.)
+TEST_P(BindingNamespaceTest, AMipRangeReachesItsTextureWhenAnotherSetTookItsUnit) {
+    const Rgba8 mip0{255, 0, 0, 255}, mip1{0, 255, 0, 255}, other{0, 0, 255, 255};
+    TextureHandle twoMips = createTexture2D(Format::RGBA8_UNORM, 2, 2, TextureUsage::Sampled, 2);
+    const std::vector<Rgba8> level0(4, mip0);
+    device().writeTexture(twoMips, {0, 0}, level0.data(), level0.size() * sizeof(Rgba8));
+    device().writeTexture(twoMips, {1, 0}, &mip1, sizeof mip1);
+    SamplerHandle sampler = nearestClampSampler();
+    BindingSetHandle secondMip = device().createBindingSet(
+        BindingSetDesc().add(BindingItem::sampledTexture(0, twoMips, sampler).setMips(1, 1)));
+    BindingSetHandle allMips = device().createBindingSet(BindingSetDesc().add(BindingItem::sampledTexture(5, twoMips, sampler)));
+    BindingSetHandle taker = device().createBindingSet(BindingSetDesc().add(BindingItem::sampledTexture(0, solidTexture(other), sampler)));
+    PipelineHandle pipeline = fullscreenPipeline("rt_sample_2d_frag", Format::RGBA8_UNORM);   // set 0 binding 0
+    EXPECT_EQ(drawWith(pipeline, {{0, secondMip}, {2, allMips}, {1, taker}}), std::vector<Rgba8>(16, mip1));
+}
+
 TEST_P(BindingNamespaceTest, ADispatchWritesTheBufferOfTheSetItsShaderDeclares) {
     JANUS_REQUIRE_CAPABILITY(Capability::StorageBuffers);
     // rt_invocation_ids_comp writes set 0 binding 0; set 1 holds another buffer at binding 0.
