@@ -867,6 +867,9 @@ void Device::bindPipeline(const Pipeline& pipeline) {
     // Attribute pointers depend on the vertex layout only, which many pipelines share.
     if (!m_pipeline || !sameVertexLayout(m_pipeline->graphics(), pipeline.graphics())) m_vertexStateDirty = true;
     m_pipeline = &pipeline;
+    // Points taken from a set: this pipeline may read them (restoreTakenPoints checks at its draw).
+    static_assert(kMaxBindingSets == 4, "the next line names every index");
+    if (m_takenPoints[0] | m_takenPoints[1] | m_takenPoints[2] | m_takenPoints[3]) m_drawChecks |= kRestoreTakenPoints;
     m_context->replayPipeline = &pipeline.debugName();
     pipeline.applyState();
 }
@@ -938,9 +941,9 @@ void Device::restoreTakenPoints() {
         m_takenPoints[set] &= ~points;
         takePoints(set, points);
     }
-    static_assert(kMaxBindingSets == 4, "the next line names every index");
-    if (!(m_takenPoints[0] | m_takenPoints[1] | m_takenPoints[2] | m_takenPoints[3]))
-        m_drawChecks &= uint8_t(~kRestoreTakenPoints);
+    // What this pipeline reads is in place (the sets it uses read disjoint points), until a set
+    // takes points again or another pipeline comes (bindPipeline checks again then).
+    m_drawChecks &= uint8_t(~kRestoreTakenPoints);
 }
 
 void Device::runDrawChecks(const char* call) {

@@ -188,6 +188,39 @@ TEST_P(BindingNamespaceTest, AMipRangeReachesItsTextureWhenAnotherSetTookItsUnit
     EXPECT_EQ(drawWith(pipeline, {{0, secondMip}, {2, allMips}, {1, taker}}), std::vector<Rgba8>(16, mip1));
 }
 
+// A draw whose pipeline reads none of the taken points leaves them taken; the next pipeline that
+// reads one gets it back (the GL backend checks again when the pipeline changes).
+TEST_P(BindingNamespaceTest, ATakenPointIsRestoredForALaterPipelineThatReadsIt) {
+    const Rgba8 a{204, 26, 0, 255}, b{51, 153, 0, 255}, wrong{77, 77, 0, 255};
+    SamplerHandle sampler = nearestClampSampler();
+    std::array<float, 4> params{0.9f, 0.9f, 102.0f / 255.0f, 0.9f};
+    BufferHandle ubo = createBuffer(BufferUsage::Uniform, std::as_bytes(std::span(params)));
+    // rt_two_textures_two_sets_frag: set 0 = {0: params, 1: texA}, set 1 = {2: texB}; set 1 here
+    // also holds an item at binding 1.
+    BindingSetHandle set0 = device().createBindingSet(
+        BindingSetDesc().add(BindingItem::uniformBuffer(0, ubo)).add(BindingItem::sampledTexture(1, solidTexture(a), sampler)));
+    BindingSetHandle set1 = device().createBindingSet(BindingSetDesc()
+                                                          .add(BindingItem::sampledTexture(2, solidTexture(b), sampler))
+                                                          .add(BindingItem::sampledTexture(1, solidTexture(wrong), sampler)));
+    PipelineHandle plain = colorPipeline(Format::RGBA8_UNORM);   // no bindings
+    PipelineHandle twoSets = fullscreenPipeline("rt_two_textures_two_sets_frag", Format::RGBA8_UNORM);
+    BufferHandle triangleBuffer = createBufferFrom(BufferUsage::Vertex, triangle({-1, -1, 1, -1, -1, 1}, {0, 0, 1, 1}));
+    TextureHandle target = createTexture2D(Format::RGBA8_UNORM, 4, 4, TextureUsage::RenderTarget);
+    submit([&](ICommandList& cmd) {
+        cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(target)));
+        cmd.setPipeline(plain);
+        cmd.setVertexBuffer(0, triangleBuffer);
+        cmd.setBindingSet(0, set0);
+        cmd.setBindingSet(1, set1);   // takes binding 1 from set 0
+        cmd.draw(3);
+        cmd.setPipeline(twoSets);
+        cmd.draw(3);
+        cmd.endRenderPass();
+    });
+    EXPECT_EQ(readTextureAs<Rgba8>(target), std::vector<Rgba8>(16, Rgba8{204, 153, 102, 255}))
+        << "red 77: set 1's item at binding 1 was read";
+}
+
 TEST_P(BindingNamespaceTest, ADispatchWritesTheBufferOfTheSetItsShaderDeclares) {
     JANUS_REQUIRE_CAPABILITY(Capability::StorageBuffers);
     // rt_invocation_ids_comp writes set 0 binding 0; set 1 holds another buffer at binding 0.
