@@ -32,7 +32,8 @@
 
 namespace janus::renderer {
 
-Renderer::Impl::Impl(rhi::IDevice& d, const Scene& scene, const RenderSettings& s) : device(d), settings(s) {
+Renderer::Impl::Impl(rhi::IDevice& d, const Scene& scene, const RenderSettings& s)
+    : device(d), deviceLifetime(d.lifetime()), settings(s) {
     validateScene(scene);
     checkSettings();
     lighting = resolveLighting(settings.lighting, scene.quality);
@@ -90,6 +91,12 @@ void Renderer::Impl::createFeatures(const Scene& scene) {
 }
 
 Renderer::Impl::~Impl() {
+    if (deviceLifetime.expired()) {
+        // Its work finished when it was destroyed; the RHI handles below may outlive it.
+        fmt::print(stderr, "janus renderer: warning: the renderer's rhi::IDevice was destroyed before the renderer; destroy "
+                           "the renderer first\n");
+        return;
+    }
     try {
         device.waitIdle();
     } catch (const std::exception& e) {
@@ -273,6 +280,12 @@ void Renderer::Impl::setLights(std::span<const Light> newLights) {
     probeGi->setLights(lights);   // relights the volume from scratch before the next frame
 }
 
+void Renderer::Impl::requireDevice(const char* what) const {
+    if (deviceLifetime.expired())
+        throw RendererError(fmt::format("Renderer::{}: the rhi::IDevice this renderer was made with was destroyed; a renderer "
+                                        "must not outlive its device (destroy the renderer first)", what));
+}
+
 void Renderer::Impl::requireFrame(const char* what) const {
     if (!frameRendered) throw RendererError(fmt::format("{} was called before any frame was rendered; call renderFrame() first", what));
 }
@@ -309,12 +322,19 @@ ImageRGBAF Renderer::Impl::readHdrImage() {
 Renderer::Renderer(rhi::IDevice& device, const Scene& scene, const RenderSettings& settings)
     : m_impl(std::make_unique<Impl>(device, scene, settings)) {}
 Renderer::~Renderer() = default;
-FrameReport Renderer::renderFrame() { return m_impl->renderFrame(); }
-FrameReport Renderer::renderCubeCapture(const CubeCaptureDesc& capture) { return m_impl->renderCubeCapture(capture); }
+FrameReport Renderer::renderFrame() {
+    m_impl->requireDevice("renderFrame()");
+    return m_impl->renderFrame();
+}
+FrameReport Renderer::renderCubeCapture(const CubeCaptureDesc& capture) {
+    m_impl->requireDevice("renderCubeCapture()");
+    return m_impl->renderCubeCapture(capture);
+}
 void Renderer::requestProbeUpdate(std::string_view probeName) { m_impl->reflectionProbes->requestUpdate(probeName); }
 bool Renderer::probesPending() const { return m_impl->reflectionProbes->pending(); }
 bool Renderer::irradiancePending() const { return m_impl->probeGi->relightPending(); }
 std::vector<IrradianceProbe> Renderer::readIrradianceProbes() {
+    m_impl->requireDevice("readIrradianceProbes()");
     const GiBake& bake = m_impl->probeGi->bake();
     const std::vector<GiProbeSh> stored = m_impl->probeGi->readProbes();
     std::vector<IrradianceProbe> probes(stored.size());
@@ -327,7 +347,10 @@ std::vector<IrradianceProbe> Renderer::readIrradianceProbes() {
     return probes;
 }
 void Renderer::markIrradianceDirty() { m_impl->probeGi->markDirty(); }
-void Renderer::setLights(std::span<const Light> lights) { m_impl->setLights(lights); }
+void Renderer::setLights(std::span<const Light> lights) {
+    m_impl->requireDevice("setLights()");
+    m_impl->setLights(lights);
+}
 
 IrradianceBakeSummary bakeIrradianceVolume(rhi::IDevice& device, const Scene& scene, const std::filesystem::path& path) {
     validateScene(scene);
@@ -347,13 +370,21 @@ IrradianceBakeSummary bakeIrradianceVolume(rhi::IDevice& device, const Scene& sc
     summary.milliseconds = millisecondsSince(start);
     return summary;
 }
-ImageRGBA8 Renderer::readDisplayImage() { return m_impl->readDisplayImage(); }
-ImageRGBAF Renderer::readHdrImage() { return m_impl->readHdrImage(); }
+ImageRGBA8 Renderer::readDisplayImage() {
+    m_impl->requireDevice("readDisplayImage()");
+    return m_impl->readDisplayImage();
+}
+ImageRGBAF Renderer::readHdrImage() {
+    m_impl->requireDevice("readHdrImage()");
+    return m_impl->readHdrImage();
+}
 TileLists Renderer::readTileLists() {
+    m_impl->requireDevice("readTileLists()");
     m_impl->requireFrame("readTileLists()");
     return m_impl->localLights->readTileLists();
 }
 std::vector<float> Renderer::readDepth() {
+    m_impl->requireDevice("readDepth()");
     m_impl->requireFrame("readDepth()");
     return readDepth32F(m_impl->device, m_impl->depthTarget);
 }

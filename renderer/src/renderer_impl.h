@@ -39,6 +39,7 @@ namespace janus::renderer {
 
 struct Renderer::Impl {
     rhi::IDevice& device;
+    std::weak_ptr<const void> deviceLifetime;   // device.lifetime(): expired once the device is destroyed
     RenderSettings settings;
     ResolvedLighting lighting;
     SceneView mainView;
@@ -78,6 +79,8 @@ struct Renderer::Impl {
     const rhi::TextureHandle& captureDepth(uint32_t size);
     void setLights(std::span<const Light> newLights);
     void requireFrame(const char* what) const;
+    // Throws RendererError when the device was destroyed (a Renderer must not outlive it).
+    void requireDevice(const char* what) const;
     ImageRGBA8 readDisplayImage();
     ImageRGBAF readHdrImage();
 };

@@ -71,7 +71,8 @@ public:
     // Uploads the scene. Throws RendererError for settings the device cannot honour (absurd
     // sizes; the compute path on a device without compute names the capability). The renderer
     // keeps a reference to `device`, which must outlive it: its destructor waits for the device's
-    // work to finish (RHI handles may outlive their device; a renderer may not).
+    // work to finish. Should the device go first, the renderer's calls that use it throw
+    // RendererError saying so, and its destructor only warns (RHI handles may outlive their device).
     Renderer(rhi::IDevice& device, const Scene& scene, const RenderSettings& settings);
     ~Renderer();
     Renderer(const Renderer&) = delete;

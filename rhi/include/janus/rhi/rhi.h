@@ -693,6 +693,9 @@ public:
     const DeviceProperties& properties() const { return *m_properties; }
     // Throws Error(UnsupportedCapability) naming `cap` and `what` when the device lacks it.
     void require(Capability cap, std::string_view what) const;
+    // Expires when the device is destroyed. What keeps an IDevice& (a renderer) can tell that its
+    // device is gone and refuse work instead of calling into freed memory.
+    std::weak_ptr<const void> lifetime() const { return m_lifetime; }
 
     BufferHandle createBuffer(const BufferDesc& desc);
     TextureHandle createTexture(const TextureDesc& desc);
@@ -762,6 +765,7 @@ protected:
 
 private:
     std::shared_ptr<const DeviceProperties> m_properties;
+    std::shared_ptr<const void> m_lifetime = std::make_shared<int>(0);
 };
 
 // Creates a device for desc.backend. Throws Error(BackendUnavailable) with the reason when the
