@@ -235,9 +235,10 @@ void CommandList::requireBindingsUncached(const char* what) {
         m_usedStorage.push_back({binding.set, found});
         m_accessStorage.push_back(set->itemAccess(size_t(found - set->desc().items.data())));
         addKinds(m_found, *found);
-        requireBufferCoversBlock(*found, binding.blockSize, [&] {
+        const auto where = [&] {
             return fmt::format("{}: set {} binding {} ({})", what, binding.set, binding.binding, binding.glName);
-        });
+        };
+        requireBufferCoversBlock(*found, binding.blockSize, where);
         if (!found->texture) continue;
         const TextureDimension viewed = found->viewDimension.value_or(found->texture->desc().dimension);
         if (binding.dimension && viewed != *binding.dimension)
@@ -246,9 +247,6 @@ void CommandList::requireBindingsUncached(const char* what) {
                                     "the shader's type or set BindingItem::viewDimension",
                                     what, binding.binding, toString(found->texture->desc().dimension),
                                     found->texture->desc().debugName, toString(viewed), toString(*binding.dimension)));
-        const auto where = [&] {
-            return fmt::format("{}: set {} binding {} ({})", what, binding.set, binding.binding, binding.glName);
-        };
         requireSamplerMatchesShader(*found, binding.depthCompare, where);
         requireStorageFormatMatchesShader(*found, binding.imageFormat, where);
     }
@@ -334,21 +332,18 @@ void CommandList::requireVertexBuffers(const char* what) const {
 void CommandList::requirePipelineState(const char* what) {
     requireVertexBuffers(what);
     requireCompatiblePipeline(what);
-    m_drawLimits = drawRangeLimits(m_pipeline->graphics(), [&](uint32_t slot) {
-        for (const RecordedVertexBuffer& b : m_vertexBuffers)
-            if (b.slot == slot) return BoundVertexBuffer{b.buffer, b.offset};
-        return BoundVertexBuffer{};   // not reached: requireVertexBuffers found every slot
-    });
+    m_drawLimits = drawRangeLimits(m_pipeline->graphics(), [this](uint32_t slot) { return boundVertexBuffer(slot); });
     m_pipelineChecked = true;
 }
 
+BoundVertexBuffer CommandList::boundVertexBuffer(uint32_t slot) const {
+    for (const RecordedVertexBuffer& b : m_vertexBuffers)
+        if (b.slot == slot) return {b.buffer, b.offset};
+    return {};   // not reached for a slot the pipeline reads: requireVertexBuffers found each
+}
+
 void CommandList::throwDrawOutOfRange(const DrawRange& range, bool indexed) const {
-    rhi::throwDrawOutOfRange(range, m_pipeline->graphics(),
-                             [&](uint32_t slot) {
-                                 for (const RecordedVertexBuffer& b : m_vertexBuffers)
-                                     if (b.slot == slot) return BoundVertexBuffer{b.buffer, b.offset};
-                                 return BoundVertexBuffer{};
-                             },
+    rhi::throwDrawOutOfRange(range, m_pipeline->graphics(), [this](uint32_t slot) { return boundVertexBuffer(slot); },
                              indexed ? m_indexBuffer : nullptr, m_indexOffset, m_indexType);
 }
 
@@ -500,8 +495,7 @@ void CommandList::setIndexBufferImpl(const BufferHandle& handle, IndexType type,
 // pass and the tracking do nothing. Anything else takes the checked path, which is the whole of
 // what draw did before.
 void CommandList::draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance) {
-    if (!m_drawReady || uint64_t(firstVertex) + vertexCount > m_drawLimits.vertices ||
-        uint64_t(firstInstance) + instanceCount > m_drawLimits.instances) [[unlikely]]
+    if (!m_drawReady || m_drawLimits.exceeded(firstVertex, vertexCount, firstInstance, instanceCount)) [[unlikely]]
         return drawChecked(vertexCount, instanceCount, firstVertex, firstInstance);
     recordDraw<command::BindSetAndDraw>(command::Draw{vertexCount, instanceCount, firstVertex, firstInstance});
 }
@@ -511,8 +505,7 @@ void CommandList::drawChecked(uint32_t vertexCount, uint32_t instanceCount, uint
     if (!m_pipeline || m_pipeline->isCompute())
         throw Error(ErrorCode::InvalidUsage, "draw: no graphics pipeline is set; call setPipeline() first");
     requireDrawState("draw");
-    if (uint64_t(firstVertex) + vertexCount > m_drawLimits.vertices ||
-        uint64_t(firstInstance) + instanceCount > m_drawLimits.instances)
+    if (m_drawLimits.exceeded(firstVertex, vertexCount, firstInstance, instanceCount))
         throwDrawOutOfRange({"draw", firstVertex, vertexCount, firstInstance, instanceCount}, false);
     trackShaderAccesses(true, false);
     recordDraw<command::BindSetAndDraw>(command::Draw{vertexCount, instanceCount, firstVertex, firstInstance});
@@ -521,8 +514,8 @@ void CommandList::drawChecked(uint32_t vertexCount, uint32_t instanceCount, uint
 
 void CommandList::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex, int32_t vertexOffset,
                                 uint32_t firstInstance) {
-    if (!m_drawReady || !m_indexBuffer || uint64_t(firstIndex) + indexCount > m_indexLimit ||
-        uint64_t(firstInstance) + instanceCount > m_drawLimits.instances) [[unlikely]]
+    if (!m_drawReady || !m_indexBuffer ||
+        indexedDrawExceeds(m_drawLimits, m_indexLimit, firstIndex, indexCount, firstInstance, instanceCount)) [[unlikely]]
         return drawIndexedChecked(indexCount, instanceCount, firstIndex, vertexOffset, firstInstance);
     recordDraw<command::BindSetAndDrawIndexed>(command::DrawIndexed{indexCount, instanceCount, firstIndex, vertexOffset, firstInstance});
 }
@@ -535,7 +528,7 @@ void CommandList::drawIndexedChecked(uint32_t indexCount, uint32_t instanceCount
     requireDrawState("drawIndexed");
     if (!m_indexBuffer)
         throw Error(ErrorCode::InvalidUsage, "drawIndexed: no index buffer is set; call setIndexBuffer() first");
-    if (uint64_t(firstIndex) + indexCount > m_indexLimit || uint64_t(firstInstance) + instanceCount > m_drawLimits.instances)
+    if (indexedDrawExceeds(m_drawLimits, m_indexLimit, firstIndex, indexCount, firstInstance, instanceCount))
         throwDrawOutOfRange({"drawIndexed", firstIndex, indexCount, firstInstance, instanceCount}, true);
     trackShaderAccesses(true, true);
     recordDraw<command::BindSetAndDrawIndexed>(command::DrawIndexed{indexCount, instanceCount, firstIndex, vertexOffset, firstInstance});

@@ -596,6 +596,7 @@ private:
     void drawIndexedChecked(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex, int32_t vertexOffset,
                             uint32_t firstInstance);
     void requirePipelineState(const char* what);
+    BoundVertexBuffer boundVertexBuffer(uint32_t slot) const;   // what setVertexBuffer set at `slot`
     [[noreturn]] void throwDrawOutOfRange(const DrawRange& range, bool indexed) const;
     void requireCompatiblePipeline(const char* what) const;
     // Checks what the pipeline's shaders use against the bound sets; points m_found at the

@@ -568,6 +568,10 @@ private:
     // The common draw inline; false leaves the rest to prepareDraw (state-driven, so it picks up
     // wherever this stopped).
     bool prepareDrawFast();
+    // What setVertexBuffer set at a slot the bound pipeline reads (checkDrawState found each).
+    BoundVertexBuffer boundVertexBuffer(uint32_t slot) const {
+        return {m_vertexBindings[slot].buffer, m_vertexBindings[slot].offset};
+    }
     [[noreturn]] void throwDrawOutOfRange(std::string_view call, bool indexed) const;
     [[gnu::noinline]] void prepareDrawGeneral(std::string_view call);
     // The same for dispatches.

@@ -372,10 +372,7 @@ void CommandList::checkDrawState(std::string_view call) {
                         fmt::format("{}: pipeline '{}' reads vertex buffer slot {}, but none is bound; call "
                                     "setVertexBuffer({}, ...)", call, m_graphicsPipeline->debugName, layout.slot,
                                     layout.slot));
-    m_drawLimits = drawRangeLimits(desc, [&](uint32_t slot) {
-        const VertexBinding& b = m_vertexBindings[slot];
-        return BoundVertexBuffer{b.buffer, b.offset};
-    });
+    m_drawLimits = drawRangeLimits(desc, [this](uint32_t slot) { return boundVertexBuffer(slot); });
     m_drawStateChecked = true;
 }
 
@@ -493,11 +490,7 @@ void CommandList::prepareDrawGeneral(std::string_view call) { prepareDraw(call);
 void CommandList::throwDrawOutOfRange(std::string_view call, bool indexed) const {
     const DrawArguments& a = m_drawArguments;
     rhi::throwDrawOutOfRange({call, a.first, a.count, a.firstInstance, a.instances}, m_graphicsPipeline->graphicsDesc,
-                             [&](uint32_t slot) {
-                                 const VertexBinding& b = m_vertexBindings[slot];
-                                 return BoundVertexBuffer{b.buffer, b.offset};
-                             },
-                             indexed ? m_indexBuffer : nullptr, m_indexOffset,
+                             [this](uint32_t slot) { return boundVertexBuffer(slot); }, indexed ? m_indexBuffer : nullptr, m_indexOffset,
                              m_indexType == VK_INDEX_TYPE_UINT16 ? IndexType::UInt16 : IndexType::UInt32);
 }
 
@@ -507,8 +500,7 @@ void CommandList::draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t fi
     m_drawArguments = {vertexCount, instanceCount, firstVertex, firstInstance};
     if (!prepareDrawFast()) [[unlikely]] prepareDrawGeneral("draw()");
     const DrawArguments& a = m_drawArguments;
-    if (uint64_t(a.first) + a.count > m_drawLimits.vertices ||
-        uint64_t(a.firstInstance) + a.instances > m_drawLimits.instances) [[unlikely]]
+    if (m_drawLimits.exceeded(a.first, a.count, a.firstInstance, a.instances)) [[unlikely]]
         throwDrawOutOfRange("draw()", false);
     m_context->cmdDraw(m_commands, a.count, a.instances, a.first, a.firstInstance);
 }
@@ -525,8 +517,8 @@ void CommandList::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint3
         m_passTrackedIndices = true;
     }
     const DrawArguments& a = m_drawArguments;
-    if (uint64_t(a.first) + a.count > m_indexLimit || uint64_t(a.firstInstance) + a.instances > m_drawLimits.instances)
-        [[unlikely]] throwDrawOutOfRange("drawIndexed()", true);
+    if (indexedDrawExceeds(m_drawLimits, m_indexLimit, a.first, a.count, a.firstInstance, a.instances)) [[unlikely]]
+        throwDrawOutOfRange("drawIndexed()", true);
     m_context->cmdDrawIndexed(m_commands, a.count, a.instances, a.first, a.vertexOffset, a.firstInstance);
 }
 

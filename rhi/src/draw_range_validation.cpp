@@ -50,7 +50,7 @@ std::string span(uint64_t first, uint64_t count) {
 }  // namespace
 
 void throwBufferRangeBelowBlock(const BindingItem& item, uint64_t blockSize, std::string_view where) {
-    const uint64_t range = item.range ? item.range : item.buffer->desc().size - item.offset;
+    const uint64_t range = boundBytes(item);
     const bool uniform = item.type == ResourceType::UniformBuffer;
     throw Error(ErrorCode::InvalidUsage,
                 fmt::format("{}: the shader's {} block needs {} bytes{}, but the binding shows {} bytes of buffer {} "

@@ -22,11 +22,13 @@ namespace janus::rhi {
 // so every backend checks this when it first pairs a set with a pipeline, as WebGPU does. `where()`
 // names the binding; it is called only for the message. Throws InvalidUsage.
 [[noreturn]] void throwBufferRangeBelowBlock(const BindingItem& item, uint64_t blockSize, std::string_view where);
+// The bytes a buffer item shows (range 0: to the end of the buffer).
+inline uint64_t boundBytes(const BindingItem& item) {
+    return item.range ? item.range : item.buffer->desc().size - item.offset;
+}
 template <class Where>
 void requireBufferCoversBlock(const BindingItem& item, uint64_t blockSize, Where&& where) {
-    if (!item.buffer) return;
-    const uint64_t range = item.range ? item.range : item.buffer->desc().size - item.offset;
-    if (range < blockSize) throwBufferRangeBelowBlock(item, blockSize, where());
+    if (item.buffer && boundBytes(item) < blockSize) throwBufferRangeBelowBlock(item, blockSize, where());
 }
 
 // A buffer bound at a vertex slot, and where its vertex data starts.
@@ -43,7 +45,20 @@ struct DrawRangeLimits {
     static constexpr uint64_t kUnlimited = std::numeric_limits<uint64_t>::max();
     uint64_t vertices = kUnlimited;
     uint64_t instances = kUnlimited;
+
+    // Whether a draw's instances / a draw's vertices and instances reach past these limits.
+    bool instancesExceeded(uint32_t firstInstance, uint32_t instanceCount) const {
+        return uint64_t(firstInstance) + instanceCount > instances;
+    }
+    bool exceeded(uint32_t firstVertex, uint32_t vertexCount, uint32_t firstInstance, uint32_t instanceCount) const {
+        return uint64_t(firstVertex) + vertexCount > vertices || instancesExceeded(firstInstance, instanceCount);
+    }
 };
+// Whether an indexed draw reads past the index buffer's `indexLimit` (indexCountLimit) or `limits`.
+inline bool indexedDrawExceeds(const DrawRangeLimits& limits, uint64_t indexLimit, uint32_t firstIndex,
+                               uint32_t indexCount, uint32_t firstInstance, uint32_t instanceCount) {
+    return uint64_t(firstIndex) + indexCount > indexLimit || limits.instancesExceeded(firstInstance, instanceCount);
+}
 DrawRangeLimits drawRangeLimits(const GraphicsPipelineDesc& desc, const VertexBufferLookup& bound);
 
 // How many indices of `type` the index buffer holds from `offset` (validated: inside the buffer).
