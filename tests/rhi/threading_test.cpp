@@ -105,7 +105,8 @@ TEST_P(ThreadingTest, CommandListsRecordOnSeveralThreadsAtOnce) {
     std::vector<CommandListHandle> lists;
     for (uint32_t t = 0; t < kThreads; ++t) {
         targets.push_back(createTexture2D(Format::RGBA8_UNORM, 4, 4, TextureUsage::RenderTarget));
-        const std::array<float, 4> color{0.25f * float(t), 1.0f, 0.5f, 1.0f};
+        // 8-bit values exactly: 0.5 is 127.5 steps, which drivers round either way (NVIDIA: 127).
+        const std::array<float, 4> color{float(64 * t) / 255.0f, 1.0f, 128.0f / 255.0f, 1.0f};
         threadColors.push_back(toRgba8(color));
         halves.push_back(createBufferFrom(BufferUsage::Vertex, rectangle(0.0f, -1.0f, 1.0f, 1.0f, color)));
         lists.push_back(device().createCommandList());
@@ -188,7 +189,8 @@ TEST_P(ThreadingTest, ConcurrentDeviceCallsWhereTheCapabilitySaysSo) {
                 ++ready;
                 while (ready.load() < kThreads) std::this_thread::yield();
                 for (uint32_t round = 0; round < kRounds && mismatches[t].empty(); ++round) {
-                    const std::array<float, 4> color{float(t) / kThreads, float(round) / kRounds, 1.0f, 1.0f};
+                    // Exact 8-bit values (t / 4 or round / 8 may be 127.5 steps, rounded either way).
+                    const std::array<float, 4> color{float(64 * t) / 255.0f, float(32 * round) / 255.0f, 1.0f, 1.0f};
                     TextureHandle target = createTexture2D(Format::RGBA8_UNORM, 4, 4, TextureUsage::RenderTarget);
                     BufferHandle vertices = createBufferFrom(BufferUsage::Vertex, rectangle(-1, -1, 1, 1, color));
                     CommandListHandle list = device().createCommandList();
