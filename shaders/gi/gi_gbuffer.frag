@@ -24,9 +24,14 @@ layout(location = 1) out vec4 outNormalFacing;
 layout(location = 2) out vec4 outEmission;
 
 void main() {
-    vec4 baseColor = draw.baseColorFactor * vColor * texture(baseColorTexture, materialUv(kTextureBaseColor, vUv, vUv1));
+    // Every lookup before the discard: a discarded neighbour leaves the quad's derivatives, and so
+    // the implicit level of detail, undefined (forward.frag says more).
+    vec4 baseColorSample = texture(baseColorTexture, materialUv(kTextureBaseColor, vUv, vUv1));
+    float metallicSample = texture(metallicRoughnessTexture, materialUv(kTextureMetallicRoughness, vUv, vUv1)).b;
+    vec3 emissiveSample = texture(emissiveTexture, materialUv(kTextureEmissive, vUv, vUv1)).rgb;
+    vec4 baseColor = draw.baseColorFactor * vColor * baseColorSample;
     if (draw.flags.z == kAlphaModeMask && baseColor.a < draw.emissiveFactor.w) discard;
-    float metallic = clamp(draw.materialParams.x * texture(metallicRoughnessTexture, materialUv(kTextureMetallicRoughness, vUv, vUv1)).b, 0.0, 1.0);
+    float metallic = clamp(draw.materialParams.x * metallicSample, 0.0, 1.0);
     vec3 toSurface = vWorldPosition - frame.cameraPosition.xyz;
     float lengthSq = dot(vNormal, vNormal);
     vec3 normal = lengthSq > 1e-24 ? normalize(vNormal) : -normalize(toSurface);
@@ -34,7 +39,7 @@ void main() {
     bool front = gl_FrontFacing || draw.flags.x != 0;
     outAlbedoDistance = vec4(clamp(baseColor.rgb, 0.0, 1.0) * (1.0 - metallic), length(toSurface));
     outNormalFacing = vec4(normal, front ? 1.0 : -1.0);
-    vec3 emission = draw.emissiveFactor.rgb * texture(emissiveTexture, materialUv(kTextureEmissive, vUv, vUv1)).rgb;
+    vec3 emission = draw.emissiveFactor.rgb * emissiveSample;
     if (draw.shading.x != 0) {
         // Unlit: the surface shows its base colour whatever lights it, so to the volume it emits
         // that colour and reflects nothing.

@@ -108,14 +108,23 @@ void writeRadiance(vec3 radiance, float coverage) {
 }
 
 void main() {
-    vec4 baseColor = draw.baseColorFactor * vColor * texture(baseColorTexture, materialUv(kTextureBaseColor, vUv, vUv1));
+    // Every material lookup happens here, before the alpha test's discard and outside any branch:
+    // implicit-LOD lookups take their level from the 2x2 quad's derivatives, which a discarded or
+    // diverged neighbour leaves undefined (SPIR-V OpKill). NVIDIA's GL driver then sampled mip 0
+    // at alpha-mask edges (issue 10); tests/rhi/shader_lint_test.cpp keeps every shader to this.
+    vec4 baseColorSample = texture(baseColorTexture, materialUv(kTextureBaseColor, vUv, vUv1));
+    vec4 metallicRoughness = texture(metallicRoughnessTexture, materialUv(kTextureMetallicRoughness, vUv, vUv1));
+    vec3 normalSample = texture(normalTexture, materialUv(kTextureNormal, vUv, vUv1)).xyz;
+    float occlusionSample = texture(occlusionTexture, materialUv(kTextureOcclusion, vUv, vUv1)).r;
+    vec3 emissiveSample = texture(emissiveTexture, materialUv(kTextureEmissive, vUv, vUv1)).rgb;
+
+    vec4 baseColor = draw.baseColorFactor * vColor * baseColorSample;
     if (draw.flags.z == kAlphaModeMask && baseColor.a < draw.emissiveFactor.w) discard;
     if (draw.shading.x != 0) {
         // Unlit (KHR_materials_unlit; points and lines without normals): the base colour is the radiance.
         writeRadiance(baseColor.rgb, baseColor.a);
         return;
     }
-    vec4 metallicRoughness = texture(metallicRoughnessTexture, materialUv(kTextureMetallicRoughness, vUv, vUv1));
     float metallic = clamp(draw.materialParams.x * metallicRoughness.b, 0.0, 1.0);
     float perceptualRoughness = clamp(draw.materialParams.y * metallicRoughness.g, 0.045, 1.0);
 
@@ -134,7 +143,7 @@ void main() {
         if (dot(tangentDirection, tangentDirection) > 1e-24) {
             vec3 tangent = normalize(tangentDirection);
             vec3 bitangent = cross(normal, tangent) * vTangent.w;
-            vec3 mapped = texture(normalTexture, materialUv(kTextureNormal, vUv, vUv1)).xyz * 2.0 - 1.0;
+            vec3 mapped = normalSample * 2.0 - 1.0;
             mapped.xy *= draw.materialParams.z;
             normal = safeNormalize(mat3(tangent, bitangent, normal) * mapped, normal);
         }
@@ -175,7 +184,7 @@ void main() {
         radiance += shadeLocalLight(s, vWorldPosition, index, meshLayers);
     }
 
-    float occlusion = mix(1.0, texture(occlusionTexture, materialUv(kTextureOcclusion, vUv, vUv1)).r, draw.materialParams.w);
+    float occlusion = mix(1.0, occlusionSample, draw.materialParams.w);
     float NoV = clamp(abs(dot(s.normal, s.view)), 1e-4, 1.0);
     vec3 reflected = reflect(-s.view, s.normal);
     // Reflection probes first (docs/PROBES.md); the sky or the ambient colour fills what they leave.
@@ -213,6 +222,6 @@ void main() {
         if (remaining < 1.0)
             radiance += probeSpecular * splitSumScale(NoV, perceptualRoughness, s.f0, s.f90) * specularOcclusion(NoV, occlusion, perceptualRoughness);
     }
-    radiance += draw.emissiveFactor.rgb * texture(emissiveTexture, materialUv(kTextureEmissive, vUv, vUv1)).rgb;
+    radiance += draw.emissiveFactor.rgb * emissiveSample;
     writeRadiance(radiance, baseColor.a);
 }

@@ -35,7 +35,9 @@ vec3 skyPrefilteredRadiance(vec3 reflected, float perceptualRoughness, float las
     return textureLod(skySpecular, reflected, perceptualRoughness * lastMip).rgb;
 }
 vec3 splitSumScale(float NoV, float perceptualRoughness, vec3 f0, float f90) {
-    vec2 dfg = texture(dfgTable, vec2(NoV, perceptualRoughness)).rg;
+    // Level 0 explicitly: this runs after the alpha test's discard and in branches, where implicit
+    // derivatives are undefined; the table has one level.
+    vec2 dfg = textureLod(dfgTable, vec2(NoV, perceptualRoughness), 0.0).rg;
     return f0 * dfg.x + f90 * dfg.y;
 }
 
