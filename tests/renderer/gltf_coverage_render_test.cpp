@@ -66,7 +66,7 @@ void expectParity(const Scene& scene, const std::string& stem, const Config& con
         reference = references.emplace(stem, renderModel(test_support::allConfigs()[0], scene, kParitySize)).first;
     const FrameOutput result = renderModel(config, scene, kParitySize);
     test_support::expectFiniteHdr(result.hdr, stem + " " + config.name());
-    test_support::expectMatchesVulkanCompute(reference->second.display, result.display, stem, config.name());
+    test_support::expectMatchesVulkanCompute(reference->second.display, result.display, stem, config);
 }
 
 using ModelParam = std::tuple<const char*, Config>;

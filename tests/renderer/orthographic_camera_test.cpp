@@ -231,7 +231,7 @@ TEST_P(OrthographicCameraTest, TheLitRoomMatchesVulkanCompute) {
     ASSERT_TRUE(result.report.lightCulling.has_value());
     EXPECT_EQ(result.report.lightCulling->mode, LightCulling::TilesDepth);
     test_support::expectFiniteHdr(result.hdr, "orthographic room");
-    test_support::expectMatchesVulkanCompute(reference->display, result.display, "orthographic-room", GetParam().name());
+    test_support::expectMatchesVulkanCompute(reference->display, result.display, "orthographic-room", GetParam());
 }
 
 INSTANTIATE_TEST_SUITE_P(Configs, OrthographicCameraTest, testing::ValuesIn(test_support::allConfigs()),

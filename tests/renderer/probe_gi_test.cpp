@@ -638,7 +638,7 @@ TEST_P(ProbeGiTest, TheCornellBoxWithGiMatchesVulkanCompute) {
     }());
     const test_support::FrameOutput result = renderSettled(device(), scene, settings());
     expectNoMessages();
-    test_support::expectMatchesVulkanCompute(reference.display, result.display, "gi-parity", GetParam().name());
+    test_support::expectMatchesVulkanCompute(reference.display, result.display, "gi-parity", GetParam());
 }
 
 using test_support::countPasses;

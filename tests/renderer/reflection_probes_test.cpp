@@ -205,7 +205,7 @@ TEST_P(ReflectionProbesTest, TheProbesSceneMatchesVulkanCompute) {
     expectNoMessages();
     test_support::expectFiniteHdr(result.hdr, GetParam().name());
     // A probe shown from a different update, a wrong face or a missing blend changes whole regions.
-    test_support::expectMatchesVulkanCompute(reference.display, result.display, "probes", GetParam().name());
+    test_support::expectMatchesVulkanCompute(reference.display, result.display, "probes", GetParam());
 }
 
 TEST_P(ReflectionProbesTest, ProbesChangeTheImageWhereTheyReachAndNowhereElse) {

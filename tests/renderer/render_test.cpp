@@ -165,7 +165,7 @@ TEST_P(RenderTest, MatchesVulkanComputeAndReportsItsPasses) {
     const Render result = render(config(), scene);
 
     // Pixel parity (test_support::expectMatchesVulkanCompute says why it allows what it allows).
-    test_support::expectMatchesVulkanCompute(ref.display, result.display, sceneCase().name, config().name());
+    test_support::expectMatchesVulkanCompute(ref.display, result.display, sceneCase().name, config());
 
     // Frame report: exactly the passes this scene needs, in order, with their work counts.
     const FrameReport& report = result.report;

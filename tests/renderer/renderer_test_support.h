@@ -89,11 +89,21 @@ void expectWellFormedTileLists(const TileLists& tiles, const LightCullingReport&
 // failing images are written to outputDir() with `label` in their names.
 void expectSameImage(const FrameOutput& expected, const FrameOutput& actual, const std::string& label);
 
-// Cross-configuration parity against vulkan/compute: at most one 8-bit step, except up to 4
-// silhouette pixels (see the definition for why). On failure writes <stem>-<config>.png,
-// <stem>-vulkan_compute.png and <stem>-<config>-diff.png to outputDir().
+// Whether two configurations' shaders go through one compiler, so that their images may be held
+// to the last bit of shading math: the same backend; or lavapipe and llvmpipe, which both compile
+// with Mesa's gallivm (LLVM). A vendor's Vulkan and GL drivers have two front ends (SPIR-V, GLSL).
+enum class ShaderCompilers { Same, Different };
+ShaderCompilers shaderCompilersOf(rhi::Backend a, rhi::Backend b);
+
+// The suite's parity rule (see the definition for why it allows what it allows): empty when
+// `result` agrees with `reference`, else a sentence saying how far it is off.
+std::string parityProblem(const ImageRGBA8& reference, const ImageRGBA8& result, ShaderCompilers compilers);
+
+// Cross-configuration parity against vulkan/compute by parityProblem(), the compilers those of
+// vulkan and `config`'s backend. On failure writes <stem>-<config>.png, <stem>-vulkan_compute.png
+// and <stem>-<config>-diff.png to outputDir().
 void expectMatchesVulkanCompute(const ImageRGBA8& reference, const ImageRGBA8& result, const std::string& stem,
-                                const std::string& configName);
+                                const Config& config);
 
 // What the parameterised renderer suites share: the config's device, settings of a size on the
 // config's path, and no debug messages since the last take.
