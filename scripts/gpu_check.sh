@@ -17,7 +17,6 @@
 #                        the images failing renderer tests wrote
 #   forward/             janus bench forward at 1920x1080 (issue 10 items 5 and 6: the cut-off
 #                        error table and the per-pass GPU times)
-#   gl_image_settings_* the texture tests again with __GL_OpenGLImageSettings=1 and =0 (NVIDIA only)
 #   parity_helmet/      janus parity of DamagedHelmet at 512x512 (cross-driver: --against it here)
 #   bench_rhi.p*.json    janus_bench_rhi in 5 fresh processes of 3 repetitions each (item 4);
 #                        bench_rhi.md is their table when python3 is there (else here:
@@ -150,29 +149,6 @@ sharded_suite() {
 step info 60 janus info
 sharded_suite rhi_tests 200 janus_rhi_tests
 sharded_suite renderer_tests 240 janus_renderer_tests
-# NVIDIA's GL driver filters textures by its "image settings" (__GL_OpenGLImageSettings: 0 high
-# quality, 1 quality, the driver's default, 2 performance, 3 high performance), which its Vulkan
-# driver does not follow. On the H200 gl and gles differed from vulkan only in minified texture
-# detail (docs/TESTING.md, "On a GPU machine"), as a shortened trilinear blend would, so Janus now
-# asks for 0 itself when the variable is unset (rhi/src/driver_settings.cpp), as in the suites
-# above. The texture tests again with the variable set from outside: with 1 they should fail where
-# the suites above passed (else the setting is not why); with 0 they should pass (if they fail
-# only in the suites above, Janus set it too late for the driver).
-if command -v nvidia-smi >/dev/null || [[ $quick == 1 ]]; then
-  for value in 1 0; do
-    mkdir -p "$results/gl_image_settings_$value"
-    TMPDIR="$results/gl_image_settings_$value" __GL_OpenGLImageSettings=$value step "gl_image_settings_$value.rhi" 60 \
-      janus_rhi_tests --gtest_filter='*Sampling*:*MipTexels*:*Varyings*:*SrgbMips*:DriverSettings*'
-    TMPDIR="$results/gl_image_settings_$value" __GL_OpenGLImageSettings=$value step "gl_image_settings_$value.renderer" 90 \
-      janus_renderer_tests --gtest_filter='*Khronos*Texture*:*DamagedHelmetUnderSky*'
-    for suite in rhi renderer; do
-      log="$results/gl_image_settings_$value.$suite.txt"
-      echo "gl_image_settings_$value.$suite: $(grep -ho '^\[  PASSED  \] [0-9]*' "$log" | awk '{s += $4} END {print s + 0}') passed," \
-           "$(grep -c '^\[  FAILED  \] .* ms)$' "$log") failed" >> "$summary"
-    done
-  done
-  publish
-fi
 if [[ $tests_only == 1 ]]; then
   publish
   cat "$summary"
