@@ -6,7 +6,11 @@
 #include <malloc.h>
 #include <time.h>
 
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <string>
+#include <string_view>
 #include <limits>
 
 #include "bench_common.h"
@@ -98,14 +102,16 @@ void runGuarded(benchmark::State& state, const std::function<void()>& body) {
 namespace {
 
 // Raw and RHI of one comparison are registered next to each other; scripts/bench.sh pairs them by
-// name: <work>/<backend>/<raw|rhi>.
-void registerBenchmarks() {
+// name: <work>/<backend>/<raw|rhi>. frames > 0: every repetition times exactly that many frames.
+void registerBenchmarks(int64_t frames) {
     using janus::rhi::Backend;
     using namespace janus::bench;
-    auto add = [](const std::string& name, auto&& function) {
+    auto add = [frames](const std::string& name, auto&& function) {
         // Real time per iteration is a whole frame (record + submit + wait), so --benchmark_min_time
         // bounds the wall time of each run; the counters split it.
-        benchmark::RegisterBenchmark(name.c_str(), function)->UseRealTime()->Unit(benchmark::kMicrosecond);
+        benchmark::internal::Benchmark* benchmark =
+            benchmark::RegisterBenchmark(name.c_str(), function)->UseRealTime()->Unit(benchmark::kMicrosecond);
+        if (frames > 0) benchmark->Iterations(frames);
     };
     add("draw/vulkan/raw", [](benchmark::State& state) { rawVulkanDraws(state, false); });
     add("draw/vulkan/rhi", [](benchmark::State& state) { rhiDraws(state, Backend::Vulkan); });
@@ -129,6 +135,34 @@ void registerBenchmarks() {
     add("draw/gles/rhi", [](benchmark::State& state) { rhiDraws(state, Backend::GLES); });
 }
 
+// --janus_frames=N, taken out of argv before Google Benchmark sees it. Fixed frame counts make
+// --benchmark_enable_random_interleaving usable: Google Benchmark 1.7.1 aborts (a ComputeStats
+// check) when interleaved repetitions settle on different iteration counts, as they did on the
+// H200. Interleaving spreads raw and RHI repetitions over the same minutes, so a noisy neighbour
+// or a clock change hits both (on the H100 one process's GL draw ratio was 0.88x, the next 1.57x).
+int64_t takeFramesFlag(int& argc, char** argv) {
+    constexpr std::string_view kFlag = "--janus_frames=";
+    int64_t frames = 0;
+    int kept = 1;
+    for (int i = 1; i < argc; ++i) {
+        const std::string_view argument = argv[i];
+        if (!argument.starts_with(kFlag)) {
+            argv[kept++] = argv[i];
+            continue;
+        }
+        const std::string value(argument.substr(kFlag.size()));
+        char* end = nullptr;
+        frames = std::strtoll(value.c_str(), &end, 10);
+        if (value.empty() || *end != '\0' || frames < 1 || frames > 1000000) {
+            fmt::print(stderr, "janus_bench_rhi: --janus_frames must be a whole number of frames from 1 to 1000000, got '{}'\n", value);
+            std::exit(2);
+        }
+    }
+    argc = kept;
+    argv[argc] = nullptr;
+    return frames;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -138,7 +172,7 @@ int main(int argc, char** argv) {
     // otherwise identical one. Never trimming the heap takes that luck out of the comparison.
     mallopt(M_TRIM_THRESHOLD, std::numeric_limits<int>::max());
     mallopt(M_TOP_PAD, 64 << 20);
-    registerBenchmarks();
+    registerBenchmarks(takeFramesFlag(argc, argv));
     benchmark::Initialize(&argc, argv);
     if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
     benchmark::AddCustomContext("ops_per_frame", std::to_string(janus::bench::kOpsPerFrame));

@@ -13,6 +13,10 @@
 #                  their repetitions (default: 1). Where a driver's heap lands in a process
 #                  changes its speed (llvmpipe's GL draws: 0.99x in one process, 1.43x in the
 #                  next), so a ratio from one process can be that process's luck.
+#   --interleave   FRAMES: every repetition times exactly FRAMES frames (janus_bench_rhi's
+#                  --janus_frames) and the repetitions of all benchmarks run in random order
+#                  (Google Benchmark's random interleaving), so raw and RHI share the same minutes
+#                  of a noisy machine; --min-time is then unused
 #   --json         also keep Google Benchmark's JSON output in FILE
 #   --from-json    make the table from FILE (a --json file, or janus_bench_rhi's
 #                  --benchmark_out from another machine, e.g. scripts/gpu_check.sh's) without
@@ -57,6 +61,7 @@ build_dir="$repo_root/build-bench"
 repetitions=5
 min_time=0.2
 processes=1
+interleave_frames=""
 json_out=""
 from_json=()
 
@@ -66,14 +71,18 @@ while [[ $# -gt 0 ]]; do
     --repetitions) repetitions="$2"; shift 2 ;;
     --min-time) min_time="$2"; shift 2 ;;
     --processes) processes="$2"; shift 2 ;;
+    --interleave) interleave_frames="$2"; shift 2 ;;
     --json) json_out="$2"; shift 2 ;;
     --from-json) from_json+=("$2"); shift 2 ;;
-    -h|--help) sed -n '2,28p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,32p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "bench.sh: unknown argument '$1' (try --help)" >&2; exit 2 ;;
   esac
 done
 if ! [[ "$repetitions" =~ ^[1-9][0-9]*$ ]]; then
   echo "bench.sh: --repetitions must be a positive integer, got '$repetitions'" >&2; exit 2
+fi
+if [[ -n "$interleave_frames" ]] && ! [[ "$interleave_frames" =~ ^[1-9][0-9]*$ ]]; then
+  echo "bench.sh: --interleave takes a positive whole number of frames, got '$interleave_frames'" >&2; exit 2
 fi
 if ! [[ "$processes" =~ ^[1-9][0-9]*$ ]]; then
   echo "bench.sh: --processes must be a positive integer, got '$processes'" >&2; exit 2
@@ -94,13 +103,16 @@ else
     fi
     ninja -C "$build_dir" janus_bench_rhi >&2
   fi
-  # Repetitions run back to back: Google Benchmark 1.7's random interleaving aborts (a failed
-  # ComputeStats check) when a benchmark's repetitions settle on different iteration counts, as
-  # they did on the H200 machine. Fresh processes (--processes) spread load bursts instead.
+  # Without --interleave repetitions run back to back: Google Benchmark 1.7's random interleaving
+  # aborts (a failed ComputeStats check) when a benchmark's repetitions settle on different
+  # iteration counts, as they did on the H200 machine; fixed frame counts rule that out. Fresh
+  # processes (--processes) spread load bursts either way.
+  timing=(--benchmark_min_time="$min_time")
+  [[ -n "$interleave_frames" ]] && timing=(--janus_frames="$interleave_frames" --benchmark_enable_random_interleaving=true)
   reports=()
   for ((p = 0; p < processes; ++p)); do
     "$binary" --benchmark_format=json --benchmark_out_format=json --benchmark_out="$scratch/process$p.json" \
-      --benchmark_repetitions="$repetitions" --benchmark_min_time="$min_time" >/dev/null
+      --benchmark_repetitions="$repetitions" "${timing[@]}" >/dev/null
     reports+=("$scratch/process$p.json")
   done
 fi

@@ -18,7 +18,7 @@
 #   forward/             janus bench forward at 1920x1080 (issue 10 items 5 and 6: the cut-off
 #                        error table and the per-pass GPU times)
 #   parity_helmet/      janus parity of DamagedHelmet at 512x512 (cross-driver: --against it here)
-#   bench_rhi.p*.json    janus_bench_rhi in 5 fresh processes of 3 repetitions each (item 4);
+#   bench_rhi.p*.json    janus_bench_rhi in 5 fresh processes of 5 interleaved repetitions each (item 4);
 #                        bench_rhi.md is their table when python3 is there (else here:
 #                        scripts/bench.sh --from-json bench_rhi.p0.json --from-json ...)
 #   summary.txt          one line per step: its exit status, time and the suites' totals
@@ -163,9 +163,10 @@ else
   step parity_helmet 60 janus parity "$repo_root/../shared/scenes/DamagedHelmet/glTF/DamagedHelmet.gltf" \
     --size 512x512 --out "$results/parity_helmet"
   # Five fresh processes: on the H200 one process's ratio ranged from 1.06x to 1.71x for the same
-  # binary (docs/BENCHMARKS.md, "On hardware"), so only a median over several means anything.
-  # No random interleaving: see bench.sh.
-  bench_processes=5 bench_options=(--benchmark_repetitions=3)
+  # binary, on the H100 from 0.88x to 1.57x (docs/BENCHMARKS.md, "On hardware"), so only a median
+  # over several means anything. Within each, five repetitions of 200 frames per benchmark in
+  # random order (bench.sh --interleave): raw and RHI share the same seconds of the machine.
+  bench_processes=5 bench_options=(--benchmark_repetitions=5 --janus_frames=200 --benchmark_enable_random_interleaving=true)
 fi
 from_json=()
 for ((p = 0; p < bench_processes; ++p)); do
