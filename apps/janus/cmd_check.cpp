@@ -25,6 +25,7 @@ struct CheckOptions {
     std::string size = "64x64";
     std::string tolerance = "1";
     std::string edgePixels = std::to_string(kDefaultEdgePixels);
+    std::string compilerRounding = "auto";
     std::string glPlatform = "egl";
     bool validation = false;
     bool allowOutsidePaths = false;
@@ -324,6 +325,7 @@ struct Report {
     ImageSize size;
     uint32_t tolerance = 1;
     uint64_t edgePixels = kDefaultEdgePixels;
+    std::string compilerRounding = "auto";
     std::string glPlatform;
     std::vector<ConfigurationAvailability> availability;
     std::vector<std::string> sheets;   // per configuration: contact sheet file name, "" when unavailable
@@ -344,8 +346,8 @@ std::string markdown(const Report& report) {
     for (const std::string& path : report.paths) quoted.push_back(fmt::format("`{}`", path));
     md += fmt::format("- paths: {}\n", joined(quoted, ", "));
     md += fmt::format("- {}\n", countsText(report));
-    md += fmt::format("- size {}x{}, tolerance {} step(s) of 1/255, up to {} edge pixel(s) beyond it\n", report.size.width,
-                      report.size.height, report.tolerance, report.edgePixels);
+    md += fmt::format("- size {}x{}, tolerance {} step(s) of 1/255, up to {} edge pixel(s) beyond it, compiler rounding {}\n",
+                      report.size.width, report.size.height, report.tolerance, report.edgePixels, report.compilerRounding);
     md += fmt::format("- result: **{}** (exit {})\n\n", counts.passed() ? "PASSED" : "FAILED",
                       counts.passed() ? 0 : int(ExitCode::ComparisonFailed));
 
@@ -462,6 +464,7 @@ nlohmann::json reportJson(const Report& report) {
             {"height", report.size.height},
             {"tolerance", report.tolerance},
             {"edgePixels", report.edgePixels},
+            {"compilerRounding", report.compilerRounding},
             {"glPlatform", report.glPlatform},
             {"passed", counts.passed()},
             {"exitCode", counts.passed() ? 0 : int(ExitCode::ComparisonFailed)},
@@ -544,6 +547,7 @@ FileResult checkFile(const std::filesystem::path& path, size_t index, size_t ind
 
     const std::string prefix = thumbnailPrefix(index, indexDigits, path);
     std::vector<std::optional<renderer::ImageRGBA8>> images(kConfigurations.size());
+    std::vector<std::optional<rhi::DeviceInfo>> devices(kConfigurations.size());
     for (size_t c = 0; c < kConfigurations.size(); ++c) {
         ConfigOutcome& outcome = result.configs[c];
         if (!report.availability[c].available) {
@@ -558,6 +562,7 @@ FileResult checkFile(const std::filesystem::path& path, size_t index, size_t ind
                 outcome.image = fmt::format("thumbnails/{}-{}.png", prefix, run.stem);
                 renderer::writePNG(outDir / outcome.image, run.outcome->display);
                 images[c] = std::move(run.outcome->display);
+                devices[c] = run.outcome->device;
             } else {
                 outcome.status = ConfigStatus::Failed;
                 outcome.error = run.failure;
@@ -572,7 +577,10 @@ FileResult checkFile(const std::filesystem::path& path, size_t index, size_t ind
     if (scene) {
         std::vector<const renderer::ImageRGBA8*> pointers;
         for (const auto& image : images) pointers.push_back(image ? &*image : nullptr);
-        for (const PairComparison& comparison : compareAllPairs(pointers, report.tolerance, report.edgePixels)) {
+        std::vector<const rhi::DeviceInfo*> devicePointers;
+        for (const auto& device : devices) devicePointers.push_back(device && report.compilerRounding == "auto" ? &*device : nullptr);
+        for (const PairComparison& comparison :
+             compareAllPairs(pointers, renderer::ParityRule{report.tolerance, report.edgePixels}, devicePointers)) {
             if (!comparison.difference) continue;
             const Configuration& a = kConfigurations[comparison.a];
             const Configuration& b = kConfigurations[comparison.b];
@@ -643,6 +651,7 @@ int run(const CheckOptions& options) {
     base.validation = options.validation;
     const uint32_t tolerance = parseTolerance(options.tolerance);
     const uint64_t edgePixels = parseEdgePixels(options.edgePixels);
+    parseCompilerRounding(options.compilerRounding);
     if (options.paths.empty())
         throw UsageError("give at least one PATH: a .gltf / .glb file or a folder to search, e.g. 'janus check assets --out report'");
     if (options.out.empty()) throw UsageError("--out DIR is required: where to write check.md, check.json and the contact sheets");
@@ -666,6 +675,7 @@ int run(const CheckOptions& options) {
     report.size = base.size;
     report.tolerance = tolerance;
     report.edgePixels = edgePixels;
+    report.compilerRounding = options.compilerRounding;
     report.glPlatform = options.glPlatform;
     report.availability = probeConfigurations(base.glPlatform, base.size);
     if (std::none_of(report.availability.begin(), report.availability.end(), [](const auto& a) { return a.available; })) {
@@ -761,6 +771,7 @@ Command addCheckCommand(CLI::App& parent) {
         ->default_str("1")
         ->type_name("STEPS");
     addEdgePixelsOption(*app, options->edgePixels);
+    addCompilerRoundingOption(*app, options->compilerRounding);
     addGLPlatformOption(*app, options->glPlatform);
     addEnvironmentOptions(*app, options->environment);
     addAllowOutsidePathsFlag(*app, options->allowOutsidePaths);

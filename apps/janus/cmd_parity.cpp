@@ -19,6 +19,7 @@ struct ParityOptions {
     std::string out;
     std::string tolerance = "1";
     std::string edgePixels = std::to_string(kDefaultEdgePixels);
+    std::string compilerRounding = "auto";
     std::string against;                  // another machine's `janus parity --out` directory
     std::string againstTolerance = "1";
     bool againstToleranceGiven = false;
@@ -93,11 +94,11 @@ void checkAgainstSummary(const AgainstDirectory& against, const std::string& sce
 // One comparison's table row and JSON fields (`pair` or an --against entry): the heat map is written
 // to `heatmap`. JSON has no infinity: identical images say so and carry a null PSNR.
 void recordDifference(const std::string& name, const renderer::ImageRGBA8& a, const renderer::ImageRGBA8& b,
-                      const renderer::ImageDifference& diff, uint32_t tolerance, bool passed, const std::filesystem::path& heatmap,
-                      std::vector<std::vector<std::string>>& rows, nlohmann::json& entry) {
+                      const renderer::ImageDifference& diff, uint32_t tolerance, bool passed, uint64_t roundingPixels,
+                      const std::filesystem::path& heatmap, std::vector<std::vector<std::string>>& rows, nlohmann::json& entry) {
     renderer::writePNG(heatmap, renderer::differenceHeatmap(a, b, kHeatmapFullScaleSteps));
     rows.push_back({name, std::to_string(diff.maxChannelDifference), psnrText(diff.psnr),
-                    fmt::format("{} / {}", diff.differingPixels, diff.totalPixels), pairResultText(diff, tolerance, passed)});
+                    fmt::format("{} / {}", diff.differingPixels, diff.totalPixels), pairResultText(diff, tolerance, passed, roundingPixels)});
     entry["compared"] = true;
     entry["maxChannelDifference"] = diff.maxChannelDifference;
     entry["identical"] = std::isinf(diff.psnr);
@@ -135,7 +136,7 @@ nlohmann::json compareAgainst(const AgainstDirectory& against, const std::vector
                                          r.stem, ours.width, ours.height));
         const renderer::ImageDifference diff = renderer::compareImages(ours, other, against.tolerance);
         const bool ok = diff.differingPixels == 0;
-        recordDifference(r.stem, ours, other, diff, against.tolerance, ok, outDir / fmt::format("against-{}.png", r.stem), rows, entry);
+        recordDifference(r.stem, ours, other, diff, against.tolerance, ok, 0, outDir / fmt::format("against-{}.png", r.stem), rows, entry);
         passed = passed && ok;
         anyCompared = true;
         entries.push_back(std::move(entry));
@@ -169,6 +170,7 @@ int run(const ParityOptions& options) {
     base.lighting = parseLightingOptions(options.lighting);
     const uint32_t tolerance = parseTolerance(options.tolerance);
     const uint64_t edgePixels = parseEdgePixels(options.edgePixels);
+    const bool compilerRounding = parseCompilerRounding(options.compilerRounding);
     if (options.out.empty()) throw UsageError("--out DIR is required: where to write the images and parity.json");
     const std::optional<AgainstDirectory> against = parseAgainst(options);
 
@@ -212,8 +214,9 @@ int run(const ParityOptions& options) {
     for (const std::string& name : outputs)
         if (name != "parity.json") std::filesystem::remove(outDir / name, ec);
 
-    std::printf("parity: %s at %ux%u, tolerance %u step(s), up to %llu edge pixel(s) beyond it\n", sceneLabel(scenePath).c_str(),
-                base.size.width, base.size.height, tolerance, static_cast<unsigned long long>(edgePixels));
+    std::printf("parity: %s at %ux%u, tolerance %u step(s), up to %llu edge pixel(s) beyond it, compiler rounding %s\n",
+                sceneLabel(scenePath).c_str(), base.size.width, base.size.height, tolerance, static_cast<unsigned long long>(edgePixels),
+                options.compilerRounding.c_str());
     if (const std::string pose = poseLine(scene); !pose.empty()) std::printf("pose: %s\n", pose.c_str());
     std::printf("\n");
 
@@ -238,14 +241,19 @@ int run(const ParityOptions& options) {
         {"pair", "max diff", "PSNR dB", fmt::format("pixels > {} step(s)", tolerance), "result"}};
     std::vector<const renderer::ImageRGBA8*> images;
     for (const ConfigurationResult& r : results) images.push_back(r.image.empty() ? nullptr : &r.outcome->display);
-    for (const PairComparison& comparison : compareAllPairs(images, tolerance, edgePixels)) {
+    std::vector<const rhi::DeviceInfo*> devices;
+    for (const ConfigurationResult& r : results) devices.push_back(compilerRounding && r.outcome ? &r.outcome->device : nullptr);
+    for (const PairComparison& comparison : compareAllPairs(images, renderer::ParityRule{tolerance, edgePixels}, devices)) {
         const ConfigurationResult& a = results[comparison.a];
         const ConfigurationResult& b = results[comparison.b];
         const std::string pairName = fmt::format("{} vs {}", a.stem, b.stem);
         nlohmann::json pair{{"a", a.stem}, {"b", b.stem}};
         if (comparison.difference) {
             recordDifference(pairName, a.outcome->display, b.outcome->display, *comparison.difference, tolerance, comparison.passed,
+                             comparison.roundingPixels,
                              outDir / fmt::format("diff-{}-vs-{}.png", a.stem, b.stem), pairRows, pair);
+            pair["twoCompilers"] = comparison.twoCompilers;
+            pair["roundingPixels"] = comparison.roundingPixels;
             passed = passed && comparison.passed;
         } else {
             const std::string missing = a.image.empty() ? a.stem : b.stem;
@@ -284,6 +292,7 @@ int run(const ParityOptions& options) {
                                  {"height", base.size.height},
                                  {"tolerance", tolerance},
                                  {"edgePixels", edgePixels},
+                                 {"compilerRounding", options.compilerRounding},
                                  {"heatmapFullScaleSteps", kHeatmapFullScaleSteps},
                                  {"passed", passed},
                                  {"configurations", configsJson},
@@ -322,6 +331,7 @@ Command addParityCommand(CLI::App& parent) {
         ->default_str("1")
         ->type_name("STEPS");
     addEdgePixelsOption(*app, options->edgePixels);
+    addCompilerRoundingOption(*app, options->compilerRounding);
     app->add_option("--against", options->against,
                     "The --out directory of a parity run on another machine (same scene and --size): compare each "
                     "configuration's image with its image there")

@@ -65,20 +65,41 @@ uint32_t parseTolerance(std::string_view text, std::string_view option) {
 
 std::string psnrText(double psnr) { return std::isinf(psnr) ? "inf" : fmt::format("{:.2f}", psnr); }
 
-std::vector<PairComparison> compareAllPairs(const std::vector<const renderer::ImageRGBA8*>& images, uint32_t tolerance,
-                                            uint64_t edgePixels) {
+std::vector<PairComparison> compareAllPairs(const std::vector<const renderer::ImageRGBA8*>& images, const renderer::ParityRule& rule,
+                                            const std::vector<const rhi::DeviceInfo*>& devices) {
     std::vector<PairComparison> pairs;
     for (size_t i = 0; i < images.size(); ++i) {
         for (size_t j = i + 1; j < images.size(); ++j) {
             PairComparison pair{i, j};
             if (images[i] && images[j]) {
-                pair.difference = renderer::compareImages(*images[i], *images[j], tolerance);
-                pair.passed = pair.difference->maxChannelDifference <= tolerance || pair.difference->differingPixels <= edgePixels;
+                pair.twoCompilers = i < devices.size() && j < devices.size() && devices[i] && devices[j] &&
+                                    !renderer::shareShaderCompiler(*devices[i], *devices[j]);
+                const renderer::ParityVerdict verdict =
+                    renderer::judgeParity(*images[i], *images[j], pair.twoCompilers ? renderer::withCompilerRounding(rule) : rule);
+                pair.difference = verdict.difference;
+                pair.passed = verdict.agrees;
+                pair.roundingPixels = verdict.roundingPixels;
             }
             pairs.push_back(pair);
         }
     }
     return pairs;
+}
+
+bool parseCompilerRounding(std::string_view text) {
+    if (text == "auto") return true;
+    if (text == "off") return false;
+    throw UsageError(fmt::format("--compiler-rounding '{}' is not auto or off", text));
+}
+
+void addCompilerRoundingOption(CLI::App& app, std::string& compilerRounding) {
+    app.add_option("--compiler-rounding", compilerRounding,
+                   fmt::format("auto: pairs whose devices compile shaders with different compilers (vulkan and gl on a hardware "
+                               "driver; not Mesa's llvmpipe, which compiles both) may also have 1 pixel in {} up to {} steps off, "
+                               "their arithmetic's rounding; off: --tolerance and --edge-pixels only",
+                               renderer::kCompilerRoundingOnePixelIn, renderer::kCompilerRoundingSteps))
+        ->default_str("auto")
+        ->type_name("auto|off");
 }
 
 uint64_t parseEdgePixels(std::string_view text) {
@@ -98,9 +119,11 @@ void addEdgePixelsOption(CLI::App& app, std::string& edgePixels) {
         ->type_name("N");
 }
 
-std::string pairResultText(const renderer::ImageDifference& difference, uint32_t tolerance, bool passed) {
+std::string pairResultText(const renderer::ImageDifference& difference, uint32_t tolerance, bool passed, uint64_t roundingPixels) {
     if (!passed) return "FAIL";
     if (difference.maxChannelDifference <= tolerance) return "ok";
+    if (roundingPixels > 0)
+        return fmt::format("ok ({} pixel{} of compiler rounding)", roundingPixels, roundingPixels == 1 ? "" : "s");
     return fmt::format("ok ({} edge pixel{})", difference.differingPixels, difference.differingPixels == 1 ? "" : "s");
 }
 

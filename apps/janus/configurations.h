@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "cli_common.h"
+#include "janus/renderer/parity.h"
 
 namespace janus::cli {
 
@@ -78,18 +79,30 @@ uint64_t parseEdgePixels(std::string_view text);
 // the default (std::to_string(kDefaultEdgePixels)) until the option is given.
 void addEdgePixelsOption(CLI::App& app, std::string& edgePixels);
 
+// --compiler-rounding auto|off (parity and check): whether pairs whose devices do not share a
+// shader compiler (renderer::shareShaderCompiler: vulkan against gl on a hardware driver) get the
+// rounding allowance of janus/renderer/parity.h on top of --tolerance and --edge-pixels.
+// Throws UsageError; true for auto.
+bool parseCompilerRounding(std::string_view text);
+void addCompilerRoundingOption(CLI::App& app, std::string& compilerRounding);
+
 // One pair of configurations compared (i < j, indices into the images given).
 struct PairComparison {
     size_t a = 0, b = 0;
     std::optional<renderer::ImageDifference> difference;   // nothing: one of the two did not render
-    bool passed = false;   // compared, and within the tolerance or at most `edgePixels` pixels beyond it
+    bool passed = false;          // compared, and agreeing by the rule (renderer::judgeParity)
+    bool twoCompilers = false;    // the rounding allowance applied to this pair
+    uint64_t roundingPixels = 0;  // pixels beyond the tolerance it let through
 };
 
-// Every pair (i < j, in order) of `images`; a null image did not render, and its pairs are not compared.
-std::vector<PairComparison> compareAllPairs(const std::vector<const renderer::ImageRGBA8*>& images, uint32_t tolerance,
-                                            uint64_t edgePixels);
+// Every pair (i < j, in order) of `images` by `rule`; a null image did not render, and its pairs
+// are not compared. `devices` (one per image, or empty) says which pairs cross shader compilers:
+// those get renderer::withCompilerRounding(rule); with no devices, none does.
+std::vector<PairComparison> compareAllPairs(const std::vector<const renderer::ImageRGBA8*>& images, const renderer::ParityRule& rule,
+                                            const std::vector<const rhi::DeviceInfo*>& devices = {});
 
-// The result column of a compared pair: "ok", "ok (N edge pixel(s))" or "FAIL".
-std::string pairResultText(const renderer::ImageDifference& difference, uint32_t tolerance, bool passed);
+// The result column of a compared pair: "ok", "ok (N edge pixel(s))", "ok (N pixel(s) of
+// compiler rounding)" or "FAIL".
+std::string pairResultText(const renderer::ImageDifference& difference, uint32_t tolerance, bool passed, uint64_t roundingPixels = 0);
 
 }  // namespace janus::cli

@@ -13,6 +13,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "janus/renderer/parity.h"
 #include "renderer_test_support.h"
 
 namespace janus::renderer {
@@ -69,7 +70,7 @@ TEST(ParityTolerance, NvidiasCompilerRoundingPassesOnlyAsTwoCompilers) {
 TEST(ParityTolerance, TheLabelsSampledAtMipZeroFailEitherWay) {
     const RecordedPair labels = recordedPairs().at("labels-after-discard");
     const std::string problem = parityProblem(labels.vulkan, labels.gl, ShaderCompilers::Different);
-    EXPECT_NE(problem.find("62 pixels more than 1 step off (up to 121 steps)"), std::string::npos) << problem;
+    EXPECT_NE(problem.find("62 pixels more than 1 step off (up to 121 steps), 58 more than 4 steps"), std::string::npos) << problem;
     EXPECT_NE(parityProblem(labels.vulkan, labels.gl, ShaderCompilers::Same), "");
 }
 
@@ -89,6 +90,37 @@ TEST(ParityTolerance, CountsAndStepsAtTheirLimits) {
     EXPECT_NE(parityProblem(reference, offBy(9, 4), ShaderCompilers::Different), "");
     EXPECT_NE(parityProblem(reference, offBy(5, 5), ShaderCompilers::Different), "");     // over 4 steps: silhouettes only
     EXPECT_EQ(parityProblem(reference, offBy(4, 5), ShaderCompilers::Different), "");
+}
+
+rhi::DeviceInfo device(rhi::Backend backend, std::string name) {
+    rhi::DeviceInfo info;
+    info.backend = backend;
+    info.deviceName = std::move(name);
+    return info;
+}
+
+TEST(ParityTolerance, WhichDevicesShareAShaderCompiler) {
+    const std::string lavapipe = "llvmpipe (LLVM 15.0.6, 256 bits)";
+    const std::string nvidiaVulkan = "NVIDIA H100 80GB HBM3", nvidiaGL = "NVIDIA H100 80GB HBM3/PCIe/SSE2";
+    EXPECT_TRUE(shareShaderCompiler(device(rhi::Backend::Vulkan, lavapipe), device(rhi::Backend::GL, lavapipe)));
+    EXPECT_TRUE(shareShaderCompiler(device(rhi::Backend::GLES, lavapipe), device(rhi::Backend::Vulkan, lavapipe)));
+    EXPECT_TRUE(shareShaderCompiler(device(rhi::Backend::GL, nvidiaGL), device(rhi::Backend::GLES, nvidiaGL)));
+    EXPECT_TRUE(shareShaderCompiler(device(rhi::Backend::Vulkan, nvidiaVulkan), device(rhi::Backend::Vulkan, nvidiaVulkan)));
+    EXPECT_FALSE(shareShaderCompiler(device(rhi::Backend::Vulkan, nvidiaVulkan), device(rhi::Backend::GL, nvidiaGL)));
+    EXPECT_FALSE(shareShaderCompiler(device(rhi::Backend::Vulkan, nvidiaVulkan), device(rhi::Backend::Vulkan, lavapipe)));
+    EXPECT_FALSE(shareShaderCompiler(device(rhi::Backend::GL, nvidiaGL), device(rhi::Backend::GL, lavapipe)));
+}
+
+TEST(ParityTolerance, AWiderToleranceLeavesTheRoundingAllowanceNothingToAdd) {
+    const RecordedPair helmet = recordedPairs().at("helmet");
+    ParityRule rule;
+    rule.tolerance = 3;   // the helmet's worst pixel
+    const ParityVerdict verdict = judgeParity(helmet.vulkan, helmet.gl, rule);
+    EXPECT_TRUE(verdict.agrees) << verdict.problem;
+    EXPECT_EQ(verdict.roundingPixels, 0u);
+    const ParityVerdict rounded = judgeParity(helmet.vulkan, helmet.gl, withCompilerRounding(ParityRule{}));
+    EXPECT_TRUE(rounded.agrees) << rounded.problem;
+    EXPECT_EQ(rounded.roundingPixels, 14u);   // the 14 recorded pixels two or three steps off
 }
 
 }  // namespace

@@ -89,9 +89,8 @@ void expectWellFormedTileLists(const TileLists& tiles, const LightCullingReport&
 // failing images are written to outputDir() with `label` in their names.
 void expectSameImage(const FrameOutput& expected, const FrameOutput& actual, const std::string& label);
 
-// Whether two configurations' shaders go through one compiler, so that their images may be held
-// to the last bit of shading math: the same backend; or lavapipe and llvmpipe, which both compile
-// with Mesa's gallivm (LLVM). A vendor's Vulkan and GL drivers have two front ends (SPIR-V, GLSL).
+// Whether two configurations' shaders go through one compiler (renderer::shareShaderCompiler of
+// their devices): then their images are held to the last bit of shading math.
 enum class ShaderCompilers { Same, Different };
 ShaderCompilers shaderCompilersOf(rhi::Backend a, rhi::Backend b);
 
