@@ -1,5 +1,7 @@
-// Implicit derivatives after a discard (shaders/include/janus/shaders/derivative_lint.h): none in
-// any shader we ship, and the check finds each way one can hide, or that first test proves nothing.
+// Implicit derivatives after a discard or in divergent control flow
+// (shaders/include/janus/shaders/derivative_lint.h): none in any shader we ship, and the checks
+// find each way one can hide, and keep quiet where the quad is whole, or that first test proves
+// nothing.
 // Mesa keeps discarded lanes as helpers, so no image rendered here shows the bug; NVIDIA's GL
 // driver does not (issue 10: alpha-masked labels sampled mip 0 at their edges).
 #include <gtest/gtest.h>
@@ -24,10 +26,10 @@ std::string joined(const std::vector<std::string>& lines) {
     return text;
 }
 
-TEST(DerivativeLint, NoShaderTakesImplicitDerivativesAfterADiscard) {
+TEST(DerivativeLint, NoShaderTakesImplicitDerivativesWhereTheQuadMayBeIncomplete) {
     size_t checked = 0;
     for (const Entry& entry : all()) {
-        EXPECT_EQ(joined(derivativesAfterDiscard(entry.spirv)), "") << entry.name;
+        EXPECT_EQ(joined(derivativeHazards(entry.spirv)), "") << entry.name;
         ++checked;
     }
     EXPECT_GT(checked, 0u);
@@ -41,6 +43,8 @@ std::vector<uint32_t> compileFragment(const std::string& body) {
     const std::string source = "#version 450\n"
                                "layout(location = 0) in vec2 uv;\n"
                                "layout(location = 1) in float cut;\n"
+                               "layout(location = 2) flat in int layer;\n"
+                               "layout(set = 0, binding = 2) uniform Settings { float threshold; int count; } settings;\n"
                                "layout(location = 0) out vec4 color;\n"
                                "layout(set = 0, binding = 0) uniform sampler2D labels;\n"
                                "layout(set = 0, binding = 1) uniform sampler2D emission;\n" +
@@ -62,6 +66,7 @@ std::vector<uint32_t> compileFragment(const std::string& body) {
 }
 
 std::vector<std::string> findings(const std::string& body) { return derivativesAfterDiscard(compileFragment(body)); }
+std::vector<std::string> divergent(const std::string& body) { return derivativesInDivergentFlow(compileFragment(body)); }
 
 TEST(DerivativeLint, FindsALookupAfterADiscardAndNamesIt) {
     // The shape forward.frag had: the base colour's alpha test, then the emissive lookup.
@@ -151,9 +156,108 @@ void main() {
               "");
 }
 
+TEST(DerivativeLint, FindsALookupInABranchOnAPerFragmentValue) {
+    // The shape forward.frag's normal map had: sampled only where the tangent frame exists.
+    const std::vector<std::string> found = divergent(R"(
+void main() {
+    color = vec4(0.0);
+    if (uv.x > 0.5) color = texture(labels, uv);
+})");
+    ASSERT_EQ(found.size(), 1u) << joined(found);
+    EXPECT_NE(found[0].find("implicit-LOD texture lookup of 'labels' in 'main' runs where a branch on a per-fragment value"),
+              std::string::npos)
+        << found[0];
+    EXPECT_EQ(joined(findings(R"(
+void main() {
+    color = vec4(0.0);
+    if (uv.x > 0.5) color = texture(labels, uv);
+})")),
+              "")
+        << "no discard: the other check has nothing to say";
+}
+
+TEST(DerivativeLint, BranchesEveryFragmentOfAQuadTakesAlikeAreFine) {
+    // Uniform-buffer values, flat inputs and gl_FrontFacing are the same in all four fragments.
+    EXPECT_EQ(joined(divergent(R"(
+void main() {
+    color = vec4(0.0);
+    if (settings.threshold > 0.5) color += texture(labels, uv);
+    if (layer == 2) color += texture(emission, uv);
+    if (gl_FrontFacing) color += vec4(dFdx(uv), 0.0, 0.0);
+    for (int i = 0; i < settings.count; ++i) color += texture(labels, uv + vec2(float(i)));
+})")),
+              "");
+}
+
+TEST(DerivativeLint, FindsDerivativesInLoopsAndAfterTheLanesThatLeft) {
+    // A trip count from a varying value.
+    EXPECT_EQ(divergent(R"(
+void main() {
+    color = vec4(0.0);
+    for (int i = 0; i < int(uv.x * 8.0); ++i) color += texture(labels, uv + vec2(float(i)));
+})").size(),
+              1u);
+    // After a loop whose lanes all meet again at its end: fine.
+    EXPECT_EQ(joined(divergent(R"(
+void main() {
+    float sum = 0.0;
+    for (int i = 0; i < int(uv.x * 8.0); ++i) sum += 1.0;
+    color = texture(labels, uv) * sum;
+})")),
+              "");
+    // After a varying break, the rest of the loop runs without the lanes that left.
+    EXPECT_EQ(divergent(R"(
+void main() {
+    color = vec4(0.0);
+    for (int i = 0; i < 4; ++i) {
+        if (uv.x > float(i) * 0.25) break;
+        color += texture(labels, uv);
+    }
+})").size(),
+              1u);
+    // After a varying early return, the rest of the function runs without them.
+    EXPECT_EQ(divergent(R"(
+void main() {
+    color = vec4(0.0);
+    if (uv.y > 0.5) return;
+    color = texture(emission, uv);
+})").size(),
+              1u);
+}
+
+TEST(DerivativeLint, FollowsVaryingValuesThroughVariablesAndCalls) {
+    // A flag set in a varying branch varies, and so does the branch on it.
+    EXPECT_EQ(divergent(R"(
+void main() {
+    bool near = false;
+    if (uv.x > 0.5) near = true;
+    color = vec4(0.0);
+    if (near) color = texture(labels, uv);
+})").size(),
+              1u);
+    // A lookup inside a function called from a varying branch.
+    const std::vector<std::string> found = divergent(R"(
+vec4 glow(vec2 at) { return texture(emission, at); }
+void main() {
+    color = vec4(0.0);
+    if (uv.x > 0.5) color = glow(uv);
+})");
+    ASSERT_EQ(found.size(), 1u) << joined(found);
+    EXPECT_NE(found[0].find("of 'emission' (in 'glow') in 'main'"), std::string::npos) << found[0];
+    // Explicit LODs and gradients taken outside are fine anywhere.
+    EXPECT_EQ(joined(divergent(R"(
+void main() {
+    vec2 dx = dFdx(uv), dy = dFdy(uv);
+    color = vec4(0.0);
+    if (uv.x > 0.5) color = textureLod(labels, uv, 1.0) + textureGrad(emission, uv, dx, dy);
+})")),
+              "");
+}
+
 TEST(DerivativeLint, RefusesWhatIsNotSpirv) {
     const std::vector<uint32_t> text = {0x6c736c67, 0, 0, 0, 0};
     EXPECT_THROW(derivativesAfterDiscard(text), std::invalid_argument);
+    EXPECT_THROW(derivativesInDivergentFlow(text), std::invalid_argument);
     std::vector<uint32_t> truncated = compileFragment("void main() { color = texture(labels, uv); }");
     truncated.back() = 0xFFFF0000u | truncated.back();   // a word count past the end
     EXPECT_THROW(derivativesAfterDiscard(truncated), std::invalid_argument);

@@ -1,16 +1,21 @@
-// Finds implicit derivatives a fragment shader may take after a discard.
+// Finds implicit derivatives a fragment shader takes where the quad's other fragments may not be.
 //
-// Implicit-LOD texture lookups (texture(), textureProj(), texture() with a bias) and dFdx/dFdy/
-// fwidth take their values from the 2x2 quad of fragments. Once a neighbour has executed OpKill
-// (GLSL `discard`) those values are undefined: the SPIR-V and GLSL specifications say so, Mesa
-// happens to keep the killed lanes as helpers, and NVIDIA's GL driver does not (issue 10: alpha-
-// masked labels sampled mip 0 at their edges, up to 121 steps off Vulkan). Sample before the
-// discard, or use textureLod/textureGrad with derivatives taken before it.
+// Implicit-LOD texture lookups (texture(), textureProj(), texture() with a bias), textureQueryLod
+// and dFdx/dFdy/fwidth take their values from the 2x2 quad of fragments. They are undefined where
+// a neighbour is missing: after it executed OpKill (GLSL `discard`), and in control flow that
+// depends on a value that differs within the quad (a branch on a texture coordinate, a loop whose
+// trip count comes from one). The SPIR-V and GLSL specifications say so; Mesa happens to keep the
+// missing lanes running, NVIDIA's GL driver does not (issue 10: alpha-masked labels sampled mip 0
+// at their edges, up to 121 steps off Vulkan). Sample first, or use textureLod/textureGrad with
+// derivatives taken in uniform control flow.
 //
-// The check is conservative: anything reachable in the control-flow graph after a block that
-// branches to a discard counts as "after", whether or not the condition could differ within a
-// quad, and a function call counts as a discard when the callee (or one it calls) discards.
-// Implicit derivatives inside other non-uniform control flow are not detected.
+// Both checks are conservative. After a discard: anything reachable in the control-flow graph
+// after a block that branches to a discard counts, whether or not the condition could differ
+// within a quad, and a call counts as a discard when the callee (or one it calls) discards.
+// Divergence: a value varies when it depends on an input that is not flat or per-primitive, on a
+// function parameter or call result, or on a variable stored to in divergent flow; a branch on a
+// varying value makes what it leads to divergent until its merge, the rest of the loop too after a
+// break or continue, and the rest of the function after a return (after a discard: the first check).
 #pragma once
 
 #include <cstdint>
@@ -25,5 +30,12 @@ namespace janus::shaders {
 // call) it follows. Empty for shaders without a fragment entry point. Throws std::invalid_argument
 // on a module that is not SPIR-V (bad magic number, truncated instruction).
 std::vector<std::string> derivativesAfterDiscard(std::span<const uint32_t> spirv);
+
+// One message per implicit derivative in divergent control flow (see above), naming what it
+// samples and the function it is in. Empty and throws as derivativesAfterDiscard.
+std::vector<std::string> derivativesInDivergentFlow(std::span<const uint32_t> spirv);
+
+// Both of the above.
+std::vector<std::string> derivativeHazards(std::span<const uint32_t> spirv);
 
 }  // namespace janus::shaders
