@@ -134,6 +134,7 @@ Module parse(std::span<const uint32_t> spirv) {
                 block = nullptr;
                 continue;
             case spv::OpLabel:
+                if (count < 2) throw std::invalid_argument(fmt::format("derivative lint: OpLabel without a result id at word {}", at - count));
                 if (function) {
                     function->indexOf[w[1]] = function->blocks.size();
                     block = &function->blocks.emplace_back();
@@ -186,6 +187,7 @@ std::string sampledName(const Module& module, uint32_t id) {
         if (definition == module.definitions.end()) break;
         const Instruction& d = definition->second;
         if (d.op != spv::OpLoad && d.op != spv::OpSampledImage && d.op != spv::OpAccessChain && d.op != spv::OpInBoundsAccessChain) break;
+        if (d.words.size() < 4) break;
         id = d.words[3];   // OpLoad's pointer, an access chain's base, OpSampledImage's image
     }
     return "an unnamed image";
@@ -340,6 +342,7 @@ private:
             if (d == m_module.definitions.end()) break;
             const spv::Op op = d->second.op;
             if (op != spv::OpAccessChain && op != spv::OpInBoundsAccessChain && op != spv::OpPtrAccessChain) break;
+            if (d->second.words.size() < 4) break;
             pointer = d->second.words[3];
         }
         return pointer;
