@@ -311,6 +311,7 @@ Device::Device(const DeviceDesc& desc, std::unique_ptr<Platform> platform) {
 
     properties.capabilities = detectCapabilities();
     properties.formats = queryFormatCapabilities(properties.capabilities);
+    properties.validation = desc.enableValidation;
     setProperties(std::move(properties));
     if (desc.enableValidation) {
         setupDebugOutput();
@@ -631,6 +632,7 @@ void Device::waitIdle() {
 }
 
 std::vector<DebugMessage> Device::takeDebugMessages() { return m_context->takeDebugMessages(); }
+void Device::collectFrontMessage(const DebugMessage& message) { m_context->collectDebugMessage(message); }
 
 std::vector<DebugMessage> Device::takePerformanceMessages() { return m_context->takePerformanceMessages(); }
 

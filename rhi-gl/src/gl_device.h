@@ -756,6 +756,7 @@ public:
     std::vector<std::byte> readTextureImpl(const TextureHandle& texture, TextureSubresource sub) override;
     std::optional<double> timerSeconds(const TimerQueryHandle& timer) override;
     std::vector<DebugMessage> takeDebugMessages() override;
+    void collectFrontMessage(const DebugMessage& message) override;
     std::vector<DebugMessage> takePerformanceMessages() override;
     void insertPerformanceMessageForTesting(const std::string& text) override;
     void provokeValidationErrorForTesting() override;

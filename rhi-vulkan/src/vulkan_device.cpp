@@ -441,6 +441,7 @@ public:
         properties.info = describe(*m_context);
         properties.capabilities = queryCapabilities(*m_context);
         properties.formats = queryFormatCapabilities(*m_context, properties.capabilities);
+        properties.validation = desc.enableValidation;
         setProperties(std::move(properties));
     }
 
@@ -539,6 +540,8 @@ public:
         std::lock_guard lock(m_context->messageMutex);
         return std::exchange(m_context->messages, {});
     }
+
+    void collectFrontMessage(const DebugMessage& message) override { m_context->addMessage(message); }
 
     std::vector<DebugMessage> takePerformanceMessages() override {
         std::lock_guard lock(m_context->messageMutex);

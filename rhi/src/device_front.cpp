@@ -3,6 +3,9 @@
 // only reach them through these. The per-draw calls are not here: they go to the backend directly.
 #include <fmt/format.h>
 
+#include <cstdio>
+
+#include "janus/rhi/derivative_lint.h"
 #include "janus/rhi/rhi.h"
 #include "validation.h"
 
@@ -38,7 +41,25 @@ SamplerHandle IDevice::createSampler(const SamplerDesc& desc) {
 
 ShaderHandle IDevice::createShader(const ShaderDesc& desc) {
     detail::validateShader(*m_properties, desc);
-    return createShaderImpl(desc);
+    ShaderHandle shader = createShaderImpl(desc);
+    // Undefined behaviour that Mesa happens to forgive and NVIDIA's GL driver did not (issue 10):
+    // said once, here, the same on every backend. A warning, not a refusal: the check is
+    // conservative, and the shader may be fine where the condition cannot differ within a quad.
+    if (m_properties->validation && desc.stage == ShaderStage::Fragment) {
+        for (const std::string& finding : derivativeHazards(desc.spirv)) {
+            const DebugMessage message{MessageSeverity::Warning,
+                                       fmt::format("createShader: fragment shader{}: {}",
+                                                   desc.debugName.empty() ? "" : " '" + desc.debugName + "'", finding)};
+            try {
+                collectFrontMessage(message);
+            } catch (const std::exception& e) {
+                std::fprintf(stderr, "janus: the debug message callback threw (%s); the message was still collected\n", e.what());
+            } catch (...) {
+                std::fprintf(stderr, "janus: the debug message callback threw; the message was still collected\n");
+            }
+        }
+    }
+    return shader;
 }
 
 PipelineHandle IDevice::createGraphicsPipeline(const GraphicsPipelineDesc& desc) {

@@ -1,24 +1,24 @@
 // Implicit derivatives after a discard or in divergent control flow
-// (shaders/include/janus/shaders/derivative_lint.h): none in any shader we ship, and the checks
+// (rhi/backend-api/janus/rhi/derivative_lint.h): none in any shader we ship, and the checks
 // find each way one can hide, and keep quiet where the quad is whole, or that first test proves
 // nothing.
 // Mesa keeps discarded lanes as helpers, so no image rendered here shows the bug; NVIDIA's GL
 // driver does not (issue 10: alpha-masked labels sampled mip 0 at their edges).
 #include <gtest/gtest.h>
 
-#include <glslang/Public/ResourceLimits.h>
-#include <glslang/Public/ShaderLang.h>
-#include <glslang/SPIRV/GlslangToSpv.h>
-
 #include <stdexcept>
 #include <string>
 #include <vector>
 
-#include "janus/shaders/derivative_lint.h"
+#include "glslang_compile.h"
+#include "janus/rhi/derivative_lint.h"
 #include "janus/shaders/shaders.h"
 
-namespace janus::shaders {
+namespace janus::rhi {
 namespace {
+
+using shaders::all;
+using shaders::Entry;
 
 std::string joined(const std::vector<std::string>& lines) {
     std::string text;
@@ -35,34 +35,18 @@ TEST(DerivativeLint, NoShaderTakesImplicitDerivativesWhereTheQuadMayBeIncomplete
     EXPECT_GT(checked, 0u);
 }
 
-// GLSL 450 fragment shader -> SPIR-V for Vulkan 1.2, as the build's glslangValidator -V makes it
-// (no inlining, so calls stay calls).
+// A fragment shader with the inputs and resources the cases below use, compiled by glslang.
 std::vector<uint32_t> compileFragment(const std::string& body) {
-    static const bool initialised = glslang::InitializeProcess();
-    (void)initialised;
-    const std::string source = "#version 450\n"
-                               "layout(location = 0) in vec2 uv;\n"
-                               "layout(location = 1) in float cut;\n"
-                               "layout(location = 2) flat in int layer;\n"
-                               "layout(set = 0, binding = 2) uniform Settings { float threshold; int count; } settings;\n"
-                               "layout(location = 0) out vec4 color;\n"
-                               "layout(set = 0, binding = 0) uniform sampler2D labels;\n"
-                               "layout(set = 0, binding = 1) uniform sampler2D emission;\n" +
-                               body;
-    glslang::TShader shader(EShLangFragment);
-    const char* text = source.c_str();
-    shader.setStrings(&text, 1);
-    shader.setEnvInput(glslang::EShSourceGlsl, EShLangFragment, glslang::EShClientVulkan, 100);
-    shader.setEnvClient(glslang::EShClientVulkan, glslang::EShTargetVulkan_1_2);
-    shader.setEnvTarget(glslang::EShTargetSpv, glslang::EShTargetSpv_1_5);
-    if (!shader.parse(GetDefaultResources(), 450, false, EShMsgDefault))
-        throw std::runtime_error(std::string("glslang: ") + shader.getInfoLog() + "\n" + source);
-    glslang::TProgram program;
-    program.addShader(&shader);
-    if (!program.link(EShMsgDefault)) throw std::runtime_error(std::string("glslang link: ") + program.getInfoLog());
-    std::vector<uint32_t> spirv;
-    glslang::GlslangToSpv(*program.getIntermediate(EShLangFragment), spirv);
-    return spirv;
+    return test::compileGlsl("#version 450\n"
+                             "layout(location = 0) in vec2 uv;\n"
+                             "layout(location = 1) in float cut;\n"
+                             "layout(location = 2) flat in int layer;\n"
+                             "layout(set = 0, binding = 2) uniform Settings { float threshold; int count; } settings;\n"
+                             "layout(location = 0) out vec4 color;\n"
+                             "layout(set = 0, binding = 0) uniform sampler2D labels;\n"
+                             "layout(set = 0, binding = 1) uniform sampler2D emission;\n" +
+                                 body,
+                             ShaderStage::Fragment);
 }
 
 std::vector<std::string> findings(const std::string& body) { return derivativesAfterDiscard(compileFragment(body)); }
@@ -264,4 +248,4 @@ TEST(DerivativeLint, RefusesWhatIsNotSpirv) {
 }
 
 }  // namespace
-}  // namespace janus::shaders
+}  // namespace janus::rhi

@@ -585,6 +585,7 @@ struct DeviceProperties {
     DeviceInfo info;
     Capabilities capabilities;
     std::vector<FormatCapabilities> formats;   // indexed by Format (Unknown: none)
+    bool validation = false;                   // DeviceDesc::enableValidation: the front's own checks report too
 };
 
 // Records work; IDevice::execute() runs it. Barriers between passes, dispatches and copies are
@@ -762,6 +763,12 @@ protected:
     virtual std::vector<std::byte> readBufferImpl(const BufferHandle& buffer, uint64_t offset, uint64_t size) = 0;  // size resolved
     virtual void writeTextureImpl(const TextureHandle& texture, TextureSubresource sub, const void* data, uint64_t size) = 0;
     virtual std::vector<std::byte> readTextureImpl(const TextureHandle& texture, TextureSubresource sub) = 0;
+    // A message from the front's own checks (with validation on: a fragment shader's implicit
+    // derivatives where the quad may be incomplete, rhi/backend-api/janus/rhi/derivative_lint.h):
+    // collected with the driver's, returned by takeDebugMessages() and passed to
+    // DeviceDesc::messageCallback. Keeps the message before calling the callback, and lets what the
+    // callback throws through (the front catches and prints it).
+    virtual void collectFrontMessage(const DebugMessage& message) = 0;
 
 private:
     std::shared_ptr<const DeviceProperties> m_properties;

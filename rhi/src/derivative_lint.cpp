@@ -1,4 +1,4 @@
-#include "janus/shaders/derivative_lint.h"
+#include "janus/rhi/derivative_lint.h"
 
 // The opcode and enum names, and which instructions have a result (HasResultAndType).
 #define SPV_ENABLE_UTILITY_CODE
@@ -14,7 +14,7 @@
 #include <unordered_map>
 #include <unordered_set>
 
-namespace janus::shaders {
+namespace janus::rhi {
 namespace {
 
 constexpr uint32_t kSpirvMagic = 0x07230203;
@@ -506,4 +506,4 @@ std::vector<std::string> derivativeHazards(std::span<const uint32_t> spirv) {
     return found;
 }
 
-}  // namespace janus::shaders
+}  // namespace janus::rhi

@@ -9,6 +9,9 @@
 // at their edges, up to 121 steps off Vulkan). Sample first, or use textureLod/textureGrad with
 // derivatives taken in uniform control flow.
 //
+// With validation on, IDevice::createShader reports each finding of a fragment shader as a Warning
+// debug message (the same on every backend); tests hold our own shaders to none.
+//
 // Both checks are conservative. After a discard: anything reachable in the control-flow graph
 // after a block that branches to a discard counts, whether or not the condition could differ
 // within a quad, and a call counts as a discard when the callee (or one it calls) discards.
@@ -23,7 +26,7 @@
 #include <string>
 #include <vector>
 
-namespace janus::shaders {
+namespace janus::rhi {
 
 // One message per implicit derivative in `spirv` that may run after a discard, naming what it
 // samples (the variable, when the module has names), the function it is in and the discard (or
@@ -38,4 +41,4 @@ std::vector<std::string> derivativesInDivergentFlow(std::span<const uint32_t> sp
 // Both of the above.
 std::vector<std::string> derivativeHazards(std::span<const uint32_t> spirv);
 
-}  // namespace janus::shaders
+}  // namespace janus::rhi
