@@ -2,9 +2,8 @@
 # Everything issue 10 asks of a GPU machine, in one call: a lent machine has about 15 minutes in
 # all, its start included, so this is prepared here and run there once.
 #
-# Here:   bash ../shared/gpu/pack.sh build .gpu          (see ../shared/gpu/README.md)
-#         git rev-parse --short HEAD > .gpu-pack/commit; tar -czf .gpu-pack/gpu.tar.gz .gpu
-#                                                         (.gpu is over the device's 64 MiB)
+# Here:   bash scripts/gpu_pack.sh build                 (../shared/gpu/pack.sh, retried, into
+#                                                         .gpu-pack: .gpu is over the device's 64 MiB)
 # There:  bash scripts/gpu_check.sh --out "$OUT"          (device `run` with carry [".gpu-pack"])
 # Try the script itself here with local binaries:
 #         scripts/gpu_check.sh --build-dir build --out /tmp/gpu-check --quick
