@@ -64,13 +64,14 @@ run() {
 export -f run   # `timeout` runs it through bash -c
 export build_dir repo_root
 # .gpu is over the device's 64 MiB with Embree: it travels as .gpu-pack/gpu.tar.gz
-# (tar -czf .gpu-pack/gpu.tar.gz .gpu here, carry [".gpu-pack"]) and is unpacked here.
-if [[ -z "$build_dir" && ! -f "$repo_root/.gpu/run.sh" && -f "$repo_root/.gpu-pack/gpu.tar.gz" ]]; then
+# (scripts/gpu_pack.sh here, carry [".gpu-pack"]) and is unpacked here, always: a warm machine
+# keeps the last call's ignored folders, so a .gpu already there may be an older build.
+if [[ -z "$build_dir" && -f "$repo_root/.gpu-pack/gpu.tar.gz" ]]; then
+  rm -rf "$repo_root/.gpu"
   tar -xzf "$repo_root/.gpu-pack/gpu.tar.gz" -C "$repo_root"
 fi
 if [[ -z "$build_dir" && ! -f "$repo_root/.gpu/run.sh" ]]; then
-  echo "gpu_check.sh: no .gpu/run.sh: pack a build first (bash ../shared/gpu/pack.sh build .gpu; then carry .gpu, or" \
-       "tar -czf .gpu-pack/gpu.tar.gz .gpu and carry .gpu-pack)" >&2
+  echo "gpu_check.sh: no .gpu/run.sh: pack a build first (bash scripts/gpu_pack.sh build, then carry .gpu-pack)" >&2
   exit 2
 fi
 
