@@ -59,6 +59,7 @@ struct Block {
 
 struct Function {
     uint32_t id = 0;
+    std::vector<uint32_t> parameters;   // OpFunctionParameter ids, in order
     std::vector<Block> blocks;
     std::unordered_map<uint32_t, size_t> indexOf;   // label -> index in blocks
 };
@@ -128,6 +129,9 @@ Module parse(std::span<const uint32_t> spirv) {
             case spv::OpFunction:
                 function = &module.functions.emplace_back();
                 function->id = instruction.result;
+                continue;
+            case spv::OpFunctionParameter:
+                if (function && instruction.result) function->parameters.push_back(instruction.result);
                 continue;
             case spv::OpFunctionEnd:
                 function = nullptr;
@@ -408,17 +412,21 @@ private:
     }
 
     // Which values may differ between the fragments of a quad: inputs that are not constant per
-    // primitive, and all that depends on them, by data or by where it was stored. Conservative:
-    // every function parameter and call result counts as varying, and a call may store varying
-    // values through every pointer it is given.
+    // primitive, and all that depends on them, by data, by where it was stored, and through calls.
+    // Calls are summarised per function, not per call site: a parameter varies when any call passes
+    // a varying argument, a call's result when the function may return a varying value (or one
+    // chosen in divergent flow), and a variable passed to a parameter the function stores to
+    // varies after the call when that parameter does.
     void findDivergence() {
         for (const auto& [id, storage] : m_module.storageClass)
             if (storage == spv::StorageClassInput && !m_module.quadUniformInputs.count(id)) markVarying(id);
         for (const auto& [id, instruction] : m_module.definitions)
-            if (instruction.op == spv::OpFunctionParameter || instruction.op == spv::OpFunctionCall ||
-                (instruction.op >= spv::OpAtomicLoad && instruction.op <= spv::OpAtomicXor) ||
-                instruction.op == spv::OpIsHelperInvocationEXT)
+            if ((instruction.op >= spv::OpAtomicLoad && instruction.op <= spv::OpAtomicXor) || instruction.op == spv::OpIsHelperInvocationEXT)
                 markVarying(id);
+        for (const Function& f : m_module.functions)
+            for (const Block& b : f.blocks)
+                for (const Instruction& i : b.body)
+                    if ((i.op == spv::OpStore || i.op == spv::OpCopyMemory) && i.words.size() >= 3) m_storedTo.insert(rootOf(i.words[1]));
         for (bool changed = true; changed;) {
             changed = false;
             for (const Function& f : m_module.functions) {
@@ -426,13 +434,34 @@ private:
                 divergent = divergentBlocks(f);
                 for (const Block& b : f.blocks) {
                     const bool inDivergentFlow = divergent.count(b.label) > 0;
-                    for (const Instruction& i : b.body) changed |= propagate(i, inDivergentFlow, divergent);
+                    for (const Instruction& i : b.body) changed |= propagate(f, i, inDivergentFlow, divergent);
                 }
             }
         }
     }
 
-    bool propagate(const Instruction& i, bool inDivergentFlow, const std::set<uint32_t>& divergent) {
+    bool propagateCall(const Instruction& call) {
+        if (call.words.size() < 4) return false;
+        auto callee = m_functions.find(call.words[3]);
+        if (callee == m_functions.end()) return markVarying(call.result);   // not in the module: assume the worst
+        bool changed = false;
+        const std::vector<uint32_t>& parameters = callee->second->parameters;
+        for (size_t k = 0; k < parameters.size() && 4 + k < call.words.size(); ++k) {
+            const uint32_t argument = call.words[4 + k];
+            if (isVarying(argument) || isVarying(rootOf(argument))) changed |= markVarying(parameters[k]);
+            // An out or inout parameter the function stores to: the caller's variable holds what it stored.
+            if (isVarying(parameters[k]) && m_storedTo.count(parameters[k])) {
+                auto storage = m_module.storageClass.find(rootOf(argument));
+                if (storage != m_module.storageClass.end() &&
+                    (storage->second == spv::StorageClassFunction || storage->second == spv::StorageClassPrivate))
+                    changed |= markVarying(storage->first);
+            }
+        }
+        if (m_returnsVarying.count(callee->first)) changed |= markVarying(call.result);
+        return changed;
+    }
+
+    bool propagate(const Function& f, const Instruction& i, bool inDivergentFlow, const std::set<uint32_t>& divergent) {
         const std::span<const uint32_t> operands = i.words.subspan(std::min(i.firstOperand, i.words.size()));
         switch (i.op) {
             case spv::OpStore:
@@ -441,16 +470,10 @@ private:
                 if (i.words.size() >= 3 && (inDivergentFlow || isVarying(i.words[2]) || isVarying(rootOf(i.words[2]))))   // value, or copied-from pointer
                     return markVarying(rootOf(i.words[1]));
                 return false;
-            case spv::OpFunctionCall: {
-                bool changed = false;
-                for (size_t w = 4; w < i.words.size(); ++w) {
-                    auto storage = m_module.storageClass.find(rootOf(i.words[w]));
-                    if (storage != m_module.storageClass.end() &&
-                        (storage->second == spv::StorageClassFunction || storage->second == spv::StorageClassPrivate))
-                        changed |= markVarying(storage->first);
-                }
-                return changed;
-            }
+            case spv::OpFunctionCall: return propagateCall(i);
+            case spv::OpReturnValue:
+                if (i.words.size() >= 2 && (isVarying(i.words[1]) || inDivergentFlow)) return m_returnsVarying.insert(f.id).second;
+                return false;
             case spv::OpPhi:
                 // (value, parent block) pairs: a value that differs, or one chosen by a divergent path.
                 for (size_t w = 0; w + 1 < operands.size(); w += 2)
@@ -482,6 +505,8 @@ private:
     std::unordered_map<uint32_t, bool> m_discards;
     std::unordered_map<uint32_t, std::vector<std::string>> m_derivatives;
     std::unordered_set<uint32_t> m_varying;
+    std::unordered_set<uint32_t> m_returnsVarying;   // functions that may return a varying value
+    std::unordered_set<uint32_t> m_storedTo;         // variables and parameters some store writes
     std::unordered_map<uint32_t, std::set<uint32_t>> m_divergent;   // function -> its divergent blocks
     std::vector<std::string> m_findings;
 };

@@ -240,6 +240,51 @@ void main() {
               "");
 }
 
+TEST(DerivativeLint, FollowsCallsByWhatTheyAreGiven) {
+    // A helper of a uniform value returns a uniform value.
+    EXPECT_EQ(joined(divergent(R"(
+float doubled(float x) { return x * 2.0; }
+void main() {
+    color = vec4(0.0);
+    if (doubled(settings.threshold) > 0.5) color = texture(labels, uv);
+})")),
+              "");
+    // Given a varying value, or reading an input itself, it returns a varying one.
+    EXPECT_EQ(divergent(R"(
+float doubled(float x) { return x * 2.0; }
+void main() {
+    color = vec4(0.0);
+    if (doubled(uv.x) > 0.5) color = texture(labels, uv);
+})").size(),
+              1u);
+    EXPECT_EQ(divergent(R"(
+float edge() { return uv.x; }
+void main() {
+    color = vec4(0.0);
+    if (edge() > 0.5) color = texture(labels, uv);
+})").size(),
+              1u);
+    // An out parameter holds what the function stored: varying or not.
+    EXPECT_EQ(divergent(R"(
+void pick(out float v) { v = uv.x; }
+void main() {
+    float v;
+    pick(v);
+    color = vec4(0.0);
+    if (v > 0.5) color = texture(labels, uv);
+})").size(),
+              1u);
+    EXPECT_EQ(joined(divergent(R"(
+void pick(out float v) { v = settings.threshold; }
+void main() {
+    float v;
+    pick(v);
+    color = vec4(0.0);
+    if (v > 0.5) color = texture(labels, uv);
+})")),
+              "");
+}
+
 TEST(DerivativeLint, RefusesWhatIsNotSpirv) {
     const std::vector<uint32_t> text = {0x6c736c67, 0, 0, 0, 0};
     EXPECT_THROW(derivativesAfterDiscard(text), std::invalid_argument);

@@ -15,8 +15,10 @@
 // Both checks are conservative. After a discard: anything reachable in the control-flow graph
 // after a block that branches to a discard counts, whether or not the condition could differ
 // within a quad, and a call counts as a discard when the callee (or one it calls) discards.
-// Divergence: a value varies when it depends on an input that is not flat or per-primitive, on a
-// function parameter or call result, or on a variable stored to in divergent flow; a branch on a
+// Divergence: a value varies when it depends on an input that is not flat or per-primitive, or on
+// a variable stored to in divergent flow, and through calls as summarised per function (a
+// parameter varies when any call passes a varying argument; a call's result when the function
+// may return a varying value); a branch on a
 // varying value makes what it leads to divergent until its merge, the rest of the loop too after a
 // break or continue, and the rest of the function after a return (after a discard: the first check).
 #pragma once
