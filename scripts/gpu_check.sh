@@ -17,6 +17,7 @@
 #   forward/             janus bench forward at 1920x1080 (issue 10 items 5 and 6: the cut-off
 #                        error table and the per-pass GPU times)
 #   parity_helmet/      janus parity of DamagedHelmet at 512x512 (cross-driver: --against it here)
+#   parity_helmet_sky/  the same under the sky at 128x128: the two-compiler parity rule on hardware
 #   bench_rhi.p*.json    janus_bench_rhi in 5 fresh processes of 5 interleaved repetitions each (item 4);
 #                        bench_rhi.md is their table when python3 is there (else here:
 #                        scripts/bench.sh --from-json bench_rhi.p0.json --from-json ...)
@@ -162,6 +163,10 @@ else
   # Images for a cross-driver comparison here: janus parity ... --against parity_helmet
   step parity_helmet 60 janus parity "$repo_root/../shared/scenes/DamagedHelmet/glTF/DamagedHelmet.gltf" \
     --size 512x512 --out "$results/parity_helmet"
+  # The scene whose gl-vs-vulkan rounding set the two-compiler parity rule (janus/renderer/parity.h):
+  # parity.json's pairs say which needed it (twoCompilers, roundingPixels).
+  step parity_helmet_sky 60 janus parity "$repo_root/../shared/scenes/DamagedHelmet/glTF/DamagedHelmet.gltf" \
+    --env "$repo_root/../shared/scenes/env/chinese_garden_1k.hdr" --size 128x128 --out "$results/parity_helmet_sky"
   # Five fresh processes: on the H200 one process's ratio ranged from 1.06x to 1.71x for the same
   # binary, on the H100 from 0.88x to 1.57x (docs/BENCHMARKS.md, "On hardware"), so only a median
   # over several means anything. Within each, five repetitions of 200 frames per benchmark in
