@@ -46,6 +46,7 @@ struct Instruction {
     std::span<const uint32_t> words;   // the whole instruction, opcode word included
     uint32_t result = 0;               // 0: none
     size_t firstOperand = 1;           // index in `words` of the first operand after the result
+    uint32_t file = 0, line = 0;       // the OpLine in effect (a module with debug info), 0: none
 };
 
 struct Block {
@@ -66,6 +67,7 @@ struct Function {
 
 struct Module {
     std::unordered_map<uint32_t, std::string> names;
+    std::unordered_map<uint32_t, std::string> strings;        // OpString: source file names
     std::unordered_map<uint32_t, Instruction> definitions;   // result id -> instruction
     std::unordered_map<uint32_t, uint32_t> storageClass;     // variable -> storage class
     std::unordered_set<uint32_t> quadUniformInputs;          // flat inputs and per-primitive built-ins
@@ -93,6 +95,7 @@ Module parse(std::span<const uint32_t> spirv) {
     Block* block = nullptr;
     uint32_t pendingMerge = 0, pendingContinue = 0;
     bool pendingLoop = false;
+    uint32_t lineFile = 0, line = 0;
     for (size_t at = 5; at < spirv.size();) {
         const uint32_t count = spirv[at] >> 16;
         if (count == 0 || at + count > spirv.size())
@@ -107,7 +110,19 @@ Module parse(std::span<const uint32_t> spirv) {
             module.definitions[instruction.result] = instruction;
         }
         const std::span<const uint32_t>& w = instruction.words;
+        instruction.file = lineFile;
+        instruction.line = line;
         switch (instruction.op) {
+            case spv::OpString:
+                if (count >= 3) module.strings[w[1]] = literalString(w.subspan(2));
+                continue;
+            case spv::OpLine:
+                lineFile = count >= 3 ? w[1] : 0;
+                line = count >= 3 ? w[2] : 0;
+                continue;
+            case spv::OpNoLine:
+                lineFile = line = 0;
+                continue;
             case spv::OpName:
                 if (count >= 3) module.names[w[1]] = literalString(w.subspan(2));
                 continue;
@@ -136,8 +151,10 @@ Module parse(std::span<const uint32_t> spirv) {
             case spv::OpFunctionEnd:
                 function = nullptr;
                 block = nullptr;
+                lineFile = line = 0;   // an OpLine ends with its block
                 continue;
             case spv::OpLabel:
+                lineFile = line = 0;
                 if (count < 2) throw std::invalid_argument(fmt::format("derivative lint: OpLabel without a result id at word {}", at - count));
                 if (function) {
                     function->indexOf[w[1]] = function->blocks.size();
@@ -203,10 +220,19 @@ std::string functionName(const Module& module, uint32_t id) {
     return name->second.substr(0, name->second.find('('));   // glslang mangles parameters into the name
 }
 
+// " at file:line" from the module's debug info (glslangValidator -g), else nothing.
+std::string sourceLocation(const Module& module, const Instruction& instruction) {
+    if (instruction.line == 0) return {};
+    auto file = module.strings.find(instruction.file);
+    const std::string name = file == module.strings.end() || file->second.empty() ? "line" : file->second;
+    return fmt::format(" at {}:{}", name, instruction.line);
+}
+
 std::string describe(const Module& module, const Instruction& instruction) {
-    if (isDerivative(instruction.op)) return "a derivative (dFdx/dFdy/fwidth)";
+    if (isDerivative(instruction.op)) return "a derivative (dFdx/dFdy/fwidth)" + sourceLocation(module, instruction);
     const char* what = instruction.op == spv::OpImageQueryLod ? "a level-of-detail query" : "an implicit-LOD texture lookup";
-    return fmt::format("{} of {}", what, sampledName(module, instruction.words.size() > 3 ? instruction.words[3] : 0));
+    return fmt::format("{} of {}{}", what, sampledName(module, instruction.words.size() > 3 ? instruction.words[3] : 0),
+                       sourceLocation(module, instruction));
 }
 
 constexpr const char* kAdvice = "take it before, or use textureLod/textureGrad with derivatives taken before";

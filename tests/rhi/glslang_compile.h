@@ -10,7 +10,8 @@
 
 namespace janus::rhi::test {
 
-// Throws std::runtime_error with glslang's log (and the source) when it does not compile.
-std::vector<uint32_t> compileGlsl(const std::string& source, ShaderStage stage);
+// Throws std::runtime_error with glslang's log (and the source) when it does not compile. With a
+// `debugFileName`, the module carries debug info (glslangValidator -g): OpString and OpLine.
+std::vector<uint32_t> compileGlsl(const std::string& source, ShaderStage stage, const std::string& debugFileName = {});
 
 }  // namespace janus::rhi::test

@@ -68,6 +68,23 @@ void main() {
     EXPECT_NE(found[0].find("textureLod"), std::string::npos) << found[0];
 }
 
+TEST(DerivativeLint, NamesTheSourceLineWhenTheModuleHasDebugInfo) {
+    const std::string source = "#version 450\n"                                            // line 1
+                               "layout(location = 0) in vec2 uv;\n"                         // 2
+                               "layout(location = 0) out vec4 color;\n"                     // 3
+                               "layout(set = 0, binding = 0) uniform sampler2D labels;\n"   // 4
+                               "layout(set = 0, binding = 1) uniform sampler2D emission;\n" // 5
+                               "void main() {\n"                                            // 6
+                               "    vec4 base = texture(labels, uv);\n"                     // 7
+                               "    if (base.a < 0.5) discard;\n"                           // 8
+                               "    color = base + texture(emission, uv);\n"                // 9
+                               "}\n";
+    const std::vector<std::string> found =
+        derivativesAfterDiscard(test::compileGlsl(source, ShaderStage::Fragment, "labels.frag"));
+    ASSERT_EQ(found.size(), 1u) << joined(found);
+    EXPECT_NE(found[0].find("implicit-LOD texture lookup of 'emission' at labels.frag:9 in 'main'"), std::string::npos) << found[0];
+}
+
 TEST(DerivativeLint, AcceptsLookupsBeforeTheDiscardAndExplicitLodsAfterIt) {
     EXPECT_EQ(joined(findings(R"(
 void main() {

@@ -31,8 +31,8 @@
 namespace janus::rhi {
 
 // One message per implicit derivative in `spirv` that may run after a discard, naming what it
-// samples (the variable, when the module has names), the function it is in and the discard (or
-// call) it follows. Empty for shaders without a fragment entry point. Throws std::invalid_argument
+// samples (the variable, when the module has names), its source line (when the module has debug
+// info: glslangValidator -g), the function it is in and the discard (or call) it follows. Empty for shaders without a fragment entry point. Throws std::invalid_argument
 // on a module that is not SPIR-V (bad magic number, truncated instruction).
 std::vector<std::string> derivativesAfterDiscard(std::span<const uint32_t> spirv);
 
