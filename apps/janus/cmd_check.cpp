@@ -325,7 +325,7 @@ struct Report {
     ImageSize size;
     uint32_t tolerance = 1;
     uint64_t edgePixels = kDefaultEdgePixels;
-    std::string compilerRounding = "auto";
+    bool compilerRounding = true;   // --compiler-rounding auto
     std::string glPlatform;
     std::vector<ConfigurationAvailability> availability;
     std::vector<std::string> sheets;   // per configuration: contact sheet file name, "" when unavailable
@@ -347,7 +347,8 @@ std::string markdown(const Report& report) {
     md += fmt::format("- paths: {}\n", joined(quoted, ", "));
     md += fmt::format("- {}\n", countsText(report));
     md += fmt::format("- size {}x{}, tolerance {} step(s) of 1/255, up to {} edge pixel(s) beyond it, compiler rounding {}\n",
-                      report.size.width, report.size.height, report.tolerance, report.edgePixels, report.compilerRounding);
+                      report.size.width, report.size.height, report.tolerance, report.edgePixels,
+                      report.compilerRounding ? "auto" : "off");
     md += fmt::format("- result: **{}** (exit {})\n\n", counts.passed() ? "PASSED" : "FAILED",
                       counts.passed() ? 0 : int(ExitCode::ComparisonFailed));
 
@@ -464,7 +465,7 @@ nlohmann::json reportJson(const Report& report) {
             {"height", report.size.height},
             {"tolerance", report.tolerance},
             {"edgePixels", report.edgePixels},
-            {"compilerRounding", report.compilerRounding},
+            {"compilerRounding", report.compilerRounding ? "auto" : "off"},
             {"glPlatform", report.glPlatform},
             {"passed", counts.passed()},
             {"exitCode", counts.passed() ? 0 : int(ExitCode::ComparisonFailed)},
@@ -578,7 +579,7 @@ FileResult checkFile(const std::filesystem::path& path, size_t index, size_t ind
         std::vector<const renderer::ImageRGBA8*> pointers;
         for (const auto& image : images) pointers.push_back(image ? &*image : nullptr);
         std::vector<const rhi::DeviceInfo*> devicePointers;
-        for (const auto& device : devices) devicePointers.push_back(device && report.compilerRounding == "auto" ? &*device : nullptr);
+        for (const auto& device : devices) devicePointers.push_back(device && report.compilerRounding ? &*device : nullptr);
         for (const PairComparison& comparison :
              compareAllPairs(pointers, renderer::ParityRule{report.tolerance, report.edgePixels}, devicePointers)) {
             if (!comparison.difference) continue;
@@ -651,7 +652,7 @@ int run(const CheckOptions& options) {
     base.validation = options.validation;
     const uint32_t tolerance = parseTolerance(options.tolerance);
     const uint64_t edgePixels = parseEdgePixels(options.edgePixels);
-    parseCompilerRounding(options.compilerRounding);
+    const bool compilerRounding = parseCompilerRounding(options.compilerRounding);
     if (options.paths.empty())
         throw UsageError("give at least one PATH: a .gltf / .glb file or a folder to search, e.g. 'janus check assets --out report'");
     if (options.out.empty()) throw UsageError("--out DIR is required: where to write check.md, check.json and the contact sheets");
@@ -675,7 +676,7 @@ int run(const CheckOptions& options) {
     report.size = base.size;
     report.tolerance = tolerance;
     report.edgePixels = edgePixels;
-    report.compilerRounding = options.compilerRounding;
+    report.compilerRounding = compilerRounding;
     report.glPlatform = options.glPlatform;
     report.availability = probeConfigurations(base.glPlatform, base.size);
     if (std::none_of(report.availability.begin(), report.availability.end(), [](const auto& a) { return a.available; })) {

@@ -44,11 +44,9 @@ ParityVerdict judgeParity(const ImageRGBA8& a, const ImageRGBA8& b, const Parity
 }
 
 bool shareShaderCompiler(const rhi::DeviceInfo& a, const rhi::DeviceInfo& b) {
-    const bool glsl = [&] {
-        auto isGL = [](rhi::Backend backend) { return backend == rhi::Backend::GL || backend == rhi::Backend::GLES; };
-        return isGL(a.backend) && isGL(b.backend);
-    }();
-    if ((a.backend == b.backend || glsl) && a.deviceName == b.deviceName) return true;
+    auto glsl = [](rhi::Backend backend) { return backend == rhi::Backend::GL || backend == rhi::Backend::GLES; };
+    const bool oneFrontEnd = a.backend == b.backend || (glsl(a.backend) && glsl(b.backend));
+    if (oneFrontEnd && a.deviceName == b.deviceName) return true;
     auto llvmpipe = [](const rhi::DeviceInfo& info) { return info.deviceName.find("llvmpipe") != std::string::npos; };
     return llvmpipe(a) && llvmpipe(b);
 }
