@@ -282,24 +282,17 @@ void main() {
 })").size(),
               1u);
     // An out parameter holds what the function stored: varying or not.
-    EXPECT_EQ(divergent(R"(
-void pick(out float v) { v = uv.x; }
+    auto branchOnOutParameterStoredFrom = [](const std::string& value) {
+        return divergent("void pick(out float v) { v = " + value + "; }\n" + R"(
 void main() {
     float v;
     pick(v);
     color = vec4(0.0);
     if (v > 0.5) color = texture(labels, uv);
-})").size(),
-              1u);
-    EXPECT_EQ(joined(divergent(R"(
-void pick(out float v) { v = settings.threshold; }
-void main() {
-    float v;
-    pick(v);
-    color = vec4(0.0);
-    if (v > 0.5) color = texture(labels, uv);
-})")),
-              "");
+})");
+    };
+    EXPECT_EQ(branchOnOutParameterStoredFrom("uv.x").size(), 1u);
+    EXPECT_EQ(joined(branchOnOutParameterStoredFrom("settings.threshold")), "");
 }
 
 TEST(DerivativeLint, RefusesWhatIsNotSpirv) {
