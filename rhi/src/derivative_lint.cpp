@@ -255,20 +255,26 @@ public:
             const std::string where = functionName(m_module, f.id);
             for (const Block& b : f.blocks) {
                 if (!divergent.count(b.label)) continue;
-                for (const Instruction& i : b.body) {
-                    if (takesDerivatives(i.op)) {
-                        reportDivergent(describe(m_module, i), where);
-                    } else if (i.op == spv::OpFunctionCall && i.words.size() > 3) {
-                        for (const std::string& inner : derivativesIn(i.words[3]))
-                            reportDivergent(fmt::format("{} (in '{}')", inner, functionName(m_module, i.words[3])), where);
-                    }
-                }
+                for (const Instruction& i : b.body)
+                    forEachDerivative(i, [&](const std::string& what) { reportDivergent(what, where); });
             }
         }
         return std::move(m_findings);
     }
 
 private:
+    // Calls `report` with each implicit derivative `i` takes, described: `i` itself, or for a call,
+    // those of the function it calls (and of the functions that one calls).
+    template <class Report>
+    void forEachDerivative(const Instruction& i, Report&& report) {
+        if (takesDerivatives(i.op)) {
+            report(describe(m_module, i));
+        } else if (i.op == spv::OpFunctionCall && i.words.size() > 3) {
+            for (const std::string& inner : derivativesIn(i.words[3]))
+                report(fmt::format("{} (in '{}')", inner, functionName(m_module, i.words[3])));
+        }
+    }
+
     // --- discards ----------------------------------------------------------------------------
 
     // Whether calling `id` may discard (itself or in a function it calls).
@@ -350,16 +356,8 @@ private:
                 follows = &inBlock->second.second;
             }
             if (!follows) continue;
-            for (size_t i = first; i < b.body.size(); ++i) {
-                const Instruction& instruction = b.body[i];
-                if (takesDerivatives(instruction.op)) {
-                    reportAfterDiscard(describe(m_module, instruction), where, *follows);
-                } else if (instruction.op == spv::OpFunctionCall && instruction.words.size() > 3) {
-                    for (const std::string& inner : derivativesIn(instruction.words[3]))
-                        reportAfterDiscard(fmt::format("{} (in '{}')", inner, functionName(m_module, instruction.words[3])), where,
-                                           *follows);
-                }
-            }
+            for (size_t i = first; i < b.body.size(); ++i)
+                forEachDerivative(b.body[i], [&](const std::string& what) { reportAfterDiscard(what, where, *follows); });
         }
     }
 
@@ -384,20 +382,27 @@ private:
     struct Loop {
         uint32_t merge = 0, continueTarget = 0;
     };
-    // The innermost loop containing `label` (merge 0: none).
-    Loop enclosingLoop(const Function& f, uint32_t label) const {
-        Loop loop;
-        size_t smallest = SIZE_MAX;
+    // Records, for every block of `f` inside a loop, its innermost loop: the smallest body (the
+    // blocks a header reaches before its merge) that holds it. The control flow does not change
+    // while the divergence is found, so this is done once.
+    void findLoops(const Function& f) {
+        std::unordered_map<uint32_t, size_t> smallest;
         for (const Block& header : f.blocks) {
             if (!header.loopHeader) continue;
             std::set<uint32_t> body = reachableFrom(f, header.label, {header.merge});
             body.insert(header.label);
-            if (body.count(label) && body.size() < smallest) {
-                smallest = body.size();
-                loop = {header.merge, header.continueTarget};
+            for (uint32_t label : body) {
+                auto [size, first] = smallest.try_emplace(label, body.size());
+                if (!first && size->second <= body.size()) continue;
+                size->second = body.size();
+                m_innermostLoop[label] = {header.merge, header.continueTarget};
             }
         }
-        return loop;
+    }
+    // The innermost loop containing `label` (merge 0: none).
+    Loop enclosingLoop(uint32_t label) const {
+        auto loop = m_innermostLoop.find(label);
+        return loop == m_innermostLoop.end() ? Loop{} : loop->second;
     }
 
     // The blocks of `f` where the lanes of a quad may disagree about being there, given m_varying:
@@ -412,7 +417,7 @@ private:
             const Instruction& terminator = b.body.back();
             const bool conditional = terminator.op == spv::OpBranchConditional || terminator.op == spv::OpSwitch;
             if (!conditional || terminator.words.size() < 2 || !isVarying(terminator.words[1])) continue;
-            const Loop loop = enclosingLoop(f, b.label);
+            const Loop loop = enclosingLoop(b.label);
             const uint32_t meet = b.merge ? b.merge : loop.merge;
             const std::set<uint32_t> region = reachableFrom(f, b.label, {meet, loop.merge});
             divergent.insert(region.begin(), region.end());
@@ -449,10 +454,12 @@ private:
         for (const auto& [id, instruction] : m_module.definitions)
             if ((instruction.op >= spv::OpAtomicLoad && instruction.op <= spv::OpAtomicXor) || instruction.op == spv::OpIsHelperInvocationEXT)
                 markVarying(id);
-        for (const Function& f : m_module.functions)
+        for (const Function& f : m_module.functions) {
+            findLoops(f);
             for (const Block& b : f.blocks)
                 for (const Instruction& i : b.body)
                     if ((i.op == spv::OpStore || i.op == spv::OpCopyMemory) && i.words.size() >= 3) m_storedTo.insert(rootOf(i.words[1]));
+        }
         for (bool changed = true; changed;) {
             changed = false;
             for (const Function& f : m_module.functions) {
@@ -534,6 +541,7 @@ private:
     std::unordered_set<uint32_t> m_returnsVarying;   // functions that may return a varying value
     std::unordered_set<uint32_t> m_storedTo;         // variables and parameters some store writes
     std::unordered_map<uint32_t, std::set<uint32_t>> m_divergent;   // function -> its divergent blocks
+    std::unordered_map<uint32_t, Loop> m_innermostLoop;              // block -> its innermost loop (findLoops)
     std::vector<std::string> m_findings;
 };
 

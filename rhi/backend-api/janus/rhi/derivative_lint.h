@@ -18,9 +18,9 @@
 // Divergence: a value varies when it depends on an input that is not flat or per-primitive, or on
 // a variable stored to in divergent flow, and through calls as summarised per function (a
 // parameter varies when any call passes a varying argument; a call's result when the function
-// may return a varying value); a branch on a
-// varying value makes what it leads to divergent until its merge, the rest of the loop too after a
-// break or continue, and the rest of the function after a return (after a discard: the first check).
+// may return a varying value); a branch on a varying value makes what it leads to divergent until
+// its merge, the rest of the loop too after a break or continue, and the rest of the function
+// after a return (after a discard: the first check).
 #pragma once
 
 #include <cstdint>
@@ -32,8 +32,9 @@ namespace janus::rhi {
 
 // One message per implicit derivative in `spirv` that may run after a discard, naming what it
 // samples (the variable, when the module has names), its source line (when the module has debug
-// info: glslangValidator -g), the function it is in and the discard (or call) it follows. Empty for shaders without a fragment entry point. Throws std::invalid_argument
-// on a module that is not SPIR-V (bad magic number, truncated instruction).
+// info: glslangValidator -g), the function it is in and the discard (or call) it follows. Empty
+// for shaders without a fragment entry point. Throws std::invalid_argument on a module that is not
+// SPIR-V (bad magic number, truncated instruction).
 std::vector<std::string> derivativesAfterDiscard(std::span<const uint32_t> spirv);
 
 // One message per implicit derivative in divergent control flow (see above), naming what it
