@@ -68,10 +68,10 @@ std::string psnrText(double psnr);
 // Pixels a pair may have beyond the tolerance and still agree (--edge-pixels): a pixel centre on
 // an edge between two triangles, or within rounding of one, may go to either triangle on GL and
 // Vulkan (the two compile the vertex shader separately, so positions can differ in the last bit,
-// and they apply the tie-break rule with y up and y down). The renderer suite allows the same 4
-// (tests/renderer/renderer_test_support.cpp); seen: one interior pixel, 2 steps, of DamagedHelmet
-// at 512x512 on llvmpipe. A real bug changes far more pixels.
-inline constexpr uint64_t kDefaultEdgePixels = 4;
+// and they apply the tie-break rule with y up and y down). The default is the shared parity
+// rule's (janus/renderer/parity.h), which the renderer suite applies; seen: one interior pixel,
+// 2 steps, of DamagedHelmet at 512x512 on llvmpipe. A real bug changes far more pixels.
+inline constexpr uint64_t kDefaultEdgePixels = renderer::ParityRule{}.edgePixels;
 
 // --edge-pixels: a pixel count in 0..2^32; throws UsageError.
 uint64_t parseEdgePixels(std::string_view text);
