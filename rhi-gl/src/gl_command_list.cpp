@@ -8,6 +8,7 @@
 #include <typeinfo>
 
 #include "gl_device.h"
+#include "janus/rhi/index_value_validation.h"
 
 namespace janus::rhi::gl {
 
@@ -126,7 +127,7 @@ void CommandList::throwWrongPassState(const char* what) const {
     throw Error(ErrorCode::InvalidUsage, fmt::format("{} needs an active render pass; call beginRenderPass() first", what));
 }
 
-void CommandList::begin() {
+void CommandList::beginImpl() {
     m_keepAlive.beginRecording();
     m_commandCount = 0;   // m_commands keeps its size: the storage is reused
     m_renderPasses.clear();
@@ -514,7 +515,7 @@ void CommandList::drawChecked(uint32_t vertexCount, uint32_t instanceCount, uint
 
 void CommandList::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex, int32_t vertexOffset,
                                 uint32_t firstInstance) {
-    if (!m_drawReady || !m_indexBuffer ||
+    if (!m_drawReady || !m_indexBuffer || indexValueLog() ||
         indexedDrawExceeds(m_drawLimits, m_indexLimit, firstIndex, indexCount, firstInstance, instanceCount)) [[unlikely]]
         return drawIndexedChecked(indexCount, instanceCount, firstIndex, vertexOffset, firstInstance);
     recordDraw<command::BindSetAndDrawIndexed>(command::DrawIndexed{indexCount, instanceCount, firstIndex, vertexOffset, firstInstance});
@@ -530,6 +531,9 @@ void CommandList::drawIndexedChecked(uint32_t indexCount, uint32_t instanceCount
         throw Error(ErrorCode::InvalidUsage, "drawIndexed: no index buffer is set; call setIndexBuffer() first");
     if (indexedDrawExceeds(m_drawLimits, m_indexLimit, firstIndex, indexCount, firstInstance, instanceCount))
         throwDrawOutOfRange({"drawIndexed", firstIndex, indexCount, firstInstance, instanceCount}, true);
+    if (detail::IndexValueLog* log = indexValueLog())
+        log->noteIndexedDraw(*m_indexBuffer, m_indexOffset, m_indexType, firstIndex, indexCount, vertexOffset,
+                             vertexLimit(m_pipeline->graphics(), [this](uint32_t slot) { return boundVertexBuffer(slot); }));
     trackShaderAccesses(true, true);
     recordDraw<command::BindSetAndDrawIndexed>(command::DrawIndexed{indexCount, instanceCount, firstIndex, vertexOffset, firstInstance});
     m_drawReady = m_pendingWrites.empty() && !m_found.writesStorage;

@@ -594,7 +594,7 @@ CommandListHandle Device::createCommandListImpl() { return std::make_shared<Comm
 // ---------------------------------------------------------------------------------------------
 // Execution
 
-void Device::execute(const CommandListHandle& commandList) {
+void Device::executeImpl(const CommandListHandle& commandList) {
     auto* list = dynamic_cast<CommandList*>(commandList.get());
     if (!list) throw Error(ErrorCode::InvalidUsage, "execute() was given a command list from another backend or none");
     if (list->owner() != m_context.get())

@@ -498,7 +498,7 @@ public:
     explicit CommandList(ContextPtr context) : m_context(std::move(context)), m_es(m_context->isES()) {}
     const Context* owner() const { return m_context.get(); }
 
-    void begin() override;
+    void beginImpl() override;
     void end() override;
     void beginRenderPassImpl(const RenderPassDesc& desc) override;
     void endRenderPass() override;
@@ -746,7 +746,7 @@ public:
     TimerQueryHandle createTimerQueryImpl() override;
     CommandListHandle createCommandListImpl() override;
 
-    void execute(const CommandListHandle& commandList) override;
+    void executeImpl(const CommandListHandle& commandList) override;
     void waitIdle() override;
     void detachFromThread() override { m_context->releaseFromThread(); }
 

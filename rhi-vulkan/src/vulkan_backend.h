@@ -501,7 +501,7 @@ public:
     ~CommandList() override;
     const Context* owner() const { return m_context.get(); }
 
-    void begin() override;
+    void beginImpl() override;
     void end() override;
     void beginRenderPassImpl(const RenderPassDesc& desc) override;
     void endRenderPass() override;
@@ -573,6 +573,8 @@ private:
         return {m_vertexBindings[slot].buffer, m_vertexBindings[slot].offset};
     }
     [[noreturn]] void throwDrawOutOfRange(std::string_view call, bool indexed) const;
+    // Validation on: the draw in m_drawArguments, for the check of its index values at execute.
+    [[gnu::noinline]] void noteIndexedDraw();
     [[gnu::noinline]] void prepareDrawGeneral(std::string_view call);
     // The same for dispatches.
     bool prepareDispatchFast();

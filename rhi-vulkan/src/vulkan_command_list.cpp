@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "vulkan_backend.h"
+#include "janus/rhi/index_value_validation.h"
 
 namespace janus::rhi::vulkan {
 namespace {
@@ -100,7 +101,7 @@ void CommandList::throwNotRecordingOrInPass(std::string_view call) const {
                 fmt::format("{}: not allowed inside a render pass; call endRenderPass() first", call));
 }
 
-void CommandList::begin() {
+void CommandList::beginImpl() {
     waitUntilDone();
     m_staging.clear();
     m_timers.clear();
@@ -519,7 +520,17 @@ void CommandList::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint3
     const DrawArguments& a = m_drawArguments;
     if (indexedDrawExceeds(m_drawLimits, m_indexLimit, a.first, a.count, a.firstInstance, a.instances)) [[unlikely]]
         throwDrawOutOfRange("drawIndexed()", true);
+    if (indexValueLog()) [[unlikely]] noteIndexedDraw();
     m_context->cmdDrawIndexed(m_commands, a.count, a.instances, a.first, a.vertexOffset, a.firstInstance);
+}
+
+void CommandList::noteIndexedDraw() {
+    const DrawArguments& a = m_drawArguments;
+    indexValueLog()->noteIndexedDraw(*m_indexBuffer, m_indexOffset,
+                                     m_indexType == VK_INDEX_TYPE_UINT16 ? IndexType::UInt16 : IndexType::UInt32, a.first,
+                                     a.count, a.vertexOffset,
+                                     vertexLimit(m_graphicsPipeline->graphicsDesc,
+                                                 [this](uint32_t slot) { return boundVertexBuffer(slot); }));
 }
 
 void CommandList::prepareDispatchGeneral() {

@@ -470,7 +470,7 @@ public:
     TimerQueryHandle createTimerQueryImpl() override { return std::make_shared<TimerQuery>(m_context); }
     CommandListHandle createCommandListImpl() override { return std::make_shared<CommandList>(m_context); }
 
-    void execute(const CommandListHandle& commandList) override {
+    void executeImpl(const CommandListHandle& commandList) override {
         native<CommandList>(commandList, "execute(): the command list", m_context.get())->submit();
     }
     void waitIdle() override { m_context->waitIdle(); }

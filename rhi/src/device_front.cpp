@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "janus/rhi/derivative_lint.h"
+#include "janus/rhi/index_value_validation.h"
 #include "janus/rhi/rhi.h"
 #include "validation.h"
 
@@ -27,7 +28,10 @@ FormatCapabilities IDevice::formatCapabilities(Format format) const {
 
 BufferHandle IDevice::createBuffer(const BufferDesc& desc) {
     detail::validateBuffer(*m_properties, desc);
-    return createBufferImpl(desc);
+    BufferHandle buffer = createBufferImpl(desc);
+    if (m_properties->validation && any(desc.usage, BufferUsage::Index))
+        buffer->m_hostIndexContents = std::make_shared<detail::HostIndexContents>(desc.size);   // zeros, as the buffer
+    return buffer;
 }
 
 TextureHandle IDevice::createTexture(const TextureDesc& desc) {
@@ -74,7 +78,11 @@ PipelineHandle IDevice::createComputePipeline(const ComputePipelineDesc& desc) {
 
 BindingSetHandle IDevice::createBindingSet(const BindingSetDesc& desc) {
     detail::validateBindingSet(*m_properties, desc);
-    return createBindingSetImpl(desc);
+    BindingSetHandle set = createBindingSetImpl(desc);
+    for (const BindingItem& item : desc.items)
+        if (item.type == ResourceType::StorageBuffer && item.buffer && item.buffer->m_hostIndexContents)
+            item.buffer->m_hostIndexContents->markShaderWritable();
+    return set;
 }
 
 TimerQueryHandle IDevice::createTimerQuery() {
@@ -85,12 +93,22 @@ TimerQueryHandle IDevice::createTimerQuery() {
 CommandListHandle IDevice::createCommandList() {
     CommandListHandle list = createCommandListImpl();
     list->m_properties = m_properties;
+    if (m_properties->validation) list->m_indexValueLog = std::make_shared<detail::IndexValueLog>();
     return list;
+}
+
+void IDevice::execute(const CommandListHandle& commandList) {
+    const detail::IndexValueLog* indexValues = commandList ? commandList->m_indexValueLog.get() : nullptr;
+    if (indexValues) indexValues->check();
+    executeImpl(commandList);
+    if (indexValues) indexValues->applyWrites();
 }
 
 void IDevice::writeBuffer(const BufferHandle& buffer, const void* data, uint64_t size, uint64_t offset) {
     detail::validateWriteBuffer(buffer, data, size, offset, "writeBuffer()");
     writeBufferImpl(buffer, data, size, offset);
+    if (buffer->m_hostIndexContents)
+        buffer->m_hostIndexContents->hostWrite(offset, {static_cast<const std::byte*>(data), size_t(size)});
 }
 
 std::vector<std::byte> IDevice::readBuffer(const BufferHandle& buffer, uint64_t offset, uint64_t size) {
@@ -134,6 +152,11 @@ void ICommandList::throwInvalidDispatch(uint32_t groupsX, uint32_t groupsY, uint
     throw Error(ErrorCode::InvalidUsage, "dispatch(): invalid group count");
 }
 
+void ICommandList::begin() {
+    if (m_indexValueLog) m_indexValueLog->clear();
+    beginImpl();
+}
+
 void ICommandList::beginRenderPass(const RenderPassDesc& desc) {
     detail::validateRenderPass(*m_properties, desc);
     beginRenderPassImpl(desc);
@@ -162,12 +185,14 @@ void ICommandList::setScissor(const ScissorRect& scissor) {
 void ICommandList::writeBuffer(const BufferHandle& dst, const void* data, uint64_t size, uint64_t dstOffset) {
     detail::validateWriteBuffer(dst, data, size, dstOffset, "ICommandList::writeBuffer()");
     writeBufferImpl(dst, data, size, dstOffset);
+    if (m_indexValueLog) m_indexValueLog->noteWrite(*dst, dstOffset, data, size);
 }
 
 void ICommandList::copyBuffer(const BufferHandle& dst, uint64_t dstOffset, const BufferHandle& src, uint64_t srcOffset,
                               uint64_t size) {
     detail::validateCopyBuffer(dst, dstOffset, src, srcOffset, size);
     copyBufferImpl(dst, dstOffset, src, srcOffset, size);
+    if (m_indexValueLog) m_indexValueLog->noteUnknownWrite(*dst);
 }
 
 void ICommandList::copyBufferToTexture(const TextureHandle& dst, TextureSubresource dstSub, const BufferHandle& src,
@@ -180,6 +205,7 @@ void ICommandList::copyTextureToBuffer(const BufferHandle& dst, uint64_t dstOffs
                                        TextureSubresource srcSub) {
     detail::validateCopyTextureToBuffer(*m_properties, dst, dstOffset, src, srcSub);
     copyTextureToBufferImpl(dst, dstOffset, src, srcSub);
+    if (m_indexValueLog) m_indexValueLog->noteUnknownWrite(*dst);
 }
 
 void ICommandList::copyTexture(const TextureHandle& dst, TextureSubresource dstSub, const TextureHandle& src,

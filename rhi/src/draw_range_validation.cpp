@@ -40,6 +40,18 @@ DrawRangeLimits drawRangeLimits(const GraphicsPipelineDesc& desc, const VertexBu
     return limits;
 }
 
+VertexLimit vertexLimit(const GraphicsPipelineDesc& desc, const VertexBufferLookup& bound) {
+    VertexLimit result;
+    for (const VertexBufferLayout& layout : desc.vertexBuffers) {
+        if (layout.perInstance) continue;
+        const BoundVertexBuffer buffer = bound(layout.slot);
+        const SlotLimit limit = slotLimit(desc, layout, buffer);
+        if (limit.elements >= result.vertices) continue;
+        result = {limit.elements, layout.slot, buffer.buffer, buffer.offset, limit.bytes, layout.stride};
+    }
+    return result;
+}
+
 namespace {
 std::string bufferName(const IBuffer& buffer) {
     return buffer.desc().debugName.empty() ? std::string("(unnamed)") : fmt::format("'{}'", buffer.desc().debugName);
@@ -76,7 +88,7 @@ void throwDrawOutOfRange(const DrawRange& range, const GraphicsPipelineDesc& des
                                     indexOffset));
     }
     for (const bool perInstance : {false, true}) {
-        if (!perInstance && indexed) continue;   // index values are not checked
+        if (!perInstance && indexed) continue;   // index values: at execute, with validation on
         const uint64_t first = perInstance ? range.firstInstance : range.first;
         const uint64_t count = perInstance ? range.instanceCount : range.count;
         for (const VertexBufferLayout& layout : desc.vertexBuffers) {

@@ -22,6 +22,7 @@ janus_add_shader(janus_shaders NAME rt_instanced_vert SOURCE ${_rt}/instanced.ve
 janus_add_shader(janus_shaders NAME rt_two_outputs_frag SOURCE ${_rt}/two_outputs.frag)
 janus_add_shader(janus_shaders NAME rt_two_textures_high_bindings_frag SOURCE ${_rt}/two_textures.frag DEFINES HIGH_BINDINGS SEPARATE_SETS)
 janus_add_shader(janus_shaders NAME rt_write_vertices_comp SOURCE ${_rt}/write_vertices.comp)
+janus_add_shader(janus_shaders NAME rt_write_indices_comp SOURCE ${_rt}/write_indices.comp)
 janus_add_shader(janus_shaders NAME rt_fill_image_rgba16f_comp SOURCE ${_rt}/fill_image_float.comp DEFINES IMAGE_FORMAT=rgba16f)
 janus_add_shader(janus_shaders NAME rt_fill_image_rgba32f_comp SOURCE ${_rt}/fill_image_float.comp DEFINES IMAGE_FORMAT=rgba32f)
 janus_add_shader(janus_shaders NAME rt_fill_image_r32f_comp SOURCE ${_rt}/fill_image_float.comp DEFINES IMAGE_FORMAT=r32f)

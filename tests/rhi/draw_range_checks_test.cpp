@@ -108,7 +108,8 @@ TEST_P(DrawRangeTest, InstancesPastThePerInstanceBufferAreRefused) {
 
 TEST_P(DrawRangeTest, IndicesPastTheIndexBufferAreRefused) {
     BufferHandle vertices = createBufferFrom(BufferUsage::Vertex, triangle({-1, -1, 1, -1, -1, 1}, {1, 0, 0, 1}));
-    BufferHandle sixShorts = createBufferFrom(BufferUsage::Index, std::vector<uint16_t>{0, 1, 2, 2, 1, 0});
+    // As 32-bit indices the same 12 bytes are 0, 1, 2 (little-endian): every value names a vertex.
+    BufferHandle sixShorts = createBufferFrom(BufferUsage::Index, std::vector<uint16_t>{0, 0, 1, 0, 2, 0});
     PipelineHandle pipeline = colorPipeline(Format::RGBA8_UNORM);
     auto bind = [&](ICommandList& cmd, IndexType type, uint64_t offset) {
         cmd.setPipeline(pipeline);

@@ -3,8 +3,8 @@
 // instance or an index past the end of its buffer. Drivers leave such reads undefined (Mesa reads
 // zeros, other drivers what lies there, or fault); every backend checks them, so the same mistake
 // is the same InvalidUsage everywhere. The limits are computed when the pipeline or a buffer
-// changes, so a draw checks its range with two compares. Index values of indexed draws are not
-// checked (that would read the index buffer): vertices they name past the end stay undefined.
+// changes, so a draw checks its range with two compares. Index values of indexed draws are checked
+// only with validation on, when the list executes (index_value_validation.h).
 #pragma once
 
 #include <cstdint>
@@ -60,6 +60,17 @@ inline bool indexedDrawExceeds(const DrawRangeLimits& limits, uint64_t indexLimi
     return uint64_t(firstIndex) + indexCount > indexLimit || limits.instancesExceeded(firstInstance, instanceCount);
 }
 DrawRangeLimits drawRangeLimits(const GraphicsPipelineDesc& desc, const VertexBufferLookup& bound);
+
+// The per-vertex slot that limits which vertices an indexed draw's values may name: the one that
+// holds the fewest (index_value_validation.h checks the values against it).
+struct VertexLimit {
+    uint64_t vertices = DrawRangeLimits::kUnlimited;   // no per-vertex slot: no limit
+    uint32_t slot = 0;
+    const IBuffer* buffer = nullptr;
+    uint64_t offset = 0, bytes = 0;   // where its vertices start, and the bytes from there
+    uint32_t stride = 0;
+};
+VertexLimit vertexLimit(const GraphicsPipelineDesc& desc, const VertexBufferLookup& bound);
 
 // How many indices of `type` the index buffer holds from `offset` (validated: inside the buffer).
 inline uint64_t indexCountLimit(const IBuffer& buffer, uint64_t offset, IndexType type) {

@@ -221,10 +221,22 @@ struct BufferDesc {
     BufferDesc& setDebugName(std::string v) { debugName = std::move(v); return *this; }
 };
 
+namespace detail {
+class HostIndexContents;
+class IndexValueLog;
+struct FrontAccess;
+}  // namespace detail
+
 class IBuffer {
 public:
     virtual ~IBuffer() = default;
     virtual const BufferDesc& desc() const = 0;
+
+private:
+    friend class IDevice;
+    friend struct detail::FrontAccess;
+    // With validation on, the host's copy of an index buffer's contents (index_value_validation.h).
+    std::shared_ptr<detail::HostIndexContents> m_hostIndexContents;
 };
 using BufferHandle = std::shared_ptr<IBuffer>;
 
@@ -599,7 +611,7 @@ class ICommandList {
 public:
     virtual ~ICommandList() = default;
 
-    virtual void begin() = 0;   // resets and starts recording
+    void begin();   // resets and starts recording
     virtual void end() = 0;
 
     // Render passes. Viewport and scissor default to the full attachment; they are set inside a
@@ -617,8 +629,9 @@ public:
     void setIndexBuffer(const BufferHandle& buffer, IndexType type, uint64_t offset = 0);
     // Draws read only inside their buffers: firstVertex + vertexCount vertices must fit in every
     // per-vertex slot (from its offset), firstInstance + instanceCount in every per-instance slot,
-    // firstIndex + indexCount in the index buffer (InvalidUsage otherwise; index values are not
-    // checked).
+    // firstIndex + indexCount in the index buffer (InvalidUsage otherwise). With validation on,
+    // IDevice::execute also checks the index values against the per-vertex buffers, where the host
+    // wrote them (rhi/backend-api/janus/rhi/index_value_validation.h).
     virtual void draw(uint32_t vertexCount, uint32_t instanceCount = 1, uint32_t firstVertex = 0, uint32_t firstInstance = 0) = 0;
     virtual void drawIndexed(uint32_t indexCount, uint32_t instanceCount = 1, uint32_t firstIndex = 0, int32_t vertexOffset = 0, uint32_t firstInstance = 0) = 0;
 
@@ -653,6 +666,7 @@ public:
 
 protected:
     // Called with validated arguments only.
+    virtual void beginImpl() = 0;
     virtual void beginRenderPassImpl(const RenderPassDesc& desc) = 0;
     virtual void setViewportImpl(const Viewport& viewport) = 0;
     virtual void setScissorImpl(const ScissorRect& scissor) = 0;
@@ -668,12 +682,16 @@ protected:
     virtual void generateMipsImpl(const TextureHandle& texture) = 0;
 
     const DeviceProperties& properties() const { return *m_properties; }
+    // With validation on: where backends note each indexed draw for IDevice::execute's check of
+    // its index values (index_value_validation.h). Null otherwise.
+    detail::IndexValueLog* indexValueLog() const { return m_indexValueLog.get(); }
 
 private:
     friend class IDevice;
     [[noreturn]] void throwInvalidSetBinding(uint32_t set) const;
     [[noreturn]] void throwInvalidDispatch(uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ) const;
     std::shared_ptr<const DeviceProperties> m_properties;   // set by IDevice::createCommandList
+    std::shared_ptr<detail::IndexValueLog> m_indexValueLog;   // likewise, with validation on
 };
 using CommandListHandle = std::shared_ptr<ICommandList>;
 
@@ -708,8 +726,9 @@ public:
     TimerQueryHandle createTimerQuery();
     CommandListHandle createCommandList();
 
-    // Submits recorded work. Work runs in submission order.
-    virtual void execute(const CommandListHandle& commandList) = 0;
+    // Submits recorded work. Work runs in submission order. With validation on, first checks the
+    // index values of the list's indexed draws (ICommandList::drawIndexed).
+    void execute(const CommandListHandle& commandList);
     virtual void waitIdle() = 0;
 
     // Threads (docs/ARCHITECTURE.md, "Threads"). Recording a command list and releasing handles
@@ -759,6 +778,7 @@ protected:
     virtual BindingSetHandle createBindingSetImpl(const BindingSetDesc& desc) = 0;
     virtual TimerQueryHandle createTimerQueryImpl() = 0;
     virtual CommandListHandle createCommandListImpl() = 0;
+    virtual void executeImpl(const CommandListHandle& commandList) = 0;
     virtual void writeBufferImpl(const BufferHandle& buffer, const void* data, uint64_t size, uint64_t offset) = 0;
     virtual std::vector<std::byte> readBufferImpl(const BufferHandle& buffer, uint64_t offset, uint64_t size) = 0;  // size resolved
     virtual void writeTextureImpl(const TextureHandle& texture, TextureSubresource sub, const void* data, uint64_t size) = 0;
