@@ -440,12 +440,30 @@ void CommandList::setPipeline(const PipelineHandle& handle) {
     record(command::BindPipeline{pipeline});
 }
 
+// The common case, a set of this device that the list already holds, with room for the command,
+// in a function that calls nothing (its registers need no saving); anything else, and every error,
+// takes the general path. The front checked `set` and that the handle is not null.
 void CommandList::setBindingSetImpl(uint32_t set, const BindingSetHandle& handle) {
+    // Where the type_info objects differ (another shared object), the general path compares names.
+    if (!m_recording || &typeid(*handle) != &typeid(BindingSet) || m_commandCount == m_commandCapacity) [[unlikely]]
+        return setBindingSetGeneral(set, handle);
+    auto* bindings = static_cast<BindingSet*>(handle.get());
+    if (bindings->owner() != m_context.get() || !m_keepAlive.keepIfHeld(bindings->keepMark)) [[unlikely]]
+        return setBindingSetGeneral(set, handle);
+    bindRecordedSet(set, bindings);
+}
+
+void CommandList::setBindingSetGeneral(uint32_t set, const BindingSetHandle& handle) {
     requireRecording("setBindingSet");
     BindingSet* bindings = cast<BindingSet>(*m_context, handle, "setBindingSet", "binding set");
     m_keepAlive.keep(handle, bindings->keepMark);
+    if (m_commandCount == m_commandCapacity) growCommands();
+    bindRecordedSet(set, bindings);
+}
+
+inline void CommandList::bindRecordedSet(uint32_t set, BindingSet* bindings) {
     m_bindingSets[set] = bindings;
-    record(command::BindBindingSet{set, bindings});
+    recordWithRoom(command::BindBindingSet{set, bindings});
     // The set the pipeline's bindings all use, with a cached check for them, no texture (whose
     // checks depend on the pass) and no storage write (tracked per draw or dispatch): the check
     // at the next draw or dispatch would take this result, so take it now. It cannot fail, and

@@ -506,6 +506,10 @@ public:
     void setScissorImpl(const ScissorRect& scissor) override;
     void setPipeline(const PipelineHandle& pipeline) override;
     void setBindingSetImpl(uint32_t set, const BindingSetHandle& bindings) override;
+    // setBindingSetImpl's whole path: its fast path calls nothing, so it saves no registers.
+    [[gnu::noinline]] void setBindingSetGeneral(uint32_t set, const BindingSetHandle& bindings);
+    // What both paths do once the set is checked and held and the list has room for a command.
+    void bindRecordedSet(uint32_t set, BindingSet* bindings);
     void setVertexBufferImpl(uint32_t slot, const BufferHandle& buffer, uint64_t offset) override;
     void setIndexBufferImpl(const BufferHandle& buffer, IndexType type, uint64_t offset) override;
     void draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance) override;
@@ -540,6 +544,11 @@ private:
         // is a store and an increment.
         static_assert(std::is_trivially_copyable_v<Command>);
         if (m_commandCount == m_commandCapacity) [[unlikely]] growCommands();
+        recordWithRoom(command);
+    }
+    // record() where the caller made sure there is room.
+    template <typename T>
+    void recordWithRoom(T command) {
         m_commands[m_commandCount++] = Command(std::in_place_type<T>, command);
     }
     // A draw right after a set bind takes the bind's place as one BindSetAndDraw(Indexed).

@@ -51,6 +51,20 @@ public:
         append(handle, mark);
     }
 
+    // keep() without its first-time half: false (and nothing done) when `mark`'s object is not
+    // held by this list yet, for callers whose fast path must not call out (keep() then).
+    bool keepIfHeld(KeepMark& mark) {
+        if (mark.recording.load(std::memory_order_relaxed) == m_recordingId) return true;
+        const uint32_t slot = mark.slot.load(std::memory_order_relaxed);
+        if (slot >= m_entries.size() || m_entries[slot].mark != &mark) return false;
+        mark.recording.store(m_recordingId, std::memory_order_relaxed);
+        Entry& entry = m_entries[slot];
+        if (entry.usedIn != m_recordingId) {
+            entry.usedIn = m_recordingId;
+            ++m_used;
+        }
+        return true;
+    }
     // End of a recording: lets go of what it did not use.
     void releaseUnused() {
         if (m_used == m_entries.size()) return;   // the same objects as before, or more
