@@ -936,6 +936,7 @@ void Device::takePoints(uint32_t set, uint64_t points) {
         if (!taken) continue;
         m_takenPoints[i] |= taken;
         m_boundSets[i] = nullptr;
+        m_exclusivePoints[i] = 0;
         m_drawChecks |= kRestoreTakenPoints;
     }
 }

@@ -608,6 +608,7 @@ void Device::executeImpl(const CommandListHandle& commandList) {
     m_setPoints = {};
     m_takenPoints = {};
     m_boundSets = {};
+    m_exclusivePoints = {};
     m_drawChecks &= uint8_t(~kRestoreTakenPoints);
     m_vertexBuffers.clear();
     m_indexBuffer = 0;

@@ -791,12 +791,15 @@ public:
         const uint64_t points = bindings.bindingPoints();
         m_listSets[set] = &bindings;
         m_boundSets[set] = &bindings;
-        m_takenPoints[set] = 0;
-        m_setPoints[set] = 0;   // so the next line finds the other sets' points only
-        static_assert(kMaxBindingSets == 4, "the next line names every index");
-        if ((m_setPoints[0] | m_setPoints[1] | m_setPoints[2] | m_setPoints[3]) & points) [[unlikely]]
-            takePoints(set, points);
-        m_setPoints[set] = points;
+        if (points != m_exclusivePoints[set] || points == 0) [[unlikely]] {   // 0 also means "not exclusive"
+            m_takenPoints[set] = 0;
+            m_setPoints[set] = 0;   // so the next line finds the other sets' points only
+            static_assert(kMaxBindingSets == 4, "the next line names every index");
+            const bool shared = (m_setPoints[0] | m_setPoints[1] | m_setPoints[2] | m_setPoints[3]) & points;
+            if (shared) takePoints(set, points);
+            m_setPoints[set] = points;
+            m_exclusivePoints[set] = shared ? 0 : points;
+        }
         const GLFunctions& f = gl();
         for (const BindingSet::BufferRange& b : bindings.bufferRanges())
             f.glBindBufferRange(b.target, b.index, b.buffer, b.offset, b.size);
@@ -878,6 +881,9 @@ private:
     std::array<uint64_t, kMaxBindingSets> m_takenPoints{};
     // m_listSets[i] while none of its points was taken (else null): binding it again changes nothing.
     std::array<const BindingSet*, kMaxBindingSets> m_boundSets{};
+    // m_setPoints[i] while no other set holds or took any of them (else 0): a set with the same
+    // points bound at i again takes nothing from the others and has nothing taken, so it only binds.
+    std::array<uint64_t, kMaxBindingSets> m_exclusivePoints{};
     void takePoints(uint32_t set, uint64_t points);
     void restoreTakenPoints();
     bool m_es = false;   // isES(), read per draw

@@ -221,6 +221,45 @@ TEST_P(BindingNamespaceTest, ATakenPointIsRestoredForALaterPipelineThatReadsIt) 
         << "red 77: set 1's item at binding 1 was read";
 }
 
+// A set that held its points alone, lost one to another set and got it back, then lost it again:
+// a new set bound at its index must take the point from the other set again (GL replay binds a
+// set whose points no other set holds without that bookkeeping; a set that lost a point is no
+// longer such a set, even once it has it back).
+TEST_P(BindingNamespaceTest, ASetThatLostAPointTakesItBackWhenReplaced) {
+    // rt_two_textures_frag reads set 0 {0: params, 1: texA, 2: texB}; rt_two_textures_two_sets_frag
+    // reads texB from set 1 instead. Output (texA.r, texB.g, params.b).
+    SamplerHandle sampler = nearestClampSampler();
+    std::array<float, 4> params{0.9f, 0.9f, 102.0f / 255.0f, 0.9f};
+    BufferHandle ubo = createBuffer(BufferUsage::Uniform, std::as_bytes(std::span(params)));
+    BindingSetHandle shared = device().createBindingSet(BindingSetDesc()
+                                                            .add(BindingItem::uniformBuffer(0, ubo))
+                                                            .add(BindingItem::sampledTexture(1, solidTexture({204, 0, 0, 255}), sampler))
+                                                            .add(BindingItem::sampledTexture(2, solidTexture({0, 153, 0, 255}), sampler)));
+    BindingSetHandle first = device().createBindingSet(BindingSetDesc().add(BindingItem::sampledTexture(2, solidTexture({0, 51, 0, 255}), sampler)));
+    BindingSetHandle second = device().createBindingSet(BindingSetDesc().add(BindingItem::sampledTexture(2, solidTexture({0, 26, 0, 255}), sampler)));
+    PipelineHandle oneSet = fullscreenPipeline("rt_two_textures_frag", Format::RGBA8_UNORM);
+    PipelineHandle twoSets = fullscreenPipeline("rt_two_textures_two_sets_frag", Format::RGBA8_UNORM);
+    TextureHandle target = createTexture2D(Format::RGBA8_UNORM, 3, 1, TextureUsage::RenderTarget);
+    submit([&](ICommandList& cmd) {
+        cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(target)));
+        cmd.setPipeline(twoSets);
+        cmd.setBindingSet(1, first);    // holds point 2 alone
+        cmd.setBindingSet(0, shared);   // takes it
+        cmd.setScissor({0, 0, 1, 1});
+        cmd.draw(3);                    // gives it back to set 1
+        cmd.setPipeline(oneSet);
+        cmd.setScissor({1, 0, 1, 1});
+        cmd.draw(3);                    // takes it for set 0 again
+        cmd.setBindingSet(1, second);   // must take it from set 0 once more ...
+        cmd.setScissor({2, 0, 1, 1});
+        cmd.draw(3);                    // ... so that this draw gets it back for set 0
+        cmd.endRenderPass();
+    });
+    EXPECT_EQ(readTextureAs<Rgba8>(target),
+              (std::vector<Rgba8>{{204, 51, 102, 255}, {204, 153, 102, 255}, {204, 153, 102, 255}}))
+        << "green 26 in the last pixel: the draw read set 1's texture through set 0's point";
+}
+
 TEST_P(BindingNamespaceTest, ADispatchWritesTheBufferOfTheSetItsShaderDeclares) {
     JANUS_REQUIRE_CAPABILITY(Capability::StorageBuffers);
     // rt_invocation_ids_comp writes set 0 binding 0; set 1 holds another buffer at binding 0.
