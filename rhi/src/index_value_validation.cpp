@@ -123,13 +123,15 @@ namespace {
         ErrorCode::InvalidUsage,
         fmt::format("execute(): drawIndexed #{} of the command list reads index value {} at index {} of index buffer "
                     "{} ({}-bit, from offset {}){}, which names vertex {}; vertex buffer slot {} holds {} vertices "
-                    "(buffer {}: {} bytes from offset {}, stride {}), so index values{} must name vertices 0..{}. "
-                    "Fix the indices{}, or bind a larger vertex buffer (reads past it are undefined: zeros on Mesa, "
-                    "other memory or a device fault elsewhere)",
+                    "(buffer {}: {} bytes from offset {}, stride {}), so {}. Fix the indices{}, or bind a larger "
+                    "vertex buffer (reads past it are undefined: zeros on Mesa, other memory or a device fault "
+                    "elsewhere)",
                     drawNumber, value, at, bufferName(indexBuffer), type == IndexType::UInt16 ? 16 : 32, indexOffset,
                     vertexOffset ? fmt::format(" plus vertexOffset {}", vertexOffset) : std::string(), vertex,
                     limit.slot, limit.vertices, bufferName(*limit.buffer), limit.bytes, limit.offset, limit.stride,
-                    vertexOffset ? " plus vertexOffset" : "", limit.vertices ? limit.vertices - 1 : 0,
+                    limit.vertices ? fmt::format("index values{} must name vertices 0..{}",
+                                                 vertexOffset ? " plus vertexOffset" : "", limit.vertices - 1)
+                                   : std::string("no index value names a vertex there"),
                     vertexOffset ? " or the vertexOffset" : ""));
 }
 
