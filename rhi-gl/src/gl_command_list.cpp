@@ -848,6 +848,8 @@ void Device::beginRenderPass(const RenderPassDesc& desc) {
     }
     const GLuint fbo = m_context->framebuffer(key, colors, depth);
     f.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo);
+    // Transfers and mip generation since the last pass bound textures at units of their own.
+    if (m_drawChecks & kCheckSamplerUnits) m_plainDraws = false;
 
     const Texture* any = colors.empty() ? depth : colors[0];
     const uint32_t mip = colors.empty() ? desc.depth->subresource.mipLevel : desc.colors[0].subresource.mipLevel;
@@ -881,6 +883,7 @@ void Device::bindPipeline(const Pipeline& pipeline) {
     if (&pipeline == m_pipeline) return;
     // Attribute pointers depend on the vertex layout only, which many pipelines share.
     if (!m_pipeline || !sameVertexLayout(m_pipeline->graphics(), pipeline.graphics())) m_vertexStateDirty = true;
+    m_plainDraws = false;   // its base-instance uniform may not be 0
     m_pipeline = &pipeline;
     // Points taken from a set: this pipeline may read them (restoreTakenPoints checks at its draw).
     static_assert(kMaxBindingSets == 4, "the next line names every index");
@@ -890,6 +893,7 @@ void Device::bindPipeline(const Pipeline& pipeline) {
 }
 
 void Device::bindTextures(const BindingSet& bindings, uint64_t points) {
+    if (m_drawChecks & kCheckSamplerUnits) m_plainDraws = false;   // the next draw checks the units again
     const GLFunctions& f = gl();
     for (const BindingItem& item : bindings.desc().items) {
         if (!(bindingPointBit(item.binding) & points)) continue;
@@ -982,7 +986,7 @@ void Device::setVertexBuffer(uint32_t slot, GLuint buffer, uint64_t offset) {
     VertexBinding& binding = m_vertexBuffers[slot];
     if (binding.buffer == buffer && binding.offset == offset) return;
     binding = {buffer, offset};
-    m_vertexStateDirty = true;
+    markVertexStateDirty();
 }
 
 void Device::setIndexBuffer(GLuint buffer, IndexType type, uint64_t offset) {
@@ -1039,6 +1043,7 @@ void Device::drawBaseInstance(uint32_t vertexCount, uint32_t instanceCount, uint
 
 void Device::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex, int32_t vertexOffset,
                            uint32_t firstInstance) {
+    m_plainDraws = false;   // ES moves the attribute pointers by vertexOffset, and firstInstance sets the uniform
     if (m_drawChecks) [[unlikely]] runDrawChecks("draw");
     const GLFunctions& f = gl();
     const GLenum mode = m_pipeline->mode();

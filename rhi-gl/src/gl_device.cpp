@@ -612,7 +612,7 @@ void Device::executeImpl(const CommandListHandle& commandList) {
     m_drawChecks &= uint8_t(~kRestoreTakenPoints);
     m_vertexBuffers.clear();
     m_indexBuffer = 0;
-    m_vertexStateDirty = true;
+    markVertexStateDirty();
     m_boundIndexBuffer = 0;
     struct ForgetReplayPipeline {
         Context& context;

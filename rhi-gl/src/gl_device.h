@@ -811,6 +811,18 @@ public:
     void setVertexBuffer(uint32_t slot, GLuint buffer, uint64_t offset);
     void setIndexBuffer(GLuint buffer, IndexType type, uint64_t offset);
     void draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance) {
+        // One instance from instance 0 with nothing to set up: the call alone. (The sampler-unit
+        // check, with validation on, ran at the draw that set m_plainDraws, and nothing it reads
+        // changed since: texture binds and passes clear m_plainDraws then.)
+        if (m_plainDraws && !(m_drawChecks & kRestoreTakenPoints) && instanceCount == 1 && firstInstance == 0) [[likely]] {
+            gl().glDrawArrays(m_pipeline->mode(), GLint(firstVertex), GLsizei(vertexCount));
+            return;
+        }
+        drawGeneral(vertexCount, instanceCount, firstVertex, firstInstance);
+    }
+    [[gnu::noinline]] void drawGeneral(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex,
+                                       uint32_t firstInstance) {
+        m_plainDraws = false;
         const Pipeline& pipeline = *m_pipeline;
         if (m_drawChecks) [[unlikely]] runDrawChecks("draw");
         setBaseInstance(firstInstance);
@@ -827,6 +839,9 @@ public:
             gl().glDrawArrays(pipeline.mode(), GLint(firstVertex), GLsizei(vertexCount));
         else
             gl().glDrawArraysInstanced(pipeline.mode(), GLint(firstVertex), GLsizei(vertexCount), GLsizei(instanceCount));
+        // From instance 0 the attribute pointers start at vertex and instance 0 and the
+        // base-instance uniform is 0: what the next such draw needs, until something changes.
+        m_plainDraws = firstInstance == 0;
     }
     void drawBaseInstance(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance);
     void drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex, int32_t vertexOffset,
@@ -899,6 +914,15 @@ private:
     // Draw-to-draw redundancy: attribute pointers, index buffer and base-instance uniform are only
     // respecified when something they depend on changed.
     bool m_vertexStateDirty = true;
+    // Set by a draw from instance 0 (the attribute pointers from vertex and instance 0, the
+    // base-instance uniform 0), cleared by whatever changes that (and, with the sampler-unit check
+    // on, by texture binds and new passes): a draw of one instance from instance 0 then calls
+    // glDrawArrays alone (Device::draw).
+    bool m_plainDraws = false;
+    void markVertexStateDirty() {
+        m_vertexStateDirty = true;
+        m_plainDraws = false;
+    }
     int64_t m_vertexStateBase = 0;
     uint32_t m_vertexStateInstanceBase = 0;
     GLuint m_boundIndexBuffer = 0;

@@ -1,0 +1,65 @@
+// Draws whose state changes between them: each draw renders what it was given, whatever the draw
+// before it did. The GL backend replays a draw of one instance from instance 0 as glDrawArrays
+// alone while nothing changed since such a draw (Device::draw); each step below changes one thing
+// that must end that (a vertex buffer, a pipeline with another vertex layout, a draw from another
+// instance, an indexed draw with a vertex offset, which ES 3.0 makes by moving the attribute
+// pointers).
+#include "backend_test.h"
+
+namespace janus::rhi::test {
+namespace {
+
+class DrawSequenceTest : public BackendTest {};
+JANUS_INSTANTIATE_BACKEND_TESTS(DrawSequenceTest);
+
+TEST_P(DrawSequenceTest, EachDrawRendersItsOwnStateAfterAnyOther) {
+    const std::array<float, 4> red{1, 0, 0, 1}, green{0, 1, 0, 1}, blue{0, 0, 1, 1}, yellow{1, 1, 0, 1};
+    const std::array<float, 6> wholeTarget{-1, -1, 3, -1, -1, 3};
+    std::vector<ColorVertex> redThenGreen = triangle(wholeTarget, red);
+    for (const ColorVertex& v : triangle(wholeTarget, green)) redThenGreen.push_back(v);
+    BufferHandle twoTriangles = createBufferFrom(BufferUsage::Vertex, redThenGreen);
+    BufferHandle greenTriangle = createBufferFrom(BufferUsage::Vertex, triangle(wholeTarget, green));
+    BufferHandle instanceColors = createBufferFrom(BufferUsage::Vertex, std::vector<Color>{blue, yellow});
+    BufferHandle indices = createBufferFrom(BufferUsage::Index, std::vector<uint16_t>{0, 1, 2});
+    PipelineHandle vertexColors = colorPipeline(Format::RGBA8_UNORM);
+    PipelineHandle instanced = instancedPipeline();   // slot 0: positions, slot 1: a colour per instance
+    TextureHandle target = createTexture2D(Format::RGBA8_UNORM, 9, 1, TextureUsage::RenderTarget);
+    submit([&](ICommandList& cmd) {
+        // Each draw into a column of its own. rt_instanced_vert moves instance i right by 0.5 *
+        // gl_InstanceIndex, which leaves columns 0 and 1 uncovered for any instance but 0.
+        auto at = [&](int32_t column) { cmd.setScissor({column, 0, 1, 1}); };
+        cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(target)));
+        cmd.setPipeline(vertexColors);
+        cmd.setVertexBuffer(0, twoTriangles);
+        at(2);
+        cmd.draw(3);   // red
+        cmd.setVertexBuffer(0, greenTriangle);
+        at(3);
+        cmd.draw(3);   // green: another buffer
+        cmd.setPipeline(instanced);
+        cmd.setVertexBuffer(1, instanceColors);
+        at(1);
+        cmd.draw(3);   // blue: another vertex layout
+        at(4);
+        cmd.draw(3, 1, 0, 1);   // yellow: instance 1
+        at(0);
+        cmd.draw(3);   // blue: instance 0 again, not moved right
+        cmd.setPipeline(vertexColors);
+        at(5);
+        cmd.draw(3);   // green: the first layout again
+        cmd.setVertexBuffer(0, twoTriangles);
+        cmd.setIndexBuffer(indices, IndexType::UInt16);
+        at(6);
+        cmd.draw(3);   // red
+        at(7);
+        cmd.drawIndexed(3, 1, 0, 3);   // green: vertices 3..5
+        at(8);
+        cmd.draw(3);   // red: vertices 0..2, not 3..5
+        cmd.endRenderPass();
+    });
+    const Rgba8 r{255, 0, 0, 255}, g{0, 255, 0, 255}, b{0, 0, 255, 255}, y{255, 255, 0, 255};
+    EXPECT_EQ(readTextureAs<Rgba8>(target), (std::vector<Rgba8>{b, b, r, g, y, g, r, g, r}));
+}
+
+}  // namespace
+}  // namespace janus::rhi::test
