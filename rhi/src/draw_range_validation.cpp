@@ -52,10 +52,11 @@ VertexLimit vertexLimit(const GraphicsPipelineDesc& desc, const VertexBufferLook
     return result;
 }
 
-namespace {
-std::string bufferName(const IBuffer& buffer) {
+std::string quotedBufferName(const IBuffer& buffer) {
     return buffer.desc().debugName.empty() ? std::string("(unnamed)") : fmt::format("'{}'", buffer.desc().debugName);
 }
+
+namespace {
 std::string span(uint64_t first, uint64_t count) {
     return count ? fmt::format("{}..{}", first, first + count - 1) : fmt::format("from {}", first);
 }
@@ -68,7 +69,7 @@ void throwBufferRangeBelowBlock(const BindingItem& item, uint64_t blockSize, std
                 fmt::format("{}: the shader's {} block needs {} bytes{}, but the binding shows {} bytes of buffer {} "
                             "(offset {}{}); bind a range of at least {} bytes (reads past it are undefined)",
                             where, uniform ? "uniform" : "storage", blockSize,
-                            uniform ? "" : " (before its runtime array)", range, bufferName(*item.buffer), item.offset,
+                            uniform ? "" : " (before its runtime array)", range, quotedBufferName(*item.buffer), item.offset,
                             item.range ? fmt::format(", range {}", item.range) : std::string(", to the end"),
                             blockSize));
 }
@@ -84,7 +85,7 @@ void throwDrawOutOfRange(const DrawRange& range, const GraphicsPipelineDesc& des
                                     "{}, which holds {} {}-bit indices from offset {}; draw fewer indices or bind "
                                     "a larger buffer",
                                     range.call, span(range.first, range.count), range.first, range.count,
-                                    bufferName(*indexBuffer), limit, indexType == IndexType::UInt16 ? 16 : 32,
+                                    quotedBufferName(*indexBuffer), limit, indexType == IndexType::UInt16 ? 16 : 32,
                                     indexOffset));
     }
     for (const bool perInstance : {false, true}) {
@@ -103,7 +104,7 @@ void throwDrawOutOfRange(const DrawRange& range, const GraphicsPipelineDesc& des
                                     "bytes from offset {}, which hold {} {} of stride {} (the slot's attributes end "
                                     "at byte {} of each); draw fewer {} or bind a larger buffer",
                                     range.call, many, span(first, count), perInstance ? "Instance" : "Vertex", first,
-                                    one, count, layout.slot, bufferName(*buffer.buffer), limit.bytes, buffer.offset,
+                                    one, count, layout.slot, quotedBufferName(*buffer.buffer), limit.bytes, buffer.offset,
                                     limit.elements, many, layout.stride, limit.attributeEnd, many));
         }
     }

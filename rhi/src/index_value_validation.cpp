@@ -39,20 +39,11 @@ void HostIndexContents::markShaderWritable() {
 
 namespace {
 
-struct IndexRange {
-    uint64_t offset, first, count;
-    IndexType type;
-};
-
 // The smallest and largest value of `range` in `bytes` (inside: the draw's range was checked
 // against the buffer's size when it was recorded).
-struct Extremes {
-    uint32_t minValue = UINT32_MAX, maxValue = 0;
-    uint64_t minAt = 0, maxAt = 0;
-};
 template <typename Index>
-Extremes extremesOf(std::span<const std::byte> bytes, const IndexRange& range) {
-    Extremes result;
+IndexExtremes extremesOf(std::span<const std::byte> bytes, const IndexRange& range) {
+    IndexExtremes result;
     const std::byte* at = bytes.data() + range.offset + range.first * sizeof(Index);
     for (uint64_t i = 0; i < range.count; ++i) {
         Index value;
@@ -62,12 +53,8 @@ Extremes extremesOf(std::span<const std::byte> bytes, const IndexRange& range) {
     }
     return result;
 }
-Extremes extremesOf(std::span<const std::byte> bytes, const IndexRange& range) {
+IndexExtremes extremesOf(std::span<const std::byte> bytes, const IndexRange& range) {
     return range.type == IndexType::UInt16 ? extremesOf<uint16_t>(bytes, range) : extremesOf<uint32_t>(bytes, range);
-}
-
-std::string bufferName(const IBuffer& buffer) {
-    return buffer.desc().debugName.empty() ? std::string("(unnamed)") : fmt::format("'{}'", buffer.desc().debugName);
 }
 
 }  // namespace
@@ -126,9 +113,9 @@ namespace {
                     "(buffer {}: {} bytes from offset {}, stride {}), so {}. Fix the indices{}, or bind a larger "
                     "vertex buffer (reads past it are undefined: zeros on Mesa, other memory or a device fault "
                     "elsewhere)",
-                    drawNumber, value, at, bufferName(indexBuffer), type == IndexType::UInt16 ? 16 : 32, indexOffset,
+                    drawNumber, value, at, quotedBufferName(indexBuffer), type == IndexType::UInt16 ? 16 : 32, indexOffset,
                     vertexOffset ? fmt::format(" plus vertexOffset {}", vertexOffset) : std::string(), vertex,
-                    limit.slot, limit.vertices, bufferName(*limit.buffer), limit.bytes, limit.offset, limit.stride,
+                    limit.slot, limit.vertices, quotedBufferName(*limit.buffer), limit.bytes, limit.offset, limit.stride,
                     limit.vertices ? fmt::format("index values{} must name vertices 0..{}",
                                                  vertexOffset ? " plus vertexOffset" : "", limit.vertices - 1)
                                    : std::string("no index value names a vertex there"),
@@ -137,7 +124,7 @@ namespace {
 
 // Throws for the extreme of `extremes` that names a vertex outside the limit of `draw`.
 template <class Draw>
-void requireInside(const Draw& draw, const Extremes& extremes) {
+void requireInside(const Draw& draw, const IndexExtremes& extremes) {
     const int64_t limit = int64_t(std::min<uint64_t>(draw.limit.vertices, INT64_MAX / 2));
     if (int64_t(extremes.maxValue) + draw.vertexOffset >= limit)
         throwIndexOutOfRange(*draw.indexBuffer, draw.offset, draw.type, draw.drawNumber, draw.vertexOffset,
@@ -181,24 +168,19 @@ void IndexValueLog::check() const {
                     requireInside(event, extremesOf(overlay->bytes, range));
                     continue;
                 }
-                Extremes extremes;
+                IndexExtremes extremes;
                 {
                     const std::lock_guard lock(contents.m_mutex);
                     if (!contents.m_known || contents.m_shaderWritable) continue;
                     auto cached = std::find_if(contents.m_extremes.begin(), contents.m_extremes.end(),
-                                               [&](const HostIndexContents::Extremes& e) {
-                                                   return e.offset == range.offset && e.first == range.first &&
-                                                          e.count == range.count && e.type == range.type;
-                                               });
+                                               [&](const auto& entry) { return entry.first == range; });
                     if (cached != contents.m_extremes.end()) {
-                        extremes = {cached->minValue, cached->maxValue, cached->minAt, cached->maxAt};
+                        extremes = cached->second;
                     } else {
                         extremes = extremesOf(contents.m_bytes, range);
                         // A frame's draws come back every frame: keep their ranges, within bounds.
                         if (contents.m_extremes.size() >= 1024) contents.m_extremes.clear();
-                        contents.m_extremes.push_back({range.offset, range.first, range.count, range.type,
-                                                       extremes.minValue, extremes.maxValue, extremes.minAt,
-                                                       extremes.maxAt});
+                        contents.m_extremes.emplace_back(range, extremes);
                     }
                 }
                 requireInside(event, extremes);

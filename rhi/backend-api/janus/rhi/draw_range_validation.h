@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <string>
 #include <string_view>
 
 #include "janus/rhi/rhi.h"
@@ -76,6 +77,9 @@ VertexLimit vertexLimit(const GraphicsPipelineDesc& desc, const VertexBufferLook
 inline uint64_t indexCountLimit(const IBuffer& buffer, uint64_t offset, IndexType type) {
     return (buffer.desc().size - offset) / (type == IndexType::UInt16 ? 2 : 4);
 }
+
+// A buffer as messages name it: its debug name in quotes, or "(unnamed)".
+std::string quotedBufferName(const IBuffer& buffer);
 
 // What a draw asked for, for the message of a range it exceeds.
 struct DrawRange {

@@ -20,12 +20,25 @@
 #include <memory>
 #include <mutex>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "janus/rhi/draw_range_validation.h"
 #include "janus/rhi/rhi.h"
 
 namespace janus::rhi::detail {
+
+// A run of indices: `count` of `type` from index `first`, the buffer's indices starting at byte `offset`.
+struct IndexRange {
+    uint64_t offset, first, count;
+    IndexType type;
+    bool operator==(const IndexRange&) const = default;
+};
+// The smallest and largest value of a range, and where they are (index positions).
+struct IndexExtremes {
+    uint32_t minValue = UINT32_MAX, maxValue = 0;
+    uint64_t minAt = 0, maxAt = 0;
+};
 
 // The host's copy of an index buffer's contents (created with validation on and BufferUsage::Index).
 class HostIndexContents {
@@ -43,17 +56,11 @@ private:
     void writeLocked(uint64_t offset, std::span<const std::byte> data);
     // `data` into `bytes` at `offset`; all of them: `known` becomes true.
     static void writeInto(std::vector<std::byte>& bytes, bool& known, uint64_t offset, std::span<const std::byte> data);
-    struct Extremes {   // of one range of indices, cached until the contents change
-        uint64_t offset, first, count;
-        IndexType type;
-        uint32_t minValue, maxValue;
-        uint64_t minAt, maxAt;   // index positions (firstIndex-based) of the extremes
-    };
     std::mutex m_mutex;
     std::vector<std::byte> m_bytes;
     bool m_known = true;             // false after a copy into it, until the host writes all of it
     bool m_shaderWritable = false;   // set once, never cleared
-    std::vector<Extremes> m_extremes;   // of the current contents
+    std::vector<std::pair<IndexRange, IndexExtremes>> m_extremes;   // of the current contents
 };
 
 // What a command list did that the check at execute needs, in recording order. One per command

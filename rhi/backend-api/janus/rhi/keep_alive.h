@@ -37,18 +37,7 @@ public:
     // this recording; only marked as used again when an earlier recording of this list held it.
     template <class Interface>
     void keep(const std::shared_ptr<Interface>& handle, KeepMark& mark) {
-        if (mark.recording.load(std::memory_order_relaxed) == m_recordingId) return;
-        mark.recording.store(m_recordingId, std::memory_order_relaxed);
-        const uint32_t slot = mark.slot.load(std::memory_order_relaxed);
-        if (slot < m_entries.size() && m_entries[slot].mark == &mark) {
-            Entry& entry = m_entries[slot];
-            if (entry.usedIn != m_recordingId) {
-                entry.usedIn = m_recordingId;
-                ++m_used;
-            }
-            return;
-        }
-        append(handle, mark);
+        if (!keepIfHeld(mark)) append(handle, mark);
     }
 
     // keep() without its first-time half: false (and nothing done) when `mark`'s object is not
@@ -91,6 +80,7 @@ private:
     // paths, inlined into every bind, stay a few compares with no registers to save.
     template <class Interface>
     [[gnu::noinline]] void append(const std::shared_ptr<Interface>& handle, KeepMark& mark) {
+        mark.recording.store(m_recordingId, std::memory_order_relaxed);
         mark.slot.store(uint32_t(m_entries.size()), std::memory_order_relaxed);
         m_entries.push_back({&mark, m_recordingId});
         m_objects.push_back(handle);
