@@ -10,8 +10,9 @@
 #
 # Steps, each under its own time limit (the whole run stays under about 8 minutes):
 #   info.txt             janus info (backends, platforms, driver)
-#   rhi_tests.txt        janus_rhi_tests, 4 shards in parallel (JANUS_TEST_BACKENDS from run.sh:
-#   renderer_tests.txt   vulkan, gl_egl, gles), then janus_renderer_tests the same way; a crashed
+#   rhi_tests.txt        janus_rhi_tests, 4 shards per backend in parallel, one backend per process
+#   renderer_tests.txt   (vulkan, gl_egl, gles), then janus_renderer_tests in 4 shards running all
+#                        three (JANUS_TEST_BACKENDS from run.sh); a crashed
 #                        shard's last test is named in the summary; renderer_tests_images/ holds
 #                        the images failing renderer tests wrote
 #   forward/             janus bench forward at 1920x1080 (issue 10 items 5 and 6: the cut-off
@@ -119,25 +120,41 @@ step() {
 # output is kept (not --gtest_brief): its "[ RUN      ]" lines are flushed before each test, so a
 # shard that crashes names the test it crashed in. Images the renderer tests write on a failure
 # (under $TMPDIR/janus-renderer-tests) come back in NAME_images/.
+# per_backend=1: 4 shards for each backend, each process with that backend alone. A driver can
+# behave differently when another API's driver started first in the process: NVIDIA's GL lost
+# buffer contents only where its Vulkan driver had not started (session 19), which processes
+# running every backend in turn hid.
 sharded_suite() {
-  local name="$1" limit="$2" program="$3"
-  local shards=4 pids=() i
+  local name="$1" limit="$2" program="$3" per_backend="${4:-0}"
+  local shards=4 pids=() i shard_names=() backends=("") backend
+  [[ $per_backend == 1 ]] && IFS=, read -ra backends <<< "${JANUS_TEST_BACKENDS:-vulkan,gl_egl,gles}"
   local tmp="$results/$name.tmp"
   mkdir -p "$tmp"
-  for ((i = 0; i < shards; ++i)); do
-    TMPDIR="$tmp" GTEST_TOTAL_SHARDS=$shards GTEST_SHARD_INDEX=$i \
-      step "$name.shard$i" "$limit" "$program" $([[ $quick == 1 ]] && echo --gtest_filter='*Orientation*:*Clear*') &
-    pids+=($!)
+  local filter='*'
+  [[ $quick == 1 ]] && filter='*Orientation*:*Clear*'
+  for backend in "${backends[@]}"; do
+    for ((i = 0; i < shards; ++i)); do
+      local shard="$name${backend:+.$backend}.shard$i"
+      shard_names+=("$shard")
+      # JANUS_TEST_BACKENDS as the environment has it (run.sh's default) unless one per process;
+      # the tests that are not per backend (not Backends/...) run with the first backend only.
+      local shard_filter="$filter"
+      [[ -n $backend && $backend != "${backends[0]}" ]] && shard_filter="Backends/${filter//:/:Backends/}"
+      ( [[ -n $backend ]] && export JANUS_TEST_BACKENDS=$backend
+        TMPDIR="$tmp" GTEST_TOTAL_SHARDS=$shards GTEST_SHARD_INDEX=$i \
+          step "$shard" "$limit" "$program" --gtest_filter="$shard_filter" ) &
+      pids+=($!)
+    done
   done
   for pid in "${pids[@]}"; do wait "$pid"; done
-  for ((i = 0; i < shards; ++i)); do
+  for shard in "${shard_names[@]}"; do
     # A shard that ended without its summary line crashed (or timed out) in its last test started.
-    if ! grep -q '^\[==========\] .* ran\.' "$results/$name.shard$i.txt"; then
-      echo "$name.shard$i: ended in $(grep '^\[ RUN      \]' "$results/$name.shard$i.txt" | tail -1 | cut -c14-)" >> "$summary"
+    if ! grep -q '^\[==========\] .* ran\.' "$results/$shard.txt"; then
+      echo "$shard: ended in $(grep '^\[ RUN      \]' "$results/$shard.txt" | tail -1 | cut -c14-)" >> "$summary"
     fi
   done
-  cat "$results/$name".shard*.txt > "$results/$name.txt"
-  rm -f "$results/$name".shard*.txt
+  for shard in "${shard_names[@]}"; do cat "$results/$shard.txt"; done > "$results/$name.txt"
+  for shard in "${shard_names[@]}"; do rm -f "$results/$shard.txt"; done
   [[ -d "$tmp/janus-renderer-tests" ]] && mv "$tmp/janus-renderer-tests" "$results/${name}_images"
   rm -rf "$tmp"
   local passed failed
@@ -148,7 +165,7 @@ sharded_suite() {
 }
 
 step info 60 janus info
-sharded_suite rhi_tests 200 janus_rhi_tests
+sharded_suite rhi_tests 200 janus_rhi_tests 1
 sharded_suite renderer_tests 240 janus_renderer_tests
 if [[ $tests_only == 1 ]]; then
   publish

@@ -2,7 +2,8 @@
 #include <fmt/format.h>
 
 #include <cstddef>
-#include <vector>
+#include <cstdlib>
+#include <memory>
 
 #include "gl_device.h"
 
@@ -11,18 +12,20 @@ namespace janus::rhi::gl {
 // `desc` is validated (size within Limits::maxBufferSize, 2^31 on GL).
 Buffer::Buffer(ContextPtr context, const BufferDesc& desc) : m_context(std::move(context)), m_desc(desc) {
     const GLFunctions& gl = m_context->gl;
+    // calloc: large zero blocks come from fresh pages, without a pass over them here.
+    const std::unique_ptr<void, decltype(&std::free)> zeros(std::calloc(size_t(desc.size), 1), &std::free);
+    if (!zeros)
+        throw Error(ErrorCode::OutOfMemory,
+                    fmt::format("buffer '{}': no host memory for the {} zero bytes of its first contents", desc.debugName,
+                                desc.size));
     gl.glGenBuffers(1, &m_name);
     gl.glBindBuffer(GL_COPY_WRITE_BUFFER, m_name);
-    // New buffers read as zero (rhi.h); GL leaves their contents undefined. Desktop GL 4.3 zeroes
-    // on the device (glClearBufferData with no data); ES 3.0 can only upload zeros.
-    if (gl.glClearBufferData) {
-        gl.glBufferData(GL_COPY_WRITE_BUFFER, GLsizeiptr(desc.size), nullptr, GL_DYNAMIC_DRAW);
-        if (gl.glGetError() != GL_OUT_OF_MEMORY)
-            gl.glClearBufferData(GL_COPY_WRITE_BUFFER, GL_R8, GL_RED, GL_UNSIGNED_BYTE, nullptr);
-    } else {
-        const std::vector<std::byte> zeros(desc.size);
-        gl.glBufferData(GL_COPY_WRITE_BUFFER, GLsizeiptr(desc.size), zeros.data(), GL_DYNAMIC_DRAW);
-    }
+    // New buffers read as zero (rhi.h); GL leaves their contents undefined. The zeros come from
+    // the host, with the storage. Not glClearBufferData: on NVIDIA's GL driver (580, H200) a
+    // clear followed by glBufferSubData could end with the clear's zeros over the written data in
+    // a process that had not started NVIDIA's Vulkan driver first (a 6-byte index buffer, the
+    // bench's vertex or uniform buffer: their draws drew nothing; session 19).
+    gl.glBufferData(GL_COPY_WRITE_BUFFER, GLsizeiptr(desc.size), zeros.get(), GL_DYNAMIC_DRAW);
     if (gl.glGetError() == GL_OUT_OF_MEMORY) {
         gl.glDeleteBuffers(1, &m_name);
         throw Error(ErrorCode::OutOfMemory,
