@@ -12,6 +12,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace janus::bench {
@@ -30,6 +31,9 @@ inline constexpr std::array<float, 6> kTriangle = {-1.0f, -1.0f, 0.0f, -1.0f, -1
 // byte for byte in the target.
 std::array<float, 4> drawColor(uint32_t drawIndex);
 std::array<uint8_t, 4> drawColorBytes(uint32_t drawIndex);
+// Throws WrongResult unless `texel` (RGBA8, texel (0, 0) of the target) has the last draw's
+// colour; the message says whose colour it has instead (another draw's, or none: the clear's).
+void requireLastDrawColor(const void* texel, std::string_view who);
 // kOpsPerFrame std140 blocks { vec4 color; }, one per kSliceBytes slice.
 std::vector<std::byte> drawParameterData();
 
@@ -68,8 +72,9 @@ T& sharedEnvironment(Args&&... args) {
     return *instance;
 }
 
-// Calls `body` and turns exceptions into a skipped benchmark with the message, so that one
+// Calls `body` and turns exceptions into a run labelled kFailedLabel + the message, so that one
 // unavailable backend does not hide the others' results.
+inline constexpr std::string_view kFailedLabel = "failed: ";
 void runGuarded(benchmark::State& state, const std::function<void()>& body);
 
 // The benchmarks. Each times kOpsPerFrame draws (into the 8x8 target, rebinding the colour

@@ -2,6 +2,7 @@
 // issued with raw Vulkan / raw GL calls, in one run. scripts/bench.sh turns the JSON output into
 // the ratio table of docs/BENCHMARKS.md.
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <malloc.h>
 #include <time.h>
@@ -24,6 +25,18 @@ std::array<float, 4> drawColor(uint32_t drawIndex) {
 
 std::array<uint8_t, 4> drawColorBytes(uint32_t drawIndex) {
     return {uint8_t(drawIndex & 0xFF), uint8_t(drawIndex >> 8), 255, 255};
+}
+
+void requireLastDrawColor(const void* texel, std::string_view who) {
+    std::array<uint8_t, 4> got{};
+    std::memcpy(got.data(), texel, got.size());
+    const std::array<uint8_t, 4> expected = drawColorBytes(kOpsPerFrame - 1);
+    if (got == expected) return;
+    std::string whose = "no draw's colour";
+    for (uint32_t i = 0; i < kOpsPerFrame; ++i)
+        if (drawColorBytes(i) == got) whose = fmt::format("the colour of draw {} of {}", i, kOpsPerFrame);
+    throw WrongResult(fmt::format("{}: texel (0, 0) is ({}), {}, not the last draw's ({})", who, fmt::join(got, ", "),
+                                  whose, fmt::join(expected, ", ")));
 }
 
 std::vector<std::byte> drawParameterData() {
@@ -52,18 +65,27 @@ double threadCpuSeconds() {
 void runFrames(benchmark::State& state, const std::function<void()>& submit, const std::function<void()>& wait) {
     using Clock = std::chrono::steady_clock;
     double submitCpuSeconds = 0, submitSeconds = 0, waitSeconds = 0;
+    std::string failure;
     for (auto _ : state) {
-        const double cpuStart = threadCpuSeconds();
-        const auto start = Clock::now();
-        timedSubmit(submit);
-        const auto submitted = Clock::now();
-        const double cpuSubmitted = threadCpuSeconds();
-        wait();
-        const auto finished = Clock::now();
-        submitCpuSeconds += cpuSubmitted - cpuStart;
-        submitSeconds += std::chrono::duration<double>(submitted - start).count();
-        waitSeconds += std::chrono::duration<double>(finished - submitted).count();
+        // After a failure the remaining iterations run empty: leaving the loop early would leave
+        // Google Benchmark with a run that neither finished nor failed (see runGuarded).
+        if (!failure.empty()) continue;
+        try {
+            const double cpuStart = threadCpuSeconds();
+            const auto start = Clock::now();
+            timedSubmit(submit);
+            const auto submitted = Clock::now();
+            const double cpuSubmitted = threadCpuSeconds();
+            wait();
+            const auto finished = Clock::now();
+            submitCpuSeconds += cpuSubmitted - cpuStart;
+            submitSeconds += std::chrono::duration<double>(submitted - start).count();
+            waitSeconds += std::chrono::duration<double>(finished - submitted).count();
+        } catch (const std::exception& error) {
+            failure = error.what();
+        }
     }
+    if (!failure.empty()) throw std::runtime_error(failure);
     // kAvgIterations divides by the iteration count: the values read as ns per draw/dispatch.
     auto perOp = [](double seconds) {
         return benchmark::Counter(seconds * 1e9 / kOpsPerFrame, benchmark::Counter::kAvgIterations);
@@ -92,8 +114,19 @@ void runGuarded(benchmark::State& state, const std::function<void()>& body) {
     try {
         body();
     } catch (const std::exception& error) {
-        // Google Benchmark accepts a run that ends early once it is marked as failed.
-        state.SkipWithError(error.what());
+        // Said at once: Google Benchmark would show it only after all of the benchmark's repetitions.
+        fmt::print(stderr, "janus_bench_rhi: a run failed: {}\n", error.what());
+        std::fflush(stderr);
+        // Not SkipWithError: with repetitions, Google Benchmark 1.7.1 aborts the process when a
+        // failed run counts fewer iterations than the others (a failure before the timed loop
+        // counts 0), and crashes when every repetition failed. A run that failed before its loop
+        // runs the loop empty instead, and every failed run is labelled; scripts/bench.sh leaves
+        // labelled runs out of its medians and names the failure (Google Benchmark's own
+        // aggregates include them).
+        if (state.iterations() == 0)
+            for (auto _ : state) {
+            }
+        state.SetLabel(std::string(kFailedLabel) + error.what());
     }
 }
 

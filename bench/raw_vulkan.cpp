@@ -494,10 +494,7 @@ void RawVulkan::checkDraws() {
     vkCmdCopyImageToBuffer(m_commands, m_target, VK_IMAGE_LAYOUT_GENERAL, m_readback.buffer, 1, &region);
     submitFrame();
     wait();
-    const std::array<uint8_t, 4> expected = drawColorBytes(kOpsPerFrame - 1);
-    if (std::memcmp(m_readback.mapped, expected.data(), 4) != 0)
-        throw WrongResult(fmt::format("raw Vulkan: texel (0, 0) is not the colour of the last draw ({})",
-                                      fmt::join(expected, ", ")));
+    requireLastDrawColor(m_readback.mapped, "raw Vulkan");
 }
 
 void RawVulkan::checkDispatches() {

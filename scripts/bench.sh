@@ -141,8 +141,9 @@ with open(sys.argv[1]) as f:
 runs, errors = {}, {}
 for run in report["benchmarks"]:
     key = tuple(run["run_name"].split("/")[:3])
-    if run.get("error_occurred"):
-        errors[key] = run.get("error_message", "failed")
+    # janus_bench_rhi labels a failed run "failed: <why>" (bench/bench_main.cpp, runGuarded).
+    if run.get("error_occurred") or run.get("label", "").startswith("failed: "):
+        errors.setdefault(key, []).append(run.get("error_message") or run["label"][len("failed: "):])
     elif run.get("run_type") == "iteration":
         runs.setdefault(key, []).append(run)
 
@@ -162,7 +163,7 @@ missed = 0
 for backend, work in [("vulkan", "draw"), ("vulkan", "dispatch"), ("gl", "draw"), ("gl", "dispatch"), ("gles", "draw")]:
     raw_key, rhi_key = (work, backend, "raw"), (work, backend, "rhi")
     if raw_key not in runs or rhi_key not in runs:
-        why = errors.get(raw_key) or errors.get(rhi_key) or "not run"
+        why = (errors.get(raw_key) or errors.get(rhi_key) or ["not run"])[0]
         print(f"| {backend} | {work} | - | - | - | skipped: {why} | - | - |")
         continue
     raw_ns, rhi_ns = median(raw_key, "submit_cpu_ns_per_op"), median(rhi_key, "submit_cpu_ns_per_op")
@@ -188,6 +189,9 @@ for extra, what in [(("dispatch", "vulkan", "raw_full_barriers"), "Raw Vulkan wi
                     (("draw", "gl", "raw_respecified_vertices"), "Raw GL re-specifying the vertex attribute before every draw (what the RHI did before it tracked vertex state)")]:
     if extra in runs:
         print(f"\n{what}: {median(extra, 'submit_cpu_ns_per_op'):.0f} ns/op, wait {median(extra, 'wait_ns_per_op'):.0f} ns/op.")
+for key, messages in sorted(errors.items()):
+    if key in runs:   # the table used the repetitions that ran; say that some did not
+        print(f"\n{len(messages)} repetition(s) of {'/'.join(key)} failed and were left out: {messages[0]}")
 if missed:
     print(f"\n{missed} comparison(s) above the {TARGET}x target: see docs/BENCHMARKS.md for where the time goes.")
 EOF
