@@ -19,7 +19,7 @@
 #                        error table and the per-pass GPU times)
 #   parity_helmet/      janus parity of DamagedHelmet at 512x512 (cross-driver: --against it here)
 #   parity_helmet_sky/  the same under the sky at 128x128: the two-compiler parity rule on hardware
-#   bench_rhi.p*.json    janus_bench_rhi in 5 fresh processes of 5 interleaved repetitions each (item 4);
+#   bench_rhi.p*.json    janus_bench_rhi in 10 fresh processes of 5 interleaved repetitions each (item 4);
 #                        bench_rhi.md is their table when python3 is there (else here:
 #                        scripts/bench.sh --from-json bench_rhi.p0.json --from-json ...)
 #   summary.txt          one line per step: its exit status, time and the suites' totals
@@ -184,11 +184,11 @@ else
   # parity.json's pairs say which needed it (twoCompilers, roundingPixels).
   step parity_helmet_sky 60 janus parity "$repo_root/../shared/scenes/DamagedHelmet/glTF/DamagedHelmet.gltf" \
     --env "$repo_root/../shared/scenes/env/chinese_garden_1k.hdr" --size 128x128 --out "$results/parity_helmet_sky"
-  # Five fresh processes: on the H200 one process's ratio ranged from 1.06x to 1.71x for the same
-  # binary, on the H100 from 0.88x to 1.57x (docs/BENCHMARKS.md, "On hardware"), so only a median
-  # over several means anything. Within each, five repetitions of 200 frames per benchmark in
+  # Ten fresh processes (about 12 s each): on the H200 one process's ratio ranged from 1.06x to
+  # 1.71x for the same binary (0.99x to 1.88x for Vulkan draws in session 19), on the H100 from
+  # 0.88x to 1.57x (docs/BENCHMARKS.md, "On hardware"), so only a median over many means anything. Within each, five repetitions of 200 frames per benchmark in
   # random order (bench.sh --interleave): raw and RHI share the same seconds of the machine.
-  bench_processes=5 bench_options=(--benchmark_repetitions=5 --janus_frames=200 --benchmark_enable_random_interleaving=true)
+  bench_processes=10 bench_options=(--benchmark_repetitions=5 --janus_frames=200 --benchmark_enable_random_interleaving=true)
 fi
 from_json=()
 for ((p = 0; p < bench_processes; ++p)); do
