@@ -76,6 +76,10 @@ T& sharedEnvironment(Args&&... args) {
 // unavailable backend does not hide the others' results.
 inline constexpr std::string_view kFailedLabel = "failed: ";
 void runGuarded(benchmark::State& state, const std::function<void()>& body);
+// How many runs failed so far. janus_bench_rhi then exits with kExitSomeRunsFailed: everything
+// ran and the report is whole, but some of its runs are failures.
+int failedRuns();
+inline constexpr int kExitSomeRunsFailed = 3;
 
 // The benchmarks. Each times kOpsPerFrame draws (into the 8x8 target, rebinding the colour
 // uniform block per draw) or dispatches (1x1x1, rebinding the counter per dispatch) per iteration.

@@ -97,6 +97,8 @@ void runFrames(benchmark::State& state, const std::function<void()>& submit, con
 }
 
 namespace {
+int g_failedRuns = 0;   // main's exit status says whether any run failed
+
 std::vector<std::unique_ptr<Environment>>& environments() {
     static std::vector<std::unique_ptr<Environment>> all;
     return all;
@@ -110,11 +112,14 @@ void destroyEnvironments() {
     while (!all.empty()) all.pop_back();
 }
 
+int failedRuns() { return g_failedRuns; }
+
 void runGuarded(benchmark::State& state, const std::function<void()>& body) {
     try {
         body();
     } catch (const std::exception& error) {
         // Said at once: Google Benchmark would show it only after all of the benchmark's repetitions.
+        ++g_failedRuns;
         fmt::print(stderr, "janus_bench_rhi: a run failed: {}\n", error.what());
         std::fflush(stderr);
         // Not SkipWithError: with repetitions, Google Benchmark 1.7.1 aborts the process when a
@@ -213,5 +218,10 @@ int main(int argc, char** argv) {
     benchmark::RunSpecifiedBenchmarks();
     benchmark::Shutdown();
     janus::bench::destroyEnvironments();
+    if (const int failed = janus::bench::failedRuns()) {
+        fmt::print(stderr, "janus_bench_rhi: {} run(s) failed (labelled \"{}...\" in the output)\n", failed,
+                   janus::bench::kFailedLabel);
+        return janus::bench::kExitSomeRunsFailed;
+    }
     return 0;
 }

@@ -111,8 +111,11 @@ else
   [[ -n "$interleave_frames" ]] && timing=(--janus_frames="$interleave_frames" --benchmark_enable_random_interleaving=true)
   reports=()
   for ((p = 0; p < processes; ++p)); do
+    # Status 3: every benchmark ran, some runs failed (labelled; the table names them).
+    status=0
     "$binary" --benchmark_format=json --benchmark_out_format=json --benchmark_out="$scratch/process$p.json" \
-      --benchmark_repetitions="$repetitions" "${timing[@]}" >/dev/null
+      --benchmark_repetitions="$repetitions" "${timing[@]}" >/dev/null || status=$?
+    [[ $status == 0 || $status == 3 ]] || exit "$status"
     reports+=("$scratch/process$p.json")
   done
 fi

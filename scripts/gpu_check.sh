@@ -21,7 +21,8 @@
 #   parity_helmet_sky/  the same under the sky at 128x128: the two-compiler parity rule on hardware
 #   bench_rhi.p*.json    janus_bench_rhi in 10 fresh processes of 5 interleaved repetitions each (item 4);
 #                        bench_rhi.md is their table when python3 is there (else here:
-#                        scripts/bench.sh --from-json bench_rhi.p0.json --from-json ...)
+#                        scripts/bench.sh --from-json bench_rhi.p0.json --from-json ...); a
+#                        process's "exit 3": some of its runs failed, which the table names
 #   summary.txt          one line per step: its exit status, time and the suites' totals
 # and packs them into OUT/gpu-check.tar.gz (the device returns at most 8 files), with
 # summary.txt also beside it.
