@@ -19,6 +19,9 @@
 #                        error table and the per-pass GPU times)
 #   parity_helmet/      janus parity of DamagedHelmet at 512x512 (cross-driver: --against it here)
 #   parity_helmet_sky/  the same under the sky at 128x128: the two-compiler parity rule on hardware
+#   gl_only/             DamagedHelmet at 256x256 in the GL configurations alone, one process that
+#   gl_only_against/     starts no Vulkan, and all five --against them at tolerance 0: GL alone must
+#                        draw as GL after Vulkan
 #   bench_rhi.p*.json    janus_bench_rhi in 10 fresh processes of 5 interleaved repetitions each (item 4);
 #                        bench_rhi.md is their table when python3 is there (else here:
 #                        scripts/bench.sh --from-json bench_rhi.p0.json --from-json ...); a
@@ -175,6 +178,7 @@ if [[ $tests_only == 1 ]]; then
 fi
 if [[ $quick == 1 ]]; then
   step forward 120 janus bench forward --quick --out "$results/forward"
+  gl_only_scene=(--size 32x32)
   bench_processes=1 bench_options=(--benchmark_filter='vulkan' --benchmark_min_time=0.05)
 else
   step forward 150 janus bench forward --size 1920x1080 --out "$results/forward"
@@ -185,12 +189,19 @@ else
   # parity.json's pairs say which needed it (twoCompilers, roundingPixels).
   step parity_helmet_sky 60 janus parity "$repo_root/../shared/scenes/DamagedHelmet/glTF/DamagedHelmet.gltf" \
     --env "$repo_root/../shared/scenes/env/chinese_garden_1k.hdr" --size 128x128 --out "$results/parity_helmet_sky"
+  gl_only_scene=("$repo_root/../shared/scenes/DamagedHelmet/glTF/DamagedHelmet.gltf" --size 256x256)
   # Ten fresh processes (about 12 s each): on the H200 one process's ratio ranged from 1.06x to
   # 1.71x for the same binary (0.99x to 1.88x for Vulkan draws in session 19), on the H100 from
   # 0.88x to 1.57x (docs/BENCHMARKS.md, "On hardware"), so only a median over many means anything. Within each, five repetitions of 200 frames per benchmark in
   # random order (bench.sh --interleave): raw and RHI share the same seconds of the machine.
   bench_processes=10 bench_options=(--benchmark_repetitions=5 --janus_frames=200 --benchmark_enable_random_interleaving=true)
 fi
+# GL in a process that never starts Vulkan (NVIDIA's GL lost buffer contents only there, session
+# 19; the renderer suite and the parity steps start Vulkan first): the GL configurations alone,
+# then all five against them, which must match exactly on one driver.
+step gl_only 60 janus parity "${gl_only_scene[@]}" --configs gl/compute,gl/fallback,gles/fallback --out "$results/gl_only"
+step gl_only_against 60 janus parity "${gl_only_scene[@]}" --out "$results/gl_only_against" --against "$results/gl_only" \
+  --against-tolerance 0
 from_json=()
 for ((p = 0; p < bench_processes; ++p)); do
   step "bench_rhi.p$p" 60 janus_bench_rhi "${bench_options[@]}" \

@@ -20,6 +20,7 @@ struct ParityOptions {
     std::string tolerance = "1";
     std::string edgePixels = std::to_string(kDefaultEdgePixels);
     std::string compilerRounding = "auto";
+    std::string configs;                  // --configs: empty for all five
     std::string against;                  // another machine's `janus parity --out` directory
     std::string againstTolerance = "1";
     bool againstToleranceGiven = false;
@@ -173,6 +174,9 @@ int run(const ParityOptions& options) {
     const bool compilerRounding = parseCompilerRounding(options.compilerRounding);
     if (options.out.empty()) throw UsageError("--out DIR is required: where to write the images and parity.json");
     const std::optional<AgainstDirectory> against = parseAgainst(options);
+    const std::vector<Configuration> configurations =
+        options.configs.empty() ? std::vector<Configuration>(kConfigurations.begin(), kConfigurations.end())
+                                : parseConfigurations(options.configs);
 
     const std::filesystem::path outDir = options.out;
     std::error_code ec;
@@ -222,7 +226,7 @@ int run(const ParityOptions& options) {
 
     std::vector<ConfigurationResult> results;
     std::vector<std::vector<std::string>> configRows{{"configuration", "result", "image"}};
-    for (const Configuration& config : kConfigurations) {
+    for (const Configuration& config : configurations) {
         ConfigurationResult result = runConfiguration(scene, config, base);
         if (result.ran()) {
             result.image = outDir / (result.stem + ".png");
@@ -265,7 +269,10 @@ int run(const ParityOptions& options) {
         pairsJson.push_back(std::move(pair));
     }
     std::printf("\n");
-    std::fputs(formatTable(pairRows).c_str(), stdout);
+    if (pairRows.size() > 1)
+        std::fputs(formatTable(pairRows).c_str(), stdout);
+    else
+        std::printf("one configuration: no pairs to compare\n");
 
     nlohmann::json againstJson;
     if (against) againstJson = compareAgainst(*against, results, outDir, passed);
@@ -287,7 +294,10 @@ int run(const ParityOptions& options) {
         }
         configsJson.push_back(std::move(entry));
     }
+    nlohmann::json selected = nlohmann::json::array();
+    for (const Configuration& config : configurations) selected.push_back(configurationFileStem(config.backend, config.path));
     nlohmann::json summary{{"scene", sceneLabel(scenePath)},
+                                 {"selectedConfigurations", selected},
                                  {"width", base.size.width},
                                  {"height", base.size.height},
                                  {"tolerance", tolerance},
@@ -316,7 +326,7 @@ Command addParityCommand(CLI::App& parent) {
     auto options = std::make_shared<ParityOptions>();
     CLI::App* app = parent.add_subcommand(
         "parity",
-        "Render all five configurations, compare every pair, write images, heat maps and parity.json; "
+        "Render all five configurations (or --configs), compare every pair, write images, heat maps and parity.json; "
         "exit 1 if any pair differs beyond --tolerance");
     app->footer(std::string("Configurations: vulkan/compute, vulkan/fallback, gl/compute, gl/fallback, gles/fallback.\n\n") +
                 kExitCodeHelp);
@@ -332,6 +342,11 @@ Command addParityCommand(CLI::App& parent) {
         ->type_name("STEPS");
     addEdgePixelsOption(*app, options->edgePixels);
     addCompilerRoundingOption(*app, options->compilerRounding);
+    app->add_option("--configs", options->configs,
+                    "Render and compare only these configurations: a comma-separated list of vulkan/compute, "
+                    "vulkan/fallback, gl/compute, gl/fallback, gles/fallback (or vulkan-compute, ...); all five by default. "
+                    "Each runs in this process: --configs gl/compute,gles/fallback starts no Vulkan driver")
+        ->type_name("LIST");
     app->add_option("--against", options->against,
                     "The --out directory of a parity run on another machine (same scene and --size): compare each "
                     "configuration's image with its image there")

@@ -28,6 +28,38 @@ ConfigurationResult runConfiguration(const renderer::Scene& scene, const Configu
     return result;
 }
 
+std::vector<Configuration> parseConfigurations(std::string_view list) {
+    auto known = [] {
+        std::string names;
+        for (const Configuration& config : kConfigurations)
+            names += (names.empty() ? "" : ", ") + configurationLabel(config.backend, config.path);
+        return names;
+    };
+    std::array<bool, kConfigurations.size()> chosen{};
+    size_t start = 0;
+    while (true) {
+        const size_t comma = list.find(',', start);
+        const std::string_view item = list.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start);
+        if (item.empty())
+            throw UsageError(fmt::format("--configs '{}' has an empty item; give a comma-separated list of {}", list, known()));
+        bool found = false;
+        for (size_t i = 0; i < kConfigurations.size(); ++i) {
+            const Configuration& config = kConfigurations[i];
+            if (item == configurationLabel(config.backend, config.path) || item == configurationFileStem(config.backend, config.path)) {
+                chosen[i] = true;
+                found = true;
+            }
+        }
+        if (!found) throw UsageError(fmt::format("--configs: '{}' is not a configuration; the configurations are {}", item, known()));
+        if (comma == std::string_view::npos) break;
+        start = comma + 1;
+    }
+    std::vector<Configuration> result;
+    for (size_t i = 0; i < kConfigurations.size(); ++i)
+        if (chosen[i]) result.push_back(kConfigurations[i]);
+    return result;
+}
+
 std::vector<ConfigurationAvailability> probeConfigurations(rhi::GLPlatform platform, ImageSize size) {
     std::vector<ConfigurationAvailability> result;
     for (const Configuration& config : kConfigurations) {

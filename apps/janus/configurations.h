@@ -59,6 +59,11 @@ struct ConfigurationAvailability {
 };
 std::vector<ConfigurationAvailability> probeConfigurations(rhi::GLPlatform platform, ImageSize size);
 
+// --configs: a comma-separated list of configurations, each as "gl/compute" or "gl-compute";
+// returns them in kConfigurations order, each once. Throws UsageError naming the item that is not
+// a configuration and listing those that are.
+std::vector<Configuration> parseConfigurations(std::string_view list);
+
 // --tolerance: whole 1/255 steps in 0..255; throws UsageError.
 uint32_t parseTolerance(std::string_view text, std::string_view option = "--tolerance");   // UsageError naming `option`
 

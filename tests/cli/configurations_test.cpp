@@ -98,5 +98,30 @@ TEST(EdgePixelsOption, AcceptsCountsAndRefusesTheRest) {
     for (const char* bad : {"", "-1", "four", "4.5", "99999999999"}) EXPECT_THROW(parseEdgePixels(bad), UsageError) << bad;
 }
 
+TEST(ConfigurationsOption, NamesEitherFormInTheUsualOrderOnce) {
+    auto stems = [](std::string_view list) {
+        std::vector<std::string> result;
+        for (const Configuration& c : parseConfigurations(list)) result.push_back(configurationFileStem(c.backend, c.path));
+        return result;
+    };
+    EXPECT_EQ(stems("gles/fallback,gl-compute"), (std::vector<std::string>{"gl-compute", "gles-fallback"}));
+    EXPECT_EQ(stems("vulkan/compute,vulkan-compute"), (std::vector<std::string>{"vulkan-compute"}));
+    EXPECT_EQ(stems("vulkan/compute,vulkan/fallback,gl/compute,gl/fallback,gles/fallback").size(), 5u);
+}
+
+TEST(ConfigurationsOption, RefusesWhatIsNoConfiguration) {
+    for (const char* bad : {"", "gl", "gles/compute", "gl/compute,", ",gl/compute", "GL/compute", "gl/compute metal"}) {
+        SCOPED_TRACE(bad);
+        EXPECT_THROW(parseConfigurations(bad), UsageError);
+    }
+    try {
+        parseConfigurations("gl/compute,metal");
+        FAIL() << "metal was accepted";
+    } catch (const UsageError& e) {
+        EXPECT_NE(std::string(e.what()).find("'metal' is not a configuration"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("gles/fallback"), std::string::npos) << e.what();
+    }
+}
+
 }  // namespace
 }  // namespace janus::cli
