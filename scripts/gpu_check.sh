@@ -36,11 +36,13 @@
 #
 # Options: --out DIR (required), --build-dir DIR (run local binaries instead of .gpu/run.sh),
 # --budget SECONDS, --quick (small sizes and short runs: for trying the script, not for numbers),
-# --tests-only (info and the two suites: to check fixes when little device time is left).
+# --tests-only (info and the two suites: to check fixes when little device time is left),
+# --bench-only (info and as many janus_bench_rhi processes as the budget holds, about 12 s each:
+# for a verdict on the overhead ratios, whose spread between processes is wide).
 set -uo pipefail
 
 repo_root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-out="" build_dir="" quick=0 budget=480 tests_only=0
+out="" build_dir="" quick=0 budget=480 tests_only=0 bench_only=0
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --out) out="$2"; shift 2 ;;
@@ -48,6 +50,7 @@ while [[ $# -gt 0 ]]; do
     --quick) quick=1; shift ;;
     --budget) budget="$2"; shift 2 ;;
     --tests-only) tests_only=1; shift ;;
+    --bench-only) bench_only=1; shift ;;
     -h|--help) sed -n '2,25p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "gpu_check.sh: unknown argument '$1' (try --help)" >&2; exit 2 ;;
   esac
@@ -169,14 +172,20 @@ sharded_suite() {
 }
 
 step info 60 janus info
-sharded_suite rhi_tests 200 janus_rhi_tests 1
-sharded_suite renderer_tests 240 janus_renderer_tests
+if [[ $bench_only == 0 ]]; then
+  sharded_suite rhi_tests 200 janus_rhi_tests 1
+  sharded_suite renderer_tests 240 janus_renderer_tests
+fi
 if [[ $tests_only == 1 ]]; then
   publish
   cat "$summary"
   exit 0
 fi
-if [[ $quick == 1 ]]; then
+bench_options=(--benchmark_repetitions=5 --janus_frames=200 --benchmark_enable_random_interleaving=true)
+if [[ $bench_only == 1 ]]; then
+  bench_processes=100   # until the budget is spent (the loop below stops 25 s before)
+  [[ $quick == 1 ]] && bench_processes=2 bench_options=(--benchmark_filter='vulkan' --benchmark_min_time=0.05)
+elif [[ $quick == 1 ]]; then
   step forward 120 janus bench forward --quick --out "$results/forward"
   gl_only_scene=(--size 32x32)
   bench_processes=1 bench_options=(--benchmark_filter='vulkan' --benchmark_min_time=0.05)
@@ -194,16 +203,19 @@ else
   # 1.71x for the same binary (0.99x to 1.88x for Vulkan draws in session 19), on the H100 from
   # 0.88x to 1.57x (docs/BENCHMARKS.md, "On hardware"), so only a median over many means anything. Within each, five repetitions of 200 frames per benchmark in
   # random order (bench.sh --interleave): raw and RHI share the same seconds of the machine.
-  bench_processes=10 bench_options=(--benchmark_repetitions=5 --janus_frames=200 --benchmark_enable_random_interleaving=true)
+  bench_processes=10
 fi
-# GL in a process that never starts Vulkan (NVIDIA's GL lost buffer contents only there, session
-# 19; the renderer suite and the parity steps start Vulkan first): the GL configurations alone,
-# then all five against them, which must match exactly on one driver.
-step gl_only 60 janus parity "${gl_only_scene[@]}" --configs gl/compute,gl/fallback,gles/fallback --out "$results/gl_only"
-step gl_only_against 60 janus parity "${gl_only_scene[@]}" --out "$results/gl_only_against" --against "$results/gl_only" \
-  --against-tolerance 0
+if [[ $bench_only == 0 ]]; then
+  # GL in a process that never starts Vulkan (NVIDIA's GL lost buffer contents only there, session
+  # 19; the renderer suite and the parity steps start Vulkan first): the GL configurations alone,
+  # then all five against them, which must match exactly on one driver.
+  step gl_only 60 janus parity "${gl_only_scene[@]}" --configs gl/compute,gl/fallback,gles/fallback --out "$results/gl_only"
+  step gl_only_against 60 janus parity "${gl_only_scene[@]}" --out "$results/gl_only_against" --against "$results/gl_only" \
+    --against-tolerance 0
+fi
 from_json=()
 for ((p = 0; p < bench_processes; ++p)); do
+  ((bench_only == 0 || budget - SECONDS >= 25)) || break
   step "bench_rhi.p$p" 60 janus_bench_rhi "${bench_options[@]}" \
     --benchmark_out="$results/bench_rhi.p$p.json" --benchmark_out_format=json
   [[ -s "$results/bench_rhi.p$p.json" ]] && from_json+=(--from-json "$results/bench_rhi.p$p.json")
