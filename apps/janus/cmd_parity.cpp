@@ -20,7 +20,8 @@ struct ParityOptions {
     std::string tolerance = "1";
     std::string edgePixels = std::to_string(kDefaultEdgePixels);
     std::string compilerRounding = "auto";
-    std::string configs;                  // --configs: empty for all five
+    std::string configs;                  // --configs
+    bool configsGiven = false;            // else all five
     std::string against;                  // another machine's `janus parity --out` directory
     std::string againstTolerance = "1";
     bool againstToleranceGiven = false;
@@ -175,8 +176,8 @@ int run(const ParityOptions& options) {
     if (options.out.empty()) throw UsageError("--out DIR is required: where to write the images and parity.json");
     const std::optional<AgainstDirectory> against = parseAgainst(options);
     const std::vector<Configuration> configurations =
-        options.configs.empty() ? std::vector<Configuration>(kConfigurations.begin(), kConfigurations.end())
-                                : parseConfigurations(options.configs);
+        options.configsGiven ? parseConfigurations(options.configs)
+                             : std::vector<Configuration>(kConfigurations.begin(), kConfigurations.end());
 
     const std::filesystem::path outDir = options.out;
     std::error_code ec;
@@ -365,6 +366,7 @@ Command addParityCommand(CLI::App& parent) {
                   "Enable Vulkan validation layers / GL debug output; a configuration with errors fails");
     return {app, [options, app] {
                 options->againstToleranceGiven = app->count("--against-tolerance") > 0;
+                options->configsGiven = app->count("--configs") > 0;
                 return run(*options);
             }};
 }

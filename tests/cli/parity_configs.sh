@@ -25,6 +25,7 @@ json_check "$TMP/all/parity.json" 'sorted(c["configuration"] for c in j["against
 expect_error 2 "--configs: 'metal' is not a configuration; the configurations are vulkan/compute, vulkan/fallback, gl/compute, gl/fallback, gles/fallback" \
   parity --size 32x32 --configs gl/compute,metal --out "$TMP/bad"
 expect_error 2 "--configs 'gl/compute,' has an empty item" parity --size 32x32 --configs gl/compute, --out "$TMP/bad"
+expect_error 2 "--configs '' has an empty item" parity --size 32x32 --configs "" --out "$TMP/bad"
 [[ ! -e "$TMP/bad" ]] || fail "a refused --configs created its --out directory"
 
 finish
