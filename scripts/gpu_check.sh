@@ -181,14 +181,23 @@ if [[ $tests_only == 1 ]]; then
   cat "$summary"
   exit 0
 fi
-bench_options=(--benchmark_repetitions=5 --janus_frames=200 --benchmark_enable_random_interleaving=true)
+if [[ $quick == 1 ]]; then
+  bench_processes=1 bench_options=(--benchmark_filter='vulkan' --benchmark_min_time=0.05)
+  gl_only_scene=(--size 32x32)
+else
+  # Ten fresh processes (about 12 s each): on the H200 one process's ratio ranged from 1.06x to
+  # 1.71x for the same binary (0.99x to 1.88x for Vulkan draws in session 19), on the H100 from
+  # 0.88x to 1.57x (docs/BENCHMARKS.md, "On hardware"), so only a median over many means
+  # anything. Within each, five repetitions of 200 frames per benchmark in random order
+  # (bench.sh --interleave): raw and RHI share the same seconds of the machine.
+  bench_processes=10 bench_options=(--benchmark_repetitions=5 --janus_frames=200 --benchmark_enable_random_interleaving=true)
+  gl_only_scene=("$repo_root/../shared/scenes/DamagedHelmet/glTF/DamagedHelmet.gltf" --size 256x256)
+fi
 if [[ $bench_only == 1 ]]; then
-  bench_processes=100   # until the budget is spent (the loop below stops 25 s before)
-  [[ $quick == 1 ]] && bench_processes=2 bench_options=(--benchmark_filter='vulkan' --benchmark_min_time=0.05)
+  # Until the budget is spent (the loop below stops 25 s before it).
+  bench_processes=$((quick == 1 ? 2 : 100))
 elif [[ $quick == 1 ]]; then
   step forward 120 janus bench forward --quick --out "$results/forward"
-  gl_only_scene=(--size 32x32)
-  bench_processes=1 bench_options=(--benchmark_filter='vulkan' --benchmark_min_time=0.05)
 else
   step forward 150 janus bench forward --size 1920x1080 --out "$results/forward"
   # Images for a cross-driver comparison here: janus parity ... --against parity_helmet
@@ -198,12 +207,6 @@ else
   # parity.json's pairs say which needed it (twoCompilers, roundingPixels).
   step parity_helmet_sky 60 janus parity "$repo_root/../shared/scenes/DamagedHelmet/glTF/DamagedHelmet.gltf" \
     --env "$repo_root/../shared/scenes/env/chinese_garden_1k.hdr" --size 128x128 --out "$results/parity_helmet_sky"
-  gl_only_scene=("$repo_root/../shared/scenes/DamagedHelmet/glTF/DamagedHelmet.gltf" --size 256x256)
-  # Ten fresh processes (about 12 s each): on the H200 one process's ratio ranged from 1.06x to
-  # 1.71x for the same binary (0.99x to 1.88x for Vulkan draws in session 19), on the H100 from
-  # 0.88x to 1.57x (docs/BENCHMARKS.md, "On hardware"), so only a median over many means anything. Within each, five repetitions of 200 frames per benchmark in
-  # random order (bench.sh --interleave): raw and RHI share the same seconds of the machine.
-  bench_processes=10
 fi
 if [[ $bench_only == 0 ]]; then
   # GL in a process that never starts Vulkan (NVIDIA's GL lost buffer contents only there, session

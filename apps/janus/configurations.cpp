@@ -1,5 +1,6 @@
 #include "configurations.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <memory>
@@ -35,13 +36,12 @@ std::vector<Configuration> parseConfigurations(std::string_view list) {
             names += (names.empty() ? "" : ", ") + configurationLabel(config.backend, config.path);
         return names;
     };
+    // splitList drops empty items; here one is a mistake: fewer items than commas plus one.
+    const std::vector<std::string> items = splitList(std::string(list));
+    if (items.size() != size_t(std::count(list.begin(), list.end(), ',')) + 1)
+        throw UsageError(fmt::format("--configs '{}' has an empty item; give a comma-separated list of {}", list, known()));
     std::array<bool, kConfigurations.size()> chosen{};
-    size_t start = 0;
-    while (true) {
-        const size_t comma = list.find(',', start);
-        const std::string_view item = list.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start);
-        if (item.empty())
-            throw UsageError(fmt::format("--configs '{}' has an empty item; give a comma-separated list of {}", list, known()));
+    for (const std::string& item : items) {
         bool found = false;
         for (size_t i = 0; i < kConfigurations.size(); ++i) {
             const Configuration& config = kConfigurations[i];
@@ -51,8 +51,6 @@ std::vector<Configuration> parseConfigurations(std::string_view list) {
             }
         }
         if (!found) throw UsageError(fmt::format("--configs: '{}' is not a configuration; the configurations are {}", item, known()));
-        if (comma == std::string_view::npos) break;
-        start = comma + 1;
     }
     std::vector<Configuration> result;
     for (size_t i = 0; i < kConfigurations.size(); ++i)
