@@ -90,8 +90,16 @@ void rhiDispatches(benchmark::State& state, rhi::Backend backend);
 void rawVulkanDraws(benchmark::State& state, bool recycledCommandMemory);
 // barrierPerDispatch adds the RHI's full barrier before each dispatch (an explanatory extra run).
 void rawVulkanDispatches(benchmark::State& state, bool barrierPerDispatch, bool recycledCommandMemory);
-// GL or GLES; respecifyVertices adds the RHI's per-draw vertex attribute setup (explanatory run).
-void rawGLDraws(benchmark::State& state, rhi::Backend backend, bool respecifyVertices);
+// How the raw GL side draws: as a hand-written renderer would, or with one habit of the RHI's GL
+// backend added (explanatory runs, printed apart by scripts/bench.sh).
+enum class RawGLDraws {
+    Plain,
+    RespecifiedVertices,   // the vertex attribute re-specified before every draw (the RHI's old setup)
+    RhiBuffers,            // from buffers made as the RHI makes them (gl_buffer.cpp): GL_DYNAMIC_DRAW,
+                           // zeros from the host, then the contents by glBufferSubData
+};
+// GL or GLES.
+void rawGLDraws(benchmark::State& state, rhi::Backend backend, RawGLDraws how);
 void rawGLDispatches(benchmark::State& state);
 
 }  // namespace janus::bench

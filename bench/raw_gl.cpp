@@ -13,6 +13,7 @@
 
 #include <cstdio>
 #include <cstring>
+#include <iterator>
 #include <memory>
 #include <string>
 #include <type_traits>
@@ -32,6 +33,7 @@ struct GLCalls {
     X(PFNGLDELETEBUFFERSPROC, glDeleteBuffers)                                                               \
     X(PFNGLBINDBUFFERPROC, glBindBuffer)                                                                     \
     X(PFNGLBUFFERDATAPROC, glBufferData)                                                                     \
+    X(PFNGLBUFFERSUBDATAPROC, glBufferSubData)                                                               \
     X(PFNGLMAPBUFFERRANGEPROC, glMapBufferRange)                                                             \
     X(PFNGLUNMAPBUFFERPROC, glUnmapBuffer)                                                                   \
     X(PFNGLBINDBUFFERRANGEPROC, glBindBufferRange)                                                           \
@@ -124,9 +126,7 @@ public:
     // The raw context is current while the returned object lives.
     ContextSwitch makeCurrent() const { return ContextSwitch(m_platform.get()); }
 
-    // respecifyVertices: also re-specify the vertex attribute before every draw, as the RHI's GL
-    // backend does, to show how much of the RHI's draw cost that is.
-    void submitDraws(bool respecifyVertices = false);
+    void submitDraws(RawGLDraws how = RawGLDraws::Plain);
     void submitDispatches();
     void finish() { m_gl.glFinish(); }
     void checkDraws();
@@ -136,6 +136,9 @@ public:
 private:
     void createContext();
     GLuint compileProgram(const std::vector<std::pair<GLenum, std::string>>& stages);
+    // A buffer with `data`, made as the RHI's GL backend makes one (rhi-gl/src/gl_buffer.cpp).
+    GLuint createBufferAsRhi(const void* data, size_t size);
+    GLuint createVertexArray(GLuint vertices);
     void checkNoError(const char* when);
 
     rhi::Backend m_backend;
@@ -144,6 +147,7 @@ private:
     GLCalls m_gl;
 
     GLuint m_target = 0, m_framebuffer = 0, m_vertices = 0, m_vertexArray = 0, m_drawParameters = 0;
+    GLuint m_rhiVertices = 0, m_rhiVertexArray = 0, m_rhiDrawParameters = 0;   // RawGLDraws::RhiBuffers
     GLuint m_drawProgram = 0;
     GLuint m_counters = 0, m_computeProgram = 0;
     uint32_t m_dispatchFrames = 0;
@@ -170,16 +174,15 @@ RawGL::RawGL(rhi::Backend backend)
     gl.glGenBuffers(1, &m_vertices);
     gl.glBindBuffer(GL_ARRAY_BUFFER, m_vertices);
     gl.glBufferData(GL_ARRAY_BUFFER, sizeof(kTriangle), kTriangle.data(), GL_STATIC_DRAW);
-    gl.glGenVertexArrays(1, &m_vertexArray);
-    gl.glBindVertexArray(m_vertexArray);
-    gl.glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, sizeof(float) * 2, nullptr);
-    gl.glEnableVertexAttribArray(0);
-    gl.glBindVertexArray(0);
+    m_vertexArray = createVertexArray(m_vertices);
 
     const std::vector<std::byte> parameters = drawParameterData();
     gl.glGenBuffers(1, &m_drawParameters);
     gl.glBindBuffer(GL_UNIFORM_BUFFER, m_drawParameters);
     gl.glBufferData(GL_UNIFORM_BUFFER, GLsizeiptr(parameters.size()), parameters.data(), GL_STATIC_DRAW);
+    m_rhiVertices = createBufferAsRhi(kTriangle.data(), sizeof(kTriangle));
+    m_rhiVertexArray = createVertexArray(m_rhiVertices);
+    m_rhiDrawParameters = createBufferAsRhi(parameters.data(), parameters.size());
     m_drawProgram = compileProgram({{GL_VERTEX_SHADER, scene.vertexShader()->translatedSource()},
                                     {GL_FRAGMENT_SHADER, scene.fragmentShader()->translatedSource()}});
     // ESSL 300 has no binding layout: the shader's only block goes to binding point 0, as the RHI does.
@@ -195,9 +198,11 @@ RawGL::RawGL(rhi::Backend backend)
     checkNoError("setting up");
 
     // One untimed frame of each kind, checked, as on the RHI side.
-    submitDraws();
-    finish();
-    checkDraws();
+    for (const RawGLDraws how : {RawGLDraws::Plain, RawGLDraws::RhiBuffers}) {
+        submitDraws(how);
+        finish();
+        checkDraws();
+    }
     if (hasCompute()) {
         submitDispatches();
         finish();
@@ -212,9 +217,10 @@ RawGL::~RawGL() {
     try {
         ContextSwitch current = makeCurrent();
         const GLCalls& gl = m_gl;
-        const GLuint buffers[] = {m_vertices, m_drawParameters, m_counters};
-        gl.glDeleteBuffers(3, buffers);
-        gl.glDeleteVertexArrays(1, &m_vertexArray);
+        const GLuint buffers[] = {m_vertices, m_drawParameters, m_counters, m_rhiVertices, m_rhiDrawParameters};
+        gl.glDeleteBuffers(GLsizei(std::size(buffers)), buffers);
+        const GLuint vertexArrays[] = {m_vertexArray, m_rhiVertexArray};
+        gl.glDeleteVertexArrays(GLsizei(std::size(vertexArrays)), vertexArrays);
         gl.glDeleteFramebuffers(1, &m_framebuffer);
         gl.glDeleteTextures(1, &m_target);
         gl.glDeleteProgram(m_drawProgram);
@@ -261,13 +267,40 @@ GLuint RawGL::compileProgram(const std::vector<std::pair<GLenum, std::string>>& 
     return program;
 }
 
+GLuint RawGL::createBufferAsRhi(const void* data, size_t size) {
+    const GLCalls& gl = m_gl;
+    const std::vector<std::byte> zeros(size);
+    GLuint buffer = 0;
+    gl.glGenBuffers(1, &buffer);
+    gl.glBindBuffer(GL_COPY_WRITE_BUFFER, buffer);
+    gl.glBufferData(GL_COPY_WRITE_BUFFER, GLsizeiptr(size), zeros.data(), GL_DYNAMIC_DRAW);
+    gl.glBufferSubData(GL_COPY_WRITE_BUFFER, 0, GLsizeiptr(size), data);
+    return buffer;
+}
+
+GLuint RawGL::createVertexArray(GLuint vertices) {
+    const GLCalls& gl = m_gl;
+    GLuint vertexArray = 0;
+    gl.glGenVertexArrays(1, &vertexArray);
+    gl.glBindVertexArray(vertexArray);
+    gl.glBindBuffer(GL_ARRAY_BUFFER, vertices);
+    gl.glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, sizeof(float) * 2, nullptr);
+    gl.glEnableVertexAttribArray(0);
+    gl.glBindVertexArray(0);
+    return vertexArray;
+}
+
 void RawGL::checkNoError(const char* when) {
     if (const GLenum error = m_gl.glGetError(); error != GL_NO_ERROR)
         throw WrongResult(fmt::format("raw {}: GL error 0x{:x} while {}", rhi::toString(m_backend), error, when));
 }
 
-void RawGL::submitDraws(bool respecifyVertices) {
+void RawGL::submitDraws(RawGLDraws how) {
     const GLCalls& gl = m_gl;
+    const bool respecifyVertices = how == RawGLDraws::RespecifiedVertices;
+    const bool rhiBuffers = how == RawGLDraws::RhiBuffers;
+    const GLuint vertices = rhiBuffers ? m_rhiVertices : m_vertices;
+    const GLuint drawParameters = rhiBuffers ? m_rhiDrawParameters : m_drawParameters;
     gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m_framebuffer);
     gl.glViewport(0, 0, kTargetSize, kTargetSize);
     // The RHI's GL backend always scissors (to the pass by default); do the same so llvmpipe runs
@@ -277,11 +310,11 @@ void RawGL::submitDraws(bool respecifyVertices) {
     const float clear[4] = {0, 0, 0, 0};
     gl.glClearBufferfv(GL_COLOR, 0, clear);
     gl.glUseProgram(m_drawProgram);
-    gl.glBindVertexArray(m_vertexArray);
+    gl.glBindVertexArray(rhiBuffers ? m_rhiVertexArray : m_vertexArray);
     for (uint32_t i = 0; i < kOpsPerFrame; ++i) {
-        gl.glBindBufferRange(GL_UNIFORM_BUFFER, 0, m_drawParameters, GLintptr(i * kSliceBytes), GLsizeiptr(kSliceBytes));
+        gl.glBindBufferRange(GL_UNIFORM_BUFFER, 0, drawParameters, GLintptr(i * kSliceBytes), GLsizeiptr(kSliceBytes));
         if (respecifyVertices) {
-            gl.glBindBuffer(GL_ARRAY_BUFFER, m_vertices);
+            gl.glBindBuffer(GL_ARRAY_BUFFER, vertices);
             gl.glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, sizeof(float) * 2, nullptr);
             gl.glVertexAttribDivisor(0, 0);
         }
@@ -341,11 +374,11 @@ RawGL& rawGL(rhi::Backend backend) {
 
 }  // namespace
 
-void rawGLDraws(benchmark::State& state, rhi::Backend backend, bool respecifyVertices) {
+void rawGLDraws(benchmark::State& state, rhi::Backend backend, RawGLDraws how) {
     runGuarded(state, [&] {
         RawGL& raw = rawGL(backend);
         ContextSwitch current = raw.makeCurrent();
-        runFrames(state, [&] { raw.submitDraws(respecifyVertices); }, [&] { raw.finish(); });
+        runFrames(state, [&] { raw.submitDraws(how); }, [&] { raw.finish(); });
         raw.checkDraws();
     });
 }

@@ -187,6 +187,15 @@ for work in ("draw", "dispatch"):
         raw_cm = median(extra, "submit_cpu_ns_per_op")
         print(f"\nRaw Vulkan {dict(draw='draws', dispatch='dispatches')[work]} recording into the RHI's command memory: {raw_cm:.0f} ns/op; "
               f"RHI / this = {median(rhi_key, 'submit_cpu_ns_per_op') / raw_cm:.2f}x (what the RHI's own code adds).")
+# Raw GL drawing from buffers made the RHI's way (GL_DYNAMIC_DRAW, zeros, then the contents): RHI /
+# this is what the RHI adds besides its choice of buffer kind (docs/BENCHMARKS.md).
+for backend in ("gl", "gles"):
+    extra, raw_key, rhi_key = ("draw", backend, "raw_rhi_buffers"), ("draw", backend, "raw"), ("draw", backend, "rhi")
+    if extra in runs and rhi_key in runs and raw_key in runs:
+        as_rhi = median(extra, "submit_cpu_ns_per_op")
+        print(f"\nRaw {backend.upper()} draws from buffers made as the RHI makes them: {as_rhi:.0f} ns/op "
+              f"(this / raw = {as_rhi / median(raw_key, 'submit_cpu_ns_per_op'):.2f}x, the buffer kind's share); "
+              f"RHI / this = {median(rhi_key, 'submit_cpu_ns_per_op') / as_rhi:.2f}x (the rest).")
 # Explanatory runs: the raw side with one RHI habit added, to show what that habit costs.
 for extra, what in [(("dispatch", "vulkan", "raw_full_barriers"), "Raw Vulkan with a full barrier before every dispatch (the RHI's policy before hazard tracking)"),
                     (("draw", "gl", "raw_respecified_vertices"), "Raw GL re-specifying the vertex attribute before every draw (what the RHI did before it tracked vertex state)")]:

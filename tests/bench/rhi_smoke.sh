@@ -1,0 +1,51 @@
+#!/usr/bin/env bash
+# janus_bench_rhi, two frames of every benchmark with validation on (JANUS_BENCH_VALIDATE: the
+# Vulkan validation layer and GL debug output on the RHI side, the layer on the raw Vulkan side):
+# every benchmark checks what it drew or counted, so a raw or RHI side that does the work wrong,
+# fails, or makes a validation message fails here rather than on the next GPU machine. Then the
+# report scripts/bench.sh makes of that output: a ratio in every row, every explanatory line.
+# Timings of two frames mean nothing; nothing here reads them.
+# Usage: rhi_smoke.sh JANUS_BENCH_RHI REPO_ROOT
+set -euo pipefail
+binary=$1
+repo_root=$2
+scratch=$(mktemp -d)
+trap 'rm -rf "$scratch"' EXIT
+fail() { echo "FAIL: $*" >&2; exit 1; }
+
+status=0
+JANUS_BENCH_VALIDATE=1 "$binary" --janus_frames=2 --benchmark_format=json --benchmark_out_format=json \
+  --benchmark_out="$scratch/bench.json" >"$scratch/stdout" 2>"$scratch/stderr" || status=$?
+[[ $status == 0 ]] || { cat "$scratch/stderr" >&2; fail "janus_bench_rhi exited with status $status"; }
+# The raw Vulkan side has no debug messenger: the layer prints what it finds.
+if grep -qi "validation error\|VUID-" "$scratch/stdout" "$scratch/stderr"; then
+  grep -i -m3 "validation error\|VUID-" "$scratch/stdout" "$scratch/stderr" >&2
+  fail "a validation message while benchmarking"
+fi
+
+"$binary" --benchmark_list_tests=true >"$scratch/listed"
+python3 - "$scratch/bench.json" "$scratch/listed" <<'PY' || exit 1
+import json, sys
+runs = json.load(open(sys.argv[1]))["benchmarks"]
+name = lambda text: "/".join(text.split("/")[:3])   # <work>/<backend>/<side>
+listed = [name(line.strip()) for line in open(sys.argv[2]) if line.strip()]
+ran = {name(run["run_name"]): run for run in runs}
+missing = [name for name in listed if name not in ran]
+failed = [f"{name}: {run['label']}" for name, run in ran.items() if run.get("label", "").startswith("failed: ")]
+if missing or failed or len(listed) < 14:
+    sys.exit(f"FAIL: listed {len(listed)} benchmarks; missing {missing}; failed {failed}")
+PY
+
+report=$(bash "$repo_root/scripts/bench.sh" --from-json "$scratch/bench.json")
+for row in "vulkan | draw" "vulkan | dispatch" "gl | draw" "gl | dispatch" "gles | draw"; do
+  grep -Eq "^\| $row \| [0-9]+ \| [0-9]+ \| [0-9.]+x \|" <<<"$report" || fail "the report has no ratio for $row:
+$report"
+done
+for line in "Raw Vulkan draws recording into the RHI's command memory" \
+            "Raw GL draws from buffers made as the RHI makes them" \
+            "Raw GLES draws from buffers made as the RHI makes them" \
+            "Raw GL re-specifying the vertex attribute" "Raw Vulkan with a full barrier before every dispatch"; do
+  grep -qF "$line" <<<"$report" || fail "the report lacks \"$line\":
+$report"
+done
+echo "janus_bench_rhi: $(wc -l <"$scratch/listed") benchmarks ran and checked their results; the report is whole"
