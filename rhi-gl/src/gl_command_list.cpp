@@ -81,23 +81,39 @@ BindingSet::BindingSet(const Context& owner, const BindingSetDesc& desc) : m_own
         // Items are validated: the buffer is this device's and the range lies inside it.
         const auto [begin, end] = boundRange(item);
         m_itemAccesses.push_back({item.buffer.get(), begin, end, needs, write});
-        m_moreBufferRanges.push_back({GLintptr(begin), GLsizeiptr(end - begin),
-                                      static_cast<const Buffer*>(item.buffer.get())->name(), item.binding,
-                                      item.type == ResourceType::UniformBuffer ? GLenum(GL_UNIFORM_BUFFER)
-                                                                               : GLenum(GL_SHADER_STORAGE_BUFFER)});
+        m_bufferRanges.push_back({GLintptr(begin), GLsizeiptr(end - begin),
+                                  static_cast<const Buffer*>(item.buffer.get())->name(), item.binding,
+                                  item.type == ResourceType::UniformBuffer ? GLenum(GL_UNIFORM_BUFFER)
+                                                                           : GLenum(GL_SHADER_STORAGE_BUFFER)});
     }
-    m_replay.rangeCount = uint32_t(m_moreBufferRanges.size());
-    if (m_replay.rangeCount <= kInlineBufferRanges) {
-        std::copy(m_moreBufferRanges.begin(), m_moreBufferRanges.end(), m_replay.ranges.begin());
-        m_moreBufferRanges = {};
+    if (m_bufferRanges.size() == 1) {
+        const BufferRange& only = m_bufferRanges[0];
+        // Always true for a validated item (GL buffers are at most 2^31 bytes, bindings < 64);
+        // checked so that a larger limit one day binds from the vector instead of truncating.
+        if (uint64_t(only.offset) <= UINT32_MAX && uint64_t(only.size) <= UINT32_MAX && only.index < 64) {
+            m_replay.offset = uint32_t(only.offset);
+            m_replay.size = uint32_t(only.size);
+            m_replay.buffer = only.buffer;
+            m_replay.index = uint8_t(only.index);
+            m_replay.storage = only.target == GL_SHADER_STORAGE_BUFFER;
+            m_replay.inlineRange = true;
+        }
     }
+}
+
+void BindingSet::noteLastValidated(const Validated* check) const {
+    m_lastValidated.store(check, std::memory_order_release);
+    // Checks are never removed nor changed, so a plain one stays true for its key: the key stays
+    // until another plain check replaces it.
+    if (!check->found.usesTextures && !check->found.writesStorage)
+        m_lastPlainCheck.store(checkKey(check->signature, check->set), std::memory_order_relaxed);
 }
 
 const BindingSet::Validated* BindingSet::findValidated(uint64_t signature, uint32_t set) const {
     const std::lock_guard lock(m_validatedMutex);
     for (const std::unique_ptr<Validated>& check : m_validated)
         if (check->signature == signature && check->set == set) {
-            m_lastValidated.store(check.get(), std::memory_order_release);
+            noteLastValidated(check.get());
             return check.get();
         }
     return nullptr;
@@ -108,7 +124,7 @@ const BindingSet::Validated* BindingSet::addValidated(std::unique_ptr<Validated>
     for (const std::unique_ptr<Validated>& existing : m_validated)
         if (existing->signature == check->signature && existing->set == check->set) return existing.get();   // another list's
     m_validated.push_back(std::move(check));
-    m_lastValidated.store(m_validated.back().get(), std::memory_order_release);
+    noteLastValidated(m_validated.back().get());
     return m_validated.back().get();
 }
 
@@ -141,7 +157,7 @@ void CommandList::beginImpl() {
     invalidateDrawState();
     m_pipeline = nullptr;
     m_bindingSets = {};
-    m_found = {};
+    setFound({});
     m_usedStorage.clear();
     m_accessStorage.clear();
     m_vertexBuffers.clear();
@@ -184,7 +200,7 @@ void CommandList::requireBindingsCached(const char* what) {
             all = all && checks[index];
         }
         if (all && sets.size() == 1) {
-            m_found = checks[sets[0]]->found;
+            setFound(checks[sets[0]]->found);
             if (m_found.usesTextures) requireTextureUses(what);
             return;
         }
@@ -193,7 +209,7 @@ void CommandList::requireBindingsCached(const char* what) {
             std::array<size_t, kMaxBindingSets> next{};
             m_usedStorage.clear();
             m_accessStorage.clear();
-            m_found = {};
+            setFound({});
             for (const ShaderBinding& binding : pipeline.bindings()) {
                 const BindingSet::Validated& check = *checks[binding.set];
                 const size_t i = next[binding.set]++;
@@ -215,7 +231,7 @@ void CommandList::requireBindingsUncached(const char* what) {
     // same mistake, so catch it here with the binding named.
     m_usedStorage.clear();
     m_accessStorage.clear();
-    m_found = {};
+    setFound({});
     for (const ShaderBinding& binding : m_pipeline->bindings()) {
         const BindingItem* found = nullptr;
         const BindingSet* set = binding.set < kMaxBindingSets ? m_bindingSets[binding.set] : nullptr;
@@ -278,6 +294,15 @@ void CommandList::requireBindingsUncached(const char* what) {
     if (m_found.usesTextures) requireTextureUses(what);
 }
 
+// The check bindRecordedSet took as passed: kept in the set for good (checks are never removed).
+void CommandList::fetchFound() {
+    const FoundInCheck from = m_foundInCheck;
+    const BindingSet::Validated* check = from.set->validated(from.signature, from.index);
+    if (!check) [[unlikely]]
+        throw Error(ErrorCode::InvalidUsage, "internal: a binding set lost the binding check it passed; please report this");
+    setFound(check->found);
+}
+
 void CommandList::requireTextureUses(const char* what) const {
     const std::span<const UsedBinding> used = m_found.used;
     validateViewOverlaps(used, openPass(), what);
@@ -306,7 +331,7 @@ void CommandList::requireTextureUses(const char* what) const {
 void CommandList::recordMipRanges() {
     if (!m_es) return;   // desktop GL binds texture views instead
     const auto first = uint32_t(m_mipRanges.size());
-    for (const UsedBinding& used : m_found.used) {
+    for (const UsedBinding& used : found().used) {
         if (used.item->type != ResourceType::SampledTexture) continue;
         const ResolvedTextureView view = resolveTextureView(*used.item);
         // The binding set, held by the keep-alive, holds the texture.
@@ -362,7 +387,7 @@ void CommandList::recordBarrier(GLbitfield bits) {
 void CommandList::trackPendingShaderAccesses(bool drawing, bool indexed) {
     if (!m_pendingWrites.empty()) {
         GLbitfield needed = 0;
-        for (const ShaderAccess& access : m_found.accesses) needed |= hazardBits(access.resource, access.begin, access.end, access.needs);
+        for (const ShaderAccess& access : found().accesses) needed |= hazardBits(access.resource, access.begin, access.end, access.needs);
         if (drawing) {
             for (const RecordedVertexBuffer& vertices : m_vertexBuffers)
                 needed |= bufferHazard(vertices.buffer, vertices.offset, UINT64_MAX, GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT);
@@ -370,7 +395,7 @@ void CommandList::trackPendingShaderAccesses(bool drawing, bool indexed) {
         }
         recordBarrier(needed);
     }
-    if (!m_found.writesStorage) return;
+    if (!found().writesStorage) return;
     for (const ShaderAccess& access : m_found.accesses)
         if (access.write) addPendingWrite(access.resource, access.begin, access.end);
 }
@@ -469,14 +494,13 @@ inline void CommandList::bindRecordedSet(uint32_t set, BindingSet* bindings) {
     // at the next draw or dispatch would take this result, so take it now. It cannot fail, and
     // nothing but the pipeline, the sets and the pass (each of which clears it) changes it
     // before then.
-    if (const Pipeline* pipeline = m_pipeline; pipeline && pipeline->singleSet() == set) {
-        const BindingSet::Validated* check = bindings->lastValidated(pipeline->bindingSignature(), set);
-        if (check && !check->found.usesTextures && !check->found.writesStorage) {
-            // A ready draw stays ready: nothing it depends on besides the items changed.
-            m_found = check->found;
-            m_bindingsChecked = true;
-            return;
-        }
+    if (const Pipeline* pipeline = m_pipeline;
+        pipeline && pipeline->singleSet() == set && bindings->passedPlainCheck(pipeline->bindingSignature(), set)) {
+        // A ready draw stays ready: nothing it depends on besides the items changed. What the
+        // check found is fetched only if something reads it (found()).
+        m_foundInCheck = {bindings, pipeline->bindingSignature(), set};
+        m_bindingsChecked = true;
+        return;
     }
     m_bindingsChecked = false;
     m_drawReady = false;
@@ -528,7 +552,7 @@ void CommandList::drawChecked(uint32_t vertexCount, uint32_t instanceCount, uint
         throwDrawOutOfRange({"draw", firstVertex, vertexCount, firstInstance, instanceCount}, false);
     trackShaderAccesses(true, false);
     recordDraw<command::BindSetAndDraw>(command::Draw{vertexCount, instanceCount, firstVertex, firstInstance});
-    m_drawReady = m_pendingWrites.empty() && !m_found.writesStorage;
+    m_drawReady = m_pendingWrites.empty() && !found().writesStorage;
 }
 
 void CommandList::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex, int32_t vertexOffset,
@@ -554,7 +578,7 @@ void CommandList::drawIndexedChecked(uint32_t indexCount, uint32_t instanceCount
                              vertexLimit(m_pipeline->graphics(), [this](uint32_t slot) { return boundVertexBuffer(slot); }));
     trackShaderAccesses(true, true);
     recordDraw<command::BindSetAndDrawIndexed>(command::DrawIndexed{indexCount, instanceCount, firstIndex, vertexOffset, firstInstance});
-    m_drawReady = m_pendingWrites.empty() && !m_found.writesStorage;
+    m_drawReady = m_pendingWrites.empty() && !found().writesStorage;
 }
 
 void CommandList::dispatchImpl(uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ) {   // Compute; counts in limits

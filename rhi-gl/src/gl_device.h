@@ -333,11 +333,13 @@ struct UsedBindings {
     bool usesTextures = false;      // a texture or image
 };
 
-// Every draw that binds a set reads it twice: recording reads its first cache line (the vtable
-// pointer the handle's type check reads, keepMark, the last binding check, the owner) and replay its second
-// (binding points, the buffer range of a one-buffer set). Aligned to a line and laid out so, such
-// a bind touches two lines of the set and no other allocation of it: applications draw with many
-// sets (a uniform slice per draw), so these lines are rarely in the first-level cache.
+// Every draw that binds a set reads it twice, recording and replay, and both read the same one
+// cache line: the vtable pointer the handle's type check reads, keepMark, the owner, the key of the
+// last passed binding check with no texture and no storage write (which is all a per-draw bind
+// needs to know of the check), then what replay binds: the binding points and a one-buffer set's
+// range. Aligned to a line and laid out so, such a bind touches one line of the set and no other
+// allocation: applications draw with many sets (a uniform slice per draw), so the line is rarely
+// in the first-level cache, and every further line was a further miss per draw.
 class alignas(64) BindingSet final : public IBindingSet {
 public:
     BindingSet(const Context& owner, const BindingSetDesc& desc);
@@ -358,11 +360,23 @@ public:
         GLuint index;   // the binding point
         GLenum target;  // GL_UNIFORM_BUFFER or GL_SHADER_STORAGE_BUFFER
     };
-    std::span<const BufferRange> bufferRanges() const {
-        if (m_replay.rangeCount <= kInlineBufferRanges) [[likely]]
-            return {m_replay.ranges.data(), m_replay.rangeCount};
-        return m_moreBufferRanges;
-    }
+    std::span<const BufferRange> bufferRanges() const { return m_bufferRanges; }
+    // What replay reads of a set, in the set's first line. A set of exactly one buffer item, the
+    // common per-draw set, binds it from here (`inlineRange`): then offset, size, buffer, index and
+    // target are bufferRanges()[0]'s (offset and size fit 32 bits: GL buffers are at most
+    // Limits::maxBufferSize = 2^31 bytes). Any other set binds bufferRanges().
+    struct ReplayState {
+        uint64_t bindingPoints = 0;
+        uint32_t offset = 0;
+        uint32_t size = 0;
+        GLuint buffer = 0;
+        uint8_t index = 0;   // the binding point (< 64 for every item a set can have inline)
+        bool storage = false;   // GL_SHADER_STORAGE_BUFFER, else GL_UNIFORM_BUFFER
+        bool inlineRange = false;
+        bool hasTextures = false;
+        GLenum target() const { return storage ? GLenum(GL_SHADER_STORAGE_BUFFER) : GLenum(GL_UNIFORM_BUFFER); }
+    };
+    const ReplayState& replayState() const { return m_replay; }
     bool hasTextures() const { return m_replay.hasTextures; }
     // The access of desc().items[i], resolved when the set is made.
     const ShaderAccess& itemAccess(size_t i) const { return m_itemAccesses[i]; }
@@ -391,25 +405,36 @@ public:
         const Validated* last = m_lastValidated.load(std::memory_order_acquire);
         return last && last->signature == signature && last->set == set ? last : nullptr;
     }
+    // Whether the check for (signature, set) passed and found no texture and no storage write:
+    // the last such check found or added, compared without touching the check itself (a bind
+    // per draw would otherwise read one more cache line, the check's). Its UsedBindings are
+    // validated(signature, set)->found.
+    bool passedPlainCheck(uint64_t signature, uint32_t set) const {
+        return m_lastPlainCheck.load(std::memory_order_relaxed) == checkKey(signature, set);
+    }
     // Keeps a passed check (unless one for its key is there already) and returns the kept one.
     const Validated* addValidated(std::unique_ptr<Validated> check) const;
     KeepMark keepMark;   // first line, after the vtable pointer
+    // The byte after the last one a per-draw bind reads (recording and replay), from the set's
+    // start: at most 64, one cache line (tests/rhi/gl_draw_calls_test.cpp checks it).
+    size_t bindBytes() const {
+        return size_t(reinterpret_cast<const std::byte*>(&m_replay + 1) - reinterpret_cast<const std::byte*>(this));
+    }
 
 private:
-    static constexpr uint32_t kInlineBufferRanges = 1;   // a set of one buffer: the common per-draw set
+    // Signatures are ids from 1 up and sets < kMaxBindingSets = 4: distinct keys, never 0.
+    static constexpr uint64_t checkKey(uint64_t signature, uint32_t set) { return signature << 2 | set; }
+    static_assert(kMaxBindingSets == 4, "checkKey keeps the set in two bits");
     const Validated* findValidated(uint64_t signature, uint32_t set) const;
+    // Under m_validatedMutex: `check` is the last one found or added.
+    void noteLastValidated(const Validated* check) const;
 
-    mutable std::atomic<const Validated*> m_lastValidated{nullptr};   // first line
-    const Context* m_owner;                                            // first line
-    // The second line: all that replay reads of a set with one buffer and no texture.
-    struct alignas(64) ReplayState {
-        uint64_t bindingPoints = 0;
-        uint32_t rangeCount = 0;
-        bool hasTextures = false;
-        std::array<BufferRange, kInlineBufferRanges> ranges{};
-    } m_replay;
-    static_assert(sizeof(ReplayState) == 64, "replay reads one cache line of a set");
-    std::vector<BufferRange> m_moreBufferRanges;   // all of them, when more than kInlineBufferRanges
+    const Context* m_owner;                                   // first line
+    mutable std::atomic<uint64_t> m_lastPlainCheck{0};        // first line; 0: none
+    ReplayState m_replay;                                     // the rest of the first line
+    static_assert(sizeof(ReplayState) == 24, "the first line holds the replay state");
+    mutable std::atomic<const Validated*> m_lastValidated{nullptr};
+    std::vector<BufferRange> m_bufferRanges;   // all of them
     BindingSetDesc m_desc;
     std::vector<ShaderAccess> m_itemAccesses;
     mutable std::mutex m_validatedMutex;
@@ -588,7 +613,7 @@ private:
         if (!m_pipelineChecked) [[unlikely]] requirePipelineState(what);
         if (!m_bindingsChecked) {
             requireBindings(what);
-            if (m_found.samplesTextures) recordMipRanges();
+            if (found().samplesTextures) recordMipRanges();
             m_bindingsChecked = true;
         }
     }
@@ -620,7 +645,7 @@ private:
         if (index < kMaxBindingSets) {
             if (const BindingSet* set = m_bindingSets[index]) {
                 if (const BindingSet::Validated* check = set->lastValidated(pipeline.bindingSignature(), index)) {
-                    m_found = check->found;
+                    setFound(check->found);
                     if (m_found.usesTextures) requireTextureUses(what);
                     return;
                 }
@@ -630,7 +655,7 @@ private:
     }
     void requireBindingsCached(const char* what);
     void requireBindingsUncached(const char* what);
-    // The checks of textures across bindings and against the pass, on m_found.
+    // The checks of textures across bindings and against the pass, on m_found (current).
     void requireTextureUses(const char* what) const;
     // GLES: re-applies the mip ranges of the sampled textures a draw uses right before it (an
     // item of a set bound later, unused by the draw, may have set another range on the texture).
@@ -664,7 +689,7 @@ private:
     // Before a draw or dispatch: waits for what its bindings (and a draw's vertex and index
     // buffers) read, then notes what its storage bindings write.
     void trackShaderAccesses(bool drawing, bool indexed) {
-        if (m_pendingWrites.empty() && !m_found.writesStorage) return;   // nothing to wait for or note
+        if (m_pendingWrites.empty() && !found().writesStorage) return;   // nothing to wait for or note
         trackPendingShaderAccesses(drawing, indexed);
     }
     void trackPendingShaderAccesses(bool drawing, bool indexed);
@@ -711,8 +736,23 @@ private:
     Format m_passDepthFormat = Format::Unknown;
     std::array<const BindingSet*, kMaxBindingSets> m_bindingSets{};   // by set index
     // The bound items the pipeline uses (last check) and how it accesses them (parallel): in a
-    // cached check of the set, or in the storage below.
+    // cached check of the set, or in the storage below. Read it through found(): a set bound with
+    // a passed plain check (bindRecordedSet) leaves it to be fetched from that check when read.
     UsedBindings m_found;
+    struct FoundInCheck {
+        const BindingSet* set = nullptr;   // null: m_found is current
+        uint64_t signature = 0;
+        uint32_t index = 0;
+    } m_foundInCheck;
+    const UsedBindings& found() {
+        if (m_foundInCheck.set) [[unlikely]] fetchFound();
+        return m_found;
+    }
+    void fetchFound();
+    void setFound(const UsedBindings& found) {
+        m_found = found;
+        m_foundInCheck.set = nullptr;
+    }
     std::vector<UsedBinding> m_usedStorage;
     std::vector<ShaderAccess> m_accessStorage;
     struct RecordedVertexBuffer {
@@ -801,9 +841,13 @@ public:
             m_exclusivePoints[set] = shared ? 0 : points;
         }
         const GLFunctions& f = gl();
-        for (const BindingSet::BufferRange& b : bindings.bufferRanges())
-            f.glBindBufferRange(b.target, b.index, b.buffer, b.offset, b.size);
-        if (bindings.hasTextures()) bindTextures(bindings, ~uint64_t(0));
+        const BindingSet::ReplayState& r = bindings.replayState();   // the line `points` came from
+        if (r.inlineRange) [[likely]]
+            f.glBindBufferRange(r.target(), r.index, r.buffer, GLintptr(r.offset), GLsizeiptr(r.size));
+        else
+            for (const BindingSet::BufferRange& b : bindings.bufferRanges())
+                f.glBindBufferRange(b.target, b.index, b.buffer, b.offset, b.size);
+        if (r.hasTextures) bindTextures(bindings, ~uint64_t(0));
     }
     // The texture and image items of a set at `points` (bindBindingSet binds its buffer ranges).
     void bindTextures(const BindingSet& bindings, uint64_t points);

@@ -125,8 +125,9 @@ TEST_P(GLDrawCallsTest, InstancedDrawsKeepTheInstancedEntryPoints) {
 }
 
 // What replay binds of a set, and where it reads it: a one-buffer set (the common per-draw set)
-// keeps its binding points and its buffer range in the set's second cache line, so binding it
-// touches no other allocation (gl_device.h, BindingSet); larger sets keep their ranges apart.
+// keeps its binding points and its buffer range in the set's first cache line, with everything
+// recording reads of it, so a bind per draw touches one line of the set and no other allocation
+// (gl_device.h, BindingSet); larger sets bind their ranges from a vector.
 TEST_P(GLDrawCallsTest, BindingSetsKeepTheirBufferRangesForReplay) {
     const std::vector<std::byte> bytes(1024);
     BufferHandle uniforms = createBuffer(BufferUsage::Uniform, bytes);
@@ -134,15 +135,18 @@ TEST_P(GLDrawCallsTest, BindingSetsKeepTheirBufferRangesForReplay) {
     const auto& oneSet = dynamic_cast<const gl::BindingSet&>(*one);
     const auto address = reinterpret_cast<uintptr_t>(&oneSet);
     EXPECT_EQ(address % 64, 0u) << "the set is aligned to a cache line";
-    ASSERT_EQ(oneSet.bufferRanges().size(), 1u);
-    const auto range = reinterpret_cast<uintptr_t>(oneSet.bufferRanges().data());
-    EXPECT_GE(range, address + 64) << "the range is in the set's second line";
-    EXPECT_LE(range + sizeof(gl::BindingSet::BufferRange), address + 128) << "the range is in the set's second line";
-    const gl::BindingSet::BufferRange& r = oneSet.bufferRanges()[0];
-    EXPECT_EQ(r.target, GLenum(GL_UNIFORM_BUFFER));
+    EXPECT_LE(oneSet.bindBytes(), 64u) << "a bind reads beyond the set's first line";
+    const auto keepMark = reinterpret_cast<uintptr_t>(&oneSet.keepMark);
+    EXPECT_LE(keepMark + sizeof(KeepMark), address + 64) << "recording reads the keep mark in the first line";
+    const gl::BindingSet::ReplayState& r = oneSet.replayState();
+    ASSERT_TRUE(r.inlineRange);
+    EXPECT_EQ(r.target(), GLenum(GL_UNIFORM_BUFFER));
     EXPECT_EQ(r.index, 3u);
-    EXPECT_EQ(r.offset, 256);
-    EXPECT_EQ(r.size, 64);
+    EXPECT_EQ(r.offset, 256u);
+    EXPECT_EQ(r.size, 64u);
+    EXPECT_EQ(r.buffer, dynamic_cast<const gl::Buffer&>(*uniforms).name());
+    ASSERT_EQ(oneSet.bufferRanges().size(), 1u);
+    EXPECT_EQ(oneSet.bufferRanges()[0].offset, 256);
     EXPECT_EQ(oneSet.bindingPoints(), uint64_t(1) << 3);
     EXPECT_FALSE(oneSet.hasTextures());
 
@@ -151,6 +155,7 @@ TEST_P(GLDrawCallsTest, BindingSetsKeepTheirBufferRangesForReplay) {
                                                            .add(BindingItem::uniformBuffer(1, uniforms, 256, 256))
                                                            .add(BindingItem::uniformBuffer(5, uniforms, 512, 128)));
     const auto& threeSet = dynamic_cast<const gl::BindingSet&>(*three);
+    EXPECT_FALSE(threeSet.replayState().inlineRange);
     ASSERT_EQ(threeSet.bufferRanges().size(), 3u);
     EXPECT_EQ(threeSet.bufferRanges()[1].index, 1u);
     EXPECT_EQ(threeSet.bufferRanges()[2].index, 5u);
