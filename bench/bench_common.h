@@ -85,9 +85,15 @@ inline constexpr int kExitSomeRunsFailed = 3;
 // uniform block per draw) or dispatches (1x1x1, rebinding the counter per dispatch) per iteration.
 void rhiDraws(benchmark::State& state, rhi::Backend backend);
 void rhiDispatches(benchmark::State& state, rhi::Backend backend);
-// recycledCommandMemory: record into a command pool whose host memory is the RHI's CommandMemory
-// (an explanatory extra run); otherwise the driver's own.
-void rawVulkanDraws(benchmark::State& state, bool recycledCommandMemory);
+// How the raw Vulkan side draws: as an application would, or with RHI choices added (explanatory
+// runs, printed apart by scripts/bench.sh).
+enum class RawVulkanDraws {
+    Plain,
+    CommandMemory,   // recording into a command pool whose host memory is the RHI's CommandMemory
+    RhiChoices,      // that, and the RHI's pipeline layout (four set layouts) and reusable command
+                     // buffers (no ONE_TIME_SUBMIT): every choice of the RHI's that reaches the driver
+};
+void rawVulkanDraws(benchmark::State& state, RawVulkanDraws how);
 // barrierPerDispatch adds the RHI's full barrier before each dispatch (an explanatory extra run).
 void rawVulkanDispatches(benchmark::State& state, bool barrierPerDispatch, bool recycledCommandMemory);
 // How the raw GL side draws: as a hand-written renderer would, or with one habit of the RHI's GL

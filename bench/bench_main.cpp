@@ -151,13 +151,17 @@ void registerBenchmarks(int64_t frames) {
             benchmark::RegisterBenchmark(name.c_str(), function)->UseRealTime()->Unit(benchmark::kMicrosecond);
         if (frames > 0) benchmark->Iterations(frames);
     };
-    add("draw/vulkan/raw", [](benchmark::State& state) { rawVulkanDraws(state, false); });
+    add("draw/vulkan/raw", [](benchmark::State& state) { rawVulkanDraws(state, RawVulkanDraws::Plain); });
     add("draw/vulkan/rhi", [](benchmark::State& state) { rhiDraws(state, Backend::Vulkan); });
     add("dispatch/vulkan/raw", [](benchmark::State& state) { rawVulkanDispatches(state, false, false); });
     add("dispatch/vulkan/rhi", [](benchmark::State& state) { rhiDispatches(state, Backend::Vulkan); });
     // Raw Vulkan recording into a pool with the RHI's command memory: RHI / this is what the RHI's
     // own code adds, with the allocator's gain taken out (scripts/bench.sh prints both ratios).
-    add("draw/vulkan/raw_command_memory", [](benchmark::State& state) { rawVulkanDraws(state, true); });
+    add("draw/vulkan/raw_command_memory",
+        [](benchmark::State& state) { rawVulkanDraws(state, RawVulkanDraws::CommandMemory); });
+    // Not part of the ratio table: raw Vulkan with every RHI choice that reaches the driver (command
+    // memory, the pipeline layout, reusable command buffers): RHI / this is the RHI's own code alone.
+    add("draw/vulkan/raw_rhi_choices", [](benchmark::State& state) { rawVulkanDraws(state, RawVulkanDraws::RhiChoices); });
     add("dispatch/vulkan/raw_command_memory", [](benchmark::State& state) { rawVulkanDispatches(state, false, true); });
     // Not part of the ratio table: raw Vulkan with the RHI's old barrier rule (a full barrier before
     // every dispatch), to show what hazard tracking saved.

@@ -6,6 +6,7 @@
 #include <vulkan/vulkan.h>
 
 #include <cstring>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -37,6 +38,12 @@ public:
     void useCommandMemory(bool recycled) {
         m_pool = m_pools[recycled];
         m_commands = m_commandBuffers[recycled];
+    }
+    // How the next frames draw: as an application would, or with the RHI's choices that reach the
+    // driver (RawVulkanDraws::RhiChoices, which also records into the RHI's command memory).
+    void recordAs(RawVulkanDraws how) {
+        m_rhiChoices = how == RawVulkanDraws::RhiChoices;
+        useCommandMemory(how != RawVulkanDraws::Plain);
     }
     void submitDraws();
     // barrierPerDispatch: also put a full barrier before every dispatch (the RHI's policy before
@@ -78,6 +85,13 @@ private:
     VkDescriptorSetLayout m_drawSetLayout = VK_NULL_HANDLE;
     VkPipelineLayout m_drawLayout = VK_NULL_HANDLE;
     VkPipeline m_drawPipeline = VK_NULL_HANDLE;
+    // RawVulkanDraws::RhiChoices: the RHI's pipeline layout (set 0 and three empty set layouts,
+    // vulkan_pipeline.cpp), a pipeline made with it, and command buffers begun without
+    // ONE_TIME_SUBMIT (an RHI command list may be executed again).
+    bool m_rhiChoices = false;
+    VkDescriptorSetLayout m_emptySetLayout = VK_NULL_HANDLE;
+    VkPipelineLayout m_drawLayoutAsRhi = VK_NULL_HANDLE;
+    VkPipeline m_drawPipelineAsRhi = VK_NULL_HANDLE;
     std::vector<VkDescriptorSet> m_drawSets;
 
     HostBuffer m_counters;
@@ -120,9 +134,12 @@ RawVulkan::RawVulkan(const std::string& deviceName) {
     createComputePipeline();
 
     // One untimed frame of each kind, checked, as on the RHI side.
-    submitDraws();
-    wait();
-    checkDraws();
+    for (const RawVulkanDraws how : {RawVulkanDraws::RhiChoices, RawVulkanDraws::Plain}) {
+        recordAs(how);
+        submitDraws();
+        wait();
+        checkDraws();
+    }
     submitDispatches();
     wait();
     checkDispatches();
@@ -139,6 +156,9 @@ RawVulkan::~RawVulkan() {
         vkFreeMemory(m_device, b->memory, nullptr);
     }
     vkDestroyPipeline(m_device, m_drawPipeline, nullptr);
+    vkDestroyPipeline(m_device, m_drawPipelineAsRhi, nullptr);
+    vkDestroyPipelineLayout(m_device, m_drawLayoutAsRhi, nullptr);
+    vkDestroyDescriptorSetLayout(m_device, m_emptySetLayout, nullptr);
     vkDestroyPipeline(m_device, m_computePipeline, nullptr);
     vkDestroyPipelineLayout(m_device, m_drawLayout, nullptr);
     vkDestroyPipelineLayout(m_device, m_computeLayout, nullptr);
@@ -307,6 +327,12 @@ void RawVulkan::createDrawPipeline() {
     layoutInfo.setLayoutCount = 1;
     layoutInfo.pSetLayouts = &m_drawSetLayout;
     check(vkCreatePipelineLayout(m_device, &layoutInfo, nullptr, &m_drawLayout), "vkCreatePipelineLayout");
+    VkDescriptorSetLayoutCreateInfo emptyInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+    check(vkCreateDescriptorSetLayout(m_device, &emptyInfo, nullptr, &m_emptySetLayout), "vkCreateDescriptorSetLayout");
+    const VkDescriptorSetLayout rhiLayouts[] = {m_drawSetLayout, m_emptySetLayout, m_emptySetLayout, m_emptySetLayout};
+    layoutInfo.setLayoutCount = uint32_t(std::size(rhiLayouts));
+    layoutInfo.pSetLayouts = rhiLayouts;
+    check(vkCreatePipelineLayout(m_device, &layoutInfo, nullptr, &m_drawLayoutAsRhi), "vkCreatePipelineLayout");
     m_drawSets = allocateSets(m_drawSetLayout, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, m_drawParameters.buffer);
 
     VkShaderModule vertex = createShaderModule("bench_triangle_vert");
@@ -366,7 +392,11 @@ void RawVulkan::createDrawPipeline() {
     info.pColorBlendState = &blend;
     info.pDynamicState = &dynamic;
     info.layout = m_drawLayout;
-    const VkResult result = vkCreateGraphicsPipelines(m_device, VK_NULL_HANDLE, 1, &info, nullptr, &m_drawPipeline);
+    VkResult result = vkCreateGraphicsPipelines(m_device, VK_NULL_HANDLE, 1, &info, nullptr, &m_drawPipeline);
+    if (result == VK_SUCCESS) {
+        info.layout = m_drawLayoutAsRhi;
+        result = vkCreateGraphicsPipelines(m_device, VK_NULL_HANDLE, 1, &info, nullptr, &m_drawPipelineAsRhi);
+    }
     vkDestroyShaderModule(m_device, vertex, nullptr);
     vkDestroyShaderModule(m_device, fragment, nullptr);
     check(result, "vkCreateGraphicsPipelines");
@@ -410,7 +440,7 @@ void memoryBarrier(VkCommandBuffer commands, VkPipelineStageFlags from, VkAccess
 void RawVulkan::beginFrame() {
     check(vkResetCommandPool(m_device, m_pool, 0), "vkResetCommandPool");
     VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-    begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    begin.flags = m_rhiChoices ? 0 : VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
     check(vkBeginCommandBuffer(m_commands, &begin), "vkBeginCommandBuffer");
 }
 
@@ -455,11 +485,12 @@ void RawVulkan::submitDraws() {
     const VkViewport viewport{0, 0, float(kTargetSize), float(kTargetSize), 0, 1};
     vkCmdSetViewport(m_commands, 0, 1, &viewport);
     vkCmdSetScissor(m_commands, 0, 1, &rendering.renderArea);
-    vkCmdBindPipeline(m_commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m_drawPipeline);
+    vkCmdBindPipeline(m_commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m_rhiChoices ? m_drawPipelineAsRhi : m_drawPipeline);
+    const VkPipelineLayout layout = m_rhiChoices ? m_drawLayoutAsRhi : m_drawLayout;   // set 0 is the same in both
     const VkDeviceSize offset = 0;
     vkCmdBindVertexBuffers(m_commands, 0, 1, &m_vertices.buffer, &offset);
     for (VkDescriptorSet set : m_drawSets) {
-        vkCmdBindDescriptorSets(m_commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m_drawLayout, 0, 1, &set, 0, nullptr);
+        vkCmdBindDescriptorSets(m_commands, VK_PIPELINE_BIND_POINT_GRAPHICS, layout, 0, 1, &set, 0, nullptr);
         vkCmdDraw(m_commands, 3, 1, 0, 0);
     }
     vkCmdEndRendering(m_commands);
@@ -515,10 +546,10 @@ RawVulkan& rawVulkan() {
 
 }  // namespace
 
-void rawVulkanDraws(benchmark::State& state, bool recycledCommandMemory) {
+void rawVulkanDraws(benchmark::State& state, RawVulkanDraws how) {
     runGuarded(state, [&] {
         RawVulkan& raw = rawVulkan();
-        raw.useCommandMemory(recycledCommandMemory);
+        raw.recordAs(how);
         runFrames(state, [&] { raw.submitDraws(); }, [&] { raw.wait(); });
         raw.checkDraws();
     });
@@ -527,6 +558,7 @@ void rawVulkanDraws(benchmark::State& state, bool recycledCommandMemory) {
 void rawVulkanDispatches(benchmark::State& state, bool barrierPerDispatch, bool recycledCommandMemory) {
     runGuarded(state, [&] {
         RawVulkan& raw = rawVulkan();
+        raw.recordAs(RawVulkanDraws::Plain);
         raw.useCommandMemory(recycledCommandMemory);
         runFrames(state, [&] { raw.submitDispatches(barrierPerDispatch); }, [&] { raw.wait(); });
         raw.checkDispatches();

@@ -187,6 +187,15 @@ for work in ("draw", "dispatch"):
         raw_cm = median(extra, "submit_cpu_ns_per_op")
         print(f"\nRaw Vulkan {dict(draw='draws', dispatch='dispatches')[work]} recording into the RHI's command memory: {raw_cm:.0f} ns/op; "
               f"RHI / this = {median(rhi_key, 'submit_cpu_ns_per_op') / raw_cm:.2f}x (what the RHI's own code adds).")
+# Raw Vulkan draws with every RHI choice that reaches the driver (its command memory, its pipeline
+# layout of four set layouts, command buffers begun without ONE_TIME_SUBMIT): RHI / this is the
+# RHI's own code alone.
+extra, raw_key, rhi_key = ("draw", "vulkan", "raw_rhi_choices"), ("draw", "vulkan", "raw"), ("draw", "vulkan", "rhi")
+if extra in runs and rhi_key in runs and raw_key in runs:
+    as_rhi = median(extra, "submit_cpu_ns_per_op")
+    print(f"\nRaw Vulkan draws with the RHI's choices that reach the driver (command memory, pipeline layout, "
+          f"reusable command buffers): {as_rhi:.0f} ns/op (this / raw = {as_rhi / median(raw_key, 'submit_cpu_ns_per_op'):.2f}x, "
+          f"those choices' share); RHI / this = {median(rhi_key, 'submit_cpu_ns_per_op') / as_rhi:.2f}x (the RHI's own code).")
 # Raw GL drawing from buffers made the RHI's way (GL_DYNAMIC_DRAW, zeros, then the contents): RHI /
 # this is what the RHI adds besides its choice of buffer kind (docs/BENCHMARKS.md).
 for backend in ("gl", "gles"):

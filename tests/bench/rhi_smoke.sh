@@ -42,6 +42,7 @@ for row in "vulkan | draw" "vulkan | dispatch" "gl | draw" "gl | dispatch" "gles
 $report"
 done
 for line in "Raw Vulkan draws recording into the RHI's command memory" \
+            "Raw Vulkan draws with the RHI's choices that reach the driver" \
             "Raw GL draws from buffers made as the RHI makes them" \
             "Raw GLES draws from buffers made as the RHI makes them" \
             "Raw GL re-specifying the vertex attribute" "Raw Vulkan with a full barrier before every dispatch"; do
