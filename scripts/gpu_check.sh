@@ -37,7 +37,7 @@
 # Options: --out DIR (required), --build-dir DIR (run local binaries instead of .gpu/run.sh),
 # --budget SECONDS, --quick (small sizes and short runs: for trying the script, not for numbers),
 # --tests-only (info and the two suites: to check fixes when little device time is left),
-# --bench-only (info and as many janus_bench_rhi processes as the budget holds, about 12 s each:
+# --bench-only (info and as many janus_bench_rhi processes as the budget holds, about 12-15 s each:
 # for a verdict on the overhead ratios, whose spread between processes is wide).
 set -uo pipefail
 
