@@ -84,6 +84,8 @@ inline constexpr int kExitSomeRunsFailed = 3;
 // The benchmarks. Each times kOpsPerFrame draws (into the 8x8 target, rebinding the colour
 // uniform block per draw) or dispatches (1x1x1, rebinding the counter per dispatch) per iteration.
 void rhiDraws(benchmark::State& state, rhi::Backend backend);
+// GL or GLES, with the per-draw GL calls answered by stubs (null_gl_driver.h): the RHI's own code.
+void rhiDrawsWithNullGLDriver(benchmark::State& state, rhi::Backend backend);
 void rhiDispatches(benchmark::State& state, rhi::Backend backend);
 // How the raw Vulkan side draws: as an application would, or with RHI choices added (explanatory
 // runs, printed apart by scripts/bench.sh).
@@ -103,6 +105,7 @@ enum class RawGLDraws {
     RespecifiedVertices,   // the vertex attribute re-specified before every draw (the RHI's old setup)
     RhiBuffers,            // from buffers made as the RHI makes them (gl_buffer.cpp): GL_DYNAMIC_DRAW,
                            // zeros from the host, then the contents by glBufferSubData
+    NullDriver,            // Plain, with the per-draw calls answered by stubs (null_gl_driver.h)
 };
 // GL or GLES.
 void rawGLDraws(benchmark::State& state, rhi::Backend backend, RawGLDraws how);

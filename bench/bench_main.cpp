@@ -177,12 +177,19 @@ void registerBenchmarks(int64_t frames) {
     // writes them; a driver may place or track the two kinds differently, which the ratio would
     // count as the RHI's own cost (RHI / this takes it out).
     add("draw/gl/raw_rhi_buffers", [](benchmark::State& state) { rawGLDraws(state, Backend::GL, RawGLDraws::RhiBuffers); });
+    // Not part of the ratio table: both GL sides with the per-draw calls answered by stubs
+    // (null_gl_driver.h), so that what is left is each side's own code per draw.
+    add("draw/gl/raw_null_driver", [](benchmark::State& state) { rawGLDraws(state, Backend::GL, RawGLDraws::NullDriver); });
+    add("draw/gl/rhi_null_driver", [](benchmark::State& state) { rhiDrawsWithNullGLDriver(state, Backend::GL); });
     add("dispatch/gl/raw", rawGLDispatches);
     add("dispatch/gl/rhi", [](benchmark::State& state) { rhiDispatches(state, Backend::GL); });
     add("draw/gles/raw", [](benchmark::State& state) { rawGLDraws(state, Backend::GLES, RawGLDraws::Plain); });
     add("draw/gles/rhi", [](benchmark::State& state) { rhiDraws(state, Backend::GLES); });
     add("draw/gles/raw_rhi_buffers",
         [](benchmark::State& state) { rawGLDraws(state, Backend::GLES, RawGLDraws::RhiBuffers); });
+    add("draw/gles/raw_null_driver",
+        [](benchmark::State& state) { rawGLDraws(state, Backend::GLES, RawGLDraws::NullDriver); });
+    add("draw/gles/rhi_null_driver", [](benchmark::State& state) { rhiDrawsWithNullGLDriver(state, Backend::GLES); });
 }
 
 // --janus_frames=N, taken out of argv before Google Benchmark sees it. Fixed frame counts make

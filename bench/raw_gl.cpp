@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "gl_platform.h"
+#include "null_gl_driver.h"
 #include "rhi_scene.h"
 
 namespace janus::bench {
@@ -125,6 +126,7 @@ public:
 
     // The raw context is current while the returned object lives.
     ContextSwitch makeCurrent() const { return ContextSwitch(m_platform.get()); }
+    GLCalls& calls() { return m_gl; }
 
     void submitDraws(RawGLDraws how = RawGLDraws::Plain);
     void submitDispatches();
@@ -378,7 +380,17 @@ void rawGLDraws(benchmark::State& state, rhi::Backend backend, RawGLDraws how) {
     runGuarded(state, [&] {
         RawGL& raw = rawGL(backend);
         ContextSwitch current = raw.makeCurrent();
-        runFrames(state, [&] { raw.submitDraws(how); }, [&] { raw.finish(); });
+        if (how == RawGLDraws::NullDriver) {
+            {
+                NullGLDriver driver(raw.calls().glBindBufferRange, raw.calls().glDrawArrays);
+                runFrames(state, [&] { raw.submitDraws(RawGLDraws::Plain); }, [&] { raw.finish(); });
+                driver.requireFrames(uint64_t(state.iterations()), fmt::format("raw {}", rhi::toString(backend)));
+            }
+            raw.submitDraws(RawGLDraws::Plain);   // and the real driver still draws
+            raw.finish();
+        } else {
+            runFrames(state, [&] { raw.submitDraws(how); }, [&] { raw.finish(); });
+        }
         raw.checkDraws();
     });
 }

@@ -1,6 +1,9 @@
 // The RHI side: the workload of bench_common.h recorded into a command list and executed.
 #include "rhi_scene.h"
 
+#include "gl_device.h"
+#include "null_gl_driver.h"
+
 #include <fmt/format.h>
 #include <janus/shaders/shaders.h>
 
@@ -163,6 +166,22 @@ void rhiDraws(benchmark::State& state, Backend backend) {
     runGuarded(state, [&] {
         RhiScene& scene = rhiScene(backend);
         runFrames(state, [&] { scene.submitDraws(); }, [&] { scene.waitIdle(); });
+        scene.checkDraws();
+    });
+}
+
+void rhiDrawsWithNullGLDriver(benchmark::State& state, Backend backend) {
+    runGuarded(state, [&] {
+        RhiScene& scene = rhiScene(backend);
+        rhi::gl::GLFunctions& gl = dynamic_cast<rhi::gl::Device&>(scene.device()).context().gl;
+        {
+            NullGLDriver driver(gl.glBindBufferRange, gl.glDrawArrays);
+            runFrames(state, [&] { scene.submitDraws(); }, [&] { scene.waitIdle(); });
+            driver.requireFrames(uint64_t(state.iterations()), fmt::format("{} RHI", toString(backend)));
+        }
+        // The real driver again: nothing of the stubbed frames stayed behind in the device.
+        scene.submitDraws();
+        scene.waitIdle();
         scene.checkDraws();
     });
 }

@@ -205,6 +205,18 @@ for backend in ("gl", "gles"):
         print(f"\nRaw {backend.upper()} draws from buffers made as the RHI makes them: {as_rhi:.0f} ns/op "
               f"(this / raw = {as_rhi / median(raw_key, 'submit_cpu_ns_per_op'):.2f}x, the buffer kind's share); "
               f"RHI / this = {median(rhi_key, 'submit_cpu_ns_per_op') / as_rhi:.2f}x (the rest).")
+# Both GL sides with the per-draw calls answered by stubs (bench/null_gl_driver.h): what is left is
+# each side's own code per draw, and RHI minus raw is the RHI's, on this machine's CPU.
+for backend in ("gl", "gles"):
+    raw_null, rhi_null = ("draw", backend, "raw_null_driver"), ("draw", backend, "rhi_null_driver")
+    raw_key, rhi_key = ("draw", backend, "raw"), ("draw", backend, "rhi")
+    if all(key in runs for key in (raw_null, rhi_null, raw_key, rhi_key)):
+        own = median(rhi_null, "submit_cpu_ns_per_op") - median(raw_null, "submit_cpu_ns_per_op")
+        raw_ns = median(raw_key, "submit_cpu_ns_per_op")
+        print(f"\n{backend.upper()} draws with a null driver (glBindBufferRange and glDrawArrays answered by stubs): "
+              f"raw {median(raw_null, 'submit_cpu_ns_per_op'):.1f}, RHI {median(rhi_null, 'submit_cpu_ns_per_op'):.1f} ns/op: "
+              f"the RHI's own code takes {own:.1f} ns per draw; over this run's raw draw ({raw_ns:.0f} ns) that alone "
+              f"would be {(raw_ns + own) / raw_ns:.2f}x (measured: {median(rhi_key, 'submit_cpu_ns_per_op') / raw_ns:.2f}x).")
 # Explanatory runs: the raw side with one RHI habit added, to show what that habit costs.
 for extra, what in [(("dispatch", "vulkan", "raw_full_barriers"), "Raw Vulkan with a full barrier before every dispatch (the RHI's policy before hazard tracking)"),
                     (("draw", "gl", "raw_respecified_vertices"), "Raw GL re-specifying the vertex attribute before every draw (what the RHI did before it tracked vertex state)")]:
