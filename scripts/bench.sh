@@ -187,24 +187,18 @@ for work in ("draw", "dispatch"):
         raw_cm = median(extra, "submit_cpu_ns_per_op")
         print(f"\nRaw Vulkan {dict(draw='draws', dispatch='dispatches')[work]} recording into the RHI's command memory: {raw_cm:.0f} ns/op; "
               f"RHI / this = {median(rhi_key, 'submit_cpu_ns_per_op') / raw_cm:.2f}x (what the RHI's own code adds).")
-# Raw Vulkan draws with every RHI choice that reaches the driver (its command memory, its pipeline
-# layout of four set layouts, command buffers begun without ONE_TIME_SUBMIT): RHI / this is the
-# RHI's own code alone.
-extra, raw_key, rhi_key = ("draw", "vulkan", "raw_rhi_choices"), ("draw", "vulkan", "raw"), ("draw", "vulkan", "rhi")
-if extra in runs and rhi_key in runs and raw_key in runs:
-    as_rhi = median(extra, "submit_cpu_ns_per_op")
-    print(f"\nRaw Vulkan draws with the RHI's choices that reach the driver (command memory, pipeline layout, "
-          f"reusable command buffers): {as_rhi:.0f} ns/op (this / raw = {as_rhi / median(raw_key, 'submit_cpu_ns_per_op'):.2f}x, "
-          f"those choices' share); RHI / this = {median(rhi_key, 'submit_cpu_ns_per_op') / as_rhi:.2f}x (the RHI's own code).")
-# Raw GL drawing from buffers made the RHI's way (GL_DYNAMIC_DRAW, zeros, then the contents): RHI /
-# this is what the RHI adds besides its choice of buffer kind (docs/BENCHMARKS.md).
-for backend in ("gl", "gles"):
-    extra, raw_key, rhi_key = ("draw", backend, "raw_rhi_buffers"), ("draw", backend, "raw"), ("draw", backend, "rhi")
+# The raw side with the RHI's choices that reach the driver: this / raw is what those choices cost
+# in the driver, RHI / this what the RHI adds besides them (docs/BENCHMARKS.md, "Explanatory runs").
+AS_RHI = [("vulkan", "raw_rhi_choices", "Raw Vulkan draws with the RHI's choices that reach the driver (command memory, "
+           "pipeline layout, reusable command buffers)", "those choices' share", "the RHI's own code"),
+          ("gl", "raw_rhi_buffers", "Raw GL draws from buffers made as the RHI makes them", "the buffer kind's share", "the rest"),
+          ("gles", "raw_rhi_buffers", "Raw GLES draws from buffers made as the RHI makes them", "the buffer kind's share", "the rest")]
+for backend, side, what, share, rest in AS_RHI:
+    extra, raw_key, rhi_key = ("draw", backend, side), ("draw", backend, "raw"), ("draw", backend, "rhi")
     if extra in runs and rhi_key in runs and raw_key in runs:
         as_rhi = median(extra, "submit_cpu_ns_per_op")
-        print(f"\nRaw {backend.upper()} draws from buffers made as the RHI makes them: {as_rhi:.0f} ns/op "
-              f"(this / raw = {as_rhi / median(raw_key, 'submit_cpu_ns_per_op'):.2f}x, the buffer kind's share); "
-              f"RHI / this = {median(rhi_key, 'submit_cpu_ns_per_op') / as_rhi:.2f}x (the rest).")
+        print(f"\n{what}: {as_rhi:.0f} ns/op (this / raw = {as_rhi / median(raw_key, 'submit_cpu_ns_per_op'):.2f}x, {share}); "
+              f"RHI / this = {median(rhi_key, 'submit_cpu_ns_per_op') / as_rhi:.2f}x ({rest}).")
 # Both GL sides with the per-draw calls answered by stubs (bench/null_gl_driver.h): what is left is
 # each side's own code per draw, and RHI minus raw is the RHI's, on this machine's CPU.
 for backend in ("gl", "gles"):
