@@ -84,8 +84,8 @@ inline constexpr int kExitSomeRunsFailed = 3;
 // The benchmarks. Each times kOpsPerFrame draws (into the 8x8 target, rebinding the colour
 // uniform block per draw) or dispatches (1x1x1, rebinding the counter per dispatch) per iteration.
 void rhiDraws(benchmark::State& state, rhi::Backend backend);
-// GL or GLES, with the per-draw GL calls answered by stubs (null_gl_driver.h): the RHI's own code.
-void rhiDrawsWithNullGLDriver(benchmark::State& state, rhi::Backend backend);
+// With the per-draw driver calls answered by stubs (null_driver.h): the RHI's own code.
+void rhiDrawsWithNullDriver(benchmark::State& state, rhi::Backend backend);
 void rhiDispatches(benchmark::State& state, rhi::Backend backend);
 // How the raw Vulkan side draws: as an application would, or with RHI choices added (explanatory
 // runs, printed apart by scripts/bench.sh).
@@ -94,6 +94,7 @@ enum class RawVulkanDraws {
     CommandMemory,   // recording into a command pool whose host memory is the RHI's CommandMemory
     RhiChoices,      // that, and the RHI's pipeline layout (four set layouts) and reusable command
                      // buffers (no ONE_TIME_SUBMIT): every choice of the RHI's that reaches the driver
+    NullDriver,      // Plain, with the per-draw calls answered by stubs (null_driver.h)
 };
 void rawVulkanDraws(benchmark::State& state, RawVulkanDraws how);
 // barrierPerDispatch adds the RHI's full barrier before each dispatch (an explanatory extra run).
@@ -105,7 +106,7 @@ enum class RawGLDraws {
     RespecifiedVertices,   // the vertex attribute re-specified before every draw (the RHI's old setup)
     RhiBuffers,            // from buffers made as the RHI makes them (gl_buffer.cpp): GL_DYNAMIC_DRAW,
                            // zeros from the host, then the contents by glBufferSubData
-    NullDriver,            // Plain, with the per-draw calls answered by stubs (null_gl_driver.h)
+    NullDriver,            // Plain, with the per-draw calls answered by stubs (null_driver.h)
 };
 // GL or GLES.
 void rawGLDraws(benchmark::State& state, rhi::Backend backend, RawGLDraws how);

@@ -162,6 +162,10 @@ void registerBenchmarks(int64_t frames) {
     // Not part of the ratio table: raw Vulkan with every RHI choice that reaches the driver (command
     // memory, the pipeline layout, reusable command buffers): RHI / this is the RHI's own code alone.
     add("draw/vulkan/raw_rhi_choices", [](benchmark::State& state) { rawVulkanDraws(state, RawVulkanDraws::RhiChoices); });
+    // Not part of the ratio table: both sides with the per-draw calls answered by stubs
+    // (null_driver.h), so that what is left is each side's own code per draw.
+    add("draw/vulkan/raw_null_driver", [](benchmark::State& state) { rawVulkanDraws(state, RawVulkanDraws::NullDriver); });
+    add("draw/vulkan/rhi_null_driver", [](benchmark::State& state) { rhiDrawsWithNullDriver(state, Backend::Vulkan); });
     add("dispatch/vulkan/raw_command_memory", [](benchmark::State& state) { rawVulkanDispatches(state, false, true); });
     // Not part of the ratio table: raw Vulkan with the RHI's old barrier rule (a full barrier before
     // every dispatch), to show what hazard tracking saved.
@@ -177,10 +181,9 @@ void registerBenchmarks(int64_t frames) {
     // writes them; a driver may place or track the two kinds differently, which the ratio would
     // count as the RHI's own cost (RHI / this takes it out).
     add("draw/gl/raw_rhi_buffers", [](benchmark::State& state) { rawGLDraws(state, Backend::GL, RawGLDraws::RhiBuffers); });
-    // Not part of the ratio table: both GL sides with the per-draw calls answered by stubs
-    // (null_gl_driver.h), so that what is left is each side's own code per draw.
+    // Not part of the ratio table: the null-driver runs, as for Vulkan above.
     add("draw/gl/raw_null_driver", [](benchmark::State& state) { rawGLDraws(state, Backend::GL, RawGLDraws::NullDriver); });
-    add("draw/gl/rhi_null_driver", [](benchmark::State& state) { rhiDrawsWithNullGLDriver(state, Backend::GL); });
+    add("draw/gl/rhi_null_driver", [](benchmark::State& state) { rhiDrawsWithNullDriver(state, Backend::GL); });
     add("dispatch/gl/raw", rawGLDispatches);
     add("dispatch/gl/rhi", [](benchmark::State& state) { rhiDispatches(state, Backend::GL); });
     add("draw/gles/raw", [](benchmark::State& state) { rawGLDraws(state, Backend::GLES, RawGLDraws::Plain); });
@@ -189,7 +192,7 @@ void registerBenchmarks(int64_t frames) {
         [](benchmark::State& state) { rawGLDraws(state, Backend::GLES, RawGLDraws::RhiBuffers); });
     add("draw/gles/raw_null_driver",
         [](benchmark::State& state) { rawGLDraws(state, Backend::GLES, RawGLDraws::NullDriver); });
-    add("draw/gles/rhi_null_driver", [](benchmark::State& state) { rhiDrawsWithNullGLDriver(state, Backend::GLES); });
+    add("draw/gles/rhi_null_driver", [](benchmark::State& state) { rhiDrawsWithNullDriver(state, Backend::GLES); });
 }
 
 // --janus_frames=N, taken out of argv before Google Benchmark sees it. Fixed frame counts make

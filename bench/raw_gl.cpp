@@ -20,7 +20,7 @@
 #include <vector>
 
 #include "gl_platform.h"
-#include "null_gl_driver.h"
+#include "null_driver.h"
 #include "rhi_scene.h"
 
 namespace janus::bench {

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "null_driver.h"
 #include "rhi_scene.h"
 #include "vulkan_command_memory.h"
 
@@ -43,8 +44,12 @@ public:
     // driver (RawVulkanDraws::RhiChoices, which also records into the RHI's command memory).
     void recordAs(RawVulkanDraws how) {
         m_rhiChoices = how == RawVulkanDraws::RhiChoices;
-        useCommandMemory(how != RawVulkanDraws::Plain);
+        m_nullDriver = how == RawVulkanDraws::NullDriver;
+        useCommandMemory(how == RawVulkanDraws::CommandMemory || how == RawVulkanDraws::RhiChoices);
     }
+    // RawVulkanDraws::NullDriver's per-draw calls: what NullVulkanDriver points them at.
+    PFN_vkCmdBindDescriptorSets nullBind = nullptr;
+    PFN_vkCmdDraw nullDraw = nullptr;
     void submitDraws();
     // barrierPerDispatch: also put a full barrier before every dispatch (the RHI's policy before
     // hazard tracking), to show what that rule costs.
@@ -89,6 +94,7 @@ private:
     // vulkan_pipeline.cpp), a pipeline made with it, and command buffers begun without
     // ONE_TIME_SUBMIT (an RHI command list may be executed again).
     bool m_rhiChoices = false;
+    bool m_nullDriver = false;
     VkDescriptorSetLayout m_emptySetLayout = VK_NULL_HANDLE;
     VkPipelineLayout m_drawLayoutAsRhi = VK_NULL_HANDLE;
     VkPipeline m_drawPipelineAsRhi = VK_NULL_HANDLE;
@@ -489,9 +495,16 @@ void RawVulkan::submitDraws() {
     const VkPipelineLayout layout = m_rhiChoices ? m_drawLayoutAsRhi : m_drawLayout;   // set 0 is the same in both
     const VkDeviceSize offset = 0;
     vkCmdBindVertexBuffers(m_commands, 0, 1, &m_vertices.buffer, &offset);
-    for (VkDescriptorSet set : m_drawSets) {
-        vkCmdBindDescriptorSets(m_commands, VK_PIPELINE_BIND_POINT_GRAPHICS, layout, 0, 1, &set, 0, nullptr);
-        vkCmdDraw(m_commands, 3, 1, 0, 0);
+    if (m_nullDriver) {
+        for (VkDescriptorSet set : m_drawSets) {
+            nullBind(m_commands, VK_PIPELINE_BIND_POINT_GRAPHICS, layout, 0, 1, &set, 0, nullptr);
+            nullDraw(m_commands, 3, 1, 0, 0);
+        }
+    } else {
+        for (VkDescriptorSet set : m_drawSets) {
+            vkCmdBindDescriptorSets(m_commands, VK_PIPELINE_BIND_POINT_GRAPHICS, layout, 0, 1, &set, 0, nullptr);
+            vkCmdDraw(m_commands, 3, 1, 0, 0);
+        }
     }
     vkCmdEndRendering(m_commands);
     submitFrame();
@@ -550,7 +563,18 @@ void rawVulkanDraws(benchmark::State& state, RawVulkanDraws how) {
     runGuarded(state, [&] {
         RawVulkan& raw = rawVulkan();
         raw.recordAs(how);
-        runFrames(state, [&] { raw.submitDraws(); }, [&] { raw.wait(); });
+        if (how == RawVulkanDraws::NullDriver) {
+            {
+                NullVulkanDriver driver(raw.nullBind, raw.nullDraw);
+                runFrames(state, [&] { raw.submitDraws(); }, [&] { raw.wait(); });
+                driver.requireFrames(uint64_t(state.iterations()), "raw vulkan");
+            }
+            raw.recordAs(RawVulkanDraws::Plain);   // and the real driver still draws
+            raw.submitDraws();
+            raw.wait();
+        } else {
+            runFrames(state, [&] { raw.submitDraws(); }, [&] { raw.wait(); });
+        }
         raw.checkDraws();
     });
 }

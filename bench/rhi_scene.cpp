@@ -2,7 +2,8 @@
 #include "rhi_scene.h"
 
 #include "gl_device.h"
-#include "null_gl_driver.h"
+#include "null_driver.h"
+#include "vulkan_backend.h"
 
 #include <fmt/format.h>
 #include <janus/shaders/shaders.h>
@@ -170,14 +171,20 @@ void rhiDraws(benchmark::State& state, Backend backend) {
     });
 }
 
-void rhiDrawsWithNullGLDriver(benchmark::State& state, Backend backend) {
+void rhiDrawsWithNullDriver(benchmark::State& state, Backend backend) {
     runGuarded(state, [&] {
         RhiScene& scene = rhiScene(backend);
-        rhi::gl::GLFunctions& gl = dynamic_cast<rhi::gl::Device&>(scene.device()).context().gl;
-        {
-            NullGLDriver driver(gl.glBindBufferRange, gl.glDrawArrays);
+        const std::string who = fmt::format("{} RHI", toString(backend));
+        auto run = [&](const auto& driver) {
             runFrames(state, [&] { scene.submitDraws(); }, [&] { scene.waitIdle(); });
-            driver.requireFrames(uint64_t(state.iterations()), fmt::format("{} RHI", toString(backend)));
+            driver.requireFrames(uint64_t(state.iterations()), who);
+        };
+        if (backend == Backend::Vulkan) {
+            rhi::vulkan::Context& vk = *rhi::vulkan::contextOf(scene.device());
+            run(NullVulkanDriver(vk.cmdBindDescriptorSets, vk.cmdDraw));
+        } else {
+            rhi::gl::GLFunctions& gl = dynamic_cast<rhi::gl::Device&>(scene.device()).context().gl;
+            run(NullGLDriver(gl.glBindBufferRange, gl.glDrawArrays));
         }
         // The real driver again: nothing of the stubbed frames stayed behind in the device.
         scene.submitDraws();

@@ -199,15 +199,18 @@ for backend, side, what, share, rest in AS_RHI:
         as_rhi = median(extra, "submit_cpu_ns_per_op")
         print(f"\n{what}: {as_rhi:.0f} ns/op (this / raw = {as_rhi / median(raw_key, 'submit_cpu_ns_per_op'):.2f}x, {share}); "
               f"RHI / this = {median(rhi_key, 'submit_cpu_ns_per_op') / as_rhi:.2f}x ({rest}).")
-# Both GL sides with the per-draw calls answered by stubs (bench/null_gl_driver.h): what is left is
-# each side's own code per draw, and RHI minus raw is the RHI's, on this machine's CPU.
-for backend in ("gl", "gles"):
+# Both sides with the per-draw calls answered by stubs (bench/null_driver.h): what is left is each
+# side's own code per draw, and RHI minus raw is the RHI's, on this machine's CPU.
+NULL_CALLS = {"vulkan": "vkCmdBindDescriptorSets and vkCmdDraw", "gl": "glBindBufferRange and glDrawArrays",
+              "gles": "glBindBufferRange and glDrawArrays"}
+for backend in ("vulkan", "gl", "gles"):
     raw_null, rhi_null = ("draw", backend, "raw_null_driver"), ("draw", backend, "rhi_null_driver")
     raw_key, rhi_key = ("draw", backend, "raw"), ("draw", backend, "rhi")
     if all(key in runs for key in (raw_null, rhi_null, raw_key, rhi_key)):
         own = median(rhi_null, "submit_cpu_ns_per_op") - median(raw_null, "submit_cpu_ns_per_op")
         raw_ns = median(raw_key, "submit_cpu_ns_per_op")
-        print(f"\n{backend.upper()} draws with a null driver (glBindBufferRange and glDrawArrays answered by stubs): "
+        name = "Vulkan" if backend == "vulkan" else backend.upper()
+        print(f"\n{name} draws with a null driver ({NULL_CALLS[backend]} answered by stubs): "
               f"raw {median(raw_null, 'submit_cpu_ns_per_op'):.1f}, RHI {median(rhi_null, 'submit_cpu_ns_per_op'):.1f} ns/op: "
               f"the RHI's own code takes {own:.1f} ns per draw; over this run's raw draw ({raw_ns:.0f} ns) that alone "
               f"would be {(raw_ns + own) / raw_ns:.2f}x (measured: {median(rhi_key, 'submit_cpu_ns_per_op') / raw_ns:.2f}x).")

@@ -160,6 +160,10 @@ private:
 };
 using ContextPtr = std::shared_ptr<Context>;
 
+// The Context of a device this backend made, else null: for tools that replace entry points in it
+// (the overhead bench's null-driver runs, bench/null_driver.h).
+Context* contextOf(IDevice& device);
+
 // A full memory barrier: all earlier commands finish and their writes are visible to all later ones.
 void fullBarrier(VkCommandBuffer cmd);
 // Makes all device writes visible to the host once the submission's fence has signalled.

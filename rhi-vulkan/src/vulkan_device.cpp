@@ -568,6 +568,8 @@ public:
         vkResetFences(m_context->device, 0, nullptr);
     }
 
+    Context& context() { return *m_context; }
+
 private:
     ContextPtr m_context;
     bool m_validation = false;
@@ -576,5 +578,10 @@ private:
 }  // namespace
 
 std::unique_ptr<IDevice> createDevice(const DeviceDesc& desc) { return std::make_unique<Device>(desc); }
+
+Context* contextOf(IDevice& device) {
+    auto* vulkan = dynamic_cast<Device*>(&device);
+    return vulkan ? &vulkan->context() : nullptr;
+}
 
 }  // namespace janus::rhi::vulkan

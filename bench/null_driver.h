@@ -1,0 +1,67 @@
+// The draw workload's two per-draw driver calls answered by stubs that only check and count them:
+// glBindBufferRange and glDrawArrays on GL, vkCmdBindDescriptorSets and vkCmdDraw on Vulkan. With
+// every per-draw call a stub, what is left of a draw's CPU time is the caller's own code (the raw
+// loop, or the RHI's recording and replay), on whichever machine this runs, without the driver's
+// time, noise or cache footprint. The per-frame calls (framebuffer or render pass, clear, program
+// or pipeline, vertex setup, submit) still reach the driver; a frame has 1000 draws, so they add
+// little per draw, to both sides alike.
+//
+// scripts/bench.sh prints RHI minus raw with such a driver (the RHI's own ns per draw) and the
+// ratio that alone would give over the real raw draw, next to the measured ratio: on hardware,
+// where the measured RHI / raw is noisy, this says how much of it is the RHI's code and how much
+// the driver meeting it.
+#pragma once
+
+#include <GL/glcorearb.h>
+#include <vulkan/vulkan.h>
+
+#include <cstdint>
+#include <string>
+
+namespace janus::bench {
+
+// What the stubs saw since the last NullGLDriver or NullVulkanDriver was made.
+struct NullDriverCalls {
+    uint64_t binds = 0;
+    uint64_t draws = 0;
+    uint64_t offsetSum = 0;    // GL: of the bound ranges (each frame binds every slice once)
+    uint64_t unexpected = 0;   // a call with arguments the workload never makes
+};
+
+// Throws WrongResult unless exactly `frames` frames of the workload's calls arrived: one bind and
+// one 3-vertex triangle draw per operation (GL: of each uniform slice, binding 0, kSliceBytes).
+void requireNullDriverFrames(uint64_t frames, const std::string& who, bool checkOffsets);
+
+// Each points the two per-draw slots of a function table at the stubs, zeroes the counts, and
+// puts the originals back when destroyed.
+class NullGLDriver {
+public:
+    NullGLDriver(PFNGLBINDBUFFERRANGEPROC& bindBufferRange, PFNGLDRAWARRAYSPROC& drawArrays);
+    ~NullGLDriver();
+    NullGLDriver(const NullGLDriver&) = delete;
+    NullGLDriver& operator=(const NullGLDriver&) = delete;
+    void requireFrames(uint64_t frames, const std::string& who) const { requireNullDriverFrames(frames, who, true); }
+
+private:
+    PFNGLBINDBUFFERRANGEPROC& m_bindSlot;
+    PFNGLDRAWARRAYSPROC& m_drawSlot;
+    PFNGLBINDBUFFERRANGEPROC m_bind;
+    PFNGLDRAWARRAYSPROC m_draw;
+};
+
+class NullVulkanDriver {
+public:
+    NullVulkanDriver(PFN_vkCmdBindDescriptorSets& bindDescriptorSets, PFN_vkCmdDraw& draw);
+    ~NullVulkanDriver();
+    NullVulkanDriver(const NullVulkanDriver&) = delete;
+    NullVulkanDriver& operator=(const NullVulkanDriver&) = delete;
+    void requireFrames(uint64_t frames, const std::string& who) const { requireNullDriverFrames(frames, who, false); }
+
+private:
+    PFN_vkCmdBindDescriptorSets& m_bindSlot;
+    PFN_vkCmdDraw& m_drawSlot;
+    PFN_vkCmdBindDescriptorSets m_bind;
+    PFN_vkCmdDraw m_draw;
+};
+
+}  // namespace janus::bench
