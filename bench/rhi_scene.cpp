@@ -180,8 +180,9 @@ void rhiDrawsWithNullDriver(benchmark::State& state, Backend backend) {
             driver.requireFrames(uint64_t(state.iterations()), who);
         };
         if (backend == Backend::Vulkan) {
-            rhi::vulkan::Context& vk = *rhi::vulkan::contextOf(scene.device());
-            run(NullVulkanDriver(vk.cmdBindDescriptorSets, vk.cmdDraw));
+            rhi::vulkan::Context* vk = rhi::vulkan::contextOf(scene.device());
+            if (!vk) throw std::runtime_error("the vulkan scene's device is not the Vulkan backend's");
+            run(NullVulkanDriver(vk->cmdBindDescriptorSets, vk->cmdDraw));
         } else {
             rhi::gl::GLFunctions& gl = dynamic_cast<rhi::gl::Device&>(scene.device()).context().gl;
             run(NullGLDriver(gl.glBindBufferRange, gl.glDrawArrays));
