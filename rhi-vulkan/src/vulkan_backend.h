@@ -557,6 +557,15 @@ private:
     // setBindingSet's checks in full (out of line), then bindSet.
     void setBindingSetChecked(uint32_t set, const BindingSetHandle& bindings);
     void bindSet(uint32_t set, const BindingSetHandle& bindings, BindingSet* bindingSet);
+    void bindHeldSet(uint32_t set, BindingSet& bindingSet);
+    // The per-draw set of a pass, bound and tracked when it is set (see the definition); false
+    // leaves it to the next draw.
+    bool bindInPass(uint32_t set, const BindingSet& bindingSet);
+    // Whether a draw now needs no bind, tracking or check besides its range (prepareDraw would do
+    // nothing): then draw() is the range check and the vkCmdDraw.
+    bool drawStateBound() const;
+    [[gnu::noinline]] void drawPrepared(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex,
+                                        uint32_t firstInstance);
     [[noreturn]] void throwNotRecordingOrInPass(std::string_view call) const;
     void bindDescriptorSets(Pipeline& pipeline, VkPipelineBindPoint bindPoint, uint32_t& dirtyMask,
                             std::array<const BindingSet::LayoutUse*, Pipeline::kMaxSets>& uses);

@@ -279,16 +279,19 @@ void CommandList::setPipeline(const PipelineHandle& handle) {
     }
 }
 
-// The common case calls nothing but (rarely, as a tail call) the keep-alive's append: with no
-// call to return from, it needs no registers saved. Anything unusual (not recording, an object of
-// another backend, or a type_info that is a different object for the same type, as across shared
-// libraries) takes the checked path.
+// The common case calls nothing before its last step (bindInPass's vkCmdBindDescriptorSets, after
+// which nothing is left to do), so it keeps no registers across a call. Anything unusual (not
+// recording, an object of another backend, a type_info that is a different object for the same
+// type, as across shared libraries, or a set the list does not hold yet) takes the checked path.
 void CommandList::setBindingSetImpl(uint32_t set, const BindingSetHandle& bindings) {   // set < kMaxBindingSets
     IBindingSet* object = bindings.get();   // not null: the front end checked
     if (m_state != State::Recording || &typeid(*object) != &typeid(BindingSet) ||
         static_cast<BindingSet*>(object)->owner() != m_context.get()) [[unlikely]]
         return setBindingSetChecked(set, bindings);
-    bindSet(set, bindings, static_cast<BindingSet*>(object));
+    auto* bindingSet = static_cast<BindingSet*>(object);
+    if (m_bindingSets[set] == bindingSet) return;   // already bound
+    if (!m_keepAlive.keepIfHeld(bindingSet->keepMark)) [[unlikely]] return setBindingSetChecked(set, bindings);
+    bindHeldSet(set, *bindingSet);
 }
 
 void CommandList::setBindingSetChecked(uint32_t set, const BindingSetHandle& bindings) {
@@ -296,15 +299,45 @@ void CommandList::setBindingSetChecked(uint32_t set, const BindingSetHandle& bin
     bindSet(set, bindings, native<BindingSet>(bindings, "setBindingSet(): the binding set", m_context.get()));
 }
 
-[[gnu::always_inline]] inline void CommandList::bindSet(uint32_t set, const BindingSetHandle& bindings,
-                                                        BindingSet* bindingSet) {
+void CommandList::bindSet(uint32_t set, const BindingSetHandle& bindings, BindingSet* bindingSet) {
     if (m_bindingSets[set] == bindingSet) return;   // already bound
-    bindingSet->prefetchFirstUse();
-    m_bindingSets[set] = bindingSet;
-    m_dirtyGraphicsSets |= 1u << set;
+    m_keepAlive.keep(bindings, bindingSet->keepMark);
+    bindHeldSet(set, *bindingSet);
+}
+
+// `bindingSet` at `set`, now that the list holds it.
+[[gnu::always_inline]] inline void CommandList::bindHeldSet(uint32_t set, BindingSet& bindingSet) {
+    m_bindingSets[set] = &bindingSet;
     m_dirtyComputeSets |= 1u << set;
+    if (bindInPass(set, bindingSet)) return;
+    bindingSet.prefetchFirstUse();
+    m_dirtyGraphicsSets |= 1u << set;
     m_passTrackedSets &= ~(1u << set);
-    m_keepAlive.keep(bindings, bindingSet->keepMark);   // last, so that its rare path is a tail call
+}
+
+// The set a pass changes per draw (a uniform slice per draw), bound now rather than at the draw,
+// so that the draw after it is only its range check and the vkCmdDraw (drawStateBound): in a
+// render pass, for the graphics pipeline set, whose only set this is, when the set's last
+// descriptor set is for that pipeline's layout, it has no texture, and its one access reads the
+// resource the pass's draws read so far. That read joins the pass's hull, as trackDrawBindings
+// would at the draw; if no draw follows, the hull is only wider, which can add a barrier but never
+// miss one. Anything else is left to the draw, which binds and tracks what is dirty.
+[[gnu::always_inline]] inline bool CommandList::bindInPass(uint32_t set, const BindingSet& bindingSet) {
+    const Pipeline* pipeline = m_graphicsPipeline;
+    if (!m_inRenderPass || !pipeline || pipeline->usedSets != 1u << set) return false;
+    const BindingSet::LayoutUse* use = bindingSet.lastUseWith(pipeline->sets[set]->layout);
+    if (!use || use->hasTextureItems || use->accesses.size() != 1) return false;
+    const ResourceAccess& a = use->accesses[0];
+    if (a.write || a.resource != m_passReads.resource) return false;
+    m_passReads.range.begin = std::min(m_passReads.range.begin, a.range.begin);
+    m_passReads.range.end = std::max(m_passReads.range.end, a.range.end);
+    m_passReads.stages |= a.stages;
+    m_passTrackedSets |= 1u << set;
+    m_graphicsSetUses[set] = use;
+    m_dirtyGraphicsSets &= ~(1u << set);
+    m_context->cmdBindDescriptorSets(m_commands, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline->layout, set, 1, &use->set, 0,
+                                     nullptr);
+    return true;
 }
 
 void CommandList::throwNoBindingSet(const Pipeline& pipeline, uint32_t set) const {
@@ -495,7 +528,23 @@ void CommandList::throwDrawOutOfRange(std::string_view call, bool indexed) const
                              m_indexType == VK_INDEX_TYPE_UINT16 ? IndexType::UInt16 : IndexType::UInt32);
 }
 
+[[gnu::always_inline]] inline bool CommandList::drawStateBound() const {
+    if (m_state != State::Recording || !m_inRenderPass || !m_drawStateChecked || !m_passTrackedVertices) return false;
+    const uint32_t used = m_graphicsPipeline->usedSets;   // a pipeline is set: checkDrawState passed
+    return (m_dirtyGraphicsSets & used) == 0 && (used & ~m_passTrackedSets) == 0;
+}
+
+// A draw whose sets are bound and tracked (setBindingSet bound the per-draw set: bindInPass) calls
+// nothing before the vkCmdDraw, so its arguments stay in registers; any other goes through
+// drawPrepared.
 void CommandList::draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance) {
+    if (!drawStateBound() || m_drawLimits.exceeded(firstVertex, vertexCount, firstInstance, instanceCount)) [[unlikely]]
+        return drawPrepared(vertexCount, instanceCount, firstVertex, firstInstance);
+    m_context->cmdDraw(m_commands, vertexCount, instanceCount, firstVertex, firstInstance);
+}
+
+void CommandList::drawPrepared(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex,
+                               uint32_t firstInstance) {
     // The arguments wait in the list while the bind calls into the driver: held in registers
     // across that call they cost four saved registers on every draw.
     m_drawArguments = {vertexCount, instanceCount, firstVertex, firstInstance};
