@@ -566,6 +566,8 @@ private:
     bool drawStateBound() const;
     [[gnu::noinline]] void drawPrepared(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex,
                                         uint32_t firstInstance);
+    [[gnu::noinline]] void drawIndexedPrepared(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex,
+                                               int32_t vertexOffset, uint32_t firstInstance);
     [[noreturn]] void throwNotRecordingOrInPass(std::string_view call) const;
     void bindDescriptorSets(Pipeline& pipeline, VkPipelineBindPoint bindPoint, uint32_t& dirtyMask,
                             std::array<const BindingSet::LayoutUse*, Pipeline::kMaxSets>& uses);

@@ -555,8 +555,18 @@ void CommandList::drawPrepared(uint32_t vertexCount, uint32_t instanceCount, uin
     m_context->cmdDraw(m_commands, a.count, a.instances, a.first, a.firstInstance);
 }
 
+// As draw(): with everything bound and tracked (the index buffer too) and no index values to
+// note, the range check and the vkCmdDrawIndexed.
 void CommandList::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex, int32_t vertexOffset,
                               uint32_t firstInstance) {
+    if (!drawStateBound() || !m_indexBuffer || !m_passTrackedIndices || indexValueLog() ||
+        indexedDrawExceeds(m_drawLimits, m_indexLimit, firstIndex, indexCount, firstInstance, instanceCount)) [[unlikely]]
+        return drawIndexedPrepared(indexCount, instanceCount, firstIndex, vertexOffset, firstInstance);
+    m_context->cmdDrawIndexed(m_commands, indexCount, instanceCount, firstIndex, vertexOffset, firstInstance);
+}
+
+void CommandList::drawIndexedPrepared(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex,
+                                      int32_t vertexOffset, uint32_t firstInstance) {
     m_drawArguments = {indexCount, instanceCount, firstIndex, firstInstance, vertexOffset};   // as in draw()
     if (!prepareDrawFast()) [[unlikely]] prepareDrawGeneral("drawIndexed()");
     if (!m_indexBuffer)
