@@ -48,28 +48,14 @@ void requireNullDriverFrames(uint64_t frames, const std::string& who, bool check
                                       g_calls.offsetSum, g_calls.unexpected));
 }
 
-NullGLDriver::NullGLDriver(PFNGLBINDBUFFERRANGEPROC& bindBufferRange, PFNGLDRAWARRAYSPROC& drawArrays)
-    : m_bindSlot(bindBufferRange), m_drawSlot(drawArrays), m_bind(bindBufferRange), m_draw(drawArrays) {
-    g_calls = {};
-    m_bindSlot = nullBindBufferRange;
-    m_drawSlot = nullDrawArrays;
+void resetNullDriverCalls() { g_calls = {}; }
+
+NullGLDriver nullGLDriver(PFNGLBINDBUFFERRANGEPROC& bindBufferRange, PFNGLDRAWARRAYSPROC& drawArrays) {
+    return NullGLDriver(bindBufferRange, drawArrays, nullBindBufferRange, nullDrawArrays, true);
 }
 
-NullGLDriver::~NullGLDriver() {
-    m_bindSlot = m_bind;
-    m_drawSlot = m_draw;
-}
-
-NullVulkanDriver::NullVulkanDriver(PFN_vkCmdBindDescriptorSets& bindDescriptorSets, PFN_vkCmdDraw& draw)
-    : m_bindSlot(bindDescriptorSets), m_drawSlot(draw), m_bind(bindDescriptorSets), m_draw(draw) {
-    g_calls = {};
-    m_bindSlot = nullBindDescriptorSets;
-    m_drawSlot = nullDraw;
-}
-
-NullVulkanDriver::~NullVulkanDriver() {
-    m_bindSlot = m_bind;
-    m_drawSlot = m_draw;
+NullVulkanDriver nullVulkanDriver(PFN_vkCmdBindDescriptorSets& bindDescriptorSets, PFN_vkCmdDraw& draw) {
+    return NullVulkanDriver(bindDescriptorSets, draw, nullBindDescriptorSets, nullDraw, false);
 }
 
 }  // namespace janus::bench

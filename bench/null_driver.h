@@ -32,36 +32,41 @@ struct NullDriverCalls {
 // one 3-vertex triangle draw per operation (GL: of each uniform slice, binding 0, kSliceBytes).
 void requireNullDriverFrames(uint64_t frames, const std::string& who, bool checkOffsets);
 
-// Each points the two per-draw slots of a function table at the stubs, zeroes the counts, and
-// puts the originals back when destroyed.
-class NullGLDriver {
+// Zeroes what the stubs saw (NullDriver's constructor).
+void resetNullDriverCalls();
+
+// Points the two per-draw slots of a function table at the stubs, zeroes the counts, and puts the
+// originals back when destroyed.
+template <class Bind, class Draw>
+class NullDriver {
 public:
-    NullGLDriver(PFNGLBINDBUFFERRANGEPROC& bindBufferRange, PFNGLDRAWARRAYSPROC& drawArrays);
-    ~NullGLDriver();
-    NullGLDriver(const NullGLDriver&) = delete;
-    NullGLDriver& operator=(const NullGLDriver&) = delete;
-    void requireFrames(uint64_t frames, const std::string& who) const { requireNullDriverFrames(frames, who, true); }
+    NullDriver(Bind& bindSlot, Draw& drawSlot, Bind bindStub, Draw drawStub, bool checkOffsets)
+        : m_bindSlot(bindSlot), m_drawSlot(drawSlot), m_bind(bindSlot), m_draw(drawSlot), m_checkOffsets(checkOffsets) {
+        resetNullDriverCalls();
+        m_bindSlot = bindStub;
+        m_drawSlot = drawStub;
+    }
+    ~NullDriver() {
+        m_bindSlot = m_bind;
+        m_drawSlot = m_draw;
+    }
+    NullDriver(const NullDriver&) = delete;
+    NullDriver& operator=(const NullDriver&) = delete;
+    void requireFrames(uint64_t frames, const std::string& who) const {
+        requireNullDriverFrames(frames, who, m_checkOffsets);
+    }
 
 private:
-    PFNGLBINDBUFFERRANGEPROC& m_bindSlot;
-    PFNGLDRAWARRAYSPROC& m_drawSlot;
-    PFNGLBINDBUFFERRANGEPROC m_bind;
-    PFNGLDRAWARRAYSPROC m_draw;
+    Bind& m_bindSlot;
+    Draw& m_drawSlot;
+    Bind m_bind;
+    Draw m_draw;
+    bool m_checkOffsets;
 };
 
-class NullVulkanDriver {
-public:
-    NullVulkanDriver(PFN_vkCmdBindDescriptorSets& bindDescriptorSets, PFN_vkCmdDraw& draw);
-    ~NullVulkanDriver();
-    NullVulkanDriver(const NullVulkanDriver&) = delete;
-    NullVulkanDriver& operator=(const NullVulkanDriver&) = delete;
-    void requireFrames(uint64_t frames, const std::string& who) const { requireNullDriverFrames(frames, who, false); }
-
-private:
-    PFN_vkCmdBindDescriptorSets& m_bindSlot;
-    PFN_vkCmdDraw& m_drawSlot;
-    PFN_vkCmdBindDescriptorSets m_bind;
-    PFN_vkCmdDraw m_draw;
-};
+using NullGLDriver = NullDriver<PFNGLBINDBUFFERRANGEPROC, PFNGLDRAWARRAYSPROC>;
+using NullVulkanDriver = NullDriver<PFN_vkCmdBindDescriptorSets, PFN_vkCmdDraw>;
+NullGLDriver nullGLDriver(PFNGLBINDBUFFERRANGEPROC& bindBufferRange, PFNGLDRAWARRAYSPROC& drawArrays);
+NullVulkanDriver nullVulkanDriver(PFN_vkCmdBindDescriptorSets& bindDescriptorSets, PFN_vkCmdDraw& draw);
 
 }  // namespace janus::bench

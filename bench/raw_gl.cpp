@@ -382,7 +382,7 @@ void rawGLDraws(benchmark::State& state, rhi::Backend backend, RawGLDraws how) {
         ContextSwitch current = raw.makeCurrent();
         if (how == RawGLDraws::NullDriver) {
             {
-                NullGLDriver driver(raw.calls().glBindBufferRange, raw.calls().glDrawArrays);
+                const NullGLDriver driver = nullGLDriver(raw.calls().glBindBufferRange, raw.calls().glDrawArrays);
                 runFrames(state, [&] { raw.submitDraws(RawGLDraws::Plain); }, [&] { raw.finish(); });
                 driver.requireFrames(uint64_t(state.iterations()), fmt::format("raw {}", rhi::toString(backend)));
             }

@@ -565,7 +565,7 @@ void rawVulkanDraws(benchmark::State& state, RawVulkanDraws how) {
         raw.recordAs(how);
         if (how == RawVulkanDraws::NullDriver) {
             {
-                NullVulkanDriver driver(raw.nullBind, raw.nullDraw);
+                const NullVulkanDriver driver = nullVulkanDriver(raw.nullBind, raw.nullDraw);
                 runFrames(state, [&] { raw.submitDraws(); }, [&] { raw.wait(); });
                 driver.requireFrames(uint64_t(state.iterations()), "raw vulkan");
             }

@@ -182,10 +182,10 @@ void rhiDrawsWithNullDriver(benchmark::State& state, Backend backend) {
         if (backend == Backend::Vulkan) {
             rhi::vulkan::Context* vk = rhi::vulkan::contextOf(scene.device());
             if (!vk) throw std::runtime_error("the vulkan scene's device is not the Vulkan backend's");
-            run(NullVulkanDriver(vk->cmdBindDescriptorSets, vk->cmdDraw));
+            run(nullVulkanDriver(vk->cmdBindDescriptorSets, vk->cmdDraw));
         } else {
             rhi::gl::GLFunctions& gl = dynamic_cast<rhi::gl::Device&>(scene.device()).context().gl;
-            run(NullGLDriver(gl.glBindBufferRange, gl.glDrawArrays));
+            run(nullGLDriver(gl.glBindBufferRange, gl.glDrawArrays));
         }
         // The real driver again: nothing of the stubbed frames stayed behind in the device.
         scene.submitDraws();

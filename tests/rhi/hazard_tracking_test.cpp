@@ -12,6 +12,34 @@ namespace {
 class HazardTrackingTest : public BackendTest {
 protected:
     void customizeDeviceDesc(DeviceDesc& desc) override { desc.setEnableSynchronizationValidation(true); }
+
+    // Three uniform slices of one buffer (red in the first, blue in the last) with a binding set
+    // for each end, and a pipeline that fills its target with the bound slice's colour.
+    struct RedAndBlueSlices {
+        uint64_t stride;
+        BufferHandle parameters;
+        BindingSetHandle first, last;
+        PipelineHandle pipeline;
+    };
+    RedAndBlueSlices redAndBlueSlices() {
+        const uint64_t stride = std::max<uint64_t>(caps().limits.uniformBufferOffsetAlignment, 16);
+        std::vector<std::byte> slices(3 * stride);
+        std::memcpy(slices.data(), kRed.data(), sizeof kRed);
+        std::memcpy(slices.data() + 2 * stride, kBlue.data(), sizeof kBlue);
+        BufferHandle parameters = createBufferFrom(BufferUsage::Uniform, slices);
+        auto slice = [&](uint64_t index) {
+            return device().createBindingSet(
+                BindingSetDesc().add(BindingItem::uniformBuffer(0, parameters, index * stride, sizeof kRed)));
+        };
+        return {stride, parameters, slice(0), slice(2), fullscreenPipeline("bench_uniform_color_frag", Format::RGBA8_UNORM)};
+    }
+    // A 4x4 target whose left half `first` drew and right half `last`.
+    static std::vector<Rgba8> redThenBlue() {
+        std::vector<Rgba8> expected(16);
+        for (size_t i = 0; i < 16; ++i) expected[i] = i % 4 < 2 ? Rgba8{255, 0, 0, 255} : Rgba8{0, 0, 255, 255};
+        return expected;
+    }
+    static constexpr std::array<float, 4> kRed{1, 0, 0, 1}, kBlue{0, 0, 1, 1}, kGreen{0, 1, 0, 1};
 };
 JANUS_INSTANTIATE_BACKEND_TESTS(HazardTrackingTest);
 
@@ -130,18 +158,7 @@ TEST_P(HazardTrackingTest, DisjointComputeWritesThenDrawsReadingBoth) {
 // reads of one buffer into one range); after the pass a write replaces the first slice (write
 // after read) and the next pass must see the new value, the first one the old.
 TEST_P(HazardTrackingTest, DrawsReadingUniformSlicesThenOverwritingOne) {
-    const uint64_t stride = std::max<uint64_t>(caps().limits.uniformBufferOffsetAlignment, 16);
-    const std::array<float, 4> red{1, 0, 0, 1}, blue{0, 0, 1, 1}, green{0, 1, 0, 1};
-    std::vector<std::byte> slices(3 * stride);
-    std::memcpy(slices.data(), red.data(), sizeof red);
-    std::memcpy(slices.data() + 2 * stride, blue.data(), sizeof blue);
-    BufferHandle parameters = createBufferFrom(BufferUsage::Uniform, slices);
-    auto slice = [&](uint64_t index) {
-        return device().createBindingSet(
-            BindingSetDesc().add(BindingItem::uniformBuffer(0, parameters, index * stride, sizeof red)));
-    };
-    BindingSetHandle first = slice(0), last = slice(2);
-    PipelineHandle pipeline = fullscreenPipeline("bench_uniform_color_frag", Format::RGBA8_UNORM);
+    const auto [stride, parameters, first, last, pipeline] = redAndBlueSlices();
     TextureHandle before = createTexture2D(Format::RGBA8_UNORM, 4, 4, TextureUsage::RenderTarget);
     TextureHandle after = createTexture2D(Format::RGBA8_UNORM, 4, 4, TextureUsage::RenderTarget);
     submit([&](ICommandList& cmd) {
@@ -154,16 +171,14 @@ TEST_P(HazardTrackingTest, DrawsReadingUniformSlicesThenOverwritingOne) {
         cmd.setScissor({2, 0, 2, 4});
         cmd.draw(3);
         cmd.endRenderPass();
-        cmd.writeBuffer(parameters, green.data(), sizeof green, 0);
+        cmd.writeBuffer(parameters, kGreen.data(), sizeof kGreen, 0);
         cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(after)));
         cmd.setPipeline(pipeline);
         cmd.setBindingSet(0, first);
         cmd.draw(3);
         cmd.endRenderPass();
     });
-    std::vector<Rgba8> expected(16);
-    for (size_t i = 0; i < 16; ++i) expected[i] = i % 4 < 2 ? Rgba8{255, 0, 0, 255} : Rgba8{0, 0, 255, 255};
-    EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(before), expected, 4)) << "the pass before the write";
+    EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(before), redThenBlue(), 4)) << "the pass before the write";
     EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(after), std::vector<Rgba8>(16, {0, 255, 0, 255}), 4))
         << "the pass after the write";
 }
@@ -173,18 +188,7 @@ TEST_P(HazardTrackingTest, DrawsReadingUniformSlicesThenOverwritingOne) {
 // after the pass waits for the pass (write after read; Vulkan's synchronization validation reports
 // the hazard otherwise, and an unmerged slice is one the pass's first set does not cover).
 TEST_P(HazardTrackingTest, ASliceBoundBeforeItsDrawIsTrackedForLaterWrites) {
-    const uint64_t stride = std::max<uint64_t>(caps().limits.uniformBufferOffsetAlignment, 16);
-    const std::array<float, 4> red{1, 0, 0, 1}, blue{0, 0, 1, 1}, green{0, 1, 0, 1};
-    std::vector<std::byte> slices(3 * stride);
-    std::memcpy(slices.data(), red.data(), sizeof red);
-    std::memcpy(slices.data() + 2 * stride, blue.data(), sizeof blue);
-    BufferHandle parameters = createBufferFrom(BufferUsage::Uniform, slices);
-    auto slice = [&](uint64_t index) {
-        return device().createBindingSet(
-            BindingSetDesc().add(BindingItem::uniformBuffer(0, parameters, index * stride, sizeof red)));
-    };
-    BindingSetHandle first = slice(0), last = slice(2);
-    PipelineHandle pipeline = fullscreenPipeline("bench_uniform_color_frag", Format::RGBA8_UNORM);
+    const auto [stride, parameters, first, last, pipeline] = redAndBlueSlices();
     TextureHandle before = createTexture2D(Format::RGBA8_UNORM, 4, 4, TextureUsage::RenderTarget);
     TextureHandle after = createTexture2D(Format::RGBA8_UNORM, 4, 4, TextureUsage::RenderTarget);
     auto halves = [&](ICommandList& cmd) {
@@ -201,16 +205,14 @@ TEST_P(HazardTrackingTest, ASliceBoundBeforeItsDrawIsTrackedForLaterWrites) {
     submit(halves);   // each set's descriptor set for the pipeline's layout exists from now on
     submit([&](ICommandList& cmd) {
         halves(cmd);
-        cmd.writeBuffer(parameters, green.data(), sizeof green, 2 * stride);   // only `last`'s slice
+        cmd.writeBuffer(parameters, kGreen.data(), sizeof kGreen, 2 * stride);   // only `last`'s slice
         cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(after)));
         cmd.setPipeline(pipeline);
         cmd.setBindingSet(0, last);
         cmd.draw(3);
         cmd.endRenderPass();
     });
-    std::vector<Rgba8> expected(16);
-    for (size_t i = 0; i < 16; ++i) expected[i] = i % 4 < 2 ? Rgba8{255, 0, 0, 255} : Rgba8{0, 0, 255, 255};
-    EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(before), expected, 4)) << "the pass before the write";
+    EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(before), redThenBlue(), 4)) << "the pass before the write";
     EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(after), std::vector<Rgba8>(16, {0, 255, 0, 255}), 4))
         << "the pass after the write";
 }
