@@ -600,6 +600,9 @@ private:
     void trackVertexBuffers(const Pipeline& pipeline);
     // Hands the reads gathered in m_passReads to the hazard tracker.
     void flushPassReads();
+    // Widens m_passReads (same resource) by `read`.
+    void widenPassReads(const ResourceAccess& read);
+    bool joinPassReads(const BindingSet::LayoutUse& use);
     // Barrier first if any of `accesses` conflicts with what was tracked, then tracks them.
     void access(std::initializer_list<ResourceAccess> accesses);
 

@@ -317,7 +317,7 @@ void CommandList::bindSet(uint32_t set, const BindingSetHandle& bindings, Bindin
 
 // The set a pass changes per draw (a uniform slice per draw), bound now rather than at the draw,
 // so that the draw after it is only its range check and the vkCmdDraw (drawStateBound): in a
-// render pass, for the graphics pipeline set, whose only set this is, when the set's last
+// render pass, with a graphics pipeline set whose only set this is, when the set's last
 // descriptor set is for that pipeline's layout, it has no texture, and its one access reads the
 // resource the pass's draws read so far. That read joins the pass's hull, as trackDrawBindings
 // would at the draw; if no draw follows, the hull is only wider, which can add a barrier but never
@@ -326,12 +326,7 @@ void CommandList::bindSet(uint32_t set, const BindingSetHandle& bindings, Bindin
     const Pipeline* pipeline = m_graphicsPipeline;
     if (!m_inRenderPass || !pipeline || pipeline->usedSets != 1u << set) return false;
     const BindingSet::LayoutUse* use = bindingSet.lastUseWith(pipeline->sets[set]->layout);
-    if (!use || use->hasTextureItems || use->accesses.size() != 1) return false;
-    const ResourceAccess& a = use->accesses[0];
-    if (a.write || a.resource != m_passReads.resource) return false;
-    m_passReads.range.begin = std::min(m_passReads.range.begin, a.range.begin);
-    m_passReads.range.end = std::max(m_passReads.range.end, a.range.end);
-    m_passReads.stages |= a.stages;
+    if (!use || !joinPassReads(*use)) return false;
     m_passTrackedSets |= 1u << set;
     m_graphicsSetUses[set] = use;
     m_dirtyGraphicsSets &= ~(1u << set);
@@ -456,18 +451,33 @@ void CommandList::throwDrawOutsidePass(std::string_view call) const {
             if (a.write) {
                 m_hazards.record(a);
             } else if (a.resource == m_passReads.resource) {
-                // Many draws read slices of one buffer (a uniform slice per draw): the hull of
-                // what they read reaches the tracker once, at the end of the pass. Wider than
-                // the slices, it can only add a barrier, never miss one.
-                m_passReads.range.begin = std::min(m_passReads.range.begin, a.range.begin);
-                m_passReads.range.end = std::max(m_passReads.range.end, a.range.end);
-                m_passReads.stages |= a.stages;
+                widenPassReads(a);
             } else {
                 flushPassReads();
                 m_passReads = a;
             }
         }
     m_passTrackedSets |= untracked;
+}
+
+// Many draws read slices of one buffer (a uniform slice per draw): the hull of what they read
+// reaches the tracker once, at the end of the pass. Wider than the slices, it can only add a
+// barrier, never miss one.
+[[gnu::always_inline]] inline void CommandList::widenPassReads(const ResourceAccess& read) {
+    m_passReads.range.begin = std::min(m_passReads.range.begin, read.range.begin);
+    m_passReads.range.end = std::max(m_passReads.range.end, read.range.end);
+    m_passReads.stages |= read.stages;
+}
+
+// The straight-line paths' tracking of one set: when it has no texture (so no view-overlap check)
+// and its one access reads the resource the pass reads already, that read joins the pass's hull;
+// anything else returns false and changes nothing.
+[[gnu::always_inline]] inline bool CommandList::joinPassReads(const BindingSet::LayoutUse& use) {
+    if (use.hasTextureItems || use.accesses.size() != 1) return false;
+    const ResourceAccess& a = use.accesses[0];
+    if (a.write || a.resource != m_passReads.resource) return false;
+    widenPassReads(a);
+    return true;
 }
 
 void CommandList::flushPassReads() {
@@ -503,12 +513,7 @@ void CommandList::trackVertexBuffers(const Pipeline& pipeline) {
     const BindingSet::LayoutUse* use = bindingSet ? bindingSet->lastUseWith(pipeline.sets[s]->layout) : nullptr;
     if (!use) [[unlikely]] return false;
     if (untracked) {   // the changed set; nothing is modified before the checks pass
-        if (use->hasTextureItems || use->accesses.size() != 1) [[unlikely]] return false;
-        const ResourceAccess& a = use->accesses[0];
-        if (a.write || a.resource != m_passReads.resource) [[unlikely]] return false;
-        m_passReads.range.begin = std::min(m_passReads.range.begin, a.range.begin);   // as trackDrawBindings
-        m_passReads.range.end = std::max(m_passReads.range.end, a.range.end);
-        m_passReads.stages |= a.stages;
+        if (!joinPassReads(*use)) [[unlikely]] return false;
         m_passTrackedSets |= untracked;
     }
     m_graphicsSetUses[s] = use;
