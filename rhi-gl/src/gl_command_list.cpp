@@ -473,8 +473,9 @@ void CommandList::setBindingSetImpl(uint32_t set, const BindingSetHandle& handle
     if (!m_recording || &typeid(*handle) != &typeid(BindingSet) || m_commandCount == m_commandCapacity) [[unlikely]]
         return setBindingSetGeneral(set, handle);
     auto* bindings = static_cast<BindingSet*>(handle.get());
-    if (bindings->owner() != m_context.get() || !m_keepAlive.keepIfHeld(bindings->keepMark)) [[unlikely]]
-        return setBindingSetGeneral(set, handle);
+    // A set the list holds passed cast()'s checks when the list first held it (the device that
+    // made it is this list's), so they are not made again.
+    if (!m_keepAlive.keepIfHeld(bindings->keepMark)) [[unlikely]] return setBindingSetGeneral(set, handle);
     bindRecordedSet(set, bindings);
 }
 

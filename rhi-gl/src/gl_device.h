@@ -429,10 +429,10 @@ private:
     // Under m_validatedMutex: `check` is the last one found or added.
     void noteLastValidated(const Validated* check) const;
 
-    const Context* m_owner;                                   // first line
     mutable std::atomic<uint64_t> m_lastPlainCheck{0};        // first line; 0: none
     ReplayState m_replay;                                     // the rest of the first line
     static_assert(sizeof(ReplayState) == 24, "the first line holds the replay state");
+    const Context* m_owner;   // for cast(): a bind of a set the list holds does not check it again
     mutable std::atomic<const Validated*> m_lastValidated{nullptr};
     std::vector<BufferRange> m_bufferRanges;   // all of them
     BindingSetDesc m_desc;

@@ -63,7 +63,18 @@ struct ReflectedBinding {
 struct DescriptorSetLayoutInfo {
     VkDescriptorSetLayout layout = VK_NULL_HANDLE;
     std::vector<ReflectedBinding> bindings;
+    // A one-binding layout: the pipeline stages that read it (a binding set's one read, see
+    // BindingSet::LayoutUse::onlyRead), here where a draw finds it next to `layout`.
+    VkPipelineStageFlags onlyBindingStages = 0;
 };
+
+inline VkPipelineStageFlags pipelineStagesOf(VkShaderStageFlags shaderStages) {
+    VkPipelineStageFlags stages = 0;
+    if (shaderStages & VK_SHADER_STAGE_VERTEX_BIT) stages |= VK_PIPELINE_STAGE_VERTEX_SHADER_BIT;
+    if (shaderStages & VK_SHADER_STAGE_FRAGMENT_BIT) stages |= VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT;
+    if (shaderStages & VK_SHADER_STAGE_COMPUTE_BIT) stages |= VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
+    return stages;
+}
 
 // The instance, device and queue, shared by every object of one IDevice.
 class Context {
@@ -436,15 +447,22 @@ public:
     ~BindingSet() override;
     const BindingSetDesc& desc() const override { return m_desc; }
 
+    // A set's one read when that is all a draw tracks of it (one access, no texture to check, no
+    // write): the straight-line paths' whole test (joinPassReads). Its stages are the layout's
+    // (DescriptorSetLayoutInfo::onlyBindingStages).
+    struct OnlyRead {
+        const void* resource = nullptr;   // null: the set has no such read
+        KeyRange range;
+    };
     // The descriptor set holding these resources for one set layout, and what a command using
     // it reads and writes. Never moves once created (`accesses` may point into it).
-    // What a bind and the next draw/dispatch read comes first: a bind reads the first cache line
-    // (the object is aligned to one: its header, the owner, layout and set), the draw or dispatch
-    // `accesses` and `hasTextureItems` at the line's end and the next one's start, where
-    // fewAccesses[0] lies too.
+    // What a bind reads comes first: for the first use, which lies inline, that is the set's
+    // first cache line (bindBytes), as is all the tracking of a one-read set; a general draw or
+    // dispatch reads `accesses` and `hasTextureItems` in the next one.
     struct LayoutUse {
-        VkDescriptorSetLayout layout = VK_NULL_HANDLE;
+        std::atomic<VkDescriptorSetLayout> layout{VK_NULL_HANDLE};   // stored last: the use is ready
         VkDescriptorSet set = VK_NULL_HANDLE;
+        OnlyRead onlyRead;
         std::span<const ResourceAccess> accesses;
         bool hasTextureItems = false;                  // !textureItems.empty(), next to the rest
         std::array<ResourceAccess, 2> fewAccesses{};   // most sets: no second allocation to visit
@@ -453,31 +471,40 @@ public:
         // The texture items the layout's shaders use, for the view-overlap check at draw/dispatch.
         std::vector<const BindingItem*> textureItems;
     };
-    // Written on first use; the last one used is found without a lock (binds are hot).
+    // Written on first use.
     const LayoutUse& useWith(const DescriptorSetLayoutInfo& layout, uint32_t set) {
-        const LayoutUse* last = m_last.load(std::memory_order_acquire);
-        if (last && last->layout == layout.layout) return *last;
+        if (const LayoutUse* use = findUse(layout.layout)) return *use;
         return createOrFind(layout, set);
     }
 
-    // The use for `layout` when it is the last one used (binds are hot), else null.
-    const LayoutUse* lastUseWith(VkDescriptorSetLayout layout) const {
+    // The use for `layout`, found without a lock (binds are hot) when it is the first one (usually
+    // the only one; then nothing outside the set's first line is read) or the last one used, else
+    // null.
+    const LayoutUse* findUse(VkDescriptorSetLayout layout) const {
+        if (m_firstUse.layout.load(std::memory_order_acquire) == layout) return &m_firstUse;
         const LayoutUse* last = m_last.load(std::memory_order_acquire);
-        return last && last->layout == layout ? last : nullptr;
+        return last && last->layout.load(std::memory_order_relaxed) == layout ? last : nullptr;
     }
 
     // Starts loading what the next draw / dispatch will read of this set (its accesses), so the
     // cache miss overlaps the Vulkan calls in between. Address arithmetic only, no load.
     void prefetchFirstUse() const { __builtin_prefetch(m_firstUse.fewAccesses.data()); }
 
-    // The members a bind touches come first, next to the object's header: binding sets are
-    // many, and each bind of a different one may miss the cache.
+    // What a bind touches comes first, next to the object's header: binding sets are many, and
+    // each bind of a different one may miss the cache. The byte after the last one a bind of
+    // the first use reads, from the set's start: at most 64, one cache line
+    // (tests/rhi/hazard_tracking_test.cpp checks it).
     KeepMark keepMark;
+    size_t bindBytes() const {
+        return size_t(reinterpret_cast<const std::byte*>(&m_firstUse.onlyRead + 1) -
+                      reinterpret_cast<const std::byte*>(this));
+    }
+    const LayoutUse& firstUse() const { return m_firstUse; }
 
 private:
-    std::atomic<const LayoutUse*> m_last{nullptr};
-    const Context* m_owner;   // m_context, in the line a bind reads (checked on every bind)
-    LayoutUse m_firstUse;     // the first layout used (usually the only one), inline
+    LayoutUse m_firstUse;   // the first layout used (usually the only one), inline
+    std::atomic<const LayoutUse*> m_last{nullptr};   // the last use found by createOrFind
+    const Context* m_owner;   // m_context without the indirection, for native()
 
     const LayoutUse& createOrFind(const DescriptorSetLayoutInfo& layout, uint32_t set);
     ContextPtr m_context;
@@ -550,7 +577,7 @@ private:
         if (m_state != State::Recording) [[unlikely]] throwNotRecording(call);
     }
     void requireOutsideRenderPass(std::string_view call) const {
-        if (m_state != State::Recording || m_inRenderPass) [[unlikely]] throwNotRecordingOrInPass(call);
+        if (m_state != State::Recording || inRenderPass()) [[unlikely]] throwNotRecordingOrInPass(call);
     }
     [[noreturn]] void throwNotRecording(std::string_view call) const;
     void requireInsideRenderPass(std::string_view call) const;
@@ -600,9 +627,9 @@ private:
     void trackVertexBuffers(const Pipeline& pipeline);
     // Hands the reads gathered in m_passReads to the hazard tracker.
     void flushPassReads();
-    // Widens m_passReads (same resource) by `read`.
-    void widenPassReads(const ResourceAccess& read);
-    bool joinPassReads(const BindingSet::LayoutUse& use);
+    // Widens m_passReads (same resource) by a read of `range` in `stages`.
+    void widenPassReads(const KeyRange& range, VkPipelineStageFlags stages);
+    bool joinPassReads(const BindingSet::LayoutUse& use, const DescriptorSetLayoutInfo& layout);
     // Barrier first if any of `accesses` conflicts with what was tracked, then tracks them.
     void access(std::initializer_list<ResourceAccess> accesses);
 
@@ -635,7 +662,18 @@ private:
     std::vector<TimerUse> m_timers;
     TimerUse& timerUse(const TimerQueryHandle& timer);
 
-    bool m_inRenderPass = false;
+    // What stands between a draw and its straight-line path (drawStateBound): one bit per piece of
+    // draw-time work not done, set by whatever undoes it and cleared where it is done, so that a
+    // draw tests all of them in one word.
+    enum DrawNeed : uint32_t {
+        kNeedsRenderPass = 1u,       // no render pass is open (a pass opens only while recording)
+        kNeedsStateCheck = 2u,       // checkDrawState has not passed since the pipeline, pass or vertex buffers changed
+        kNeedsVertexTracking = 4u,   // the bound vertex buffers are not tracked for this pass
+        kNeedsSets = 8u,             // a set the pipeline uses is not bound, or not tracked for this pass
+        kNeedsEverything = 15u,
+    };
+    uint32_t m_drawNeeds = kNeedsEverything;
+    bool inRenderPass() const { return (m_drawNeeds & kNeedsRenderPass) == 0; }
     RenderPassDesc m_passDesc;   // the open pass's attachments, for the view-overlap check
     std::vector<UsedBinding> m_usedTextures;   // scratch for checkViewOverlaps
     std::vector<Format> m_passColorFormats;
@@ -658,10 +696,9 @@ private:
     uint64_t m_indexOffset = 0;
     VkIndexType m_indexType = VK_INDEX_TYPE_UINT16;
     // Draw-time work done once per render pass / state change rather than per draw: the state
-    // checks, and tracking what the draws read (no barrier is possible inside a pass anyway).
-    bool m_drawStateChecked = false;
+    // checks, and tracking what the draws read (no barrier is possible inside a pass anyway; see
+    // also m_drawNeeds).
     uint32_t m_passTrackedSets = 0;   // bit s: set s's accesses are tracked for this pass
-    bool m_passTrackedVertices = false;
     bool m_passTrackedIndices = false;
     // Reads of the open pass's draws from one resource, gathered as one range (flushPassReads).
     ResourceAccess m_passReads;

@@ -2,6 +2,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cassert>
 
 #include "vulkan_backend.h"
 
@@ -37,14 +38,6 @@ const char* viewTypeName(VkImageViewType type) {
         case VK_IMAGE_VIEW_TYPE_CUBE_ARRAY: return "cube array";
         default: return "other";
     }
-}
-
-VkPipelineStageFlags pipelineStagesOf(VkShaderStageFlags shaderStages) {
-    VkPipelineStageFlags stages = 0;
-    if (shaderStages & VK_SHADER_STAGE_VERTEX_BIT) stages |= VK_PIPELINE_STAGE_VERTEX_SHADER_BIT;
-    if (shaderStages & VK_SHADER_STAGE_FRAGMENT_BIT) stages |= VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT;
-    if (shaderStages & VK_SHADER_STAGE_COMPUTE_BIT) stages |= VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
-    return stages;
 }
 
 VkImageViewType toVkViewType(TextureDimension dim) {
@@ -113,7 +106,7 @@ BindingSet::~BindingSet() {
 
 const BindingSet::LayoutUse& BindingSet::createOrFind(const DescriptorSetLayoutInfo& layout, uint32_t set) {
     std::lock_guard lock(m_mutex);
-    if (m_firstUse.layout == layout.layout) {
+    if (m_firstUse.layout.load(std::memory_order_relaxed) == layout.layout) {
         m_last.store(&m_firstUse, std::memory_order_release);
         return m_firstUse;
     }
@@ -196,7 +189,7 @@ const BindingSet::LayoutUse& BindingSet::createOrFind(const DescriptorSetLayoutI
     }
     vkUpdateDescriptorSets(m_context->device, uint32_t(writes.size()), writes.data(), 0, nullptr);
     LayoutUse* use = &m_firstUse;
-    if (m_firstUse.layout)
+    if (m_firstUse.layout.load(std::memory_order_relaxed))
         use = m_otherUses.emplace(layout.layout, std::make_unique<LayoutUse>()).first->second.get();
     use->set = allocation.set;
     use->pool = allocation.pool;
@@ -210,7 +203,12 @@ const BindingSet::LayoutUse& BindingSet::createOrFind(const DescriptorSetLayoutI
         for (size_t i = 0; i < items.size(); ++i) use->manyAccesses.push_back(accessOf(*items[i], layout.bindings[i]));
         use->accesses = use->manyAccesses;
     }
-    use->layout = layout.layout;   // last: readers under the lock match on it
+    if (!use->hasTextureItems && use->accesses.size() == 1 && !use->accesses[0].write) {
+        const ResourceAccess& read = use->accesses[0];
+        assert(read.stages == layout.onlyBindingStages);   // what joinPassReads takes instead of reading it here
+        use->onlyRead = {read.resource, read.range};
+    }
+    use->layout.store(layout.layout, std::memory_order_release);   // last: findUse and readers under the lock match on it
     m_last.store(use, std::memory_order_release);
     return *use;
 }

@@ -90,7 +90,7 @@ void CommandList::throwNotRecording(std::string_view call) const {
 
 void CommandList::requireInsideRenderPass(std::string_view call) const {
     requireRecording(call);
-    if (!m_inRenderPass)
+    if (!inRenderPass())
         throw Error(ErrorCode::InvalidUsage, fmt::format("{}: needs a render pass (the next one would reset it); call "
                                                          "beginRenderPass() first", call));
 }
@@ -111,7 +111,7 @@ void CommandList::beginImpl() {
     m_state = State::Recording;
     m_keepAlive.beginRecording();
     m_hazards.reset();
-    m_inRenderPass = false;
+    m_drawNeeds = kNeedsEverything;
     m_graphicsPipeline = nullptr;
     m_computePipeline = nullptr;
     m_bindingSets = {};
@@ -120,7 +120,6 @@ void CommandList::beginImpl() {
     m_dirtyGraphicsSets = m_dirtyComputeSets = 0;
     m_vertexBindings.clear();
     m_indexBuffer = nullptr;
-    m_drawStateChecked = false;
     m_passReads.resource = nullptr;
     m_debugGroupDepth = 0;
 }
@@ -225,11 +224,9 @@ void CommandList::beginRenderPassImpl(const RenderPassDesc& desc) {
     info.pDepthAttachment = desc.depth ? &depthInfo : nullptr;
     m_context->cmdBeginRendering(m_commands, &info);
 
-    m_inRenderPass = true;
+    m_drawNeeds = kNeedsEverything & ~kNeedsRenderPass;
     m_passDesc = desc;
-    m_drawStateChecked = false;
     m_passTrackedSets = 0;
-    m_passTrackedVertices = false;
     m_passTrackedIndices = false;
     m_passColorFormats = std::move(colorFormats);
     m_passDepthFormat = desc.depth ? desc.depth->texture->desc().format : Format::Unknown;
@@ -239,10 +236,10 @@ void CommandList::beginRenderPassImpl(const RenderPassDesc& desc) {
 
 void CommandList::endRenderPass() {
     requireRecording("endRenderPass()");
-    if (!m_inRenderPass) throw Error(ErrorCode::InvalidUsage, "endRenderPass(): no render pass is open");
+    if (!inRenderPass()) throw Error(ErrorCode::InvalidUsage, "endRenderPass(): no render pass is open");
     flushPassReads();
     m_context->cmdEndRendering(m_commands);
-    m_inRenderPass = false;
+    m_drawNeeds |= kNeedsRenderPass;
     m_passDesc = {};
 }
 
@@ -272,9 +269,8 @@ void CommandList::setPipeline(const PipelineHandle& handle) {
     } else {
         m_graphicsPipeline = pipeline;
         m_dirtyGraphicsSets = ~0u;
-        m_drawStateChecked = false;
         m_passTrackedSets = 0;   // another pipeline may use the sets differently
-        m_passTrackedVertices = false;
+        m_drawNeeds |= kNeedsStateCheck | kNeedsVertexTracking | kNeedsSets;
         m_context->cmdBindPipeline(m_commands, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline->pipeline);
     }
 }
@@ -283,13 +279,14 @@ void CommandList::setPipeline(const PipelineHandle& handle) {
 // which nothing is left to do), so it keeps no registers across a call. Anything unusual (not
 // recording, an object of another backend, a type_info that is a different object for the same
 // type, as across shared libraries, or a set the list does not hold yet) takes the checked path.
+// A set the list holds passed that path's checks when the list first held it (the device that
+// made it is this list's), so they are not made again.
 void CommandList::setBindingSetImpl(uint32_t set, const BindingSetHandle& bindings) {   // set < kMaxBindingSets
     IBindingSet* object = bindings.get();   // not null: the front end checked
-    if (m_state != State::Recording || &typeid(*object) != &typeid(BindingSet) ||
-        static_cast<BindingSet*>(object)->owner() != m_context.get()) [[unlikely]]
+    if (m_state != State::Recording || &typeid(*object) != &typeid(BindingSet)) [[unlikely]]
         return setBindingSetChecked(set, bindings);
     auto* bindingSet = static_cast<BindingSet*>(object);
-    if (m_bindingSets[set] == bindingSet) return;   // already bound
+    if (m_bindingSets[set] == bindingSet) return;   // already bound, so held
     if (!m_keepAlive.keepIfHeld(bindingSet->keepMark)) [[unlikely]] return setBindingSetChecked(set, bindings);
     bindHeldSet(set, *bindingSet);
 }
@@ -313,6 +310,7 @@ void CommandList::bindSet(uint32_t set, const BindingSetHandle& bindings, Bindin
     bindingSet.prefetchFirstUse();
     m_dirtyGraphicsSets |= 1u << set;
     m_passTrackedSets &= ~(1u << set);
+    m_drawNeeds |= kNeedsSets;
 }
 
 // The set a pass changes per draw (a uniform slice per draw), bound now rather than at the draw,
@@ -324,12 +322,14 @@ void CommandList::bindSet(uint32_t set, const BindingSetHandle& bindings, Bindin
 // miss one. Anything else is left to the draw, which binds and tracks what is dirty.
 [[gnu::always_inline]] inline bool CommandList::bindInPass(uint32_t set, const BindingSet& bindingSet) {
     const Pipeline* pipeline = m_graphicsPipeline;
-    if (!m_inRenderPass || !pipeline || pipeline->usedSets != 1u << set) return false;
-    const BindingSet::LayoutUse* use = bindingSet.lastUseWith(pipeline->sets[set]->layout);
-    if (!use || !joinPassReads(*use)) return false;
+    if (!inRenderPass() || !pipeline || pipeline->usedSets != 1u << set) return false;
+    const DescriptorSetLayoutInfo& layout = *pipeline->sets[set];
+    const BindingSet::LayoutUse* use = bindingSet.findUse(layout.layout);
+    if (!use || !joinPassReads(*use, layout)) return false;
     m_passTrackedSets |= 1u << set;
     m_graphicsSetUses[set] = use;
     m_dirtyGraphicsSets &= ~(1u << set);
+    m_drawNeeds &= ~kNeedsSets;   // the pipeline's one set is this one, now bound and tracked
     m_context->cmdBindDescriptorSets(m_commands, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline->layout, set, 1, &use->set, 0,
                                      nullptr);
     return true;
@@ -367,8 +367,7 @@ void CommandList::setVertexBufferImpl(uint32_t slot, const BufferHandle& handle,
     m_keepAlive.keep(handle, buffer->keepMark);
     m_context->cmdBindVertexBuffers(m_commands, slot, 1, &buffer->buffer, &offset);
     binding = {buffer, offset};
-    m_drawStateChecked = false;
-    m_passTrackedVertices = false;
+    m_drawNeeds |= kNeedsStateCheck | kNeedsVertexTracking;
 }
 
 // Type, usage and offset validated by the front (rhi/src/validation.cpp).
@@ -402,7 +401,7 @@ void CommandList::checkDrawState(std::string_view call) {
                                     "setVertexBuffer({}, ...)", call, m_graphicsPipeline->debugName, layout.slot,
                                     layout.slot));
     m_drawLimits = drawRangeLimits(desc, [this](uint32_t slot) { return boundVertexBuffer(slot); });
-    m_drawStateChecked = true;
+    m_drawNeeds &= ~kNeedsStateCheck;
 }
 
 [[gnu::always_inline]] inline void CommandList::checkViewOverlaps(
@@ -433,13 +432,14 @@ void CommandList::throwDrawOutsidePass(std::string_view call) const {
 // Draws cannot be preceded by barriers (beginRenderPass made earlier writes visible), so what
 // they access is only tracked, for the commands after the pass; each binding once per pass.
 [[gnu::always_inline]] inline void CommandList::prepareDraw(std::string_view call) {
-    if (m_state != State::Recording || !m_inRenderPass) [[unlikely]] throwDrawOutsidePass(call);
-    if (!m_drawStateChecked) [[unlikely]] checkDrawState(call);
+    if (m_state != State::Recording || !inRenderPass()) [[unlikely]] throwDrawOutsidePass(call);
+    if (m_drawNeeds & kNeedsStateCheck) [[unlikely]] checkDrawState(call);
     Pipeline& pipeline = *m_graphicsPipeline;
     if (m_dirtyGraphicsSets & pipeline.usedSets)
         bindDescriptorSets(pipeline, VK_PIPELINE_BIND_POINT_GRAPHICS, m_dirtyGraphicsSets, m_graphicsSetUses);
     if (const uint32_t untracked = pipeline.usedSets & ~m_passTrackedSets) trackDrawBindings(pipeline, untracked, call);
-    if (!m_passTrackedVertices) [[unlikely]] trackVertexBuffers(pipeline);
+    m_drawNeeds &= ~kNeedsSets;
+    if (m_drawNeeds & kNeedsVertexTracking) [[unlikely]] trackVertexBuffers(pipeline);
 }
 
 [[gnu::always_inline]] inline void CommandList::trackDrawBindings(const Pipeline& pipeline, uint32_t untracked,
@@ -451,7 +451,7 @@ void CommandList::throwDrawOutsidePass(std::string_view call) const {
             if (a.write) {
                 m_hazards.record(a);
             } else if (a.resource == m_passReads.resource) {
-                widenPassReads(a);
+                widenPassReads(a.range, a.stages);
             } else {
                 flushPassReads();
                 m_passReads = a;
@@ -463,20 +463,20 @@ void CommandList::throwDrawOutsidePass(std::string_view call) const {
 // Many draws read slices of one buffer (a uniform slice per draw): the hull of what they read
 // reaches the tracker once, at the end of the pass. Wider than the slices, it can only add a
 // barrier, never miss one.
-[[gnu::always_inline]] inline void CommandList::widenPassReads(const ResourceAccess& read) {
-    m_passReads.range.begin = std::min(m_passReads.range.begin, read.range.begin);
-    m_passReads.range.end = std::max(m_passReads.range.end, read.range.end);
-    m_passReads.stages |= read.stages;
+[[gnu::always_inline]] inline void CommandList::widenPassReads(const KeyRange& range, VkPipelineStageFlags stages) {
+    m_passReads.range.begin = std::min(m_passReads.range.begin, range.begin);
+    m_passReads.range.end = std::max(m_passReads.range.end, range.end);
+    m_passReads.stages |= stages;
 }
 
-// The straight-line paths' tracking of one set: when it has no texture (so no view-overlap check)
-// and its one access reads the resource the pass reads already, that read joins the pass's hull;
-// anything else returns false and changes nothing.
-[[gnu::always_inline]] inline bool CommandList::joinPassReads(const BindingSet::LayoutUse& use) {
-    if (use.hasTextureItems || use.accesses.size() != 1) return false;
-    const ResourceAccess& a = use.accesses[0];
-    if (a.write || a.resource != m_passReads.resource) return false;
-    widenPassReads(a);
+// The straight-line paths' tracking of one set (`use`, for `layout`): when it has no texture (so
+// no view-overlap check) and its one access reads the resource the pass reads already, that read
+// joins the pass's hull; anything else returns false and changes nothing.
+[[gnu::always_inline]] inline bool CommandList::joinPassReads(const BindingSet::LayoutUse& use,
+                                                              const DescriptorSetLayoutInfo& layout) {
+    const BindingSet::OnlyRead& read = use.onlyRead;
+    if (!read.resource || read.resource != m_passReads.resource) return false;
+    widenPassReads(read.range, layout.onlyBindingStages);
     return true;
 }
 
@@ -491,7 +491,7 @@ void CommandList::trackVertexBuffers(const Pipeline& pipeline) {
         m_hazards.record(bufferAccess(*binding.buffer, binding.offset, binding.buffer->desc().size - binding.offset,
                                       VK_PIPELINE_STAGE_VERTEX_INPUT_BIT, VK_ACCESS_VERTEX_ATTRIBUTE_READ_BIT, false));
     }
-    m_passTrackedVertices = true;
+    m_drawNeeds &= ~kNeedsVertexTracking;
 }
 
 // The common draw, straight-line: the draw state was checked and at most one of the pipeline's
@@ -501,23 +501,26 @@ void CommandList::trackVertexBuffers(const Pipeline& pipeline) {
 // check is exact: the changed set adds no texture, so the textures in use are those checked
 // when the other sets were tracked in this pass.
 [[gnu::always_inline]] inline bool CommandList::prepareDrawFast() {
-    if (m_state != State::Recording || !m_inRenderPass || !m_drawStateChecked || !m_passTrackedVertices) [[unlikely]]
-        return false;
+    if (m_drawNeeds & ~kNeedsSets) [[unlikely]] return false;   // kNeedsSets is what this path may do
     const Pipeline& pipeline = *m_graphicsPipeline;
     const uint32_t changed = m_dirtyGraphicsSets & pipeline.usedSets;
     const uint32_t untracked = pipeline.usedSets & ~m_passTrackedSets;
     if ((changed & (changed - 1)) != 0 || (untracked & ~changed) != 0) [[unlikely]] return false;
-    if (!changed) return true;   // then nothing is untracked either
+    if (!changed) {   // then nothing is untracked either
+        m_drawNeeds = 0;
+        return true;
+    }
     const uint32_t s = uint32_t(std::countr_zero(changed));
     const BindingSet* bindingSet = m_bindingSets[s];
-    const BindingSet::LayoutUse* use = bindingSet ? bindingSet->lastUseWith(pipeline.sets[s]->layout) : nullptr;
+    const BindingSet::LayoutUse* use = bindingSet ? bindingSet->findUse(pipeline.sets[s]->layout) : nullptr;
     if (!use) [[unlikely]] return false;
     if (untracked) {   // the changed set; nothing is modified before the checks pass
-        if (!joinPassReads(*use)) [[unlikely]] return false;
+        if (!joinPassReads(*use, *pipeline.sets[s])) [[unlikely]] return false;
         m_passTrackedSets |= untracked;
     }
     m_graphicsSetUses[s] = use;
     m_dirtyGraphicsSets = 0;   // as bindDescriptorSets: every set the pipeline uses is bound
+    m_drawNeeds = 0;
     // Last, so that only `this` is needed after this call into the driver.
     m_context->cmdBindDescriptorSets(m_commands, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.layout, s, 1, &use->set, 0,
                                      nullptr);
@@ -534,9 +537,7 @@ void CommandList::throwDrawOutOfRange(std::string_view call, bool indexed) const
 }
 
 [[gnu::always_inline]] inline bool CommandList::drawStateBound() const {
-    if (m_state != State::Recording || !m_inRenderPass || !m_drawStateChecked || !m_passTrackedVertices) return false;
-    const uint32_t used = m_graphicsPipeline->usedSets;   // a pipeline is set: checkDrawState passed
-    return (m_dirtyGraphicsSets & used) == 0 && (used & ~m_passTrackedSets) == 0;
+    return m_drawNeeds == 0;
 }
 
 // A draw whose sets are bound and tracked (setBindingSet bound the per-draw set: bindInPass) calls
@@ -632,14 +633,14 @@ void CommandList::prepareDispatchGeneral() {
 // and, if it changed, it has no textures to check; one access to track. Everything else, and
 // every error, is prepareDispatchGeneral's.
 [[gnu::always_inline]] inline bool CommandList::prepareDispatchFast() {
-    if (m_state != State::Recording || m_inRenderPass || !m_computePipeline) [[unlikely]] return false;
+    if (m_state != State::Recording || inRenderPass() || !m_computePipeline) [[unlikely]] return false;
     const Pipeline& pipeline = *m_computePipeline;
     const uint32_t sets = pipeline.usedSets;
     if (sets == 0 || (sets & (sets - 1)) != 0) [[unlikely]] return false;
     const uint32_t s = uint32_t(std::countr_zero(sets));
     if (m_dirtyComputeSets & sets) {
         const BindingSet* bindingSet = m_bindingSets[s];
-        const BindingSet::LayoutUse* use = bindingSet ? bindingSet->lastUseWith(pipeline.sets[s]->layout) : nullptr;
+        const BindingSet::LayoutUse* use = bindingSet ? bindingSet->findUse(pipeline.sets[s]->layout) : nullptr;
         if (!use || use->hasTextureItems) [[unlikely]] return false;
         m_computeSetUses[s] = use;
         m_dirtyComputeSets = 0;   // as bindDescriptorSets: every set the pipeline uses is bound

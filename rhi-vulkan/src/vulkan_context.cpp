@@ -204,6 +204,7 @@ const DescriptorSetLayoutInfo& Context::descriptorSetLayout(const std::vector<Re
     info.pBindings = vkBindings.data();
     auto result = std::make_unique<DescriptorSetLayoutInfo>();
     result->bindings = bindings;
+    if (bindings.size() == 1) result->onlyBindingStages = pipelineStagesOf(bindings[0].stages);
     check(vkCreateDescriptorSetLayout(device, &info, nullptr, &result->layout), ErrorCode::InvalidDescription,
           "vkCreateDescriptorSetLayout");
     return *m_layouts.emplace(key, std::move(result)).first->second;
