@@ -591,6 +591,7 @@ private:
     // Whether a draw now needs no bind, tracking or check besides its range (prepareDraw would do
     // nothing): then draw() is the range check and the vkCmdDraw.
     bool drawStateBound() const;
+    bool indexedDrawStateBound() const;
     [[gnu::noinline]] void drawPrepared(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex,
                                         uint32_t firstInstance);
     [[gnu::noinline]] void drawIndexedPrepared(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex,
@@ -670,7 +671,8 @@ private:
         kNeedsStateCheck = 2u,       // checkDrawState has not passed since the pipeline, pass or vertex buffers changed
         kNeedsVertexTracking = 4u,   // the bound vertex buffers are not tracked for this pass
         kNeedsSets = 8u,             // a set the pipeline uses is not bound, or not tracked for this pass
-        kNeedsEverything = 15u,
+        kNeedsIndexTracking = 16u,   // drawIndexed only: no index buffer, or it is not tracked for this pass
+        kNeedsEverything = 31u,
     };
     uint32_t m_drawNeeds = kNeedsEverything;
     bool inRenderPass() const { return (m_drawNeeds & kNeedsRenderPass) == 0; }
@@ -699,7 +701,6 @@ private:
     // checks, and tracking what the draws read (no barrier is possible inside a pass anyway; see
     // also m_drawNeeds).
     uint32_t m_passTrackedSets = 0;   // bit s: set s's accesses are tracked for this pass
-    bool m_passTrackedIndices = false;
     // Reads of the open pass's draws from one resource, gathered as one range (flushPassReads).
     ResourceAccess m_passReads;
     int m_debugGroupDepth = 0;

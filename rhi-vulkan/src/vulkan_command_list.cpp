@@ -227,7 +227,6 @@ void CommandList::beginRenderPassImpl(const RenderPassDesc& desc) {
     m_drawNeeds = kNeedsEverything & ~kNeedsRenderPass;
     m_passDesc = desc;
     m_passTrackedSets = 0;
-    m_passTrackedIndices = false;
     m_passColorFormats = std::move(colorFormats);
     m_passDepthFormat = desc.depth ? desc.depth->texture->desc().format : Format::Unknown;
     setViewportImpl({0, 0, float(extent->width), float(extent->height), 0, 1});
@@ -382,7 +381,7 @@ void CommandList::setIndexBufferImpl(const BufferHandle& handle, IndexType type,
     m_indexOffset = offset;
     m_indexType = indexType;
     m_indexLimit = indexCountLimit(*buffer, offset, type);
-    m_passTrackedIndices = false;
+    m_drawNeeds |= kNeedsIndexTracking;
 }
 
 void CommandList::checkDrawState(std::string_view call) {
@@ -501,13 +500,14 @@ void CommandList::trackVertexBuffers(const Pipeline& pipeline) {
 // check is exact: the changed set adds no texture, so the textures in use are those checked
 // when the other sets were tracked in this pass.
 [[gnu::always_inline]] inline bool CommandList::prepareDrawFast() {
-    if (m_drawNeeds & ~kNeedsSets) [[unlikely]] return false;   // kNeedsSets is what this path may do
+    // kNeedsSets is what this path may do; kNeedsIndexTracking is drawIndexed's.
+    if (m_drawNeeds & ~(kNeedsSets | kNeedsIndexTracking)) [[unlikely]] return false;
     const Pipeline& pipeline = *m_graphicsPipeline;
     const uint32_t changed = m_dirtyGraphicsSets & pipeline.usedSets;
     const uint32_t untracked = pipeline.usedSets & ~m_passTrackedSets;
     if ((changed & (changed - 1)) != 0 || (untracked & ~changed) != 0) [[unlikely]] return false;
     if (!changed) {   // then nothing is untracked either
-        m_drawNeeds = 0;
+        m_drawNeeds &= ~kNeedsSets;
         return true;
     }
     const uint32_t s = uint32_t(std::countr_zero(changed));
@@ -520,7 +520,7 @@ void CommandList::trackVertexBuffers(const Pipeline& pipeline) {
     }
     m_graphicsSetUses[s] = use;
     m_dirtyGraphicsSets = 0;   // as bindDescriptorSets: every set the pipeline uses is bound
-    m_drawNeeds = 0;
+    m_drawNeeds &= ~kNeedsSets;
     // Last, so that only `this` is needed after this call into the driver.
     m_context->cmdBindDescriptorSets(m_commands, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.layout, s, 1, &use->set, 0,
                                      nullptr);
@@ -537,7 +537,13 @@ void CommandList::throwDrawOutOfRange(std::string_view call, bool indexed) const
 }
 
 [[gnu::always_inline]] inline bool CommandList::drawStateBound() const {
-    return m_drawNeeds == 0;
+    return (m_drawNeeds & ~kNeedsIndexTracking) == 0;
+}
+
+// The same for drawIndexed, the index buffer bound and tracked too, and no index values to note
+// (validation off).
+[[gnu::always_inline]] inline bool CommandList::indexedDrawStateBound() const {
+    return m_drawNeeds == 0 && !indexValueLog();
 }
 
 // A draw whose sets are bound and tracked (setBindingSet bound the per-draw set: bindInPass) calls
@@ -565,7 +571,7 @@ void CommandList::drawPrepared(uint32_t vertexCount, uint32_t instanceCount, uin
 // note, the range check and the vkCmdDrawIndexed.
 void CommandList::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex, int32_t vertexOffset,
                               uint32_t firstInstance) {
-    if (!drawStateBound() || !m_indexBuffer || !m_passTrackedIndices || indexValueLog() ||
+    if (!indexedDrawStateBound() ||
         indexedDrawExceeds(m_drawLimits, m_indexLimit, firstIndex, indexCount, firstInstance, instanceCount)) [[unlikely]]
         return drawIndexedPrepared(indexCount, instanceCount, firstIndex, vertexOffset, firstInstance);
     m_context->cmdDrawIndexed(m_commands, indexCount, instanceCount, firstIndex, vertexOffset, firstInstance);
@@ -577,10 +583,10 @@ void CommandList::drawIndexedPrepared(uint32_t indexCount, uint32_t instanceCoun
     if (!prepareDrawFast()) [[unlikely]] prepareDrawGeneral("drawIndexed()");
     if (!m_indexBuffer)
         throw Error(ErrorCode::InvalidUsage, "drawIndexed(): no index buffer is bound; call setIndexBuffer()");
-    if (!m_passTrackedIndices) {
+    if (m_drawNeeds & kNeedsIndexTracking) {
         m_hazards.record(bufferAccess(*m_indexBuffer, m_indexOffset, m_indexBuffer->desc().size - m_indexOffset,
                                       VK_PIPELINE_STAGE_VERTEX_INPUT_BIT, VK_ACCESS_INDEX_READ_BIT, false));
-        m_passTrackedIndices = true;
+        m_drawNeeds &= ~kNeedsIndexTracking;
     }
     const DrawArguments& a = m_drawArguments;
     if (indexedDrawExceeds(m_drawLimits, m_indexLimit, a.first, a.count, a.firstInstance, a.instances)) [[unlikely]]

@@ -269,6 +269,43 @@ TEST_P(HazardTrackingTest, DrawsAlternatingBetweenTwoBuffersThenOverwritingBoth)
     EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(after), expectedAfter, 4)) << "the pass after the writes";
 }
 
+// An index buffer changed between indexed draws of a pass is tracked as read by that pass, as the
+// first one is (the Vulkan backend's straight-line drawIndexed takes a tracked index buffer only):
+// overwriting the second after the pass waits for the pass (write after read; Vulkan's
+// synchronization validation reports the hazard otherwise), and the next pass sees the new indices.
+TEST_P(HazardTrackingTest, IndexBuffersSwitchedInAPassAreTrackedForLaterWrites) {
+    const std::array<float, 6> wholeTarget{-1, -1, 3, -1, -1, 3};
+    std::vector<ColorVertex> redThenGreen = triangle(wholeTarget, {1, 0, 0, 1});
+    for (const ColorVertex& v : triangle(wholeTarget, {0, 1, 0, 1})) redThenGreen.push_back(v);
+    BufferHandle vertices = createBufferFrom(BufferUsage::Vertex, redThenGreen);
+    BufferHandle redIndices = createBufferFrom(BufferUsage::Index, std::vector<uint16_t>{0, 1, 2, 0});
+    BufferHandle greenIndices = createBufferFrom(BufferUsage::Index, std::vector<uint16_t>{3, 4, 5, 3});
+    PipelineHandle pipeline = colorPipeline(Format::RGBA8_UNORM);
+    TextureHandle before = createTexture2D(Format::RGBA8_UNORM, 2, 1, TextureUsage::RenderTarget);
+    TextureHandle after = createTexture2D(Format::RGBA8_UNORM, 2, 1, TextureUsage::RenderTarget);
+    auto drawHalves = [&](ICommandList& cmd, const TextureHandle& target) {
+        cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(target)));
+        cmd.setPipeline(pipeline);
+        cmd.setVertexBuffer(0, vertices);
+        cmd.setIndexBuffer(redIndices, IndexType::UInt16);
+        cmd.setScissor({0, 0, 1, 1});
+        cmd.drawIndexed(3);
+        cmd.setIndexBuffer(greenIndices, IndexType::UInt16);
+        cmd.setScissor({1, 0, 1, 1});
+        cmd.drawIndexed(3);
+        cmd.endRenderPass();
+    };
+    const std::vector<uint16_t> nowRed{0, 1, 2, 0};
+    submit([&](ICommandList& cmd) {
+        drawHalves(cmd, before);
+        cmd.writeBuffer(greenIndices, nowRed.data(), nowRed.size() * sizeof(uint16_t), 0);
+        drawHalves(cmd, after);
+    });
+    const Rgba8 r{255, 0, 0, 255}, g{0, 255, 0, 255};
+    EXPECT_EQ(readTextureAs<Rgba8>(before), (std::vector<Rgba8>{r, g})) << "the pass before the write";
+    EXPECT_EQ(readTextureAs<Rgba8>(after), (std::vector<Rgba8>{r, r})) << "the pass after the write";
+}
+
 // Render into a texture, sample it into a second one, then render over the first again (write
 // after read) and sample again: each sampling pass must see the pass recorded just before it.
 TEST_P(HazardTrackingTest, RenderThenSampleThenRenderAgain) {
