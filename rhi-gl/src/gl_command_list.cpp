@@ -91,14 +91,16 @@ BindingSet::BindingSet(const Context& owner, const BindingSetDesc& desc) : m_own
         // Always true for a validated item (GL buffers are at most 2^31 bytes, bindings < 64);
         // checked so that a larger limit one day binds from the vector instead of truncating.
         if (uint64_t(only.offset) <= UINT32_MAX && uint64_t(only.size) <= UINT32_MAX && only.index < 64) {
-            m_replay.offset = uint32_t(only.offset);
-            m_replay.size = uint32_t(only.size);
-            m_replay.buffer = only.buffer;
-            m_replay.index = uint8_t(only.index);
-            m_replay.storage = only.target == GL_SHADER_STORAGE_BUFFER;
+            m_replay.range.offset = uint32_t(only.offset);
+            m_replay.range.size = uint32_t(only.size);
+            m_replay.range.buffer = only.buffer;
+            m_replay.range.index = uint8_t(only.index);
+            m_replay.range.storage = only.target == GL_SHADER_STORAGE_BUFFER;
             m_replay.inlineRange = true;
         }
     }
+    // Then bindingPoints is bindingPointBit(range.index), which replay of the copy works out.
+    m_replay.range.plain = m_replay.inlineRange && !m_replay.hasTextures && m_desc.items.size() == 1;
 }
 
 void BindingSet::noteLastValidated(const Validated* check) const {
@@ -541,7 +543,7 @@ void CommandList::setIndexBufferImpl(const BufferHandle& handle, IndexType type,
 void CommandList::draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance) {
     if (!m_drawReady || m_drawLimits.exceeded(firstVertex, vertexCount, firstInstance, instanceCount)) [[unlikely]]
         return drawChecked(vertexCount, instanceCount, firstVertex, firstInstance);
-    recordDraw<command::BindSetAndDraw>(command::Draw{vertexCount, instanceCount, firstVertex, firstInstance});
+    recordDraw(command::Draw{vertexCount, instanceCount, firstVertex, firstInstance});
 }
 
 void CommandList::drawChecked(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance) {
@@ -552,7 +554,7 @@ void CommandList::drawChecked(uint32_t vertexCount, uint32_t instanceCount, uint
     if (m_drawLimits.exceeded(firstVertex, vertexCount, firstInstance, instanceCount))
         throwDrawOutOfRange({"draw", firstVertex, vertexCount, firstInstance, instanceCount}, false);
     trackShaderAccesses(true, false);
-    recordDraw<command::BindSetAndDraw>(command::Draw{vertexCount, instanceCount, firstVertex, firstInstance});
+    recordDraw(command::Draw{vertexCount, instanceCount, firstVertex, firstInstance});
     m_drawReady = m_pendingWrites.empty() && !found().writesStorage;
 }
 
@@ -561,7 +563,7 @@ void CommandList::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint3
     if (!m_drawReady || !m_indexBuffer || indexValueLog() ||
         indexedDrawExceeds(m_drawLimits, m_indexLimit, firstIndex, indexCount, firstInstance, instanceCount)) [[unlikely]]
         return drawIndexedChecked(indexCount, instanceCount, firstIndex, vertexOffset, firstInstance);
-    recordDraw<command::BindSetAndDrawIndexed>(command::DrawIndexed{indexCount, instanceCount, firstIndex, vertexOffset, firstInstance});
+    recordDraw(command::DrawIndexed{indexCount, instanceCount, firstIndex, vertexOffset, firstInstance});
 }
 
 void CommandList::drawIndexedChecked(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex,
@@ -578,7 +580,7 @@ void CommandList::drawIndexedChecked(uint32_t indexCount, uint32_t instanceCount
         log->noteIndexedDraw(*m_indexBuffer, m_indexOffset, m_indexType, firstIndex, indexCount, vertexOffset,
                              vertexLimit(m_pipeline->graphics(), [this](uint32_t slot) { return boundVertexBuffer(slot); }));
     trackShaderAccesses(true, true);
-    recordDraw<command::BindSetAndDrawIndexed>(command::DrawIndexed{indexCount, instanceCount, firstIndex, vertexOffset, firstInstance});
+    recordDraw(command::DrawIndexed{indexCount, instanceCount, firstIndex, vertexOffset, firstInstance});
     m_drawReady = m_pendingWrites.empty() && !found().writesStorage;
 }
 
@@ -745,7 +747,7 @@ void CommandList::replay(Device& device) {
             device.draw(c.vertexCount, c.instanceCount, c.firstVertex, c.firstInstance);
         }
         void operator()(const command::BindSetAndDraw& c) {
-            device.bindBindingSet(c.set, *c.bindings);
+            device.bindBindingSet(c.range, *c.bindings);
             (*this)(c.draw);
         }
         void operator()(const command::BindSetAndDrawIndexed& c) {

@@ -333,13 +333,29 @@ struct UsedBindings {
     bool usesTextures = false;      // a texture or image
 };
 
-// Every draw that binds a set reads it twice, recording and replay, and both read the same one
-// cache line: the vtable pointer the handle's type check reads, keepMark, the owner, the key of the
-// last passed binding check with no texture and no storage write (which is all a per-draw bind
-// needs to know of the check), then what replay binds: the binding points and a one-buffer set's
-// range. Aligned to a line and laid out so, such a bind touches one line of the set and no other
-// allocation: applications draw with many sets (a uniform slice per draw), so the line is rarely
-// in the first-level cache, and every further line was a further miss per draw.
+// One buffer binding as its glBindBufferRange, in 16 bytes (offset and size fit 32 bits: GL
+// buffers are at most Limits::maxBufferSize = 2^31 bytes; binding points < 64). A binding set of
+// exactly one buffer item holds its range so (BindingSet::ReplayState), and a command binding a
+// set before a draw copies it (command::BindSetAndDraw).
+struct InlineRange {
+    uint32_t offset = 0, size = 0;
+    GLuint buffer = 0;
+    uint8_t index = 0;      // the binding point
+    bool storage = false;   // GL_SHADER_STORAGE_BUFFER, else GL_UNIFORM_BUFFER
+    bool plain = false;     // the set is this range and nothing else: replay binds it from the copy
+    uint8_t set = 0;        // in a command: the set index it binds the set at
+    GLenum target() const { return storage ? GLenum(GL_SHADER_STORAGE_BUFFER) : GLenum(GL_UNIFORM_BUFFER); }
+};
+static_assert(sizeof(InlineRange) == 16);
+
+// A draw that binds a set reads one cache line of it: the vtable pointer the handle's type check
+// reads, keepMark, the key of the last passed binding check with no texture and no storage write
+// (which is all a per-draw bind needs to know of the check), then what replay binds: the binding
+// points and a one-buffer set's range. Recording reads it; replay reads it again, except for a
+// plain set (its one buffer range and nothing else) bound right before a draw, whose range the
+// draw's command carries. Aligned to a line and laid out so, such a bind touches one line of the
+// set and no other allocation: applications draw with many sets (a uniform slice per draw), so
+// the line is rarely in the first-level cache, and every further line was a further miss per draw.
 class alignas(64) BindingSet final : public IBindingSet {
 public:
     BindingSet(const Context& owner, const BindingSetDesc& desc);
@@ -362,19 +378,14 @@ public:
     };
     std::span<const BufferRange> bufferRanges() const { return m_bufferRanges; }
     // What replay reads of a set, in the set's first line. A set of exactly one buffer item, the
-    // common per-draw set, binds it from here (`inlineRange`): then offset, size, buffer, index and
-    // target are bufferRanges()[0]'s (offset and size fit 32 bits: GL buffers are at most
-    // Limits::maxBufferSize = 2^31 bytes). Any other set binds bufferRanges().
+    // common per-draw set, binds it from here (`inlineRange`): then `range` is bufferRanges()[0]
+    // (offset and size fit 32 bits: GL buffers are at most Limits::maxBufferSize = 2^31 bytes).
+    // Any other set binds bufferRanges().
     struct ReplayState {
         uint64_t bindingPoints = 0;
-        uint32_t offset = 0;
-        uint32_t size = 0;
-        GLuint buffer = 0;
-        uint8_t index = 0;   // the binding point (< 64 for every item a set can have inline)
-        bool storage = false;   // GL_SHADER_STORAGE_BUFFER, else GL_UNIFORM_BUFFER
+        InlineRange range;   // its `set` unused here
         bool inlineRange = false;
         bool hasTextures = false;
-        GLenum target() const { return storage ? GLenum(GL_SHADER_STORAGE_BUFFER) : GLenum(GL_UNIFORM_BUFFER); }
     };
     const ReplayState& replayState() const { return m_replay; }
     bool hasTextures() const { return m_replay.hasTextures; }
@@ -431,7 +442,7 @@ private:
 
     mutable std::atomic<uint64_t> m_lastPlainCheck{0};        // first line; 0: none
     ReplayState m_replay;                                     // the rest of the first line
-    static_assert(sizeof(ReplayState) == 24, "the first line holds the replay state");
+    static_assert(sizeof(ReplayState) == 32, "the first line holds the replay state");
     const Context* m_owner;   // for cast(): a bind of a set the list holds does not check it again
     mutable std::atomic<const Validated*> m_lastValidated{nullptr};
     std::vector<BufferRange> m_bufferRanges;   // all of them
@@ -494,7 +505,11 @@ struct EndTimer { TimerQuery* timer; };
 struct PushDebugGroup { uint32_t label; };   // index into CommandList::m_labels
 struct PopDebugGroup {};
 // A set bound right before a draw, recorded as one command: replay dispatches once per draw.
-struct BindSetAndDraw { uint32_t set; const BindingSet* bindings; Draw draw; };
+// BindSetAndDraw copies the set's range (a plain set's is all it binds) while recording reads the
+// set anyway, so that replay binds a plain set without reading it: replay comes a whole list
+// later, and reading the set's line again was one cache line more per draw. (No room for the copy
+// beside an indexed draw: a command stays 48 bytes.)
+struct BindSetAndDraw { const BindingSet* bindings; InlineRange range; Draw draw; };
 struct BindSetAndDrawIndexed { uint32_t set; const BindingSet* bindings; DrawIndexed draw; };
 }  // namespace command
 
@@ -505,6 +520,25 @@ using Command = std::variant<command::BeginRenderPass, command::SetViewport, com
                              command::CopyBufferToTexture, command::CopyTextureToBuffer, command::CopyTexture,
                              command::GenerateMips, command::BeginTimer, command::EndTimer, command::PushDebugGroup,
                              command::PopDebugGroup, command::BindSetAndDraw, command::BindSetAndDrawIndexed>;
+// A draw writes one at recording and reads it at replay: a command per draw stays this small.
+static_assert(sizeof(Command) == 48, "a command grew");
+
+namespace command {
+// The draw recorded right after a set bind, over that bind (CommandList::recordDraw). Written field
+// by field: no copy of the command is read back right after being written.
+inline void merge(Command& command, Draw draw) {
+    const BindBindingSet bind = std::get<BindBindingSet>(command);
+    BindSetAndDraw& merged = command.emplace<BindSetAndDraw>();
+    merged.bindings = bind.bindings;
+    merged.range = bind.bindings->replayState().range;
+    merged.range.set = uint8_t(bind.set);
+    merged.draw = draw;
+}
+inline void merge(Command& command, DrawIndexed draw) {
+    const BindBindingSet bind = std::get<BindBindingSet>(command);
+    command.emplace<BindSetAndDrawIndexed>(BindSetAndDrawIndexed{bind.set, bind.bindings, draw});
+}
+}  // namespace command
 
 // Every bit glMemoryBarrier takes in OpenGL 4.3 and OpenGL ES 3.1. GL_ALL_BARRIER_BITS is valid
 // only whole: a pending write that started from it and had some bits issued would leave
@@ -577,12 +611,12 @@ private:
         m_commands[m_commandCount++] = Command(std::in_place_type<T>, command);
     }
     // A draw right after a set bind takes the bind's place as one BindSetAndDraw(Indexed).
-    template <class Merged, class DrawCommand>
+    template <class DrawCommand>
     void recordDraw(DrawCommand draw) {
         if (m_commandCount != 0) {
             Command& last = m_commands[m_commandCount - 1];
-            if (const auto* bind = std::get_if<command::BindBindingSet>(&last)) {
-                last = Command(std::in_place_type<Merged>, Merged{bind->set, bind->bindings, draw});
+            if (std::holds_alternative<command::BindBindingSet>(last)) {
+                command::merge(last, draw);
                 return;
             }
         }
@@ -827,27 +861,44 @@ public:
     // whatever was there, also from the other sets. What the current pipeline reads of a set whose
     // points were taken is bound again before its next draw or dispatch (restoreTakenPoints).
     void bindBindingSet(uint32_t set, const BindingSet& bindings) {
-        if (m_boundSets[set] == &bindings) return;
-        const uint64_t points = bindings.bindingPoints();
-        m_listSets[set] = &bindings;
-        m_boundSets[set] = &bindings;
-        if (points != m_exclusivePoints[set] || points == 0) [[unlikely]] {   // 0 also means "not exclusive"
-            m_takenPoints[set] = 0;
-            m_setPoints[set] = 0;   // so the next line finds the other sets' points only
-            static_assert(kMaxBindingSets == 4, "the next line names every index");
-            const bool shared = (m_setPoints[0] | m_setPoints[1] | m_setPoints[2] | m_setPoints[3]) & points;
-            if (shared) takePoints(set, points);
-            m_setPoints[set] = points;
-            m_exclusivePoints[set] = shared ? 0 : points;
-        }
+        if (!claimSet(set, bindings, [&] { return bindings.bindingPoints(); })) return;
         const GLFunctions& f = gl();
         const BindingSet::ReplayState& r = bindings.replayState();   // the line `points` came from
         if (r.inlineRange) [[likely]]
-            f.glBindBufferRange(r.target(), r.index, r.buffer, GLintptr(r.offset), GLsizeiptr(r.size));
+            f.glBindBufferRange(r.range.target(), r.range.index, r.range.buffer, GLintptr(r.range.offset),
+                                GLsizeiptr(r.range.size));
         else
             for (const BindingSet::BufferRange& b : bindings.bufferRanges())
                 f.glBindBufferRange(b.target, b.index, b.buffer, b.offset, b.size);
         if (r.hasTextures) bindTextures(bindings, ~uint64_t(0));
+    }
+    // The same from a command's copy of a plain set's range, without reading the set.
+    void bindBindingSet(const InlineRange& range, const BindingSet& bindings) {
+        if (!range.plain) return bindBindingSet(range.set, bindings);
+        // Its one item is at binding point range.index < 64: that is all the set binds.
+        if (!claimSet(range.set, bindings, [&] { return uint64_t(1) << range.index; })) return;
+        gl().glBindBufferRange(range.target(), range.index, range.buffer, GLintptr(range.offset),
+                               GLsizeiptr(range.size));
+    }
+    // Notes `bindings` as bound at `set` (false, and nothing done, when it is already), with its
+    // binding points (`points()`, asked only then): a set that shares points with another's takes
+    // them (takePoints). Reads nothing of the set but its address.
+    template <class Points>
+    bool claimSet(uint32_t set, const BindingSet& bindings, Points points) {
+        if (m_boundSets[set] == &bindings) return false;
+        const uint64_t mask = points();
+        m_listSets[set] = &bindings;
+        m_boundSets[set] = &bindings;
+        if (mask != m_exclusivePoints[set] || mask == 0) [[unlikely]] {   // 0 also means "not exclusive"
+            m_takenPoints[set] = 0;
+            m_setPoints[set] = 0;   // so the next line finds the other sets' points only
+            static_assert(kMaxBindingSets == 4, "the next line names every index");
+            const bool shared = (m_setPoints[0] | m_setPoints[1] | m_setPoints[2] | m_setPoints[3]) & mask;
+            if (shared) takePoints(set, mask);
+            m_setPoints[set] = mask;
+            m_exclusivePoints[set] = shared ? 0 : mask;
+        }
+        return true;
     }
     // The texture and image items of a set at `points` (bindBindingSet binds its buffer ranges).
     void bindTextures(const BindingSet& bindings, uint64_t points);

@@ -140,11 +140,12 @@ TEST_P(GLDrawCallsTest, BindingSetsKeepTheirBufferRangesForReplay) {
     EXPECT_LE(keepMark + sizeof(KeepMark), address + 64) << "recording reads the keep mark in the first line";
     const gl::BindingSet::ReplayState& r = oneSet.replayState();
     ASSERT_TRUE(r.inlineRange);
-    EXPECT_EQ(r.target(), GLenum(GL_UNIFORM_BUFFER));
-    EXPECT_EQ(r.index, 3u);
-    EXPECT_EQ(r.offset, 256u);
-    EXPECT_EQ(r.size, 64u);
-    EXPECT_EQ(r.buffer, dynamic_cast<const gl::Buffer&>(*uniforms).name());
+    EXPECT_TRUE(r.range.plain);
+    EXPECT_EQ(r.range.target(), GLenum(GL_UNIFORM_BUFFER));
+    EXPECT_EQ(r.range.index, 3u);
+    EXPECT_EQ(r.range.offset, 256u);
+    EXPECT_EQ(r.range.size, 64u);
+    EXPECT_EQ(r.range.buffer, dynamic_cast<const gl::Buffer&>(*uniforms).name());
     ASSERT_EQ(oneSet.bufferRanges().size(), 1u);
     EXPECT_EQ(oneSet.bufferRanges()[0].offset, 256);
     EXPECT_EQ(oneSet.bindingPoints(), uint64_t(1) << 3);
@@ -162,6 +163,18 @@ TEST_P(GLDrawCallsTest, BindingSetsKeepTheirBufferRangesForReplay) {
     EXPECT_EQ(threeSet.bufferRanges()[2].offset, 512);
     EXPECT_EQ(threeSet.bufferRanges()[2].size, 128);
     EXPECT_EQ(threeSet.bindingPoints(), uint64_t(0b100011));
+    EXPECT_FALSE(threeSet.replayState().range.plain);
+
+    // One buffer and a texture: the buffer's range is inline, but the set is not plain (a command's
+    // copy of the range would leave the texture unbound at replay).
+    TextureHandle texture = createTexture2D(Format::RGBA8_UNORM, 4, 4, TextureUsage::Sampled);
+    BindingSetHandle withTexture = device().createBindingSet(BindingSetDesc()
+                                                                 .add(BindingItem::uniformBuffer(0, uniforms, 0, 64))
+                                                                 .add(BindingItem::sampledTexture(1, texture, nearestClampSampler())));
+    const auto& withTextureSet = dynamic_cast<const gl::BindingSet&>(*withTexture);
+    EXPECT_TRUE(withTextureSet.replayState().inlineRange);
+    EXPECT_TRUE(withTextureSet.hasTextures());
+    EXPECT_FALSE(withTextureSet.replayState().range.plain);
 }
 
 }  // namespace
