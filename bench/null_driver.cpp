@@ -2,6 +2,10 @@
 
 #include <fmt/format.h>
 
+#include <cstdlib>
+#include <cstring>
+#include <vector>
+
 #include "bench_common.h"
 
 namespace janus::bench {
@@ -9,29 +13,62 @@ namespace janus::bench {
 namespace {
 NullDriverCalls g_calls;   // driver entry points are plain functions: the stubs count here
 
+// JANUS_BENCH_NULL_FOOTPRINT: what each stub writes, and where (a ring larger than the caches).
+struct PushBuffer {
+    std::vector<std::byte> ring;
+    size_t bytesPerCall = 0;
+    size_t cursor = 0;
+};
+PushBuffer g_push;
+constexpr size_t kRingBytes = size_t(4) << 20;
+
+size_t footprintPerCall() {
+    const char* footprint = std::getenv("JANUS_BENCH_NULL_FOOTPRINT");
+    const size_t bytes = footprint ? std::strtoull(footprint, nullptr, 10) : 0;
+    if (bytes > kRingBytes)
+        throw WrongResult(fmt::format("JANUS_BENCH_NULL_FOOTPRINT={} is more than the {}-byte ring", footprint, kRingBytes));
+    return bytes;
+}
+
+// Only in the stubs made for a footprint (Footprint below), so the plain ones stay as cheap as
+// before it existed.
+void writeFootprint() {
+    if (g_push.cursor + g_push.bytesPerCall > g_push.ring.size()) g_push.cursor = 0;
+    std::memset(g_push.ring.data() + g_push.cursor, int(g_calls.binds & 0xFF), g_push.bytesPerCall);
+    g_push.cursor += g_push.bytesPerCall;
+}
+
+template <bool Footprint>
 void APIENTRY nullBindBufferRange(GLenum target, GLuint index, GLuint, GLintptr offset, GLsizeiptr size) {
     ++g_calls.binds;
+    if constexpr (Footprint) writeFootprint();
     g_calls.offsetSum += uint64_t(offset);
     if (target != GL_UNIFORM_BUFFER || index != 0 || size != GLsizeiptr(kSliceBytes)) ++g_calls.unexpected;
 }
 
+template <bool Footprint>
 void APIENTRY nullDrawArrays(GLenum mode, GLint first, GLsizei count) {
     ++g_calls.draws;
+    if constexpr (Footprint) writeFootprint();
     if (mode != GL_TRIANGLES || first != 0 || count != 3) ++g_calls.unexpected;
 }
 
+template <bool Footprint>
 VKAPI_ATTR void VKAPI_CALL nullBindDescriptorSets(VkCommandBuffer, VkPipelineBindPoint bindPoint, VkPipelineLayout,
                                                   uint32_t firstSet, uint32_t count, const VkDescriptorSet* sets,
                                                   uint32_t dynamicOffsets, const uint32_t*) {
     ++g_calls.binds;
+    if constexpr (Footprint) writeFootprint();
     if (bindPoint != VK_PIPELINE_BIND_POINT_GRAPHICS || firstSet != 0 || count != 1 || !sets || *sets == VK_NULL_HANDLE ||
         dynamicOffsets != 0)
         ++g_calls.unexpected;
 }
 
+template <bool Footprint>
 VKAPI_ATTR void VKAPI_CALL nullDraw(VkCommandBuffer, uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex,
                                     uint32_t firstInstance) {
     ++g_calls.draws;
+    if constexpr (Footprint) writeFootprint();
     if (vertexCount != 3 || instanceCount != 1 || firstVertex != 0 || firstInstance != 0) ++g_calls.unexpected;
 }
 }  // namespace
@@ -48,14 +85,23 @@ void requireNullDriverFrames(uint64_t frames, const std::string& who, bool check
                                       g_calls.offsetSum, g_calls.unexpected));
 }
 
-void resetNullDriverCalls() { g_calls = {}; }
+void resetNullDriverCalls() {
+    g_calls = {};
+    g_push.bytesPerCall = footprintPerCall();
+    if (g_push.bytesPerCall != 0 && g_push.ring.empty()) g_push.ring.assign(kRingBytes, std::byte{0});
+    g_push.cursor = 0;
+}
 
 NullGLDriver nullGLDriver(PFNGLBINDBUFFERRANGEPROC& bindBufferRange, PFNGLDRAWARRAYSPROC& drawArrays) {
-    return NullGLDriver(bindBufferRange, drawArrays, nullBindBufferRange, nullDrawArrays, true);
+    if (footprintPerCall() != 0)
+        return NullGLDriver(bindBufferRange, drawArrays, nullBindBufferRange<true>, nullDrawArrays<true>, true);
+    return NullGLDriver(bindBufferRange, drawArrays, nullBindBufferRange<false>, nullDrawArrays<false>, true);
 }
 
 NullVulkanDriver nullVulkanDriver(PFN_vkCmdBindDescriptorSets& bindDescriptorSets, PFN_vkCmdDraw& draw) {
-    return NullVulkanDriver(bindDescriptorSets, draw, nullBindDescriptorSets, nullDraw, false);
+    if (footprintPerCall() != 0)
+        return NullVulkanDriver(bindDescriptorSets, draw, nullBindDescriptorSets<true>, nullDraw<true>, false);
+    return NullVulkanDriver(bindDescriptorSets, draw, nullBindDescriptorSets<false>, nullDraw<false>, false);
 }
 
 }  // namespace janus::bench

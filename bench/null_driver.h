@@ -10,6 +10,11 @@
 // ratio that alone would give over the real raw draw, next to the measured ratio: on hardware,
 // where the measured RHI / raw is noisy, this says how much of it is the RHI's code and how much
 // the driver meeting it.
+//
+// JANUS_BENCH_NULL_FOOTPRINT=BYTES makes each stub also write BYTES to a 4 MiB ring, as a driver
+// writes its commands into a push buffer: a driver's cache footprint without its time, to see how
+// the RHI's own cost grows when the driver keeps evicting the RHI's data (docs/BENCHMARKS.md,
+// "Session 21: the RHI's own cost under a driver's cache footprint"). Both sides write alike.
 #pragma once
 
 #include <GL/glcorearb.h>
