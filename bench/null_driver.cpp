@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <charconv>
 #include <cstdlib>
 #include <cstring>
 #include <vector>
@@ -24,7 +25,11 @@ constexpr size_t kRingBytes = size_t(4) << 20;
 
 size_t footprintPerCall() {
     const char* footprint = std::getenv("JANUS_BENCH_NULL_FOOTPRINT");
-    const size_t bytes = footprint ? std::strtoull(footprint, nullptr, 10) : 0;
+    if (!footprint || !*footprint) return 0;
+    size_t bytes = 0;
+    const char* end = footprint + std::strlen(footprint);
+    if (auto [at, error] = std::from_chars(footprint, end, bytes); error != std::errc() || at != end)
+        throw WrongResult(fmt::format("JANUS_BENCH_NULL_FOOTPRINT='{}' is not a number of bytes", footprint));
     if (bytes > kRingBytes)
         throw WrongResult(fmt::format("JANUS_BENCH_NULL_FOOTPRINT={} is more than the {}-byte ring", footprint, kRingBytes));
     return bytes;

@@ -50,4 +50,14 @@ for line in "Raw Vulkan draws recording into the RHI's command memory" \
   grep -qF "$line" <<<"$report" || fail "the report lacks \"$line\":
 $report"
 done
+# The null driver with a footprint (JANUS_BENCH_NULL_FOOTPRINT) still gets every call it counts.
+status=0
+JANUS_BENCH_NULL_FOOTPRINT=96 "$binary" --janus_frames=2 --benchmark_filter=null_driver >"$scratch/footprint" 2>&1 || status=$?
+[[ $status == 0 ]] || { cat "$scratch/footprint" >&2; fail "the null-driver runs with a footprint exited with status $status"; }
+status=0
+JANUS_BENCH_NULL_FOOTPRINT=999999999 "$binary" --janus_frames=2 --benchmark_filter=gl/raw_null_driver >"$scratch/footprint" 2>&1 || status=$?
+[[ $status != 0 ]] && grep -q "more than the" "$scratch/footprint" || fail "an absurd footprint was not refused by name"
+status=0
+JANUS_BENCH_NULL_FOOTPRINT=64k "$binary" --janus_frames=2 --benchmark_filter=gl/raw_null_driver >"$scratch/footprint" 2>&1 || status=$?
+[[ $status != 0 ]] && grep -q "is not a number of bytes" "$scratch/footprint" || fail "a footprint that is not a number was not refused"
 echo "janus_bench_rhi: $(wc -l <"$scratch/listed") benchmarks ran and checked their results; the report is whole"
