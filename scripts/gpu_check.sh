@@ -91,7 +91,10 @@ summary="$results/summary.txt"
 {
   # The device's copy of .git can lag behind the tree it was sent with: the commit the build was
   # packed at is in .gpu-pack/commit when written there (docs/TESTING.md, "On a GPU machine").
-  commit=$(cat "$repo_root/.gpu-pack/commit" 2>/dev/null || git -C "$repo_root" rev-parse --short HEAD 2>/dev/null || echo '?')
+  # Local binaries (--build-dir) are the tree's, whatever an old pack says.
+  commit=""
+  [[ -z "$build_dir" ]] && commit=$(cat "$repo_root/.gpu-pack/commit" 2>/dev/null)
+  [[ -n "$commit" ]] || commit=$(git -C "$repo_root" rev-parse --short HEAD 2>/dev/null || echo '?')
   echo "gpu_check.sh, build of $commit, on $(hostname), $(date -u +%FT%TZ)"
   command -v nvidia-smi >/dev/null && nvidia-smi --query-gpu=name,driver_version --format=csv,noheader
 } > "$summary"
