@@ -12,7 +12,9 @@
 #   --processes    run the whole benchmark in N fresh processes and take the medians over all
 #                  their repetitions (default: 1). Where a driver's heap lands in a process
 #                  changes its speed (llvmpipe's GL draws: 0.99x in one process, 1.43x in the
-#                  next), so a ratio from one process can be that process's luck.
+#                  next), so a ratio from one process can be that process's luck. With more than
+#                  one process (or --from-json file) the table's last column gives the lowest
+#                  and highest of the processes' own ratios and how many met the target.
 #   --interleave   FRAMES: every repetition times exactly FRAMES frames (janus_bench_rhi's
 #                  --janus_frames) and the repetitions of all benchmarks run in random order
 #                  (Google Benchmark's random interleaving), so raw and RHI share the same minutes
@@ -74,7 +76,7 @@ while [[ $# -gt 0 ]]; do
     --interleave) interleave_frames="$2"; shift 2 ;;
     --json) json_out="$2"; shift 2 ;;
     --from-json) from_json+=("$2"); shift 2 ;;
-    -h|--help) sed -n '2,32p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,34p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "bench.sh: unknown argument '$1' (try --help)" >&2; exit 2 ;;
   esac
 done
@@ -124,6 +126,11 @@ json_file="$scratch/all.json"
 python3 - "$json_file" "${reports[@]}" <<'MERGE'
 import json, sys
 reports = [json.load(open(path)) for path in sys.argv[2:]]
+# Each run keeps which process made it (a merged file's own tags stay apart by a prefix): the
+# table's spread column is the ratio per process.
+for index, r in enumerate(reports):
+    for run in r["benchmarks"]:
+        run["janus_process"] = f"{index}.{run['janus_process']}" if "janus_process" in run else str(index)
 merged = {"context": reports[0]["context"], "benchmarks": [run for r in reports for run in r["benchmarks"]]}
 merged["context"]["processes"] = sum(r["context"].get("processes", 1) for r in reports)
 json.dump(merged, open(sys.argv[1], "w"), indent=1)
@@ -153,6 +160,17 @@ for run in report["benchmarks"]:
 def median(key, counter):
     return statistics.median(run[counter] for run in runs[key])
 
+# RHI / raw in each process that ran both sides (medians over that process's repetitions): how far
+# one process's ratio can stray from the table's, which is the measurement's noise on that machine.
+def process_ratios(raw_key, rhi_key):
+    def by_process(key):
+        groups = {}
+        for run in runs[key]:
+            groups.setdefault(run.get("janus_process", "0"), []).append(run["submit_cpu_ns_per_op"])
+        return {p: statistics.median(values) for p, values in groups.items()}
+    raw, rhi = by_process(raw_key), by_process(rhi_key)
+    return sorted(rhi[p] / raw[p] for p in raw if p in rhi)
+
 context = report["context"]
 repetitions = max((len(r) for r in runs.values()), default=0)
 processes = context.get("processes", 1)
@@ -160,25 +178,34 @@ print(f"Run {context['date']} on {context['host_name']} ({context['num_cpus']} C
       f"{context.get('ops_per_frame', '?')} ops per frame into a {context.get('target', '?')} target; "
       f"median of {repetitions} repetition(s)" + (f" from {processes} processes." if processes > 1 else "."))
 print()
-print(f"| backend | work | raw ns/op | RHI ns/op | ratio RHI/raw | target <= {TARGET}x | wait raw ns/op | wait RHI ns/op |")
-print("|---|---|---:|---:|---:|---|---:|---:|")
+spread = processes > 1
+print(f"| backend | work | raw ns/op | RHI ns/op | ratio RHI/raw | target <= {TARGET}x | wait raw ns/op | wait RHI ns/op |"
+      + (" RHI/raw per process |" if spread else ""))
+print("|---|---|---:|---:|---:|---|---:|---:|" + ("---|" if spread else ""))
 missed = 0
 for backend, work in [("vulkan", "draw"), ("vulkan", "dispatch"), ("gl", "draw"), ("gl", "dispatch"), ("gles", "draw")]:
     raw_key, rhi_key = (work, backend, "raw"), (work, backend, "rhi")
     if raw_key not in runs or rhi_key not in runs:
         why = (errors.get(raw_key) or errors.get(rhi_key) or ["not run"])[0]
-        print(f"| {backend} | {work} | - | - | - | skipped: {why} | - | - |")
+        print(f"| {backend} | {work} | - | - | - | skipped: {why} | - | - |" + (" - |" if spread else ""))
         continue
     raw_ns, rhi_ns = median(raw_key, "submit_cpu_ns_per_op"), median(rhi_key, "submit_cpu_ns_per_op")
     ratio = rhi_ns / raw_ns
     met = ratio <= TARGET
     missed += not met
     print(f"| {backend} | {work} | {raw_ns:.0f} | {rhi_ns:.0f} | {ratio:.2f}x | {'met' if met else 'MISSED'} | "
-          f"{median(raw_key, 'wait_ns_per_op'):.0f} | {median(rhi_key, 'wait_ns_per_op'):.0f} |")
+          f"{median(raw_key, 'wait_ns_per_op'):.0f} | {median(rhi_key, 'wait_ns_per_op'):.0f} |", end="")
+    if spread:
+        ratios = process_ratios(raw_key, rhi_key)
+        print(f" {ratios[0]:.2f}x to {ratios[-1]:.2f}x, {sum(r <= TARGET for r in ratios)} of {len(ratios)} met |"
+              if ratios else " - |", end="")
+    print()
 print()
 print("ns/op: CPU time of the benchmark thread to record + submit one frame, divided by the draws or "
       "dispatches in it (median over repetitions). wait: wall time until the frame had finished "
-      "(fence wait / waitIdle / glFinish), reported apart and not part of the ratio.")
+      "(fence wait / waitIdle / glFinish), reported apart and not part of the ratio."
+      + (" RHI/raw per process: the lowest and highest of the processes' own ratios, and how many met the target."
+         if spread else ""))
 # Raw Vulkan recording into the RHI's command-pool memory: RHI / this is what the RHI's own code
 # adds with the allocator's effect taken out (docs/BENCHMARKS.md, "Command memory").
 for work in ("draw", "dispatch"):

@@ -50,6 +50,13 @@ for line in "Raw Vulkan draws recording into the RHI's command memory" \
   grep -qF "$line" <<<"$report" || fail "the report lacks \"$line\":
 $report"
 done
+# Two processes' runs (here the same file twice): each row also gives the ratio's spread per process.
+report=$(bash "$repo_root/scripts/bench.sh" --from-json "$scratch/bench.json" --from-json "$scratch/bench.json")
+for row in "vulkan | draw" "gl | draw" "gles | draw"; do
+  grep -Eq "^\| $row \| .* \| [0-9.]+x to [0-9.]+x, [0-2] of 2 met \|$" <<<"$report" || fail "no per-process spread for $row:
+$report"
+done
+
 # The null driver with a footprint (JANUS_BENCH_NULL_FOOTPRINT) still gets every call it counts.
 status=0
 JANUS_BENCH_NULL_FOOTPRINT=96 "$binary" --janus_frames=2 --benchmark_filter=null_driver >"$scratch/footprint" 2>&1 || status=$?
