@@ -20,18 +20,6 @@ protected:
         if (IsSkipped() || HasFatalFailure()) return;   // configuration not selected: no device
         if (backend() != Backend::Vulkan) GTEST_SKIP() << "the Vulkan backend's binding sets";
     }
-
-    // Draws once with `bindings` at set 0 of `pipeline`: the set's use for that layout exists after.
-    void drawWith(const PipelineHandle& pipeline, const BindingSetHandle& bindings) {
-        TextureHandle target = createTexture2D(Format::RGBA8_UNORM, 4, 4, TextureUsage::RenderTarget);
-        submit([&](ICommandList& cmd) {
-            cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(target)));
-            cmd.setPipeline(pipeline);
-            cmd.setBindingSet(0, bindings);
-            cmd.draw(3);
-            cmd.endRenderPass();
-        });
-    }
 };
 JANUS_INSTANTIATE_BACKEND_TESTS(VulkanBindingSetTest);
 
@@ -39,7 +27,8 @@ TEST_P(VulkanBindingSetTest, AOneReadSetsBindReadsOneCacheLine) {
     BufferHandle uniforms = createBuffer(BufferUsage::Uniform, std::vector<std::byte>(1024));
     BindingSetHandle slice = device().createBindingSet(BindingSetDesc().add(BindingItem::uniformBuffer(0, uniforms, 256, 64)));
     PipelineHandle pipeline = fullscreenPipeline("bench_uniform_color_frag", Format::RGBA8_UNORM);
-    drawWith(pipeline, slice);
+    TextureHandle target = createTexture2D(Format::RGBA8_UNORM, 4, 4, TextureUsage::RenderTarget);
+    drawFullscreen(RenderPassDesc().addColor(Attachment::clear(target)), pipeline, {slice});   // makes the set's use
 
     const auto& set = dynamic_cast<const vulkan::BindingSet&>(*slice);
     const auto address = reinterpret_cast<uintptr_t>(&set);
