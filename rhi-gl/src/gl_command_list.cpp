@@ -100,7 +100,7 @@ BindingSet::BindingSet(const Context& owner, const BindingSetDesc& desc) : m_own
         }
     }
     // Then bindingPoints is bindingPointBit(range.index), which replay of the copy works out.
-    m_replay.range.plain = m_replay.inlineRange && !m_replay.hasTextures && m_desc.items.size() == 1;
+    m_replay.range.plain = m_replay.inlineRange && !m_replay.hasTextures;   // its only item then
 }
 
 void BindingSet::noteLastValidated(const Validated* check) const {

@@ -493,7 +493,7 @@ public:
     // What a bind touches comes first, next to the object's header: binding sets are many, and
     // each bind of a different one may miss the cache. The byte after the last one a bind of
     // the first use reads, from the set's start: at most 64, one cache line
-    // (tests/rhi/hazard_tracking_test.cpp checks it).
+    // (tests/rhi/vulkan_binding_set_test.cpp checks it).
     KeepMark keepMark;
     size_t bindBytes() const {
         return size_t(reinterpret_cast<const std::byte*>(&m_firstUse.onlyRead + 1) -

@@ -314,8 +314,8 @@ void CommandList::bindSet(uint32_t set, const BindingSetHandle& bindings, Bindin
 
 // The set a pass changes per draw (a uniform slice per draw), bound now rather than at the draw,
 // so that the draw after it is only its range check and the vkCmdDraw (drawStateBound): in a
-// render pass, with a graphics pipeline set whose only set this is, when the set's last
-// descriptor set is for that pipeline's layout, it has no texture, and its one access reads the
+// render pass, with a graphics pipeline set whose only set this is, when the set has a descriptor
+// set for that pipeline's layout already (findUse), no texture, and one access, a read of the
 // resource the pass's draws read so far. That read joins the pass's hull, as trackDrawBindings
 // would at the draw; if no draw follows, the hull is only wider, which can add a barrier but never
 // miss one. Anything else is left to the draw, which binds and tracks what is dirty.

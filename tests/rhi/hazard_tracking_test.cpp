@@ -20,6 +20,27 @@ protected:
         BufferHandle parameters;
         BindingSetHandle first, last;
         PipelineHandle pipeline;
+
+        // One pass into a 4x4 `target`: `first` draws its left half, then `last` its right half.
+        void drawHalves(ICommandList& cmd, const TextureHandle& target) const {
+            cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(target)));
+            cmd.setPipeline(pipeline);
+            cmd.setBindingSet(0, first);
+            cmd.setScissor({0, 0, 2, 4});
+            cmd.draw(3);
+            cmd.setBindingSet(0, last);   // the pass reads `parameters` already
+            cmd.setScissor({2, 0, 2, 4});
+            cmd.draw(3);
+            cmd.endRenderPass();
+        }
+        // One pass filling `target` with `set`'s slice.
+        void fill(ICommandList& cmd, const TextureHandle& target, const BindingSetHandle& set) const {
+            cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(target)));
+            cmd.setPipeline(pipeline);
+            cmd.setBindingSet(0, set);
+            cmd.draw(3);
+            cmd.endRenderPass();
+        }
     };
     RedAndBlueSlices redAndBlueSlices() {
         const uint64_t stride = std::max<uint64_t>(caps().limits.uniformBufferOffsetAlignment, 16);
@@ -158,25 +179,13 @@ TEST_P(HazardTrackingTest, DisjointComputeWritesThenDrawsReadingBoth) {
 // reads of one buffer into one range); after the pass a write replaces the first slice (write
 // after read) and the next pass must see the new value, the first one the old.
 TEST_P(HazardTrackingTest, DrawsReadingUniformSlicesThenOverwritingOne) {
-    const auto [stride, parameters, first, last, pipeline] = redAndBlueSlices();
+    const RedAndBlueSlices slices = redAndBlueSlices();
     TextureHandle before = createTexture2D(Format::RGBA8_UNORM, 4, 4, TextureUsage::RenderTarget);
     TextureHandle after = createTexture2D(Format::RGBA8_UNORM, 4, 4, TextureUsage::RenderTarget);
     submit([&](ICommandList& cmd) {
-        cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(before)));
-        cmd.setPipeline(pipeline);
-        cmd.setBindingSet(0, first);
-        cmd.setScissor({0, 0, 2, 4});
-        cmd.draw(3);
-        cmd.setBindingSet(0, last);
-        cmd.setScissor({2, 0, 2, 4});
-        cmd.draw(3);
-        cmd.endRenderPass();
-        cmd.writeBuffer(parameters, kGreen.data(), sizeof kGreen, 0);
-        cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(after)));
-        cmd.setPipeline(pipeline);
-        cmd.setBindingSet(0, first);
-        cmd.draw(3);
-        cmd.endRenderPass();
+        slices.drawHalves(cmd, before);
+        cmd.writeBuffer(slices.parameters, kGreen.data(), sizeof kGreen, 0);
+        slices.fill(cmd, after, slices.first);
     });
     EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(before), redThenBlue(), 4)) << "the pass before the write";
     EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(after), std::vector<Rgba8>(16, {0, 255, 0, 255}), 4))
@@ -188,29 +197,16 @@ TEST_P(HazardTrackingTest, DrawsReadingUniformSlicesThenOverwritingOne) {
 // after the pass waits for the pass (write after read; Vulkan's synchronization validation reports
 // the hazard otherwise, and an unmerged slice is one the pass's first set does not cover).
 TEST_P(HazardTrackingTest, ASliceBoundBeforeItsDrawIsTrackedForLaterWrites) {
-    const auto [stride, parameters, first, last, pipeline] = redAndBlueSlices();
+    const RedAndBlueSlices slices = redAndBlueSlices();
     TextureHandle before = createTexture2D(Format::RGBA8_UNORM, 4, 4, TextureUsage::RenderTarget);
     TextureHandle after = createTexture2D(Format::RGBA8_UNORM, 4, 4, TextureUsage::RenderTarget);
-    auto halves = [&](ICommandList& cmd) {
-        cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(before)));
-        cmd.setPipeline(pipeline);
-        cmd.setBindingSet(0, first);
-        cmd.setScissor({0, 0, 2, 4});
-        cmd.draw(3);
-        cmd.setBindingSet(0, last);   // the pass reads `parameters` already: bound and tracked here
-        cmd.setScissor({2, 0, 2, 4});
-        cmd.draw(3);
-        cmd.endRenderPass();
-    };
-    submit(halves);   // each set's descriptor set for the pipeline's layout exists from now on
+    // Each set's descriptor set for the pipeline's layout exists from then on, so in the next list
+    // `last` is bound and tracked where it is set (bindInPass).
+    submit([&](ICommandList& cmd) { slices.drawHalves(cmd, before); });
     submit([&](ICommandList& cmd) {
-        halves(cmd);
-        cmd.writeBuffer(parameters, kGreen.data(), sizeof kGreen, 2 * stride);   // only `last`'s slice
-        cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(after)));
-        cmd.setPipeline(pipeline);
-        cmd.setBindingSet(0, last);
-        cmd.draw(3);
-        cmd.endRenderPass();
+        slices.drawHalves(cmd, before);
+        cmd.writeBuffer(slices.parameters, kGreen.data(), sizeof kGreen, 2 * slices.stride);   // only `last`'s slice
+        slices.fill(cmd, after, slices.last);
     });
     EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(before), redThenBlue(), 4)) << "the pass before the write";
     EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(after), std::vector<Rgba8>(16, {0, 255, 0, 255}), 4))
