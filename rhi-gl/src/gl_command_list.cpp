@@ -471,6 +471,7 @@ void CommandList::setPipeline(const PipelineHandle& handle) {
 // in a function that calls nothing (its registers need no saving); anything else, and every error,
 // takes the general path. The front checked `set` and that the handle is not null.
 void CommandList::setBindingSetImpl(uint32_t set, const BindingSetHandle& handle) {
+    if (!handle) __builtin_unreachable();   // the front end checked: typeid need not test for null
     // Where the type_info objects differ (another shared object), the general path compares names.
     if (!m_recording || &typeid(*handle) != &typeid(BindingSet) || m_commandCount == m_commandCapacity) [[unlikely]]
         return setBindingSetGeneral(set, handle);

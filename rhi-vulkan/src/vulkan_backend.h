@@ -648,6 +648,13 @@ private:
     VkCommandPool m_pool = VK_NULL_HANDLE;
     VkCommandBuffer m_prologue = VK_NULL_HANDLE;   // query resets, which must precede the work
     VkCommandBuffer m_commands = VK_NULL_HANDLE;
+    // The context's entry points of the straight-line draw and bind paths, copied at begin(): a call
+    // through them is one load fewer than through the context, on every draw.
+    struct DrawCalls {
+        PFN_vkCmdBindDescriptorSets bindDescriptorSets = nullptr;
+        PFN_vkCmdDraw draw = nullptr;
+        PFN_vkCmdDrawIndexed drawIndexed = nullptr;
+    } m_drawCalls;
     VkFence m_fence = VK_NULL_HANDLE;
     bool m_pending = false;
     State m_state = State::Initial;
@@ -668,7 +675,8 @@ private:
     // draw tests all of them in one word.
     enum DrawNeed : uint32_t {
         kNeedsRenderPass = 1u,       // no render pass is open (a pass opens only while recording)
-        kNeedsStateCheck = 2u,       // checkDrawState has not passed since the pipeline, pass or vertex buffers changed
+        kNeedsStateCheck = 2u,       // checkDrawState has not passed since the pipeline, pass or vertex buffers
+                                     // changed (clear only with a graphics pipeline: the check requires one)
         kNeedsVertexTracking = 4u,   // the bound vertex buffers are not tracked for this pass
         kNeedsSets = 8u,             // a set the pipeline uses is not bound, or not tracked for this pass
         kNeedsIndexTracking = 16u,   // drawIndexed only: no index buffer, or it is not tracked for this pass

@@ -109,6 +109,7 @@ void CommandList::beginImpl() {
     VkCommandBufferBeginInfo info{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
     check(vkBeginCommandBuffer(m_commands, &info), ErrorCode::DeviceLost, "vkBeginCommandBuffer");
     m_state = State::Recording;
+    m_drawCalls = {m_context->cmdBindDescriptorSets, m_context->cmdDraw, m_context->cmdDrawIndexed};
     m_keepAlive.beginRecording();
     m_hazards.reset();
     m_drawNeeds = kNeedsEverything;
@@ -281,7 +282,8 @@ void CommandList::setPipeline(const PipelineHandle& handle) {
 // A set the list holds passed that path's checks when the list first held it (the device that
 // made it is this list's), so they are not made again.
 void CommandList::setBindingSetImpl(uint32_t set, const BindingSetHandle& bindings) {   // set < kMaxBindingSets
-    IBindingSet* object = bindings.get();   // not null: the front end checked
+    IBindingSet* object = bindings.get();
+    if (!object) __builtin_unreachable();   // the front end checked: typeid need not test for null
     if (m_state != State::Recording || &typeid(*object) != &typeid(BindingSet)) [[unlikely]]
         return setBindingSetChecked(set, bindings);
     auto* bindingSet = static_cast<BindingSet*>(object);
@@ -314,14 +316,16 @@ void CommandList::bindSet(uint32_t set, const BindingSetHandle& bindings, Bindin
 
 // The set a pass changes per draw (a uniform slice per draw), bound now rather than at the draw,
 // so that the draw after it is only its range check and the vkCmdDraw (drawStateBound): in a
-// render pass, with a graphics pipeline set whose only set this is, when the set has a descriptor
+// render pass whose draw state was checked, with a graphics pipeline whose only set this is, when the set has a descriptor
 // set for that pipeline's layout already (findUse), no texture, and one access, a read of the
 // resource the pass's draws read so far. That read joins the pass's hull, as trackDrawBindings
 // would at the draw; if no draw follows, the hull is only wider, which can add a barrier but never
 // miss one. Anything else is left to the draw, which binds and tracks what is dirty.
 [[gnu::always_inline]] inline bool CommandList::bindInPass(uint32_t set, const BindingSet& bindingSet) {
+    // One test for both: the state check passes only with a graphics pipeline set.
+    if (m_drawNeeds & (kNeedsRenderPass | kNeedsStateCheck)) return false;
     const Pipeline* pipeline = m_graphicsPipeline;
-    if (!inRenderPass() || !pipeline || pipeline->usedSets != 1u << set) return false;
+    if (pipeline->usedSets != 1u << set) return false;
     const DescriptorSetLayoutInfo& layout = *pipeline->sets[set];
     const BindingSet::LayoutUse* use = bindingSet.findUse(layout.layout);
     if (!use || !joinPassReads(*use, layout)) return false;
@@ -329,8 +333,8 @@ void CommandList::bindSet(uint32_t set, const BindingSetHandle& bindings, Bindin
     m_graphicsSetUses[set] = use;
     m_dirtyGraphicsSets &= ~(1u << set);
     m_drawNeeds &= ~kNeedsSets;   // the pipeline's one set is this one, now bound and tracked
-    m_context->cmdBindDescriptorSets(m_commands, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline->layout, set, 1, &use->set, 0,
-                                     nullptr);
+    m_drawCalls.bindDescriptorSets(m_commands, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline->layout, set, 1, &use->set, 0,
+                                   nullptr);
     return true;
 }
 
@@ -552,7 +556,7 @@ void CommandList::throwDrawOutOfRange(std::string_view call, bool indexed) const
 void CommandList::draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance) {
     if (!drawStateBound() || m_drawLimits.exceeded(firstVertex, vertexCount, firstInstance, instanceCount)) [[unlikely]]
         return drawPrepared(vertexCount, instanceCount, firstVertex, firstInstance);
-    m_context->cmdDraw(m_commands, vertexCount, instanceCount, firstVertex, firstInstance);
+    m_drawCalls.draw(m_commands, vertexCount, instanceCount, firstVertex, firstInstance);
 }
 
 void CommandList::drawPrepared(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex,
@@ -574,7 +578,7 @@ void CommandList::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint3
     if (!indexedDrawStateBound() ||
         indexedDrawExceeds(m_drawLimits, m_indexLimit, firstIndex, indexCount, firstInstance, instanceCount)) [[unlikely]]
         return drawIndexedPrepared(indexCount, instanceCount, firstIndex, vertexOffset, firstInstance);
-    m_context->cmdDrawIndexed(m_commands, indexCount, instanceCount, firstIndex, vertexOffset, firstInstance);
+    m_drawCalls.drawIndexed(m_commands, indexCount, instanceCount, firstIndex, vertexOffset, firstInstance);
 }
 
 void CommandList::drawIndexedPrepared(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex,

@@ -44,14 +44,18 @@ public:
     // held by this list yet, for callers whose fast path must not call out (keep() then).
     bool keepIfHeld(KeepMark& mark) {
         if (mark.recording.load(std::memory_order_relaxed) == m_recordingId) return true;
-        const uint32_t slot = mark.slot.load(std::memory_order_relaxed);
-        if (slot >= m_entries.size() || m_entries[slot].mark != &mark) return false;
-        mark.recording.store(m_recordingId, std::memory_order_relaxed);
-        Entry& entry = m_entries[slot];
+        // The slot's entry, bounds-checked by address: no size computed from the vector's ends.
+        const uintptr_t address = reinterpret_cast<uintptr_t>(m_entries.data()) +
+                                  uintptr_t(mark.slot.load(std::memory_order_relaxed)) * sizeof(Entry);
+        if (address >= reinterpret_cast<uintptr_t>(m_entries.data() + m_entries.size())) return false;
+        Entry& entry = *reinterpret_cast<Entry*>(address);
+        if (entry.mark != &mark) return false;
         if (entry.usedIn != m_recordingId) {
             entry.usedIn = m_recordingId;
             ++m_used;
         }
+        // Last: after an atomic store the compiler reads the list's members again.
+        mark.recording.store(m_recordingId, std::memory_order_relaxed);
         return true;
     }
     // End of a recording: lets go of what it did not use.
