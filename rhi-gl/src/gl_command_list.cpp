@@ -747,7 +747,7 @@ void CommandList::replay(Device& device) {
         void operator()(const command::Draw& c) {
             device.draw(c.vertexCount, c.instanceCount, c.firstVertex, c.firstInstance);
         }
-        void operator()(const command::BindSetAndDraw& c) {
+        [[gnu::always_inline]] void operator()(const command::BindSetAndDraw& c) {
             device.bindBindingSet(c.range, *c.bindings);
             (*this)(c.draw);
         }
@@ -812,6 +812,11 @@ void CommandList::replay(Device& device) {
 #define JANUS_REPLAY_CASE(N) \
     case N: replayer(*std::get_if<N>(&command)); break;
     for (const Command& command : std::span(m_commands).first(m_commandCount)) {
+        // A draw with its set, the command of most lists: one compare instead of the table's jump.
+        if (command.index() == kCommandIndex<command::BindSetAndDraw>) [[likely]] {
+            replayer(*std::get_if<command::BindSetAndDraw>(&command));
+            continue;
+        }
         switch (command.index()) {
                 JANUS_REPLAY_CASE(0)
                 JANUS_REPLAY_CASE(1)
@@ -915,7 +920,7 @@ void Device::bindPipeline(const Pipeline& pipeline) {
     m_pipeline = &pipeline;
     // Points taken from a set: this pipeline may read them (restoreTakenPoints checks at its draw).
     static_assert(kMaxBindingSets == 4, "the next line names every index");
-    if (m_takenPoints[0] | m_takenPoints[1] | m_takenPoints[2] | m_takenPoints[3]) m_drawChecks |= kRestoreTakenPoints;
+    if (m_takenPoints[0] | m_takenPoints[1] | m_takenPoints[2] | m_takenPoints[3]) m_drawChecks |= kRestoreTakenPoints;   // m_plainDraws is false
     m_context->replayPipeline = &pipeline.debugName();
     pipeline.applyState();
 }
@@ -970,6 +975,7 @@ void Device::takePoints(uint32_t set, uint64_t points) {
         m_boundSets[i] = nullptr;
         m_exclusivePoints[i] = 0;
         m_drawChecks |= kRestoreTakenPoints;
+        m_plainDraws = false;   // the next draw restores them
     }
 }
 

@@ -601,6 +601,7 @@ void Device::executeImpl(const CommandListHandle& commandList) {
         throw Error(ErrorCode::InvalidUsage, "execute(): the command list was created by another device; record it with "
                                              "a command list of this device");
     m_context->makeCurrent();
+    m_drawCalls = {gl().glBindBufferRange, gl().glDrawArrays};
     // Replay state never carries over between lists: what it points at is only kept alive by the
     // list that set it (and each list must set its own pipeline and buffers anyway).
     m_pipeline = nullptr;

@@ -522,6 +522,9 @@ using Command = std::variant<command::BeginRenderPass, command::SetViewport, com
                              command::PopDebugGroup, command::BindSetAndDraw, command::BindSetAndDrawIndexed>;
 // A draw writes one at recording and reads it at replay: a command per draw stays this small.
 static_assert(sizeof(Command) == 48, "a command grew");
+// Command::index() of a command of type T.
+template <class T>
+inline constexpr size_t kCommandIndex = Command(std::in_place_type<T>).index();
 
 namespace command {
 // The draw recorded right after a set bind, over that bind (CommandList::recordDraw). Written field
@@ -610,15 +613,14 @@ private:
     void recordWithRoom(T command) {
         m_commands[m_commandCount++] = Command(std::in_place_type<T>, command);
     }
-    // A draw right after a set bind takes the bind's place as one BindSetAndDraw(Indexed).
+    // A draw right after a set bind takes the bind's place as one BindSetAndDraw(Indexed). A draw
+    // is in a pass, whose BeginRenderPass was recorded: there is a last command.
     template <class DrawCommand>
     void recordDraw(DrawCommand draw) {
-        if (m_commandCount != 0) {
-            Command& last = m_commands[m_commandCount - 1];
-            if (std::holds_alternative<command::BindBindingSet>(last)) {
-                command::merge(last, draw);
-                return;
-            }
+        Command& last = m_commands[m_commandCount - 1];
+        if (std::holds_alternative<command::BindBindingSet>(last)) {
+            command::merge(last, draw);
+            return;
         }
         record(draw);
     }
@@ -877,8 +879,8 @@ public:
         if (!range.plain) return bindBindingSet(range.set, bindings);
         // Its one item is at binding point range.index < 64: that is all the set binds.
         if (!claimSet(range.set, bindings, [&] { return uint64_t(1) << range.index; })) return;
-        gl().glBindBufferRange(range.target(), range.index, range.buffer, GLintptr(range.offset),
-                               GLsizeiptr(range.size));
+        m_drawCalls.bindBufferRange(range.target(), range.index, range.buffer, GLintptr(range.offset),
+                                    GLsizeiptr(range.size));
     }
     // Notes `bindings` as bound at `set` (false, and nothing done, when it is already), with its
     // binding points (`points()`, asked only then): a set that shares points with another's takes
@@ -909,8 +911,8 @@ public:
         // One instance from instance 0 with nothing to set up: the call alone. (The sampler-unit
         // check, with validation on, ran at the draw that set m_plainDraws, and nothing it reads
         // changed since: texture binds and passes clear m_plainDraws then.)
-        if (m_plainDraws && !(m_drawChecks & kRestoreTakenPoints) && instanceCount == 1 && firstInstance == 0) [[likely]] {
-            gl().glDrawArrays(m_pipeline->mode(), GLint(firstVertex), GLsizei(vertexCount));
+        if (m_plainDraws && instanceCount == 1 && firstInstance == 0) [[likely]] {
+            m_drawCalls.drawArrays(m_plainDrawMode, GLint(firstVertex), GLsizei(vertexCount));
             return;
         }
         drawGeneral(vertexCount, instanceCount, firstVertex, firstInstance);
@@ -937,6 +939,7 @@ public:
         // From instance 0 the attribute pointers start at vertex and instance 0 and the
         // base-instance uniform is 0: what the next such draw needs, until something changes.
         m_plainDraws = firstInstance == 0;
+        m_plainDrawMode = pipeline.mode();
     }
     void drawBaseInstance(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance);
     void drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex, int32_t vertexOffset,
@@ -984,6 +987,12 @@ private:
 
     // Replay state.
     const Pipeline* m_pipeline = nullptr;
+    // The context's entry points of a plain draw and its set's bind, copied at every execute(): a
+    // call through them is one load fewer than through the context, on every draw.
+    struct DrawCalls {
+        PFNGLBINDBUFFERRANGEPROC bindBufferRange = nullptr;
+        PFNGLDRAWARRAYSPROC drawArrays = nullptr;
+    } m_drawCalls;
     // The set the list bound last at each index, its binding points, and those of them another
     // set took since (restoreTakenPoints binds what the pipeline reads of those again).
     std::array<const BindingSet*, kMaxBindingSets> m_listSets{};
@@ -1010,10 +1019,12 @@ private:
     // respecified when something they depend on changed.
     bool m_vertexStateDirty = true;
     // Set by a draw from instance 0 (the attribute pointers from vertex and instance 0, the
-    // base-instance uniform 0), cleared by whatever changes that (and, with the sampler-unit check
-    // on, by texture binds and new passes): a draw of one instance from instance 0 then calls
-    // glDrawArrays alone (Device::draw).
+    // base-instance uniform 0), cleared by whatever changes that, by whatever leaves binding
+    // points to restore (kRestoreTakenPoints), and with the sampler-unit check on by texture binds
+    // and new passes: a draw of one instance from instance 0 then calls glDrawArrays alone
+    // (Device::draw), in the mode of the pipeline that set it (m_plainDrawMode: one load fewer).
     bool m_plainDraws = false;
+    GLenum m_plainDrawMode = 0;
     void markVertexStateDirty() {
         m_vertexStateDirty = true;
         m_plainDraws = false;

@@ -188,6 +188,33 @@ TEST_P(BindingNamespaceTest, AMipRangeReachesItsTextureWhenAnotherSetTookItsUnit
     EXPECT_EQ(drawWith(pipeline, {{0, secondMip}, {2, allMips}, {1, taker}}), std::vector<Rgba8>(16, mip1));
 }
 
+// The same pipeline throughout: after a plain draw (one instance, nothing to set up), a one-buffer
+// set bound at an index the pipeline does not use takes the point the pipeline reads, and the next
+// draw must bind it back first. (GL replays a plain draw as its call alone unless something is
+// left to restore: the taking must end that, or the draw reads the other set's buffer.)
+TEST_P(BindingNamespaceTest, ADrawOfTheSamePipelineRestoresAPointASetTook) {
+    const std::array<float, 4> red{1, 0, 0, 1}, blue{0, 0, 1, 1};
+    BindingSetHandle used = device().createBindingSet(BindingSetDesc().add(
+        BindingItem::uniformBuffer(0, createBuffer(BufferUsage::Uniform, std::as_bytes(std::span(red))))));
+    BindingSetHandle unused = device().createBindingSet(BindingSetDesc().add(
+        BindingItem::uniformBuffer(0, createBuffer(BufferUsage::Uniform, std::as_bytes(std::span(blue))))));
+    PipelineHandle pipeline = fullscreenPipeline("bench_uniform_color_frag", Format::RGBA8_UNORM);   // set 0 binding 0
+    TextureHandle target = createTexture2D(Format::RGBA8_UNORM, 4, 4, TextureUsage::RenderTarget);
+    submit([&](ICommandList& cmd) {
+        cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(target)));
+        cmd.setPipeline(pipeline);
+        cmd.setBindingSet(0, used);
+        cmd.setScissor({0, 0, 2, 4});
+        cmd.draw(3);
+        cmd.setScissor({2, 0, 2, 4});
+        cmd.setBindingSet(1, unused);   // right before the draw: GL records the two as one command
+        cmd.draw(3);
+        cmd.endRenderPass();
+    });
+    EXPECT_EQ(readTextureAs<Rgba8>(target), std::vector<Rgba8>(16, Rgba8{255, 0, 0, 255}))
+        << "blue on the right: the second draw read set 1's buffer";
+}
+
 // A draw whose pipeline reads none of the taken points leaves them taken; the next pipeline that
 // reads one gets it back (the GL backend checks again when the pipeline changes).
 TEST_P(BindingNamespaceTest, ATakenPointIsRestoredForALaterPipelineThatReadsIt) {
