@@ -22,6 +22,7 @@
 #   gl_only/             DamagedHelmet at 256x256 in the GL configurations alone, one process that
 #   gl_only_against/     starts no Vulkan, and all five --against them at tolerance 0: GL alone must
 #                        draw as GL after Vulkan
+#   bench_rhi_footprint.{json,md}  the null-driver rows with JANUS_BENCH_NULL_FOOTPRINT=128
 #   bench_rhi.p*.json    janus_bench_rhi in 10 fresh processes of 5 interleaved repetitions each (item 4);
 #                        bench_rhi.md is their table when python3 is there (else here:
 #                        scripts/bench.sh --from-json bench_rhi.p0.json --from-json ...); a
@@ -218,6 +219,17 @@ if [[ $bench_only == 0 ]]; then
   step gl_only 60 janus parity "${gl_only_scene[@]}" --configs gl/compute,gl/fallback,gles/fallback --out "$results/gl_only"
   step gl_only_against 60 janus parity "${gl_only_scene[@]}" --out "$results/gl_only_against" --against "$results/gl_only" \
     --against-tolerance 0
+fi
+# The null-driver rows again, each stub also writing a push buffer's worth per call
+# (JANUS_BENCH_NULL_FOOTPRINT, 128 bytes: 256 per draw): if the RHI's own ns per draw grow with it
+# on that CPU, the driver's cache traffic is part of what the RHI costs there (it did not here;
+# docs/BENCHMARKS.md, session 21). Before the processes below, which take what is left.
+if ((quick == 0)); then
+  JANUS_BENCH_NULL_FOOTPRINT=128 step bench_rhi_footprint 60 janus_bench_rhi --benchmark_filter=null_driver \
+    "${bench_options[@]}" --benchmark_out="$results/bench_rhi_footprint.json" --benchmark_out_format=json
+  if command -v python3 >/dev/null && [[ -s "$results/bench_rhi_footprint.json" ]]; then
+    bash "$repo_root/scripts/bench.sh" --from-json "$results/bench_rhi_footprint.json" > "$results/bench_rhi_footprint.md" 2>&1
+  fi
 fi
 from_json=()
 for ((p = 0; p < bench_processes; ++p)); do
