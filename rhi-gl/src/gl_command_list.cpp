@@ -471,21 +471,17 @@ void CommandList::setPipeline(const PipelineHandle& handle) {
 // in a function that calls nothing (its registers need no saving); anything else, and every error,
 // takes the general path. The front checked `set` and that the handle is not null.
 void CommandList::setBindingSetImpl(uint32_t set, const BindingSetHandle& handle) {
-    if (!handle) __builtin_unreachable();   // the front end checked: typeid need not test for null
-    // Where the type_info objects differ (another shared object), the general path compares names.
-    if (!m_recording || &typeid(*handle) != &typeid(BindingSet) || m_commandCount == m_commandCapacity) [[unlikely]]
+    // A set the list holds passed cast()'s checks (its type, and the device that made it is this
+    // list's) when the list first held it, so not even its type is checked again.
+    if (!m_recording || m_commandCount == m_commandCapacity || !m_keepAlive.keepIfHeld(keepMarkOf(*handle))) [[unlikely]]
         return setBindingSetGeneral(set, handle);
-    auto* bindings = static_cast<BindingSet*>(handle.get());
-    // A set the list holds passed cast()'s checks when the list first held it (the device that
-    // made it is this list's), so they are not made again.
-    if (!m_keepAlive.keepIfHeld(bindings->keepMark)) [[unlikely]] return setBindingSetGeneral(set, handle);
-    bindRecordedSet(set, bindings);
+    bindRecordedSet(set, static_cast<BindingSet*>(handle.get()));
 }
 
 void CommandList::setBindingSetGeneral(uint32_t set, const BindingSetHandle& handle) {
     requireRecording("setBindingSet");
     BindingSet* bindings = cast<BindingSet>(*m_context, handle, "setBindingSet", "binding set");
-    m_keepAlive.keep(handle, bindings->keepMark);
+    m_keepAlive.keep(handle, keepMarkOf(*bindings));
     if (m_commandCount == m_commandCapacity) growCommands();
     bindRecordedSet(set, bindings);
 }

@@ -348,8 +348,8 @@ struct InlineRange {
 };
 static_assert(sizeof(InlineRange) == 16);
 
-// A draw that binds a set reads one cache line of it: the vtable pointer the handle's type check
-// reads, keepMark, the key of the last passed binding check with no texture and no storage write
+// A draw that binds a set reads one cache line of it: the keep mark (IBindingSet's, after the
+// vtable pointer), the key of the last passed binding check with no texture and no storage write
 // (which is all a per-draw bind needs to know of the check), then what replay binds: the binding
 // points and a one-buffer set's range. Recording reads it; replay reads it again, except for a
 // plain set (its one buffer range and nothing else) bound right before a draw, whose range the
@@ -425,7 +425,6 @@ public:
     }
     // Keeps a passed check (unless one for its key is there already) and returns the kept one.
     const Validated* addValidated(std::unique_ptr<Validated> check) const;
-    KeepMark keepMark;   // first line, after the vtable pointer
     // The byte after the last one a per-draw bind reads (recording and replay), from the set's
     // start: at most 64, one cache line (tests/rhi/gl_draw_calls_test.cpp checks it).
     size_t bindBytes() const {

@@ -493,8 +493,8 @@ public:
     // What a bind touches comes first, next to the object's header: binding sets are many, and
     // each bind of a different one may miss the cache. The byte after the last one a bind of
     // the first use reads, from the set's start: at most 64, one cache line
-    // (tests/rhi/vulkan_binding_set_test.cpp checks it).
-    KeepMark keepMark;
+    // (tests/rhi/vulkan_binding_set_test.cpp checks it). The keep mark is IBindingSet's, right
+    // after the vtable pointer (keepMarkOf).
     size_t bindBytes() const {
         return size_t(reinterpret_cast<const std::byte*>(&m_firstUse.onlyRead + 1) -
                       reinterpret_cast<const std::byte*>(this));

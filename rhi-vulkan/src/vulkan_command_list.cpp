@@ -276,19 +276,17 @@ void CommandList::setPipeline(const PipelineHandle& handle) {
 }
 
 // The common case calls nothing before its last step (bindInPass's vkCmdBindDescriptorSets, after
-// which nothing is left to do), so it keeps no registers across a call. Anything unusual (not
-// recording, an object of another backend, a type_info that is a different object for the same
-// type, as across shared libraries, or a set the list does not hold yet) takes the checked path.
-// A set the list holds passed that path's checks when the list first held it (the device that
-// made it is this list's), so they are not made again.
+// which nothing is left to do), so it keeps no registers across a call. Anything else (not
+// recording, or a set the list does not hold yet: of another backend or device, or new) takes the
+// checked path. A set the list holds passed that path's checks (its type, and the device that
+// made it is this list's) when the list first held it, so not even its type is checked again.
 void CommandList::setBindingSetImpl(uint32_t set, const BindingSetHandle& bindings) {   // set < kMaxBindingSets
-    IBindingSet* object = bindings.get();
-    if (!object) __builtin_unreachable();   // the front end checked: typeid need not test for null
-    if (m_state != State::Recording || &typeid(*object) != &typeid(BindingSet)) [[unlikely]]
+    IBindingSet& object = *bindings;   // not null: the front end checked
+    // A set the list holds is one of this device's: native() checked when the list first held it.
+    if (m_state != State::Recording || !m_keepAlive.keepIfHeld(keepMarkOf(object))) [[unlikely]]
         return setBindingSetChecked(set, bindings);
-    auto* bindingSet = static_cast<BindingSet*>(object);
-    if (m_bindingSets[set] == bindingSet) return;   // already bound, so held
-    if (!m_keepAlive.keepIfHeld(bindingSet->keepMark)) [[unlikely]] return setBindingSetChecked(set, bindings);
+    auto* bindingSet = static_cast<BindingSet*>(&object);
+    if (m_bindingSets[set] == bindingSet) return;   // already bound
     bindHeldSet(set, *bindingSet);
 }
 
@@ -299,7 +297,7 @@ void CommandList::setBindingSetChecked(uint32_t set, const BindingSetHandle& bin
 
 void CommandList::bindSet(uint32_t set, const BindingSetHandle& bindings, BindingSet* bindingSet) {
     if (m_bindingSets[set] == bindingSet) return;   // already bound
-    m_keepAlive.keep(bindings, bindingSet->keepMark);
+    m_keepAlive.keep(bindings, keepMarkOf(*bindingSet));
     bindHeldSet(set, *bindingSet);
 }
 

@@ -260,6 +260,39 @@ TEST_P(ErrorTest, ObjectsOfAnotherDeviceAreRefused) {
         EXPECT_TRUE(throwsRhiError(use, ErrorCode::InvalidUsage, {"another device"})) << what;
 }
 
+// A binding set of another backend is refused too, also once a list of its own device has held
+// it, which gives it a keep mark with a recording and slot 0: a list finds out whether it holds a
+// set before checking the set's type (a set it holds was checked when first held), and here it
+// holds a set of its own at slot 0.
+TEST_P(ErrorTest, ABindingSetOfAnotherBackendIsRefused) {
+    const Backend otherBackend = backend() == Backend::Vulkan ? Backend::GL : Backend::Vulkan;
+    std::unique_ptr<IDevice> other = createDevice(DeviceDesc().setBackend(otherBackend));
+    const std::array<float, 4> colour{1, 0, 0, 1};
+    const std::span<const std::byte> bytes = std::as_bytes(std::span(colour));
+    BufferHandle theirBuffer = other->createBuffer(BufferDesc().setSize(bytes.size()).setUsage(BufferUsage::Uniform));
+    BindingSetHandle theirSet = other->createBindingSet(BindingSetDesc().add(BindingItem::uniformBuffer(0, theirBuffer)));
+    CommandListHandle theirList = other->createCommandList();
+    theirList->begin();
+    theirList->setBindingSet(0, theirSet);
+    theirList->end();
+
+    BindingSetHandle mySet = device().createBindingSet(
+        BindingSetDesc().add(BindingItem::uniformBuffer(0, createBuffer(BufferUsage::Uniform, bytes))));
+    PipelineHandle pipeline = fullscreenPipeline("bench_uniform_color_frag", Format::RGBA8_UNORM);
+    TextureHandle target = createTexture2D(Format::RGBA8_UNORM, 4, 4, TextureUsage::RenderTarget);
+    drawFullscreen(RenderPassDesc().addColor(Attachment::clear(target)), pipeline, {mySet});   // a list holding mySet
+    EXPECT_TRUE(throwsRhiError(
+        [&] {
+            submit([&](ICommandList& cmd) {
+                cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(target)));
+                cmd.setPipeline(pipeline);
+                cmd.setBindingSet(0, mySet);   // at slot 0 of this list's keep-alive entries
+                cmd.setBindingSet(0, theirSet);
+            });
+        },
+        ErrorCode::InvalidUsage, {"binding set"}));
+}
+
 // Like any resource, a command list may outlive its device: recording and releasing it then
 // touch nothing of the device (the GL list read the destroyed device; scripts/sanitize.sh's
 // AddressSanitizer reports that as a heap-use-after-free).

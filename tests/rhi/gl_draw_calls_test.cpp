@@ -136,7 +136,7 @@ TEST_P(GLDrawCallsTest, BindingSetsKeepTheirBufferRangesForReplay) {
     const auto address = reinterpret_cast<uintptr_t>(&oneSet);
     EXPECT_EQ(address % 64, 0u) << "the set is aligned to a cache line";
     EXPECT_LE(oneSet.bindBytes(), 64u) << "a bind reads beyond the set's first line";
-    const auto keepMark = reinterpret_cast<uintptr_t>(&oneSet.keepMark);
+    const auto keepMark = reinterpret_cast<uintptr_t>(&keepMarkOf(oneSet));
     EXPECT_LE(keepMark + sizeof(KeepMark), address + 64) << "recording reads the keep mark in the first line";
     const gl::BindingSet::ReplayState& r = oneSet.replayState();
     ASSERT_TRUE(r.inlineRange);

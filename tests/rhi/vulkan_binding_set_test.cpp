@@ -34,7 +34,7 @@ TEST_P(VulkanBindingSetTest, AOneReadSetsBindReadsOneCacheLine) {
     const auto address = reinterpret_cast<uintptr_t>(&set);
     EXPECT_EQ(address % 64, 0u) << "the set is aligned to a cache line";
     EXPECT_LE(set.bindBytes(), 64u) << "a bind reads beyond the set's first line";
-    const auto keepMark = reinterpret_cast<uintptr_t>(&set.keepMark);
+    const auto keepMark = reinterpret_cast<uintptr_t>(&keepMarkOf(set));
     EXPECT_LE(keepMark + sizeof(KeepMark), address + 64) << "a bind reads the keep mark in the first line";
 
     const auto& vkPipeline = dynamic_cast<const vulkan::Pipeline&>(*pipeline);

@@ -12,17 +12,25 @@
 #include <memory>
 #include <vector>
 
+#include "janus/rhi/rhi.h"
+
 namespace janus::rhi {
 
-// On every object a command list can hold: the recording that last held it and where that list
-// holds it. Several lists may record at once: the mark then says only which of them touched the
-// object last, so a list decides what to release from its own entries (Kept::usedIn), never from
-// the mark, and trusts the slot only when its own entry there holds this mark. Relaxed atomics: a
+// On every object a command list can hold (detail::KeepMark, declared in rhi.h because binding
+// sets carry it in their interface): the recording that last held it and where that list holds
+// it. Several lists may record at once: the mark then says only which of them touched the object
+// last, so a list decides what to release from its own entries (Kept::usedIn), never from the
+// mark, and trusts the slot only when its own entry there holds this mark. Relaxed atomics: a
 // stale or torn read at worst holds an object twice, which is harmless.
-struct KeepMark {
-    std::atomic<uint64_t> recording{0};
-    std::atomic<uint32_t> slot{0};
+using KeepMark = detail::KeepMark;
+
+namespace detail {
+struct BackendAccess {
+    static KeepMark& keepMark(const IBindingSet& set) { return set.m_keepMark; }
 };
+}  // namespace detail
+// A binding set's mark, whatever its backend (IBindingSet holds it).
+inline KeepMark& keepMarkOf(const IBindingSet& set) { return detail::BackendAccess::keepMark(set); }
 
 class KeepAliveList {
 public:

@@ -20,6 +20,7 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -225,6 +226,13 @@ namespace detail {
 class HostIndexContents;
 class IndexValueLog;
 struct FrontAccess;
+struct BackendAccess;
+// A backend's bookkeeping on an object a command list can hold: the recording that last held it
+// and where that list holds it (rhi/backend-api/janus/rhi/keep_alive.h says how it is used).
+struct KeepMark {
+    std::atomic<uint64_t> recording{0};
+    std::atomic<uint32_t> slot{0};
+};
 }  // namespace detail
 
 class IBuffer {
@@ -527,6 +535,13 @@ class IBindingSet {
 public:
     virtual ~IBindingSet() = default;
     virtual const BindingSetDesc& desc() const = 0;
+
+private:
+    friend struct detail::BackendAccess;
+    // Here rather than in each backend's class: a command list finds out whether it holds a set
+    // before it knows the set's type, and one it holds had its type checked when it first held it,
+    // so a per-draw bind of a held set checks nothing else.
+    mutable detail::KeepMark m_keepMark;   // bookkeeping, not the set's state
 };
 using BindingSetHandle = std::shared_ptr<IBindingSet>;
 
