@@ -16,6 +16,12 @@ struct Object {
 
 std::shared_ptr<Object> makeObject() { return std::make_shared<Object>(); }
 
+// A recording that uses nothing: the list lets go of everything it held.
+void recordNothing(KeepAliveList& list) {
+    list.beginRecording();
+    list.releaseUnused();
+}
+
 TEST(KeepAliveList, AnObjectIsHeldUntilARecordingDoesNotUseIt) {
     KeepAliveList list;
     auto object = makeObject();
@@ -36,8 +42,7 @@ TEST(KeepAliveList, AnObjectIsHeldUntilARecordingDoesNotUseIt) {
     list.releaseUnused();
     EXPECT_FALSE(watch.expired()) << "used by the last recording";
 
-    list.beginRecording();
-    list.releaseUnused();
+    recordNothing(list);
     EXPECT_TRUE(watch.expired()) << "a recording without it lets it go";
 }
 
@@ -100,11 +105,9 @@ TEST(KeepAliveList, ListsSharingAnObjectEachHoldIt) {
 
     shared.reset();
     EXPECT_FALSE(watch.expired()) << "both lists' last recordings used it";
-    a.beginRecording();
-    a.releaseUnused();
+    recordNothing(a);
     EXPECT_FALSE(watch.expired()) << "b still holds it";
-    b.beginRecording();
-    b.releaseUnused();
+    recordNothing(b);
     EXPECT_TRUE(watch.expired()) << "neither list holds it";
 }
 
