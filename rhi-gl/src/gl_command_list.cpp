@@ -914,9 +914,10 @@ void Device::bindPipeline(const Pipeline& pipeline) {
     if (!m_pipeline || !sameVertexLayout(m_pipeline->graphics(), pipeline.graphics())) m_vertexStateDirty = true;
     m_plainDraws = false;   // its base-instance uniform may not be 0
     m_pipeline = &pipeline;
-    // Points taken from a set: this pipeline may read them (restoreTakenPoints checks at its draw).
+    // Points taken from a set: this pipeline may read them (restoreTakenPoints checks at its draw;
+    // m_plainDraws is false, above).
     static_assert(kMaxBindingSets == 4, "the next line names every index");
-    if (m_takenPoints[0] | m_takenPoints[1] | m_takenPoints[2] | m_takenPoints[3]) m_drawChecks |= kRestoreTakenPoints;   // m_plainDraws is false
+    if (m_takenPoints[0] | m_takenPoints[1] | m_takenPoints[2] | m_takenPoints[3]) m_drawChecks |= kRestoreTakenPoints;
     m_context->replayPipeline = &pipeline.debugName();
     pipeline.applyState();
 }

@@ -282,7 +282,6 @@ void CommandList::setPipeline(const PipelineHandle& handle) {
 // made it is this list's) when the list first held it, so not even its type is checked again.
 void CommandList::setBindingSetImpl(uint32_t set, const BindingSetHandle& bindings) {   // set < kMaxBindingSets
     IBindingSet& object = *bindings;   // not null: the front end checked
-    // A set the list holds is one of this device's: native() checked when the list first held it.
     if (m_state != State::Recording || !m_keepAlive.keepIfHeld(keepMarkOf(object))) [[unlikely]]
         return setBindingSetChecked(set, bindings);
     auto* bindingSet = static_cast<BindingSet*>(&object);
@@ -314,9 +313,9 @@ void CommandList::bindSet(uint32_t set, const BindingSetHandle& bindings, Bindin
 
 // The set a pass changes per draw (a uniform slice per draw), bound now rather than at the draw,
 // so that the draw after it is only its range check and the vkCmdDraw (drawStateBound): in a
-// render pass whose draw state was checked, with a graphics pipeline whose only set this is, when the set has a descriptor
-// set for that pipeline's layout already (findUse), no texture, and one access, a read of the
-// resource the pass's draws read so far. That read joins the pass's hull, as trackDrawBindings
+// render pass whose draw state was checked, with a graphics pipeline whose only set this is, when
+// the set has a descriptor set for that pipeline's layout already (findUse), no texture, and one
+// access, a read of the resource the pass's draws read so far. That read joins the pass's hull, as trackDrawBindings
 // would at the draw; if no draw follows, the hull is only wider, which can add a barrier but never
 // miss one. Anything else is left to the draw, which binds and tracks what is dirty.
 [[gnu::always_inline]] inline bool CommandList::bindInPass(uint32_t set, const BindingSet& bindingSet) {
@@ -463,9 +462,8 @@ void CommandList::throwDrawOutsidePass(std::string_view call) const {
 
 // Many draws read slices of one buffer (a uniform slice per draw): the hull of what they read
 // reaches the tracker once, at the end of the pass. Wider than the slices, it can only add a
-// barrier, never miss one.
-// Branches rather than min and max: a pass's per-draw slices are mostly allocated in draw order, so
-// a read rarely moves the hull's begin and at most moves its end (one store instead of two).
+// barrier, never miss one. Branches rather than min and max: per-draw slices are mostly allocated
+// in draw order, so a read rarely moves the hull's begin and at most its end (one store, not two).
 [[gnu::always_inline]] inline void CommandList::widenPassReads(const KeyRange& range, VkPipelineStageFlags stages) {
     if (range.begin < m_passReads.range.begin) [[unlikely]] m_passReads.range.begin = range.begin;
     if (range.end > m_passReads.range.end) m_passReads.range.end = range.end;
