@@ -18,12 +18,19 @@
 namespace janus::bench {
 
 // One frame of work. The same numbers drive the raw and the RHI side of every comparison.
-inline constexpr uint32_t kOpsPerFrame = 1000;        // draws or dispatches per command list
+// Draws or dispatches per frame (per command list): kDefaultOpsPerFrame, or janus_bench_rhi's
+// --janus_ops_per_frame. A cost paid once per frame weighs 1/opsPerFrame() on each operation, so
+// runs at two frame sizes split per-frame from per-operation cost (scripts/bench.sh does).
+inline constexpr uint32_t kDefaultOpsPerFrame = 1000;
+// Each draw's colour is its index in two bytes (drawColorBytes): no two draws of a frame alike.
+inline constexpr uint32_t kMaxOpsPerFrame = 65536;
+uint32_t opsPerFrame();
+void setOpsPerFrame(uint32_t ops);   // before the first benchmark runs: the sides size their sets by it
 inline constexpr uint32_t kTargetSize = 8;            // 8x8 RGBA8 target: rasterisation is negligible
 // Every draw/dispatch binds its own 256-byte slice: 256 satisfies every device's UBO/SSBO
 // offset alignment, so both sides use identical offsets without querying anything.
 inline constexpr uint64_t kSliceBytes = 256;
-inline constexpr uint64_t kSlicedBufferBytes = kSliceBytes * kOpsPerFrame;
+inline uint64_t slicedBufferBytes() { return kSliceBytes * opsPerFrame(); }
 // The triangle covers the top-left corner (rows 0..3 on every backend), texel (0, 0) included.
 inline constexpr std::array<float, 6> kTriangle = {-1.0f, -1.0f, 0.0f, -1.0f, -1.0f, 0.0f};
 
@@ -34,7 +41,7 @@ std::array<uint8_t, 4> drawColorBytes(uint32_t drawIndex);
 // Throws WrongResult unless `texel` (RGBA8, texel (0, 0) of the target) has the last draw's
 // colour; the message says whose colour it has instead (another draw's, or none: the clear's).
 void requireLastDrawColor(const void* texel, std::string_view who);
-// kOpsPerFrame std140 blocks { vec4 color; }, one per kSliceBytes slice.
+// opsPerFrame() std140 blocks { vec4 color; }, one per kSliceBytes slice.
 std::vector<std::byte> drawParameterData();
 
 // Thrown when a benchmark finds that the work it timed did not produce the expected result.
@@ -81,7 +88,7 @@ void runGuarded(benchmark::State& state, const std::function<void()>& body);
 int failedRuns();
 inline constexpr int kExitSomeRunsFailed = 3;
 
-// The benchmarks. Each times kOpsPerFrame draws (into the 8x8 target, rebinding the colour
+// The benchmarks. Each times opsPerFrame() draws (into the 8x8 target, rebinding the colour
 // uniform block per draw) or dispatches (1x1x1, rebinding the counter per dispatch) per iteration.
 void rhiDraws(benchmark::State& state, rhi::Backend backend);
 // With the per-draw driver calls answered by stubs (null_driver.h): the RHI's own code.

@@ -18,6 +18,13 @@
 
 namespace janus::bench {
 
+namespace {
+uint32_t g_opsPerFrame = kDefaultOpsPerFrame;
+}  // namespace
+
+uint32_t opsPerFrame() { return g_opsPerFrame; }
+void setOpsPerFrame(uint32_t ops) { g_opsPerFrame = ops; }
+
 std::array<float, 4> drawColor(uint32_t drawIndex) {
     const std::array<uint8_t, 4> bytes = drawColorBytes(drawIndex);
     return {bytes[0] / 255.0f, bytes[1] / 255.0f, bytes[2] / 255.0f, bytes[3] / 255.0f};
@@ -30,18 +37,19 @@ std::array<uint8_t, 4> drawColorBytes(uint32_t drawIndex) {
 void requireLastDrawColor(const void* texel, std::string_view who) {
     std::array<uint8_t, 4> got{};
     std::memcpy(got.data(), texel, got.size());
-    const std::array<uint8_t, 4> expected = drawColorBytes(kOpsPerFrame - 1);
+    const uint32_t ops = opsPerFrame();
+    const std::array<uint8_t, 4> expected = drawColorBytes(ops - 1);
     if (got == expected) return;
     std::string whose = "no draw's colour";
-    for (uint32_t i = 0; i < kOpsPerFrame; ++i)
-        if (drawColorBytes(i) == got) whose = fmt::format("the colour of draw {} of {}", i, kOpsPerFrame);
+    for (uint32_t i = 0; i < ops; ++i)
+        if (drawColorBytes(i) == got) whose = fmt::format("the colour of draw {} of {}", i, ops);
     throw WrongResult(fmt::format("{}: texel (0, 0) is ({}), {}, not the last draw's ({})", who, fmt::join(got, ", "),
                                   whose, fmt::join(expected, ", ")));
 }
 
 std::vector<std::byte> drawParameterData() {
-    std::vector<std::byte> data(kSlicedBufferBytes);
-    for (uint32_t i = 0; i < kOpsPerFrame; ++i) {
+    std::vector<std::byte> data(slicedBufferBytes());
+    for (uint32_t i = 0; i < opsPerFrame(); ++i) {
         const std::array<float, 4> color = drawColor(i);
         std::memcpy(data.data() + i * kSliceBytes, color.data(), sizeof(color));
     }
@@ -88,12 +96,12 @@ void runFrames(benchmark::State& state, const std::function<void()>& submit, con
     if (!failure.empty()) throw std::runtime_error(failure);
     // kAvgIterations divides by the iteration count: the values read as ns per draw/dispatch.
     auto perOp = [](double seconds) {
-        return benchmark::Counter(seconds * 1e9 / kOpsPerFrame, benchmark::Counter::kAvgIterations);
+        return benchmark::Counter(seconds * 1e9 / opsPerFrame(), benchmark::Counter::kAvgIterations);
     };
     state.counters["submit_cpu_ns_per_op"] = perOp(submitCpuSeconds);
     state.counters["submit_ns_per_op"] = perOp(submitSeconds);
     state.counters["wait_ns_per_op"] = perOp(waitSeconds);
-    state.SetItemsProcessed(int64_t(state.iterations()) * kOpsPerFrame);
+    state.SetItemsProcessed(int64_t(state.iterations()) * opsPerFrame());
 }
 
 namespace {
@@ -195,32 +203,55 @@ void registerBenchmarks(int64_t frames) {
     add("draw/gles/rhi_null_driver", [](benchmark::State& state) { rhiDrawsWithNullDriver(state, Backend::GLES); });
 }
 
-// --janus_frames=N, taken out of argv before Google Benchmark sees it. Fixed frame counts make
-// --benchmark_enable_random_interleaving usable: Google Benchmark 1.7.1 aborts (a ComputeStats
-// check) when interleaved repetitions settle on different iteration counts, as they did on the
-// H200. Interleaving spreads raw and RHI repetitions over the same minutes, so a noisy neighbour
-// or a clock change hits both (on the H100 one process's GL draw ratio was 0.88x, the next 1.57x).
-int64_t takeFramesFlag(int& argc, char** argv) {
-    constexpr std::string_view kFlag = "--janus_frames=";
-    int64_t frames = 0;
+// janus_bench_rhi's own flags, taken out of argv before Google Benchmark sees them:
+//   --janus_frames=N         every repetition times exactly N frames. Fixed frame counts make
+//                            --benchmark_enable_random_interleaving usable: Google Benchmark 1.7.1
+//                            aborts (a ComputeStats check) when interleaved repetitions settle on
+//                            different iteration counts, as they did on the H200. Interleaving
+//                            spreads raw and RHI repetitions over the same minutes, so a noisy
+//                            neighbour or a clock change hits both (on the H100 one process's GL
+//                            draw ratio was 0.88x, the next 1.57x).
+//   --janus_ops_per_frame=N  draws or dispatches per frame (default kDefaultOpsPerFrame).
+struct JanusFlags {
+    int64_t frames = 0;   // 0: Google Benchmark chooses
+    uint32_t opsPerFrame = janus::bench::kDefaultOpsPerFrame;
+};
+
+JanusFlags takeJanusFlags(int& argc, char** argv) {
+    struct NumberFlag {
+        std::string_view prefix, what;
+        int64_t min, max;
+        std::function<void(int64_t)> store;
+    };
+    JanusFlags flags;
+    const NumberFlag known[] = {
+        {"--janus_frames=", "a whole number of frames", 1, 1000000, [&](int64_t n) { flags.frames = n; }},
+        {"--janus_ops_per_frame=", "a whole number of draws or dispatches per frame", 1,
+         janus::bench::kMaxOpsPerFrame, [&](int64_t n) { flags.opsPerFrame = uint32_t(n); }},
+    };
     int kept = 1;
     for (int i = 1; i < argc; ++i) {
         const std::string_view argument = argv[i];
-        if (!argument.starts_with(kFlag)) {
+        const NumberFlag* flag = nullptr;
+        for (const NumberFlag& candidate : known)
+            if (argument.starts_with(candidate.prefix)) flag = &candidate;
+        if (!flag) {
             argv[kept++] = argv[i];
             continue;
         }
-        const std::string value(argument.substr(kFlag.size()));
+        const std::string value(argument.substr(flag->prefix.size()));
         char* end = nullptr;
-        frames = std::strtoll(value.c_str(), &end, 10);
-        if (value.empty() || *end != '\0' || frames < 1 || frames > 1000000) {
-            fmt::print(stderr, "janus_bench_rhi: --janus_frames must be a whole number of frames from 1 to 1000000, got '{}'\n", value);
+        const long long number = std::strtoll(value.c_str(), &end, 10);
+        if (value.empty() || *end != '\0' || number < flag->min || number > flag->max) {
+            fmt::print(stderr, "janus_bench_rhi: {} takes {} from {} to {}, got '{}'\n",
+                       flag->prefix.substr(0, flag->prefix.size() - 1), flag->what, flag->min, flag->max, value);
             std::exit(2);
         }
+        flag->store(number);
     }
     argc = kept;
     argv[argc] = nullptr;
-    return frames;
+    return flags;
 }
 
 }  // namespace
@@ -232,10 +263,12 @@ int main(int argc, char** argv) {
     // otherwise identical one. Never trimming the heap takes that luck out of the comparison.
     mallopt(M_TRIM_THRESHOLD, std::numeric_limits<int>::max());
     mallopt(M_TOP_PAD, 64 << 20);
-    registerBenchmarks(takeFramesFlag(argc, argv));
+    const JanusFlags flags = takeJanusFlags(argc, argv);
+    janus::bench::setOpsPerFrame(flags.opsPerFrame);
+    registerBenchmarks(flags.frames);
     benchmark::Initialize(&argc, argv);
     if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-    benchmark::AddCustomContext("ops_per_frame", std::to_string(janus::bench::kOpsPerFrame));
+    benchmark::AddCustomContext("ops_per_frame", std::to_string(janus::bench::opsPerFrame()));
     benchmark::AddCustomContext("target", fmt::format("{0}x{0} RGBA8", janus::bench::kTargetSize));
     benchmark::RunSpecifiedBenchmarks();
     benchmark::Shutdown();

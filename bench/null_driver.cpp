@@ -79,9 +79,10 @@ VKAPI_ATTR void VKAPI_CALL nullDraw(VkCommandBuffer, uint32_t vertexCount, uint3
 }  // namespace
 
 void requireNullDriverFrames(uint64_t frames, const std::string& who, bool checkOffsets) {
-    const uint64_t calls = frames * kOpsPerFrame;
+    const uint64_t ops = opsPerFrame();
+    const uint64_t calls = frames * ops;
     // Slice i at offset i * kSliceBytes, once per frame.
-    const uint64_t offsets = checkOffsets ? frames * kSliceBytes * (uint64_t(kOpsPerFrame) * (kOpsPerFrame - 1) / 2) : 0;
+    const uint64_t offsets = checkOffsets ? frames * kSliceBytes * (ops * (ops - 1) / 2) : 0;
     if (g_calls.binds != calls || g_calls.draws != calls || g_calls.offsetSum != offsets || g_calls.unexpected != 0)
         throw WrongResult(fmt::format("{} with a null driver: {} frames should bind {} times and draw {} times (bound "
                                       "offsets summing to {}); it bound {}, drew {} (offsets summing to {}), {} "

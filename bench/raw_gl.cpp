@@ -191,7 +191,7 @@ RawGL::RawGL(rhi::Backend backend)
     gl.glUniformBlockBinding(m_drawProgram, 0, 0);
 
     if (!m_es && scene.hasCompute()) {
-        const std::vector<std::byte> zeros(kSlicedBufferBytes);
+        const std::vector<std::byte> zeros(slicedBufferBytes());
         gl.glGenBuffers(1, &m_counters);
         gl.glBindBuffer(GL_SHADER_STORAGE_BUFFER, m_counters);
         gl.glBufferData(GL_SHADER_STORAGE_BUFFER, GLsizeiptr(zeros.size()), zeros.data(), GL_DYNAMIC_COPY);
@@ -313,7 +313,8 @@ void RawGL::submitDraws(RawGLDraws how) {
     gl.glClearBufferfv(GL_COLOR, 0, clear);
     gl.glUseProgram(m_drawProgram);
     gl.glBindVertexArray(rhiBuffers ? m_rhiVertexArray : m_vertexArray);
-    for (uint32_t i = 0; i < kOpsPerFrame; ++i) {
+    const uint32_t ops = opsPerFrame();   // read once: the driver calls could change it, for all the compiler knows
+    for (uint32_t i = 0; i < ops; ++i) {
         gl.glBindBufferRange(GL_UNIFORM_BUFFER, 0, drawParameters, GLintptr(i * kSliceBytes), GLsizeiptr(kSliceBytes));
         if (respecifyVertices) {
             gl.glBindBuffer(GL_ARRAY_BUFFER, vertices);
@@ -327,7 +328,8 @@ void RawGL::submitDraws(RawGLDraws how) {
 void RawGL::submitDispatches() {
     const GLCalls& gl = m_gl;
     gl.glUseProgram(m_computeProgram);
-    for (uint32_t i = 0; i < kOpsPerFrame; ++i) {
+    const uint32_t ops = opsPerFrame();
+    for (uint32_t i = 0; i < ops; ++i) {
         gl.glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 0, m_counters, GLintptr(i * kSliceBytes),
                              GLsizeiptr(kSliceBytes));
         gl.glDispatchCompute(1, 1, 1);
@@ -350,10 +352,10 @@ void RawGL::checkDispatches() {
     const GLCalls& gl = m_gl;
     gl.glBindBuffer(GL_SHADER_STORAGE_BUFFER, m_counters);
     const auto* bytes = static_cast<const std::byte*>(
-        gl.glMapBufferRange(GL_SHADER_STORAGE_BUFFER, 0, GLsizeiptr(kSlicedBufferBytes), GL_MAP_READ_BIT));
+        gl.glMapBufferRange(GL_SHADER_STORAGE_BUFFER, 0, GLsizeiptr(slicedBufferBytes()), GL_MAP_READ_BIT));
     if (!bytes) throw WrongResult("raw GL: glMapBufferRange on the counters failed");
     std::string problem;
-    for (uint32_t i = 0; i < kOpsPerFrame && problem.empty(); ++i) {
+    for (uint32_t i = 0; i < opsPerFrame() && problem.empty(); ++i) {
         uint32_t value = 0;
         std::memcpy(&value, bytes + i * kSliceBytes, sizeof(value));
         if (value != m_dispatchFrames)

@@ -127,10 +127,10 @@ RawVulkan::RawVulkan(const std::string& deviceName) {
     VkFenceCreateInfo fenceInfo{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
     check(vkCreateFence(m_device, &fenceInfo, nullptr, &m_fence), "vkCreateFence");
 
-    const VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, kOpsPerFrame},
-                                          {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kOpsPerFrame}};
+    const VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, opsPerFrame()},
+                                          {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, opsPerFrame()}};
     VkDescriptorPoolCreateInfo descriptorPoolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-    descriptorPoolInfo.maxSets = 2 * kOpsPerFrame;
+    descriptorPoolInfo.maxSets = 2 * opsPerFrame();
     descriptorPoolInfo.poolSizeCount = 2;
     descriptorPoolInfo.pPoolSizes = sizes;
     check(vkCreateDescriptorPool(m_device, &descriptorPoolInfo, nullptr, &m_descriptorPool), "vkCreateDescriptorPool");
@@ -295,16 +295,16 @@ void RawVulkan::createTarget() {
 
 std::vector<VkDescriptorSet> RawVulkan::allocateSets(VkDescriptorSetLayout layout, VkDescriptorType type,
                                                      VkBuffer buffer) {
-    const std::vector<VkDescriptorSetLayout> layouts(kOpsPerFrame, layout);
-    std::vector<VkDescriptorSet> sets(kOpsPerFrame);
+    const std::vector<VkDescriptorSetLayout> layouts(opsPerFrame(), layout);
+    std::vector<VkDescriptorSet> sets(opsPerFrame());
     VkDescriptorSetAllocateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
     info.descriptorPool = m_descriptorPool;
-    info.descriptorSetCount = kOpsPerFrame;
+    info.descriptorSetCount = opsPerFrame();
     info.pSetLayouts = layouts.data();
     check(vkAllocateDescriptorSets(m_device, &info, sets.data()), "vkAllocateDescriptorSets");
-    std::vector<VkDescriptorBufferInfo> buffers(kOpsPerFrame);
-    std::vector<VkWriteDescriptorSet> writes(kOpsPerFrame);
-    for (uint32_t i = 0; i < kOpsPerFrame; ++i) {
+    std::vector<VkDescriptorBufferInfo> buffers(opsPerFrame());
+    std::vector<VkWriteDescriptorSet> writes(opsPerFrame());
+    for (uint32_t i = 0; i < opsPerFrame(); ++i) {
         buffers[i] = {buffer, i * kSliceBytes, kSliceBytes};
         writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
         writes[i].dstSet = sets[i];
@@ -313,14 +313,14 @@ std::vector<VkDescriptorSet> RawVulkan::allocateSets(VkDescriptorSetLayout layou
         writes[i].descriptorType = type;
         writes[i].pBufferInfo = &buffers[i];
     }
-    vkUpdateDescriptorSets(m_device, kOpsPerFrame, writes.data(), 0, nullptr);
+    vkUpdateDescriptorSets(m_device, opsPerFrame(), writes.data(), 0, nullptr);
     return sets;
 }
 
 void RawVulkan::createDrawPipeline() {
     m_vertices = createHostBuffer(sizeof(kTriangle), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
     std::memcpy(m_vertices.mapped, kTriangle.data(), sizeof(kTriangle));
-    m_drawParameters = createHostBuffer(kSlicedBufferBytes, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
+    m_drawParameters = createHostBuffer(slicedBufferBytes(), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
     const std::vector<std::byte> parameters = drawParameterData();
     std::memcpy(m_drawParameters.mapped, parameters.data(), parameters.size());
 
@@ -409,8 +409,8 @@ void RawVulkan::createDrawPipeline() {
 }
 
 void RawVulkan::createComputePipeline() {
-    m_counters = createHostBuffer(kSlicedBufferBytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-    std::memset(m_counters.mapped, 0, kSlicedBufferBytes);
+    m_counters = createHostBuffer(slicedBufferBytes(), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+    std::memset(m_counters.mapped, 0, slicedBufferBytes());
 
     VkDescriptorSetLayoutBinding binding{0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
     VkDescriptorSetLayoutCreateInfo setInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
@@ -542,7 +542,7 @@ void RawVulkan::checkDraws() {
 }
 
 void RawVulkan::checkDispatches() {
-    for (uint32_t i = 0; i < kOpsPerFrame; ++i) {
+    for (uint32_t i = 0; i < opsPerFrame(); ++i) {
         uint32_t value = 0;
         std::memcpy(&value, static_cast<const std::byte*>(m_counters.mapped) + i * kSliceBytes, sizeof(value));
         if (value != m_dispatchFrames)

@@ -41,7 +41,7 @@ RhiScene::RhiScene(Backend backend) {
         BufferDesc().setSize(sizeof(kTriangle)).setUsage(BufferUsage::Vertex).setDebugName("bench triangle"));
     device.writeBuffer(m_vertices, kTriangle.data(), sizeof(kTriangle));
     m_drawParameters = device.createBuffer(
-        BufferDesc().setSize(kSlicedBufferBytes).setUsage(BufferUsage::Uniform).setDebugName("bench draw colours"));
+        BufferDesc().setSize(slicedBufferBytes()).setUsage(BufferUsage::Uniform).setDebugName("bench draw colours"));
     const std::vector<std::byte> parameters = drawParameterData();
     device.writeBuffer(m_drawParameters, parameters.data(), parameters.size());
     m_drawPipeline = device.createGraphicsPipeline(GraphicsPipelineDesc()
@@ -50,7 +50,7 @@ RhiScene::RhiScene(Backend backend) {
                                                        .addVertexAttribute({0, VertexFormat::Float2, 0, 0})
                                                        .addColorFormat(Format::RGBA8_UNORM)
                                                        .setDebugName("bench draw"));
-    for (uint32_t i = 0; i < kOpsPerFrame; ++i)
+    for (uint32_t i = 0; i < opsPerFrame(); ++i)
         m_drawBindings.push_back(device.createBindingSet(
             BindingSetDesc().add(BindingItem::uniformBuffer(0, m_drawParameters, i * kSliceBytes, kSliceBytes))));
 
@@ -62,10 +62,10 @@ RhiScene::RhiScene(Backend backend) {
         m_computePipeline = device.createComputePipeline(
             ComputePipelineDesc().setShader(m_computeShader).setDebugName("bench increment"));
         m_counters = device.createBuffer(
-            BufferDesc().setSize(kSlicedBufferBytes).setUsage(BufferUsage::Storage).setDebugName("bench counters"));
-        const std::vector<std::byte> zeros(kSlicedBufferBytes);
+            BufferDesc().setSize(slicedBufferBytes()).setUsage(BufferUsage::Storage).setDebugName("bench counters"));
+        const std::vector<std::byte> zeros(slicedBufferBytes());
         device.writeBuffer(m_counters, zeros.data(), zeros.size());
-        for (uint32_t i = 0; i < kOpsPerFrame; ++i)
+        for (uint32_t i = 0; i < opsPerFrame(); ++i)
             m_counterBindings.push_back(device.createBindingSet(
                 BindingSetDesc().add(BindingItem::storageBuffer(0, m_counters, i * kSliceBytes, kSliceBytes))));
     }
@@ -119,7 +119,7 @@ void RhiScene::checkDraws() {
 
 void RhiScene::checkDispatches() {
     const std::vector<std::byte> bytes = m_device->readBuffer(m_counters);
-    for (uint32_t i = 0; i < kOpsPerFrame; ++i) {
+    for (uint32_t i = 0; i < opsPerFrame(); ++i) {
         uint32_t value = 0;
         std::memcpy(&value, bytes.data() + i * kSliceBytes, sizeof(value));
         if (value != m_dispatchFrames)

@@ -24,7 +24,7 @@ public:
     const rhi::ShaderHandle& fragmentShader() const { return m_fragmentShader; }
     const rhi::ShaderHandle& computeShader() const { return m_computeShader; }
 
-    // Record and execute one frame (kOpsPerFrame draws or dispatches); waitIdle() finishes it.
+    // Record and execute one frame (opsPerFrame() draws or dispatches); waitIdle() finishes it.
     void submitDraws();
     void submitDispatches();
     void waitIdle() { m_device->waitIdle(); }

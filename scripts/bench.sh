@@ -19,6 +19,9 @@
 #                  --janus_frames) and the repetitions of all benchmarks run in random order
 #                  (Google Benchmark's random interleaving), so raw and RHI share the same minutes
 #                  of a noisy machine; --min-time is then unused
+#   --ops-per-frame N: draws or dispatches per frame (janus_bench_rhi --janus_ops_per_frame;
+#                  default 1000). Give runs at 1000 and at another size together (--from-json) and
+#                  the report splits each side's cost into per frame and per operation
 #   --json         also keep Google Benchmark's JSON output in FILE
 #   --from-json    make the table from FILE (a --json file, or janus_bench_rhi's
 #                  --benchmark_out from another machine, e.g. scripts/gpu_check.sh's) without
@@ -64,6 +67,7 @@ repetitions=5
 min_time=0.2
 processes=1
 interleave_frames=""
+ops_per_frame=""
 json_out=""
 from_json=()
 
@@ -74,9 +78,10 @@ while [[ $# -gt 0 ]]; do
     --min-time) min_time="$2"; shift 2 ;;
     --processes) processes="$2"; shift 2 ;;
     --interleave) interleave_frames="$2"; shift 2 ;;
+    --ops-per-frame) ops_per_frame="$2"; shift 2 ;;
     --json) json_out="$2"; shift 2 ;;
     --from-json) from_json+=("$2"); shift 2 ;;
-    -h|--help) sed -n '2,34p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,37p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "bench.sh: unknown argument '$1' (try --help)" >&2; exit 2 ;;
   esac
 done
@@ -111,6 +116,7 @@ else
   # processes (--processes) spread load bursts either way.
   timing=(--benchmark_min_time="$min_time")
   [[ -n "$interleave_frames" ]] && timing=(--janus_frames="$interleave_frames" --benchmark_enable_random_interleaving=true)
+  [[ -n "$ops_per_frame" ]] && timing+=(--janus_ops_per_frame="$ops_per_frame")   # the binary checks the number
   reports=()
   for ((p = 0; p < processes; ++p)); do
     # Status 3: every benchmark ran, some runs failed (labelled; the table names them).
@@ -128,9 +134,12 @@ import json, sys
 reports = [json.load(open(path)) for path in sys.argv[2:]]
 # Each run keeps which process made it (a merged file's own tags stay apart by a prefix): the
 # table's spread column is the ratio per process.
+# Each also keeps its frame size (janus_bench_rhi --janus_ops_per_frame): runs at another size than
+# the table's go into the per-frame split below it.
 for index, r in enumerate(reports):
     for run in r["benchmarks"]:
         run["janus_process"] = f"{index}.{run['janus_process']}" if "janus_process" in run else str(index)
+        run.setdefault("janus_ops_per_frame", int(r["context"].get("ops_per_frame", 1000)))
 merged = {"context": reports[0]["context"], "benchmarks": [run for r in reports for run in r["benchmarks"]]}
 merged["context"]["processes"] = sum(r["context"].get("processes", 1) for r in reports)
 json.dump(merged, open(sys.argv[1], "w"), indent=1)
@@ -148,14 +157,20 @@ with open(sys.argv[1]) as f:
 
 # run_name is "<work>/<backend>/<raw|rhi>/real_time". The medians are taken here over the
 # repetitions, so one repetition works too (Google Benchmark writes no aggregates then).
-runs, errors = {}, {}
+# The table is of the default frame (1000 operations) where there are such runs, else of the
+# largest; runs at other frame sizes are kept apart for the per-frame split.
+DEFAULT_OPS = 1000
+sizes = {run.get("janus_ops_per_frame", DEFAULT_OPS) for run in report["benchmarks"]}
+table_ops = DEFAULT_OPS if DEFAULT_OPS in sizes or not sizes else max(sizes)
+runs, errors, other_sizes = {}, {}, {}
 for run in report["benchmarks"]:
     key = tuple(run["run_name"].split("/")[:3])
+    ops = run.get("janus_ops_per_frame", DEFAULT_OPS)
     # janus_bench_rhi labels a failed run "failed: <why>" (bench/bench_main.cpp, runGuarded).
     if run.get("error_occurred") or run.get("label", "").startswith("failed: "):
         errors.setdefault(key, []).append(run.get("error_message") or run["label"][len("failed: "):])
     elif run.get("run_type") == "iteration":
-        runs.setdefault(key, []).append(run)
+        (runs if ops == table_ops else other_sizes.setdefault(ops, {})).setdefault(key, []).append(run)
 
 def median(key, counter):
     return statistics.median(run[counter] for run in runs[key])
@@ -173,9 +188,10 @@ def process_ratios(raw_key, rhi_key):
 
 context = report["context"]
 repetitions = max((len(r) for r in runs.values()), default=0)
-processes = context.get("processes", 1)
+# The processes behind the table (runs at another frame size may come from others).
+processes = len({run.get("janus_process", "0") for key_runs in runs.values() for run in key_runs}) or 1
 print(f"Run {context['date']} on {context['host_name']} ({context['num_cpus']} CPUs); "
-      f"{context.get('ops_per_frame', '?')} ops per frame into a {context.get('target', '?')} target; "
+      f"{table_ops} ops per frame into a {context.get('target', '?')} target; "
       f"median of {repetitions} repetition(s)" + (f" from {processes} processes." if processes > 1 else "."))
 print()
 spread = processes > 1
@@ -249,6 +265,37 @@ for extra, what in [(("dispatch", "vulkan", "raw_full_barriers"), "Raw Vulkan wi
                     (("draw", "gl", "raw_respecified_vertices"), "Raw GL re-specifying the vertex attribute before every draw (what the RHI did before it tracked vertex state)")]:
     if extra in runs:
         print(f"\n{what}: {median(extra, 'submit_cpu_ns_per_op'):.0f} ns/op, wait {median(extra, 'wait_ns_per_op'):.0f} ns/op.")
+# Per frame and per operation: a frame's fixed cost F (begin, pass, pipeline, submit; for the RHI
+# also execute()'s setup and what replay does once per list) weighs F/n on each of its n
+# operations, so cost(n) = F/n + D. Runs at two frame sizes give both: D is what a draw costs once
+# frames are long, and RHI/raw of D is the per-operation ratio without any per-frame difference.
+PAIRS = [("vulkan", "draw"), ("vulkan", "dispatch"), ("gl", "draw"), ("gl", "dispatch"), ("gles", "draw")]
+for ops, sized in sorted(other_sizes.items()):
+    rows = []
+    for backend, work in PAIRS:
+        keys = [(work, backend, side) for side in ("raw", "rhi")]
+        if not all(key in runs and key in sized for key in keys):
+            continue
+        split = []
+        for key in keys:
+            at_table = median(key, "submit_cpu_ns_per_op")
+            at_other = statistics.median(run["submit_cpu_ns_per_op"] for run in sized[key])
+            per_op = (table_ops * at_table - ops * at_other) / (table_ops - ops)
+            split.append((at_other, table_ops * (at_table - per_op), per_op))
+        (raw_other, raw_frame, raw_op), (rhi_other, rhi_frame, rhi_op) = split
+        ratio = f"{rhi_op / raw_op:.2f}x" if raw_op > 0 else "- (raw per op <= 0: too noisy)"
+        rows.append(f"| {backend} | {work} | {raw_other:.0f} | {rhi_other:.0f} | {raw_frame / 1000:.1f} | "
+                    f"{rhi_frame / 1000:.1f} | {raw_op:.0f} | {rhi_op:.0f} | {ratio} |")
+    if not rows:
+        continue
+    processes_at = len({run.get("janus_process", "0") for key_runs in sized.values() for run in key_runs})
+    print(f"\nPer frame and per operation, from frames of {table_ops} (the table) and of {ops} operations "
+          f"({processes_at} process(es) at {ops}): cost per op = per frame / ops + per op.")
+    print()
+    print(f"| backend | work | raw ns/op at {ops} | RHI ns/op at {ops} | raw us/frame | RHI us/frame | raw ns/op alone | "
+          f"RHI ns/op alone | RHI/raw per op |")
+    print("|---|---|---:|---:|---:|---:|---:|---:|---:|")
+    print("\n".join(rows))
 for key, messages in sorted(errors.items()):
     if key in runs:   # the table used the repetitions that ran; say that some did not
         print(f"\n{len(messages)} repetition(s) of {'/'.join(key)} failed and were left out: {messages[0]}")

@@ -24,7 +24,7 @@ import tempfile
 PAIRS = [("draw", "vulkan", "raw"), ("dispatch", "vulkan", "raw"), ("draw", "vulkan", "raw_command_memory"),
          ("dispatch", "vulkan", "raw_command_memory"), ("draw", "gl", "raw"), ("dispatch", "gl", "raw"),
          ("draw", "gles", "raw")]
-OPS_PER_FRAME = 1000   # kOpsPerFrame in bench/bench_common.h
+OPS_PER_FRAME = 1000   # kDefaultOpsPerFrame in bench/bench_common.h (no --janus_ops_per_frame here)
 RUN_SECONDS = (1, 4)   # --benchmark_min_time of the two runs (under valgrind: about 3 and 10 frames)
 TARGET = 1.1
 

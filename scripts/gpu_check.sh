@@ -27,6 +27,9 @@
 #                        bench_rhi.md is their table when python3 is there (else here:
 #                        scripts/bench.sh --from-json bench_rhi.p0.json --from-json ...); a
 #                        process's "exit 3": some of its runs failed, which the table names
+#   bench_rhi_frames100.json  the main pairs in frames of 100 operations (--janus_ops_per_frame),
+#                        so that bench_rhi.md also splits each side into per frame and per
+#                        operation; with --bench-only every fourth process runs so instead
 #   summary.txt          one line per step: its exit status, time and the suites' totals
 # and packs them into OUT/gpu-check.tar.gz (the device returns at most 8 files), with
 # summary.txt also beside it.
@@ -231,10 +234,27 @@ if ((quick == 0)); then
     bash "$repo_root/scripts/bench.sh" --from-json "$results/bench_rhi_footprint.json" > "$results/bench_rhi_footprint.md" 2>&1
   fi
 fi
+# Frames of 100 operations beside the 1000 of the processes below: a cost paid once per frame (for
+# the RHI also execute()'s setup, and e.g. GL's glUseProgram(0) after each list) weighs ten times
+# more there, so bench.sh splits per frame from per draw and gives RHI/raw of the per-draw part
+# alone. The main pairs only; 1000 frames, so a repetition times as many draws as one of 200.
+frames_options=(--benchmark_filter='/(raw|rhi)/' --janus_ops_per_frame=100)
+if ((quick == 1)); then
+  frames_options+=(--janus_frames=5)
+else
+  frames_options+=(--benchmark_repetitions=5 --janus_frames=1000 --benchmark_enable_random_interleaving=true)
+fi
 from_json=()
+if ((bench_only == 0)); then
+  step bench_rhi_frames100 60 janus_bench_rhi "${frames_options[@]}" \
+    --benchmark_out="$results/bench_rhi_frames100.json" --benchmark_out_format=json
+  [[ -s "$results/bench_rhi_frames100.json" ]] && from_json+=(--from-json "$results/bench_rhi_frames100.json")
+fi
 for ((p = 0; p < bench_processes; ++p)); do
   ((bench_only == 0 || budget - SECONDS >= 25)) || break
-  step "bench_rhi.p$p" 60 janus_bench_rhi "${bench_options[@]}" \
+  options=("${bench_options[@]}")
+  ((bench_only == 1 && p % 4 == 3)) && options=("${frames_options[@]}")
+  step "bench_rhi.p$p" 60 janus_bench_rhi "${options[@]}" \
     --benchmark_out="$results/bench_rhi.p$p.json" --benchmark_out_format=json
   [[ -s "$results/bench_rhi.p$p.json" ]] && from_json+=(--from-json "$results/bench_rhi.p$p.json")
 done

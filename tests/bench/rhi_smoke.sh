@@ -67,4 +67,29 @@ JANUS_BENCH_NULL_FOOTPRINT=999999999 "$binary" --janus_frames=2 --benchmark_filt
 status=0
 JANUS_BENCH_NULL_FOOTPRINT=64k "$binary" --janus_frames=2 --benchmark_filter=gl/raw_null_driver >"$scratch/footprint" 2>&1 || status=$?
 [[ $status != 0 ]] && grep -q "is not a number of bytes" "$scratch/footprint" || fail "a footprint that is not a number was not refused"
+
+# Another frame size (--janus_ops_per_frame): every side still checks what it drew or counted (the
+# last draw's colour, every counter, the null driver's calls and offsets), and the report of runs
+# at both sizes splits each pair into per frame and per operation.
+status=0
+JANUS_BENCH_VALIDATE=1 "$binary" --janus_frames=2 --janus_ops_per_frame=5 --benchmark_filter='/(raw|rhi|raw_null_driver|rhi_null_driver)/' \
+  --benchmark_format=json --benchmark_out_format=json --benchmark_out="$scratch/bench5.json" >/dev/null 2>"$scratch/stderr" || status=$?
+[[ $status == 0 ]] || { cat "$scratch/stderr" >&2; fail "janus_bench_rhi --janus_ops_per_frame=5 exited with status $status"; }
+grep -q '"ops_per_frame": "5"' "$scratch/bench5.json" || fail "the JSON of --janus_ops_per_frame=5 does not say so in its context"
+report=$(bash "$repo_root/scripts/bench.sh" --from-json "$scratch/bench.json" --from-json "$scratch/bench5.json")
+grep -qF "Per frame and per operation, from frames of 1000 (the table) and of 5 operations" <<<"$report" \
+  || fail "no per-frame split in the report of runs at 1000 and 5 operations per frame:
+$report"
+for row in "vulkan | draw" "vulkan | dispatch" "gl | draw" "gl | dispatch" "gles | draw"; do
+  grep -Eq "^\| $row \| [0-9]+ \| [0-9]+ \| -?[0-9.]+ \| -?[0-9.]+ \| -?[0-9]+ \| -?[0-9]+ \| " <<<"$report" \
+    || fail "the per-frame split has no row for $row:
+$report"
+done
+# The table itself is of the 1000-operation runs alone: one process's.
+grep -q "median of 1 repetition(s)\.$" <<<"$report" || fail "the table mixed in the runs at another frame size:
+$report"
+status=0
+"$binary" --janus_ops_per_frame=0 --benchmark_filter=none >"$scratch/flag" 2>&1 || status=$?
+[[ $status == 2 ]] && grep -q "janus_ops_per_frame takes a whole number" "$scratch/flag" \
+  || fail "--janus_ops_per_frame=0 was not refused by name (status $status): $(cat "$scratch/flag")"
 echo "janus_bench_rhi: $(wc -l <"$scratch/listed") benchmarks ran and checked their results; the report is whole"
