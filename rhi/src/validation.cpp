@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <string>
+#include <type_traits>
 
 #include "janus/rhi/texture_view_validation.h"
 #include "shader_reflection.h"
@@ -93,11 +95,21 @@ bool sameBlend(const BlendAttachment& a, const BlendAttachment& b) {
 // Values outside an enum (a cast from a file or a wire format gone wrong) are refused before any
 // backend: their switches fell back to different defaults (CullMode(77) culled every triangle on
 // GL and none on Vulkan; LoadOp(77) loaded on GL and was DONT_CARE on Vulkan).
-template <class E>
-void checkEnum(E value, E last, std::string_view where, std::string_view field, std::string_view choices) {
+// `where` names the checked thing in the message: text, or a callable making the text, so that a
+// check made per call (a render pass per frame) formats nothing unless it fails.
+template <class Where>
+std::string subject(const Where& where) {
+    if constexpr (std::is_invocable_v<const Where&>)
+        return where();
+    else
+        return std::string(where);
+}
+
+template <class E, class Where>
+void checkEnum(E value, E last, const Where& where, std::string_view field, std::string_view choices) {
     if (uint32_t(value) > uint32_t(last))
-        invalid(fmt::format("{}: {} is {}, which is outside its enum; use one of {}", where, field, uint32_t(value),
-                            choices));
+        invalid(fmt::format("{}: {} is {}, which is outside its enum; use one of {}", subject(where), field,
+                            uint32_t(value), choices));
 }
 
 constexpr std::string_view kCompareOps = "Never, Less, Equal, LessOrEqual, Greater, NotEqual, GreaterOrEqual, Always";
@@ -491,38 +503,41 @@ void validateRenderPass(const DeviceProperties& device, const RenderPassDesc& de
         invalid(fmt::format("RenderPassDesc: {} colour attachments, above Limits::maxColorAttachments ({})",
                             desc.colors.size(), caps.limits.maxColorAttachments));
     uint32_t width = 0, height = 0;
-    auto check = [&](const Attachment& a, const std::string& which, bool depth) {
-        const std::string where = "RenderPassDesc " + which;
-        if (!a.texture) invalid(fmt::format("{}: texture is null; give it a texture", where));
+    // Passes are begun per frame: the attachment's name is made only for a message.
+    auto check = [&](const Attachment& a, size_t colorIndex, bool depth) {
+        auto where = [&] {
+            return depth ? std::string("RenderPassDesc depth") : fmt::format("RenderPassDesc colors[{}]", colorIndex);
+        };
+        if (!a.texture) invalid(fmt::format("{}: texture is null; give it a texture", where()));
         checkEnum(a.loadOp, LoadOp::DontCare, where, "loadOp", "Load, Clear, DontCare");
         checkEnum(a.storeOp, StoreOp::DontCare, where, "storeOp", "Store, DontCare");
         const TextureDesc& td = a.texture->desc();
         if (!any(td.usage, TextureUsage::RenderTarget))
-            invalid(fmt::format("{}: texture '{}' lacks TextureUsage::RenderTarget", where, td.debugName));
+            invalid(fmt::format("{}: texture '{}' lacks TextureUsage::RenderTarget", where(), td.debugName));
         if (isDepthFormat(td.format) != depth)
-            invalid(fmt::format("{}: texture '{}' has format {}, which is {}a depth format; {}", where, td.debugName,
+            invalid(fmt::format("{}: texture '{}' has format {}, which is {}a depth format; {}", where(), td.debugName,
                                 toString(td.format), depth ? "not " : "",
                                 depth ? "pass a depth texture to setDepth" : "pass depth textures to setDepth"));
         const TextureSubresource sub = a.subresource;
         if (sub.mipLevel >= td.mipLevels || sub.layer >= layersAt(td, sub.mipLevel))
             invalid(fmt::format("{}: subresource (mip {}, layer {}) does not exist in the {} texture '{}' ({} mip "
-                                "level(s), {} layer(s)/slice(s) at that mip)", where, sub.mipLevel, sub.layer,
+                                "level(s), {} layer(s)/slice(s) at that mip)", where(), sub.mipLevel, sub.layer,
                                 toString(td.dimension), td.debugName, td.mipLevels,
                                 sub.mipLevel < td.mipLevels ? layersAt(td, sub.mipLevel) : 0));
         if (td.dimension == TextureDimension::Texture3D)
-            requireCapability(device, Capability::RenderToVolumeSlice, where + ": a 3D texture slice");
+            requireCapability(device, Capability::RenderToVolumeSlice, where() + ": a 3D texture slice");
         if (isCubeLike(td.dimension) && sub.mipLevel > 0)
-            requireCapability(device, Capability::RenderToCubeFaceMip, where + ": a cube face at mip > 0");
+            requireCapability(device, Capability::RenderToCubeFaceMip, where() + ": a cube face at mip > 0");
         // Clear values every backend stores alike: Vulkan needs depth in [0, 1] (without
         // VK_EXT_depth_range_unrestricted), and a float outside an unsigned integer's range does
         // not convert to one (C++ leaves it undefined; the backends converted differently).
         if (a.loadOp == LoadOp::Clear && depth && !(a.clearDepth >= 0.0f && a.clearDepth <= 1.0f))
-            invalid(fmt::format("{}: clearDepth is {}; it must be in [0, 1]", where, a.clearDepth));
+            invalid(fmt::format("{}: clearDepth is {}; it must be in [0, 1]", where(), a.clearDepth));
         if (a.loadOp == LoadOp::Clear && formatInfo(td.format).kind == FormatKind::UInt)
             for (float c : a.clearColor)
                 if (!(c >= 0.0f && c < 4294967296.0f))
                     invalid(fmt::format("{}: clearColor ({}, {}, {}, {}) of the unsigned integer texture '{}' ({}) "
-                                        "holds {}; each value must be in [0, 2^32)", where, a.clearColor[0],
+                                        "holds {}; each value must be in [0, 2^32)", where(), a.clearColor[0],
                                         a.clearColor[1], a.clearColor[2], a.clearColor[3], td.debugName,
                                         toString(td.format), c));
         const uint32_t w = mipExtent(td.width, sub.mipLevel), h = mipExtent(td.height, sub.mipLevel);
@@ -531,12 +546,12 @@ void validateRenderPass(const DeviceProperties& device, const RenderPassDesc& de
             height = h;
         } else if (w != width || h != height) {
             invalid(fmt::format("{}: texture '{}' is {}x{} at mip {} but the first attachment is {}x{}; all "
-                                "attachments must have the same size", where, td.debugName, w, h, sub.mipLevel, width,
+                                "attachments must have the same size", where(), td.debugName, w, h, sub.mipLevel, width,
                                 height));
         }
     };
     for (size_t i = 0; i < desc.colors.size(); ++i) {
-        check(desc.colors[i], fmt::format("colors[{}]", i), false);
+        check(desc.colors[i], i, false);
         // One subresource written through two attachments: which write wins is undefined
         // (Vulkan forbids it; GL draws both in an unspecified order).
         for (size_t j = 0; j < i; ++j)
@@ -548,7 +563,7 @@ void validateRenderPass(const DeviceProperties& device, const RenderPassDesc& de
                                     i, desc.colors[i].texture->desc().debugName, desc.colors[i].subresource.mipLevel,
                                     desc.colors[i].subresource.layer, j));
     }
-    if (desc.depth) check(*desc.depth, "depth", true);
+    if (desc.depth) check(*desc.depth, 0, true);
 }
 
 void validateViewport(const DeviceProperties& device, const Viewport& v) {

@@ -200,25 +200,25 @@ TEST_P(ValidationTest, SameMistakeSameErrorCodeOnEveryBackend) {
          [&] { bindings(BindingItem::sampledTexture(0, array, nearest).setLayers(1, 3)); }},
         {"storage image without Storage usage", kDesc, {"TextureUsage::Storage"},
          [&] { bindings(BindingItem::storageImage(0, color)); }, Capability::StorageImages},
-        // RenderPassDesc
+        // RenderPassDesc (messages name the attachment: colors[i] or depth)
         {"render pass without attachments", kDesc, {"RenderPassDesc"}, [&] { pass(RenderPassDesc()); }},
-        {"attachment without RenderTarget usage", kDesc, {"RenderTarget"}, [&] { pass(RenderPassDesc().addColor(Attachment::clear(sampledOnly))); }},
+        {"attachment without RenderTarget usage", kDesc, {"RenderPassDesc colors[0]: ", "RenderTarget"}, [&] { pass(RenderPassDesc().addColor(Attachment::clear(sampledOnly))); }},
         {"depth texture as colour attachment", kDesc, {"depth"}, [&] { pass(RenderPassDesc().addColor(Attachment::clear(depth))); }},
-        {"colour texture as depth attachment", kDesc, {"depth"}, [&] { pass(RenderPassDesc().setDepth(Attachment::clearDepthTo(color))); }},
-        {"attachments of different sizes", kDesc, {"same size"}, [&] {
+        {"colour texture as depth attachment", kDesc, {"RenderPassDesc depth: ", "depth"}, [&] { pass(RenderPassDesc().setDepth(Attachment::clearDepthTo(color))); }},
+        {"attachments of different sizes", kDesc, {"RenderPassDesc colors[1]: ", "same size"}, [&] {
              pass(RenderPassDesc().addColor(Attachment::clear(color)).addColor(Attachment::clear(small))); }},
         {"attachment mip that does not exist", kDesc, {"mip 1"}, [&] { pass(RenderPassDesc().addColor(Attachment::clear(color, {}, {1, 0}))); }},
         {"attachment layer past an array's last", kDesc, {"layer 3"},
          [&] { pass(RenderPassDesc().addColor(Attachment::clear(array, {}, {0, 3}))); }},
         // Clear values (Vulkan stored a depth of 2 or NaN, which it may not without
         // VK_EXT_depth_range_unrestricted; the backends converted -3 to an unsigned integer differently).
-        {"clearDepth above 1", kDesc, {"clearDepth"}, [&] { pass(RenderPassDesc().setDepth(Attachment::clearDepthTo(depth, 2.0f))); }},
+        {"clearDepth above 1", kDesc, {"RenderPassDesc depth: clearDepth"}, [&] { pass(RenderPassDesc().setDepth(Attachment::clearDepthTo(depth, 2.0f))); }},
         {"clearDepth NaN", kDesc, {"clearDepth"}, [&] { pass(RenderPassDesc().setDepth(Attachment::clearDepthTo(depth, NAN))); }},
         {"negative clear value of an unsigned integer texture", kDesc, {"clearColor", "r32ui"}, [&] {
              pass(RenderPassDesc().addColor(Attachment::clear(uintTarget, {-3, 0, 0, 0}))); }},
         {"clear value of an unsigned integer texture above 2^32", kDesc, {"clearColor"}, [&] {
              pass(RenderPassDesc().addColor(Attachment::clear(uintTarget, {5e9f, 0, 0, 0}))); }},
-        {"attachment without texture", kDesc, {"null"}, [&] { pass(RenderPassDesc().addColor(Attachment::clear(nullptr))); }},
+        {"attachment without texture", kDesc, {"RenderPassDesc colors[0]: ", "null"}, [&] { pass(RenderPassDesc().addColor(Attachment::clear(nullptr))); }},
         {"one subresource as two colour attachments", kDesc, {"colors[1]", "is colors[0] too"},
          [&] { pass(RenderPassDesc().addColor(Attachment::clear(array, {}, {0, 2})).addColor(Attachment::clear(array, {}, {0, 2}))); }},
         // Immediate transfers
