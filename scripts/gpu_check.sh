@@ -22,7 +22,8 @@
 #   gl_only/             DamagedHelmet at 256x256 in the GL configurations alone, one process that
 #   gl_only_against/     starts no Vulkan, and all five --against them at tolerance 0: GL alone must
 #                        draw as GL after Vulkan
-#   bench_rhi_footprint.{json,md}  the null-driver rows with JANUS_BENCH_NULL_FOOTPRINT=128
+#   bench_rhi_footprint.{json,md}  the null-driver rows with JANUS_BENCH_NULL_FOOTPRINT=128, and
+#   bench_rhi_footprint2048.{json,md}  with 2048 (a frame's writes evict the second-level cache)
 #   bench_rhi.p*.json    janus_bench_rhi in 10 fresh processes of 5 interleaved repetitions each (item 4);
 #                        bench_rhi.md is their table when python3 is there (else here:
 #                        scripts/bench.sh --from-json bench_rhi.p0.json --from-json ...); a
@@ -227,12 +228,18 @@ fi
 # (JANUS_BENCH_NULL_FOOTPRINT, 128 bytes: 256 per draw): if the RHI's own ns per draw grow with it
 # on that CPU, the driver's cache traffic is part of what the RHI costs there (it did not here;
 # docs/BENCHMARKS.md, session 21). Before the processes below, which take what is left.
+# 2048 bytes (4 MiB per frame of 1000 draws) evicts the second-level cache every frame, as a driver
+# whose per-frame data outgrows it would: the RHI's sets and commands then come from the third
+# level (here, on an AMD core, its own ns grew by about 2 per GL draw; session 23).
 if ((quick == 0)); then
-  JANUS_BENCH_NULL_FOOTPRINT=128 step bench_rhi_footprint 60 janus_bench_rhi --benchmark_filter=null_driver \
-    "${bench_options[@]}" --benchmark_out="$results/bench_rhi_footprint.json" --benchmark_out_format=json
-  if command -v python3 >/dev/null && [[ -s "$results/bench_rhi_footprint.json" ]]; then
-    bash "$repo_root/scripts/bench.sh" --from-json "$results/bench_rhi_footprint.json" > "$results/bench_rhi_footprint.md" 2>&1
-  fi
+  for footprint in 128 2048; do
+    name=bench_rhi_footprint$([[ $footprint == 128 ]] || echo "$footprint")
+    JANUS_BENCH_NULL_FOOTPRINT=$footprint step "$name" 60 janus_bench_rhi --benchmark_filter=null_driver \
+      "${bench_options[@]}" --benchmark_out="$results/$name.json" --benchmark_out_format=json
+    if command -v python3 >/dev/null && [[ -s "$results/$name.json" ]]; then
+      bash "$repo_root/scripts/bench.sh" --from-json "$results/$name.json" > "$results/$name.md" 2>&1
+    fi
+  done
 fi
 # Frames of 100 operations beside the 1000 of the processes below: a cost paid once per frame (for
 # the RHI also execute()'s setup, and e.g. GL's glUseProgram(0) after each list) weighs ten times
