@@ -44,6 +44,10 @@ void requireLastDrawColor(const void* texel, std::string_view who);
 // opsPerFrame() std140 blocks { vec4 color; }, one per kSliceBytes slice.
 std::vector<std::byte> drawParameterData();
 
+// JANUS_BENCH_VALIDATE=1 runs every device with validation layers / GL debug output and fails on
+// any message but performance ones (slower: for checking the benchmark, not for timing it).
+bool validationRequested();
+
 // Thrown when a benchmark finds that the work it timed did not produce the expected result.
 class WrongResult : public std::runtime_error {
 public:
@@ -78,6 +82,14 @@ T& sharedEnvironment(Args&&... args) {
     }
     return *instance;
 }
+
+// Driver performance messages (GL debug output's GL_DEBUG_TYPE_PERFORMANCE, the RHI's
+// IDevice::takePerformanceMessages) of a side's timed frames and their check, with validation on
+// (JANUS_BENCH_VALIDATE): never failures, but a driver that recompiles a shader or moves a buffer
+// every frame says so here, and that would be a per-frame cost of the side. Reported as the run's
+// counter performance_messages and, when there are any, its label "<n> driver performance
+// message(s), the first: <text>" (scripts/bench.sh prints them under the table).
+void reportPerformanceMessages(benchmark::State& state, const std::vector<std::string>& texts);
 
 // Calls `body` and turns exceptions into a run labelled kFailedLabel + the message, so that one
 // unavailable backend does not hide the others' results.

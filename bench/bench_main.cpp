@@ -122,6 +122,12 @@ void destroyEnvironments() {
 
 int failedRuns() { return g_failedRuns; }
 
+void reportPerformanceMessages(benchmark::State& state, const std::vector<std::string>& texts) {
+    state.counters["performance_messages"] = double(texts.size());
+    if (!texts.empty())
+        state.SetLabel(fmt::format("{} driver performance message(s), the first: {}", texts.size(), texts.front()));
+}
+
 void runGuarded(benchmark::State& state, const std::function<void()>& body) {
     try {
         body();
@@ -270,6 +276,7 @@ int main(int argc, char** argv) {
     if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
     benchmark::AddCustomContext("ops_per_frame", std::to_string(janus::bench::opsPerFrame()));
     benchmark::AddCustomContext("target", fmt::format("{0}x{0} RGBA8", janus::bench::kTargetSize));
+    benchmark::AddCustomContext("validation", janus::bench::validationRequested() ? "on" : "off");
     benchmark::RunSpecifiedBenchmarks();
     benchmark::Shutdown();
     janus::bench::destroyEnvironments();

@@ -15,10 +15,13 @@
 #include <cstring>
 #include <iterator>
 #include <memory>
+#include <optional>
 #include <string>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
+#include "gl_debug_policy.h"
 #include "gl_platform.h"
 #include "null_driver.h"
 #include "rhi_scene.h"
@@ -134,8 +137,16 @@ public:
     void checkDraws();
     void checkDispatches();
     bool hasCompute() const { return m_computeProgram != 0; }
+    // With validation on, the driver's debug output (as the RHI's GL backend classifies it,
+    // gl_debug_policy.h): errors fail the check after the frames; performance messages are
+    // taken here.
+    std::vector<std::string> takePerformanceMessages() { return std::exchange(m_performanceMessages, {}); }
 
 private:
+    static void APIENTRY onDebugMessage(GLenum source, GLenum type, GLuint id, GLenum severity, GLsizei length,
+                                        const GLchar* message, const void* self);
+    void setUpDebugOutput();
+    void checkDebugMessages(const char* when);
     void createContext();
     GLuint compileProgram(const std::vector<std::pair<GLenum, std::string>>& stages);
     // A buffer with `data`, made as the RHI's GL backend makes one (rhi-gl/src/gl_buffer.cpp).
@@ -153,6 +164,7 @@ private:
     GLuint m_drawProgram = 0;
     GLuint m_counters = 0, m_computeProgram = 0;
     uint32_t m_dispatchFrames = 0;
+    std::vector<std::string> m_debugMessages, m_performanceMessages;
 };
 
 RawGL::RawGL(rhi::Backend backend)
@@ -162,6 +174,7 @@ RawGL::RawGL(rhi::Backend backend)
     createContext();
     ContextSwitch current = makeCurrent();
     m_gl.load(!m_es);
+    if (validationRequested()) setUpDebugOutput();
     const GLCalls& gl = m_gl;
 
     gl.glGenTextures(1, &m_target);
@@ -236,8 +249,44 @@ RawGL::~RawGL() {
 
 void RawGL::createContext() {
     ContextSwitch restore(nullptr);
-    m_platform = rhi::gl::createEglPlatform(m_es ? rhi::gl::GLApi::ES30 : rhi::gl::GLApi::DesktopCore43, false,
-                                            rhi::gl::eglOptionsFromEnvironment());
+    m_platform = rhi::gl::createEglPlatform(m_es ? rhi::gl::GLApi::ES30 : rhi::gl::GLApi::DesktopCore43,
+                                            validationRequested(), rhi::gl::eglOptionsFromEnvironment());
+}
+
+void APIENTRY RawGL::onDebugMessage(GLenum, GLenum type, GLuint id, GLenum severity, GLsizei, const GLchar* message,
+                                    const void* self) {
+    const std::optional<rhi::MessageSeverity> kind = rhi::gl::classifyDebugMessage(type, severity);
+    if (!kind) return;
+    auto* raw = static_cast<RawGL*>(const_cast<void*>(self));
+    try {   // called from inside the driver: nothing may unwind through it
+        (*kind == rhi::MessageSeverity::Performance ? raw->m_performanceMessages : raw->m_debugMessages)
+            .push_back(fmt::format("GL debug (id {}): {}", id, message));
+    } catch (...) {
+        std::fprintf(stderr, "janus_bench_rhi: raw GL: a debug message was lost\n");
+    }
+}
+
+// The RHI's setup (gl_device.cpp, setupDebugOutput): every message, synchronously, through the
+// same classification. ES 3.0 has it through KHR_debug, under the KHR-suffixed name.
+void RawGL::setUpDebugOutput() {
+    auto callback = reinterpret_cast<PFNGLDEBUGMESSAGECALLBACKPROC>(eglGetProcAddress("glDebugMessageCallback"));
+    if (!callback && m_es)
+        callback = reinterpret_cast<PFNGLDEBUGMESSAGECALLBACKPROC>(eglGetProcAddress("glDebugMessageCallbackKHR"));
+    auto enable = reinterpret_cast<PFNGLENABLEPROC>(eglGetProcAddress("glEnable"));
+    if (!callback || !enable)
+        throw std::runtime_error(fmt::format("raw {}: validation was requested but the context has no debug output "
+                                             "(glDebugMessageCallback)", rhi::toString(m_backend)));
+    enable(GL_DEBUG_OUTPUT);
+    enable(GL_DEBUG_OUTPUT_SYNCHRONOUS);
+    callback(onDebugMessage, this);
+}
+
+void RawGL::checkDebugMessages(const char* when) {
+    if (m_debugMessages.empty()) return;
+    const std::string first = m_debugMessages.front();
+    const size_t count = std::exchange(m_debugMessages, {}).size();
+    throw WrongResult(fmt::format("raw {}: {} debug message(s) while {}, the first: {}", rhi::toString(m_backend), count,
+                                  when, first));
 }
 
 GLuint RawGL::compileProgram(const std::vector<std::pair<GLenum, std::string>>& stages) {
@@ -346,6 +395,7 @@ void RawGL::checkDraws() {
     gl.glReadPixels(0, 0, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, texel.data());
     requireLastDrawColor(texel.data(), fmt::format("raw {}", rhi::toString(m_backend)));
     checkNoError("drawing");
+    checkDebugMessages("drawing");
 }
 
 void RawGL::checkDispatches() {
@@ -364,6 +414,7 @@ void RawGL::checkDispatches() {
     gl.glUnmapBuffer(GL_SHADER_STORAGE_BUFFER);
     if (!problem.empty()) throw WrongResult(problem);
     checkNoError("dispatching");
+    checkDebugMessages("dispatching");
 }
 
 RawGL& rawGL(rhi::Backend backend) {
@@ -382,16 +433,19 @@ void rawGLDraws(benchmark::State& state, rhi::Backend backend, RawGLDraws how) {
     runGuarded(state, [&] {
         RawGL& raw = rawGL(backend);
         ContextSwitch current = raw.makeCurrent();
+        raw.takePerformanceMessages();   // from setting up: not the frames'
         if (how == RawGLDraws::NullDriver) {
             {
                 const NullGLDriver driver = nullGLDriver(raw.calls().glBindBufferRange, raw.calls().glDrawArrays);
                 runFrames(state, [&] { raw.submitDraws(RawGLDraws::Plain); }, [&] { raw.finish(); });
+                reportPerformanceMessages(state, raw.takePerformanceMessages());
                 driver.requireFrames(uint64_t(state.iterations()), fmt::format("raw {}", rhi::toString(backend)));
             }
             raw.submitDraws(RawGLDraws::Plain);   // and the real driver still draws
             raw.finish();
         } else {
             runFrames(state, [&] { raw.submitDraws(how); }, [&] { raw.finish(); });
+            reportPerformanceMessages(state, raw.takePerformanceMessages());   // the frames', not the check's
         }
         raw.checkDraws();
     });
@@ -402,7 +456,9 @@ void rawGLDispatches(benchmark::State& state) {
         RawGL& raw = rawGL(rhi::Backend::GL);
         if (!raw.hasCompute()) throw std::runtime_error("gl has no compute");
         ContextSwitch current = raw.makeCurrent();
+        raw.takePerformanceMessages();
         runFrames(state, [&] { raw.submitDispatches(); }, [&] { raw.finish(); });
+        reportPerformanceMessages(state, raw.takePerformanceMessages());
         raw.checkDispatches();
     });
 }

@@ -129,6 +129,12 @@ void RhiScene::checkDispatches() {
     checkDebugMessages("dispatching");
 }
 
+std::vector<std::string> RhiScene::takePerformanceMessages() {
+    std::vector<std::string> texts;
+    for (const DebugMessage& message : m_device->takePerformanceMessages()) texts.push_back(message.text);
+    return texts;
+}
+
 void RhiScene::checkDebugMessages(const char* when) {
     const std::vector<DebugMessage> messages = m_device->takeDebugMessages();
     if (!messages.empty())
@@ -163,10 +169,28 @@ RhiScene& sceneFor(Backend backend) {
 
 RhiScene& rhiScene(Backend backend) { return sceneFor(backend); }
 
+namespace {
+// JANUS_BENCH_TEST_PERFORMANCE_MESSAGE=1: each frame of the RHI side also inserts a performance
+// message through the device, so that tests/bench/rhi_smoke.sh can check the counting end to end.
+bool testPerformanceMessageRequested() {
+    const char* value = std::getenv("JANUS_BENCH_TEST_PERFORMANCE_MESSAGE");
+    return value && std::string_view(value) != "0";
+}
+}  // namespace
+
 void rhiDraws(benchmark::State& state, Backend backend) {
     runGuarded(state, [&] {
         RhiScene& scene = rhiScene(backend);
-        runFrames(state, [&] { scene.submitDraws(); }, [&] { scene.waitIdle(); });
+        const bool insert = testPerformanceMessageRequested();
+        scene.takePerformanceMessages();   // from setting up: not the frames'
+        runFrames(
+            state,
+            [&] {
+                scene.submitDraws();
+                if (insert) scene.device().insertPerformanceMessageForTesting("bench test message");
+            },
+            [&] { scene.waitIdle(); });
+        reportPerformanceMessages(state, scene.takePerformanceMessages());   // the frames', not the check's
         scene.checkDraws();
     });
 }
@@ -175,8 +199,10 @@ void rhiDrawsWithNullDriver(benchmark::State& state, Backend backend) {
     runGuarded(state, [&] {
         RhiScene& scene = rhiScene(backend);
         const std::string who = fmt::format("{} RHI", toString(backend));
+        scene.takePerformanceMessages();
         auto run = [&](const auto& driver) {
             runFrames(state, [&] { scene.submitDraws(); }, [&] { scene.waitIdle(); });
+            reportPerformanceMessages(state, scene.takePerformanceMessages());
             driver.requireFrames(uint64_t(state.iterations()), who);
         };
         if (backend == Backend::Vulkan) {
@@ -199,7 +225,9 @@ void rhiDispatches(benchmark::State& state, Backend backend) {
         RhiScene& scene = rhiScene(backend);
         if (!scene.hasCompute())
             throw std::runtime_error(fmt::format("{} has no compute", toString(backend)));
+        scene.takePerformanceMessages();
         runFrames(state, [&] { scene.submitDispatches(); }, [&] { scene.waitIdle(); });
+        reportPerformanceMessages(state, scene.takePerformanceMessages());
         scene.checkDispatches();
     });
 }

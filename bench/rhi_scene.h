@@ -4,15 +4,12 @@
 
 #include <janus/rhi/rhi.h>
 
+#include <string>
 #include <vector>
 
 #include "bench_common.h"
 
 namespace janus::bench {
-
-// Set JANUS_BENCH_VALIDATE=1 to run every device with validation layers / GL debug output and
-// fail on any message (slower: for checking the benchmark, not for timing it).
-bool validationRequested();
 
 class RhiScene : public Environment {
 public:
@@ -33,6 +30,8 @@ public:
     // been incremented once per dispatch frame run so far.
     void checkDraws();
     void checkDispatches();
+    // The driver's performance messages since the last call (validation on; none otherwise).
+    std::vector<std::string> takePerformanceMessages();
 
 private:
     void checkDebugMessages(const char* when);

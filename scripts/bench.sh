@@ -194,6 +194,9 @@ print(f"Run {context['date']} on {context['host_name']} ({context['num_cpus']} C
       f"{table_ops} ops per frame into a {context.get('target', '?')} target; "
       f"median of {repetitions} repetition(s)" + (f" from {processes} processes." if processes > 1 else "."))
 print()
+if context.get("validation") == "on":
+    print("Validation was on (JANUS_BENCH_VALIDATE=1): the sides were checked, and the timings below say nothing.")
+    print()
 spread = processes > 1
 print(f"| backend | work | raw ns/op | RHI ns/op | ratio RHI/raw | target <= {TARGET}x | wait raw ns/op | wait RHI ns/op |"
       + (" RHI/raw per process |" if spread else ""))
@@ -296,9 +299,24 @@ for ops, sized in sorted(other_sizes.items()):
           f"RHI ns/op alone | RHI/raw per op |")
     print("|---|---|---:|---:|---:|---:|---:|---:|---:|")
     print("\n".join(rows))
+# With validation on (JANUS_BENCH_VALIDATE=1), each side counts the driver's performance messages in
+# its timed frames (bench_common.h, reportPerformanceMessages): a side whose driver recompiles or
+# moves something every frame pays for it per frame.
+if context.get("validation") == "on":
+    noisy = []
+    for key, key_runs in sorted(runs.items()):
+        counted = [run for run in key_runs if "performance_messages" in run]
+        total = sum(int(run["performance_messages"]) for run in counted)
+        if total:
+            first = next(run["label"] for run in counted if run.get("label"))
+            noisy.append(f"- {'/'.join(key)}: {total} in {sum(int(run['iterations']) for run in counted)} frames; {first}")
+    print("\nDriver performance messages in the timed frames (validation on): " + ("none." if not noisy else ""))
+    if noisy:
+        print()
+        print("\n".join(noisy))
 for key, messages in sorted(errors.items()):
     if key in runs:   # the table used the repetitions that ran; say that some did not
         print(f"\n{len(messages)} repetition(s) of {'/'.join(key)} failed and were left out: {messages[0]}")
-if missed:
+if missed and context.get("validation") != "on":
     print(f"\n{missed} comparison(s) above the {TARGET}x target: see docs/BENCHMARKS.md for where the time goes.")
 EOF

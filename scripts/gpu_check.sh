@@ -28,6 +28,10 @@
 #                        bench_rhi.md is their table when python3 is there (else here:
 #                        scripts/bench.sh --from-json bench_rhi.p0.json --from-json ...); a
 #                        process's "exit 3": some of its runs failed, which the table names
+#   bench_rhi_validated.{json,md}  the main pairs for 20 frames with JANUS_BENCH_VALIDATE=1: every side
+#                        checked by the driver's debug output / the validation layer, and the
+#                        driver's performance messages in each side's frames counted (a driver
+#                        recompiling or moving something every frame would say so there)
 #   bench_rhi_frames100.json  the main pairs in frames of 100 operations (--janus_ops_per_frame),
 #                        so that bench_rhi.md also splits each side into per frame and per
 #                        operation; with --bench-only every fourth process runs so instead
@@ -240,6 +244,15 @@ if ((quick == 0)); then
       bash "$repo_root/scripts/bench.sh" --from-json "$results/$name.json" > "$results/$name.md" 2>&1
     fi
   done
+fi
+# The benchmark under validation (timings meaningless): the sides draw without a driver error, and
+# bench_rhi_validated.md lists the driver's performance messages in each side's frames.
+if ((bench_only == 0)); then
+  JANUS_BENCH_VALIDATE=1 step bench_rhi_validated 60 janus_bench_rhi --benchmark_filter='/(raw|rhi)/' \
+    --janus_frames=$((quick == 1 ? 2 : 20)) --benchmark_out="$results/bench_rhi_validated.json" --benchmark_out_format=json
+  if command -v python3 >/dev/null && [[ -s "$results/bench_rhi_validated.json" ]]; then
+    bash "$repo_root/scripts/bench.sh" --from-json "$results/bench_rhi_validated.json" > "$results/bench_rhi_validated.md" 2>&1
+  fi
 fi
 # Frames of 100 operations beside the 1000 of the processes below: a cost paid once per frame (for
 # the RHI also execute()'s setup, and e.g. GL's glUseProgram(0) after each list) weighs ten times

@@ -50,6 +50,21 @@ for line in "Raw Vulkan draws recording into the RHI's command memory" \
   grep -qF "$line" <<<"$report" || fail "the report lacks \"$line\":
 $report"
 done
+grep -qF "Driver performance messages in the timed frames (validation on):" <<<"$report" \
+  || fail "the report of a validated run does not say which driver performance messages its frames had:
+$report"
+# Each side counts its driver's performance messages per frame: here one inserted per RHI frame.
+status=0
+JANUS_BENCH_VALIDATE=1 JANUS_BENCH_TEST_PERFORMANCE_MESSAGE=1 "$binary" --janus_frames=2 --benchmark_filter='^draw/[a-z]+/rhi/' \
+  --benchmark_format=json --benchmark_out_format=json --benchmark_out="$scratch/messages.json" >/dev/null 2>"$scratch/stderr" || status=$?
+[[ $status == 0 ]] || { cat "$scratch/stderr" >&2; fail "janus_bench_rhi with a test performance message exited with status $status"; }
+report=$(bash "$repo_root/scripts/bench.sh" --from-json "$scratch/messages.json")
+for side in vulkan gl gles; do
+  grep -Eq "^- draw/$side/rhi: [0-9]+ in 2 frames; [0-9]+ driver performance message\(s\), the first: .*bench test message" <<<"$report" \
+    || fail "the report does not count the performance message of each draw/$side/rhi frame:
+$report"
+done
+
 # Two processes' runs (here the same file twice): each row also gives the ratio's spread per process.
 report=$(bash "$repo_root/scripts/bench.sh" --from-json "$scratch/bench.json" --from-json "$scratch/bench.json")
 for row in "vulkan | draw" "gl | draw" "gles | draw"; do
