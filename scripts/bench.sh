@@ -274,7 +274,7 @@ for extra, what in [(("dispatch", "vulkan", "raw_full_barriers"), "Raw Vulkan wi
 # frames are long, and RHI/raw of D is the per-operation ratio without any per-frame difference.
 PAIRS = [("vulkan", "draw"), ("vulkan", "dispatch"), ("gl", "draw"), ("gl", "dispatch"), ("gles", "draw")]
 for ops, sized in sorted(other_sizes.items()):
-    rows = []
+    rows, negative_frame = [], False
     for backend, work in PAIRS:
         keys = [(work, backend, side) for side in ("raw", "rhi")]
         if not all(key in runs and key in sized for key in keys):
@@ -286,6 +286,7 @@ for ops, sized in sorted(other_sizes.items()):
             per_op = (table_ops * at_table - ops * at_other) / (table_ops - ops)
             split.append((at_other, table_ops * (at_table - per_op), per_op))
         (raw_other, raw_frame, raw_op), (rhi_other, rhi_frame, rhi_op) = split
+        negative_frame = negative_frame or raw_frame < 0 or rhi_frame < 0
         ratio = f"{rhi_op / raw_op:.2f}x" if raw_op > 0 else "- (raw per op <= 0: too noisy)"
         rows.append(f"| {backend} | {work} | {raw_other:.0f} | {rhi_other:.0f} | {raw_frame / 1000:.1f} | "
                     f"{rhi_frame / 1000:.1f} | {raw_op:.0f} | {rhi_op:.0f} | {ratio} |")
@@ -299,6 +300,9 @@ for ops, sized in sorted(other_sizes.items()):
           f"RHI ns/op alone | RHI/raw per op |")
     print("|---|---|---:|---:|---:|---:|---:|---:|---:|")
     print("\n".join(rows))
+    if negative_frame:
+        print("\nA negative cost per frame means the cost per operation was not the same at both frame sizes "
+              "(llvmpipe's grows with the draws in a frame, whose scene it bins): that row's split does not hold.")
 # With validation on (JANUS_BENCH_VALIDATE=1), each side counts the driver's performance messages in
 # its timed frames (bench_common.h, reportPerformanceMessages): a side whose driver recompiles or
 # moves something every frame pays for it per frame.
