@@ -156,6 +156,8 @@ private:
 
     rhi::Backend m_backend;
     bool m_es;
+    // Before the context: destroying it may still call onDebugMessage, which writes here.
+    std::vector<std::string> m_debugMessages, m_performanceMessages;
     std::unique_ptr<rhi::gl::Platform> m_platform;   // the context
     GLCalls m_gl;
 
@@ -164,7 +166,6 @@ private:
     GLuint m_drawProgram = 0;
     GLuint m_counters = 0, m_computeProgram = 0;
     uint32_t m_dispatchFrames = 0;
-    std::vector<std::string> m_debugMessages, m_performanceMessages;
 };
 
 RawGL::RawGL(rhi::Backend backend)
