@@ -34,7 +34,7 @@
 #                        recompiling or moving something every frame would say so there)
 #   bench_rhi_frames100.json  the main pairs in frames of 100 operations (--janus_ops_per_frame),
 #                        so that bench_rhi.md also splits each side into per frame and per
-#                        operation; with --bench-only every fourth process runs so instead
+#                        operation; with --bench-only every sixth process runs so instead
 #   summary.txt          one line per step: its exit status, time and the suites' totals
 # and packs them into OUT/gpu-check.tar.gz (the device returns at most 8 files), with
 # summary.txt also beside it.
@@ -273,7 +273,7 @@ fi
 for ((p = 0; p < bench_processes; ++p)); do
   ((bench_only == 0 || budget - SECONDS >= 25)) || break
   options=("${bench_options[@]}")
-  ((bench_only == 1 && p % 4 == 3)) && options=("${frames_options[@]}")
+  ((bench_only == 1 && p % 6 == 5)) && options=("${frames_options[@]}")
   step "bench_rhi.p$p" 60 janus_bench_rhi "${options[@]}" \
     --benchmark_out="$results/bench_rhi.p$p.json" --benchmark_out_format=json
   [[ -s "$results/bench_rhi.p$p.json" ]] && from_json+=(--from-json "$results/bench_rhi.p$p.json")
