@@ -28,8 +28,10 @@
 #                  running; repeat it for the runs of several processes
 #
 # Instructions: scripts/bench.sh instructions [--build-dir DIR] [--filter REGEX] [--runs N]
+#                                             [--ops-per-frame N] [--split-with M]
 #   the same comparisons counted in instructions per operation with callgrind (steady state, two
-#   runs subtracted, median of N such estimates; valgrind needed; about 10 minutes per run):
+#   runs subtracted, median of N such estimates; valgrind needed; about 10 minutes per run), the
+#   null-driver rows too; --split-with M also splits each side into per frame and per operation:
 #   scripts/bench_instructions.py.
 #
 # Forward+: scripts/bench.sh forward [--build-dir DIR] [janus bench forward options...]
@@ -81,7 +83,7 @@ while [[ $# -gt 0 ]]; do
     --ops-per-frame) ops_per_frame="$2"; shift 2 ;;
     --json) json_out="$2"; shift 2 ;;
     --from-json) from_json+=("$2"); shift 2 ;;
-    -h|--help) sed -n '2,37p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,39p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "bench.sh: unknown argument '$1' (try --help)" >&2; exit 2 ;;
   esac
 done
