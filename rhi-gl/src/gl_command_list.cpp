@@ -743,9 +743,13 @@ void CommandList::replay(Device& device) {
         void operator()(const command::Draw& c) {
             device.draw(c.vertexCount, c.instanceCount, c.firstVertex, c.firstInstance);
         }
-        [[gnu::always_inline]] void operator()(const command::BindSetAndDraw& c) {
+        void operator()(const command::BindSetAndDraw& c) {
             device.bindBindingSet(c.range, *c.bindings);
             (*this)(c.draw);
+        }
+        [[gnu::always_inline]] void operator()(const command::BindSetAndDrawOne& c) {
+            device.bindBindingSet(c.range, *c.bindings);
+            device.draw(c.vertexCount, 1, c.firstVertex, 0);
         }
         void operator()(const command::BindSetAndDrawIndexed& c) {
             device.bindBindingSet(c.set, *c.bindings);
@@ -804,13 +808,13 @@ void CommandList::replay(Device& device) {
     };
     Replayer replayer{*this, device, gl};
     // A switch rather than std::visit, whose table of out-of-line calls costs a call per command.
-    static_assert(std::variant_size_v<Command> == 24, "one case per command below");
+    static_assert(std::variant_size_v<Command> == 25, "one case per command below");
 #define JANUS_REPLAY_CASE(N) \
     case N: replayer(*std::get_if<N>(&command)); break;
     for (const Command& command : std::span(m_commands).first(m_commandCount)) {
         // A draw with its set, the command of most lists: one compare instead of the table's jump.
-        if (command.index() == kCommandIndex<command::BindSetAndDraw>) [[likely]] {
-            replayer(*std::get_if<command::BindSetAndDraw>(&command));
+        if (command.index() == kCommandIndex<command::BindSetAndDrawOne>) [[likely]] {
+            replayer(*std::get_if<command::BindSetAndDrawOne>(&command));
             continue;
         }
         switch (command.index()) {
@@ -838,6 +842,7 @@ void CommandList::replay(Device& device) {
                 JANUS_REPLAY_CASE(21)
                 JANUS_REPLAY_CASE(22)
                 JANUS_REPLAY_CASE(23)
+                JANUS_REPLAY_CASE(24)
         }
     }
 #undef JANUS_REPLAY_CASE

@@ -336,7 +336,7 @@ struct UsedBindings {
 // One buffer binding as its glBindBufferRange, in 16 bytes (offset and size fit 32 bits: GL
 // buffers are at most Limits::maxBufferSize = 2^31 bytes; binding points < 64). A binding set of
 // exactly one buffer item holds its range so (BindingSet::ReplayState), and a command binding a
-// set before a draw copies it (command::BindSetAndDraw).
+// set before a draw copies it (command::BindSetAndDraw, BindSetAndDrawOne).
 struct InlineRange {
     uint32_t offset = 0, size = 0;
     GLuint buffer = 0;
@@ -509,6 +509,9 @@ struct PopDebugGroup {};
 // later, and reading the set's line again was one cache line more per draw. (No room for the copy
 // beside an indexed draw: a command stays 48 bytes.)
 struct BindSetAndDraw { const BindingSet* bindings; InlineRange range; Draw draw; };
+// The same for a draw of one instance from instance 0, the draw of most lists: replay reads and
+// tests no instance arguments.
+struct BindSetAndDrawOne { const BindingSet* bindings; InlineRange range; uint32_t vertexCount, firstVertex; };
 struct BindSetAndDrawIndexed { uint32_t set; const BindingSet* bindings; DrawIndexed draw; };
 }  // namespace command
 
@@ -518,7 +521,8 @@ using Command = std::variant<command::BeginRenderPass, command::SetViewport, com
                              command::MemoryBarrier, command::WriteBuffer, command::CopyBuffer,
                              command::CopyBufferToTexture, command::CopyTextureToBuffer, command::CopyTexture,
                              command::GenerateMips, command::BeginTimer, command::EndTimer, command::PushDebugGroup,
-                             command::PopDebugGroup, command::BindSetAndDraw, command::BindSetAndDrawIndexed>;
+                             command::PopDebugGroup, command::BindSetAndDraw, command::BindSetAndDrawIndexed,
+                             command::BindSetAndDrawOne>;
 // A draw writes one at recording and reads it at replay: a command per draw stays this small.
 static_assert(sizeof(Command) == 48, "a command grew");
 // Command::index() of a command of type T.
@@ -528,13 +532,24 @@ inline constexpr size_t kCommandIndex = Command(std::in_place_type<T>).index();
 namespace command {
 // The draw recorded right after a set bind, over that bind (CommandList::recordDraw). Written field
 // by field: no copy of the command is read back right after being written.
-inline void merge(Command& command, Draw draw) {
+// The bind's half of a merged command, in place of the bind.
+template <class Merged>
+Merged& mergeBind(Command& command) {
     const BindBindingSet bind = std::get<BindBindingSet>(command);
-    BindSetAndDraw& merged = command.emplace<BindSetAndDraw>();
+    Merged& merged = command.emplace<Merged>();
     merged.bindings = bind.bindings;
     merged.range = bind.bindings->replayState().range;
     merged.range.set = uint8_t(bind.set);
-    merged.draw = draw;
+    return merged;
+}
+inline void merge(Command& command, Draw draw) {
+    if (draw.instanceCount == 1 && draw.firstInstance == 0) [[likely]] {
+        BindSetAndDrawOne& merged = mergeBind<BindSetAndDrawOne>(command);
+        merged.vertexCount = draw.vertexCount;
+        merged.firstVertex = draw.firstVertex;
+        return;
+    }
+    mergeBind<BindSetAndDraw>(command).draw = draw;
 }
 inline void merge(Command& command, DrawIndexed draw) {
     const BindBindingSet bind = std::get<BindBindingSet>(command);
@@ -612,7 +627,7 @@ private:
     void recordWithRoom(T command) {
         m_commands[m_commandCount++] = Command(std::in_place_type<T>, command);
     }
-    // A draw right after a set bind takes the bind's place as one BindSetAndDraw(Indexed). A draw
+    // A draw right after a set bind takes the bind's place as one BindSetAndDraw(One, Indexed). A draw
     // is in a pass, whose BeginRenderPass was recorded: there is a last command.
     template <class DrawCommand>
     void recordDraw(DrawCommand draw) {

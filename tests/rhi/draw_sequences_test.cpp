@@ -61,5 +61,53 @@ TEST_P(DrawSequenceTest, EachDrawRendersItsOwnStateAfterAnyOther) {
     EXPECT_EQ(readTextureAs<Rgba8>(target), (std::vector<Rgba8>{b, b, r, g, y, g, r, g, r}));
 }
 
+// A set bound right before a draw: the GL backend records the two as one command, with a form of
+// its own for a draw of one instance from instance 0. Each draw must still take its own
+// arguments: a first vertex, an instance count, a first instance. (The pipelines read no set: what
+// is tested is the command a bind and a draw make together, which does not depend on it.)
+TEST_P(DrawSequenceTest, DrawsRightAfterASetBindTakeTheirOwnArguments) {
+    const std::array<float, 4> red{1, 0, 0, 1}, green{0, 1, 0, 1}, blue{0, 0, 1, 1}, yellow{1, 1, 0, 1};
+    const std::array<float, 6> wholeTarget{-1, -1, 3, -1, -1, 3};
+    std::vector<ColorVertex> redThenGreen = triangle(wholeTarget, red);
+    for (const ColorVertex& v : triangle(wholeTarget, green)) redThenGreen.push_back(v);
+    BufferHandle twoTriangles = createBufferFrom(BufferUsage::Vertex, redThenGreen);
+    BufferHandle instanceColors = createBufferFrom(BufferUsage::Vertex, std::vector<Color>{blue, yellow});
+    BufferHandle uniforms = createBufferFrom(BufferUsage::Uniform, std::vector<float>(128, 0.0f));
+    // Two sets, bound in turn: binding the set already bound records nothing.
+    const std::array<BindingSetHandle, 2> sets{
+        device().createBindingSet(BindingSetDesc().add(BindingItem::uniformBuffer(0, uniforms, 0, 256))),
+        device().createBindingSet(BindingSetDesc().add(BindingItem::uniformBuffer(0, uniforms, 256, 256)))};
+    PipelineHandle vertexColors = colorPipeline(Format::RGBA8_UNORM);
+    PipelineHandle instanced = instancedPipeline();
+    TextureHandle target = createTexture2D(Format::RGBA8_UNORM, 6, 1, TextureUsage::RenderTarget);
+    submit([&](ICommandList& cmd) {
+        uint32_t next = 0;
+        auto at = [&](int32_t column) {
+            cmd.setScissor({column, 0, 1, 1});
+            cmd.setBindingSet(0, sets[next++ % 2]);   // right before the draw
+        };
+        cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(target)));
+        cmd.setPipeline(vertexColors);
+        cmd.setVertexBuffer(0, twoTriangles);
+        at(0);
+        cmd.draw(3);   // red
+        at(1);
+        cmd.draw(3, 1, 3);   // green: vertices 3..5
+        cmd.setPipeline(instanced);
+        cmd.setVertexBuffer(1, instanceColors);
+        at(2);
+        cmd.draw(3);   // blue: instance 0
+        at(3);
+        cmd.draw(3, 1, 0, 1);   // yellow: instance 1 (moved right, still covering columns 2..5)
+        at(4);
+        cmd.draw(3, 2);   // yellow: instance 1 drawn over instance 0
+        at(5);
+        cmd.draw(3, 1, 3);   // blue: vertices 3..5 of instance 0
+        cmd.endRenderPass();
+    });
+    const Rgba8 r{255, 0, 0, 255}, g{0, 255, 0, 255}, b{0, 0, 255, 255}, y{255, 255, 0, 255};
+    EXPECT_EQ(readTextureAs<Rgba8>(target), (std::vector<Rgba8>{r, g, b, y, y, b}));
+}
+
 }  // namespace
 }  // namespace janus::rhi::test
