@@ -9,17 +9,29 @@
 namespace janus::rhi::test {
 namespace {
 
-class DrawSequenceTest : public BackendTest {};
+class DrawSequenceTest : public BackendTest {
+protected:
+    static constexpr Color kRed{1, 0, 0, 1}, kGreen{0, 1, 0, 1}, kBlue{0, 0, 1, 1}, kYellow{1, 1, 0, 1};
+    static constexpr std::array<float, 6> kWholeTarget{-1, -1, 3, -1, -1, 3};
+    static constexpr Rgba8 r{255, 0, 0, 255}, g{0, 255, 0, 255}, b{0, 0, 255, 255}, y{255, 255, 0, 255};
+
+    // Vertices 0..2: a red triangle over the whole target; vertices 3..5: a green one.
+    BufferHandle redThenGreenTriangles() {
+        std::vector<ColorVertex> vertices = triangle(kWholeTarget, kRed);
+        for (const ColorVertex& v : triangle(kWholeTarget, kGreen)) vertices.push_back(v);
+        return createBufferFrom(BufferUsage::Vertex, vertices);
+    }
+    // Slot 1 of instancedPipeline(): instance 0 blue, instance 1 yellow.
+    BufferHandle blueThenYellowInstances() {
+        return createBufferFrom(BufferUsage::Vertex, std::vector<Color>{kBlue, kYellow});
+    }
+};
 JANUS_INSTANTIATE_BACKEND_TESTS(DrawSequenceTest);
 
 TEST_P(DrawSequenceTest, EachDrawRendersItsOwnStateAfterAnyOther) {
-    const std::array<float, 4> red{1, 0, 0, 1}, green{0, 1, 0, 1}, blue{0, 0, 1, 1}, yellow{1, 1, 0, 1};
-    const std::array<float, 6> wholeTarget{-1, -1, 3, -1, -1, 3};
-    std::vector<ColorVertex> redThenGreen = triangle(wholeTarget, red);
-    for (const ColorVertex& v : triangle(wholeTarget, green)) redThenGreen.push_back(v);
-    BufferHandle twoTriangles = createBufferFrom(BufferUsage::Vertex, redThenGreen);
-    BufferHandle greenTriangle = createBufferFrom(BufferUsage::Vertex, triangle(wholeTarget, green));
-    BufferHandle instanceColors = createBufferFrom(BufferUsage::Vertex, std::vector<Color>{blue, yellow});
+    BufferHandle twoTriangles = redThenGreenTriangles();
+    BufferHandle greenTriangle = createBufferFrom(BufferUsage::Vertex, triangle(kWholeTarget, kGreen));
+    BufferHandle instanceColors = blueThenYellowInstances();
     BufferHandle indices = createBufferFrom(BufferUsage::Index, std::vector<uint16_t>{0, 1, 2});
     PipelineHandle vertexColors = colorPipeline(Format::RGBA8_UNORM);
     PipelineHandle instanced = instancedPipeline();   // slot 0: positions, slot 1: a colour per instance
@@ -57,7 +69,6 @@ TEST_P(DrawSequenceTest, EachDrawRendersItsOwnStateAfterAnyOther) {
         cmd.draw(3);   // red: vertices 0..2, not 3..5
         cmd.endRenderPass();
     });
-    const Rgba8 r{255, 0, 0, 255}, g{0, 255, 0, 255}, b{0, 0, 255, 255}, y{255, 255, 0, 255};
     EXPECT_EQ(readTextureAs<Rgba8>(target), (std::vector<Rgba8>{b, b, r, g, y, g, r, g, r}));
 }
 
@@ -66,12 +77,8 @@ TEST_P(DrawSequenceTest, EachDrawRendersItsOwnStateAfterAnyOther) {
 // arguments: a first vertex, an instance count, a first instance. (The pipelines read no set: what
 // is tested is the command a bind and a draw make together, which does not depend on it.)
 TEST_P(DrawSequenceTest, DrawsRightAfterASetBindTakeTheirOwnArguments) {
-    const std::array<float, 4> red{1, 0, 0, 1}, green{0, 1, 0, 1}, blue{0, 0, 1, 1}, yellow{1, 1, 0, 1};
-    const std::array<float, 6> wholeTarget{-1, -1, 3, -1, -1, 3};
-    std::vector<ColorVertex> redThenGreen = triangle(wholeTarget, red);
-    for (const ColorVertex& v : triangle(wholeTarget, green)) redThenGreen.push_back(v);
-    BufferHandle twoTriangles = createBufferFrom(BufferUsage::Vertex, redThenGreen);
-    BufferHandle instanceColors = createBufferFrom(BufferUsage::Vertex, std::vector<Color>{blue, yellow});
+    BufferHandle twoTriangles = redThenGreenTriangles();
+    BufferHandle instanceColors = blueThenYellowInstances();
     BufferHandle uniforms = createBufferFrom(BufferUsage::Uniform, std::vector<float>(128, 0.0f));
     // Two sets, bound in turn: binding the set already bound records nothing.
     const std::array<BindingSetHandle, 2> sets{
@@ -105,7 +112,6 @@ TEST_P(DrawSequenceTest, DrawsRightAfterASetBindTakeTheirOwnArguments) {
         cmd.draw(3, 1, 3);   // blue: vertices 3..5 of instance 0
         cmd.endRenderPass();
     });
-    const Rgba8 r{255, 0, 0, 255}, g{0, 255, 0, 255}, b{0, 0, 255, 255}, y{255, 255, 0, 255};
     EXPECT_EQ(readTextureAs<Rgba8>(target), (std::vector<Rgba8>{r, g, b, y, y, b}));
 }
 
