@@ -83,13 +83,16 @@ T& sharedEnvironment(Args&&... args) {
     return *instance;
 }
 
-// Driver performance messages (GL debug output's GL_DEBUG_TYPE_PERFORMANCE, the RHI's
-// IDevice::takePerformanceMessages) of a side's timed frames and their check, with validation on
-// (JANUS_BENCH_VALIDATE): never failures, but a driver that recompiles a shader or moves a buffer
-// every frame says so here, and that would be a per-frame cost of the side. Reported as the run's
+// runFrames, also reporting the driver's performance messages of those frames (GL debug output's
+// GL_DEBUG_TYPE_PERFORMANCE, the RHI's IDevice::takePerformanceMessages; validation on, with
+// JANUS_BENCH_VALIDATE): `takeMessages` returns the side's messages since its last call, so what
+// came before the frames (setting up, an earlier run's check) is dropped and the check after them
+// is not counted. Never failures, but a driver that recompiles a shader or moves a buffer every
+// frame says so here, and that would be a per-frame cost of the side. Reported as the run's
 // counter performance_messages and, when there are any, its label "<n> driver performance
 // message(s), the first: <text>" (scripts/bench.sh prints them under the table).
-void reportPerformanceMessages(benchmark::State& state, const std::vector<std::string>& texts);
+void runFrames(benchmark::State& state, const std::function<void()>& submit, const std::function<void()>& wait,
+               const std::function<std::vector<std::string>()>& takeMessages);
 
 // Calls `body` and turns exceptions into a run labelled kFailedLabel + the message, so that one
 // unavailable backend does not hide the others' results.

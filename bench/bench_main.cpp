@@ -122,7 +122,11 @@ void destroyEnvironments() {
 
 int failedRuns() { return g_failedRuns; }
 
-void reportPerformanceMessages(benchmark::State& state, const std::vector<std::string>& texts) {
+void runFrames(benchmark::State& state, const std::function<void()>& submit, const std::function<void()>& wait,
+               const std::function<std::vector<std::string>()>& takeMessages) {
+    takeMessages();
+    runFrames(state, submit, wait);
+    const std::vector<std::string> texts = takeMessages();
     state.counters["performance_messages"] = double(texts.size());
     if (!texts.empty())
         state.SetLabel(fmt::format("{} driver performance message(s), the first: {}", texts.size(), texts.front()));

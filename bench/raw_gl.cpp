@@ -434,19 +434,17 @@ void rawGLDraws(benchmark::State& state, rhi::Backend backend, RawGLDraws how) {
     runGuarded(state, [&] {
         RawGL& raw = rawGL(backend);
         ContextSwitch current = raw.makeCurrent();
-        raw.takePerformanceMessages();   // from setting up: not the frames'
+        auto messages = [&] { return raw.takePerformanceMessages(); };
         if (how == RawGLDraws::NullDriver) {
             {
                 const NullGLDriver driver = nullGLDriver(raw.calls().glBindBufferRange, raw.calls().glDrawArrays);
-                runFrames(state, [&] { raw.submitDraws(RawGLDraws::Plain); }, [&] { raw.finish(); });
-                reportPerformanceMessages(state, raw.takePerformanceMessages());
+                runFrames(state, [&] { raw.submitDraws(RawGLDraws::Plain); }, [&] { raw.finish(); }, messages);
                 driver.requireFrames(uint64_t(state.iterations()), fmt::format("raw {}", rhi::toString(backend)));
             }
             raw.submitDraws(RawGLDraws::Plain);   // and the real driver still draws
             raw.finish();
         } else {
-            runFrames(state, [&] { raw.submitDraws(how); }, [&] { raw.finish(); });
-            reportPerformanceMessages(state, raw.takePerformanceMessages());   // the frames', not the check's
+            runFrames(state, [&] { raw.submitDraws(how); }, [&] { raw.finish(); }, messages);
         }
         raw.checkDraws();
     });
@@ -457,9 +455,8 @@ void rawGLDispatches(benchmark::State& state) {
         RawGL& raw = rawGL(rhi::Backend::GL);
         if (!raw.hasCompute()) throw std::runtime_error("gl has no compute");
         ContextSwitch current = raw.makeCurrent();
-        raw.takePerformanceMessages();
-        runFrames(state, [&] { raw.submitDispatches(); }, [&] { raw.finish(); });
-        reportPerformanceMessages(state, raw.takePerformanceMessages());
+        runFrames(state, [&] { raw.submitDispatches(); }, [&] { raw.finish(); },
+                  [&] { return raw.takePerformanceMessages(); });
         raw.checkDispatches();
     });
 }

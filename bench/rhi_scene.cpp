@@ -182,15 +182,13 @@ void rhiDraws(benchmark::State& state, Backend backend) {
     runGuarded(state, [&] {
         RhiScene& scene = rhiScene(backend);
         const bool insert = testPerformanceMessageRequested();
-        scene.takePerformanceMessages();   // from setting up: not the frames'
         runFrames(
             state,
             [&] {
                 scene.submitDraws();
                 if (insert) scene.device().insertPerformanceMessageForTesting("bench test message");
             },
-            [&] { scene.waitIdle(); });
-        reportPerformanceMessages(state, scene.takePerformanceMessages());   // the frames', not the check's
+            [&] { scene.waitIdle(); }, [&] { return scene.takePerformanceMessages(); });
         scene.checkDraws();
     });
 }
@@ -199,10 +197,9 @@ void rhiDrawsWithNullDriver(benchmark::State& state, Backend backend) {
     runGuarded(state, [&] {
         RhiScene& scene = rhiScene(backend);
         const std::string who = fmt::format("{} RHI", toString(backend));
-        scene.takePerformanceMessages();
         auto run = [&](const auto& driver) {
-            runFrames(state, [&] { scene.submitDraws(); }, [&] { scene.waitIdle(); });
-            reportPerformanceMessages(state, scene.takePerformanceMessages());
+            runFrames(state, [&] { scene.submitDraws(); }, [&] { scene.waitIdle(); },
+                      [&] { return scene.takePerformanceMessages(); });
             driver.requireFrames(uint64_t(state.iterations()), who);
         };
         if (backend == Backend::Vulkan) {
@@ -225,9 +222,8 @@ void rhiDispatches(benchmark::State& state, Backend backend) {
         RhiScene& scene = rhiScene(backend);
         if (!scene.hasCompute())
             throw std::runtime_error(fmt::format("{} has no compute", toString(backend)));
-        scene.takePerformanceMessages();
-        runFrames(state, [&] { scene.submitDispatches(); }, [&] { scene.waitIdle(); });
-        reportPerformanceMessages(state, scene.takePerformanceMessages());
+        runFrames(state, [&] { scene.submitDispatches(); }, [&] { scene.waitIdle(); },
+                  [&] { return scene.takePerformanceMessages(); });
         scene.checkDispatches();
     });
 }

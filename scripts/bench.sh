@@ -188,10 +188,16 @@ def process_ratios(raw_key, rhi_key):
     raw, rhi = by_process(raw_key), by_process(rhi_key)
     return sorted(rhi[p] / raw[p] for p in raw if p in rhi)
 
+# The table's rows: (backend, work) of the compared pairs.
+PAIRS = [("vulkan", "draw"), ("vulkan", "dispatch"), ("gl", "draw"), ("gl", "dispatch"), ("gles", "draw")]
+
+def process_count(runs_by_key):
+    return len({run.get("janus_process", "0") for key_runs in runs_by_key.values() for run in key_runs})
+
 context = report["context"]
 repetitions = max((len(r) for r in runs.values()), default=0)
 # The processes behind the table (runs at another frame size may come from others).
-processes = len({run.get("janus_process", "0") for key_runs in runs.values() for run in key_runs}) or 1
+processes = process_count(runs) or 1
 print(f"Run {context['date']} on {context['host_name']} ({context['num_cpus']} CPUs); "
       f"{table_ops} ops per frame into a {context.get('target', '?')} target; "
       f"median of {repetitions} repetition(s)" + (f" from {processes} processes." if processes > 1 else "."))
@@ -204,7 +210,7 @@ print(f"| backend | work | raw ns/op | RHI ns/op | ratio RHI/raw | target <= {TA
       + (" RHI/raw per process |" if spread else ""))
 print("|---|---|---:|---:|---:|---|---:|---:|" + ("---|" if spread else ""))
 missed = 0
-for backend, work in [("vulkan", "draw"), ("vulkan", "dispatch"), ("gl", "draw"), ("gl", "dispatch"), ("gles", "draw")]:
+for backend, work in PAIRS:
     raw_key, rhi_key = (work, backend, "raw"), (work, backend, "rhi")
     if raw_key not in runs or rhi_key not in runs:
         why = (errors.get(raw_key) or errors.get(rhi_key) or ["not run"])[0]
@@ -274,7 +280,6 @@ for extra, what in [(("dispatch", "vulkan", "raw_full_barriers"), "Raw Vulkan wi
 # also execute()'s setup and what replay does once per list) weighs F/n on each of its n
 # operations, so cost(n) = F/n + D. Runs at two frame sizes give both: D is what a draw costs once
 # frames are long, and RHI/raw of D is the per-operation ratio without any per-frame difference.
-PAIRS = [("vulkan", "draw"), ("vulkan", "dispatch"), ("gl", "draw"), ("gl", "dispatch"), ("gles", "draw")]
 for ops, sized in sorted(other_sizes.items()):
     rows, negative_frame = [], False
     for backend, work in PAIRS:
@@ -294,9 +299,8 @@ for ops, sized in sorted(other_sizes.items()):
                     f"{rhi_frame / 1000:.1f} | {raw_op:.0f} | {rhi_op:.0f} | {ratio} |")
     if not rows:
         continue
-    processes_at = len({run.get("janus_process", "0") for key_runs in sized.values() for run in key_runs})
     print(f"\nPer frame and per operation, from frames of {table_ops} (the table) and of {ops} operations "
-          f"({processes_at} process(es) at {ops}): cost per op = per frame / ops + per op.")
+          f"({process_count(sized)} process(es) at {ops}): cost per op = per frame / ops + per op.")
     print()
     print(f"| backend | work | raw ns/op at {ops} | RHI ns/op at {ops} | raw us/frame | RHI us/frame | raw ns/op alone | "
           f"RHI ns/op alone | RHI/raw per op |")
@@ -306,7 +310,7 @@ for ops, sized in sorted(other_sizes.items()):
         print("\nA negative cost per frame means the cost per operation was not the same at both frame sizes "
               "(llvmpipe's grows with the draws in a frame, whose scene it bins): that row's split does not hold.")
 # With validation on (JANUS_BENCH_VALIDATE=1), each side counts the driver's performance messages in
-# its timed frames (bench_common.h, reportPerformanceMessages): a side whose driver recompiles or
+# its timed frames (bench_common.h, runFrames): a side whose driver recompiles or
 # moves something every frame pays for it per frame.
 if context.get("validation") == "on":
     noisy = []

@@ -531,8 +531,8 @@ inline constexpr size_t kCommandIndex = Command(std::in_place_type<T>).index();
 
 namespace command {
 // The draw recorded right after a set bind, over that bind (CommandList::recordDraw). Written field
-// by field: no copy of the command is read back right after being written.
-// The bind's half of a merged command, in place of the bind.
+// by field: no copy of the command is read back right after being written. mergeBind writes the
+// bind's half, in place of the bind.
 template <class Merged>
 Merged& mergeBind(Command& command) {
     const BindBindingSet bind = std::get<BindBindingSet>(command);

@@ -315,9 +315,9 @@ void CommandList::bindSet(uint32_t set, const BindingSetHandle& bindings, Bindin
 // so that the draw after it is only its range check and the vkCmdDraw (drawStateBound): in a
 // render pass whose draw state was checked, with a graphics pipeline whose only set this is, when
 // the set has a descriptor set for that pipeline's layout already (findUse), no texture, and one
-// access, a read of the resource the pass's draws read so far. That read joins the pass's hull, as trackDrawBindings
-// would at the draw; if no draw follows, the hull is only wider, which can add a barrier but never
-// miss one. Anything else is left to the draw, which binds and tracks what is dirty.
+// access, a read of the resource the pass's draws read so far. That read joins the pass's hull,
+// as trackDrawBindings would at the draw; if no draw follows, the hull is only wider, which can
+// add a barrier but never miss one. Anything else is left to the draw, which binds and tracks what is dirty.
 [[gnu::always_inline]] inline bool CommandList::bindInPass(uint32_t set, const BindingSet& bindingSet) {
     // One test for both: the state check passes only with a graphics pipeline set.
     if (m_drawNeeds & (kNeedsRenderPass | kNeedsStateCheck)) return false;
