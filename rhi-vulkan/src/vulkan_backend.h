@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <concepts>
 #include <typeinfo>
 #include <functional>
 #include <initializer_list>
@@ -186,13 +187,18 @@ void hostBarrier(VkCommandBuffer cmd);
 // dynamic type is exact and cheaper than dynamic_cast (this runs on every bind and draw).
 [[noreturn]] void throwNotThisBackend(bool null, std::string_view what);
 [[noreturn]] void throwOtherDevice(std::string_view what);
+// `describe()` names the object; called only for a message (a name may cost a format).
+template <class Native, class Interface, std::invocable Describe>
+Native* native(const std::shared_ptr<Interface>& handle, Describe&& describe, const Context* owner) {
+    static_assert(std::is_final_v<Native>);
+    if (!handle || typeid(*handle) != typeid(Native)) [[unlikely]] throwNotThisBackend(!handle, describe());
+    auto* object = static_cast<Native*>(handle.get());
+    if (object->owner() != owner) [[unlikely]] throwOtherDevice(describe());
+    return object;
+}
 template <class Native, class Interface>
 Native* native(const std::shared_ptr<Interface>& handle, std::string_view what, const Context* owner) {
-    static_assert(std::is_final_v<Native>);
-    if (!handle || typeid(*handle) != typeid(Native)) [[unlikely]] throwNotThisBackend(!handle, what);
-    auto* object = static_cast<Native*>(handle.get());
-    if (object->owner() != owner) [[unlikely]] throwOtherDevice(what);
-    return object;
+    return native<Native>(handle, [what] { return what; }, owner);
 }
 
 // What one command does to one resource, for hazard tracking. Buffers are tracked by byte
@@ -687,6 +693,10 @@ private:
     RenderPassDesc m_passDesc;   // the open pass's attachments, for the view-overlap check
     std::vector<UsedBinding> m_usedTextures;   // scratch for checkViewOverlaps
     std::vector<Format> m_passColorFormats;
+    struct PassScratch {   // beginRenderPass's, kept for its capacity
+        std::vector<ResourceAccess> accesses;
+        std::vector<VkRenderingAttachmentInfo> colors;
+    } m_passScratch;
     Format m_passDepthFormat = Format::Unknown;
     // Bound objects; m_keepAlive owns them.
     Pipeline* m_graphicsPipeline = nullptr;

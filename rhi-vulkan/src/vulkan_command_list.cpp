@@ -135,10 +135,14 @@ void CommandList::end() {
     m_keepAlive.releaseUnused();
     check(vkEndCommandBuffer(m_commands), ErrorCode::DeviceLost, "vkEndCommandBuffer");
 
-    VkCommandBufferBeginInfo info{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-    check(vkBeginCommandBuffer(m_prologue, &info), ErrorCode::DeviceLost, "vkBeginCommandBuffer");
-    for (const TimerUse& use : m_timers) vkCmdResetQueryPool(m_prologue, use.timer->pool, 0, 2);
-    check(vkEndCommandBuffer(m_prologue), ErrorCode::DeviceLost, "vkEndCommandBuffer");
+    // A list without timers submits its commands alone: an empty prologue would still cost a
+    // command buffer's begin, end and submission every frame (docs/BENCHMARKS.md, session 24).
+    if (!m_timers.empty()) {
+        VkCommandBufferBeginInfo info{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+        check(vkBeginCommandBuffer(m_prologue, &info), ErrorCode::DeviceLost, "vkBeginCommandBuffer");
+        for (const TimerUse& use : m_timers) vkCmdResetQueryPool(m_prologue, use.timer->pool, 0, 2);
+        check(vkEndCommandBuffer(m_prologue), ErrorCode::DeviceLost, "vkEndCommandBuffer");
+    }
     m_state = State::Executable;
 }
 
@@ -150,10 +154,11 @@ void CommandList::submit() {
     waitUntilDone();   // executing the same list again: its previous run must have finished
     std::lock_guard lock(m_context->queueMutex);
     check(vkResetFences(m_context->device, 1, &m_fence), ErrorCode::DeviceLost, "vkResetFences");
-    VkCommandBuffer buffers[] = {m_prologue, m_commands};
+    const VkCommandBuffer buffers[] = {m_prologue, m_commands};
+    const bool prologue = !m_timers.empty();   // end() recorded it
     VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
-    submit.commandBufferCount = 2;
-    submit.pCommandBuffers = buffers;
+    submit.commandBufferCount = prologue ? 2 : 1;
+    submit.pCommandBuffers = prologue ? buffers : buffers + 1;
     check(vkQueueSubmit(m_context->queue, 1, &submit, m_fence), ErrorCode::DeviceLost, "vkQueueSubmit");
     m_pending = true;
     for (TimerUse& use : m_timers) use.timer->submitted = use.began && use.ended;
@@ -164,11 +169,19 @@ void CommandList::submit() {
 void CommandList::beginRenderPassImpl(const RenderPassDesc& desc) {
     requireOutsideRenderPass("beginRenderPass()");
 
+    // The pass's scratch lives in the list, so that a frame's passes allocate nothing once the
+    // list has seen as many attachments.
     std::optional<VkExtent2D> extent;
-    std::vector<Format> colorFormats;
-    std::vector<ResourceAccess> attachmentAccesses;
-    auto attach = [&](const Attachment& a, bool depth, const std::string& what) {
-        auto* texture = native<Texture>(a.texture, what, m_context.get());
+    std::vector<ResourceAccess>& attachmentAccesses = m_passScratch.accesses;
+    std::vector<VkRenderingAttachmentInfo>& colors = m_passScratch.colors;
+    attachmentAccesses.clear();
+    colors.clear();
+    m_passColorFormats.clear();
+    auto attach = [&](const Attachment& a, bool depth, size_t colorIndex) {
+        auto* texture = native<Texture>(
+            a.texture,
+            [&] { return depth ? std::string("depth attachment") : fmt::format("colour attachment {}", colorIndex); },
+            m_context.get());
         const TextureDesc& tdesc = texture->desc();
         const VkExtent3D e = texture->extent(a.subresource.mipLevel);
         extent = VkExtent2D{e.width, e.height};
@@ -201,13 +214,12 @@ void CommandList::beginRenderPassImpl(const RenderPassDesc& desc) {
         return info;
     };
 
-    std::vector<VkRenderingAttachmentInfo> colors;
     for (size_t i = 0; i < desc.colors.size(); ++i) {
-        colors.push_back(attach(desc.colors[i], false, fmt::format("colour attachment {}", i)));
-        colorFormats.push_back(desc.colors[i].texture->desc().format);
+        colors.push_back(attach(desc.colors[i], false, i));
+        m_passColorFormats.push_back(desc.colors[i].texture->desc().format);
     }
     VkRenderingAttachmentInfo depthInfo{};
-    if (desc.depth) depthInfo = attach(*desc.depth, true, "depth attachment");
+    if (desc.depth) depthInfo = attach(*desc.depth, true, 0);
 
     // No barrier is possible between the draws of a pass, and what they will read is not known
     // yet: anything written since the last barrier is made visible now (one barrier per pass at
@@ -226,9 +238,9 @@ void CommandList::beginRenderPassImpl(const RenderPassDesc& desc) {
     m_context->cmdBeginRendering(m_commands, &info);
 
     m_drawNeeds = kNeedsEverything & ~kNeedsRenderPass;
-    m_passDesc = desc;
+    m_passDesc.colors = desc.colors;   // into the capacity endRenderPass kept
+    m_passDesc.depth = desc.depth;
     m_passTrackedSets = 0;
-    m_passColorFormats = std::move(colorFormats);
     m_passDepthFormat = desc.depth ? desc.depth->texture->desc().format : Format::Unknown;
     setViewportImpl({0, 0, float(extent->width), float(extent->height), 0, 1});
     setScissorImpl({0, 0, extent->width, extent->height});
@@ -240,7 +252,8 @@ void CommandList::endRenderPass() {
     flushPassReads();
     m_context->cmdEndRendering(m_commands);
     m_drawNeeds |= kNeedsRenderPass;
-    m_passDesc = {};
+    m_passDesc.colors.clear();   // keeps its capacity for the next pass
+    m_passDesc.depth.reset();
 }
 
 // Values validated by the front (rhi/src/validation.cpp).
