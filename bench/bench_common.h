@@ -109,6 +109,8 @@ void rhiDraws(benchmark::State& state, rhi::Backend backend);
 // With the per-draw driver calls answered by stubs (null_driver.h): the RHI's own code.
 void rhiDrawsWithNullDriver(benchmark::State& state, rhi::Backend backend);
 void rhiDispatches(benchmark::State& state, rhi::Backend backend);
+// The same for Vulkan dispatches.
+void rhiDispatchesWithNullDriver(benchmark::State& state);
 // How the raw Vulkan side draws: as an application would, or with RHI choices added (explanatory
 // runs, printed apart by scripts/bench.sh).
 enum class RawVulkanDraws {
@@ -119,8 +121,15 @@ enum class RawVulkanDraws {
     NullDriver,      // Plain, with the per-draw calls answered by stubs (null_driver.h)
 };
 void rawVulkanDraws(benchmark::State& state, RawVulkanDraws how);
-// barrierPerDispatch adds the RHI's full barrier before each dispatch (an explanatory extra run).
-void rawVulkanDispatches(benchmark::State& state, bool barrierPerDispatch, bool recycledCommandMemory);
+// How the raw Vulkan side dispatches: as an application would, or with one thing changed
+// (explanatory runs, printed apart by scripts/bench.sh).
+enum class RawVulkanDispatches {
+    Plain,
+    CommandMemory,   // recording into a command pool whose host memory is the RHI's CommandMemory
+    FullBarriers,    // a full barrier before each dispatch (the RHI's rule before hazard tracking)
+    NullDriver,      // Plain, with the per-dispatch calls answered by stubs (null_driver.h)
+};
+void rawVulkanDispatches(benchmark::State& state, RawVulkanDispatches how);
 // How the raw GL side draws: as a hand-written renderer would, or with one habit of the RHI's GL
 // backend added (explanatory runs, printed apart by scripts/bench.sh).
 enum class RawGLDraws {

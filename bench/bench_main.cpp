@@ -171,7 +171,7 @@ void registerBenchmarks(int64_t frames) {
     };
     add("draw/vulkan/raw", [](benchmark::State& state) { rawVulkanDraws(state, RawVulkanDraws::Plain); });
     add("draw/vulkan/rhi", [](benchmark::State& state) { rhiDraws(state, Backend::Vulkan); });
-    add("dispatch/vulkan/raw", [](benchmark::State& state) { rawVulkanDispatches(state, false, false); });
+    add("dispatch/vulkan/raw", [](benchmark::State& state) { rawVulkanDispatches(state, RawVulkanDispatches::Plain); });
     add("dispatch/vulkan/rhi", [](benchmark::State& state) { rhiDispatches(state, Backend::Vulkan); });
     // Raw Vulkan recording into a pool with the RHI's command memory: RHI / this is what the RHI's
     // own code adds, with the allocator's gain taken out (scripts/bench.sh prints both ratios).
@@ -184,10 +184,17 @@ void registerBenchmarks(int64_t frames) {
     // (null_driver.h), so that what is left is each side's own code per draw.
     add("draw/vulkan/raw_null_driver", [](benchmark::State& state) { rawVulkanDraws(state, RawVulkanDraws::NullDriver); });
     add("draw/vulkan/rhi_null_driver", [](benchmark::State& state) { rhiDrawsWithNullDriver(state, Backend::Vulkan); });
-    add("dispatch/vulkan/raw_command_memory", [](benchmark::State& state) { rawVulkanDispatches(state, false, true); });
+    add("dispatch/vulkan/raw_command_memory",
+        [](benchmark::State& state) { rawVulkanDispatches(state, RawVulkanDispatches::CommandMemory); });
     // Not part of the ratio table: raw Vulkan with the RHI's old barrier rule (a full barrier before
     // every dispatch), to show what hazard tracking saved.
-    add("dispatch/vulkan/raw_full_barriers", [](benchmark::State& state) { rawVulkanDispatches(state, true, false); });
+    add("dispatch/vulkan/raw_full_barriers",
+        [](benchmark::State& state) { rawVulkanDispatches(state, RawVulkanDispatches::FullBarriers); });
+    // Not part of the ratio table: the null-driver runs for dispatches (the bind and the dispatch
+    // answered by stubs): the RHI's own code per dispatch.
+    add("dispatch/vulkan/raw_null_driver",
+        [](benchmark::State& state) { rawVulkanDispatches(state, RawVulkanDispatches::NullDriver); });
+    add("dispatch/vulkan/rhi_null_driver", rhiDispatchesWithNullDriver);
     add("draw/gl/raw", [](benchmark::State& state) { rawGLDraws(state, Backend::GL, RawGLDraws::Plain); });
     add("draw/gl/rhi", [](benchmark::State& state) { rhiDraws(state, Backend::GL); });
     // Not part of the ratio table: raw GL with the RHI's old per-draw vertex setup (it now

@@ -53,18 +53,18 @@ void APIENTRY nullBindBufferRange(GLenum target, GLuint index, GLuint, GLintptr 
 
 template <bool Footprint>
 void APIENTRY nullDrawArrays(GLenum mode, GLint first, GLsizei count) {
-    ++g_calls.draws;
+    ++g_calls.ops;
     if constexpr (Footprint) writeFootprint();
     if (mode != GL_TRIANGLES || first != 0 || count != 3) ++g_calls.unexpected;
 }
 
-template <bool Footprint>
+template <bool Footprint, VkPipelineBindPoint Expected>
 VKAPI_ATTR void VKAPI_CALL nullBindDescriptorSets(VkCommandBuffer, VkPipelineBindPoint bindPoint, VkPipelineLayout,
                                                   uint32_t firstSet, uint32_t count, const VkDescriptorSet* sets,
                                                   uint32_t dynamicOffsets, const uint32_t*) {
     ++g_calls.binds;
     if constexpr (Footprint) writeFootprint();
-    if (bindPoint != VK_PIPELINE_BIND_POINT_GRAPHICS || firstSet != 0 || count != 1 || !sets || *sets == VK_NULL_HANDLE ||
+    if (bindPoint != Expected || firstSet != 0 || count != 1 || !sets || *sets == VK_NULL_HANDLE ||
         dynamicOffsets != 0)
         ++g_calls.unexpected;
 }
@@ -72,22 +72,29 @@ VKAPI_ATTR void VKAPI_CALL nullBindDescriptorSets(VkCommandBuffer, VkPipelineBin
 template <bool Footprint>
 VKAPI_ATTR void VKAPI_CALL nullDraw(VkCommandBuffer, uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex,
                                     uint32_t firstInstance) {
-    ++g_calls.draws;
+    ++g_calls.ops;
     if constexpr (Footprint) writeFootprint();
     if (vertexCount != 3 || instanceCount != 1 || firstVertex != 0 || firstInstance != 0) ++g_calls.unexpected;
 }
+
+template <bool Footprint>
+VKAPI_ATTR void VKAPI_CALL nullDispatch(VkCommandBuffer, uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ) {
+    ++g_calls.ops;
+    if constexpr (Footprint) writeFootprint();
+    if (groupsX != 1 || groupsY != 1 || groupsZ != 1) ++g_calls.unexpected;
+}
 }  // namespace
 
-void requireNullDriverFrames(uint64_t frames, const std::string& who, bool checkOffsets) {
+void requireNullDriverFrames(uint64_t frames, const std::string& who, bool checkOffsets, const char* op) {
     const uint64_t ops = opsPerFrame();
     const uint64_t calls = frames * ops;
     // Slice i at offset i * kSliceBytes, once per frame.
     const uint64_t offsets = checkOffsets ? frames * kSliceBytes * (ops * (ops - 1) / 2) : 0;
-    if (g_calls.binds != calls || g_calls.draws != calls || g_calls.offsetSum != offsets || g_calls.unexpected != 0)
-        throw WrongResult(fmt::format("{} with a null driver: {} frames should bind {} times and draw {} times (bound "
-                                      "offsets summing to {}); it bound {}, drew {} (offsets summing to {}), {} "
-                                      "call(s) with other arguments",
-                                      who, frames, calls, calls, offsets, g_calls.binds, g_calls.draws,
+    if (g_calls.binds != calls || g_calls.ops != calls || g_calls.offsetSum != offsets || g_calls.unexpected != 0)
+        throw WrongResult(fmt::format("{} with a null driver: {} frames should bind {} times and {} {} times (bound "
+                                      "offsets summing to {}); it bound {}, made {} {} call(s) (offsets summing to "
+                                      "{}), {} call(s) with other arguments",
+                                      who, frames, calls, op, calls, offsets, g_calls.binds, g_calls.ops, op,
                                       g_calls.offsetSum, g_calls.unexpected));
 }
 
@@ -100,14 +107,27 @@ void resetNullDriverCalls() {
 
 NullGLDriver nullGLDriver(PFNGLBINDBUFFERRANGEPROC& bindBufferRange, PFNGLDRAWARRAYSPROC& drawArrays) {
     if (footprintPerCall() != 0)
-        return NullGLDriver(bindBufferRange, drawArrays, nullBindBufferRange<true>, nullDrawArrays<true>, true);
-    return NullGLDriver(bindBufferRange, drawArrays, nullBindBufferRange<false>, nullDrawArrays<false>, true);
+        return NullGLDriver(bindBufferRange, drawArrays, nullBindBufferRange<true>, nullDrawArrays<true>, true, "draw");
+    return NullGLDriver(bindBufferRange, drawArrays, nullBindBufferRange<false>, nullDrawArrays<false>, true, "draw");
 }
 
 NullVulkanDriver nullVulkanDriver(PFN_vkCmdBindDescriptorSets& bindDescriptorSets, PFN_vkCmdDraw& draw) {
+    constexpr VkPipelineBindPoint kGraphics = VK_PIPELINE_BIND_POINT_GRAPHICS;
     if (footprintPerCall() != 0)
-        return NullVulkanDriver(bindDescriptorSets, draw, nullBindDescriptorSets<true>, nullDraw<true>, false);
-    return NullVulkanDriver(bindDescriptorSets, draw, nullBindDescriptorSets<false>, nullDraw<false>, false);
+        return NullVulkanDriver(bindDescriptorSets, draw, nullBindDescriptorSets<true, kGraphics>, nullDraw<true>, false,
+                                "draw");
+    return NullVulkanDriver(bindDescriptorSets, draw, nullBindDescriptorSets<false, kGraphics>, nullDraw<false>, false,
+                            "draw");
+}
+
+NullVulkanDispatchDriver nullVulkanDispatchDriver(PFN_vkCmdBindDescriptorSets& bindDescriptorSets,
+                                                  PFN_vkCmdDispatch& dispatch) {
+    constexpr VkPipelineBindPoint kCompute = VK_PIPELINE_BIND_POINT_COMPUTE;
+    if (footprintPerCall() != 0)
+        return NullVulkanDispatchDriver(bindDescriptorSets, dispatch, nullBindDescriptorSets<true, kCompute>,
+                                        nullDispatch<true>, false, "dispatch");
+    return NullVulkanDispatchDriver(bindDescriptorSets, dispatch, nullBindDescriptorSets<false, kCompute>,
+                                    nullDispatch<false>, false, "dispatch");
 }
 
 }  // namespace janus::bench

@@ -1,8 +1,9 @@
-// The draw workload's two per-draw driver calls answered by stubs that only check and count them:
-// glBindBufferRange and glDrawArrays on GL, vkCmdBindDescriptorSets and vkCmdDraw on Vulkan. With
-// every per-draw call a stub, what is left of a draw's CPU time is the caller's own code (the raw
-// loop, or the RHI's recording and replay), on whichever machine this runs, without the driver's
-// time, noise or cache footprint. The per-frame calls (framebuffer or render pass, clear, program
+// The workload's two per-operation driver calls answered by stubs that only check and count them:
+// glBindBufferRange and glDrawArrays on GL, vkCmdBindDescriptorSets and vkCmdDraw on Vulkan, and
+// for Vulkan dispatches vkCmdBindDescriptorSets and vkCmdDispatch. With every per-operation call a
+// stub, what is left of an operation's CPU time is the caller's own code (the raw loop, or the
+// RHI's recording and replay), on whichever machine this runs, without the driver's time, noise or
+// cache footprint. The per-frame calls (framebuffer or render pass, clear, program
 // or pipeline, vertex setup, submit) still reach the driver; a frame has 1000 draws, so they add
 // little per draw, to both sides alike.
 //
@@ -28,14 +29,15 @@ namespace janus::bench {
 // What the stubs saw since the last NullGLDriver or NullVulkanDriver was made.
 struct NullDriverCalls {
     uint64_t binds = 0;
-    uint64_t draws = 0;
+    uint64_t ops = 0;          // draws or dispatches
     uint64_t offsetSum = 0;    // GL: of the bound ranges (each frame binds every slice once)
     uint64_t unexpected = 0;   // a call with arguments the workload never makes
 };
 
 // Throws WrongResult unless exactly `frames` frames of the workload's calls arrived: one bind and
-// one 3-vertex triangle draw per operation (GL: of each uniform slice, binding 0, kSliceBytes).
-void requireNullDriverFrames(uint64_t frames, const std::string& who, bool checkOffsets);
+// one 3-vertex triangle draw (or one 1x1x1 dispatch) per operation (GL: of each uniform slice,
+// binding 0, kSliceBytes). `op`: "draw" or "dispatch", for the message.
+void requireNullDriverFrames(uint64_t frames, const std::string& who, bool checkOffsets, const char* op);
 
 // Zeroes what the stubs saw (NullDriver's constructor).
 void resetNullDriverCalls();
@@ -45,8 +47,9 @@ void resetNullDriverCalls();
 template <class Bind, class Draw>
 class NullDriver {
 public:
-    NullDriver(Bind& bindSlot, Draw& drawSlot, Bind bindStub, Draw drawStub, bool checkOffsets)
-        : m_bindSlot(bindSlot), m_drawSlot(drawSlot), m_bind(bindSlot), m_draw(drawSlot), m_checkOffsets(checkOffsets) {
+    NullDriver(Bind& bindSlot, Draw& drawSlot, Bind bindStub, Draw drawStub, bool checkOffsets, const char* op)
+        : m_bindSlot(bindSlot), m_drawSlot(drawSlot), m_bind(bindSlot), m_draw(drawSlot), m_checkOffsets(checkOffsets),
+          m_op(op) {
         resetNullDriverCalls();
         m_bindSlot = bindStub;
         m_drawSlot = drawStub;
@@ -58,7 +61,7 @@ public:
     NullDriver(const NullDriver&) = delete;
     NullDriver& operator=(const NullDriver&) = delete;
     void requireFrames(uint64_t frames, const std::string& who) const {
-        requireNullDriverFrames(frames, who, m_checkOffsets);
+        requireNullDriverFrames(frames, who, m_checkOffsets, m_op);
     }
 
 private:
@@ -67,11 +70,15 @@ private:
     Bind m_bind;
     Draw m_draw;
     bool m_checkOffsets;
+    const char* m_op;
 };
 
 using NullGLDriver = NullDriver<PFNGLBINDBUFFERRANGEPROC, PFNGLDRAWARRAYSPROC>;
 using NullVulkanDriver = NullDriver<PFN_vkCmdBindDescriptorSets, PFN_vkCmdDraw>;
+using NullVulkanDispatchDriver = NullDriver<PFN_vkCmdBindDescriptorSets, PFN_vkCmdDispatch>;
 NullGLDriver nullGLDriver(PFNGLBINDBUFFERRANGEPROC& bindBufferRange, PFNGLDRAWARRAYSPROC& drawArrays);
 NullVulkanDriver nullVulkanDriver(PFN_vkCmdBindDescriptorSets& bindDescriptorSets, PFN_vkCmdDraw& draw);
+NullVulkanDispatchDriver nullVulkanDispatchDriver(PFN_vkCmdBindDescriptorSets& bindDescriptorSets,
+                                                  PFN_vkCmdDispatch& dispatch);
 
 }  // namespace janus::bench

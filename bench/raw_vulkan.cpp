@@ -47,13 +47,13 @@ public:
         m_nullDriver = how == RawVulkanDraws::NullDriver;
         useCommandMemory(how == RawVulkanDraws::CommandMemory || how == RawVulkanDraws::RhiChoices);
     }
-    // RawVulkanDraws::NullDriver's per-draw calls: what NullVulkanDriver points them at.
+    // The NullDriver kinds' per-operation calls: what NullVulkanDriver and NullVulkanDispatchDriver
+    // point them at.
     PFN_vkCmdBindDescriptorSets nullBind = nullptr;
     PFN_vkCmdDraw nullDraw = nullptr;
+    PFN_vkCmdDispatch nullDispatch = nullptr;
     void submitDraws();
-    // barrierPerDispatch: also put a full barrier before every dispatch (the RHI's policy before
-    // hazard tracking), to show what that rule costs.
-    void submitDispatches(bool barrierPerDispatch = false);
+    void submitDispatches(RawVulkanDispatches how = RawVulkanDispatches::Plain);
     void wait() { check(vkWaitForFences(m_device, 1, &m_fence, VK_TRUE, UINT64_MAX), "vkWaitForFences"); }
     void checkDraws();
     void checkDispatches();
@@ -510,16 +510,24 @@ void RawVulkan::submitDraws() {
     submitFrame();
 }
 
-void RawVulkan::submitDispatches(bool barrierPerDispatch) {
+void RawVulkan::submitDispatches(RawVulkanDispatches how) {
     beginFrame();
     // Each dispatch writes its own counter, so dispatches within a frame need no barrier; this one
     // orders the frame after the previous frame's host reads.
     memoryBarrier(m_commands, VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT | VK_ACCESS_HOST_WRITE_BIT,
                   VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
     vkCmdBindPipeline(m_commands, VK_PIPELINE_BIND_POINT_COMPUTE, m_computePipeline);
+    if (how == RawVulkanDispatches::NullDriver) {
+        for (VkDescriptorSet set : m_counterSets) {
+            nullBind(m_commands, VK_PIPELINE_BIND_POINT_COMPUTE, m_computeLayout, 0, 1, &set, 0, nullptr);
+            nullDispatch(m_commands, 1, 1, 1);
+        }
+        submitFrame();
+        return;   // nothing was dispatched: the counters stay
+    }
     for (VkDescriptorSet set : m_counterSets) {
         vkCmdBindDescriptorSets(m_commands, VK_PIPELINE_BIND_POINT_COMPUTE, m_computeLayout, 0, 1, &set, 0, nullptr);
-        if (barrierPerDispatch)
+        if (how == RawVulkanDispatches::FullBarriers)
             memoryBarrier(m_commands, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT,
                           VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT);
         vkCmdDispatch(m_commands, 1, 1, 1);
@@ -579,12 +587,22 @@ void rawVulkanDraws(benchmark::State& state, RawVulkanDraws how) {
     });
 }
 
-void rawVulkanDispatches(benchmark::State& state, bool barrierPerDispatch, bool recycledCommandMemory) {
+void rawVulkanDispatches(benchmark::State& state, RawVulkanDispatches how) {
     runGuarded(state, [&] {
         RawVulkan& raw = rawVulkan();
         raw.recordAs(RawVulkanDraws::Plain);
-        raw.useCommandMemory(recycledCommandMemory);
-        runFrames(state, [&] { raw.submitDispatches(barrierPerDispatch); }, [&] { raw.wait(); });
+        raw.useCommandMemory(how == RawVulkanDispatches::CommandMemory);
+        if (how == RawVulkanDispatches::NullDriver) {
+            {
+                const NullVulkanDispatchDriver driver = nullVulkanDispatchDriver(raw.nullBind, raw.nullDispatch);
+                runFrames(state, [&] { raw.submitDispatches(how); }, [&] { raw.wait(); });
+                driver.requireFrames(uint64_t(state.iterations()), "raw vulkan");
+            }
+            raw.submitDispatches();   // and the real driver still dispatches
+            raw.wait();
+        } else {
+            runFrames(state, [&] { raw.submitDispatches(how); }, [&] { raw.wait(); });
+        }
         raw.checkDispatches();
     });
 }

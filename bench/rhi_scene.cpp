@@ -217,6 +217,25 @@ void rhiDrawsWithNullDriver(benchmark::State& state, Backend backend) {
     });
 }
 
+void rhiDispatchesWithNullDriver(benchmark::State& state) {
+    runGuarded(state, [&] {
+        RhiScene& scene = rhiScene(Backend::Vulkan);
+        rhi::vulkan::Context* vk = rhi::vulkan::contextOf(scene.device());
+        if (!vk) throw std::runtime_error("the vulkan scene's device is not the Vulkan backend's");
+        {
+            const NullVulkanDispatchDriver driver = nullVulkanDispatchDriver(vk->cmdBindDescriptorSets, vk->cmdDispatch);
+            runFrames(state, [&] { scene.submitDispatches(); }, [&] { scene.waitIdle(); },
+                      [&] { return scene.takePerformanceMessages(); });
+            scene.discountDispatchFrames(uint64_t(state.iterations()));
+            driver.requireFrames(uint64_t(state.iterations()), "vulkan RHI");
+        }
+        // The real driver again: nothing of the stubbed frames stayed behind in the device.
+        scene.submitDispatches();
+        scene.waitIdle();
+        scene.checkDispatches();
+    });
+}
+
 void rhiDispatches(benchmark::State& state, Backend backend) {
     runGuarded(state, [&] {
         RhiScene& scene = rhiScene(backend);

@@ -25,6 +25,9 @@ public:
     void submitDraws();
     void submitDispatches();
     void waitIdle() { m_device->waitIdle(); }
+    // `frames` of the submitted dispatch frames had their dispatches answered by a null driver
+    // (null_driver.h): the counters did not move for them.
+    void discountDispatchFrames(uint64_t frames) { m_dispatchFrames -= uint32_t(frames); }
 
     // Throw WrongResult unless the last frame's colour is in the target / every counter has
     // been incremented once per dispatch frame run so far.

@@ -253,22 +253,23 @@ for backend, side, what, share, rest in AS_RHI:
         as_rhi = median(extra, "submit_cpu_ns_per_op")
         print(f"\n{what}: {as_rhi:.0f} ns/op (this / raw = {as_rhi / median(raw_key, 'submit_cpu_ns_per_op'):.2f}x, {share}); "
               f"RHI / this = {median(rhi_key, 'submit_cpu_ns_per_op') / as_rhi:.2f}x ({rest}).")
-# Both sides with the per-draw calls answered by stubs (bench/null_driver.h): what is left is each
-# side's own code per draw, and RHI minus raw is the RHI's, on this machine's CPU.
-NULL_CALLS = {"vulkan": "vkCmdBindDescriptorSets and vkCmdDraw", "gl": "glBindBufferRange and glDrawArrays",
-              "gles": "glBindBufferRange and glDrawArrays"}
-for backend in ("vulkan", "gl", "gles"):
-    raw_null, rhi_null = ("draw", backend, "raw_null_driver"), ("draw", backend, "rhi_null_driver")
-    raw_key, rhi_key = ("draw", backend, "raw"), ("draw", backend, "rhi")
+# Both sides with the per-operation calls answered by stubs (bench/null_driver.h): what is left is
+# each side's own code per draw or dispatch, and RHI minus raw is the RHI's, on this machine's CPU.
+NULL_CALLS = {("draw", "vulkan"): "vkCmdBindDescriptorSets and vkCmdDraw",
+              ("dispatch", "vulkan"): "vkCmdBindDescriptorSets and vkCmdDispatch",
+              ("draw", "gl"): "glBindBufferRange and glDrawArrays", ("draw", "gles"): "glBindBufferRange and glDrawArrays"}
+for (work, backend), calls in NULL_CALLS.items():
+    raw_null, rhi_null = (work, backend, "raw_null_driver"), (work, backend, "rhi_null_driver")
+    raw_key, rhi_key = (work, backend, "raw"), (work, backend, "rhi")
     if raw_null in runs and rhi_null in runs:
         own = median(rhi_null, "submit_cpu_ns_per_op") - median(raw_null, "submit_cpu_ns_per_op")
         name = "Vulkan" if backend == "vulkan" else backend.upper()
-        line = (f"\n{name} draws with a null driver ({NULL_CALLS[backend]} answered by stubs): "
+        line = (f"\n{name} {dict(draw='draws', dispatch='dispatches')[work]} with a null driver ({calls} answered by stubs): "
                 f"raw {median(raw_null, 'submit_cpu_ns_per_op'):.1f}, RHI {median(rhi_null, 'submit_cpu_ns_per_op'):.1f} ns/op: "
-                f"the RHI's own code takes {own:.1f} ns per draw")
-        if raw_key in runs and rhi_key in runs:   # a run of the null driver alone has no real draw to compare with
+                f"the RHI's own code takes {own:.1f} ns per {work}")
+        if raw_key in runs and rhi_key in runs:   # a run of the null driver alone has no real operation to compare with
             raw_ns = median(raw_key, "submit_cpu_ns_per_op")
-            line += (f"; over this run's raw draw ({raw_ns:.0f} ns) that alone would be {(raw_ns + own) / raw_ns:.2f}x "
+            line += (f"; over this run's raw {work} ({raw_ns:.0f} ns) that alone would be {(raw_ns + own) / raw_ns:.2f}x "
                      f"(measured: {median(rhi_key, 'submit_cpu_ns_per_op') / raw_ns:.2f}x)")
         print(line + ".")
 # Explanatory runs: the raw side with one RHI habit added, to show what that habit costs.

@@ -29,7 +29,8 @@ import tempfile
 # into the RHI's command-pool memory: what the RHI's own code adds, the allocator's effect taken out.
 PAIRS = [("draw", "vulkan", "raw", "rhi"), ("dispatch", "vulkan", "raw", "rhi"),
          ("draw", "vulkan", "raw_command_memory", "rhi"), ("dispatch", "vulkan", "raw_command_memory", "rhi"),
-         ("draw", "vulkan", "raw_null_driver", "rhi_null_driver"), ("draw", "gl", "raw", "rhi"),
+         ("draw", "vulkan", "raw_null_driver", "rhi_null_driver"),
+         ("dispatch", "vulkan", "raw_null_driver", "rhi_null_driver"), ("draw", "gl", "raw", "rhi"),
          ("dispatch", "gl", "raw", "rhi"), ("draw", "gl", "raw_null_driver", "rhi_null_driver"),
          ("draw", "gles", "raw", "rhi"), ("draw", "gles", "raw_null_driver", "rhi_null_driver")]
 DEFAULT_OPS_PER_FRAME = 1000   # kDefaultOpsPerFrame in bench/bench_common.h

@@ -45,7 +45,8 @@ for line in "Raw Vulkan draws recording into the RHI's command memory" \
             "Raw Vulkan draws with the RHI's choices that reach the driver" \
             "Raw GL draws from buffers made as the RHI makes them" \
             "Raw GLES draws from buffers made as the RHI makes them" \
-            "Vulkan draws with a null driver" "GL draws with a null driver" "GLES draws with a null driver" \
+            "Vulkan draws with a null driver" "Vulkan dispatches with a null driver" \
+            "GL draws with a null driver" "GLES draws with a null driver" \
             "Raw GL re-specifying the vertex attribute" "Raw Vulkan with a full barrier before every dispatch"; do
   grep -qF "$line" <<<"$report" || fail "the report lacks \"$line\":
 $report"
