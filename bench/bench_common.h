@@ -126,6 +126,8 @@ void rawVulkanDraws(benchmark::State& state, RawVulkanDraws how);
 enum class RawVulkanDispatches {
     Plain,
     CommandMemory,   // recording into a command pool whose host memory is the RHI's CommandMemory
+    RhiChoices,      // that, the RHI's compute pipeline layout (four set layouts) and reusable
+                     // command buffers: every choice of the RHI's that reaches the driver
     FullBarriers,    // a full barrier before each dispatch (the RHI's rule before hazard tracking)
     NullDriver,      // Plain, with the per-dispatch calls answered by stubs (null_driver.h)
 };

@@ -186,6 +186,8 @@ void registerBenchmarks(int64_t frames) {
     add("draw/vulkan/rhi_null_driver", [](benchmark::State& state) { rhiDrawsWithNullDriver(state, Backend::Vulkan); });
     add("dispatch/vulkan/raw_command_memory",
         [](benchmark::State& state) { rawVulkanDispatches(state, RawVulkanDispatches::CommandMemory); });
+    add("dispatch/vulkan/raw_rhi_choices",
+        [](benchmark::State& state) { rawVulkanDispatches(state, RawVulkanDispatches::RhiChoices); });
     // Not part of the ratio table: raw Vulkan with the RHI's old barrier rule (a full barrier before
     // every dispatch), to show what hazard tracking saved.
     add("dispatch/vulkan/raw_full_barriers",

@@ -104,6 +104,8 @@ private:
     VkDescriptorSetLayout m_counterSetLayout = VK_NULL_HANDLE;
     VkPipelineLayout m_computeLayout = VK_NULL_HANDLE;
     VkPipeline m_computePipeline = VK_NULL_HANDLE;
+    VkPipelineLayout m_computeLayoutAsRhi = VK_NULL_HANDLE;   // as m_drawLayoutAsRhi
+    VkPipeline m_computePipelineAsRhi = VK_NULL_HANDLE;
     std::vector<VkDescriptorSet> m_counterSets;
     uint32_t m_dispatchFrames = 0;
 };
@@ -166,6 +168,8 @@ RawVulkan::~RawVulkan() {
     vkDestroyPipelineLayout(m_device, m_drawLayoutAsRhi, nullptr);
     vkDestroyDescriptorSetLayout(m_device, m_emptySetLayout, nullptr);
     vkDestroyPipeline(m_device, m_computePipeline, nullptr);
+    vkDestroyPipeline(m_device, m_computePipelineAsRhi, nullptr);
+    vkDestroyPipelineLayout(m_device, m_computeLayoutAsRhi, nullptr);
     vkDestroyPipelineLayout(m_device, m_drawLayout, nullptr);
     vkDestroyPipelineLayout(m_device, m_computeLayout, nullptr);
     vkDestroyDescriptorSetLayout(m_device, m_drawSetLayout, nullptr);
@@ -421,6 +425,10 @@ void RawVulkan::createComputePipeline() {
     layoutInfo.setLayoutCount = 1;
     layoutInfo.pSetLayouts = &m_counterSetLayout;
     check(vkCreatePipelineLayout(m_device, &layoutInfo, nullptr, &m_computeLayout), "vkCreatePipelineLayout");
+    const VkDescriptorSetLayout rhiLayouts[] = {m_counterSetLayout, m_emptySetLayout, m_emptySetLayout, m_emptySetLayout};
+    layoutInfo.setLayoutCount = uint32_t(std::size(rhiLayouts));
+    layoutInfo.pSetLayouts = rhiLayouts;
+    check(vkCreatePipelineLayout(m_device, &layoutInfo, nullptr, &m_computeLayoutAsRhi), "vkCreatePipelineLayout");
     m_counterSets = allocateSets(m_counterSetLayout, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, m_counters.buffer);
 
     VkShaderModule module = createShaderModule("bench_increment_comp");
@@ -430,7 +438,11 @@ void RawVulkan::createComputePipeline() {
     info.stage.module = module;
     info.stage.pName = "main";
     info.layout = m_computeLayout;
-    const VkResult result = vkCreateComputePipelines(m_device, VK_NULL_HANDLE, 1, &info, nullptr, &m_computePipeline);
+    VkResult result = vkCreateComputePipelines(m_device, VK_NULL_HANDLE, 1, &info, nullptr, &m_computePipeline);
+    if (result == VK_SUCCESS) {
+        info.layout = m_computeLayoutAsRhi;
+        result = vkCreateComputePipelines(m_device, VK_NULL_HANDLE, 1, &info, nullptr, &m_computePipelineAsRhi);
+    }
     vkDestroyShaderModule(m_device, module, nullptr);
     check(result, "vkCreateComputePipelines");
 }
@@ -516,17 +528,18 @@ void RawVulkan::submitDispatches(RawVulkanDispatches how) {
     // orders the frame after the previous frame's host reads.
     memoryBarrier(m_commands, VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT | VK_ACCESS_HOST_WRITE_BIT,
                   VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
-    vkCmdBindPipeline(m_commands, VK_PIPELINE_BIND_POINT_COMPUTE, m_computePipeline);
+    vkCmdBindPipeline(m_commands, VK_PIPELINE_BIND_POINT_COMPUTE, m_rhiChoices ? m_computePipelineAsRhi : m_computePipeline);
+    const VkPipelineLayout layout = m_rhiChoices ? m_computeLayoutAsRhi : m_computeLayout;   // set 0 is the same in both
     if (how == RawVulkanDispatches::NullDriver) {
         for (VkDescriptorSet set : m_counterSets) {
-            nullBind(m_commands, VK_PIPELINE_BIND_POINT_COMPUTE, m_computeLayout, 0, 1, &set, 0, nullptr);
+            nullBind(m_commands, VK_PIPELINE_BIND_POINT_COMPUTE, layout, 0, 1, &set, 0, nullptr);
             nullDispatch(m_commands, 1, 1, 1);
         }
         submitFrame();
         return;   // nothing was dispatched: the counters stay
     }
     for (VkDescriptorSet set : m_counterSets) {
-        vkCmdBindDescriptorSets(m_commands, VK_PIPELINE_BIND_POINT_COMPUTE, m_computeLayout, 0, 1, &set, 0, nullptr);
+        vkCmdBindDescriptorSets(m_commands, VK_PIPELINE_BIND_POINT_COMPUTE, layout, 0, 1, &set, 0, nullptr);
         if (how == RawVulkanDispatches::FullBarriers)
             memoryBarrier(m_commands, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT,
                           VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT);
@@ -590,8 +603,10 @@ void rawVulkanDraws(benchmark::State& state, RawVulkanDraws how) {
 void rawVulkanDispatches(benchmark::State& state, RawVulkanDispatches how) {
     runGuarded(state, [&] {
         RawVulkan& raw = rawVulkan();
-        raw.recordAs(RawVulkanDraws::Plain);
-        raw.useCommandMemory(how == RawVulkanDispatches::CommandMemory);
+        // The recording choices are the draws' (RhiChoices: command memory, reusable command
+        // buffers, and here the RHI's compute pipeline layout).
+        raw.recordAs(how == RawVulkanDispatches::RhiChoices ? RawVulkanDraws::RhiChoices : RawVulkanDraws::Plain);
+        if (how != RawVulkanDispatches::RhiChoices) raw.useCommandMemory(how == RawVulkanDispatches::CommandMemory);
         if (how == RawVulkanDispatches::NullDriver) {
             {
                 const NullVulkanDispatchDriver driver = nullVulkanDispatchDriver(raw.nullBind, raw.nullDispatch);

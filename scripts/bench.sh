@@ -243,12 +243,14 @@ for work in ("draw", "dispatch"):
               f"RHI / this = {median(rhi_key, 'submit_cpu_ns_per_op') / raw_cm:.2f}x (what the RHI's own code adds).")
 # The raw side with the RHI's choices that reach the driver: this / raw is what those choices cost
 # in the driver, RHI / this what the RHI adds besides them (docs/BENCHMARKS.md, "Explanatory runs").
-AS_RHI = [("vulkan", "raw_rhi_choices", "Raw Vulkan draws with the RHI's choices that reach the driver (command memory, "
+AS_RHI = [("draw", "vulkan", "raw_rhi_choices", "Raw Vulkan draws with the RHI's choices that reach the driver (command memory, "
            "pipeline layout, reusable command buffers)", "those choices' share", "the RHI's own code"),
-          ("gl", "raw_rhi_buffers", "Raw GL draws from buffers made as the RHI makes them", "the buffer kind's share", "the rest"),
-          ("gles", "raw_rhi_buffers", "Raw GLES draws from buffers made as the RHI makes them", "the buffer kind's share", "the rest")]
-for backend, side, what, share, rest in AS_RHI:
-    extra, raw_key, rhi_key = ("draw", backend, side), ("draw", backend, "raw"), ("draw", backend, "rhi")
+          ("dispatch", "vulkan", "raw_rhi_choices", "Raw Vulkan dispatches with the RHI's choices that reach the driver (command "
+           "memory, pipeline layout, reusable command buffers)", "those choices' share", "the RHI's own code"),
+          ("draw", "gl", "raw_rhi_buffers", "Raw GL draws from buffers made as the RHI makes them", "the buffer kind's share", "the rest"),
+          ("draw", "gles", "raw_rhi_buffers", "Raw GLES draws from buffers made as the RHI makes them", "the buffer kind's share", "the rest")]
+for work, backend, side, what, share, rest in AS_RHI:
+    extra, raw_key, rhi_key = (work, backend, side), (work, backend, "raw"), (work, backend, "rhi")
     if extra in runs and rhi_key in runs and raw_key in runs:
         as_rhi = median(extra, "submit_cpu_ns_per_op")
         print(f"\n{what}: {as_rhi:.0f} ns/op (this / raw = {as_rhi / median(raw_key, 'submit_cpu_ns_per_op'):.2f}x, {share}); "

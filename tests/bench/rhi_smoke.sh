@@ -43,6 +43,7 @@ $report"
 done
 for line in "Raw Vulkan draws recording into the RHI's command memory" \
             "Raw Vulkan draws with the RHI's choices that reach the driver" \
+            "Raw Vulkan dispatches with the RHI's choices that reach the driver" \
             "Raw GL draws from buffers made as the RHI makes them" \
             "Raw GLES draws from buffers made as the RHI makes them" \
             "Vulkan draws with a null driver" "Vulkan dispatches with a null driver" \
