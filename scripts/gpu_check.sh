@@ -46,8 +46,9 @@
 # Options: --out DIR (required), --build-dir DIR (run local binaries instead of .gpu/run.sh),
 # --budget SECONDS, --quick (small sizes and short runs: for trying the script, not for numbers),
 # --tests-only (info and the two suites: to check fixes when little device time is left),
-# --bench-only (info and as many janus_bench_rhi processes as the budget holds, about 12-15 s each:
-# for a verdict on the overhead ratios, whose spread between processes is wide).
+# --bench-only (info, the footprint steps and as many janus_bench_rhi processes as the budget holds,
+# each of the main pairs and the null-driver rows only, about 4.5 s: for a verdict on the overhead
+# ratios, whose spread between processes is wide).
 set -uo pipefail
 
 repo_root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -60,7 +61,7 @@ while [[ $# -gt 0 ]]; do
     --budget) budget="$2"; shift 2 ;;
     --tests-only) tests_only=1; shift ;;
     --bench-only) bench_only=1; shift ;;
-    -h|--help) sed -n '2,25p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,/^set /{/^#/p}' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "gpu_check.sh: unknown argument '$1' (try --help)" >&2; exit 2 ;;
   esac
 done
