@@ -130,6 +130,11 @@ public:
 
     // Serialises vkQueueSubmit / vkQueueWaitIdle and the immediate command buffer.
     std::recursive_mutex queueMutex;
+    // Command lists' submissions are numbered (under queueMutex); waitIdle() records the last one it
+    // waited for, so a list submitted before it knows that its fence has signalled without asking
+    // the driver (vkWaitForFences on every begin() after a waitIdle(), otherwise).
+    uint64_t lastSubmission = 0;
+    std::atomic<uint64_t> finishedSubmissions{0};
     VkCommandPool immediatePool = VK_NULL_HANDLE;
     VkCommandBuffer immediateCommands = VK_NULL_HANDLE;
     VkFence immediateFence = VK_NULL_HANDLE;
@@ -663,6 +668,7 @@ private:
     } m_drawCalls;
     VkFence m_fence = VK_NULL_HANDLE;
     bool m_pending = false;
+    uint64_t m_submission = 0;   // the number Context gave its last submission
     State m_state = State::Initial;
     HazardTracker m_hazards;
 

@@ -79,6 +79,10 @@ CommandList::~CommandList() {
 
 void CommandList::waitUntilDone() {
     if (!m_pending) return;
+    if (m_submission <= m_context->finishedSubmissions.load(std::memory_order_acquire)) {
+        m_pending = false;   // a waitIdle() since saw it finish: the fence has signalled
+        return;
+    }
     check(vkWaitForFences(m_context->device, 1, &m_fence, VK_TRUE, UINT64_MAX), ErrorCode::DeviceLost,
           "vkWaitForFences");
     m_pending = false;
@@ -161,6 +165,7 @@ void CommandList::submit() {
     submit.pCommandBuffers = prologue ? buffers : buffers + 1;
     check(vkQueueSubmit(m_context->queue, 1, &submit, m_fence), ErrorCode::DeviceLost, "vkQueueSubmit");
     m_pending = true;
+    m_submission = ++m_context->lastSubmission;
     for (TimerUse& use : m_timers) use.timer->submitted = use.began && use.ended;
 }
 

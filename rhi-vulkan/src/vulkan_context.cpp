@@ -143,6 +143,7 @@ void Context::submitAndWait(const std::function<void(VkCommandBuffer)>& record) 
 void Context::waitIdle() {
     std::lock_guard lock(queueMutex);
     check(vkQueueWaitIdle(queue), ErrorCode::DeviceLost, "vkQueueWaitIdle");
+    finishedSubmissions.store(lastSubmission, std::memory_order_release);
 }
 
 VkDeviceMemory Context::allocate(const VkMemoryRequirements& requirements, VkMemoryPropertyFlags required,
