@@ -728,7 +728,7 @@ void CommandList::replay(Device& device) {
             // GL's window origin is row 0 as well, so y needs no flip.
             const Viewport& v = c.viewport;
             gl.glViewport(GLint(v.x), GLint(v.y), GLsizei(v.width), GLsizei(v.height));
-            gl.glDepthRangef(v.minDepth, v.maxDepth);
+            device.context().state.setDepthRange(v.minDepth, v.maxDepth);
         }
         void operator()(const command::SetScissor& c) {
             gl.glScissor(c.scissor.x, c.scissor.y, GLsizei(c.scissor.width), GLsizei(c.scissor.height));
@@ -891,11 +891,14 @@ void Device::beginRenderPass(const RenderPassDesc& desc) {
     m_renderHeight = any->height(mip);
     f.glViewport(0, 0, GLsizei(m_renderWidth), GLsizei(m_renderHeight));
     f.glScissor(0, 0, GLsizei(m_renderWidth), GLsizei(m_renderHeight));
-    f.glDepthRangef(0.0f, 1.0f);
+    GLStateCache& state = m_context->state;
+    state.setDepthRange(0.0f, 1.0f);
 
     // Clears obey the write masks, which the previous pipeline may have narrowed.
-    f.glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    f.glDepthMask(GL_TRUE);
+    const bool clearsColor = std::any_of(desc.colors.begin(), desc.colors.end(),
+                                         [](const Attachment& a) { return a.loadOp == LoadOp::Clear; });
+    if (clearsColor) state.setAllColorMasks(0xF);
+    if (desc.depth && desc.depth->loadOp == LoadOp::Clear) state.setDepthMask(true);
     for (size_t i = 0; i < desc.colors.size(); ++i) {
         const Attachment& a = desc.colors[i];
         if (a.loadOp != LoadOp::Clear) continue;

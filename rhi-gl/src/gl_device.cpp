@@ -84,7 +84,7 @@ const T& ownResource(const std::shared_ptr<Interface>& handle, const Context& co
 // Context
 
 Context::Context(std::unique_ptr<Platform> platform, bool es)
-    : m_binding(std::make_shared<ContextBinding>()), m_es(es), m_platformName(platform->describe()) {
+    : state(gl, es), m_binding(std::make_shared<ContextBinding>()), m_es(es), m_platformName(platform->describe()) {
     m_binding->platform = std::move(platform);
     // Creating the platform made its context current here, replacing whichever of ours was.
     t_current.release();

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "gl_functions.h"
+#include "gl_state_cache.h"
 #include "gl_platform.h"
 #include "gl_shader_translation.h"
 #include "janus/rhi/draw_range_validation.h"
@@ -111,6 +112,7 @@ public:
     const std::string* replayPipeline = nullptr;
 
     GLFunctions gl;
+    GLStateCache state;   // the fixed-function state set through it, as last set (after gl: it calls gl)
     GLuint vertexArray = 0;
     // glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE) is in effect: shaders are translated without
     // SPIRV-Cross's clip depth fix-up.

@@ -280,60 +280,28 @@ GLenum toGL(BlendOp op) {
 
 void Pipeline::applyState() const {
     const GLFunctions& gl = m_context->gl;
-    gl.glUseProgram(m_program);
+    gl.glUseProgram(m_program);   // every time: a list ends with no program in use (Device::execute)
     if (m_compute) return;
+    GLStateCache& state = m_context->state;
     const RasterState& raster = m_graphics.raster;
-    if (raster.cullMode == CullMode::None) {
-        gl.glDisable(GL_CULL_FACE);
-    } else {
-        gl.glEnable(GL_CULL_FACE);
-        gl.glCullFace(raster.cullMode == CullMode::Front ? GL_FRONT : GL_BACK);
-    }
+    state.setCulling(raster.cullMode != CullMode::None, raster.cullMode == CullMode::Front ? GL_FRONT : GL_BACK);
     // GL decides facing with y up; our images have row 0 on top, which mirrors the winding.
-    gl.glFrontFace(raster.frontFace == FrontFace::CounterClockwise ? GL_CW : GL_CCW);
-    if (raster.depthBiasEnable) {
-        gl.glEnable(GL_POLYGON_OFFSET_FILL);
-        gl.glPolygonOffset(raster.depthBiasSlope, raster.depthBiasConstant);
-    } else {
-        gl.glDisable(GL_POLYGON_OFFSET_FILL);
-    }
+    state.setFrontFace(raster.frontFace == FrontFace::CounterClockwise ? GL_CW : GL_CCW);
+    state.setPolygonOffset(raster.depthBiasEnable, raster.depthBiasSlope, raster.depthBiasConstant);
 
     const DepthState& depth = m_graphics.depth;
-    if (depth.testEnable) {
-        gl.glEnable(GL_DEPTH_TEST);
-        gl.glDepthFunc(compareFunction(depth.compare));
-    } else {
-        gl.glDisable(GL_DEPTH_TEST);
-    }
-    gl.glDepthMask(depth.writeEnable ? GL_TRUE : GL_FALSE);
+    state.setDepthTest(depth.testEnable, compareFunction(depth.compare));
+    state.setDepthMask(depth.writeEnable);
 
     auto blendOf = [&](size_t i) { return i < m_graphics.blend.size() ? m_graphics.blend[i] : BlendAttachment{}; };
-    auto mask = [](const BlendAttachment& b, uint8_t bit) { return (b.writeMask & bit) ? GL_TRUE : GL_FALSE; };
-    if (m_context->isES()) {
-        // One state for all attachments (checked equal at creation).
-        const BlendAttachment b = blendOf(0);
-        if (b.enable) {
-            gl.glEnable(GL_BLEND);
-            gl.glBlendFuncSeparate(toGL(b.srcColor), toGL(b.dstColor), toGL(b.srcAlpha), toGL(b.dstAlpha));
-            gl.glBlendEquationSeparate(toGL(b.colorOp), toGL(b.alphaOp));
-        } else {
-            gl.glDisable(GL_BLEND);
-        }
-        gl.glColorMask(mask(b, 1), mask(b, 2), mask(b, 4), mask(b, 8));
-        return;
-    }
-    for (size_t i = 0; i < std::max<size_t>(m_graphics.colorFormats.size(), 1); ++i) {
-        const BlendAttachment b = blendOf(i);
-        const auto index = GLuint(i);
-        if (b.enable) {
-            gl.glEnablei(GL_BLEND, index);
-            gl.glBlendFuncSeparatei(index, toGL(b.srcColor), toGL(b.dstColor), toGL(b.srcAlpha), toGL(b.dstAlpha));
-            gl.glBlendEquationSeparatei(index, toGL(b.colorOp), toGL(b.alphaOp));
-        } else {
-            gl.glDisablei(GL_BLEND, index);
-        }
-        gl.glColorMaski(index, mask(b, 1), mask(b, 2), mask(b, 4), mask(b, 8));
-    }
+    auto apply = [&](uint32_t index, const BlendAttachment& b) {
+        state.setBlend(index, {b.enable, {toGL(b.srcColor), toGL(b.dstColor), toGL(b.srcAlpha), toGL(b.dstAlpha)},
+                               {toGL(b.colorOp), toGL(b.alphaOp)}});
+        state.setColorMask(index, b.writeMask);
+    };
+    // ES: one state for all attachments (checked equal at creation).
+    const size_t attachments = m_context->isES() ? 1 : std::max<size_t>(m_graphics.colorFormats.size(), 1);
+    for (size_t i = 0; i < attachments; ++i) apply(uint32_t(i), blendOf(i));
 }
 
 }  // namespace janus::rhi::gl

@@ -306,7 +306,7 @@ std::vector<std::byte> Device::readDepthThroughColor(const Texture& texture, Tex
     f.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m_context->framebuffer(key, {&color}, nullptr));
     f.glViewport(0, 0, GLsizei(width), GLsizei(height));
     f.glScissor(0, 0, GLsizei(width), GLsizei(height));
-    f.glDepthRangef(0.0f, 1.0f);
+    m_context->state.setDepthRange(0.0f, 1.0f);
     m_depthCopyPipeline->applyState();
     f.glActiveTexture(GL_TEXTURE0 + kDepthCopyTextureUnit);
     f.glBindTexture(GL_TEXTURE_2D, flat.name());

@@ -9,72 +9,56 @@
 #include <string>
 #include <vector>
 
-#include "backend_test.h"
-#include "gl_device.h"
-#include "gl_entry_points.h"
+#include "gl_call_log.h"
 
 namespace janus::rhi::test {
 namespace {
 
-struct DrawCallLog {
-    std::vector<std::string> calls;
-    gl::GLFunctions original;
-};
-DrawCallLog* g_drawLog = nullptr;   // GL entry points are plain functions: the wrappers find it here
+GLCallLog& drawLog() { return GLCallLogTest::log(); }
 
 void APIENTRY logDrawArrays(GLenum mode, GLint first, GLsizei count) {
-    g_drawLog->calls.push_back("glDrawArrays");
-    g_drawLog->original.glDrawArrays(mode, first, count);
+    drawLog().calls.push_back("glDrawArrays");
+    drawLog().original.glDrawArrays(mode, first, count);
 }
 void APIENTRY logDrawArraysInstanced(GLenum mode, GLint first, GLsizei count, GLsizei instances) {
-    g_drawLog->calls.push_back("glDrawArraysInstanced");
-    g_drawLog->original.glDrawArraysInstanced(mode, first, count, instances);
+    drawLog().calls.push_back("glDrawArraysInstanced");
+    drawLog().original.glDrawArraysInstanced(mode, first, count, instances);
 }
 void APIENTRY logDrawArraysInstancedBaseInstance(GLenum mode, GLint first, GLsizei count, GLsizei instances,
                                                  GLuint baseInstance) {
-    g_drawLog->calls.push_back("glDrawArraysInstancedBaseInstance");
-    g_drawLog->original.glDrawArraysInstancedBaseInstance(mode, first, count, instances, baseInstance);
+    drawLog().calls.push_back("glDrawArraysInstancedBaseInstance");
+    drawLog().original.glDrawArraysInstancedBaseInstance(mode, first, count, instances, baseInstance);
 }
 void APIENTRY logDrawElements(GLenum mode, GLsizei count, GLenum type, const void* indices) {
-    g_drawLog->calls.push_back("glDrawElements");
-    g_drawLog->original.glDrawElements(mode, count, type, indices);
+    drawLog().calls.push_back("glDrawElements");
+    drawLog().original.glDrawElements(mode, count, type, indices);
 }
 void APIENTRY logDrawElementsBaseVertex(GLenum mode, GLsizei count, GLenum type, const void* indices, GLint baseVertex) {
-    g_drawLog->calls.push_back("glDrawElementsBaseVertex");
-    g_drawLog->original.glDrawElementsBaseVertex(mode, count, type, indices, baseVertex);
+    drawLog().calls.push_back("glDrawElementsBaseVertex");
+    drawLog().original.glDrawElementsBaseVertex(mode, count, type, indices, baseVertex);
 }
 void APIENTRY logDrawElementsInstanced(GLenum mode, GLsizei count, GLenum type, const void* indices, GLsizei instances) {
-    g_drawLog->calls.push_back("glDrawElementsInstanced");
-    g_drawLog->original.glDrawElementsInstanced(mode, count, type, indices, instances);
+    drawLog().calls.push_back("glDrawElementsInstanced");
+    drawLog().original.glDrawElementsInstanced(mode, count, type, indices, instances);
 }
 void APIENTRY logDrawElementsInstancedBaseVertexBaseInstance(GLenum mode, GLsizei count, GLenum type, const void* indices,
                                                             GLsizei instances, GLint baseVertex, GLuint baseInstance) {
-    g_drawLog->calls.push_back("glDrawElementsInstancedBaseVertexBaseInstance");
-    g_drawLog->original.glDrawElementsInstancedBaseVertexBaseInstance(mode, count, type, indices, instances, baseVertex,
+    drawLog().calls.push_back("glDrawElementsInstancedBaseVertexBaseInstance");
+    drawLog().original.glDrawElementsInstancedBaseVertexBaseInstance(mode, count, type, indices, instances, baseVertex,
                                                                       baseInstance);
 }
 
-class GLDrawCallsTest : public BackendTest {
+class GLDrawCallsTest : public GLCallLogTest {
 protected:
-    void SetUp() override {
-        BackendTest::SetUp();
-        if (IsSkipped() || HasFatalFailure()) return;   // configuration not selected: no device
-        if (backend() == Backend::Vulkan) GTEST_SKIP() << "the GL backend's draw entry points";
-        gl::GLFunctions& gl = dynamic_cast<gl::Device&>(device()).context().gl;
-        g_drawLog = &m_log;
-        m_log.original = gl;
-        m_overrides.replace(gl.glDrawArrays, logDrawArrays);
-        m_overrides.replace(gl.glDrawArraysInstanced, logDrawArraysInstanced);
-        m_overrides.replace(gl.glDrawArraysInstancedBaseInstance, logDrawArraysInstancedBaseInstance);
-        m_overrides.replace(gl.glDrawElements, logDrawElements);
-        m_overrides.replace(gl.glDrawElementsBaseVertex, logDrawElementsBaseVertex);
-        m_overrides.replace(gl.glDrawElementsInstanced, logDrawElementsInstanced);
-        m_overrides.replace(gl.glDrawElementsInstancedBaseVertexBaseInstance, logDrawElementsInstancedBaseVertexBaseInstance);
-    }
-    void TearDown() override {
-        m_overrides.restoreAll();
-        g_drawLog = nullptr;
-        BackendTest::TearDown();
+    const char* watched() const override { return "the GL backend's draw entry points"; }
+    void watch(gl::GLFunctions& gl, GLEntryPointOverrides& overrides) override {
+        overrides.replace(gl.glDrawArrays, logDrawArrays);
+        overrides.replace(gl.glDrawArraysInstanced, logDrawArraysInstanced);
+        overrides.replace(gl.glDrawArraysInstancedBaseInstance, logDrawArraysInstancedBaseInstance);
+        overrides.replace(gl.glDrawElements, logDrawElements);
+        overrides.replace(gl.glDrawElementsBaseVertex, logDrawElementsBaseVertex);
+        overrides.replace(gl.glDrawElementsInstanced, logDrawElementsInstanced);
+        overrides.replace(gl.glDrawElementsInstancedBaseVertexBaseInstance, logDrawElementsInstancedBaseVertexBaseInstance);
     }
     // The entry points one draw, recorded by `draw` in a pass with a fullscreen pipeline and an
     // index buffer bound, replayed as.
@@ -82,7 +66,7 @@ protected:
         TextureHandle target = createTexture2D(Format::RGBA8_UNORM, 2, 2, TextureUsage::RenderTarget);
         PipelineHandle pipeline = fullscreenPipeline("rt_uv_frag", Format::RGBA8_UNORM);
         BufferHandle indices = createBufferFrom(BufferUsage::Index, std::vector<uint32_t>{0, 1, 2, 0, 1, 2});
-        m_log.calls.clear();
+        takeCalls();
         submit([&](ICommandList& cmd) {
             cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(target)));
             cmd.setPipeline(pipeline);
@@ -91,13 +75,9 @@ protected:
             cmd.endRenderPass();
         });
         device().waitIdle();
-        return std::move(m_log.calls);
+        return takeCalls();
     }
     using Calls = std::vector<std::string>;
-
-private:
-    GLEntryPointOverrides m_overrides;
-    DrawCallLog m_log;
 };
 JANUS_INSTANTIATE_BACKEND_TESTS(GLDrawCallsTest);
 
