@@ -868,8 +868,11 @@ bool sameVertexLayout(const GraphicsPipelineDesc& a, const GraphicsPipelineDesc&
 
 void Device::beginRenderPass(const RenderPassDesc& desc) {
     const GLFunctions& f = gl();
-    FramebufferKey key;
-    std::vector<const Texture*> colors;
+    FramebufferKey& key = m_passKey;
+    std::vector<const Texture*>& colors = m_passColors;
+    key.colors.clear();
+    key.depth = {};
+    colors.clear();
     const Texture* depth = nullptr;
     for (const Attachment& a : desc.colors) {
         auto* texture = static_cast<const Texture*>(a.texture.get());

@@ -1033,6 +1033,9 @@ private:
     uint32_t m_enabledAttributes = 0;   // bit per location
     // Draw-to-draw redundancy: attribute pointers, index buffer and base-instance uniform are only
     // respecified when something they depend on changed.
+    // beginRenderPass's scratch, kept for its capacity: a frame's passes allocate nothing.
+    FramebufferKey m_passKey;
+    std::vector<const Texture*> m_passColors;
     bool m_vertexStateDirty = true;
     // Set by a draw from instance 0 (the attribute pointers from vertex and instance 0, the
     // base-instance uniform 0), cleared by whatever changes that, by whatever leaves binding
