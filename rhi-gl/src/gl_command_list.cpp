@@ -1025,6 +1025,7 @@ void Device::applyMipRanges(std::span<const TextureMipRange> ranges) {
 }
 
 void Device::setVertexBuffer(uint32_t slot, GLuint buffer, uint64_t offset) {
+    if (slot >= m_vertexBuffers.size()) m_vertexBuffers.resize(slot + 1);
     VertexBinding& binding = m_vertexBuffers[slot];
     if (binding.buffer == buffer && binding.offset == offset) return;
     binding = {buffer, offset};
@@ -1047,11 +1048,11 @@ void Device::specifyVertexAttributes(int64_t baseVertexOffset, uint32_t baseInst
     for (const VertexAttribute& attribute : desc.vertexAttributes) {
         const VertexBufferLayout& layout = *std::find_if(desc.vertexBuffers.begin(), desc.vertexBuffers.end(),
                                                          [&](const VertexBufferLayout& l) { return l.slot == attribute.bufferSlot; });
-        const auto binding = m_vertexBuffers.find(attribute.bufferSlot);   // present: checked at record time
+        const VertexBinding& binding = m_vertexBuffers[attribute.bufferSlot];   // bound: checked at record time
         const int64_t stepOffset = (layout.perInstance ? int64_t(baseInstanceOffset) : baseVertexOffset) * int64_t(layout.stride);
         const auto pointer = reinterpret_cast<const void*>(
-            uintptr_t(int64_t(binding->second.offset) + int64_t(attribute.offset) + stepOffset));
-        f.glBindBuffer(GL_ARRAY_BUFFER, binding->second.buffer);
+            uintptr_t(int64_t(binding.offset) + int64_t(attribute.offset) + stepOffset));
+        f.glBindBuffer(GL_ARRAY_BUFFER, binding.buffer);
         const GLuint location = attribute.location;
         const auto stride = GLsizei(layout.stride);
         switch (attribute.format) {

@@ -1026,7 +1026,8 @@ private:
     enum DrawCheck : uint8_t { kRestoreTakenPoints = 1, kCheckSamplerUnits = 2 };
     uint8_t m_drawChecks = 0;
     struct VertexBinding { GLuint buffer = 0; uint64_t offset = 0; };
-    std::map<uint32_t, VertexBinding> m_vertexBuffers;
+    // By slot (a vector, not a map: cleared by every execute, it keeps its storage).
+    std::vector<VertexBinding> m_vertexBuffers;
     GLuint m_indexBuffer = 0;
     IndexType m_indexType = IndexType::UInt32;
     uint64_t m_indexOffset = 0;
