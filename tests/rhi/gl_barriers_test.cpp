@@ -11,46 +11,36 @@
 #include <string>
 #include <vector>
 
-#include "backend_test.h"
-#include "gl_device.h"
-#include "gl_entry_points.h"
+#include "gl_call_log.h"
 
 namespace janus::rhi::test {
 namespace {
 
 // One "dispatch", "draw", "copy" or "barrier <bits>" per call, in order.
-struct GLCallLog {
-    std::vector<std::string> calls;
-    PFNGLMEMORYBARRIERPROC memoryBarrier = nullptr;
-    PFNGLDISPATCHCOMPUTEPROC dispatchCompute = nullptr;
-    PFNGLDRAWARRAYSPROC drawArrays = nullptr;
-    PFNGLDRAWARRAYSINSTANCEDPROC drawArraysInstanced = nullptr;
-    PFNGLCOPYBUFFERSUBDATAPROC copyBufferSubData = nullptr;
-};
-GLCallLog* g_log = nullptr;   // GL entry points are plain functions: the wrappers find the log here
+GLCallLog& callLog() { return GLCallLogTest::log(); }
 
 void APIENTRY loggedMemoryBarrier(GLbitfield bits) {
     // Bits glMemoryBarrier defines, or GL_ALL_BARRIER_BITS whole: NVIDIA rejects any other bit.
     EXPECT_TRUE(bits == GL_ALL_BARRIER_BITS || (bits & ~gl::kEveryMemoryBarrierBit) == 0) << fmt::format("{:#x}", bits);
-    g_log->calls.push_back(fmt::format("barrier {:#x}", bits));
-    g_log->memoryBarrier(bits);
+    callLog().calls.push_back(fmt::format("barrier {:#x}", bits));
+    callLog().original.glMemoryBarrier(bits);
 }
 void APIENTRY loggedDispatchCompute(GLuint x, GLuint y, GLuint z) {
-    g_log->calls.push_back("dispatch");
-    g_log->dispatchCompute(x, y, z);
+    callLog().calls.push_back("dispatch");
+    callLog().original.glDispatchCompute(x, y, z);
 }
 void APIENTRY loggedDrawArrays(GLenum mode, GLint first, GLsizei count) {
-    g_log->calls.push_back("draw");
-    g_log->drawArrays(mode, first, count);
+    callLog().calls.push_back("draw");
+    callLog().original.glDrawArrays(mode, first, count);
 }
 void APIENTRY loggedDrawArraysInstanced(GLenum mode, GLint first, GLsizei count, GLsizei instances) {
-    g_log->calls.push_back("draw");
-    g_log->drawArraysInstanced(mode, first, count, instances);
+    callLog().calls.push_back("draw");
+    callLog().original.glDrawArraysInstanced(mode, first, count, instances);
 }
 void APIENTRY loggedCopyBufferSubData(GLenum read, GLenum write, GLintptr readOffset, GLintptr writeOffset,
                                       GLsizeiptr size) {
-    g_log->calls.push_back("copy");
-    g_log->copyBufferSubData(read, write, readOffset, writeOffset, size);
+    callLog().calls.push_back("copy");
+    callLog().original.glCopyBufferSubData(read, write, readOffset, writeOffset, size);
 }
 
 std::string barrier(GLbitfield bits) { return fmt::format("barrier {:#x}", bits); }
@@ -58,39 +48,24 @@ std::string barrier(GLbitfield bits) { return fmt::format("barrier {:#x}", bits)
 // glMemoryBarrier defines (NVIDIA rejects any other with GL_INVALID_VALUE; Mesa ignores them).
 constexpr GLbitfield kEvery = gl::kEveryMemoryBarrierBit;
 
-class GLBarriersTest : public BackendTest {
+class GLBarriersTest : public GLCallLogTest {
 protected:
-    void SetUp() override {
-        BackendTest::SetUp();
-        if (IsSkipped() || HasFatalFailure()) return;   // configuration not selected: no device
-        if (backend() == Backend::Vulkan) GTEST_SKIP() << "GL's glMemoryBarrier policy";
+    const char* watched() const override { return "GL's glMemoryBarrier policy"; }
+    void watch(gl::GLFunctions& gl, GLEntryPointOverrides& overrides) override {
         JANUS_REQUIRE_CAPABILITY(Capability::Compute);
         JANUS_REQUIRE_CAPABILITY(Capability::StorageBuffers);
-        gl::GLFunctions& gl = dynamic_cast<gl::Device&>(device()).context().gl;
-        g_log = &m_log;
-        m_log.memoryBarrier = m_overrides.replace(gl.glMemoryBarrier, loggedMemoryBarrier);
-        m_log.dispatchCompute = m_overrides.replace(gl.glDispatchCompute, loggedDispatchCompute);
-        m_log.drawArrays = m_overrides.replace(gl.glDrawArrays, loggedDrawArrays);
-        m_log.drawArraysInstanced = m_overrides.replace(gl.glDrawArraysInstanced, loggedDrawArraysInstanced);
-        m_log.copyBufferSubData = m_overrides.replace(gl.glCopyBufferSubData, loggedCopyBufferSubData);
-    }
-    void TearDown() override {
-        m_overrides.restoreAll();
-        g_log = nullptr;
-        BackendTest::TearDown();
+        overrides.replace(gl.glMemoryBarrier, loggedMemoryBarrier);
+        overrides.replace(gl.glDispatchCompute, loggedDispatchCompute);
+        overrides.replace(gl.glDrawArrays, loggedDrawArrays);
+        overrides.replace(gl.glDrawArraysInstanced, loggedDrawArraysInstanced);
+        overrides.replace(gl.glCopyBufferSubData, loggedCopyBufferSubData);
     }
     // The calls the last submit() made (readBuffer's own copy is left out).
     std::vector<std::string> submitLogged(const std::function<void(ICommandList&)>& body) {
-        m_log.calls.clear();
+        takeCalls();
         submit(body);
-        std::vector<std::string> calls = std::move(m_log.calls);
-        m_log.calls.clear();
-        return calls;
+        return takeCalls();
     }
-
-private:
-    GLEntryPointOverrides m_overrides;
-    GLCallLog m_log;
 };
 JANUS_INSTANTIATE_BACKEND_TESTS(GLBarriersTest);
 
