@@ -148,7 +148,12 @@ void CommandList::throwWrongPassState(const char* what) const {
 void CommandList::beginImpl() {
     m_keepAlive.beginRecording();
     m_commandCount = 0;   // m_commands keeps its size: the storage is reused
-    m_renderPasses.clear();
+    // So do the pass descriptions (no allocation per pass once seen); their textures are let go.
+    for (size_t i = 0; i < m_renderPassCount; ++i) {
+        m_renderPasses[i].colors.clear();
+        m_renderPasses[i].depth.reset();
+    }
+    m_renderPassCount = 0;
     m_uploads.clear();
     m_labels.clear();
     m_mipRanges.clear();
@@ -431,11 +436,14 @@ void CommandList::beginRenderPassImpl(const RenderPassDesc& desc) {
     m_inRenderPass = true;
     invalidateDrawState();   // new attachments to match and not to sample
     // The stored description holds the attachments.
-    m_renderPasses.push_back(desc);
+    if (m_renderPassCount == m_renderPasses.size()) m_renderPasses.emplace_back();
+    RenderPassDesc& stored = m_renderPasses[m_renderPassCount++];
+    stored.colors.assign(desc.colors.begin(), desc.colors.end());
+    stored.depth = desc.depth;
     m_passColorFormats.clear();
     for (const Attachment& a : desc.colors) m_passColorFormats.push_back(a.texture->desc().format);
     m_passDepthFormat = desc.depth ? desc.depth->texture->desc().format : Format::Unknown;
-    record(command::BeginRenderPass{uint32_t(m_renderPasses.size() - 1)});
+    record(command::BeginRenderPass{uint32_t(m_renderPassCount - 1)});
 }
 
 void CommandList::endRenderPass() {

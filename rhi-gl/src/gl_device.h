@@ -713,7 +713,7 @@ private:
     // item of a set bound later, unused by the draw, may have set another range on the texture).
     void recordMipRanges();
     void requireVertexBuffers(const char* what) const;
-    const RenderPassDesc* openPass() const { return m_inRenderPass ? &m_renderPasses.back() : nullptr; }
+    const RenderPassDesc* openPass() const { return m_inRenderPass ? &m_renderPasses[m_renderPassCount - 1] : nullptr; }
 
     // Hazards between shader writes (storage buffers and images, which GL leaves unordered) and
     // later accesses, tracked while recording. A write stays pending for the barrier bits not
@@ -767,7 +767,8 @@ private:
     size_t m_commandCount = 0;
     size_t m_commandCapacity = 0;   // m_commands.size()
     // Command payloads that own memory, referenced by index from m_commands.
-    std::vector<RenderPassDesc> m_renderPasses;
+    std::vector<RenderPassDesc> m_renderPasses;   // the first m_renderPassCount are this recording's
+    size_t m_renderPassCount = 0;
     std::vector<std::byte> m_uploads;
     std::vector<std::string> m_labels;
     std::vector<TextureMipRange> m_mipRanges;
