@@ -605,8 +605,9 @@ void rawVulkanDispatches(benchmark::State& state, RawVulkanDispatches how) {
         RawVulkan& raw = rawVulkan();
         // The recording choices are the draws' (RhiChoices: command memory, reusable command
         // buffers, and here the RHI's compute pipeline layout).
-        raw.recordAs(how == RawVulkanDispatches::RhiChoices ? RawVulkanDraws::RhiChoices : RawVulkanDraws::Plain);
-        if (how != RawVulkanDispatches::RhiChoices) raw.useCommandMemory(how == RawVulkanDispatches::CommandMemory);
+        raw.recordAs(how == RawVulkanDispatches::RhiChoices      ? RawVulkanDraws::RhiChoices
+                     : how == RawVulkanDispatches::CommandMemory ? RawVulkanDraws::CommandMemory
+                                                                 : RawVulkanDraws::Plain);
         if (how == RawVulkanDispatches::NullDriver) {
             {
                 const NullVulkanDispatchDriver driver = nullVulkanDispatchDriver(raw.nullBind, raw.nullDispatch);

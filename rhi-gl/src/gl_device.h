@@ -19,9 +19,9 @@
 #include <vector>
 
 #include "gl_functions.h"
-#include "gl_state_cache.h"
 #include "gl_platform.h"
 #include "gl_shader_translation.h"
+#include "gl_state_cache.h"
 #include "janus/rhi/draw_range_validation.h"
 #include "janus/rhi/keep_alive.h"
 #include "janus/rhi/rhi.h"
@@ -1033,11 +1033,11 @@ private:
     IndexType m_indexType = IndexType::UInt32;
     uint64_t m_indexOffset = 0;
     uint32_t m_enabledAttributes = 0;   // bit per location
-    // Draw-to-draw redundancy: attribute pointers, index buffer and base-instance uniform are only
-    // respecified when something they depend on changed.
     // beginRenderPass's scratch, kept for its capacity: a frame's passes allocate nothing.
     FramebufferKey m_passKey;
     std::vector<const Texture*> m_passColors;
+    // Draw-to-draw redundancy: attribute pointers, index buffer and base-instance uniform are only
+    // respecified when something they depend on changed.
     bool m_vertexStateDirty = true;
     // Set by a draw from instance 0 (the attribute pointers from vertex and instance 0, the
     // base-instance uniform 0), cleared by whatever changes that, by whatever leaves binding

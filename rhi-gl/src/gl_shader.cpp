@@ -294,14 +294,14 @@ void Pipeline::applyState() const {
     state.setDepthMask(depth.writeEnable);
 
     auto blendOf = [&](size_t i) { return i < m_graphics.blend.size() ? m_graphics.blend[i] : BlendAttachment{}; };
-    auto apply = [&](uint32_t index, const BlendAttachment& b) {
-        state.setBlend(index, {b.enable, {toGL(b.srcColor), toGL(b.dstColor), toGL(b.srcAlpha), toGL(b.dstAlpha)},
-                               {toGL(b.colorOp), toGL(b.alphaOp)}});
-        state.setColorMask(index, b.writeMask);
-    };
     // ES: one state for all attachments (checked equal at creation).
     const size_t attachments = m_context->isES() ? 1 : std::max<size_t>(m_graphics.colorFormats.size(), 1);
-    for (size_t i = 0; i < attachments; ++i) apply(uint32_t(i), blendOf(i));
+    for (uint32_t i = 0; i < attachments; ++i) {
+        const BlendAttachment b = blendOf(i);
+        state.setBlend(i, {b.enable, {toGL(b.srcColor), toGL(b.dstColor), toGL(b.srcAlpha), toGL(b.dstAlpha)},
+                           {toGL(b.colorOp), toGL(b.alphaOp)}});
+        state.setColorMask(i, b.writeMask);
+    }
 }
 
 }  // namespace janus::rhi::gl

@@ -1,9 +1,8 @@
 // The fixed-function state the GL backend sets, as it last set it on one context: a pipeline's
 // raster, depth and blend state, and the write masks and depth range a render pass's clears need.
 // A setter calls GL only when the value differs, so the pipeline a frame binds again (in its next
-// pass or its next list) costs its glUseProgram and nothing else: on NVIDIA's driver each state
-// call costs CPU time per frame (docs/BENCHMARKS.md, session 24), where raw GL sets such state
-// once. It stays true because nothing else sets these states: every call that does goes through
+// pass or its next list) costs its glUseProgram and nothing else, as in raw GL, which sets such
+// state once (each call is driver CPU time per frame: docs/BENCHMARKS.md, session 24). It stays true because nothing else sets these states: every call that does goes through
 // here (Pipeline::applyState, Device::beginRenderPass). State it does not know yet (a new
 // context) is set on first use.
 #pragma once
@@ -54,7 +53,6 @@ public:
         bool enable = false;
         std::array<GLenum, 4> factors{};      // source colour, destination colour, source alpha, destination alpha
         std::array<GLenum, 2> operations{};   // colour, alpha
-        bool operator==(const Blend&) const = default;
     };
     void setBlend(uint32_t index, const Blend& blend) {
         const bool cached = index < kCachedAttachments;
