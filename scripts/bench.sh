@@ -14,7 +14,8 @@
 #                  changes its speed (llvmpipe's GL draws: 0.99x in one process, 1.43x in the
 #                  next), so a ratio from one process can be that process's luck. With more than
 #                  one process (or --from-json file) the table's last column gives the lowest
-#                  and highest of the processes' own ratios and how many met the target.
+#                  and highest of the processes' own ratios, their median, and how many met the
+#                  target.
 #   --interleave   FRAMES: every repetition times exactly FRAMES frames (janus_bench_rhi's
 #                  --janus_frames) and the repetitions of all benchmarks run in random order
 #                  (Google Benchmark's random interleaving), so raw and RHI share the same minutes
@@ -224,14 +225,17 @@ for backend, work in PAIRS:
           f"{median(raw_key, 'wait_ns_per_op'):.0f} | {median(rhi_key, 'wait_ns_per_op'):.0f} |", end="")
     if spread:
         ratios = process_ratios(raw_key, rhi_key)
-        print(f" {ratios[0]:.2f}x to {ratios[-1]:.2f}x, {sum(r <= TARGET for r in ratios)} of {len(ratios)} met |"
-              if ratios else " - |", end="")
+        print(f" {ratios[0]:.2f}x to {ratios[-1]:.2f}x, median {statistics.median(ratios):.2f}x, "
+              f"{sum(r <= TARGET for r in ratios)} of {len(ratios)} met |" if ratios else " - |", end="")
     print()
 print()
 print("ns/op: CPU time of the benchmark thread to record + submit one frame, divided by the draws or "
       "dispatches in it (median over repetitions). wait: wall time until the frame had finished "
       "(fence wait / waitIdle / glFinish), reported apart and not part of the ratio."
-      + (" RHI/raw per process: the lowest and highest of the processes' own ratios, and how many met the target."
+      + (" RHI/raw per process: the lowest and highest of the processes' own ratios, their median, and how many met "
+         "the target. Where a machine switches between speeds from process to process (the H200's raw Vulkan draw: "
+         "about 54 or about 80 ns), the median of the processes' own ratios compares each RHI run with the raw run "
+         "of its own process; the table's ratio compares medians taken over all processes."
          if spread else ""))
 # Raw Vulkan recording into the RHI's command-pool memory: RHI / this is what the RHI's own code
 # adds with the allocator's effect taken out (docs/BENCHMARKS.md, "Command memory").

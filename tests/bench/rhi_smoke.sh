@@ -70,9 +70,26 @@ done
 # Two processes' runs (here the same file twice): each row also gives the ratio's spread per process.
 report=$(bash "$repo_root/scripts/bench.sh" --from-json "$scratch/bench.json" --from-json "$scratch/bench.json")
 for row in "vulkan | draw" "gl | draw" "gles | draw"; do
-  grep -Eq "^\| $row \| .* \| [0-9.]+x to [0-9.]+x, [0-2] of 2 met \|$" <<<"$report" || fail "no per-process spread for $row:
+  grep -Eq "^\| $row \| .* \| [0-9.]+x to [0-9.]+x, median [0-9.]+x, [0-2] of 2 met \|$" <<<"$report" || fail "no per-process spread for $row:
 $report"
 done
+# Three processes whose Vulkan draws are 1.0x, 2.0x and 1.2x raw's: the spread names the median of
+# the processes' own ratios (1.2x), not the lowest, the highest or the first.
+for p in 0 1 2; do
+  python3 - "$scratch/bench.json" "$scratch/process$p.json" "$(( (p == 1) ? 20 : (p == 2) ? 12 : 10 ))" <<'SCALE'
+import json, sys
+report = json.load(open(sys.argv[1]))
+for run in report["benchmarks"]:
+    if run["run_name"].split("/")[:3] in (["draw", "vulkan", "raw"], ["draw", "vulkan", "rhi"]):
+        run["submit_cpu_ns_per_op"] = 100.0 if run["run_name"].startswith("draw/vulkan/raw/") else 10.0 * int(sys.argv[3])
+json.dump(report, open(sys.argv[2], "w"))
+SCALE
+done
+report=$(bash "$repo_root/scripts/bench.sh" --from-json "$scratch/process0.json" --from-json "$scratch/process1.json" \
+  --from-json "$scratch/process2.json")
+grep -Eq "^\| vulkan \| draw \| .* \| 1\.00x to 2\.00x, median 1\.20x, 1 of 3 met \|$" <<<"$report" \
+  || fail "the per-process spread does not give the median of the processes' ratios (1.20x):
+$report"
 
 # The null driver with a footprint (JANUS_BENCH_NULL_FOOTPRINT) still gets every call it counts.
 status=0
