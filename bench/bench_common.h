@@ -94,6 +94,35 @@ T& sharedEnvironment(Args&&... args) {
 void runFrames(benchmark::State& state, const std::function<void()>& submit, const std::function<void()>& wait,
                const std::function<std::vector<std::string>()>& takeMessages);
 
+// One side of a paired run (runPairedFrames): its frame, the wait for it, and the check of what
+// its frames did. `enter` is called before each block of its frames and what it returns is held
+// while they run: the GL sides make their context current there, untimed.
+struct FrameSide {
+    std::function<void()> submit;
+    std::function<void()> wait;
+    std::function<void()> check;
+    std::function<std::shared_ptr<void>()> enter = [] { return std::shared_ptr<void>(); };
+};
+enum class Work { Draws, Dispatches };
+FrameSide rawVulkanSide(Work work);
+FrameSide rawGLSide(rhi::Backend backend, Work work);
+FrameSide rhiSide(rhi::Backend backend, Work work);
+
+// Frames per side in each block of a paired run (janus_bench_rhi --janus_paired_block; default 8).
+inline constexpr uint32_t kDefaultPairedBlock = 8;
+uint32_t pairedBlock();
+void setPairedBlock(uint32_t frames);
+
+// Raw and RHI frames of one comparison in alternating blocks of pairedBlock() frames each, the side
+// that goes first alternating too, in one run: both sides share the same moments of the machine.
+// On the H200 the same code ran at one of two speeds about 1.5x apart from one benchmark run to
+// the next (docs/BENCHMARKS.md, "Paired runs"), which separate runs of raw and RHI cannot
+// tell from a difference between them. One iteration is one block of each side. Reports
+// raw_submit_cpu_ns_per_op and rhi_submit_cpu_ns_per_op (as runFrames' submit_cpu_ns_per_op) and
+// their ratio, rhi_over_raw, of this run alone.
+void runPairedFrames(benchmark::State& state, const FrameSide& raw, const FrameSide& rhi);
+void pairedRun(benchmark::State& state, const std::function<FrameSide()>& raw, const std::function<FrameSide()>& rhi);
+
 // Calls `body` and turns exceptions into a run labelled kFailedLabel + the message, so that one
 // unavailable backend does not hide the others' results.
 inline constexpr std::string_view kFailedLabel = "failed: ";

@@ -7,6 +7,7 @@
 #include <malloc.h>
 #include <time.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -20,10 +21,13 @@ namespace janus::bench {
 
 namespace {
 uint32_t g_opsPerFrame = kDefaultOpsPerFrame;
+uint32_t g_pairedBlock = kDefaultPairedBlock;
 }  // namespace
 
 uint32_t opsPerFrame() { return g_opsPerFrame; }
 void setOpsPerFrame(uint32_t ops) { g_opsPerFrame = ops; }
+uint32_t pairedBlock() { return g_pairedBlock; }
+void setPairedBlock(uint32_t frames) { g_pairedBlock = frames; }
 
 std::array<float, 4> drawColor(uint32_t drawIndex) {
     const std::array<uint8_t, 4> bytes = drawColorBytes(drawIndex);
@@ -102,6 +106,53 @@ void runFrames(benchmark::State& state, const std::function<void()>& submit, con
     state.counters["submit_ns_per_op"] = perOp(submitSeconds);
     state.counters["wait_ns_per_op"] = perOp(waitSeconds);
     state.SetItemsProcessed(int64_t(state.iterations()) * opsPerFrame());
+}
+
+void runPairedFrames(benchmark::State& state, const FrameSide& raw, const FrameSide& rhi) {
+    const FrameSide* sides[2] = {&raw, &rhi};
+    double submitCpuSeconds[2] = {0, 0};
+    uint64_t block = 0;
+    std::string failure;
+    for (auto _ : state) {
+        if (!failure.empty()) continue;   // as in runFrames
+        try {
+            // Which side goes first alternates, so that neither always follows the other's frames.
+            for (uint64_t turn = block; turn < block + 2; ++turn) {
+                const size_t s = turn % 2;
+                const std::shared_ptr<void> entered = sides[s]->enter();
+                for (uint32_t frame = 0; frame < pairedBlock(); ++frame) {
+                    const double cpuStart = threadCpuSeconds();
+                    timedSubmit(sides[s]->submit);
+                    submitCpuSeconds[s] += threadCpuSeconds() - cpuStart;
+                    sides[s]->wait();
+                }
+            }
+            ++block;
+        } catch (const std::exception& error) {
+            failure = error.what();
+        }
+    }
+    if (!failure.empty()) throw std::runtime_error(failure);
+    auto perOp = [](double seconds) {
+        return benchmark::Counter(seconds * 1e9 / (double(opsPerFrame()) * pairedBlock()),
+                                  benchmark::Counter::kAvgIterations);
+    };
+    state.counters["raw_submit_cpu_ns_per_op"] = perOp(submitCpuSeconds[0]);
+    state.counters["rhi_submit_cpu_ns_per_op"] = perOp(submitCpuSeconds[1]);
+    state.counters["rhi_over_raw"] = submitCpuSeconds[0] > 0 ? submitCpuSeconds[1] / submitCpuSeconds[0] : 0.0;
+    state.counters["paired_block"] = pairedBlock();
+    state.SetItemsProcessed(int64_t(state.iterations()) * 2 * pairedBlock() * opsPerFrame());
+}
+
+void pairedRun(benchmark::State& state, const std::function<FrameSide()>& raw, const std::function<FrameSide()>& rhi) {
+    runGuarded(state, [&] {
+        // The RHI side first: its device names the machine, and its failure explains a missing driver.
+        const FrameSide rhiFrames = rhi();
+        const FrameSide rawFrames = raw();
+        runPairedFrames(state, rawFrames, rhiFrames);
+        rawFrames.check();
+        rhiFrames.check();
+    });
 }
 
 namespace {
@@ -220,6 +271,27 @@ void registerBenchmarks(int64_t frames) {
     add("draw/gles/raw_null_driver",
         [](benchmark::State& state) { rawGLDraws(state, Backend::GLES, RawGLDraws::NullDriver); });
     add("draw/gles/rhi_null_driver", [](benchmark::State& state) { rhiDrawsWithNullDriver(state, Backend::GLES); });
+    // Not part of the ratio table: each main pair again, its raw and RHI frames in alternating
+    // blocks of one run (runPairedFrames); scripts/bench.sh prints them in a table of their own.
+    // As many frames per side as the separate runs time.
+    const int64_t blocks = frames > 0 ? std::max<int64_t>(1, (frames + pairedBlock() - 1) / pairedBlock()) : 0;
+    auto addPaired = [blocks](const std::string& name, std::function<FrameSide()> raw, std::function<FrameSide()> rhi) {
+        benchmark::internal::Benchmark* benchmark =
+            benchmark::RegisterBenchmark(name.c_str(), [raw, rhi](benchmark::State& state) { pairedRun(state, raw, rhi); })
+                ->UseRealTime()
+                ->Unit(benchmark::kMicrosecond);
+        if (blocks > 0) benchmark->Iterations(blocks);
+    };
+    addPaired("draw/vulkan/paired", [] { return rawVulkanSide(Work::Draws); },
+              [] { return rhiSide(Backend::Vulkan, Work::Draws); });
+    addPaired("dispatch/vulkan/paired", [] { return rawVulkanSide(Work::Dispatches); },
+              [] { return rhiSide(Backend::Vulkan, Work::Dispatches); });
+    addPaired("draw/gl/paired", [] { return rawGLSide(Backend::GL, Work::Draws); },
+              [] { return rhiSide(Backend::GL, Work::Draws); });
+    addPaired("dispatch/gl/paired", [] { return rawGLSide(Backend::GL, Work::Dispatches); },
+              [] { return rhiSide(Backend::GL, Work::Dispatches); });
+    addPaired("draw/gles/paired", [] { return rawGLSide(Backend::GLES, Work::Draws); },
+              [] { return rhiSide(Backend::GLES, Work::Draws); });
 }
 
 // janus_bench_rhi's own flags, taken out of argv before Google Benchmark sees them:
@@ -231,9 +303,14 @@ void registerBenchmarks(int64_t frames) {
 //                            neighbour or a clock change hits both (on the H100 one process's GL
 //                            draw ratio was 0.88x, the next 1.57x).
 //   --janus_ops_per_frame=N  draws or dispatches per frame (default kDefaultOpsPerFrame).
+//   --janus_paired_block=N   frames per side in each block of the paired runs (default
+//                            kDefaultPairedBlock). Shorter blocks share the machine's moments more
+//                            closely; longer ones let each side's frames run with its own data in
+//                            the caches, as separate runs do.
 struct JanusFlags {
     int64_t frames = 0;   // 0: Google Benchmark chooses
     uint32_t opsPerFrame = janus::bench::kDefaultOpsPerFrame;
+    uint32_t pairedBlock = janus::bench::kDefaultPairedBlock;
 };
 
 JanusFlags takeJanusFlags(int& argc, char** argv) {
@@ -247,6 +324,7 @@ JanusFlags takeJanusFlags(int& argc, char** argv) {
         {"--janus_frames=", "a whole number of frames", 1, 1000000, [&](int64_t n) { flags.frames = n; }},
         {"--janus_ops_per_frame=", "a whole number of draws or dispatches per frame", 1,
          janus::bench::kMaxOpsPerFrame, [&](int64_t n) { flags.opsPerFrame = uint32_t(n); }},
+        {"--janus_paired_block=", "a whole number of frames", 1, 1000, [&](int64_t n) { flags.pairedBlock = uint32_t(n); }},
     };
     int kept = 1;
     for (int i = 1; i < argc; ++i) {
@@ -284,11 +362,13 @@ int main(int argc, char** argv) {
     mallopt(M_TOP_PAD, 64 << 20);
     const JanusFlags flags = takeJanusFlags(argc, argv);
     janus::bench::setOpsPerFrame(flags.opsPerFrame);
+    janus::bench::setPairedBlock(flags.pairedBlock);
     registerBenchmarks(flags.frames);
     benchmark::Initialize(&argc, argv);
     if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
     benchmark::AddCustomContext("ops_per_frame", std::to_string(janus::bench::opsPerFrame()));
     benchmark::AddCustomContext("target", fmt::format("{0}x{0} RGBA8", janus::bench::kTargetSize));
+    benchmark::AddCustomContext("paired_block", std::to_string(janus::bench::pairedBlock()));
     benchmark::AddCustomContext("validation", janus::bench::validationRequested() ? "on" : "off");
     benchmark::RunSpecifiedBenchmarks();
     benchmark::Shutdown();

@@ -129,6 +129,8 @@ public:
 
     // The raw context is current while the returned object lives.
     ContextSwitch makeCurrent() const { return ContextSwitch(m_platform.get()); }
+    // The same, held by whoever keeps the pointer (FrameSide::enter).
+    std::shared_ptr<void> currentWhileHeld() const { return std::make_shared<ContextSwitch>(m_platform.get()); }
     GLCalls& calls() { return m_gl; }
 
     void submitDraws(RawGLDraws how = RawGLDraws::Plain);
@@ -448,6 +450,29 @@ void rawGLDraws(benchmark::State& state, rhi::Backend backend, RawGLDraws how) {
         }
         raw.checkDraws();
     });
+}
+
+FrameSide rawGLSide(rhi::Backend backend, Work work) {
+    RawGL& raw = rawGL(backend);
+    if (work == Work::Dispatches && !raw.hasCompute())
+        throw std::runtime_error(fmt::format("{} has no compute", rhi::toString(backend)));
+    FrameSide side;
+    side.enter = [&raw] { return raw.currentWhileHeld(); };
+    side.wait = [&raw] { raw.finish(); };
+    if (work == Work::Draws) {
+        side.submit = [&raw] { raw.submitDraws(RawGLDraws::Plain); };
+        side.check = [&raw] {
+            ContextSwitch current = raw.makeCurrent();
+            raw.checkDraws();
+        };
+    } else {
+        side.submit = [&raw] { raw.submitDispatches(); };
+        side.check = [&raw] {
+            ContextSwitch current = raw.makeCurrent();
+            raw.checkDispatches();
+        };
+    }
+    return side;
 }
 
 void rawGLDispatches(benchmark::State& state) {

@@ -236,6 +236,21 @@ void rhiDispatchesWithNullDriver(benchmark::State& state) {
     });
 }
 
+FrameSide rhiSide(Backend backend, Work work) {
+    RhiScene& scene = rhiScene(backend);
+    FrameSide side;
+    side.wait = [&scene] { scene.waitIdle(); };
+    if (work == Work::Draws) {
+        side.submit = [&scene] { scene.submitDraws(); };
+        side.check = [&scene] { scene.checkDraws(); };
+    } else {
+        if (!scene.hasCompute()) throw std::runtime_error(fmt::format("{} has no compute", toString(backend)));
+        side.submit = [&scene] { scene.submitDispatches(); };
+        side.check = [&scene] { scene.checkDispatches(); };
+    }
+    return side;
+}
+
 void rhiDispatches(benchmark::State& state, Backend backend) {
     runGuarded(state, [&] {
         RhiScene& scene = rhiScene(backend);

@@ -237,6 +237,28 @@ print("ns/op: CPU time of the benchmark thread to record + submit one frame, div
          "about 54 or about 80 ns), the median of the processes' own ratios compares each RHI run with the raw run "
          "of its own process; the table's ratio compares medians taken over all processes."
          if spread else ""))
+# Paired runs (janus_bench_rhi's <work>/<backend>/paired): each main pair again, raw and RHI frames
+# in alternating blocks of one run, so that both sides share the machine's moments. The ratio is
+# the median of the runs' own ratios (each run's RHI time over its raw time).
+paired_rows = []
+for backend, work in PAIRS:
+    key = (work, backend, "paired")
+    if key not in runs:
+        continue
+    ratios = [run["rhi_over_raw"] for run in runs[key]]
+    ratio = statistics.median(ratios)
+    row = (f"| {backend} | {work} | {median(key, 'raw_submit_cpu_ns_per_op'):.0f} | "
+           f"{median(key, 'rhi_submit_cpu_ns_per_op'):.0f} | {ratio:.2f}x | {'met' if ratio <= TARGET else 'MISSED'} | "
+           f"{min(ratios):.2f}x to {max(ratios):.2f}x, {sum(r <= TARGET for r in ratios)} of {len(ratios)} met |")
+    paired_rows.append(row)
+if paired_rows:
+    blocks = sorted({int(run.get("paired_block", 0)) for key in runs if key[2] == "paired" for run in runs[key]})
+    print(f"\nPaired runs: raw and RHI frames in alternating blocks of {', '.join(map(str, blocks))} frame(s) each, "
+          f"in one run (docs/BENCHMARKS.md, \"Paired runs\"). Ratio: the median of the runs' own RHI/raw.")
+    print()
+    print(f"| backend | work | raw ns/op | RHI ns/op | ratio RHI/raw | target <= {TARGET}x | RHI/raw per run |")
+    print("|---|---|---:|---:|---:|---|---|")
+    print("\n".join(paired_rows))
 # Raw Vulkan recording into the RHI's command-pool memory: RHI / this is what the RHI's own code
 # adds with the allocator's effect taken out (docs/BENCHMARKS.md, "Command memory").
 for work in ("draw", "dispatch"):

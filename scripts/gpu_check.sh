@@ -207,12 +207,12 @@ else
   gl_only_scene=("$repo_root/../shared/scenes/DamagedHelmet/glTF/DamagedHelmet.gltf" --size 256x256)
 fi
 if [[ $bench_only == 1 ]]; then
-  # Until the budget is spent (the loop below stops 25 s before it). The main pairs and the
-  # null-driver rows only: the table's verdict needs processes more than the explanatory rows
-  # (which a full run's processes give), and without those rows a process takes about a third
-  # less time.
+  # Until the budget is spent (the loop below stops 25 s before it). The main pairs, their paired
+  # runs and the null-driver rows only: the table's verdict needs processes more than the
+  # explanatory rows (which a full run's processes give), and without those rows a process takes
+  # about a third less time.
   bench_processes=$((quick == 1 ? 2 : 100))
-  ((quick == 1)) || bench_options+=(--benchmark_filter='/(raw|rhi|raw_null_driver|rhi_null_driver)/')
+  ((quick == 1)) || bench_options+=(--benchmark_filter='/(raw|rhi|paired|raw_null_driver|rhi_null_driver)/')
 elif [[ $quick == 1 ]]; then
   step forward 120 janus bench forward --quick --out "$results/forward"
 else

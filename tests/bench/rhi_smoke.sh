@@ -12,6 +12,8 @@ repo_root=$2
 scratch=$(mktemp -d)
 trap 'rm -rf "$scratch"' EXIT
 fail() { echo "FAIL: $*" >&2; exit 1; }
+# A table row's first cells ("vulkan | draw") as an extended regex: its bars literal, not alternatives.
+cells() { printf '%s' "${1//|/\\|}"; }
 
 status=0
 JANUS_BENCH_VALIDATE=1 "$binary" --janus_frames=2 --benchmark_format=json --benchmark_out_format=json \
@@ -38,7 +40,7 @@ PY
 
 report=$(bash "$repo_root/scripts/bench.sh" --from-json "$scratch/bench.json")
 for row in "vulkan | draw" "vulkan | dispatch" "gl | draw" "gl | dispatch" "gles | draw"; do
-  grep -Eq "^\| $row \| [0-9]+ \| [0-9]+ \| [0-9.]+x \|" <<<"$report" || fail "the report has no ratio for $row:
+  grep -Eq "^\| $(cells "$row") \| [0-9]+ \| [0-9]+ \| [0-9.]+x \|" <<<"$report" || fail "the report has no ratio for $row:
 $report"
 done
 for line in "Raw Vulkan draws recording into the RHI's command memory" \
@@ -50,6 +52,15 @@ for line in "Raw Vulkan draws recording into the RHI's command memory" \
             "GL draws with a null driver" "GLES draws with a null driver" \
             "Raw GL re-specifying the vertex attribute" "Raw Vulkan with a full barrier before every dispatch"; do
   grep -qF "$line" <<<"$report" || fail "the report lacks \"$line\":
+$report"
+done
+# The paired runs (raw and RHI frames in alternating blocks of one run) have a table of their own.
+grep -qF "Paired runs: raw and RHI frames in alternating blocks of 8 frame(s) each" <<<"$report" \
+  || fail "the report has no table of the paired runs:
+$report"
+for row in "vulkan | draw" "vulkan | dispatch" "gl | draw" "gl | dispatch" "gles | draw"; do
+  [[ $(grep -Ec "^\| $(cells "$row") \| [0-9]+ \| [0-9]+ \| [0-9.]+x \| (met|MISSED) \| [0-9.]+x to [0-9.]+x, [01] of 1 met \|$" <<<"$report") == 1 ]] \
+    || fail "the paired table has no row for $row:
 $report"
 done
 grep -qF "Driver performance messages in the timed frames (validation on):" <<<"$report" \
@@ -70,7 +81,7 @@ done
 # Two processes' runs (here the same file twice): each row also gives the ratio's spread per process.
 report=$(bash "$repo_root/scripts/bench.sh" --from-json "$scratch/bench.json" --from-json "$scratch/bench.json")
 for row in "vulkan | draw" "gl | draw" "gles | draw"; do
-  grep -Eq "^\| $row \| .* \| [0-9.]+x to [0-9.]+x, median [0-9.]+x, [0-2] of 2 met \|$" <<<"$report" || fail "no per-process spread for $row:
+  grep -Eq "^\| $(cells "$row") \| .* \| [0-9.]+x to [0-9.]+x, median [0-9.]+x, [0-2] of 2 met \|$" <<<"$report" || fail "no per-process spread for $row:
 $report"
 done
 # Three processes whose Vulkan draws are 1.0x, 2.0x and 1.2x raw's: the spread names the median of
@@ -82,6 +93,8 @@ report = json.load(open(sys.argv[1]))
 for run in report["benchmarks"]:
     if run["run_name"].split("/")[:3] in (["draw", "vulkan", "raw"], ["draw", "vulkan", "rhi"]):
         run["submit_cpu_ns_per_op"] = 100.0 if run["run_name"].startswith("draw/vulkan/raw/") else 10.0 * int(sys.argv[3])
+    if run["run_name"].startswith("draw/vulkan/paired/"):
+        run["rhi_over_raw"] = int(sys.argv[3]) / 10
 json.dump(report, open(sys.argv[2], "w"))
 SCALE
 done
@@ -89,6 +102,10 @@ report=$(bash "$repo_root/scripts/bench.sh" --from-json "$scratch/process0.json"
   --from-json "$scratch/process2.json")
 grep -Eq "^\| vulkan \| draw \| .* \| 1\.00x to 2\.00x, median 1\.20x, 1 of 3 met \|$" <<<"$report" \
   || fail "the per-process spread does not give the median of the processes' ratios (1.20x):
+$report"
+# The same for the paired runs: their ratio is the median of the runs' own ratios.
+grep -Eq "^\| vulkan \| draw \| [0-9]+ \| [0-9]+ \| 1\.20x \| MISSED \| 1\.00x to 2\.00x, 1 of 3 met \|$" <<<"$report" \
+  || fail "the paired runs' ratio is not the median of their own ratios (1.20x):
 $report"
 
 # The null driver with a footprint (JANUS_BENCH_NULL_FOOTPRINT) still gets every call it counts.
@@ -115,7 +132,7 @@ grep -qF "Per frame and per operation, from frames of 1000 (the table) and of 5 
   || fail "no per-frame split in the report of runs at 1000 and 5 operations per frame:
 $report"
 for row in "vulkan | draw" "vulkan | dispatch" "gl | draw" "gl | dispatch" "gles | draw"; do
-  grep -Eq "^\| $row \| [0-9]+ \| [0-9]+ \| -?[0-9.]+ \| -?[0-9.]+ \| -?[0-9]+ \| -?[0-9]+ \| " <<<"$report" \
+  grep -Eq "^\| $(cells "$row") \| [0-9]+ \| [0-9]+ \| -?[0-9.]+ \| -?[0-9.]+ \| -?[0-9]+ \| -?[0-9]+ \| " <<<"$report" \
     || fail "the per-frame split has no row for $row:
 $report"
 done
@@ -126,4 +143,8 @@ status=0
 "$binary" --janus_ops_per_frame=0 --benchmark_filter=none >"$scratch/flag" 2>&1 || status=$?
 [[ $status == 2 ]] && grep -q "janus_ops_per_frame takes a whole number" "$scratch/flag" \
   || fail "--janus_ops_per_frame=0 was not refused by name (status $status): $(cat "$scratch/flag")"
+status=0
+"$binary" --janus_paired_block=0 --benchmark_filter=none >"$scratch/flag" 2>&1 || status=$?
+[[ $status == 2 ]] && grep -q "janus_paired_block takes a whole number" "$scratch/flag" \
+  || fail "--janus_paired_block=0 was not refused by name (status $status): $(cat "$scratch/flag")"
 echo "janus_bench_rhi: $(wc -l <"$scratch/listed") benchmarks ran and checked their results; the report is whole"
