@@ -95,8 +95,8 @@ void runFrames(benchmark::State& state, const std::function<void()>& submit, con
                const std::function<std::vector<std::string>()>& takeMessages);
 
 // One side of a paired run (runPairedFrames): its frame, the wait for it, and the check of what
-// its frames did. `enter` is called before each block of its frames and what it returns is held
-// while they run: the GL sides make their context current there, untimed.
+// its frames did. `enter` is called before each block of its frames and before the check, and
+// what it returns is held while they run: the GL sides make their context current there, untimed.
 struct FrameSide {
     std::function<void()> submit;
     std::function<void()> wait;
@@ -104,6 +104,21 @@ struct FrameSide {
     std::function<std::shared_ptr<void>()> enter = [] { return std::shared_ptr<void>(); };
 };
 enum class Work { Draws, Dispatches };
+// A side whose frames are submitDraws() / submitDispatches() and whose checks are checkDraws() /
+// checkDispatches() (every raw side and the RHI scene).
+template <class Side>
+FrameSide frameSideOf(Side& side, Work work, std::function<void()> wait) {
+    FrameSide frames;
+    frames.wait = std::move(wait);
+    if (work == Work::Draws) {
+        frames.submit = [&side] { side.submitDraws(); };
+        frames.check = [&side] { side.checkDraws(); };
+    } else {
+        frames.submit = [&side] { side.submitDispatches(); };
+        frames.check = [&side] { side.checkDispatches(); };
+    }
+    return frames;
+}
 FrameSide rawVulkanSide(Work work);
 FrameSide rawGLSide(rhi::Backend backend, Work work);
 FrameSide rhiSide(rhi::Backend backend, Work work);

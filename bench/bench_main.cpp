@@ -150,8 +150,10 @@ void pairedRun(benchmark::State& state, const std::function<FrameSide()>& raw, c
         const FrameSide rhiFrames = rhi();
         const FrameSide rawFrames = raw();
         runPairedFrames(state, rawFrames, rhiFrames);
-        rawFrames.check();
-        rhiFrames.check();
+        for (const FrameSide* side : {&rawFrames, &rhiFrames}) {
+            const std::shared_ptr<void> entered = side->enter();
+            side->check();
+        }
     });
 }
 

@@ -456,23 +456,9 @@ FrameSide rawGLSide(rhi::Backend backend, Work work) {
     RawGL& raw = rawGL(backend);
     if (work == Work::Dispatches && !raw.hasCompute())
         throw std::runtime_error(fmt::format("{} has no compute", rhi::toString(backend)));
-    FrameSide side;
-    side.enter = [&raw] { return raw.currentWhileHeld(); };
-    side.wait = [&raw] { raw.finish(); };
-    if (work == Work::Draws) {
-        side.submit = [&raw] { raw.submitDraws(RawGLDraws::Plain); };
-        side.check = [&raw] {
-            ContextSwitch current = raw.makeCurrent();
-            raw.checkDraws();
-        };
-    } else {
-        side.submit = [&raw] { raw.submitDispatches(); };
-        side.check = [&raw] {
-            ContextSwitch current = raw.makeCurrent();
-            raw.checkDispatches();
-        };
-    }
-    return side;
+    FrameSide frames = frameSideOf(raw, work, [&raw] { raw.finish(); });
+    frames.enter = [&raw] { return raw.currentWhileHeld(); };
+    return frames;
 }
 
 void rawGLDispatches(benchmark::State& state) {

@@ -603,16 +603,7 @@ void rawVulkanDraws(benchmark::State& state, RawVulkanDraws how) {
 FrameSide rawVulkanSide(Work work) {
     RawVulkan& raw = rawVulkan();
     raw.recordAs(RawVulkanDraws::Plain);
-    FrameSide side;
-    side.wait = [&raw] { raw.wait(); };
-    if (work == Work::Draws) {
-        side.submit = [&raw] { raw.submitDraws(); };
-        side.check = [&raw] { raw.checkDraws(); };
-    } else {
-        side.submit = [&raw] { raw.submitDispatches(); };
-        side.check = [&raw] { raw.checkDispatches(); };
-    }
-    return side;
+    return frameSideOf(raw, work, [&raw] { raw.wait(); });
 }
 
 void rawVulkanDispatches(benchmark::State& state, RawVulkanDispatches how) {

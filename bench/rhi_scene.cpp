@@ -238,17 +238,9 @@ void rhiDispatchesWithNullDriver(benchmark::State& state) {
 
 FrameSide rhiSide(Backend backend, Work work) {
     RhiScene& scene = rhiScene(backend);
-    FrameSide side;
-    side.wait = [&scene] { scene.waitIdle(); };
-    if (work == Work::Draws) {
-        side.submit = [&scene] { scene.submitDraws(); };
-        side.check = [&scene] { scene.checkDraws(); };
-    } else {
-        if (!scene.hasCompute()) throw std::runtime_error(fmt::format("{} has no compute", toString(backend)));
-        side.submit = [&scene] { scene.submitDispatches(); };
-        side.check = [&scene] { scene.checkDispatches(); };
-    }
-    return side;
+    if (work == Work::Dispatches && !scene.hasCompute())
+        throw std::runtime_error(fmt::format("{} has no compute", toString(backend)));
+    return frameSideOf(scene, work, [&scene] { scene.waitIdle(); });
 }
 
 void rhiDispatches(benchmark::State& state, Backend backend) {
