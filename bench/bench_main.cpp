@@ -5,6 +5,7 @@
 #include <fmt/ranges.h>
 
 #include <malloc.h>
+#include <sched.h>
 #include <time.h>
 
 #include <algorithm>
@@ -72,17 +73,40 @@ double threadCpuSeconds() {
 // The timed part of one frame, under a name of its own: `scripts/bench.sh instructions` counts
 // the instructions executed inside it with callgrind (--toggle-collect='*timedSubmit*').
 [[gnu::noinline]] void timedSubmit(const std::function<void()>& submit) { submit(); }
+
+// Which logical CPUs a run's frames started on: the H200 machine ran the same code at two speeds
+// 1.5x apart from run to run (docs/BENCHMARKS.md, session 25), and a CPU that shares its core with
+// a busy sibling is one suspect. Reported as the counters cpu (where the last frame started) and
+// cpu_migrations (frames that started on another CPU than the frame before), outside the timing.
+class CpuTrail {
+public:
+    void atFrame() {
+        const int cpu = sched_getcpu();
+        if (m_last >= 0 && cpu != m_last) ++m_migrations;
+        m_last = cpu;
+    }
+    void report(benchmark::State& state) const {
+        state.counters["cpu"] = m_last;
+        state.counters["cpu_migrations"] = double(m_migrations);
+    }
+
+private:
+    int m_last = -1;
+    uint64_t m_migrations = 0;
+};
 }  // namespace
 
 void runFrames(benchmark::State& state, const std::function<void()>& submit, const std::function<void()>& wait) {
     using Clock = std::chrono::steady_clock;
     double submitCpuSeconds = 0, submitSeconds = 0, waitSeconds = 0;
     std::string failure;
+    CpuTrail cpus;
     for (auto _ : state) {
         // After a failure the remaining iterations run empty: leaving the loop early would leave
         // Google Benchmark with a run that neither finished nor failed (see runGuarded).
         if (!failure.empty()) continue;
         try {
+            cpus.atFrame();
             const double cpuStart = threadCpuSeconds();
             const auto start = Clock::now();
             timedSubmit(submit);
@@ -105,6 +129,7 @@ void runFrames(benchmark::State& state, const std::function<void()>& submit, con
     state.counters["submit_cpu_ns_per_op"] = perOp(submitCpuSeconds);
     state.counters["submit_ns_per_op"] = perOp(submitSeconds);
     state.counters["wait_ns_per_op"] = perOp(waitSeconds);
+    cpus.report(state);
     state.SetItemsProcessed(int64_t(state.iterations()) * opsPerFrame());
 }
 
@@ -113,6 +138,7 @@ void runPairedFrames(benchmark::State& state, const FrameSide& raw, const FrameS
     double submitCpuSeconds[2] = {0, 0};
     uint64_t block = 0;
     std::string failure;
+    CpuTrail cpus;
     for (auto _ : state) {
         if (!failure.empty()) continue;   // as in runFrames
         try {
@@ -121,6 +147,7 @@ void runPairedFrames(benchmark::State& state, const FrameSide& raw, const FrameS
                 const size_t s = turn % 2;
                 const std::shared_ptr<void> entered = sides[s]->enter();
                 for (uint32_t frame = 0; frame < pairedBlock(); ++frame) {
+                    cpus.atFrame();
                     const double cpuStart = threadCpuSeconds();
                     timedSubmit(sides[s]->submit);
                     submitCpuSeconds[s] += threadCpuSeconds() - cpuStart;
@@ -141,6 +168,7 @@ void runPairedFrames(benchmark::State& state, const FrameSide& raw, const FrameS
     state.counters["rhi_submit_cpu_ns_per_op"] = perOp(submitCpuSeconds[1]);
     state.counters["rhi_over_raw"] = submitCpuSeconds[0] > 0 ? submitCpuSeconds[1] / submitCpuSeconds[0] : 0.0;
     state.counters["paired_block"] = pairedBlock();
+    cpus.report(state);
     state.SetItemsProcessed(int64_t(state.iterations()) * 2 * pairedBlock() * opsPerFrame());
 }
 

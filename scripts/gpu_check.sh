@@ -35,6 +35,8 @@
 #   bench_rhi_frames100.json  the main pairs in frames of 100 operations (--janus_ops_per_frame),
 #                        so that bench_rhi.md also splits each side into per frame and per
 #                        operation; with --bench-only every sixth process runs so instead
+#   cpu.txt              lscpu, which logical CPUs share a core, and each CPU's clock, at the start
+#                        and at the end (the benchmark's runs name the CPU they ran on)
 #   summary.txt          one line per step: its exit status, time and the suites' totals
 # and packs them into OUT/gpu-check.tar.gz (the device returns at most 8 files), with
 # summary.txt also beside it.
@@ -108,6 +110,16 @@ summary="$results/summary.txt"
   echo "gpu_check.sh, build of $commit, on $(hostname), $(date -u +%FT%TZ)"
   command -v nvidia-smi >/dev/null && nvidia-smi --query-gpu=name,driver_version --format=csv,noheader
 } > "$summary"
+# The CPU the timings run on: its model, which logical CPUs share a core, and the clock of each
+# (again at the end). The H200 machine's CPU ran the same code at two speeds 1.5x apart from run
+# to run (docs/BENCHMARKS.md, session 25); janus_bench_rhi's runs say which CPU they ran on.
+cpu_report() {
+  echo "== $1"
+  lscpu 2>/dev/null
+  grep -H . /sys/devices/system/cpu/cpu*/topology/thread_siblings_list 2>/dev/null
+  grep "MHz" /proc/cpuinfo 2>/dev/null
+}
+cpu_report "at the start" > "$results/cpu.txt"
 
 # What has finished so far, into OUT: the device returns OUT even when its time limit ends the run.
 publish() {
@@ -286,5 +298,6 @@ done
 if command -v python3 >/dev/null && [[ ${#from_json[@]} -gt 0 ]]; then
   bash "$repo_root/scripts/bench.sh" "${from_json[@]}" > "$results/bench_rhi.md" 2>&1
 fi
+cpu_report "at the end" >> "$results/cpu.txt"
 publish
 cat "$summary"

@@ -36,6 +36,10 @@ missing = [name for name in listed if name not in ran]
 failed = [f"{name}: {run['label']}" for name, run in ran.items() if run.get("label", "").startswith("failed: ")]
 if missing or failed or len(listed) < 14:
     sys.exit(f"FAIL: listed {len(listed)} benchmarks; missing {missing}; failed {failed}")
+# Every run names the logical CPU its last frame started on, and counts its frames' migrations.
+nameless = [name for name, run in ran.items() if not (run.get("cpu", -1) >= 0 and run.get("cpu_migrations", -1) >= 0)]
+if nameless:
+    sys.exit(f"FAIL: runs without their CPU (counters cpu, cpu_migrations): {nameless}")
 PY
 
 report=$(bash "$repo_root/scripts/bench.sh" --from-json "$scratch/bench.json")
