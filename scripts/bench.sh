@@ -300,6 +300,23 @@ for (work, backend), calls in NULL_CALLS.items():
             line += (f"; over this run's raw {work} ({raw_ns:.0f} ns) that alone would be {(raw_ns + own) / raw_ns:.2f}x "
                      f"(measured: {median(rhi_key, 'submit_cpu_ns_per_op') / raw_ns:.2f}x)")
         print(line + ".")
+# The machine's own speed: raw Vulkan draws with a null driver are CPU work alone (no driver call
+# per draw), so the spread of their runs is how far the machine's speed moved while measuring (the
+# H200's CPU: 1.5x from run to run; docs/BENCHMARKS.md, session 25). Separate raw and RHI runs
+# carry that spread into their ratio; the paired runs do not. With the runs' CPU counters
+# (janus_bench_rhi's cpu), also which logical CPUs the slowest and the fastest quarter ran on.
+speed_key = ("draw", "vulkan", "raw_null_driver")
+if speed_key in runs and len(runs[speed_key]) > 1:
+    by_time = sorted(runs[speed_key], key=lambda run: run["submit_cpu_ns_per_op"])
+    fastest, slowest = by_time[0]["submit_cpu_ns_per_op"], by_time[-1]["submit_cpu_ns_per_op"]
+    line = (f"\nThis machine's speed: raw Vulkan draws with a null driver (CPU work alone) took {fastest:.1f} to "
+            f"{slowest:.1f} ns/op over {len(by_time)} runs ({slowest / fastest:.2f}x)")
+    if all("cpu" in run for run in by_time):
+        quarter = max(1, len(by_time) // 4)
+        cpus = lambda part: ", ".join(str(c) for c in sorted({int(run["cpu"]) for run in part}))
+        line += (f"; the slowest {quarter} run(s) ran on CPU(s) {cpus(by_time[-quarter:])}, "
+                 f"the fastest {quarter} on {cpus(by_time[:quarter])}")
+    print(line + ".")
 # Explanatory runs: the raw side with one RHI habit added, to show what that habit costs.
 for extra, what in [(("dispatch", "vulkan", "raw_full_barriers"), "Raw Vulkan with a full barrier before every dispatch (the RHI's policy before hazard tracking)"),
                     (("draw", "gl", "raw_respecified_vertices"), "Raw GL re-specifying the vertex attribute before every draw (what the RHI did before it tracked vertex state)")]:

@@ -99,6 +99,8 @@ for run in report["benchmarks"]:
         run["submit_cpu_ns_per_op"] = 100.0 if run["run_name"].startswith("draw/vulkan/raw/") else 10.0 * int(sys.argv[3])
     if run["run_name"].startswith("draw/vulkan/paired/"):
         run["rhi_over_raw"] = int(sys.argv[3]) / 10
+    if run["run_name"].startswith("draw/vulkan/raw_null_driver/"):   # the machine's speed, on CPU 10, 20 or 12
+        run["submit_cpu_ns_per_op"], run["cpu"] = float(sys.argv[3]), int(sys.argv[3])
 json.dump(report, open(sys.argv[2], "w"))
 SCALE
 done
@@ -106,6 +108,10 @@ report=$(bash "$repo_root/scripts/bench.sh" --from-json "$scratch/process0.json"
   --from-json "$scratch/process2.json")
 grep -Eq "^\| vulkan \| draw \| .* \| 1\.00x to 2\.00x, median 1\.20x, 1 of 3 met \|$" <<<"$report" \
   || fail "the per-process spread does not give the median of the processes' ratios (1.20x):
+$report"
+# The spread of the CPU-only runs is the machine's speed, with the CPUs of the slowest and fastest.
+grep -qF "This machine's speed: raw Vulkan draws with a null driver (CPU work alone) took 10.0 to 20.0 ns/op over 3 runs (2.00x); the slowest 1 run(s) ran on CPU(s) 20, the fastest 1 on 10." <<<"$report" \
+  || fail "the report does not give the machine's speed from the null-driver runs:
 $report"
 # The same for the paired runs: their ratio is the median of the runs' own ratios.
 grep -Eq "^\| vulkan \| draw \| [0-9]+ \| [0-9]+ \| 1\.20x \| MISSED \| 1\.00x to 2\.00x, 1 of 3 met \|$" <<<"$report" \
