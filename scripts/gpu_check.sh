@@ -24,8 +24,8 @@
 #                        draw as GL after Vulkan
 #   bench_rhi_footprint.{json,md}  the null-driver rows with JANUS_BENCH_NULL_FOOTPRINT=128, and
 #   bench_rhi_footprint2048.{json,md}  with 2048 (a frame's writes evict the second-level cache)
-#   bench_rhi.p*.json    janus_bench_rhi in 10 fresh processes of 5 interleaved repetitions each (item 4);
-#                        bench_rhi.md is their table when python3 is there (else here:
+#   bench_rhi.p*.json    janus_bench_rhi in 10 fresh processes of 5 interleaved repetitions each (item 4;
+#                        the paired runs included); bench_rhi.md is their tables when python3 is there (else here:
 #                        scripts/bench.sh --from-json bench_rhi.p0.json --from-json ...); a
 #                        process's "exit 3": some of its runs failed, which the table names
 #   bench_rhi_validated.{json,md}  the main pairs for 20 frames with JANUS_BENCH_VALIDATE=1: every side
