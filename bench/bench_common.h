@@ -119,6 +119,12 @@ FrameSide frameSideOf(Side& side, Work work, std::function<void()> wait) {
     }
     return frames;
 }
+// `side`, the raw or RHI side of `backend`, for a dispatch benchmark: it must have compute.
+template <class Side>
+Side& requireCompute(Side& side, rhi::Backend backend) {
+    if (!side.hasCompute()) throw std::runtime_error(std::string(rhi::toString(backend)) + " has no compute");
+    return side;
+}
 FrameSide rawVulkanSide(Work work);
 FrameSide rawGLSide(rhi::Backend backend, Work work);
 FrameSide rhiSide(rhi::Backend backend, Work work);

@@ -42,35 +42,35 @@ void requireNullDriverFrames(uint64_t frames, const std::string& who, bool check
 // Zeroes what the stubs saw (NullDriver's constructor).
 void resetNullDriverCalls();
 
-// Points the two per-draw slots of a function table at the stubs, zeroes the counts, and puts the
-// originals back when destroyed.
-template <class Bind, class Draw>
+// Points the two per-operation slots of a function table (the bind, and the draw or dispatch) at
+// the stubs, zeroes the counts, and puts the originals back when destroyed.
+template <class Bind, class Op>
 class NullDriver {
 public:
-    NullDriver(Bind& bindSlot, Draw& drawSlot, Bind bindStub, Draw drawStub, bool checkOffsets, const char* op)
-        : m_bindSlot(bindSlot), m_drawSlot(drawSlot), m_bind(bindSlot), m_draw(drawSlot), m_checkOffsets(checkOffsets),
-          m_op(op) {
+    NullDriver(Bind& bindSlot, Op& opSlot, Bind bindStub, Op opStub, bool checkOffsets, const char* op)
+        : m_bindSlot(bindSlot), m_opSlot(opSlot), m_bind(bindSlot), m_op(opSlot), m_checkOffsets(checkOffsets),
+          m_opName(op) {
         resetNullDriverCalls();
         m_bindSlot = bindStub;
-        m_drawSlot = drawStub;
+        m_opSlot = opStub;
     }
     ~NullDriver() {
         m_bindSlot = m_bind;
-        m_drawSlot = m_draw;
+        m_opSlot = m_op;
     }
     NullDriver(const NullDriver&) = delete;
     NullDriver& operator=(const NullDriver&) = delete;
     void requireFrames(uint64_t frames, const std::string& who) const {
-        requireNullDriverFrames(frames, who, m_checkOffsets, m_op);
+        requireNullDriverFrames(frames, who, m_checkOffsets, m_opName);
     }
 
 private:
     Bind& m_bindSlot;
-    Draw& m_drawSlot;
+    Op& m_opSlot;
     Bind m_bind;
-    Draw m_draw;
+    Op m_op;
     bool m_checkOffsets;
-    const char* m_op;
+    const char* m_opName;
 };
 
 using NullGLDriver = NullDriver<PFNGLBINDBUFFERRANGEPROC, PFNGLDRAWARRAYSPROC>;

@@ -453,9 +453,7 @@ void rawGLDraws(benchmark::State& state, rhi::Backend backend, RawGLDraws how) {
 }
 
 FrameSide rawGLSide(rhi::Backend backend, Work work) {
-    RawGL& raw = rawGL(backend);
-    if (work == Work::Dispatches && !raw.hasCompute())
-        throw std::runtime_error(fmt::format("{} has no compute", rhi::toString(backend)));
+    RawGL& raw = work == Work::Dispatches ? requireCompute(rawGL(backend), backend) : rawGL(backend);
     FrameSide frames = frameSideOf(raw, work, [&raw] { raw.finish(); });
     frames.enter = [&raw] { return raw.currentWhileHeld(); };
     return frames;
@@ -463,8 +461,7 @@ FrameSide rawGLSide(rhi::Backend backend, Work work) {
 
 void rawGLDispatches(benchmark::State& state) {
     runGuarded(state, [&] {
-        RawGL& raw = rawGL(rhi::Backend::GL);
-        if (!raw.hasCompute()) throw std::runtime_error("gl has no compute");
+        RawGL& raw = requireCompute(rawGL(rhi::Backend::GL), rhi::Backend::GL);
         ContextSwitch current = raw.makeCurrent();
         runFrames(state, [&] { raw.submitDispatches(); }, [&] { raw.finish(); },
                   [&] { return raw.takePerformanceMessages(); });

@@ -237,17 +237,13 @@ void rhiDispatchesWithNullDriver(benchmark::State& state) {
 }
 
 FrameSide rhiSide(Backend backend, Work work) {
-    RhiScene& scene = rhiScene(backend);
-    if (work == Work::Dispatches && !scene.hasCompute())
-        throw std::runtime_error(fmt::format("{} has no compute", toString(backend)));
+    RhiScene& scene = work == Work::Dispatches ? requireCompute(rhiScene(backend), backend) : rhiScene(backend);
     return frameSideOf(scene, work, [&scene] { scene.waitIdle(); });
 }
 
 void rhiDispatches(benchmark::State& state, Backend backend) {
     runGuarded(state, [&] {
-        RhiScene& scene = rhiScene(backend);
-        if (!scene.hasCompute())
-            throw std::runtime_error(fmt::format("{} has no compute", toString(backend)));
+        RhiScene& scene = requireCompute(rhiScene(backend), backend);
         runFrames(state, [&] { scene.submitDispatches(); }, [&] { scene.waitIdle(); },
                   [&] { return scene.takePerformanceMessages(); });
         scene.checkDispatches();

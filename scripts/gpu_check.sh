@@ -49,8 +49,8 @@
 # --budget SECONDS, --quick (small sizes and short runs: for trying the script, not for numbers),
 # --tests-only (info and the two suites: to check fixes when little device time is left),
 # --bench-only (info, the footprint steps and as many janus_bench_rhi processes as the budget holds,
-# each of the main pairs and the null-driver rows only, about 4.5 s: for a verdict on the overhead
-# ratios, whose spread between processes is wide).
+# each of the main pairs, their paired runs and the null-driver rows only, about 7 s: for a verdict
+# on the overhead ratios, whose spread between processes is wide).
 set -uo pipefail
 
 repo_root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
