@@ -68,7 +68,8 @@ std::pair<uint64_t, uint64_t> boundRange(const BindingItem& item) {
 }
 }  // namespace
 
-BindingSet::BindingSet(const Context& owner, const BindingSetDesc& desc) : m_owner(&owner), m_desc(desc) {
+BindingSet::BindingSet(const Context& owner, const BindingSetDesc& desc)
+    : m_owner(&owner), m_desc(desc), m_dynamicWindows(dynamicWindowsOf(desc)) {
     for (const BindingItem& item : m_desc.items) {
         m_replay.bindingPoints |= bindingPointBit(item.binding);
         const GLbitfield needs = shaderAccessBarrier(item.type);
@@ -80,13 +81,23 @@ BindingSet::BindingSet(const Context& owner, const BindingSetDesc& desc) : m_own
         }
         // Items are validated: the buffer is this device's and the range lies inside it.
         const auto [begin, end] = boundRange(item);
-        m_itemAccesses.push_back({item.buffer.get(), begin, end, needs, write});
+        // A dynamic window may be anywhere from the item's offset on: its access is all of that,
+        // wider than one bind's window, so a barrier may be added but none missed.
+        m_itemAccesses.push_back({item.buffer.get(), begin, item.dynamicOffset ? item.buffer->desc().size : end,
+                                  needs, write});
         m_bufferRanges.push_back({GLintptr(begin), GLsizeiptr(end - begin),
                                   static_cast<const Buffer*>(item.buffer.get())->name(), item.binding,
                                   item.type == ResourceType::UniformBuffer ? GLenum(GL_UNIFORM_BUFFER)
                                                                            : GLenum(GL_SHADER_STORAGE_BUFFER)});
+        if (item.dynamicOffset) {
+            const uint32_t itemIndex = uint32_t(&item - m_desc.items.data());
+            const auto& order = m_dynamicWindows.itemIndex;
+            m_bufferRanges.back().dynamicSlot =
+                uint32_t(std::find(order.begin(), order.begin() + m_dynamicWindows.count, itemIndex) - order.begin());
+        }
     }
-    if (m_bufferRanges.size() == 1) {
+    // A set with dynamic offsets binds from bufferRanges() (BindDynamicSet): never an inline range.
+    if (m_bufferRanges.size() == 1 && m_dynamicWindows.count == 0) {
         const BufferRange& only = m_bufferRanges[0];
         // Always true for a validated item (GL buffers are at most 2^31 bytes, bindings < 64);
         // checked so that a larger limit one day binds from the vector instead of truncating.
@@ -251,6 +262,10 @@ void CommandList::requireBindingsUncached(const char* what) {
                         fmt::format("{}: the pipeline's shaders use set {} binding {} ({}), but the binding set "
                                     "given to setBindingSet({}, ...) has no item for it (or none was set)",
                                     what, binding.set, binding.binding, binding.glName, binding.set));
+        if (found->type == ResourceType::UniformBuffer && binding.type == ResourceType::UniformBuffer)
+            requireDynamicAgreement(*found, binding.dynamicOffset, m_pipeline->debugName(),
+                                    fmt::format("{}: set {} binding {} ({})", what, binding.set, binding.binding,
+                                                binding.glName));
         if (found->type != binding.type)
             throw Error(ErrorCode::InvalidUsage,
                         fmt::format("{}: binding {} is a different resource type in the binding set than in the "
@@ -484,6 +499,33 @@ void CommandList::setBindingSetImpl(uint32_t set, const BindingSetHandle& handle
     if (!m_recording || m_commandCount == m_commandCapacity || !m_keepAlive.keepIfHeld(keepMarkOf(*handle))) [[unlikely]]
         return setBindingSetGeneral(set, handle);
     bindRecordedSet(set, static_cast<BindingSet*>(handle.get()));
+}
+
+// A set with dynamic uniform buffers: recorded with its offsets, and never merged with a draw.
+// The same set at other offsets changes nothing a draw checks (its accesses cover every window).
+void CommandList::setBindingSetImpl(uint32_t set, const BindingSetHandle& handle,
+                                    std::span<const uint32_t> dynamicOffsets) {   // count and alignment checked
+    BindingSet* bindings = nullptr;
+    // A set the list holds passed cast()'s checks when the list first held it (as in the first form).
+    if (m_recording && m_keepAlive.keepIfHeld(keepMarkOf(*handle))) [[likely]] {
+        bindings = static_cast<BindingSet*>(handle.get());
+    } else {
+        requireRecording("setBindingSet");
+        bindings = cast<BindingSet>(*m_context, handle, "setBindingSet", "binding set");
+        m_keepAlive.keep(handle, keepMarkOf(*bindings));
+    }
+    command::BindDynamicSet bind{set, bindings, {}};
+    const DynamicWindows& windows = bindings->dynamicWindows();
+    for (size_t i = 0; i < dynamicOffsets.size(); ++i) {
+        if (dynamicOffsets[i] > windows.mostOffset[i]) [[unlikely]]
+            throwDynamicWindowOutside(*bindings, windows, i, dynamicOffsets[i]);
+        bind.offsets[i] = dynamicOffsets[i];
+    }
+    record(bind);
+    if (m_bindingSets[set] == bindings) return;
+    m_bindingSets[set] = bindings;
+    m_bindingsChecked = false;
+    m_drawReady = false;
 }
 
 void CommandList::setBindingSetGeneral(uint32_t set, const BindingSetHandle& handle) {
@@ -743,6 +785,7 @@ void CommandList::replay(Device& device) {
         }
         void operator()(const command::BindPipeline& c) { device.bindPipeline(*c.pipeline); }
         void operator()(const command::BindBindingSet& c) { device.bindBindingSet(c.set, *c.bindings); }
+        void operator()(const command::BindDynamicSet& c) { device.bindDynamicSet(c.set, *c.bindings, c.offsets); }
         void operator()(const command::SetVertexBuffer& c) { device.setVertexBuffer(c.slot, c.buffer, c.offset); }
         void operator()(const command::SetIndexBuffer& c) { device.setIndexBuffer(c.buffer, c.type, c.offset); }
         void operator()(const command::ApplyMipRanges& c) {
@@ -816,7 +859,7 @@ void CommandList::replay(Device& device) {
     };
     Replayer replayer{*this, device, gl};
     // A switch rather than std::visit, whose table of out-of-line calls costs a call per command.
-    static_assert(std::variant_size_v<Command> == 25, "one case per command below");
+    static_assert(std::variant_size_v<Command> == 26, "one case per command below");
 #define JANUS_REPLAY_CASE(N) \
     case N: replayer(*std::get_if<N>(&command)); break;
     for (const Command& command : std::span(m_commands).first(m_commandCount)) {
@@ -851,6 +894,7 @@ void CommandList::replay(Device& device) {
                 JANUS_REPLAY_CASE(22)
                 JANUS_REPLAY_CASE(23)
                 JANUS_REPLAY_CASE(24)
+                JANUS_REPLAY_CASE(25)
         }
     }
 #undef JANUS_REPLAY_CASE
@@ -1006,7 +1050,8 @@ void Device::restoreTakenPoints() {
         if (!points) continue;
         const BindingSet& bindings = *m_listSets[set];
         for (const BindingSet::BufferRange& b : bindings.bufferRanges())
-            if (bindingPointBit(b.index) & points) f.glBindBufferRange(b.target, b.index, b.buffer, b.offset, b.size);
+            if (bindingPointBit(b.index) & points)
+                f.glBindBufferRange(b.target, b.index, b.buffer, rangeOffset(b, set), b.size);
         if (bindings.hasTextures()) bindTextures(bindings, points);
         m_takenPoints[set] &= ~points;
         takePoints(set, points);

@@ -23,6 +23,7 @@
 #include "gl_shader_translation.h"
 #include "gl_state_cache.h"
 #include "janus/rhi/draw_range_validation.h"
+#include "janus/rhi/dynamic_offsets.h"
 #include "janus/rhi/keep_alive.h"
 #include "janus/rhi/rhi.h"
 #include "janus/rhi/texture_view_validation.h"
@@ -296,7 +297,8 @@ public:
     const std::string& debugName() const { return m_debugName; }
 
 private:
-    void link(const std::vector<const Shader*>& shaders, const std::string& debugName);
+    void link(const std::vector<const Shader*>& shaders, const std::string& debugName,
+              std::span<const DynamicUniformBuffer> dynamic);
     void findSamplerUniforms();
     std::vector<SamplerUniform> m_samplerUniforms;
     std::string m_debugName;
@@ -377,6 +379,9 @@ public:
         GLuint buffer;
         GLuint index;   // the binding point
         GLenum target;  // GL_UNIFORM_BUFFER or GL_SHADER_STORAGE_BUFFER
+        // A dynamic uniform buffer: which of the set's offsets moves it (DynamicWindows order).
+        uint32_t dynamicSlot = kNotDynamic;
+        static constexpr uint32_t kNotDynamic = ~0u;
     };
     std::span<const BufferRange> bufferRanges() const { return m_bufferRanges; }
     // What replay reads of a set, in the set's first line. A set of exactly one buffer item, the
@@ -391,6 +396,8 @@ public:
     };
     const ReplayState& replayState() const { return m_replay; }
     bool hasTextures() const { return m_replay.hasTextures; }
+    // Its dynamic uniform buffers' windows (BindingItem::dynamicOffset), in binding order.
+    const DynamicWindows& dynamicWindows() const { return m_dynamicWindows; }
     // The access of desc().items[i], resolved when the set is made.
     const ShaderAccess& itemAccess(size_t i) const { return m_itemAccesses[i]; }
 
@@ -448,6 +455,7 @@ private:
     mutable std::atomic<const Validated*> m_lastValidated{nullptr};
     std::vector<BufferRange> m_bufferRanges;   // all of them
     BindingSetDesc m_desc;
+    DynamicWindows m_dynamicWindows;
     std::vector<ShaderAccess> m_itemAccesses;
     mutable std::mutex m_validatedMutex;
     mutable std::vector<std::unique_ptr<Validated>> m_validated;
@@ -488,6 +496,9 @@ struct SetViewport { Viewport viewport; };
 struct SetScissor { ScissorRect scissor; };
 struct BindPipeline { const Pipeline* pipeline; };
 struct BindBindingSet { uint32_t set; const BindingSet* bindings; };
+// A set with dynamic uniform buffers and its offsets (setBindingSet's second form). Never merged
+// with a draw: replay binds its ranges at the offsets every time.
+struct BindDynamicSet { uint32_t set; const BindingSet* bindings; std::array<uint32_t, kMaxDynamicOffsetsPerSet> offsets; };
 struct SetVertexBuffer { uint32_t slot; GLuint buffer; uint64_t offset; };
 struct SetIndexBuffer { GLuint buffer; IndexType type; uint64_t offset; };
 struct ApplyMipRanges { uint32_t first, count; };   // into CommandList::m_mipRanges
@@ -524,7 +535,7 @@ using Command = std::variant<command::BeginRenderPass, command::SetViewport, com
                              command::CopyBufferToTexture, command::CopyTextureToBuffer, command::CopyTexture,
                              command::GenerateMips, command::BeginTimer, command::EndTimer, command::PushDebugGroup,
                              command::PopDebugGroup, command::BindSetAndDraw, command::BindSetAndDrawIndexed,
-                             command::BindSetAndDrawOne>;
+                             command::BindSetAndDrawOne, command::BindDynamicSet>;
 // A draw writes one at recording and reads it at replay: a command per draw stays this small.
 static_assert(sizeof(Command) == 48, "a command grew");
 // Command::index() of a command of type T.
@@ -584,6 +595,8 @@ public:
     void setScissorImpl(const ScissorRect& scissor) override;
     void setPipeline(const PipelineHandle& pipeline) override;
     void setBindingSetImpl(uint32_t set, const BindingSetHandle& bindings) override;
+    void setBindingSetImpl(uint32_t set, const BindingSetHandle& bindings,
+                           std::span<const uint32_t> dynamicOffsets) override;
     // setBindingSetImpl's whole path: its fast path calls nothing, so it saves no registers.
     [[gnu::noinline]] void setBindingSetGeneral(uint32_t set, const BindingSetHandle& bindings);
     // What both paths do once the set is checked and held and the list has room for a command.
@@ -888,8 +901,24 @@ public:
                                 GLsizeiptr(r.range.size));
         else
             for (const BindingSet::BufferRange& b : bindings.bufferRanges())
-                f.glBindBufferRange(b.target, b.index, b.buffer, b.offset, b.size);
+                f.glBindBufferRange(b.target, b.index, b.buffer, rangeOffset(b, set), b.size);
         if (r.hasTextures) bindTextures(bindings, ~uint64_t(0));
+    }
+    // A set with dynamic uniform buffers, at `offsets`: its ranges are bound even when the set is
+    // (only the offsets may have changed).
+    void bindDynamicSet(uint32_t set, const BindingSet& bindings,
+                        const std::array<uint32_t, kMaxDynamicOffsetsPerSet>& offsets) {
+        const bool claimed = claimSet(set, bindings, [&] { return bindings.bindingPoints(); });
+        m_dynamicOffsets[set] = offsets;
+        const GLFunctions& f = gl();
+        for (const BindingSet::BufferRange& b : bindings.bufferRanges())
+            f.glBindBufferRange(b.target, b.index, b.buffer, rangeOffset(b, set), b.size);
+        if (claimed && bindings.hasTextures()) bindTextures(bindings, ~uint64_t(0));
+    }
+    // Where range `b` of the set bound at `set` starts: moved by its dynamic offset, if it has one.
+    GLintptr rangeOffset(const BindingSet::BufferRange& b, uint32_t set) const {
+        return b.dynamicSlot == BindingSet::BufferRange::kNotDynamic ? b.offset
+                                                                     : b.offset + GLintptr(m_dynamicOffsets[set][b.dynamicSlot]);
     }
     // The same from a command's copy of a plain set's range, without reading the set.
     void bindBindingSet(const InlineRange& range, const BindingSet& bindings) {
@@ -1020,6 +1049,8 @@ private:
     // m_setPoints[i] while no other set holds or took any of them (else 0): a set with the same
     // points bound at i again takes nothing from the others and has nothing taken, so it only binds.
     std::array<uint64_t, kMaxBindingSets> m_exclusivePoints{};
+    // The offsets the list gave with the set at each index (BindDynamicSet), for its dynamic ranges.
+    std::array<std::array<uint32_t, kMaxDynamicOffsetsPerSet>, kMaxBindingSets> m_dynamicOffsets{};
     void takePoints(uint32_t set, uint64_t points);
     void restoreTakenPoints();
     bool m_es = false;   // isES(), read per draw

@@ -101,12 +101,12 @@ Pipeline::Pipeline(ContextPtr context, const GraphicsPipelineDesc& desc)
         case PrimitiveTopology::PointList: m_mode = GL_POINTS; break;
     }
     link({static_cast<const Shader*>(desc.vertexShader.get()), static_cast<const Shader*>(desc.fragmentShader.get())},
-         desc.debugName);
+         desc.debugName, desc.dynamicUniformBuffers);
 }
 
 Pipeline::Pipeline(ContextPtr context, const ComputePipelineDesc& desc)
     : m_context(std::move(context)), m_compute(true) {
-    link({static_cast<const Shader*>(desc.computeShader.get())}, desc.debugName);
+    link({static_cast<const Shader*>(desc.computeShader.get())}, desc.debugName, desc.dynamicUniformBuffers);
 }
 
 Pipeline::~Pipeline() {
@@ -117,12 +117,12 @@ namespace {
 // Interned binding signatures: what the binding checks read of a pipeline's bindings. The map only
 // grows, so an id is never given to another signature.
 uint64_t bindingSignatureId(const std::vector<ShaderBinding>& bindings) {
-    using Key = std::vector<std::tuple<uint32_t, uint32_t, int, int, bool, uint32_t, uint64_t>>;
+    using Key = std::vector<std::tuple<uint32_t, uint32_t, int, int, bool, uint32_t, uint64_t, bool>>;
     Key key;
     key.reserve(bindings.size());
     for (const ShaderBinding& b : bindings)
         key.emplace_back(b.set, b.binding, int(b.type), b.dimension ? int(*b.dimension) : -1, b.depthCompare,
-                         b.imageFormat, b.blockSize);
+                         b.imageFormat, b.blockSize, b.dynamicOffset);
     static std::mutex mutex;
     static std::map<Key, uint64_t> ids;
     const std::lock_guard lock(mutex);
@@ -130,7 +130,8 @@ uint64_t bindingSignatureId(const std::vector<ShaderBinding>& bindings) {
 }
 }  // namespace
 
-void Pipeline::link(const std::vector<const Shader*>& shaders, const std::string& debugName) {
+void Pipeline::link(const std::vector<const Shader*>& shaders, const std::string& debugName,
+                    std::span<const DynamicUniformBuffer> dynamic) {
     const GLFunctions& gl = m_context->gl;
     m_program = gl.glCreateProgram();
     for (const Shader* shader : shaders) gl.glAttachShader(m_program, shader->name());
@@ -175,6 +176,8 @@ void Pipeline::link(const std::vector<const Shader*>& shaders, const std::string
                 }
             }
             m_bindings.push_back(binding);
+            // Validated: each names a uniform block the shaders read.
+            m_bindings.back().dynamicOffset = declaresDynamic(dynamic, binding.set, binding.binding);
         }
     }
     m_bindingSignature = bindingSignatureId(m_bindings);

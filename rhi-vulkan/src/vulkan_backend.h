@@ -28,6 +28,7 @@
 
 #include "janus/rhi/backends.h"
 #include "janus/rhi/draw_range_validation.h"
+#include "janus/rhi/dynamic_offsets.h"
 #include "janus/rhi/keep_alive.h"
 #include "janus/rhi/texture_view_validation.h"
 #include "vulkan_command_memory.h"
@@ -445,7 +446,9 @@ public:
     KeepMark keepMark;
 
 private:
-    void createLayout(const std::vector<const Shader*>& shaders);
+    // `dynamic`: the uniform buffers read with dynamic offsets (their layout binding is a
+    // UNIFORM_BUFFER_DYNAMIC).
+    void createLayout(const std::vector<const Shader*>& shaders, std::span<const DynamicUniformBuffer> dynamic);
     ContextPtr m_context;
     bool m_compute = false;
     std::vector<ShaderHandle> m_shaders;
@@ -476,17 +479,27 @@ public:
         OnlyRead onlyRead;
         std::span<const ResourceAccess> accesses;
         bool hasTextureItems = false;                  // !textureItems.empty(), next to the rest
+        // No texture items and no dynamic offsets: the straight-line dispatch may bind it.
+        bool plainBind = false;
+        // The layout's dynamic uniform buffers, in binding order (the order vkCmdBindDescriptorSets
+        // takes their offsets): each one's index among the set's (DynamicWindows order).
+        uint8_t dynamicCount = 0;
+        std::array<uint8_t, kMaxDynamicOffsetsPerSet> dynamicOffsetIndex{};
+        // dynamicOffsetIndex is 0, 1, ... up to all of the set's: the offsets as given are the bind's.
+        bool offsetsAsGiven = false;
         std::array<ResourceAccess, 2> fewAccesses{};   // most sets: no second allocation to visit
         std::vector<ResourceAccess> manyAccesses;
         VkDescriptorPool pool = VK_NULL_HANDLE;
         // The texture items the layout's shaders use, for the view-overlap check at draw/dispatch.
         std::vector<const BindingItem*> textureItems;
     };
-    // Written on first use.
-    const LayoutUse& useWith(const DescriptorSetLayoutInfo& layout, uint32_t set) {
+    // Written on first use. `pipelineName` is for the messages.
+    const LayoutUse& useWith(const DescriptorSetLayoutInfo& layout, uint32_t set, std::string_view pipelineName) {
         if (const LayoutUse* use = findUse(layout.layout)) return *use;
-        return createOrFind(layout, set);
+        return createOrFind(layout, set, pipelineName);
     }
+    // Its dynamic uniform buffers' windows (BindingItem::dynamicOffset), in binding order.
+    const DynamicWindows& dynamicWindows() const { return m_dynamicWindows; }
 
     // The use for `layout`, found without a lock (binds are hot) when it is the first one (usually
     // the only one; then nothing outside the set's first line is read) or the last one used, else
@@ -517,9 +530,10 @@ private:
     std::atomic<const LayoutUse*> m_last{nullptr};   // the last use found by createOrFind
     const Context* m_owner;   // m_context without the indirection, for native()
 
-    const LayoutUse& createOrFind(const DescriptorSetLayoutInfo& layout, uint32_t set);
+    const LayoutUse& createOrFind(const DescriptorSetLayoutInfo& layout, uint32_t set, std::string_view pipelineName);
     ContextPtr m_context;
     BindingSetDesc m_desc;
+    DynamicWindows m_dynamicWindows;
     std::mutex m_mutex;
     std::map<VkDescriptorSetLayout, std::unique_ptr<LayoutUse>> m_otherUses;
 };
@@ -551,6 +565,12 @@ public:
     void setScissorImpl(const ScissorRect& scissor) override;
     void setPipeline(const PipelineHandle& pipeline) override;
     void setBindingSetImpl(uint32_t set, const BindingSetHandle& bindings) override;
+    void setBindingSetImpl(uint32_t set, const BindingSetHandle& bindings,
+                           std::span<const uint32_t> dynamicOffsets) override;
+    void setDynamicSetChecked(uint32_t set, const BindingSetHandle& bindings, std::span<const uint32_t> dynamicOffsets);
+    void bindDynamicSet(uint32_t set, const BindingSetHandle& bindings, BindingSet& bindingSet);
+    void bindDynamicUse(VkPipelineBindPoint bindPoint, VkPipelineLayout layout, uint32_t set,
+                        const BindingSet::LayoutUse& use);
     void setVertexBufferImpl(uint32_t slot, const BufferHandle& buffer, uint64_t offset) override;
     void setIndexBufferImpl(const BufferHandle& buffer, IndexType type, uint64_t offset) override;
     void draw(uint32_t vertexCount, uint32_t instanceCount, uint32_t firstVertex, uint32_t firstInstance) override;
@@ -693,6 +713,9 @@ private:
         kNeedsSets = 8u,             // a set the pipeline uses is not bound, or not tracked for this pass
         kNeedsIndexTracking = 16u,   // drawIndexed only: no index buffer, or it is not tracked for this pass
         kNeedsEverything = 31u,
+        // Not in kNeedsEverything: a set was bound with dynamic offsets (setBindingSet's second
+        // form). Only the general path binds it (bindDescriptorSets passes the offsets).
+        kNeedsDynamicBind = 32u,
     };
     uint32_t m_drawNeeds = kNeedsEverything;
     bool inRenderPass() const { return (m_drawNeeds & kNeedsRenderPass) == 0; }
@@ -708,6 +731,9 @@ private:
     Pipeline* m_graphicsPipeline = nullptr;
     Pipeline* m_computePipeline = nullptr;
     std::array<BindingSet*, Pipeline::kMaxSets> m_bindingSets{};
+    // The offsets last given with the set at each index (setBindingSet's second form), in the
+    // set's binding order; read only for a set that has dynamic uniform buffers.
+    std::array<std::array<uint32_t, kMaxDynamicOffsetsPerSet>, Pipeline::kMaxSets> m_dynamicOffsets{};
     // What is bound to each set for each bind point (updated when the sets are bound).
     std::array<const BindingSet::LayoutUse*, Pipeline::kMaxSets> m_graphicsSetUses{};
     std::array<const BindingSet::LayoutUse*, Pipeline::kMaxSets> m_computeSetUses{};

@@ -11,7 +11,8 @@ namespace {
 
 const char* typeName(VkDescriptorType type) {
     switch (type) {
-        case VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER: return "UniformBuffer";
+        case VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER:
+        case VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC: return "UniformBuffer";
         case VK_DESCRIPTOR_TYPE_STORAGE_BUFFER: return "StorageBuffer";
         case VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER: return "SampledTexture";
         case VK_DESCRIPTOR_TYPE_STORAGE_IMAGE: return "StorageImage";
@@ -79,6 +80,14 @@ ResourceAccess accessOf(const BindingItem& item, const ReflectedBinding& b) {
             access.range = viewKeys(resolveTextureView(item), item.texture->desc().dimension);
             access.access = b.written ? VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT : VK_ACCESS_SHADER_READ_BIT;
             break;
+        case VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC:
+            // Wherever its offsets move the window: all of the buffer from the item's offset on.
+            // Wider than one draw's slice, it can add a barrier but never miss one, and rebinding
+            // at another offset changes nothing the tracking saw.
+            access.resource = item.buffer.get();
+            access.range = {item.offset, item.buffer->desc().size};
+            access.access = VK_ACCESS_UNIFORM_READ_BIT;
+            break;
         default:   // sampled texture: every mip and layer of the view may be read
             access.resource = item.texture.get();
             access.range = viewKeys(resolveTextureView(item), item.texture->desc().dimension);
@@ -91,7 +100,8 @@ ResourceAccess accessOf(const BindingItem& item, const ReflectedBinding& b) {
 }  // namespace
 
 // `desc` is validated (rhi/src/validation.cpp); what is left is that its objects are this device's.
-BindingSet::BindingSet(ContextPtr context, const BindingSetDesc& desc) : m_owner(context.get()), m_context(std::move(context)), m_desc(desc) {
+BindingSet::BindingSet(ContextPtr context, const BindingSetDesc& desc)
+    : m_owner(context.get()), m_context(std::move(context)), m_desc(desc), m_dynamicWindows(dynamicWindowsOf(desc)) {
     for (const BindingItem& item : desc.items) {
         if (item.buffer) native<Buffer>(item.buffer, fmt::format("binding {}: the buffer", item.binding), m_context.get());
         if (item.texture) native<Texture>(item.texture, fmt::format("binding {}: the texture", item.binding), m_context.get());
@@ -104,7 +114,8 @@ BindingSet::~BindingSet() {
     for (auto& [layout, use] : m_otherUses) m_context->freeDescriptorSet({use->pool, use->set});
 }
 
-const BindingSet::LayoutUse& BindingSet::createOrFind(const DescriptorSetLayoutInfo& layout, uint32_t set) {
+const BindingSet::LayoutUse& BindingSet::createOrFind(const DescriptorSetLayoutInfo& layout, uint32_t set,
+                                                      std::string_view pipelineName) {
     std::lock_guard lock(m_mutex);
     if (m_firstUse.layout.load(std::memory_order_relaxed) == layout.layout) {
         m_last.store(&m_firstUse, std::memory_order_release);
@@ -125,7 +136,11 @@ const BindingSet::LayoutUse& BindingSet::createOrFind(const DescriptorSetLayoutI
                         fmt::format("the pipeline's shaders read set {} binding {} ('{}', {}), but the binding set "
                                     "bound to set {} has no item for binding {}",
                                     set, b.binding, b.name, typeName(b.type), set, b.binding));
-        if (toVkDescriptorType(item->type) != b.type)
+        const bool dynamic = b.type == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC;
+        if (item->type == ResourceType::UniformBuffer && (dynamic || b.type == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER))
+            requireDynamicAgreement(*item, dynamic, pipelineName,
+                                    fmt::format("set {} binding {} ('{}')", set, b.binding, b.name));
+        if (toVkDescriptorType(item->type) != (dynamic ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : b.type))
             throw Error(ErrorCode::InvalidUsage,
                         fmt::format("set {} binding {} ('{}') is a {} in the shader but the binding set gives a {}", set,
                                     b.binding, b.name, typeName(b.type), typeName(toVkDescriptorType(item->type))));
@@ -196,6 +211,17 @@ const BindingSet::LayoutUse& BindingSet::createOrFind(const DescriptorSetLayoutI
     for (const BindingItem* item : items)
         if (item->texture) use->textureItems.push_back(item);
     use->hasTextureItems = !use->textureItems.empty();
+    for (size_t i = 0; i < items.size(); ++i) {
+        if (layout.bindings[i].type != VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC) continue;
+        const uint32_t itemIndex = uint32_t(items[i] - m_desc.items.data());
+        const auto& order = m_dynamicWindows.itemIndex;
+        use->dynamicOffsetIndex[use->dynamicCount++] =
+            uint8_t(std::find(order.begin(), order.begin() + m_dynamicWindows.count, itemIndex) - order.begin());
+    }
+    use->plainBind = !use->hasTextureItems && use->dynamicCount == 0;
+    use->offsetsAsGiven = use->dynamicCount == m_dynamicWindows.count;
+    for (uint32_t i = 0; i < use->dynamicCount; ++i)
+        use->offsetsAsGiven = use->offsetsAsGiven && use->dynamicOffsetIndex[i] == i;
     if (items.size() <= use->fewAccesses.size()) {
         for (size_t i = 0; i < items.size(); ++i) use->fewAccesses[i] = accessOf(*items[i], layout.bindings[i]);
         use->accesses = std::span(use->fewAccesses.data(), items.size());
@@ -203,7 +229,8 @@ const BindingSet::LayoutUse& BindingSet::createOrFind(const DescriptorSetLayoutI
         for (size_t i = 0; i < items.size(); ++i) use->manyAccesses.push_back(accessOf(*items[i], layout.bindings[i]));
         use->accesses = use->manyAccesses;
     }
-    if (!use->hasTextureItems && use->accesses.size() == 1 && !use->accesses[0].write) {
+    // Not a dynamic one: the straight-line binds (bindInPass) pass no offsets.
+    if (use->plainBind && use->accesses.size() == 1 && !use->accesses[0].write) {
         const ResourceAccess& read = use->accesses[0];
         assert(read.stages == layout.onlyBindingStages);   // what joinPassReads takes instead of reading it here
         use->onlyRead = {read.resource, read.range};
@@ -224,7 +251,8 @@ namespace {
 constexpr uint32_t kSetsPerPool = 256;
 constexpr uint32_t kDescriptorsPerType = 1024;
 constexpr uint32_t kMostSharedDescriptors = 16;
-constexpr VkDescriptorType kPooledTypes[] = {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+constexpr VkDescriptorType kPooledTypes[] = {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC,
+                                             VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                                              VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
 
 std::vector<VkDescriptorPoolSize> descriptorCounts(const DescriptorSetLayoutInfo& layout) {

@@ -307,6 +307,70 @@ void CommandList::setBindingSetImpl(uint32_t set, const BindingSetHandle& bindin
     bindHeldSet(set, *bindingSet);
 }
 
+// A set with dynamic uniform buffers. The common case, the set already bound and tracked at `set`
+// and moved to other offsets between draws of a pass, binds it again at once with the offsets (the
+// tracking saw every window), so the draw after it stays on its straight-line path: the per-draw
+// cost of one set for a whole pass. Anything else leaves the bind to the next draw or dispatch's
+// general path (the straight-line ones pass no offsets, so a dynamic set never takes them).
+void CommandList::setBindingSetImpl(uint32_t set, const BindingSetHandle& bindings,
+                                    std::span<const uint32_t> dynamicOffsets) {   // count and alignment checked
+    IBindingSet& object = *bindings;   // not null: the front end checked
+    if (m_state != State::Recording || !m_keepAlive.keepIfHeld(keepMarkOf(object))) [[unlikely]]
+        return setDynamicSetChecked(set, bindings, dynamicOffsets);
+    auto* bindingSet = static_cast<BindingSet*>(&object);   // held: its type was checked then
+    const DynamicWindows& windows = bindingSet->dynamicWindows();
+    std::array<uint32_t, kMaxDynamicOffsetsPerSet>& kept = m_dynamicOffsets[set];
+    for (size_t i = 0; i < dynamicOffsets.size(); ++i) {
+        if (dynamicOffsets[i] > windows.mostOffset[i]) [[unlikely]]
+            throwDynamicWindowOutside(*bindingSet, windows, i, dynamicOffsets[i]);   // before anything changed
+        kept[i] = dynamicOffsets[i];
+    }
+    const uint32_t bit = 1u << set;
+    // Bound and tracked for this pipeline (no draw need left), so m_graphicsSetUses[set] is this
+    // set's use for the pipeline's layout.
+    if (m_bindingSets[set] == bindingSet && (m_drawNeeds & ~kNeedsIndexTracking) == 0 &&
+        (m_graphicsPipeline->usedSets & bit) && !(m_dirtyGraphicsSets & bit)) [[likely]] {
+        const BindingSet::LayoutUse& use = *m_graphicsSetUses[set];
+        m_dirtyComputeSets |= bit;
+        if (!use.offsetsAsGiven) [[unlikely]]
+            return bindDynamicUse(VK_PIPELINE_BIND_POINT_GRAPHICS, m_graphicsPipeline->layout, set, use);
+        return m_context->cmdBindDescriptorSets(m_commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m_graphicsPipeline->layout,
+                                                set, 1, &use.set, use.dynamicCount, kept.data());
+    }
+    bindDynamicSet(set, bindings, *bindingSet);
+}
+
+void CommandList::setDynamicSetChecked(uint32_t set, const BindingSetHandle& bindings,
+                                       std::span<const uint32_t> dynamicOffsets) {
+    requireRecording("setBindingSet()");
+    auto* bindingSet = native<BindingSet>(bindings, "setBindingSet(): the binding set", m_context.get());
+    requireDynamicWindowsInside(*bindingSet, bindingSet->dynamicWindows(), dynamicOffsets);
+    std::copy(dynamicOffsets.begin(), dynamicOffsets.end(), m_dynamicOffsets[set].begin());
+    bindDynamicSet(set, bindings, *bindingSet);
+}
+
+// vkCmdBindDescriptorSets of `use` at `set`, with the offsets of the set's dynamic bindings the
+// layout has (a pipeline may read some of them).
+void CommandList::bindDynamicUse(VkPipelineBindPoint bindPoint, VkPipelineLayout layout, uint32_t set,
+                                 const BindingSet::LayoutUse& use) {
+    std::array<uint32_t, kMaxDynamicOffsetsPerSet> offsets;
+    for (uint32_t i = 0; i < use.dynamicCount; ++i) offsets[i] = m_dynamicOffsets[set][use.dynamicOffsetIndex[i]];
+    m_context->cmdBindDescriptorSets(m_commands, bindPoint, layout, set, 1, &use.set, use.dynamicCount, offsets.data());
+}
+
+// The dynamic set at its new offsets, left for the next draw or dispatch to bind (its general path).
+void CommandList::bindDynamicSet(uint32_t set, const BindingSetHandle& bindings, BindingSet& bindingSet) {
+    if (m_bindingSets[set] == &bindingSet) {
+        m_dirtyGraphicsSets |= 1u << set;
+        m_dirtyComputeSets |= 1u << set;
+        m_drawNeeds |= kNeedsSets | kNeedsDynamicBind;
+        return;
+    }
+    m_keepAlive.keep(bindings, keepMarkOf(bindingSet));
+    bindHeldSet(set, bindingSet);   // bindInPass declines it: a dynamic use has no onlyRead
+    m_drawNeeds |= kNeedsDynamicBind;
+}
+
 void CommandList::setBindingSetChecked(uint32_t set, const BindingSetHandle& bindings) {
     requireRecording("setBindingSet()");
     bindSet(set, bindings, native<BindingSet>(bindings, "setBindingSet(): the binding set", m_context.get()));
@@ -368,9 +432,12 @@ void CommandList::throwNoBindingSet(const Pipeline& pipeline, uint32_t set) cons
     for (uint32_t toBind = dirtyMask & pipeline.usedSets; toBind; toBind &= toBind - 1) {
         const uint32_t s = uint32_t(std::countr_zero(toBind));
         if (!m_bindingSets[s]) [[unlikely]] throwNoBindingSet(pipeline, s);
-        const BindingSet::LayoutUse& use = m_bindingSets[s]->useWith(*pipeline.sets[s], s);
+        const BindingSet::LayoutUse& use = m_bindingSets[s]->useWith(*pipeline.sets[s], s, pipeline.debugName);
         uses[s] = &use;
-        m_context->cmdBindDescriptorSets(m_commands, bindPoint, pipeline.layout, s, 1, &use.set, 0, nullptr);
+        if (use.dynamicCount) [[unlikely]]
+            bindDynamicUse(bindPoint, pipeline.layout, s, use);
+        else
+            m_context->cmdBindDescriptorSets(m_commands, bindPoint, pipeline.layout, s, 1, &use.set, 0, nullptr);
     }
     dirtyMask = 0;   // only now: a failed bind above is reported again on the next draw
 }
@@ -456,7 +523,7 @@ void CommandList::throwDrawOutsidePass(std::string_view call) const {
     if (m_dirtyGraphicsSets & pipeline.usedSets)
         bindDescriptorSets(pipeline, VK_PIPELINE_BIND_POINT_GRAPHICS, m_dirtyGraphicsSets, m_graphicsSetUses);
     if (const uint32_t untracked = pipeline.usedSets & ~m_passTrackedSets) trackDrawBindings(pipeline, untracked, call);
-    m_drawNeeds &= ~kNeedsSets;
+    m_drawNeeds &= ~(kNeedsSets | kNeedsDynamicBind);
     if (m_drawNeeds & kNeedsVertexTracking) [[unlikely]] trackVertexBuffers(pipeline);
 }
 
@@ -667,7 +734,7 @@ void CommandList::prepareDispatchGeneral() {
     if (m_dirtyComputeSets & sets) {
         const BindingSet* bindingSet = m_bindingSets[s];
         const BindingSet::LayoutUse* use = bindingSet ? bindingSet->findUse(pipeline.sets[s]->layout) : nullptr;
-        if (!use || use->hasTextureItems) [[unlikely]] return false;
+        if (!use || !use->plainBind) [[unlikely]] return false;
         m_computeSetUses[s] = use;
         m_dirtyComputeSets = 0;   // as bindDescriptorSets: every set the pipeline uses is bound
         m_context->cmdBindDescriptorSets(m_commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.layout, s, 1, &use->set,

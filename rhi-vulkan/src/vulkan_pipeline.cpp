@@ -158,7 +158,7 @@ Shader::~Shader() { vkDestroyShaderModule(m_context->device, module, nullptr); }
 
 // Merges the shaders' bindings per set (validation made binding numbers unique across sets and
 // shared bindings declared alike in every stage).
-void Pipeline::createLayout(const std::vector<const Shader*>& shaders) {
+void Pipeline::createLayout(const std::vector<const Shader*>& shaders, std::span<const DynamicUniformBuffer> dynamic) {
     std::array<std::vector<ReflectedBinding>, kMaxSets> perSet;
     for (const Shader* shader : shaders) {
         for (const ReflectedBinding& b : shader->bindings) {
@@ -178,6 +178,8 @@ void Pipeline::createLayout(const std::vector<const Shader*>& shaders) {
     for (uint32_t s = 0; s < kMaxSets; ++s) {
         std::sort(perSet[s].begin(), perSet[s].end(),
                   [](const ReflectedBinding& a, const ReflectedBinding& b) { return a.binding < b.binding; });
+        for (ReflectedBinding& b : perSet[s])   // validated: each names a uniform block of set s
+            if (declaresDynamic(dynamic, s, b.binding)) b.type = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC;
         sets[s] = &m_context->descriptorSetLayout(perSet[s]);
         layouts[s] = sets[s]->layout;
         if (!perSet[s].empty()) usedSets |= 1u << s;
@@ -223,7 +225,7 @@ Pipeline::Pipeline(ContextPtr context, const GraphicsPipelineDesc& desc)
     for (const auto& a : desc.vertexAttributes)
         attributes.push_back({a.location, a.bufferSlot, toVkVertexFormat(a.format), a.offset});
 
-    createLayout(shaders);
+    createLayout(shaders, desc.dynamicUniformBuffers);
 
     std::vector<VkPipelineShaderStageCreateInfo> stages;
     for (const Shader* shader : shaders) {
@@ -300,7 +302,7 @@ Pipeline::Pipeline(ContextPtr context, const ComputePipelineDesc& desc)
     : debugName(desc.debugName), m_context(std::move(context)), m_compute(true) {
     const Shader& shader = shaderOf(desc.computeShader, "computeShader", debugName, m_context.get());
     m_shaders = {desc.computeShader};
-    createLayout({&shader});
+    createLayout({&shader}, desc.dynamicUniformBuffers);
     VkComputePipelineCreateInfo info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
     info.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
     info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;

@@ -3,6 +3,7 @@
 // only reach them through these. The per-draw calls are not here: they go to the backend directly.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cstdio>
 
 #include "janus/rhi/derivative_lint.h"
@@ -79,6 +80,8 @@ PipelineHandle IDevice::createComputePipeline(const ComputePipelineDesc& desc) {
 BindingSetHandle IDevice::createBindingSet(const BindingSetDesc& desc) {
     detail::validateBindingSet(*m_properties, desc);
     BindingSetHandle set = createBindingSetImpl(desc);
+    set->m_keepMark.dynamicOffsetCount =
+        uint32_t(std::count_if(desc.items.begin(), desc.items.end(), [](const BindingItem& i) { return i.dynamicOffset; }));
     for (const BindingItem& item : desc.items)
         if (item.type == ResourceType::StorageBuffer && item.buffer && item.buffer->m_hostIndexContents)
             item.buffer->m_hostIndexContents->markShaderWritable();
@@ -93,6 +96,8 @@ TimerQueryHandle IDevice::createTimerQuery() {
 CommandListHandle IDevice::createCommandList() {
     CommandListHandle list = createCommandListImpl();
     list->m_properties = m_properties;
+    const uint32_t alignment = m_properties->capabilities.limits.uniformBufferOffsetAlignment;
+    list->m_dynamicOffsetMask = alignment != 0 && (alignment & (alignment - 1)) == 0 ? alignment - 1 : ~0u;
     if (m_properties->validation) list->m_indexValueLog = std::make_shared<detail::IndexValueLog>();
     return list;
 }
@@ -128,11 +133,41 @@ std::vector<std::byte> IDevice::readTexture(const TextureHandle& texture, Textur
 // ---------------------------------------------------------------------------------------------
 // ICommandList
 
-void ICommandList::throwInvalidSetBinding(uint32_t set) const {
+void ICommandList::throwInvalidSetBinding(uint32_t set, const IBindingSet* bindings) const {
     if (set >= kMaxBindingSets)
         throw Error(ErrorCode::InvalidUsage, fmt::format("setBindingSet(): set {} does not exist; sets 0..{} are "
                                                          "available", set, kMaxBindingSets - 1));
-    throw Error(ErrorCode::InvalidUsage, "setBindingSet(): the binding set is null");
+    if (!bindings) throw Error(ErrorCode::InvalidUsage, "setBindingSet(): the binding set is null");
+    const uint32_t count = bindings->m_keepMark.dynamicOffsetCount;
+    throw Error(ErrorCode::InvalidUsage,
+                fmt::format("setBindingSet(): the binding set has {} dynamic uniform buffer{} (BindingItem::"
+                            "dynamicOffset) but no offsets were given; pass {}: setBindingSet({}, set, offsets)",
+                            count, count == 1 ? "" : "s", count == 1 ? "its offset" : "one offset each, in binding order",
+                            set));
+}
+
+// setBindingSet's second form when its inline checks did not all pass: which one failed (or an
+// offset that only a division checks, for an alignment that is not a power of two), or no offsets
+// for a set without dynamic items, which is the first form.
+void ICommandList::setBindingSetChecked(uint32_t set, const BindingSetHandle& bindings,
+                                        std::span<const uint32_t> dynamicOffsets) {
+    if (set >= kMaxBindingSets || !bindings) throwInvalidSetBinding(set, bindings.get());
+    const uint32_t count = bindings->m_keepMark.dynamicOffsetCount;
+    if (dynamicOffsets.size() != count)
+        throw Error(ErrorCode::InvalidUsage,
+                    fmt::format("setBindingSet(): {} dynamic offset{} given, but the binding set has {} dynamic uniform "
+                                "buffer{} (BindingItem::dynamicOffset); give one offset per such item, in binding order",
+                                dynamicOffsets.size(), dynamicOffsets.size() == 1 ? "" : "s", count,
+                                count == 1 ? "" : "s"));
+    if (count == 0) return setBindingSetImpl(set, bindings);
+    const uint32_t alignment = m_properties->capabilities.limits.uniformBufferOffsetAlignment;
+    for (size_t i = 0; i < count; ++i)
+        if (alignment > 1 && dynamicOffsets[i] % alignment)
+            throw Error(ErrorCode::InvalidUsage,
+                        fmt::format("setBindingSet(): dynamic offset {} ({}) is not a multiple of the device's uniform "
+                                    "buffer offset alignment ({}, Limits::uniformBufferOffsetAlignment)",
+                                    i, dynamicOffsets[i], alignment));
+    setBindingSetImpl(set, bindings, dynamicOffsets);
 }
 
 void ICommandList::throwInvalidDispatch(uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ) const {

@@ -263,7 +263,7 @@ void validateShader(const DeviceProperties& device, const ShaderDesc& desc) {
 namespace {
 // The resources of a pipeline's shaders merged by binding: numbers are unique across sets (the GL
 // backend uses them as binding points), and two stages must declare a shared binding alike.
-void checkPipelineBindings(const std::vector<const IShader*>& shaders, const std::string& name) {
+std::vector<ReflectedResource> checkPipelineBindings(const std::vector<const IShader*>& shaders, const std::string& name) {
     std::vector<ReflectedResource> merged;
     for (const IShader* shader : shaders) {
         for (const ReflectedResource& r : reflectShader(shader->desc()).resources) {
@@ -280,6 +280,29 @@ void checkPipelineBindings(const std::vector<const IShader*>& shaders, const std
                 invalid(fmt::format("{}: set {} binding {} is declared differently in two stages ('{}' and '{}'); "
                                     "declare it alike", name, r.set, r.binding, existing->name, r.name));
         }
+    }
+    return merged;
+}
+
+// What a pipeline declares dynamic (DynamicUniformBuffer) must be a uniform block its shaders read.
+void checkDynamicUniformBuffers(const std::vector<DynamicUniformBuffer>& declared,
+                                const std::vector<ReflectedResource>& resources, const std::string& name) {
+    if (declared.size() > kMaxDynamicUniformBuffersPerPipeline)
+        invalid(fmt::format("{}: {} dynamic uniform buffers are declared; a pipeline may have at most {} "
+                            "(kMaxDynamicUniformBuffersPerPipeline)", name, declared.size(),
+                            kMaxDynamicUniformBuffersPerPipeline));
+    for (size_t i = 0; i < declared.size(); ++i) {
+        const DynamicUniformBuffer& d = declared[i];
+        if (std::find(declared.begin(), declared.begin() + i, d) != declared.begin() + i)
+            invalid(fmt::format("{}: dynamicUniformBuffers names set {} binding {} twice", name, d.set, d.binding));
+        auto r = std::find_if(resources.begin(), resources.end(),
+                              [&](const ReflectedResource& x) { return x.set == d.set && x.binding == d.binding; });
+        if (r == resources.end())
+            invalid(fmt::format("{}: dynamicUniformBuffers names set {} binding {}, which its shaders do not read; "
+                                "declare only the uniform blocks they read", name, d.set, d.binding));
+        if (r->type != ResourceType::UniformBuffer)
+            invalid(fmt::format("{}: dynamicUniformBuffers names set {} binding {} ('{}'), which is not a uniform "
+                                "block; only uniform buffers take dynamic offsets", name, d.set, d.binding, r->name));
     }
 }
 
@@ -411,21 +434,35 @@ void validateGraphicsPipeline(const DeviceProperties& device, const GraphicsPipe
                                 name, input.location, integerFormat ? "an integer format (UInt1)" : "a float format",
                                 input.integer ? "an integer" : "a float"));
     }
-    checkPipelineBindings({&vs, &fs}, name);
+    checkDynamicUniformBuffers(desc.dynamicUniformBuffers, checkPipelineBindings({&vs, &fs}, name), name);
 }
 
 void validateComputePipeline(const DeviceProperties& device, const ComputePipelineDesc& desc) {
     const std::string name = named("ComputePipelineDesc", desc.debugName);
     requireCapability(device, Capability::Compute, name + ": a compute pipeline");
     const IShader& cs = shaderOf(desc.computeShader, ShaderStage::Compute, "computeShader", name);
-    checkPipelineBindings({&cs}, name);
+    checkDynamicUniformBuffers(desc.dynamicUniformBuffers, checkPipelineBindings({&cs}, name), name);
 }
 
 void validateBindingSet(const DeviceProperties& device, const BindingSetDesc& desc) {
     const Capabilities& caps = device.capabilities;
+    uint32_t dynamicItems = 0;
     for (size_t i = 0; i < desc.items.size(); ++i) {
         const BindingItem& item = desc.items[i];
         const std::string where = fmt::format("BindingSetDesc item {} (binding {})", i, item.binding);
+        if (item.dynamicOffset) {
+            if (item.type != ResourceType::UniformBuffer)
+                invalid(fmt::format("{}: dynamicOffset is set on a {} item; only uniform buffers take dynamic offsets",
+                                    where, item.type == ResourceType::StorageBuffer    ? "storage buffer"
+                                           : item.type == ResourceType::SampledTexture ? "sampled texture"
+                                                                                       : "storage image"));
+            if (item.range == 0)
+                invalid(fmt::format("{}: a dynamic uniform buffer needs a range (the window each dynamic offset "
+                                    "moves); range 0 means 'to the end of the buffer'", where));
+            if (++dynamicItems > kMaxDynamicOffsetsPerSet)
+                invalid(fmt::format("{}: more than {} items of the set have dynamic offsets "
+                                    "(kMaxDynamicOffsetsPerSet)", where, kMaxDynamicOffsetsPerSet));
+        }
         for (size_t j = 0; j < i; ++j)
             if (desc.items[j].binding == item.binding)
                 invalid(fmt::format("{}: binding {} appears twice in the set; give each binding one item", where,

@@ -48,3 +48,6 @@ janus_add_shader(janus_shaders NAME rt_downsample_layers_cube_comp SOURCE ${_rt}
 janus_add_shader(janus_shaders NAME rt_downsample_layers_cube_array_comp SOURCE ${_rt}/downsample_layers.comp DEFINES CUBE_ARRAY)
 janus_add_shader(janus_shaders NAME rt_downsample_face_cube_frag SOURCE ${_rt}/downsample_face.frag DEFINES CUBE)
 janus_add_shader(janus_shaders NAME rt_downsample_face_2d_frag SOURCE ${_rt}/downsample_face.frag)
+# Dynamic uniform buffers (tests/rhi/dynamic_offsets_test.cpp).
+janus_add_shader(janus_shaders NAME rt_two_uniforms_frag SOURCE ${_rt}/two_uniforms.frag)
+janus_add_shader(janus_shaders NAME rt_dynamic_slice_comp SOURCE ${_rt}/dynamic_slice.comp)

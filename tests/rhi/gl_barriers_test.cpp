@@ -5,8 +5,11 @@
 // barriers, dispatches, draws and buffer copies are wrapped to log the order they are made in,
 // and each test checks the log as well as the values.
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -165,6 +168,42 @@ TEST_P(GLBarriersTest, DrawAfterDispatchSeesItsVertices) {
     std::vector<Rgba8> expected(64);
     for (uint32_t i = 0; i < 64; ++i) expected[i] = i % 8 < 4 ? Rgba8{0, 255, 0, 255} : Rgba8{255, 0, 0, 255};
     EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(target), expected, 8));
+}
+
+// A dynamic uniform buffer's window is wherever its offset puts it: a dispatch reading slice 2
+// through it waits for the dispatch that wrote slice 2, though the set's own window (slice 0) does
+// not overlap that write. The written index says which value the read saw (llvmpipe runs in order
+// either way: the log is what fails without the barrier).
+TEST_P(GLBarriersTest, ADynamicWindowMovedOntoAWrittenSliceGetsABarrier) {
+    const uint32_t stride = uint32_t(std::max<uint64_t>({caps().limits.uniformBufferOffsetAlignment,
+                                                         caps().limits.storageBufferOffsetAlignment, 16}));
+    std::vector<uint32_t> words(4 * stride / sizeof(uint32_t), 0);
+    words[2 * stride / sizeof(uint32_t)] = 1;       // slice 2: index 1, incremented to 2 below
+    words[2 * stride / sizeof(uint32_t) + 1] = 7;   // and value 7
+    BufferHandle slices = createBufferFrom(BufferUsage::Storage | BufferUsage::Uniform, words);
+    BufferHandle results = createBufferFrom(BufferUsage::Storage, std::vector<uint32_t>(4, 0));
+    PipelineHandle increment = computePipeline("bench_increment_comp");
+    PipelineHandle reading = device().createComputePipeline(
+        ComputePipelineDesc().setShader(shader("rt_dynamic_slice_comp")).addDynamicUniformBuffer(0, 0));
+    BindingSetHandle writeSlice2 = storageSlice(slices, 2 * stride, sizeof(uint32_t));
+    BindingSetHandle window = device().createBindingSet(BindingSetDesc()
+                                                            .add(BindingItem::uniformBuffer(0, slices, 0, 8).setDynamicOffset())
+                                                            .add(BindingItem::storageBuffer(1, results)));
+    const std::array<uint32_t, 1> slice2 = {2 * stride};
+    const std::vector<std::string> calls = submitLogged([&](ICommandList& cmd) {
+        cmd.setPipeline(increment);
+        cmd.setBindingSet(0, writeSlice2);
+        cmd.dispatch(1);
+        cmd.setPipeline(reading);
+        cmd.setBindingSet(0, window, slice2);
+        cmd.dispatch(1);
+    });
+    ASSERT_GE(calls.size(), 3u);
+    EXPECT_EQ(calls[0], "dispatch");
+    EXPECT_TRUE(calls[1].starts_with("barrier") &&
+                (std::stoul(calls[1].substr(8), nullptr, 16) & GL_UNIFORM_BARRIER_BIT) != 0)
+        << "the read through the moved window must wait for the write; calls: " << fmt::format("{}", fmt::join(calls, ", "));
+    EXPECT_EQ(readBufferAs<uint32_t>(results), (std::vector<uint32_t>{0, 0, 7, 0}));
 }
 
 // A list that only draws and copies (no shader writes) issues no barrier at all.

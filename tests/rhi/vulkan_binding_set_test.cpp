@@ -4,6 +4,8 @@
 // cache line (BindingSet::bindBytes), and that set's one read is kept there (LayoutUse::onlyRead).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cstring>
 #include <vector>
 
@@ -47,6 +49,38 @@ TEST_P(VulkanBindingSetTest, AOneReadSetsBindReadsOneCacheLine) {
     ASSERT_EQ(use->accesses.size(), 1u);
     EXPECT_EQ(layout.onlyBindingStages, use->accesses[0].stages) << "what the pass's reads are widened by";
     EXPECT_EQ(layout.onlyBindingStages, VkPipelineStageFlags(VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT));
+}
+
+// A dynamic uniform buffer's access is every window its offsets can select, from the item's
+// offset to the buffer's end, so that no offset escapes the tracking; and the set never takes the
+// straight-line binds, which pass no offsets (no one read, not a plain bind).
+TEST_P(VulkanBindingSetTest, ADynamicSetsAccessCoversEveryWindow) {
+    BufferHandle uniforms = createBuffer(BufferUsage::Uniform, std::vector<std::byte>(1024));
+    BindingSetHandle slices = device().createBindingSet(
+        BindingSetDesc().add(BindingItem::uniformBuffer(0, uniforms, 256, 64).setDynamicOffset()));
+    PipelineHandle pipeline = device().createGraphicsPipeline(
+        GraphicsPipelineDesc()
+            .setShaders(shader("rt_fullscreen_vert"), shader("bench_uniform_color_frag"))
+            .addColorFormat(Format::RGBA8_UNORM)
+            .addDynamicUniformBuffer(0, 0));
+    TextureHandle target = createTexture2D(Format::RGBA8_UNORM, 4, 4, TextureUsage::RenderTarget);
+    const std::array<uint32_t, 1> offset = {uint32_t(std::max<uint64_t>(caps().limits.uniformBufferOffsetAlignment, 64))};
+    submit([&](ICommandList& cmd) {
+        cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(target)));
+        cmd.setPipeline(pipeline);
+        cmd.setBindingSet(0, slices, offset);
+        cmd.draw(3);
+        cmd.endRenderPass();
+    });
+    const auto& set = dynamic_cast<const vulkan::BindingSet&>(*slices);
+    const vulkan::BindingSet::LayoutUse* use = set.findUse(dynamic_cast<const vulkan::Pipeline&>(*pipeline).sets[0]->layout);
+    ASSERT_NE(use, nullptr);
+    ASSERT_EQ(use->accesses.size(), 1u);
+    EXPECT_EQ(use->accesses[0].range.begin, 256u);
+    EXPECT_EQ(use->accesses[0].range.end, 1024u) << "a window moved by an offset must stay inside the tracked range";
+    EXPECT_EQ(use->onlyRead.resource, nullptr) << "bindInPass would bind it without its offsets";
+    EXPECT_FALSE(use->plainBind) << "the straight-line dispatch would bind it without its offsets";
+    EXPECT_EQ(use->dynamicCount, 1u);
 }
 
 // A set whose one access writes is tracked as a write by the general path: it has no one read.

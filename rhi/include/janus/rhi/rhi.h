@@ -232,6 +232,10 @@ struct BackendAccess;
 struct KeepMark {
     std::atomic<uint64_t> recording{0};
     std::atomic<uint32_t> slot{0};
+    // Not bookkeeping: a binding set's count of dynamic offsets (BindingItem::dynamicOffset), which
+    // every setBindingSet checks. Here because that bind reads this line anyway and the field was
+    // padding: IBindingSet does not grow (a GL set fits what a draw reads of it in one line).
+    uint32_t dynamicOffsetCount = 0;
 };
 }  // namespace detail
 
@@ -408,6 +412,14 @@ struct DepthState {
 enum class BlendFactor { Zero, One, SrcColor, OneMinusSrcColor, SrcAlpha, OneMinusSrcAlpha, DstColor, OneMinusDstColor, DstAlpha, OneMinusDstAlpha };
 enum class BlendOp { Add, Subtract, ReverseSubtract, Min, Max };
 
+// A uniform buffer a pipeline reads through a dynamic offset (BindingItem::dynamicOffset): Vulkan
+// bakes the binding's kind into the pipeline's layout, so the pipeline names it.
+struct DynamicUniformBuffer {
+    uint32_t set = 0;
+    uint32_t binding = 0;
+    bool operator==(const DynamicUniformBuffer&) const = default;
+};
+
 struct BlendAttachment {
     bool enable = false;
     BlendFactor srcColor = BlendFactor::One;
@@ -434,6 +446,7 @@ struct GraphicsPipelineDesc {
     // Formats of the attachments the pipeline renders into (must match the render pass).
     std::vector<Format> colorFormats;
     Format depthFormat = Format::Unknown;
+    std::vector<DynamicUniformBuffer> dynamicUniformBuffers;   // read with dynamic offsets
     std::string debugName;
 
     GraphicsPipelineDesc& setShaders(ShaderHandle vs, ShaderHandle fs) { vertexShader = std::move(vs); fragmentShader = std::move(fs); return *this; }
@@ -444,14 +457,17 @@ struct GraphicsPipelineDesc {
     GraphicsPipelineDesc& setDepth(DepthState v) { depth = v; return *this; }
     GraphicsPipelineDesc& addColorFormat(Format f, BlendAttachment b = {}) { colorFormats.push_back(f); blend.push_back(b); return *this; }
     GraphicsPipelineDesc& setDepthFormat(Format f) { depthFormat = f; return *this; }
+    GraphicsPipelineDesc& addDynamicUniformBuffer(uint32_t set, uint32_t binding) { dynamicUniformBuffers.push_back({set, binding}); return *this; }
     GraphicsPipelineDesc& setDebugName(std::string v) { debugName = std::move(v); return *this; }
 };
 
 struct ComputePipelineDesc {
     ShaderHandle computeShader;
+    std::vector<DynamicUniformBuffer> dynamicUniformBuffers;   // read with dynamic offsets
     std::string debugName;
 
     ComputePipelineDesc& setShader(ShaderHandle v) { computeShader = std::move(v); return *this; }
+    ComputePipelineDesc& addDynamicUniformBuffer(uint32_t set, uint32_t binding) { dynamicUniformBuffers.push_back({set, binding}); return *this; }
     ComputePipelineDesc& setDebugName(std::string v) { debugName = std::move(v); return *this; }
 };
 
@@ -511,6 +527,12 @@ struct BindingItem {
     uint32_t mipLevel = 0;            // StorageImage: which level
     TextureViewRange view;            // textures: which mips / layers the binding sees
     std::optional<TextureDimension> viewDimension;   // textures: view as another dimension
+    // Uniform buffers: the bound window [offset + d, offset + d + range) moves with the offset d
+    // given to each setBindingSet (one per dynamic item, in binding order), so one set serves many
+    // draws, each with its own slice (Vulkan's UNIFORM_BUFFER_DYNAMIC, WebGPU's hasDynamicOffset).
+    // Needs a non-zero range, and pipelines that read the binding declare it dynamic
+    // (GraphicsPipelineDesc::addDynamicUniformBuffer).
+    bool dynamicOffset = false;
 
     static BindingItem uniformBuffer(uint32_t b, BufferHandle buf, uint64_t off = 0, uint64_t rng = 0) { BindingItem i; i.binding = b; i.type = ResourceType::UniformBuffer; i.buffer = std::move(buf); i.offset = off; i.range = rng; return i; }
     static BindingItem storageBuffer(uint32_t b, BufferHandle buf, uint64_t off = 0, uint64_t rng = 0) { BindingItem i; i.binding = b; i.type = ResourceType::StorageBuffer; i.buffer = std::move(buf); i.offset = off; i.range = rng; return i; }
@@ -521,10 +543,15 @@ struct BindingItem {
     BindingItem& setMips(uint32_t base, uint32_t count = 1) { view.baseMip = base; view.mipCount = count; return *this; }
     BindingItem& setLayers(uint32_t base, uint32_t count = 1) { view.baseLayer = base; view.layerCount = count; return *this; }
     BindingItem& setViewDimension(TextureDimension d) { viewDimension = d; return *this; }
+    BindingItem& setDynamicOffset(bool v = true) { dynamicOffset = v; return *this; }
 };
 
 // Sets a pipeline may use: `layout(set = 0 .. kMaxBindingSets - 1)`.
 inline constexpr uint32_t kMaxBindingSets = 4;
+// Dynamic uniform buffers (BindingItem::dynamicOffset): at most this many items of a set, and this
+// many bindings a pipeline declares (Vulkan's guaranteed maxDescriptorSetUniformBuffersDynamic).
+inline constexpr uint32_t kMaxDynamicOffsetsPerSet = 4;
+inline constexpr uint32_t kMaxDynamicUniformBuffersPerPipeline = 8;
 
 struct BindingSetDesc {
     std::vector<BindingItem> items;
@@ -538,6 +565,8 @@ public:
 
 private:
     friend struct detail::BackendAccess;
+    friend class IDevice;        // sets the dynamic offset count
+    friend class ICommandList;   // checks it
     // Here rather than in each backend's class: a command list finds out whether it holds a set
     // before it knows the set's type, and one it holds had its type checked when it first held it,
     // so a per-draw bind of a held set checks nothing else.
@@ -637,8 +666,22 @@ public:
     void setScissor(const ScissorRect& scissor);
     virtual void setPipeline(const PipelineHandle& pipeline) = 0;
     void setBindingSet(uint32_t set, const BindingSetHandle& bindings) {
-        if (set >= kMaxBindingSets || !bindings) [[unlikely]] throwInvalidSetBinding(set);
+        if (set >= kMaxBindingSets || !bindings || bindings->m_keepMark.dynamicOffsetCount) [[unlikely]]
+            throwInvalidSetBinding(set, bindings.get());
         setBindingSetImpl(set, bindings);
+    }
+    // A set with dynamic uniform buffers (BindingItem::dynamicOffset): one offset per such item, in
+    // binding order, each a multiple of Limits::uniformBufferOffsetAlignment and keeping its window
+    // inside the buffer. Binding the set again with other offsets moves its windows.
+    void setBindingSet(uint32_t set, const BindingSetHandle& bindings, std::span<const uint32_t> dynamicOffsets) {
+        // Per draw, so inline: the count, and the alignment by a mask (a power of two, else every
+        // offset but 0 takes the checked path, which divides).
+        uint32_t misaligned = 0;
+        for (const uint32_t offset : dynamicOffsets) misaligned |= offset & m_dynamicOffsetMask;
+        if (set >= kMaxBindingSets || !bindings || misaligned ||
+            dynamicOffsets.size() != bindings->m_keepMark.dynamicOffsetCount || dynamicOffsets.empty()) [[unlikely]]
+            return setBindingSetChecked(set, bindings, dynamicOffsets);
+        setBindingSetImpl(set, bindings, dynamicOffsets);
     }
     void setVertexBuffer(uint32_t slot, const BufferHandle& buffer, uint64_t offset = 0);
     void setIndexBuffer(const BufferHandle& buffer, IndexType type, uint64_t offset = 0);
@@ -686,6 +729,10 @@ protected:
     virtual void setViewportImpl(const Viewport& viewport) = 0;
     virtual void setScissorImpl(const ScissorRect& scissor) = 0;
     virtual void setBindingSetImpl(uint32_t set, const BindingSetHandle& bindings) = 0;
+    // A set with dynamic offsets (count and alignment checked; the backend checks the windows
+    // with requireDynamicWindowsInside, rhi/backend-api/janus/rhi/dynamic_offsets.h).
+    virtual void setBindingSetImpl(uint32_t set, const BindingSetHandle& bindings,
+                                   std::span<const uint32_t> dynamicOffsets) = 0;
     virtual void setVertexBufferImpl(uint32_t slot, const BufferHandle& buffer, uint64_t offset) = 0;
     virtual void setIndexBufferImpl(const BufferHandle& buffer, IndexType type, uint64_t offset) = 0;
     virtual void dispatchImpl(uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ) = 0;
@@ -703,7 +750,10 @@ protected:
 
 private:
     friend class IDevice;
-    [[noreturn]] void throwInvalidSetBinding(uint32_t set) const;
+    [[noreturn]] void throwInvalidSetBinding(uint32_t set, const IBindingSet* bindings) const;
+    void setBindingSetChecked(uint32_t set, const BindingSetHandle& bindings, std::span<const uint32_t> dynamicOffsets);
+    // Limits::uniformBufferOffsetAlignment - 1 where that is a power of two, else ~0 (set with m_properties).
+    uint32_t m_dynamicOffsetMask = ~0u;
     [[noreturn]] void throwInvalidDispatch(uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ) const;
     std::shared_ptr<const DeviceProperties> m_properties;   // set by IDevice::createCommandList
     std::shared_ptr<detail::IndexValueLog> m_indexValueLog;   // likewise, with validation on
