@@ -103,15 +103,21 @@ struct FrameSide {
     std::function<void()> check;
     std::function<std::shared_ptr<void>()> enter = [] { return std::shared_ptr<void>(); };
 };
-enum class Work { Draws, Dispatches };
-// A side whose frames are submitDraws() / submitDispatches() and whose checks are checkDraws() /
-// checkDispatches() (every raw side and the RHI scene).
+// How each draw gets its own uniform slice: a binding set (descriptor set) of its own, or one set
+// whose dynamic offset moves per draw (BindingItem::dynamicOffset, Vulkan's
+// UNIFORM_BUFFER_DYNAMIC). Raw GL binds a range per draw either way: glBindBufferRange is GL's
+// dynamic offset.
+enum class DrawSlices { PerDrawSets, DynamicOffsets };
+enum class Work { Draws, Dispatches, DynamicDraws };
+// A side whose frames are submitDraws(slices) / submitDispatches() and whose checks are
+// checkDraws() / checkDispatches() (every raw side and the RHI scene).
 template <class Side>
 FrameSide frameSideOf(Side& side, Work work, std::function<void()> wait) {
     FrameSide frames;
     frames.wait = std::move(wait);
-    if (work == Work::Draws) {
-        frames.submit = [&side] { side.submitDraws(); };
+    if (work != Work::Dispatches) {
+        const DrawSlices slices = work == Work::DynamicDraws ? DrawSlices::DynamicOffsets : DrawSlices::PerDrawSets;
+        frames.submit = [&side, slices] { side.submitDraws(slices); };
         frames.check = [&side] { side.checkDraws(); };
     } else {
         frames.submit = [&side] { side.submitDispatches(); };
@@ -155,9 +161,10 @@ inline constexpr int kExitSomeRunsFailed = 3;
 
 // The benchmarks. Each times opsPerFrame() draws (into the 8x8 target, rebinding the colour
 // uniform block per draw) or dispatches (1x1x1, rebinding the counter per dispatch) per iteration.
-void rhiDraws(benchmark::State& state, rhi::Backend backend);
+void rhiDraws(benchmark::State& state, rhi::Backend backend, DrawSlices slices = DrawSlices::PerDrawSets);
 // With the per-draw driver calls answered by stubs (null_driver.h): the RHI's own code.
-void rhiDrawsWithNullDriver(benchmark::State& state, rhi::Backend backend);
+void rhiDrawsWithNullDriver(benchmark::State& state, rhi::Backend backend,
+                            DrawSlices slices = DrawSlices::PerDrawSets);
 void rhiDispatches(benchmark::State& state, rhi::Backend backend);
 // The same for Vulkan dispatches.
 void rhiDispatchesWithNullDriver(benchmark::State& state);
@@ -170,7 +177,7 @@ enum class RawVulkanDraws {
                      // buffers (no ONE_TIME_SUBMIT): every choice of the RHI's that reaches the driver
     NullDriver,      // Plain, with the per-draw calls answered by stubs (null_driver.h)
 };
-void rawVulkanDraws(benchmark::State& state, RawVulkanDraws how);
+void rawVulkanDraws(benchmark::State& state, RawVulkanDraws how, DrawSlices slices = DrawSlices::PerDrawSets);
 // How the raw Vulkan side dispatches: as an application would, or with one thing changed
 // (explanatory runs, printed apart by scripts/bench.sh).
 enum class RawVulkanDispatches {

@@ -292,6 +292,22 @@ void registerBenchmarks(int64_t frames) {
     // Not part of the ratio table: the null-driver runs, as for Vulkan above.
     add("draw/gl/raw_null_driver", [](benchmark::State& state) { rawGLDraws(state, Backend::GL, RawGLDraws::NullDriver); });
     add("draw/gl/rhi_null_driver", [](benchmark::State& state) { rhiDrawsWithNullDriver(state, Backend::GL); });
+    // The draws again with one set whose dynamic offset moves per draw (DrawSlices::DynamicOffsets)
+    // instead of a set per draw, on both sides. Raw GL's calls are the same either way (its range
+    // bind is GL's dynamic offset), so its raw rows are the plain raw frames again.
+    add("draw_dynamic/vulkan/raw",
+        [](benchmark::State& state) { rawVulkanDraws(state, RawVulkanDraws::Plain, DrawSlices::DynamicOffsets); });
+    add("draw_dynamic/vulkan/rhi",
+        [](benchmark::State& state) { rhiDraws(state, Backend::Vulkan, DrawSlices::DynamicOffsets); });
+    add("draw_dynamic/vulkan/raw_null_driver",
+        [](benchmark::State& state) { rawVulkanDraws(state, RawVulkanDraws::NullDriver, DrawSlices::DynamicOffsets); });
+    add("draw_dynamic/vulkan/rhi_null_driver",
+        [](benchmark::State& state) { rhiDrawsWithNullDriver(state, Backend::Vulkan, DrawSlices::DynamicOffsets); });
+    add("draw_dynamic/gl/raw", [](benchmark::State& state) { rawGLDraws(state, Backend::GL, RawGLDraws::Plain); });
+    add("draw_dynamic/gl/rhi", [](benchmark::State& state) { rhiDraws(state, Backend::GL, DrawSlices::DynamicOffsets); });
+    add("draw_dynamic/gles/raw", [](benchmark::State& state) { rawGLDraws(state, Backend::GLES, RawGLDraws::Plain); });
+    add("draw_dynamic/gles/rhi",
+        [](benchmark::State& state) { rhiDraws(state, Backend::GLES, DrawSlices::DynamicOffsets); });
     add("dispatch/gl/raw", rawGLDispatches);
     add("dispatch/gl/rhi", [](benchmark::State& state) { rhiDispatches(state, Backend::GL); });
     add("draw/gles/raw", [](benchmark::State& state) { rawGLDraws(state, Backend::GLES, RawGLDraws::Plain); });
@@ -322,6 +338,12 @@ void registerBenchmarks(int64_t frames) {
               [] { return rhiSide(Backend::GL, Work::Dispatches); });
     addPaired("draw/gles/paired", [] { return rawGLSide(Backend::GLES, Work::Draws); },
               [] { return rhiSide(Backend::GLES, Work::Draws); });
+    addPaired("draw_dynamic/vulkan/paired", [] { return rawVulkanSide(Work::DynamicDraws); },
+              [] { return rhiSide(Backend::Vulkan, Work::DynamicDraws); });
+    addPaired("draw_dynamic/gl/paired", [] { return rawGLSide(Backend::GL, Work::DynamicDraws); },
+              [] { return rhiSide(Backend::GL, Work::DynamicDraws); });
+    addPaired("draw_dynamic/gles/paired", [] { return rawGLSide(Backend::GLES, Work::DynamicDraws); },
+              [] { return rhiSide(Backend::GLES, Work::DynamicDraws); });
 }
 
 // janus_bench_rhi's own flags, taken out of argv before Google Benchmark sees them:

@@ -61,12 +61,13 @@ void APIENTRY nullDrawArrays(GLenum mode, GLint first, GLsizei count) {
 template <bool Footprint, VkPipelineBindPoint Expected>
 VKAPI_ATTR void VKAPI_CALL nullBindDescriptorSets(VkCommandBuffer, VkPipelineBindPoint bindPoint, VkPipelineLayout,
                                                   uint32_t firstSet, uint32_t count, const VkDescriptorSet* sets,
-                                                  uint32_t dynamicOffsets, const uint32_t*) {
+                                                  uint32_t dynamicOffsets, const uint32_t* offsets) {
     ++g_calls.binds;
     if constexpr (Footprint) writeFootprint();
     if (bindPoint != Expected || firstSet != 0 || count != 1 || !sets || *sets == VK_NULL_HANDLE ||
-        dynamicOffsets != 0)
+        dynamicOffsets > 1)
         ++g_calls.unexpected;
+    if (dynamicOffsets == 1) g_calls.offsetSum += *offsets;   // DrawSlices::DynamicOffsets: the slice's
 }
 
 template <bool Footprint>
@@ -111,13 +112,16 @@ NullGLDriver nullGLDriver(PFNGLBINDBUFFERRANGEPROC& bindBufferRange, PFNGLDRAWAR
     return NullGLDriver(bindBufferRange, drawArrays, nullBindBufferRange<false>, nullDrawArrays<false>, true, "draw");
 }
 
-NullVulkanDriver nullVulkanDriver(PFN_vkCmdBindDescriptorSets& bindDescriptorSets, PFN_vkCmdDraw& draw) {
+NullVulkanDriver nullVulkanDriver(PFN_vkCmdBindDescriptorSets& bindDescriptorSets, PFN_vkCmdDraw& draw,
+                                  DrawSlices slices) {
     constexpr VkPipelineBindPoint kGraphics = VK_PIPELINE_BIND_POINT_GRAPHICS;
+    // Dynamic offsets: each frame must pass every slice's offset once; a set per draw: none.
+    const bool offsets = slices == DrawSlices::DynamicOffsets;
     if (footprintPerCall() != 0)
-        return NullVulkanDriver(bindDescriptorSets, draw, nullBindDescriptorSets<true, kGraphics>, nullDraw<true>, false,
-                                "draw");
-    return NullVulkanDriver(bindDescriptorSets, draw, nullBindDescriptorSets<false, kGraphics>, nullDraw<false>, false,
-                            "draw");
+        return NullVulkanDriver(bindDescriptorSets, draw, nullBindDescriptorSets<true, kGraphics>, nullDraw<true>,
+                                offsets, "draw");
+    return NullVulkanDriver(bindDescriptorSets, draw, nullBindDescriptorSets<false, kGraphics>, nullDraw<false>,
+                            offsets, "draw");
 }
 
 NullVulkanDispatchDriver nullVulkanDispatchDriver(PFN_vkCmdBindDescriptorSets& bindDescriptorSets,

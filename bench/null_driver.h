@@ -24,13 +24,15 @@
 #include <cstdint>
 #include <string>
 
+#include "bench_common.h"
+
 namespace janus::bench {
 
 // What the stubs saw since the last NullGLDriver or NullVulkanDriver was made.
 struct NullDriverCalls {
     uint64_t binds = 0;
     uint64_t ops = 0;          // draws or dispatches
-    uint64_t offsetSum = 0;    // GL: of the bound ranges (each frame binds every slice once)
+    uint64_t offsetSum = 0;    // GL: of the bound ranges; Vulkan: of the dynamic offsets (each frame binds every slice once)
     uint64_t unexpected = 0;   // a call with arguments the workload never makes
 };
 
@@ -77,7 +79,8 @@ using NullGLDriver = NullDriver<PFNGLBINDBUFFERRANGEPROC, PFNGLDRAWARRAYSPROC>;
 using NullVulkanDriver = NullDriver<PFN_vkCmdBindDescriptorSets, PFN_vkCmdDraw>;
 using NullVulkanDispatchDriver = NullDriver<PFN_vkCmdBindDescriptorSets, PFN_vkCmdDispatch>;
 NullGLDriver nullGLDriver(PFNGLBINDBUFFERRANGEPROC& bindBufferRange, PFNGLDRAWARRAYSPROC& drawArrays);
-NullVulkanDriver nullVulkanDriver(PFN_vkCmdBindDescriptorSets& bindDescriptorSets, PFN_vkCmdDraw& draw);
+NullVulkanDriver nullVulkanDriver(PFN_vkCmdBindDescriptorSets& bindDescriptorSets, PFN_vkCmdDraw& draw,
+                                  DrawSlices slices = DrawSlices::PerDrawSets);
 NullVulkanDispatchDriver nullVulkanDispatchDriver(PFN_vkCmdBindDescriptorSets& bindDescriptorSets,
                                                   PFN_vkCmdDispatch& dispatch);
 

@@ -134,6 +134,9 @@ public:
     GLCalls& calls() { return m_gl; }
 
     void submitDraws(RawGLDraws how = RawGLDraws::Plain);
+    // A paired side's frames: GL binds a range per draw (glBindBufferRange at the slice's offset)
+    // whichever way the RHI side gives each draw its slice, so both are the plain frames.
+    void submitDraws(DrawSlices) { submitDraws(RawGLDraws::Plain); }
     void submitDispatches();
     void finish() { m_gl.glFinish(); }
     void checkDraws();

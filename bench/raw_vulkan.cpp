@@ -52,7 +52,7 @@ public:
     PFN_vkCmdBindDescriptorSets nullBind = nullptr;
     PFN_vkCmdDraw nullDraw = nullptr;
     PFN_vkCmdDispatch nullDispatch = nullptr;
-    void submitDraws();
+    void submitDraws(DrawSlices slices = DrawSlices::PerDrawSets);
     void submitDispatches(RawVulkanDispatches how = RawVulkanDispatches::Plain);
     void wait() { check(vkWaitForFences(m_device, 1, &m_fence, VK_TRUE, UINT64_MAX), "vkWaitForFences"); }
     void checkDraws();
@@ -99,6 +99,12 @@ private:
     VkPipelineLayout m_drawLayoutAsRhi = VK_NULL_HANDLE;
     VkPipeline m_drawPipelineAsRhi = VK_NULL_HANDLE;
     std::vector<VkDescriptorSet> m_drawSets;
+    // DrawSlices::DynamicOffsets: one set whose UNIFORM_BUFFER_DYNAMIC window moves per draw (as an
+    // application would have it: one set layout, its pipeline layout and pipeline).
+    VkDescriptorSetLayout m_dynamicSetLayout = VK_NULL_HANDLE;
+    VkPipelineLayout m_dynamicLayout = VK_NULL_HANDLE;
+    VkPipeline m_dynamicPipeline = VK_NULL_HANDLE;
+    VkDescriptorSet m_dynamicSet = VK_NULL_HANDLE;
 
     HostBuffer m_counters;
     VkDescriptorSetLayout m_counterSetLayout = VK_NULL_HANDLE;
@@ -130,10 +136,11 @@ RawVulkan::RawVulkan(const std::string& deviceName) {
     check(vkCreateFence(m_device, &fenceInfo, nullptr, &m_fence), "vkCreateFence");
 
     const VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, opsPerFrame()},
-                                          {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, opsPerFrame()}};
+                                          {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, opsPerFrame()},
+                                          {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 1}};
     VkDescriptorPoolCreateInfo descriptorPoolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-    descriptorPoolInfo.maxSets = 2 * opsPerFrame();
-    descriptorPoolInfo.poolSizeCount = 2;
+    descriptorPoolInfo.maxSets = 2 * opsPerFrame() + 1;
+    descriptorPoolInfo.poolSizeCount = 3;
     descriptorPoolInfo.pPoolSizes = sizes;
     check(vkCreateDescriptorPool(m_device, &descriptorPoolInfo, nullptr, &m_descriptorPool), "vkCreateDescriptorPool");
 
@@ -148,6 +155,9 @@ RawVulkan::RawVulkan(const std::string& deviceName) {
         wait();
         checkDraws();
     }
+    submitDraws(DrawSlices::DynamicOffsets);
+    wait();
+    checkDraws();
     submitDispatches();
     wait();
     checkDispatches();
@@ -164,6 +174,9 @@ RawVulkan::~RawVulkan() {
         vkFreeMemory(m_device, b->memory, nullptr);
     }
     vkDestroyPipeline(m_device, m_drawPipeline, nullptr);
+    vkDestroyPipeline(m_device, m_dynamicPipeline, nullptr);
+    vkDestroyPipelineLayout(m_device, m_dynamicLayout, nullptr);
+    vkDestroyDescriptorSetLayout(m_device, m_dynamicSetLayout, nullptr);
     vkDestroyPipeline(m_device, m_drawPipelineAsRhi, nullptr);
     vkDestroyPipelineLayout(m_device, m_drawLayoutAsRhi, nullptr);
     vkDestroyDescriptorSetLayout(m_device, m_emptySetLayout, nullptr);
@@ -345,6 +358,26 @@ void RawVulkan::createDrawPipeline() {
     check(vkCreatePipelineLayout(m_device, &layoutInfo, nullptr, &m_drawLayoutAsRhi), "vkCreatePipelineLayout");
     m_drawSets = allocateSets(m_drawSetLayout, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, m_drawParameters.buffer);
 
+    VkDescriptorSetLayoutBinding dynamicBinding{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 1,
+                                                VK_SHADER_STAGE_FRAGMENT_BIT, nullptr};
+    setInfo.pBindings = &dynamicBinding;
+    check(vkCreateDescriptorSetLayout(m_device, &setInfo, nullptr, &m_dynamicSetLayout), "vkCreateDescriptorSetLayout");
+    layoutInfo.setLayoutCount = 1;
+    layoutInfo.pSetLayouts = &m_dynamicSetLayout;
+    check(vkCreatePipelineLayout(m_device, &layoutInfo, nullptr, &m_dynamicLayout), "vkCreatePipelineLayout");
+    VkDescriptorSetAllocateInfo allocInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+    allocInfo.descriptorPool = m_descriptorPool;
+    allocInfo.descriptorSetCount = 1;
+    allocInfo.pSetLayouts = &m_dynamicSetLayout;
+    check(vkAllocateDescriptorSets(m_device, &allocInfo, &m_dynamicSet), "vkAllocateDescriptorSets");
+    const VkDescriptorBufferInfo window{m_drawParameters.buffer, 0, kSliceBytes};
+    VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+    write.dstSet = m_dynamicSet;
+    write.descriptorCount = 1;
+    write.descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC;
+    write.pBufferInfo = &window;
+    vkUpdateDescriptorSets(m_device, 1, &write, 0, nullptr);
+
     VkShaderModule vertex = createShaderModule("bench_triangle_vert");
     VkShaderModule fragment = createShaderModule("bench_uniform_color_frag");
     VkPipelineShaderStageCreateInfo stages[2] = {{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
@@ -406,6 +439,10 @@ void RawVulkan::createDrawPipeline() {
     if (result == VK_SUCCESS) {
         info.layout = m_drawLayoutAsRhi;
         result = vkCreateGraphicsPipelines(m_device, VK_NULL_HANDLE, 1, &info, nullptr, &m_drawPipelineAsRhi);
+    }
+    if (result == VK_SUCCESS) {
+        info.layout = m_dynamicLayout;
+        result = vkCreateGraphicsPipelines(m_device, VK_NULL_HANDLE, 1, &info, nullptr, &m_dynamicPipeline);
     }
     vkDestroyShaderModule(m_device, vertex, nullptr);
     vkDestroyShaderModule(m_device, fragment, nullptr);
@@ -474,7 +511,7 @@ void RawVulkan::submitFrame() {
     check(vkQueueSubmit(m_queue, 1, &submit, m_fence), "vkQueueSubmit");
 }
 
-void RawVulkan::submitDraws() {
+void RawVulkan::submitDraws(DrawSlices slices) {
     beginFrame();
     // The target stays in GENERAL (as in the RHI); this moves it there from UNDEFINED and orders
     // this frame's writes after the previous frame's.
@@ -503,10 +540,23 @@ void RawVulkan::submitDraws() {
     const VkViewport viewport{0, 0, float(kTargetSize), float(kTargetSize), 0, 1};
     vkCmdSetViewport(m_commands, 0, 1, &viewport);
     vkCmdSetScissor(m_commands, 0, 1, &rendering.renderArea);
-    vkCmdBindPipeline(m_commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m_rhiChoices ? m_drawPipelineAsRhi : m_drawPipeline);
-    const VkPipelineLayout layout = m_rhiChoices ? m_drawLayoutAsRhi : m_drawLayout;   // set 0 is the same in both
     const VkDeviceSize offset = 0;
     vkCmdBindVertexBuffers(m_commands, 0, 1, &m_vertices.buffer, &offset);
+    if (slices == DrawSlices::DynamicOffsets) {   // one set, its window moved per draw
+        vkCmdBindPipeline(m_commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m_dynamicPipeline);
+        const auto bind = m_nullDriver ? nullBind : vkCmdBindDescriptorSets;
+        const auto draw = m_nullDriver ? nullDraw : vkCmdDraw;
+        for (uint32_t i = 0; i < opsPerFrame(); ++i) {
+            const uint32_t slice = uint32_t(i * kSliceBytes);
+            bind(m_commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m_dynamicLayout, 0, 1, &m_dynamicSet, 1, &slice);
+            draw(m_commands, 3, 1, 0, 0);
+        }
+        vkCmdEndRendering(m_commands);
+        submitFrame();
+        return;
+    }
+    vkCmdBindPipeline(m_commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m_rhiChoices ? m_drawPipelineAsRhi : m_drawPipeline);
+    const VkPipelineLayout layout = m_rhiChoices ? m_drawLayoutAsRhi : m_drawLayout;   // set 0 is the same in both
     if (m_nullDriver) {
         for (VkDescriptorSet set : m_drawSets) {
             nullBind(m_commands, VK_PIPELINE_BIND_POINT_GRAPHICS, layout, 0, 1, &set, 0, nullptr);
@@ -580,21 +630,21 @@ RawVulkan& rawVulkan() {
 
 }  // namespace
 
-void rawVulkanDraws(benchmark::State& state, RawVulkanDraws how) {
+void rawVulkanDraws(benchmark::State& state, RawVulkanDraws how, DrawSlices slices) {
     runGuarded(state, [&] {
         RawVulkan& raw = rawVulkan();
         raw.recordAs(how);
         if (how == RawVulkanDraws::NullDriver) {
             {
-                const NullVulkanDriver driver = nullVulkanDriver(raw.nullBind, raw.nullDraw);
-                runFrames(state, [&] { raw.submitDraws(); }, [&] { raw.wait(); });
+                const NullVulkanDriver driver = nullVulkanDriver(raw.nullBind, raw.nullDraw, slices);
+                runFrames(state, [&] { raw.submitDraws(slices); }, [&] { raw.wait(); });
                 driver.requireFrames(uint64_t(state.iterations()), "raw vulkan");
             }
             raw.recordAs(RawVulkanDraws::Plain);   // and the real driver still draws
-            raw.submitDraws();
+            raw.submitDraws(slices);
             raw.wait();
         } else {
-            runFrames(state, [&] { raw.submitDraws(); }, [&] { raw.wait(); });
+            runFrames(state, [&] { raw.submitDraws(slices); }, [&] { raw.wait(); });
         }
         raw.checkDraws();
     });

@@ -53,6 +53,15 @@ RhiScene::RhiScene(Backend backend) {
     for (uint32_t i = 0; i < opsPerFrame(); ++i)
         m_drawBindings.push_back(device.createBindingSet(
             BindingSetDesc().add(BindingItem::uniformBuffer(0, m_drawParameters, i * kSliceBytes, kSliceBytes))));
+    m_dynamicDrawPipeline = device.createGraphicsPipeline(GraphicsPipelineDesc()
+                                                              .setShaders(m_vertexShader, m_fragmentShader)
+                                                              .addVertexBuffer({0, sizeof(float) * 2, false})
+                                                              .addVertexAttribute({0, VertexFormat::Float2, 0, 0})
+                                                              .addColorFormat(Format::RGBA8_UNORM)
+                                                              .addDynamicUniformBuffer(0, 0)
+                                                              .setDebugName("bench draw, dynamic offsets"));
+    m_dynamicDrawBinding = device.createBindingSet(
+        BindingSetDesc().add(BindingItem::uniformBuffer(0, m_drawParameters, 0, kSliceBytes).setDynamicOffset()));
 
     if (device.capabilities().has(Capability::Compute) && device.capabilities().has(Capability::StorageBuffers)) {
         m_computeShader = device.createShader(ShaderDesc()
@@ -72,9 +81,11 @@ RhiScene::RhiScene(Backend backend) {
 
     // One untimed frame of each kind: backends create descriptor sets, framebuffers and the like
     // on first use, and the results prove the work is really done before anything is timed.
-    submitDraws();
-    waitIdle();
-    checkDraws();
+    for (const DrawSlices slices : {DrawSlices::DynamicOffsets, DrawSlices::PerDrawSets}) {
+        submitDraws(slices);
+        waitIdle();
+        checkDraws();
+    }
     if (hasCompute()) {
         submitDispatches();
         waitIdle();
@@ -82,15 +93,24 @@ RhiScene::RhiScene(Backend backend) {
     }
 }
 
-void RhiScene::submitDraws() {
+void RhiScene::submitDraws(DrawSlices slices) {
     ICommandList& commands = *m_commands;
     commands.begin();
     commands.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(m_target)));
-    commands.setPipeline(m_drawPipeline);
     commands.setVertexBuffer(0, m_vertices);
-    for (const BindingSetHandle& bindings : m_drawBindings) {
-        commands.setBindingSet(0, bindings);
-        commands.draw(3);
+    if (slices == DrawSlices::PerDrawSets) {
+        commands.setPipeline(m_drawPipeline);
+        for (const BindingSetHandle& bindings : m_drawBindings) {
+            commands.setBindingSet(0, bindings);
+            commands.draw(3);
+        }
+    } else {
+        commands.setPipeline(m_dynamicDrawPipeline);
+        for (uint32_t i = 0; i < opsPerFrame(); ++i) {
+            const uint32_t offset = uint32_t(i * kSliceBytes);
+            commands.setBindingSet(0, m_dynamicDrawBinding, std::span(&offset, 1));
+            commands.draw(3);
+        }
     }
     commands.endRenderPass();
     commands.end();
@@ -178,14 +198,14 @@ bool testPerformanceMessageRequested() {
 }
 }  // namespace
 
-void rhiDraws(benchmark::State& state, Backend backend) {
+void rhiDraws(benchmark::State& state, Backend backend, DrawSlices slices) {
     runGuarded(state, [&] {
         RhiScene& scene = rhiScene(backend);
         const bool insert = testPerformanceMessageRequested();
         runFrames(
             state,
             [&] {
-                scene.submitDraws();
+                scene.submitDraws(slices);
                 if (insert) scene.device().insertPerformanceMessageForTesting("bench test message");
             },
             [&] { scene.waitIdle(); }, [&] { return scene.takePerformanceMessages(); });
@@ -193,25 +213,25 @@ void rhiDraws(benchmark::State& state, Backend backend) {
     });
 }
 
-void rhiDrawsWithNullDriver(benchmark::State& state, Backend backend) {
+void rhiDrawsWithNullDriver(benchmark::State& state, Backend backend, DrawSlices slices) {
     runGuarded(state, [&] {
         RhiScene& scene = rhiScene(backend);
         const std::string who = fmt::format("{} RHI", toString(backend));
         auto run = [&](const auto& driver) {
-            runFrames(state, [&] { scene.submitDraws(); }, [&] { scene.waitIdle(); },
+            runFrames(state, [&] { scene.submitDraws(slices); }, [&] { scene.waitIdle(); },
                       [&] { return scene.takePerformanceMessages(); });
             driver.requireFrames(uint64_t(state.iterations()), who);
         };
         if (backend == Backend::Vulkan) {
             rhi::vulkan::Context* vk = rhi::vulkan::contextOf(scene.device());
             if (!vk) throw std::runtime_error("the vulkan scene's device is not the Vulkan backend's");
-            run(nullVulkanDriver(vk->cmdBindDescriptorSets, vk->cmdDraw));
+            run(nullVulkanDriver(vk->cmdBindDescriptorSets, vk->cmdDraw, slices));
         } else {
             rhi::gl::GLFunctions& gl = dynamic_cast<rhi::gl::Device&>(scene.device()).context().gl;
             run(nullGLDriver(gl.glBindBufferRange, gl.glDrawArrays));
         }
         // The real driver again: nothing of the stubbed frames stayed behind in the device.
-        scene.submitDraws();
+        scene.submitDraws(slices);
         scene.waitIdle();
         scene.checkDraws();
     });

@@ -22,7 +22,7 @@ public:
     const rhi::ShaderHandle& computeShader() const { return m_computeShader; }
 
     // Record and execute one frame (opsPerFrame() draws or dispatches); waitIdle() finishes it.
-    void submitDraws();
+    void submitDraws(DrawSlices slices = DrawSlices::PerDrawSets);
     void submitDispatches();
     void waitIdle() { m_device->waitIdle(); }
     // `frames` of the submitted dispatch frames had their dispatches answered by a null driver
@@ -47,6 +47,9 @@ private:
     rhi::BufferHandle m_vertices, m_drawParameters;
     rhi::PipelineHandle m_drawPipeline;
     std::vector<rhi::BindingSetHandle> m_drawBindings;
+    // DrawSlices::DynamicOffsets: one set whose window moves per draw, and a pipeline reading it so.
+    rhi::PipelineHandle m_dynamicDrawPipeline;
+    rhi::BindingSetHandle m_dynamicDrawBinding;
 
     rhi::BufferHandle m_counters;
     rhi::PipelineHandle m_computePipeline;

@@ -189,8 +189,13 @@ def process_ratios(raw_key, rhi_key):
     raw, rhi = by_process(raw_key), by_process(rhi_key)
     return sorted(rhi[p] / raw[p] for p in raw if p in rhi)
 
-# The table's rows: (backend, work) of the compared pairs.
-PAIRS = [("vulkan", "draw"), ("vulkan", "dispatch"), ("gl", "draw"), ("gl", "dispatch"), ("gles", "draw")]
+# The table's rows: (backend, work) of the compared pairs. draw_dynamic: the draws again, each
+# draw's slice given by one set's dynamic offset instead of a set per draw (bench_common.h,
+# DrawSlices), on both sides.
+PAIRS = [("vulkan", "draw"), ("vulkan", "dispatch"), ("gl", "draw"), ("gl", "dispatch"), ("gles", "draw"),
+         ("vulkan", "draw_dynamic"), ("gl", "draw_dynamic"), ("gles", "draw_dynamic")]
+WORK_NAMES = {"draw": "draws", "dispatch": "dispatches", "draw_dynamic": "dynamic-offset draws"}
+WORK_UNIT = {"draw": "draw", "dispatch": "dispatch", "draw_dynamic": "draw"}
 
 def process_count(runs_by_key):
     return len({run.get("janus_process", "0") for key_runs in runs_by_key.values() for run in key_runs})
@@ -285,6 +290,7 @@ for work, backend, side, what, share, rest in AS_RHI:
 # each side's own code per draw or dispatch, and RHI minus raw is the RHI's, on this machine's CPU.
 NULL_CALLS = {("draw", "vulkan"): "vkCmdBindDescriptorSets and vkCmdDraw",
               ("dispatch", "vulkan"): "vkCmdBindDescriptorSets and vkCmdDispatch",
+              ("draw_dynamic", "vulkan"): "vkCmdBindDescriptorSets with its dynamic offset, and vkCmdDraw",
               ("draw", "gl"): "glBindBufferRange and glDrawArrays", ("draw", "gles"): "glBindBufferRange and glDrawArrays"}
 for (work, backend), calls in NULL_CALLS.items():
     raw_null, rhi_null = (work, backend, "raw_null_driver"), (work, backend, "rhi_null_driver")
@@ -292,12 +298,12 @@ for (work, backend), calls in NULL_CALLS.items():
     if raw_null in runs and rhi_null in runs:
         own = median(rhi_null, "submit_cpu_ns_per_op") - median(raw_null, "submit_cpu_ns_per_op")
         name = "Vulkan" if backend == "vulkan" else backend.upper()
-        line = (f"\n{name} {dict(draw='draws', dispatch='dispatches')[work]} with a null driver ({calls} answered by stubs): "
+        line = (f"\n{name} {WORK_NAMES[work]} with a null driver ({calls} answered by stubs): "
                 f"raw {median(raw_null, 'submit_cpu_ns_per_op'):.1f}, RHI {median(rhi_null, 'submit_cpu_ns_per_op'):.1f} ns/op: "
-                f"the RHI's own code takes {own:.1f} ns per {work}")
+                f"the RHI's own code takes {own:.1f} ns per {WORK_UNIT[work]}")
         if raw_key in runs and rhi_key in runs:   # a run of the null driver alone has no real operation to compare with
             raw_ns = median(raw_key, "submit_cpu_ns_per_op")
-            line += (f"; over this run's raw {work} ({raw_ns:.0f} ns) that alone would be {(raw_ns + own) / raw_ns:.2f}x "
+            line += (f"; over this run's raw {WORK_UNIT[work]} ({raw_ns:.0f} ns) that alone would be {(raw_ns + own) / raw_ns:.2f}x "
                      f"(measured: {median(rhi_key, 'submit_cpu_ns_per_op') / raw_ns:.2f}x)")
         print(line + ".")
 # The machine's own speed: raw Vulkan draws with a null driver are CPU work alone (no driver call

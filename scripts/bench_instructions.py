@@ -32,7 +32,9 @@ PAIRS = [("draw", "vulkan", "raw", "rhi"), ("dispatch", "vulkan", "raw", "rhi"),
          ("draw", "vulkan", "raw_null_driver", "rhi_null_driver"),
          ("dispatch", "vulkan", "raw_null_driver", "rhi_null_driver"), ("draw", "gl", "raw", "rhi"),
          ("dispatch", "gl", "raw", "rhi"), ("draw", "gl", "raw_null_driver", "rhi_null_driver"),
-         ("draw", "gles", "raw", "rhi"), ("draw", "gles", "raw_null_driver", "rhi_null_driver")]
+         ("draw", "gles", "raw", "rhi"), ("draw", "gles", "raw_null_driver", "rhi_null_driver"),
+         ("draw_dynamic", "vulkan", "raw", "rhi"), ("draw_dynamic", "vulkan", "raw_null_driver", "rhi_null_driver"),
+         ("draw_dynamic", "gl", "raw", "rhi"), ("draw_dynamic", "gles", "raw", "rhi")]
 DEFAULT_OPS_PER_FRAME = 1000   # kDefaultOpsPerFrame in bench/bench_common.h
 RUN_SECONDS = (1, 4)   # --benchmark_min_time of the two runs (under valgrind: about 3 and 10 frames)
 TARGET = 1.1

@@ -49,7 +49,7 @@
 # --budget SECONDS, --quick (small sizes and short runs: for trying the script, not for numbers),
 # --tests-only (info and the two suites: to check fixes when little device time is left),
 # --bench-only (info, the footprint steps and as many janus_bench_rhi processes as the budget holds,
-# each of the main pairs, their paired runs and the null-driver rows only, about 7 s: for a verdict
+# each of the main pairs, their paired runs and the null-driver rows only, about 10 s with the draw_dynamic rows: for a verdict
 # on the overhead ratios, whose spread between processes is wide).
 set -uo pipefail
 

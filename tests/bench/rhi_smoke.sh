@@ -43,7 +43,8 @@ if nameless:
 PY
 
 report=$(bash "$repo_root/scripts/bench.sh" --from-json "$scratch/bench.json")
-for row in "vulkan | draw" "vulkan | dispatch" "gl | draw" "gl | dispatch" "gles | draw"; do
+for row in "vulkan | draw" "vulkan | dispatch" "gl | draw" "gl | dispatch" "gles | draw" \
+           "vulkan | draw_dynamic" "gl | draw_dynamic" "gles | draw_dynamic"; do
   grep -Eq "^\| $(cells "$row") \| [0-9]+ \| [0-9]+ \| [0-9.]+x \|" <<<"$report" || fail "the report has no ratio for $row:
 $report"
 done
@@ -53,6 +54,7 @@ for line in "Raw Vulkan draws recording into the RHI's command memory" \
             "Raw GL draws from buffers made as the RHI makes them" \
             "Raw GLES draws from buffers made as the RHI makes them" \
             "Vulkan draws with a null driver" "Vulkan dispatches with a null driver" \
+            "Vulkan dynamic-offset draws with a null driver" \
             "GL draws with a null driver" "GLES draws with a null driver" \
             "Raw GL re-specifying the vertex attribute" "Raw Vulkan with a full barrier before every dispatch"; do
   grep -qF "$line" <<<"$report" || fail "the report lacks \"$line\":
@@ -62,7 +64,8 @@ done
 grep -qF "Paired runs: raw and RHI frames in alternating blocks of 8 frame(s) each" <<<"$report" \
   || fail "the report has no table of the paired runs:
 $report"
-for row in "vulkan | draw" "vulkan | dispatch" "gl | draw" "gl | dispatch" "gles | draw"; do
+for row in "vulkan | draw" "vulkan | dispatch" "gl | draw" "gl | dispatch" "gles | draw" \
+           "vulkan | draw_dynamic" "gl | draw_dynamic" "gles | draw_dynamic"; do
   [[ $(grep -Ec "^\| $(cells "$row") \| [0-9]+ \| [0-9]+ \| [0-9.]+x \| (met|MISSED) \| [0-9.]+x to [0-9.]+x, [01] of 1 met \|$" <<<"$report") == 1 ]] \
     || fail "the paired table has no row for $row:
 $report"
