@@ -514,13 +514,9 @@ void CommandList::setBindingSetImpl(uint32_t set, const BindingSetHandle& handle
         bindings = cast<BindingSet>(*m_context, handle, "setBindingSet", "binding set");
         m_keepAlive.keep(handle, keepMarkOf(*bindings));
     }
+    requireDynamicWindowsInside(*bindings, bindings->dynamicWindows(), dynamicOffsets);
     command::BindDynamicSet bind{set, bindings, {}};
-    const DynamicWindows& windows = bindings->dynamicWindows();
-    for (size_t i = 0; i < dynamicOffsets.size(); ++i) {
-        if (dynamicOffsets[i] > windows.mostOffset[i]) [[unlikely]]
-            throwDynamicWindowOutside(*bindings, windows, i, dynamicOffsets[i]);
-        bind.offsets[i] = dynamicOffsets[i];
-    }
+    for (size_t i = 0; i < dynamicOffsets.size(); ++i) bind.offsets[i] = dynamicOffsets[i];
     record(bind);
     if (m_bindingSets[set] == bindings) return;
     m_bindingSets[set] = bindings;

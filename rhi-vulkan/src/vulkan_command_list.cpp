@@ -318,13 +318,9 @@ void CommandList::setBindingSetImpl(uint32_t set, const BindingSetHandle& bindin
     if (m_state != State::Recording || !m_keepAlive.keepIfHeld(keepMarkOf(object))) [[unlikely]]
         return setDynamicSetChecked(set, bindings, dynamicOffsets);
     auto* bindingSet = static_cast<BindingSet*>(&object);   // held: its type was checked then
-    const DynamicWindows& windows = bindingSet->dynamicWindows();
+    requireDynamicWindowsInside(*bindingSet, bindingSet->dynamicWindows(), dynamicOffsets);   // before any change
     std::array<uint32_t, kMaxDynamicOffsetsPerSet>& kept = m_dynamicOffsets[set];
-    for (size_t i = 0; i < dynamicOffsets.size(); ++i) {
-        if (dynamicOffsets[i] > windows.mostOffset[i]) [[unlikely]]
-            throwDynamicWindowOutside(*bindingSet, windows, i, dynamicOffsets[i]);   // before anything changed
-        kept[i] = dynamicOffsets[i];
-    }
+    for (size_t i = 0; i < dynamicOffsets.size(); ++i) kept[i] = dynamicOffsets[i];
     const uint32_t bit = 1u << set;
     // Bound and tracked for this pipeline (no draw need left), so m_graphicsSetUses[set] is this
     // set's use for the pipeline's layout.
@@ -345,7 +341,7 @@ void CommandList::setDynamicSetChecked(uint32_t set, const BindingSetHandle& bin
     requireRecording("setBindingSet()");
     auto* bindingSet = native<BindingSet>(bindings, "setBindingSet(): the binding set", m_context.get());
     requireDynamicWindowsInside(*bindingSet, bindingSet->dynamicWindows(), dynamicOffsets);
-    std::copy(dynamicOffsets.begin(), dynamicOffsets.end(), m_dynamicOffsets[set].begin());
+    for (size_t i = 0; i < dynamicOffsets.size(); ++i) m_dynamicOffsets[set][i] = dynamicOffsets[i];
     bindDynamicSet(set, bindings, *bindingSet);
 }
 

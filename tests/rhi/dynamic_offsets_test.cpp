@@ -227,6 +227,28 @@ TEST_P(DynamicOffsetTest, OffsetsMustBeAlignedAndKeepTheWindowInside) {
                                {"past the end", std::to_string(3 * sliceStride())}));
 }
 
+// A refused bind changes nothing: its first offset was fine, its second outside; the draw after
+// it reads where the last accepted bind put both windows (on Vulkan the offsets wait in the list
+// until the draw binds them, so a half-taken refusal would show).
+TEST_P(DynamicOffsetTest, ARefusedBindLeavesTheLastOffsets) {
+    BufferHandle slices = sliceBuffer({m_colours.begin(), m_colours.end()});
+    BindingSetHandle set =
+        device().createBindingSet(BindingSetDesc().add(dynamicSlice(0, slices)).add(dynamicSlice(1, slices)));
+    PipelineHandle pipeline = pipelineReading("rt_two_uniforms_frag", {0, 1});
+    TextureHandle target = createTexture2D(Format::RGBA8_UNORM, 4, 4, TextureUsage::RenderTarget);
+    const std::array<uint32_t, 2> accepted = {0, sliceStride()}, refused = {3 * sliceStride(), 4 * sliceStride()};
+    submit([&](ICommandList& cmd) {
+        cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(target)));
+        cmd.setPipeline(pipeline);
+        cmd.setBindingSet(0, set, accepted);
+        EXPECT_TRUE(throwsRhiError([&] { cmd.setBindingSet(0, set, refused); }, ErrorCode::InvalidUsage, {"past the end"}));
+        cmd.draw(3);
+        cmd.endRenderPass();
+    });
+    const Rgba8 zero = m_colours[0], one = m_colours[1];
+    EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(target), std::vector<Rgba8>(16, Rgba8{zero.r, zero.g, one.b, one.a}), 4));
+}
+
 TEST_P(DynamicOffsetTest, OnlyUniformBuffersWithARangeTakeDynamicOffsets) {
     BufferHandle uniform = sliceBuffer({m_colours[0]});
     EXPECT_TRUE(throwsRhiError(
