@@ -310,7 +310,7 @@ void CommandList::setBindingSetImpl(uint32_t set, const BindingSetHandle& bindin
 // A set with dynamic uniform buffers. The common case, the set already bound and tracked at `set`
 // and moved to other offsets between draws of a pass, binds it again at once with the offsets (the
 // tracking saw every window), so the draw after it stays on its straight-line path: the per-draw
-// cost of one set for a whole pass. Anything else leaves the bind to the next draw or dispatch's
+// cost of one set for a whole pass; likewise between dispatches. Anything else leaves the bind to the next draw or dispatch's
 // general path (the straight-line ones pass no offsets, so a dynamic set never takes them).
 void CommandList::setBindingSetImpl(uint32_t set, const BindingSetHandle& bindings,
                                     std::span<const uint32_t> dynamicOffsets) {   // count and alignment checked
@@ -332,6 +332,14 @@ void CommandList::setBindingSetImpl(uint32_t set, const BindingSetHandle& bindin
             return bindDynamicUse(VK_PIPELINE_BIND_POINT_GRAPHICS, m_graphicsPipeline->layout, set, use);
         return m_context->cmdBindDescriptorSets(m_commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m_graphicsPipeline->layout,
                                                 set, 1, &use.set, use.dynamicCount, kept.data());
+    }
+    // The same between dispatches: bound for the compute pipeline, which reads it (not dirty, so
+    // m_computeSetUses[set] is this set's use for its layout); draws bind it at their next one.
+    if (m_bindingSets[set] == bindingSet && m_computePipeline && (m_computePipeline->usedSets & bit) &&
+        !(m_dirtyComputeSets & bit)) {
+        m_dirtyGraphicsSets |= bit;
+        m_drawNeeds |= kNeedsSets | kNeedsDynamicBind;
+        return bindDynamicUse(VK_PIPELINE_BIND_POINT_COMPUTE, m_computePipeline->layout, set, *m_computeSetUses[set]);
     }
     bindDynamicSet(set, bindings, *bindingSet);
 }
