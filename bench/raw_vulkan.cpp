@@ -544,12 +544,20 @@ void RawVulkan::submitDraws(DrawSlices slices) {
     vkCmdBindVertexBuffers(m_commands, 0, 1, &m_vertices.buffer, &offset);
     if (slices == DrawSlices::DynamicOffsets) {   // one set, its window moved per draw
         vkCmdBindPipeline(m_commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m_dynamicPipeline);
-        const auto bind = m_nullDriver ? nullBind : vkCmdBindDescriptorSets;
-        const auto draw = m_nullDriver ? nullDraw : vkCmdDraw;
-        for (uint32_t i = 0; i < opsPerFrame(); ++i) {
-            const uint32_t slice = uint32_t(i * kSliceBytes);
-            bind(m_commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m_dynamicLayout, 0, 1, &m_dynamicSet, 1, &slice);
-            draw(m_commands, 3, 1, 0, 0);
+        // The real driver's calls made directly, as an application makes them (like the loops below).
+        if (m_nullDriver) {
+            for (uint32_t i = 0; i < opsPerFrame(); ++i) {
+                const uint32_t slice = uint32_t(i * kSliceBytes);
+                nullBind(m_commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m_dynamicLayout, 0, 1, &m_dynamicSet, 1, &slice);
+                nullDraw(m_commands, 3, 1, 0, 0);
+            }
+        } else {
+            for (uint32_t i = 0; i < opsPerFrame(); ++i) {
+                const uint32_t slice = uint32_t(i * kSliceBytes);
+                vkCmdBindDescriptorSets(m_commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m_dynamicLayout, 0, 1, &m_dynamicSet,
+                                        1, &slice);
+                vkCmdDraw(m_commands, 3, 1, 0, 0);
+            }
         }
         vkCmdEndRendering(m_commands);
         submitFrame();

@@ -270,7 +270,7 @@ for work in ("draw", "dispatch"):
     extra, rhi_key = (work, "vulkan", "raw_command_memory"), (work, "vulkan", "rhi")
     if extra in runs and rhi_key in runs:
         raw_cm = median(extra, "submit_cpu_ns_per_op")
-        print(f"\nRaw Vulkan {dict(draw='draws', dispatch='dispatches')[work]} recording into the RHI's command memory: {raw_cm:.0f} ns/op; "
+        print(f"\nRaw Vulkan {WORK_NAMES[work]} recording into the RHI's command memory: {raw_cm:.0f} ns/op; "
               f"RHI / this = {median(rhi_key, 'submit_cpu_ns_per_op') / raw_cm:.2f}x (what the RHI's own code adds).")
 # The raw side with the RHI's choices that reach the driver: this / raw is what those choices cost
 # in the driver, RHI / this what the RHI adds besides them (docs/BENCHMARKS.md, "Explanatory runs").

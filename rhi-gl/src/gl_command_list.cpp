@@ -89,12 +89,8 @@ BindingSet::BindingSet(const Context& owner, const BindingSetDesc& desc)
                                   static_cast<const Buffer*>(item.buffer.get())->name(), item.binding,
                                   item.type == ResourceType::UniformBuffer ? GLenum(GL_UNIFORM_BUFFER)
                                                                            : GLenum(GL_SHADER_STORAGE_BUFFER)});
-        if (item.dynamicOffset) {
-            const uint32_t itemIndex = uint32_t(&item - m_desc.items.data());
-            const auto& order = m_dynamicWindows.itemIndex;
-            m_bufferRanges.back().dynamicSlot =
-                uint32_t(std::find(order.begin(), order.begin() + m_dynamicWindows.count, itemIndex) - order.begin());
-        }
+        if (item.dynamicOffset)
+            m_bufferRanges.back().dynamicSlot = m_dynamicWindows.slotOf(uint32_t(&item - m_desc.items.data()));
     }
     // A set with dynamic offsets binds from bufferRanges() (BindDynamicSet): never an inline range.
     if (m_bufferRanges.size() == 1 && m_dynamicWindows.count == 0) {
@@ -514,9 +510,8 @@ void CommandList::setBindingSetImpl(uint32_t set, const BindingSetHandle& handle
         bindings = cast<BindingSet>(*m_context, handle, "setBindingSet", "binding set");
         m_keepAlive.keep(handle, keepMarkOf(*bindings));
     }
-    requireDynamicWindowsInside(*bindings, bindings->dynamicWindows(), dynamicOffsets);
     command::BindDynamicSet bind{set, bindings, {}};
-    for (size_t i = 0; i < dynamicOffsets.size(); ++i) bind.offsets[i] = dynamicOffsets[i];
+    takeDynamicOffsets(*bindings, bindings->dynamicWindows(), dynamicOffsets, bind.offsets);
     record(bind);
     if (m_bindingSets[set] == bindings) return;
     m_bindingSets[set] = bindings;

@@ -900,8 +900,7 @@ public:
             f.glBindBufferRange(r.range.target(), r.range.index, r.range.buffer, GLintptr(r.range.offset),
                                 GLsizeiptr(r.range.size));
         else
-            for (const BindingSet::BufferRange& b : bindings.bufferRanges())
-                f.glBindBufferRange(b.target, b.index, b.buffer, rangeOffset(b, set), b.size);
+            bindBufferRanges(set, bindings);
         if (r.hasTextures) bindTextures(bindings, ~uint64_t(0));
     }
     // A set with dynamic uniform buffers, at `offsets`: its ranges are bound even when the set is
@@ -910,10 +909,14 @@ public:
                         const std::array<uint32_t, kMaxDynamicOffsetsPerSet>& offsets) {
         const bool claimed = claimSet(set, bindings, [&] { return bindings.bindingPoints(); });
         m_dynamicOffsets[set] = offsets;
+        bindBufferRanges(set, bindings);
+        if (claimed && bindings.hasTextures()) bindTextures(bindings, ~uint64_t(0));
+    }
+    // Every buffer range of the set bound at `set`, a dynamic one where its offset puts it.
+    void bindBufferRanges(uint32_t set, const BindingSet& bindings) {
         const GLFunctions& f = gl();
         for (const BindingSet::BufferRange& b : bindings.bufferRanges())
             f.glBindBufferRange(b.target, b.index, b.buffer, rangeOffset(b, set), b.size);
-        if (claimed && bindings.hasTextures()) bindTextures(bindings, ~uint64_t(0));
     }
     // Where range `b` of the set bound at `set` starts: moved by its dynamic offset, if it has one.
     GLintptr rangeOffset(const BindingSet::BufferRange& b, uint32_t set) const {

@@ -213,10 +213,7 @@ const BindingSet::LayoutUse& BindingSet::createOrFind(const DescriptorSetLayoutI
     use->hasTextureItems = !use->textureItems.empty();
     for (size_t i = 0; i < items.size(); ++i) {
         if (layout.bindings[i].type != VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC) continue;
-        const uint32_t itemIndex = uint32_t(items[i] - m_desc.items.data());
-        const auto& order = m_dynamicWindows.itemIndex;
-        use->dynamicOffsetIndex[use->dynamicCount++] =
-            uint8_t(std::find(order.begin(), order.begin() + m_dynamicWindows.count, itemIndex) - order.begin());
+        use->dynamicOffsetIndex[use->dynamicCount++] = uint8_t(m_dynamicWindows.slotOf(uint32_t(items[i] - m_desc.items.data())));
     }
     use->plainBind = !use->hasTextureItems && use->dynamicCount == 0;
     use->offsetsAsGiven = use->dynamicCount == m_dynamicWindows.count;

@@ -318,9 +318,7 @@ void CommandList::setBindingSetImpl(uint32_t set, const BindingSetHandle& bindin
     if (m_state != State::Recording || !m_keepAlive.keepIfHeld(keepMarkOf(object))) [[unlikely]]
         return setDynamicSetChecked(set, bindings, dynamicOffsets);
     auto* bindingSet = static_cast<BindingSet*>(&object);   // held: its type was checked then
-    requireDynamicWindowsInside(*bindingSet, bindingSet->dynamicWindows(), dynamicOffsets);   // before any change
-    std::array<uint32_t, kMaxDynamicOffsetsPerSet>& kept = m_dynamicOffsets[set];
-    for (size_t i = 0; i < dynamicOffsets.size(); ++i) kept[i] = dynamicOffsets[i];
+    takeDynamicOffsets(*bindingSet, bindingSet->dynamicWindows(), dynamicOffsets, m_dynamicOffsets[set]);
     const uint32_t bit = 1u << set;
     // Bound and tracked for this pipeline (no draw need left), so m_graphicsSetUses[set] is this
     // set's use for the pipeline's layout.
@@ -331,7 +329,7 @@ void CommandList::setBindingSetImpl(uint32_t set, const BindingSetHandle& bindin
         if (!use.offsetsAsGiven) [[unlikely]]
             return bindDynamicUse(VK_PIPELINE_BIND_POINT_GRAPHICS, m_graphicsPipeline->layout, set, use);
         return m_context->cmdBindDescriptorSets(m_commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m_graphicsPipeline->layout,
-                                                set, 1, &use.set, use.dynamicCount, kept.data());
+                                                set, 1, &use.set, use.dynamicCount, m_dynamicOffsets[set].data());
     }
     // The same between dispatches: bound for the compute pipeline, which reads it (not dirty, so
     // m_computeSetUses[set] is this set's use for its layout); draws bind it at their next one.
@@ -348,8 +346,7 @@ void CommandList::setDynamicSetChecked(uint32_t set, const BindingSetHandle& bin
                                        std::span<const uint32_t> dynamicOffsets) {
     requireRecording("setBindingSet()");
     auto* bindingSet = native<BindingSet>(bindings, "setBindingSet(): the binding set", m_context.get());
-    requireDynamicWindowsInside(*bindingSet, bindingSet->dynamicWindows(), dynamicOffsets);
-    for (size_t i = 0; i < dynamicOffsets.size(); ++i) m_dynamicOffsets[set][i] = dynamicOffsets[i];
+    takeDynamicOffsets(*bindingSet, bindingSet->dynamicWindows(), dynamicOffsets, m_dynamicOffsets[set]);
     bindDynamicSet(set, bindings, *bindingSet);
 }
 

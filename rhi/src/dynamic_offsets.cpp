@@ -25,7 +25,10 @@ DynamicWindows dynamicWindowsOf(const BindingSetDesc& desc) {
     return windows;
 }
 
-void throwDynamicWindowOutside(const IBindingSet& set, const DynamicWindows& windows, size_t which, uint32_t offset) {
+void throwDynamicWindowOutside(const IBindingSet& set, const DynamicWindows& windows, std::span<const uint32_t> offsets) {
+    size_t which = 0;
+    while (which + 1 < offsets.size() && offsets[which] <= windows.mostOffset[which]) ++which;
+    const uint32_t offset = offsets[which];
     const BindingItem& item = set.desc().items[windows.itemIndex[which]];
     const BufferDesc& buffer = item.buffer->desc();
     throw Error(ErrorCode::InvalidUsage,

@@ -43,8 +43,10 @@ if nameless:
 PY
 
 report=$(bash "$repo_root/scripts/bench.sh" --from-json "$scratch/bench.json")
-for row in "vulkan | draw" "vulkan | dispatch" "gl | draw" "gl | dispatch" "gles | draw" \
-           "vulkan | draw_dynamic" "gl | draw_dynamic" "gles | draw_dynamic"; do
+# The rows of the table and of the paired runs' table: scripts/bench.sh's PAIRS.
+table_rows=("vulkan | draw" "vulkan | dispatch" "gl | draw" "gl | dispatch" "gles | draw"
+            "vulkan | draw_dynamic" "gl | draw_dynamic" "gles | draw_dynamic")
+for row in "${table_rows[@]}"; do
   grep -Eq "^\| $(cells "$row") \| [0-9]+ \| [0-9]+ \| [0-9.]+x \|" <<<"$report" || fail "the report has no ratio for $row:
 $report"
 done
@@ -64,8 +66,7 @@ done
 grep -qF "Paired runs: raw and RHI frames in alternating blocks of 8 frame(s) each" <<<"$report" \
   || fail "the report has no table of the paired runs:
 $report"
-for row in "vulkan | draw" "vulkan | dispatch" "gl | draw" "gl | dispatch" "gles | draw" \
-           "vulkan | draw_dynamic" "gl | draw_dynamic" "gles | draw_dynamic"; do
+for row in "${table_rows[@]}"; do
   [[ $(grep -Ec "^\| $(cells "$row") \| [0-9]+ \| [0-9]+ \| [0-9.]+x \| (met|MISSED) \| [0-9.]+x to [0-9.]+x, [01] of 1 met \|$" <<<"$report") == 1 ]] \
     || fail "the paired table has no row for $row:
 $report"

@@ -140,11 +140,13 @@ PipelineHandle BackendTest::instancedPipeline() {
     return device().createGraphicsPipeline(desc);
 }
 
-PipelineHandle BackendTest::fullscreenPipeline(std::string_view fragmentShader, Format colorFormat) {
+PipelineHandle BackendTest::fullscreenPipeline(std::string_view fragmentShader, Format colorFormat,
+                                               const std::vector<DynamicUniformBuffer>& dynamic) {
     GraphicsPipelineDesc desc;
     desc.setShaders(shader("rt_fullscreen_vert"), shader(fragmentShader))
         .addColorFormat(colorFormat)
-        .setDebugName(std::string(fragmentShader));
+        .setDebugName(std::string(fragmentShader))
+        .dynamicUniformBuffers = dynamic;
     return device().createGraphicsPipeline(desc);
 }
 

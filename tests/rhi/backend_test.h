@@ -91,11 +91,15 @@ protected:
     // rt_instanced_vert + rt_vertex_color_frag into RGBA8: slot 0 per vertex (ColorVertex, the
     // position read), slot 1 per instance (a Color each, the instance's colour).
     PipelineHandle instancedPipeline();
-    // rt_fullscreen_vert plus `fragmentShader` into one attachment of `colorFormat`.
-    PipelineHandle fullscreenPipeline(std::string_view fragmentShader, Format colorFormat);
-    // A compute pipeline of the embedded shader `name` (debug name the same).
-    PipelineHandle computePipeline(const char* name) {
-        return device().createComputePipeline(ComputePipelineDesc().setShader(shader(name)).setDebugName(name));
+    // rt_fullscreen_vert plus `fragmentShader` into one attachment of `colorFormat`, reading the
+    // uniform buffers `dynamic` names with dynamic offsets.
+    PipelineHandle fullscreenPipeline(std::string_view fragmentShader, Format colorFormat,
+                                      const std::vector<DynamicUniformBuffer>& dynamic = {});
+    // A compute pipeline of the embedded shader `name` (debug name the same), likewise.
+    PipelineHandle computePipeline(const char* name, const std::vector<DynamicUniformBuffer>& dynamic = {}) {
+        ComputePipelineDesc desc;
+        desc.setShader(shader(name)).setDebugName(name).dynamicUniformBuffers = dynamic;
+        return device().createComputePipeline(desc);
     }
     // A storage-buffer slice offset every backend accepts, at least `bytes` past the previous one.
     uint64_t storageSliceStride(uint64_t bytes) const {

@@ -28,13 +28,10 @@ protected:
         return BindingItem::uniformBuffer(binding, buffer, 0, 16).setDynamicOffset();
     }
     // rt_fullscreen_vert + `fragment` into RGBA8, reading `dynamic` (set 0 bindings) dynamically.
-    PipelineHandle pipelineReading(std::string_view fragment, std::vector<uint32_t> dynamic) {
-        GraphicsPipelineDesc desc;
-        desc.setShaders(shader("rt_fullscreen_vert"), shader(fragment))
-            .addColorFormat(Format::RGBA8_UNORM)
-            .setDebugName(std::string(fragment) + " (dynamic)");
-        for (uint32_t binding : dynamic) desc.addDynamicUniformBuffer(0, binding);
-        return device().createGraphicsPipeline(desc);
+    PipelineHandle pipelineReading(std::string_view fragment, const std::vector<uint32_t>& dynamic) {
+        std::vector<DynamicUniformBuffer> set0;
+        for (uint32_t binding : dynamic) set0.push_back({0, binding});
+        return fullscreenPipeline(fragment, Format::RGBA8_UNORM, set0);
     }
     // A 4x4 target drawn column by column: `bindColumn(cmd, column)` binds what column draws with.
     std::vector<Rgba8> drawColumns(const PipelineHandle& pipeline,
@@ -181,8 +178,7 @@ TEST_P(DynamicOffsetTest, EachDispatchReadsTheSliceItsOffsetSelects) {
     BindingSetHandle set = device().createBindingSet(BindingSetDesc()
                                                          .add(BindingItem::uniformBuffer(0, slices, 0, 8).setDynamicOffset())
                                                          .add(BindingItem::storageBuffer(1, results)));
-    PipelineHandle pipeline = device().createComputePipeline(
-        ComputePipelineDesc().setShader(shader("rt_dynamic_slice_comp")).addDynamicUniformBuffer(0, 0).setDebugName("slices"));
+    PipelineHandle pipeline = computePipeline("rt_dynamic_slice_comp", {{0, 0}});
     submit([&](ICommandList& cmd) {
         cmd.writeBuffer(slices, slice2.data(), sizeof slice2, 2 * sliceStride());
         cmd.setPipeline(pipeline);

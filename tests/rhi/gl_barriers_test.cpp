@@ -183,8 +183,7 @@ TEST_P(GLBarriersTest, ADynamicWindowMovedOntoAWrittenSliceGetsABarrier) {
     BufferHandle slices = createBufferFrom(BufferUsage::Storage | BufferUsage::Uniform, words);
     BufferHandle results = createBufferFrom(BufferUsage::Storage, std::vector<uint32_t>(4, 0));
     PipelineHandle increment = computePipeline("bench_increment_comp");
-    PipelineHandle reading = device().createComputePipeline(
-        ComputePipelineDesc().setShader(shader("rt_dynamic_slice_comp")).addDynamicUniformBuffer(0, 0));
+    PipelineHandle reading = computePipeline("rt_dynamic_slice_comp", {{0, 0}});
     BindingSetHandle writeSlice2 = storageSlice(slices, 2 * stride, sizeof(uint32_t));
     BindingSetHandle window = device().createBindingSet(BindingSetDesc()
                                                             .add(BindingItem::uniformBuffer(0, slices, 0, 8).setDynamicOffset())

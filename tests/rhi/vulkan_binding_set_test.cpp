@@ -58,11 +58,7 @@ TEST_P(VulkanBindingSetTest, ADynamicSetsAccessCoversEveryWindow) {
     BufferHandle uniforms = createBuffer(BufferUsage::Uniform, std::vector<std::byte>(1024));
     BindingSetHandle slices = device().createBindingSet(
         BindingSetDesc().add(BindingItem::uniformBuffer(0, uniforms, 256, 64).setDynamicOffset()));
-    PipelineHandle pipeline = device().createGraphicsPipeline(
-        GraphicsPipelineDesc()
-            .setShaders(shader("rt_fullscreen_vert"), shader("bench_uniform_color_frag"))
-            .addColorFormat(Format::RGBA8_UNORM)
-            .addDynamicUniformBuffer(0, 0));
+    PipelineHandle pipeline = fullscreenPipeline("bench_uniform_color_frag", Format::RGBA8_UNORM, {{0, 0}});
     TextureHandle target = createTexture2D(Format::RGBA8_UNORM, 4, 4, TextureUsage::RenderTarget);
     const std::array<uint32_t, 1> offset = {uint32_t(std::max<uint64_t>(caps().limits.uniformBufferOffsetAlignment, 64))};
     submit([&](ICommandList& cmd) {

@@ -2,10 +2,11 @@
 // mistake is the same error with the same message on every backend. The front checks the offsets'
 // count and alignment (ICommandList::setBindingSet); a backend keeps each set's windows
 // (dynamicWindowsOf, when the set is made) and checks the offsets against them when the set is
-// bound (requireDynamicWindowsInside), and checks that a pipeline and a set agree on which
+// bound (takeDynamicOffsets), and checks that a pipeline and a set agree on which
 // bindings are dynamic when it first pairs them (requireDynamicAgreement).
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <span>
@@ -21,16 +22,23 @@ struct DynamicWindows {
     uint32_t count = 0;
     std::array<uint32_t, kMaxDynamicOffsetsPerSet> itemIndex{};   // into BindingSetDesc::items
     std::array<uint64_t, kMaxDynamicOffsetsPerSet> mostOffset{};
+    // Which offset moves BindingSetDesc::items[itemIndex] (a dynamic item: one of itemIndex).
+    uint32_t slotOf(uint32_t item) const {
+        return uint32_t(std::find(itemIndex.begin(), itemIndex.begin() + count, item) - itemIndex.begin());
+    }
 };
 DynamicWindows dynamicWindowsOf(const BindingSetDesc& desc);
 
-[[noreturn]] void throwDynamicWindowOutside(const IBindingSet& set, const DynamicWindows& windows, size_t which,
-                                            uint32_t offset);
-// `offsets` has windows.count entries (the front checked).
-inline void requireDynamicWindowsInside(const IBindingSet& set, const DynamicWindows& windows,
-                                        std::span<const uint32_t> offsets) {
-    for (size_t i = 0; i < windows.count; ++i)
-        if (offsets[i] > windows.mostOffset[i]) [[unlikely]] throwDynamicWindowOutside(set, windows, i, offsets[i]);
+// Names the first offset that moves its window past the end of its buffer.
+[[noreturn]] void throwDynamicWindowOutside(const IBindingSet& set, const DynamicWindows& windows,
+                                            std::span<const uint32_t> offsets);
+// `offsets` (windows.count of them: the front checked) into `kept`, once every window they move is
+// inside its buffer: a refused bind changes nothing.
+inline void takeDynamicOffsets(const IBindingSet& set, const DynamicWindows& windows, std::span<const uint32_t> offsets,
+                               std::array<uint32_t, kMaxDynamicOffsetsPerSet>& kept) {
+    for (size_t i = 0; i < offsets.size(); ++i)
+        if (offsets[i] > windows.mostOffset[i]) [[unlikely]] throwDynamicWindowOutside(set, windows, offsets);
+    for (size_t i = 0; i < offsets.size(); ++i) kept[i] = offsets[i];
 }
 
 // Whether `pipeline` declares set `set` binding `binding` dynamic.

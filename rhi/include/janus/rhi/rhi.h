@@ -730,7 +730,7 @@ protected:
     virtual void setScissorImpl(const ScissorRect& scissor) = 0;
     virtual void setBindingSetImpl(uint32_t set, const BindingSetHandle& bindings) = 0;
     // A set with dynamic offsets (count and alignment checked; the backend checks the windows
-    // with requireDynamicWindowsInside, rhi/backend-api/janus/rhi/dynamic_offsets.h).
+    // with takeDynamicOffsets, rhi/backend-api/janus/rhi/dynamic_offsets.h).
     virtual void setBindingSetImpl(uint32_t set, const BindingSetHandle& bindings,
                                    std::span<const uint32_t> dynamicOffsets) = 0;
     virtual void setVertexBufferImpl(uint32_t slot, const BufferHandle& buffer, uint64_t offset) = 0;
