@@ -50,13 +50,16 @@ GLbitfield shaderAccessBarrier(ResourceType type) {
     return kEveryMemoryBarrierBit;
 }
 
+// Whether a shader may write through a binding of this type; the pipeline's shaders narrow it
+// (ShaderBinding::written: a `readonly` storage binding is only read).
 bool isShaderWrite(ResourceType type) {
     return type == ResourceType::StorageBuffer || type == ResourceType::StorageImage;
 }
 
-// Notes in `found` the kinds of binding `item` is (storage write, sampled texture, any texture).
-void addKinds(UsedBindings& found, const BindingItem& item) {
-    found.writesStorage = found.writesStorage || isShaderWrite(item.type);
+// Notes in `found` the kinds of binding `item` is (storage write, sampled texture, any texture);
+// `access` is how the pipeline's shaders use it.
+void addKinds(UsedBindings& found, const BindingItem& item, const ShaderAccess& access) {
+    found.writesStorage = found.writesStorage || access.write;
     found.samplesTextures = found.samplesTextures || item.type == ResourceType::SampledTexture;
     found.usesTextures = found.usesTextures || item.texture;
 }
@@ -229,7 +232,7 @@ void CommandList::requireBindingsCached(const char* what) {
                 const size_t i = next[binding.set]++;
                 m_usedStorage.push_back(check.used[i]);
                 m_accessStorage.push_back(check.accesses[i]);
-                addKinds(m_found, *check.used[i].item);
+                addKinds(m_found, *check.used[i].item, check.accesses[i]);
             }
             m_found.used = m_usedStorage;
             m_found.accesses = m_accessStorage;
@@ -268,8 +271,10 @@ void CommandList::requireBindingsUncached(const char* what) {
                                     "shader ({})",
                                     what, binding.binding, binding.glName));
         m_usedStorage.push_back({binding.set, found});
-        m_accessStorage.push_back(set->itemAccess(size_t(found - set->desc().items.data())));
-        addKinds(m_found, *found);
+        ShaderAccess access = set->itemAccess(size_t(found - set->desc().items.data()));
+        access.write = access.write && binding.written;
+        m_accessStorage.push_back(access);
+        addKinds(m_found, *found, access);
         const auto where = [&] {
             return fmt::format("{}: set {} binding {} ({})", what, binding.set, binding.binding, binding.glName);
         };
@@ -297,7 +302,7 @@ void CommandList::requireBindingsUncached(const char* what) {
                 if (m_usedStorage[i].set != index) continue;
                 check->used.push_back(m_usedStorage[i]);
                 check->accesses.push_back(m_accessStorage[i]);
-                addKinds(check->found, *m_usedStorage[i].item);
+                addKinds(check->found, *m_usedStorage[i].item, m_accessStorage[i]);
             }
             check->found.used = check->used;
             check->found.accesses = check->accesses;

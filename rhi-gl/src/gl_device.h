@@ -624,6 +624,8 @@ public:
     // GL: nothing. The hazard tracking below is tested by counting the glMemoryBarrier calls
     // replay makes (tests/rhi/gl_barriers_test.cpp); no GL tool reports a missing barrier.
     void omitNextBarrierForTesting() override {}
+    // Shader writes no barrier has ordered yet for every access (one entry per written range).
+    size_t pendingWriteCountForTesting() const { return m_pendingWrites.size(); }
 
     // Called by Device::execute.
     void replay(Device& device);   // on the device that made it (Device::execute checks)
@@ -760,17 +762,19 @@ private:
     void trackPendingShaderAccesses(bool drawing, bool indexed);
     void addPendingWrite(const void* resource, uint64_t begin, uint64_t end) {
         m_drawReady = false;
-        // Neighbouring slices written one after another (one dispatch per slice) merge into one
-        // entry, so the list stays short and each check stays cheap.
-        if (!m_pendingWrites.empty()) {
-            PendingWrite& last = m_pendingWrites.back();
-            if (last.resource == resource && last.unsynchronized == kEveryMemoryBarrierBit && begin <= last.end &&
-                last.begin <= end) {
-                last.begin = std::min(last.begin, begin);
-                last.end = std::max(last.end, end);
+        // A write touching or overlapping one already listed for the resource merges into it (the
+        // merged range unsynchronized for every access again: at worst a barrier more, never one
+        // missed), so the list holds at most one entry per written range and each check stays
+        // cheap. Neighbouring slices written one after another (one dispatch per slice) merge too.
+        // Appending instead let draws that write two buffers in turn grow it by two entries each,
+        // and every later draw scan them all (quadratic recording).
+        for (PendingWrite& write : m_pendingWrites)
+            if (write.resource == resource && begin <= write.end && write.begin <= end) {
+                write.begin = std::min(write.begin, begin);
+                write.end = std::max(write.end, end);
+                write.unsynchronized = kEveryMemoryBarrierBit;
                 return;
             }
-        }
         m_pendingWrites.push_back({resource, begin, end, kEveryMemoryBarrierBit});
     }
 

@@ -117,12 +117,12 @@ namespace {
 // Interned binding signatures: what the binding checks read of a pipeline's bindings. The map only
 // grows, so an id is never given to another signature.
 uint64_t bindingSignatureId(const std::vector<ShaderBinding>& bindings) {
-    using Key = std::vector<std::tuple<uint32_t, uint32_t, int, int, bool, uint32_t, uint64_t, bool>>;
+    using Key = std::vector<std::tuple<uint32_t, uint32_t, int, int, bool, uint32_t, uint64_t, bool, bool>>;
     Key key;
     key.reserve(bindings.size());
     for (const ShaderBinding& b : bindings)
         key.emplace_back(b.set, b.binding, int(b.type), b.dimension ? int(*b.dimension) : -1, b.depthCompare,
-                         b.imageFormat, b.blockSize, b.dynamicOffset);
+                         b.imageFormat, b.blockSize, b.dynamicOffset, b.written);
     static std::mutex mutex;
     static std::map<Key, uint64_t> ids;
     const std::lock_guard lock(mutex);

@@ -96,7 +96,12 @@ GlslTranslation translateToGlsl(const ShaderDesc& desc, const GlslTarget& target
         uint64_t blockSize = 0;
         if (type == ResourceType::UniformBuffer || type == ResourceType::StorageBuffer)
             blockSize = compiler.get_declared_struct_size_runtime_array(compiler.get_type(resource.base_type_id), 0);
-        result.bindings.push_back({type, set, binding, glName, dimension, depthCompare, imageFormat, blockSize});
+        bool written = false;
+        if (type == ResourceType::StorageBuffer)
+            written = !compiler.get_buffer_block_flags(resource.id).get(spv::DecorationNonWritable);
+        else if (type == ResourceType::StorageImage)
+            written = !compiler.has_decoration(resource.id, spv::DecorationNonWritable);
+        result.bindings.push_back({type, set, binding, glName, dimension, depthCompare, imageFormat, blockSize, written});
     };
     for (const auto& r : resources.uniform_buffers) flatten(r, ResourceType::UniformBuffer);
     for (const auto& r : resources.storage_buffers) flatten(r, ResourceType::StorageBuffer);

@@ -22,6 +22,9 @@ struct ShaderBinding {
     bool depthCompare = false;   // a shadow sampler (sampler2DShadow and kin)
     uint32_t imageFormat = 0;    // storage images: the format qualifier (SPIR-V ImageFormat, 0: none)
     uint64_t blockSize = 0;      // buffers: the block's bytes (storage: before a runtime array)
+    // Storage buffers and images: the shader may write it (no `readonly`, SPIR-V NonWritable).
+    // Hazard tracking notes a write only for these, as the Vulkan backend does.
+    bool written = false;
     // Uniform buffers: the pipeline reads it with a dynamic offset (its DynamicUniformBuffer list).
     // Set by the pipeline, not the shader.
     bool dynamicOffset = false;

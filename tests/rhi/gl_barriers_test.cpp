@@ -247,5 +247,69 @@ TEST_P(GLBarriersTest, ADrawAfterOneThatLeftAWritePendingIsTracked) {
                                                barrier(kEvery & ~GL_UNIFORM_BARRIER_BIT)}));
 }
 
+// rt_layout_std430_comp's set: `source` read (readonly) at 0, the flat copy and the block written at 1 and 2.
+BindingSetHandle layoutBindings(IDevice& device, const BufferHandle& source, const BufferHandle& flat,
+                                const BufferHandle& block) {
+    return device.createBindingSet(BindingSetDesc()
+                                       .add(BindingItem::storageBuffer(0, source))
+                                       .add(BindingItem::storageBuffer(1, flat))
+                                       .add(BindingItem::storageBuffer(2, block)));
+}
+
+// (h) A `readonly` storage buffer is only read: dispatches reading what one dispatch wrote wait for
+// it once, and none of them counts as writing it. Before, every storage binding counted as a
+// write, so each of them waited for the one before (a barrier per dispatch, and per draw in the
+// renderer's forward pass, which reads its light lists so).
+TEST_P(GLBarriersTest, ReadOnlyStorageIsNotAWrite) {
+    BufferHandle source = createBufferFrom(BufferUsage::Storage, std::vector<uint32_t>(64, 0u));
+    PipelineHandle increment = computePipeline("bench_increment_comp");
+    PipelineHandle layout = computePipeline("rt_layout_std430_comp");
+    BindingSetHandle counter = storageSlice(source, 0, sizeof(uint32_t));
+    std::vector<BufferHandle> flats;
+    std::vector<BindingSetHandle> reads;
+    for (int i = 0; i < 3; ++i) {
+        flats.push_back(createBuffer(BufferUsage::Storage, 256));
+        reads.push_back(layoutBindings(device(), source, flats.back(), createBuffer(BufferUsage::Storage, 256)));
+    }
+    const std::vector<std::string> calls = submitLogged([&](ICommandList& cmd) {
+        cmd.setPipeline(increment);
+        cmd.setBindingSet(0, counter);
+        cmd.dispatch(1);
+        cmd.setPipeline(layout);
+        for (const BindingSetHandle& set : reads) {
+            cmd.setBindingSet(0, set);
+            cmd.dispatch(1);
+        }
+    });
+    EXPECT_EQ(calls, (std::vector<std::string>{"dispatch", barrier(GL_SHADER_STORAGE_BARRIER_BIT), "dispatch", "dispatch",
+                                               "dispatch", barrier(kEvery)}));
+    for (const BufferHandle& flat : flats) EXPECT_EQ(readBufferAs<uint32_t>(flat)[0], 1u);   // src.v.x: the counter's bits
+}
+
+// (i) Dispatches writing the same two buffers in turn keep one pending write each: every one
+// waits for the one before, and the list of writes to check does not grow with them (it grew by
+// two entries a dispatch, which every later dispatch scanned).
+TEST_P(GLBarriersTest, RepeatedWritesKeepOnePendingEntryPerRange) {
+    PipelineHandle layout = computePipeline("rt_layout_std430_comp");
+    BindingSetHandle set = layoutBindings(device(), createBuffer(BufferUsage::Storage, 256),
+                                          createBuffer(BufferUsage::Storage, 256), createBuffer(BufferUsage::Storage, 256));
+    constexpr int kDispatches = 16;
+    size_t pending = 0;
+    const std::vector<std::string> calls = submitLogged([&](ICommandList& cmd) {
+        cmd.setPipeline(layout);
+        cmd.setBindingSet(0, set);
+        for (int i = 0; i < kDispatches; ++i) cmd.dispatch(1);
+        pending = dynamic_cast<gl::CommandList&>(cmd).pendingWriteCountForTesting();
+    });
+    EXPECT_EQ(pending, 2u) << "the flat copy and the block";
+    std::vector<std::string> expected{"dispatch"};
+    for (int i = 1; i < kDispatches; ++i) {
+        expected.push_back(barrier(GL_SHADER_STORAGE_BARRIER_BIT));
+        expected.push_back("dispatch");
+    }
+    expected.push_back(barrier(kEvery));
+    EXPECT_EQ(calls, expected);
+}
+
 }  // namespace
 }  // namespace janus::rhi::test
