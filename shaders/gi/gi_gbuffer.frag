@@ -8,9 +8,9 @@
 //   2: emission, 0
 #include "renderer/forward_common.glsl"
 
-layout(set = JANUS_SET_DRAW, binding = JANUS_BINDING_BASE_COLOR) uniform sampler2D baseColorTexture;
-layout(set = JANUS_SET_DRAW, binding = JANUS_BINDING_METALLIC_ROUGHNESS) uniform sampler2D metallicRoughnessTexture;
-layout(set = JANUS_SET_DRAW, binding = JANUS_BINDING_EMISSIVE) uniform sampler2D emissiveTexture;
+layout(set = JANUS_SET_MATERIAL, binding = JANUS_BINDING_BASE_COLOR) uniform sampler2D baseColorTexture;
+layout(set = JANUS_SET_MATERIAL, binding = JANUS_BINDING_METALLIC_ROUGHNESS) uniform sampler2D metallicRoughnessTexture;
+layout(set = JANUS_SET_MATERIAL, binding = JANUS_BINDING_EMISSIVE) uniform sampler2D emissiveTexture;
 
 layout(location = 0) in vec3 vWorldPosition;
 layout(location = 1) in vec3 vNormal;

@@ -6,7 +6,7 @@
 // LessOrEqual test see the same surfaces.
 #include "renderer/forward_common.glsl"
 
-layout(set = JANUS_SET_DRAW, binding = JANUS_BINDING_BASE_COLOR) uniform sampler2D baseColorTexture;
+layout(set = JANUS_SET_MATERIAL, binding = JANUS_BINDING_BASE_COLOR) uniform sampler2D baseColorTexture;
 
 layout(location = 2) in vec2 vUv;
 layout(location = 4) in vec2 vUv1;

@@ -15,11 +15,11 @@
 
 layout(set = JANUS_SET_VIEW, binding = JANUS_BINDING_SHADOW_MAP) uniform sampler2DShadow shadowMap;
 
-layout(set = JANUS_SET_DRAW, binding = JANUS_BINDING_BASE_COLOR) uniform sampler2D baseColorTexture;          // sRGB texture: decoded by the sampler
-layout(set = JANUS_SET_DRAW, binding = JANUS_BINDING_METALLIC_ROUGHNESS) uniform sampler2D metallicRoughnessTexture;  // G roughness, B metallic
-layout(set = JANUS_SET_DRAW, binding = JANUS_BINDING_NORMAL) uniform sampler2D normalTexture;
-layout(set = JANUS_SET_DRAW, binding = JANUS_BINDING_OCCLUSION) uniform sampler2D occlusionTexture;          // R occlusion
-layout(set = JANUS_SET_DRAW, binding = JANUS_BINDING_EMISSIVE) uniform sampler2D emissiveTexture;
+layout(set = JANUS_SET_MATERIAL, binding = JANUS_BINDING_BASE_COLOR) uniform sampler2D baseColorTexture;          // sRGB texture: decoded by the sampler
+layout(set = JANUS_SET_MATERIAL, binding = JANUS_BINDING_METALLIC_ROUGHNESS) uniform sampler2D metallicRoughnessTexture;  // G roughness, B metallic
+layout(set = JANUS_SET_MATERIAL, binding = JANUS_BINDING_NORMAL) uniform sampler2D normalTexture;
+layout(set = JANUS_SET_MATERIAL, binding = JANUS_BINDING_OCCLUSION) uniform sampler2D occlusionTexture;          // R occlusion
+layout(set = JANUS_SET_MATERIAL, binding = JANUS_BINDING_EMISSIVE) uniform sampler2D emissiveTexture;
 
 layout(location = 0) in vec3 vWorldPosition;
 layout(location = 1) in vec3 vNormal;

@@ -6,6 +6,8 @@
 #include <cstddef>
 #include <cstring>
 #include <limits>
+#include <span>
+#include <tuple>
 #include <utility>
 
 #include <fmt/format.h>
@@ -205,13 +207,17 @@ const rhi::BufferHandle& GpuScene::instanceVertices(uint32_t instance) const { r
 
 void GpuScene::createDraws(const Scene& scene) {
     for (const Instance& instance : scene.instances) m_instanceVertices.push_back(m_meshes[instance.mesh].vertices);
-    // One slot per draw in a single uniform buffer; each draw's binding set views its slot.
+    // One slot per draw in a single uniform buffer; one binding set shows a slot at a time, moved
+    // to a draw's slot by the offset given with each bind (dynamic offsets: no set per draw).
     const uint64_t stride =
         alignUp(sizeof(DrawUniforms), std::max<uint32_t>(m_device.capabilities().limits.uniformBufferOffsetAlignment, 16));
     std::vector<std::byte> drawData(std::max<size_t>(scene.instances.size(), 1) * stride);
     m_drawUniforms = m_device.createBuffer(
         rhi::BufferDesc{}.setSize(drawData.size()).setUsage(rhi::BufferUsage::Uniform).setDebugName("draw uniforms"));
     const Material defaultMaterial;
+    // Material sets by scene material index (the last: meshes without a material), made for the
+    // materials some draw uses.
+    std::vector<uint32_t> materialSet(scene.materials.size() + 1, UINT32_MAX);
     for (size_t i = 0; i < scene.instances.size(); ++i) {
         const Instance& instance = scene.instances[i];
         const renderer::Mesh& mesh = scene.meshes[instance.mesh];
@@ -261,26 +267,34 @@ void GpuScene::createDraws(const Scene& scene) {
         // Skinned and morphed instances: the centre of their posed box.
         if (detail::isDeformed(scene, instance))
             if (const std::optional<Box> box = detail::instanceBounds(scene, instance)) draw.boundsCenter = box->center();
-        draw.bindings = m_device.createBindingSet(
-            rhi::BindingSetDesc{}
-                .add(rhi::BindingItem::uniformBuffer(JANUS_BINDING_DRAW_UNIFORMS, m_drawUniforms, i * stride, sizeof(DrawUniforms)))
-                .add(texture(JANUS_BINDING_BASE_COLOR, material.baseColorTexture, m_whiteTexture))
-                .add(texture(JANUS_BINDING_METALLIC_ROUGHNESS, material.metallicRoughnessTexture, m_whiteTexture))
-                .add(texture(JANUS_BINDING_NORMAL, material.normalTexture, m_flatNormalTexture))
-                .add(texture(JANUS_BINDING_OCCLUSION, material.occlusionTexture, m_whiteTexture))
-                .add(texture(JANUS_BINDING_EMISSIVE, material.emissiveTexture, m_whiteTexture)));
+        draw.uniformsOffset = uint32_t(i * stride);
+        uint32_t& set = materialSet[mesh.material >= 0 ? size_t(mesh.material) : scene.materials.size()];
+        if (set == UINT32_MAX) {
+            set = uint32_t(m_materialBindings.size());
+            m_materialBindings.push_back(m_device.createBindingSet(
+                rhi::BindingSetDesc{}
+                    .add(texture(JANUS_BINDING_BASE_COLOR, material.baseColorTexture, m_whiteTexture))
+                    .add(texture(JANUS_BINDING_METALLIC_ROUGHNESS, material.metallicRoughnessTexture, m_whiteTexture))
+                    .add(texture(JANUS_BINDING_NORMAL, material.normalTexture, m_flatNormalTexture))
+                    .add(texture(JANUS_BINDING_OCCLUSION, material.occlusionTexture, m_whiteTexture))
+                    .add(texture(JANUS_BINDING_EMISSIVE, material.emissiveTexture, m_whiteTexture))));
+        }
+        draw.material = set;
         (draw.blended ? m_blendedDraws : m_draws).push_back(std::move(draw));
     }
     m_device.writeBuffer(m_drawUniforms, drawData.data(), drawData.size());
+    m_drawBindings = m_device.createBindingSet(rhi::BindingSetDesc{}.add(
+        rhi::BindingItem::uniformBuffer(JANUS_BINDING_DRAW_UNIFORMS, m_drawUniforms, 0, sizeof(DrawUniforms)).setDynamicOffset()));
     for (const Draw& draw : m_blendedDraws) {
         if (draw.topology == MeshTopology::Triangles) m_hasBlendedKind[draw.doubleSided][draw.mirrored] = true;
         m_hasTopology[1][size_t(draw.topology)] = true;
     }
 
     // Fewer pipeline switches: single-sided draws first, then double-sided ones; mirrored ones
-    // after the others of their kind.
+    // after the others of their kind. Within each, fewer material and mesh binds: by material,
+    // then mesh.
     std::stable_sort(m_draws.begin(), m_draws.end(), [](const Draw& a, const Draw& b) {
-        return std::pair(a.doubleSided, a.mirrored) < std::pair(b.doubleSided, b.mirrored);
+        return std::tuple(a.doubleSided, a.mirrored, a.material, a.mesh) < std::tuple(b.doubleSided, b.mirrored, b.material, b.mesh);
     });
     for (const Draw& draw : m_draws) {
         if (draw.topology == MeshTopology::Triangles) m_hasKind[draw.doubleSided][draw.mirrored] = true;
@@ -304,6 +318,7 @@ rhi::PipelineHandle GpuScene::createMeshPipeline(const rhi::ShaderHandle& vertex
                                                  const std::string& name, rhi::PrimitiveTopology topology) const {
     rhi::GraphicsPipelineDesc desc;
     addVertexLayout(desc.setShaders(vertexShader, fragmentShader).setTopology(topology))
+        .addDynamicUniformBuffer(JANUS_SET_DRAW, JANUS_BINDING_DRAW_UNIFORMS)
         // glTF front faces are counter-clockwise; an ordinary projection keeps that as seen in
         // the image, a mirrored one (cube faces) or a mirrored instance turns it clockwise.
         .setRaster(rhi::RasterState{cull, clockwise ? rhi::FrontFace::Clockwise : rhi::FrontFace::CounterClockwise})
@@ -397,25 +412,36 @@ bool GpuScene::viewSeesBlended(const SceneView& view) const {
     return std::any_of(m_blendedDraws.begin(), m_blendedDraws.end(), [&](const Draw& draw) { return viewSees(view, draw); });
 }
 
-// One mesh draw; binds the pipeline and the view set only when the pipeline changes.
+// One mesh draw: the draw set at its uniforms' offset; the pipeline (with the view set), the
+// material set and the mesh's buffers only when they change.
 void GpuScene::recordDraw(rhi::ICommandList& cmd, const rhi::PipelineHandle& pipeline, const Draw& draw,
-                          const rhi::BindingSetHandle& viewBindings, const rhi::IPipeline*& bound, PassReport& report) const {
-    if (pipeline.get() != bound) {
+                          const rhi::BindingSetHandle& viewBindings, BoundForDraws& bound, PassReport& report) const {
+    if (pipeline.get() != bound.pipeline) {
         cmd.setPipeline(pipeline);
         cmd.setBindingSet(JANUS_SET_VIEW, viewBindings);
-        bound = pipeline.get();
+        bound = {pipeline.get()};   // and the rest again, as a new pipeline reads them
     }
+    if (draw.material != bound.material) {
+        cmd.setBindingSet(JANUS_SET_MATERIAL, m_materialBindings[draw.material]);
+        bound.material = draw.material;
+    }
+    cmd.setBindingSet(JANUS_SET_DRAW, m_drawBindings, std::span(&draw.uniformsOffset, 1));
     const Mesh& mesh = m_meshes[draw.mesh];
-    cmd.setBindingSet(JANUS_SET_DRAW, draw.bindings);
-    cmd.setVertexBuffer(0, draw.vertices);
-    cmd.setIndexBuffer(mesh.indices, rhi::IndexType::UInt32);
+    if (draw.vertices.get() != bound.vertices) {
+        cmd.setVertexBuffer(0, draw.vertices);
+        bound.vertices = draw.vertices.get();
+    }
+    if (mesh.indices.get() != bound.indices) {
+        cmd.setIndexBuffer(mesh.indices, rhi::IndexType::UInt32);
+        bound.indices = mesh.indices.get();
+    }
     cmd.drawIndexed(mesh.indexCount);
     ++report.draws;
 }
 
 void GpuScene::drawMeshes(rhi::ICommandList& cmd, const SceneView& view, const MeshPipelines& pipelines,
                           const rhi::BindingSetHandle& viewBindings, PassReport& report) const {
-    const rhi::IPipeline* bound = nullptr;
+    BoundForDraws bound;
     for (const Draw& draw : m_draws) {
         if (!viewSees(view, draw)) continue;
         const rhi::PipelineHandle& pipeline = pipelines.forDraw(draw);
@@ -441,7 +467,7 @@ std::vector<uint32_t> GpuScene::sortBlendedBackToFront(const SceneView& view) co
 
 void GpuScene::drawBlended(rhi::ICommandList& cmd, const std::vector<uint32_t>& order, const BlendedPipelines& pipelines,
                            const rhi::BindingSetHandle& viewBindings, PassReport& report) const {
-    const rhi::IPipeline* bound = nullptr;
+    BoundForDraws bound;
     auto drawWith = [&](const rhi::PipelineHandle& pipeline, const Draw& draw) {
         recordDraw(cmd, pipeline, draw, viewBindings, bound, report);
     };

@@ -1,6 +1,8 @@
 // The scene on the GPU, uploaded once (internal to the renderer): meshes, material textures and
-// samplers, and one draw per instance with its per-draw bindings (set JANUS_SET_DRAW: draw
-// uniforms and the five material textures). Every feature that draws meshes for a view uses
+// samplers, and one draw per instance. A draw's uniforms are its slot of one buffer, which one
+// binding set shows as a dynamic window (set JANUS_SET_DRAW, the slot's offset given at each
+// bind); a material's five textures are a set per material (JANUS_SET_MATERIAL), bound when the
+// material changes (draws are sorted by material within each pipeline). Every feature that draws meshes for a view uses
 // drawMeshes() (opaque and alpha-masked instances) or drawBlended() (alphaMode BLEND, back to
 // front), so views and features share one way of drawing the scene.
 #pragma once
@@ -40,7 +42,8 @@ public:
         rhi::BufferHandle vertices;       // the mesh's, or the instance's posed vertices (MeshDeformer)
         glm::mat4 world{1.0f};
         glm::vec3 boundsCenter{0.0f};     // world-space centre of the mesh's bounding box (sorting)
-        rhi::BindingSetHandle bindings;   // set JANUS_SET_DRAW
+        uint32_t uniformsOffset = 0;      // its DrawUniforms slot: the dynamic offset of set JANUS_SET_DRAW
+        uint32_t material = 0;            // its material's set (JANUS_SET_MATERIAL): index into m_materialBindings
     };
     // The pipelines of one kind of mesh pass: back-face culled, and without culling for
     // double-sided materials, each with the view's winding and with the opposite one for
@@ -114,7 +117,8 @@ public:
                                             rhi::Format depthFormat, bool mirrored, const std::string& name) const;
 
     // Draws every opaque or alpha-masked instance the view sees (its rendering layers) inside the
-    // current render pass: set JANUS_SET_VIEW = viewBindings, set JANUS_SET_DRAW = each draw's bindings.
+    // current render pass: set JANUS_SET_VIEW = viewBindings, set JANUS_SET_DRAW at each draw's
+    // uniforms, set JANUS_SET_MATERIAL = its material's textures.
     void drawMeshes(rhi::ICommandList& cmd, const SceneView& view, const MeshPipelines& pipelines,
                     const rhi::BindingSetHandle& viewBindings, PassReport& report) const;
 
@@ -127,8 +131,15 @@ public:
                      const rhi::BindingSetHandle& viewBindings, PassReport& report) const;
 
 private:
+    // What the draws of one pass bound so far: each is bound again only when it changes.
+    struct BoundForDraws {
+        const rhi::IPipeline* pipeline = nullptr;
+        uint32_t material = UINT32_MAX;
+        const rhi::IBuffer* vertices = nullptr;
+        const rhi::IBuffer* indices = nullptr;
+    };
     void recordDraw(rhi::ICommandList& cmd, const rhi::PipelineHandle& pipeline, const Draw& draw,
-                    const rhi::BindingSetHandle& viewBindings, const rhi::IPipeline*& bound, PassReport& report) const;
+                    const rhi::BindingSetHandle& viewBindings, BoundForDraws& bound, PassReport& report) const;
     rhi::PipelineHandle createMeshPipeline(const rhi::ShaderHandle& vertexShader, const rhi::ShaderHandle& fragmentShader,
                                            rhi::CullMode cull, bool clockwise, rhi::DepthState depth, rhi::BlendAttachment blend,
                                            const std::vector<rhi::Format>& colorFormats, rhi::Format depthFormat,
@@ -157,6 +168,8 @@ private:
     rhi::TextureHandle m_whiteTexture, m_flatNormalTexture;
     rhi::SamplerHandle m_materialSampler, m_pointSampler;
     rhi::BufferHandle m_drawUniforms;
+    rhi::BindingSetHandle m_drawBindings;                 // set JANUS_SET_DRAW: one window into m_drawUniforms
+    std::vector<rhi::BindingSetHandle> m_materialBindings;   // set JANUS_SET_MATERIAL: one per material drawn
 };
 
 }  // namespace janus::renderer

@@ -1,5 +1,9 @@
 #include "shadows/main_light_shadows.h"
 
+#include <algorithm>
+#include <tuple>
+#include <utility>
+
 #include <fmt/format.h>
 
 namespace janus::renderer {
@@ -25,6 +29,7 @@ MainLightShadows::MainLightShadows(rhi::IDevice& device, const Scene& scene, con
     m_hasMainLight = main.has_value();
     if (main) m_lightDirection = scene.lights[*main].direction;
     const Material defaultMaterial;
+    std::vector<std::pair<uint32_t, ShadowCaster>> gathered;   // (mesh, caster)
     for (uint32_t i = 0; i < scene.instances.size(); ++i) {
         const Instance& instance = scene.instances[i];
         const GpuScene::Mesh& mesh = gpuScene.meshes()[instance.mesh];
@@ -36,8 +41,16 @@ MainLightShadows::MainLightShadows(rhi::IDevice& device, const Scene& scene, con
         // Points and lines have no area to cast a shadow with.
         if (sceneMesh.topology != MeshTopology::Triangles) continue;
         // Posed vertices for skinned and morphed instances (MeshDeformer).
-        m_casters.push_back(ShadowCaster{gpuScene.instanceVertices(i), mesh.indices, mesh.indexCount, instance.world, material.doubleSided});
+        gathered.emplace_back(instance.mesh, ShadowCaster{gpuScene.instanceVertices(i), mesh.indices, mesh.indexCount, instance.world,
+                                                          material.doubleSided});
     }
+    // A depth-only map with a LessOrEqual test holds the nearest depth whatever the draw order, so
+    // the casters are drawn grouped: by pipeline (culling, winding), then mesh, each bound once.
+    auto key = [](const std::pair<uint32_t, ShadowCaster>& c) {
+        return std::tuple(c.second.doubleSided, glm::determinant(glm::mat3(c.second.world)) < 0.0f, c.first);
+    };
+    std::stable_sort(gathered.begin(), gathered.end(), [&](const auto& a, const auto& b) { return key(a) < key(b); });
+    for (auto& [meshIndex, caster] : gathered) m_casters.push_back(std::move(caster));
 }
 
 void MainLightShadows::checkLights(std::span<const Light> lights) const {

@@ -117,6 +117,7 @@ DirectionalShadowMap::DirectionalShadowMap(rhi::IDevice& device, uint32_t size) 
         raster.depthBiasSlope = kDepthBiasSlope;
         return device.createGraphicsPipeline(rhi::GraphicsPipelineDesc{}
                                                  .setShaders(vs, fs)
+                                                 .addDynamicUniformBuffer(1, JANUS_BINDING_SHADOW_CASTER)
                                                  .addVertexBuffer({0, sizeof(Vertex), false})
                                                  .addVertexAttribute({0, rhi::VertexFormat::Float3, 0, offsetof(Vertex, position)})
                                                  .setRaster(raster)
@@ -202,14 +203,14 @@ void DirectionalShadowMap::setCasters(std::span<const ShadowCaster> casters) {
                                                  .setUsage(rhi::BufferUsage::Uniform)
                                                  .setDebugName("shadow caster uniforms"));
     std::vector<std::byte> data(slots * m_casterStride);
-    m_casterBindings.clear();
     m_casterWorlds.clear();
     for (size_t i = 0; i < casters.size(); ++i) {
         std::memcpy(data.data() + i * m_casterStride, &casters[i].world, sizeof(glm::mat4));
         m_casterWorlds.push_back(casters[i].world);
-        m_casterBindings.push_back(m_device.createBindingSet(rhi::BindingSetDesc{}.add(
-            rhi::BindingItem::uniformBuffer(JANUS_BINDING_SHADOW_CASTER, m_casterUniforms, i * m_casterStride, sizeof(glm::mat4)))));
     }
+    m_casterBindings = m_device.createBindingSet(rhi::BindingSetDesc{}.add(
+        rhi::BindingItem::uniformBuffer(JANUS_BINDING_SHADOW_CASTER, m_casterUniforms, 0, sizeof(glm::mat4)).setDynamicOffset()));
+    m_casterSlots = casters.size();
     m_device.writeBuffer(m_casterUniforms, data.data(), data.size());
 }
 
@@ -221,7 +222,7 @@ void DirectionalShadowMap::uploadPassUniforms(rhi::ICommandList& cmd) {
 
 void DirectionalShadowMap::record(rhi::ICommandList& cmd, std::span<const ShadowCaster> casters, uint32_t& drawCount) {
     if (!m_fitted) throw RendererError("DirectionalShadowMap::record() was called before fit(); fit the map to the scene first");
-    if (casters.size() > m_casterBindings.size()) setCasters(casters);
+    if (casters.size() > m_casterSlots) setCasters(casters);
     uploadPassUniforms(cmd);
     // Moved casters: one copy of the changed slot range, recorded before the pass.
     size_t firstChanged = casters.size(), lastChanged = 0;
@@ -240,6 +241,8 @@ void DirectionalShadowMap::record(rhi::ICommandList& cmd, std::span<const Shadow
 
     cmd.beginRenderPass(rhi::RenderPassDesc{}.setDepth(rhi::Attachment::clearDepthTo(m_depth, 1.0f)));
     const rhi::IPipeline* bound = nullptr;
+    const rhi::IBuffer* boundVertices = nullptr;
+    const rhi::IBuffer* boundIndices = nullptr;
     for (size_t i = 0; i < casters.size(); ++i) {
         const ShadowCaster& caster = casters[i];
         if (caster.indexCount == 0 || !caster.vertices || !caster.indices) continue;
@@ -250,10 +253,19 @@ void DirectionalShadowMap::record(rhi::ICommandList& cmd, std::span<const Shadow
             cmd.setPipeline(pipeline);
             cmd.setBindingSet(0, m_passBindings);
             bound = pipeline.get();
+            boundVertices = boundIndices = nullptr;
         }
-        cmd.setBindingSet(1, m_casterBindings[i]);
-        cmd.setVertexBuffer(0, caster.vertices);
-        cmd.setIndexBuffer(caster.indices, rhi::IndexType::UInt32);
+        const uint32_t slot = uint32_t(i * m_casterStride);
+        cmd.setBindingSet(1, m_casterBindings, std::span(&slot, 1));
+        // Casters of one mesh follow each other (the scene's draw order): its buffers stay bound.
+        if (caster.vertices.get() != boundVertices) {
+            cmd.setVertexBuffer(0, caster.vertices);
+            boundVertices = caster.vertices.get();
+        }
+        if (caster.indices.get() != boundIndices) {
+            cmd.setIndexBuffer(caster.indices, rhi::IndexType::UInt32);
+            boundIndices = caster.indices.get();
+        }
         cmd.drawIndexed(caster.indexCount);
         ++drawCount;
     }

@@ -2,7 +2,7 @@
 //
 // Usage, once per scene:   DirectionalShadowMap shadows(device, 1024);
 //                          shadows.fit(light.direction, sceneMin, sceneMax);
-//                          shadows.setCasters(casters);            // binding sets made here
+//                          shadows.setCasters(casters);            // caster slots and their binding set made here
 // once per frame:          shadows.record(cmd, casters, draws);    // one depth-only render pass
 // in the forward pass:     shadows.binding(JANUS_BINDING_SHADOW_MAP) in set 0 (sampler2DShadow), worldToShadow() and
 //                          texelSize() / normalOffset() in the frame uniforms, and
@@ -91,7 +91,8 @@ public:
     uint32_t size() const { return m_size; }
     const glm::vec3& lightDirection() const { return m_lightDirection; }
 
-    // Prepares one uniform slot and binding set per caster. Call when the set of casters
+    // Prepares one uniform slot per caster and the set that shows one slot at a time (a dynamic
+    // uniform buffer: each draw binds it at its caster's slot). Call when the set of casters
     // changes; record() calls it itself when given more casters than were prepared.
     void setCasters(std::span<const ShadowCaster> casters);
 
@@ -119,7 +120,10 @@ private:
     rhi::BufferHandle m_passUniforms;     // set 0, binding 0: light view-projection
     rhi::BindingSetHandle m_passBindings;
     rhi::BufferHandle m_casterUniforms;   // set 1, binding 1: one world matrix slot per caster
-    std::vector<rhi::BindingSetHandle> m_casterBindings;
+    // Set 1: one window onto m_casterUniforms, moved to each caster's slot by its bind's dynamic
+    // offset (no set per caster).
+    rhi::BindingSetHandle m_casterBindings;
+    size_t m_casterSlots = 0;
     std::vector<glm::mat4> m_casterWorlds;   // what the slots on the GPU hold
     uint64_t m_casterStride = 0;
     bool m_passUniformsDirty = true;

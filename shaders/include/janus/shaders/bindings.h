@@ -25,9 +25,12 @@
 #define JANUS_BINDING_REFLECTION_PROBES 15  // ReflectionProbeUniforms (probe_access.glsl): the shown probes in blend order
 #define JANUS_BINDING_GI_VOLUME 16          // irradiance volume (gi_access.glsl): RGBA16F 3D texture of the probes' SH
 #define JANUS_BINDING_GI_UNIFORMS 17        // GiVolumeUniforms (gi_access.glsl): grid, normal bias, on/off
-// Set 1: per draw.
+// Set 1: per draw: one set for every draw, a dynamic uniform buffer whose offset picks the draw's
+// slot (renderer/src/core/gpu_scene.cpp; mesh pipelines declare it with addDynamicUniformBuffer).
 #define JANUS_SET_DRAW 1
 #define JANUS_BINDING_DRAW_UNIFORMS 1       // DrawUniforms (forward_common.glsl)
+// Set 2: per material: its five textures, bound when the material changes.
+#define JANUS_SET_MATERIAL 2
 #define JANUS_BINDING_BASE_COLOR 2
 #define JANUS_BINDING_METALLIC_ROUGHNESS 3
 #define JANUS_BINDING_NORMAL 4
@@ -43,7 +46,7 @@
 
 // ---- Shadow map pass (shadow.vert) ------------------------------------------------------------
 #define JANUS_BINDING_SHADOW_PASS 0         // set 0: light view-projection
-#define JANUS_BINDING_SHADOW_CASTER 1       // set 1: caster world matrix
+#define JANUS_BINDING_SHADOW_CASTER 1       // set 1: caster world matrix (a dynamic uniform buffer: one set, an offset per caster)
 
 // ---- Mesh deformation: skins and morph targets (renderer/src/deform/, shaders/renderer/deform*), set 0
 #define JANUS_BINDING_DEFORM_UNIFORMS 0     // DeformUniforms (deform_common.glsl)
@@ -100,7 +103,7 @@
 #define JANUS_BINDING_GI_PROBES 5           // RGBA32F: per probe (grid order) its transfers, validity, relight rank; then rank -> probe
 #define JANUS_BINDING_GI_BRICK_RADIANCE 6   // RGBA32F: the bricks' radiance (the SH pass reads it)
 #define JANUS_BINDING_GI_RELIGHT_PARAMS 13  // GiRelightParams (gi_relight_common.glsl)
-// ---- GI bake (shaders/gi/gi_gbuffer.frag): the forward pass's sets 0 and 1 (frame + draw uniforms, material textures).
+// ---- GI bake (shaders/gi/gi_gbuffer.frag): the forward pass's sets 0, 1 and 2 (frame and draw uniforms, material textures).
 
 // ---- GI probe view (--debug gi: shaders/gi/gi_probe_view.*), set 0; also 16-17 (the volume) --
 #define JANUS_BINDING_GI_PROBE_VIEW 0       // GiProbeViewUniforms: view-projection, camera, sphere radius
