@@ -22,6 +22,8 @@
 #   gl_only/             DamagedHelmet at 256x256 in the GL configurations alone, one process that
 #   gl_only_against/     starts no Vulkan, and all five --against them at tolerance 0: GL alone must
 #                        draw as GL after Vulkan
+#   bench_renderer.{json,txt}  janus_bench_renderer: the renderer's recording ns per mesh draw
+#                        (shadow map, prepass, forward; 1024 boxes), 3 repetitions per configuration
 #   bench_rhi_footprint.{json,md}  the null-driver rows with JANUS_BENCH_NULL_FOOTPRINT=128, and
 #   bench_rhi_footprint2048.{json,md}  with 2048 (a frame's writes evict the second-level cache)
 #   bench_rhi.p*.json    janus_bench_rhi in 10 fresh processes of 5 interleaved repetitions each (item 4;
@@ -79,6 +81,7 @@ run() {
   case "$program" in
     janus) "$build_dir/apps/janus/janus" "$@" ;;
     janus_bench_rhi) "$build_dir/bench/janus_bench_rhi" "$@" ;;
+    janus_bench_renderer) "$build_dir/bench/janus_bench_renderer" "$@" ;;
     *) "$build_dir/tests/$program" "$@" ;;
   esac
 }
@@ -245,6 +248,9 @@ if [[ $bench_only == 0 ]]; then
   step gl_only_against 60 janus parity "${gl_only_scene[@]}" --out "$results/gl_only_against" --against "$results/gl_only" \
     --against-tolerance 0
 fi
+# The renderer's own recording cost per mesh draw on this driver (docs/BENCHMARKS.md, "Renderer").
+step bench_renderer 60 janus_bench_renderer --benchmark_repetitions=$((quick == 1 ? 1 : 3)) \
+  --janus_frames=$((quick == 1 ? 2 : 30)) --benchmark_out="$results/bench_renderer.json" --benchmark_out_format=json
 # The null-driver rows again, each stub also writing a push buffer's worth per call
 # (JANUS_BENCH_NULL_FOOTPRINT, 128 bytes: 256 per draw): if the RHI's own ns per draw grow with it
 # on that CPU, the driver's cache traffic is part of what the RHI costs there (it did not here;
