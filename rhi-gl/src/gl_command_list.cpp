@@ -364,6 +364,28 @@ void CommandList::recordMipRanges() {
     if (m_mipRanges.size() > first) record(command::ApplyMipRanges{first, uint32_t(m_mipRanges.size()) - first});
 }
 
+// OpenGL ES 3.0 has no base vertex: replay moves each per-vertex attribute pointer by vertexOffset
+// vertices instead (Device::specifyVertexAttributes), and GL takes a pointer as an offset into the
+// buffer, which cannot be negative. Before this check such a draw read garbage without an error.
+void CommandList::requireVertexOffsetInsideBuffers(int32_t vertexOffset) const {
+    const GraphicsPipelineDesc& desc = m_pipeline->graphics();
+    for (const VertexAttribute& attribute : desc.vertexAttributes) {
+        const VertexBufferLayout& layout = *std::find_if(desc.vertexBuffers.begin(), desc.vertexBuffers.end(),
+                                                         [&](const VertexBufferLayout& l) { return l.slot == attribute.bufferSlot; });
+        if (layout.perInstance) continue;
+        const uint64_t offset = boundVertexBuffer(attribute.bufferSlot).offset;
+        const int64_t before = -(int64_t(offset) + int64_t(attribute.offset) + int64_t(vertexOffset) * int64_t(layout.stride));
+        if (before <= 0) continue;
+        throw Error(ErrorCode::UnsupportedCapability,
+                    fmt::format("drawIndexed: vertexOffset {} moves vertex buffer slot {} (bound at offset {}, stride {}) {} "
+                                "bytes before its start; OpenGL ES 3.0 has no base vertex, so the gles backend moves the "
+                                "attribute pointers by vertexOffset instead, and a pointer cannot go before its buffer. "
+                                "Add vertexOffset to the indices, or bind the vertices at an offset at least {} bytes "
+                                "larger with a vertexOffset that reaches them",
+                                vertexOffset, attribute.bufferSlot, offset, layout.stride, before, before));
+    }
+}
+
 void CommandList::requireVertexBuffers(const char* what) const {
     for (const VertexAttribute& attribute : m_pipeline->graphics().vertexAttributes) {
         const bool set = std::any_of(m_vertexBuffers.begin(), m_vertexBuffers.end(),
@@ -556,9 +578,12 @@ inline void CommandList::bindRecordedSet(uint32_t set, BindingSet* bindings) {
 void CommandList::setVertexBufferImpl(uint32_t slot, const BufferHandle& handle, uint64_t offset) {
     requireRecording("setVertexBuffer");
     Buffer* buffer = cast<Buffer>(*m_context, handle, "setVertexBuffer", "buffer");
-    m_keepAlive.keep(handle, buffer->keepMark);
     auto existing = std::find_if(m_vertexBuffers.begin(), m_vertexBuffers.end(),
                                  [&](const RecordedVertexBuffer& b) { return b.slot == slot; });
+    // Already bound in this recording (and kept): nothing to record, and a ready draw stays
+    // ready, as on Vulkan.
+    if (existing != m_vertexBuffers.end() && existing->buffer == buffer && existing->offset == offset) return;
+    m_keepAlive.keep(handle, buffer->keepMark);
     if (existing != m_vertexBuffers.end())
         *existing = {slot, buffer, offset};
     else
@@ -572,6 +597,7 @@ void CommandList::setVertexBufferImpl(uint32_t slot, const BufferHandle& handle,
 void CommandList::setIndexBufferImpl(const BufferHandle& handle, IndexType type, uint64_t offset) {
     requireRecording("setIndexBuffer");
     Buffer* buffer = cast<Buffer>(*m_context, handle, "setIndexBuffer", "buffer");
+    if (m_indexBuffer == buffer && m_indexOffset == offset && m_indexType == type) return;   // already bound
     m_keepAlive.keep(handle, buffer->keepMark);
     m_indexBuffer = buffer;
     m_indexOffset = offset;
@@ -603,7 +629,8 @@ void CommandList::drawChecked(uint32_t vertexCount, uint32_t instanceCount, uint
 
 void CommandList::drawIndexed(uint32_t indexCount, uint32_t instanceCount, uint32_t firstIndex, int32_t vertexOffset,
                                 uint32_t firstInstance) {
-    if (!m_drawReady || !m_indexBuffer || indexValueLog() ||
+    // A negative vertexOffset takes the checked path: ES checks where it moves the attribute pointers.
+    if (!m_drawReady || !m_indexBuffer || vertexOffset < 0 || indexValueLog() ||
         indexedDrawExceeds(m_drawLimits, m_indexLimit, firstIndex, indexCount, firstInstance, instanceCount)) [[unlikely]]
         return drawIndexedChecked(indexCount, instanceCount, firstIndex, vertexOffset, firstInstance);
     recordDraw(command::DrawIndexed{indexCount, instanceCount, firstIndex, vertexOffset, firstInstance});
@@ -619,6 +646,7 @@ void CommandList::drawIndexedChecked(uint32_t indexCount, uint32_t instanceCount
         throw Error(ErrorCode::InvalidUsage, "drawIndexed: no index buffer is set; call setIndexBuffer() first");
     if (indexedDrawExceeds(m_drawLimits, m_indexLimit, firstIndex, indexCount, firstInstance, instanceCount))
         throwDrawOutOfRange({"drawIndexed", firstIndex, indexCount, firstInstance, instanceCount}, true);
+    if (m_es && vertexOffset < 0) requireVertexOffsetInsideBuffers(vertexOffset);
     if (detail::IndexValueLog* log = indexValueLog())
         log->noteIndexedDraw(*m_indexBuffer, m_indexOffset, m_indexType, firstIndex, indexCount, vertexOffset,
                              vertexLimit(m_pipeline->graphics(), [this](uint32_t slot) { return boundVertexBuffer(slot); }));

@@ -626,6 +626,7 @@ public:
     void omitNextBarrierForTesting() override {}
     // Shader writes no barrier has ordered yet for every access (one entry per written range).
     size_t pendingWriteCountForTesting() const { return m_pendingWrites.size(); }
+    size_t recordedCommandCountForTesting() const { return m_commandCount; }
 
     // Called by Device::execute.
     void replay(Device& device);   // on the device that made it (Device::execute checks)
@@ -728,6 +729,8 @@ private:
     // item of a set bound later, unused by the draw, may have set another range on the texture).
     void recordMipRanges();
     void requireVertexBuffers(const char* what) const;
+    // ES: a negative vertexOffset keeps every per-vertex attribute pointer inside its buffer.
+    void requireVertexOffsetInsideBuffers(int32_t vertexOffset) const;
     const RenderPassDesc* openPass() const { return m_inRenderPass ? &m_renderPasses[m_renderPassCount - 1] : nullptr; }
 
     // Hazards between shader writes (storage buffers and images, which GL leaves unordered) and

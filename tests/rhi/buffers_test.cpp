@@ -170,6 +170,95 @@ TEST_P(BufferTest, IndexBuffersWrittenRightAfterCreationFeedTheirDraws) {
     }
 }
 
+// The vertex and index buffers bound again as they are (which the backends skip), in a later pass
+// of the same list and after another buffer was bound: each draw reads what is bound at it.
+TEST_P(BufferTest, RebindingTheBoundBuffersDrawsTheSame) {
+    const std::array<float, 6> wholeTarget{-1, -1, 3, -1, -1, 3};
+    std::vector<ColorVertex> redThenGreen = triangle(wholeTarget, {1, 0, 0, 1});
+    for (const ColorVertex& v : triangle(wholeTarget, {0, 1, 0, 1})) redThenGreen.push_back(v);
+    BufferHandle vertices = createBufferFrom(BufferUsage::Vertex, redThenGreen);
+    BufferHandle blue = createBufferFrom(BufferUsage::Vertex, triangle(wholeTarget, {0, 0, 1, 1}));
+    BufferHandle indices = createBufferFrom(BufferUsage::Index, std::vector<uint32_t>{0, 1, 2, 3, 4, 5});
+    BufferHandle otherIndices = createBufferFrom(BufferUsage::Index, std::vector<uint32_t>{0, 1, 2});
+    PipelineHandle pipeline = colorPipeline(Format::RGBA8_UNORM);
+    std::array<TextureHandle, 4> targets;
+    for (TextureHandle& target : targets) target = createTexture2D(Format::RGBA8_UNORM, 1, 1, TextureUsage::RenderTarget);
+    submit([&](ICommandList& cmd) {
+        auto pass = [&](size_t target, const std::function<void()>& draw) {
+            cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(targets[target])));
+            cmd.setPipeline(pipeline);
+            draw();
+            cmd.endRenderPass();
+        };
+        pass(0, [&] {
+            cmd.setVertexBuffer(0, vertices);
+            cmd.setIndexBuffer(indices, IndexType::UInt32);
+            cmd.drawIndexed(3);                             // red
+        });
+        pass(1, [&] {
+            cmd.setVertexBuffer(0, vertices);
+            cmd.setIndexBuffer(indices, IndexType::UInt32);
+            cmd.drawIndexed(3, 1, 3);                       // green
+        });
+        pass(2, [&] {
+            cmd.setVertexBuffer(0, blue);
+            cmd.setIndexBuffer(otherIndices, IndexType::UInt32);
+            cmd.drawIndexed(3);                             // blue
+        });
+        pass(3, [&] {
+            cmd.setVertexBuffer(0, vertices);
+            cmd.setIndexBuffer(indices, IndexType::UInt32);
+            cmd.setVertexBuffer(0, vertices);
+            cmd.drawIndexed(3, 1, 3);                       // green again
+        });
+    });
+    const std::array<Rgba8, 4> expected{Rgba8{255, 0, 0, 255}, Rgba8{0, 255, 0, 255}, Rgba8{0, 0, 255, 255}, Rgba8{0, 255, 0, 255}};
+    for (size_t i = 0; i < targets.size(); ++i) EXPECT_EQ(readTextureAs<Rgba8>(targets[i])[0], expected[i]) << "pass " << i;
+}
+
+// A negative vertexOffset: indices 3..5 less 3 draw vertices 0..2 (green; 3..5 are red). ES 3.0
+// has no base vertex, and the gles backend moves the attribute pointers instead, which cannot go
+// before the buffer: there the draw is refused with UnsupportedCapability naming the way around,
+// unless the vertices are bound far enough into their buffer. Before, gles drew nothing and said
+// nothing.
+TEST_P(BufferTest, ANegativeVertexOffsetDrawsItsVerticesOrSaysWhyNot) {
+    const std::array<float, 6> wholeTarget{-1, -1, 3, -1, -1, 3};
+    std::vector<ColorVertex> greenThenRed = triangle(wholeTarget, {0, 1, 0, 1});
+    for (const ColorVertex& v : triangle(wholeTarget, {1, 0, 0, 1})) greenThenRed.push_back(v);
+    BufferHandle vertices = createBufferFrom(BufferUsage::Vertex, greenThenRed);
+    BufferHandle indices = createBufferFrom(BufferUsage::Index, std::vector<uint32_t>{3, 4, 5});
+    PipelineHandle pipeline = colorPipeline(Format::RGBA8_UNORM);
+    auto drawnWith = [&](uint64_t vertexBufferOffset, int32_t vertexOffset) {
+        TextureHandle target = createTexture2D(Format::RGBA8_UNORM, 1, 1, TextureUsage::RenderTarget);
+        submit([&](ICommandList& cmd) {
+            cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(target)));
+            cmd.setPipeline(pipeline);
+            cmd.setVertexBuffer(0, vertices, vertexBufferOffset);
+            cmd.setIndexBuffer(indices, IndexType::UInt32);
+            cmd.drawIndexed(3, 1, 0, vertexOffset);
+            cmd.endRenderPass();
+        });
+        return readTextureAs<Rgba8>(target)[0];
+    };
+    const Rgba8 green{0, 255, 0, 255}, red{255, 0, 0, 255};
+    EXPECT_EQ(drawnWith(0, 0), red);
+    // Bound 3 vertices in, vertex 0 is the buffer's fourth: indices 3..5 less 3 draw the red
+    // triangle again, and on gles the pointers move back to the buffer's start, not before it.
+    EXPECT_EQ(drawnWith(3 * sizeof(ColorVertex), -3), red);
+    if (backend() != Backend::GLES) {
+        EXPECT_EQ(drawnWith(0, -3), green);
+        return;
+    }
+    try {
+        drawnWith(0, -3);
+        FAIL() << "gles drew a negative vertexOffset that reaches before the vertex buffer";
+    } catch (const Error& error) {
+        EXPECT_EQ(error.code(), ErrorCode::UnsupportedCapability);
+        EXPECT_NE(std::string(error.what()).find("vertexOffset -3 moves vertex buffer slot 0"), std::string::npos) << error.what();
+        EXPECT_NE(std::string(error.what()).find("Add vertexOffset to the indices"), std::string::npos) << error.what();
+    }
+}
+
 TEST_P(BufferTest, CompactVertexFormatsAreExpanded) {
     struct CompactVertex { float x, y; uint8_t rgba[4]; };
     const uint8_t r = 255, g = 51, b = 0, a = 255;

@@ -157,5 +157,36 @@ TEST_P(GLDrawCallsTest, BindingSetsKeepTheirBufferRangesForReplay) {
     EXPECT_FALSE(withTextureSet.replayState().range.plain);
 }
 
+// Binding the vertex or index buffer already bound records nothing (and leaves a ready draw
+// ready), as Vulkan skips the bind; another buffer or offset is recorded. What the draws then
+// read is checked on every backend by BufferTest.RebindingTheBoundBuffersDrawsTheSame.
+TEST_P(GLDrawCallsTest, BindingTheBoundBuffersAgainRecordsNothing) {
+    BufferHandle vertices = createBuffer(BufferUsage::Vertex, 256);
+    BufferHandle other = createBuffer(BufferUsage::Vertex, 256);
+    BufferHandle indices = createBuffer(BufferUsage::Index, 64);
+    CommandListHandle list = device().createCommandList();
+    list->begin();
+    auto& recorded = dynamic_cast<gl::CommandList&>(*list);
+    auto commandsAfter = [&](const std::function<void()>& call) {
+        const size_t before = recorded.recordedCommandCountForTesting();
+        call();
+        return recorded.recordedCommandCountForTesting() - before;
+    };
+    EXPECT_EQ(commandsAfter([&] { list->setVertexBuffer(0, vertices); }), 1u);
+    EXPECT_EQ(commandsAfter([&] { list->setVertexBuffer(0, vertices); }), 0u);
+    EXPECT_EQ(commandsAfter([&] { list->setVertexBuffer(0, vertices, 16); }), 1u) << "another offset";
+    EXPECT_EQ(commandsAfter([&] { list->setVertexBuffer(1, vertices, 16); }), 1u) << "another slot";
+    EXPECT_EQ(commandsAfter([&] { list->setVertexBuffer(0, other, 16); }), 1u) << "another buffer";
+    EXPECT_EQ(commandsAfter([&] { list->setIndexBuffer(indices, IndexType::UInt32); }), 1u);
+    EXPECT_EQ(commandsAfter([&] { list->setIndexBuffer(indices, IndexType::UInt32); }), 0u);
+    EXPECT_EQ(commandsAfter([&] { list->setIndexBuffer(indices, IndexType::UInt16); }), 1u) << "another type";
+    list->end();
+    // A new recording starts with nothing bound: the same buffer is recorded again.
+    list->begin();
+    EXPECT_EQ(commandsAfter([&] { list->setVertexBuffer(0, vertices); }), 1u);
+    EXPECT_EQ(commandsAfter([&] { list->setIndexBuffer(indices, IndexType::UInt16); }), 1u);
+    list->end();
+}
+
 }  // namespace
 }  // namespace janus::rhi::test
