@@ -2,9 +2,9 @@
 // samplers, and one draw per instance. A draw's uniforms are its slot of one buffer, which one
 // binding set shows as a dynamic window (set JANUS_SET_DRAW, the slot's offset given at each
 // bind); a material's five textures are a set per material (JANUS_SET_MATERIAL), bound when the
-// material changes (draws are sorted by material within each pipeline). Every feature that draws meshes for a view uses
-// drawMeshes() (opaque and alpha-masked instances) or drawBlended() (alphaMode BLEND, back to
-// front), so views and features share one way of drawing the scene.
+// material changes (draws are sorted by material within each pipeline). Every feature that
+// draws meshes for a view uses drawMeshes() (opaque and alpha-masked instances) or drawBlended()
+// (alphaMode BLEND, back to front), so views and features share one way of drawing the scene.
 #pragma once
 
 #include <cstdint>

@@ -257,7 +257,7 @@ void DirectionalShadowMap::record(rhi::ICommandList& cmd, std::span<const Shadow
         }
         const uint32_t slot = uint32_t(i * m_casterStride);
         cmd.setBindingSet(1, m_casterBindings, std::span(&slot, 1));
-        // Casters of one mesh follow each other (the scene's draw order): its buffers stay bound.
+        // Casters of one mesh follow each other (MainLightShadows groups them): its buffers stay bound.
         if (caster.vertices.get() != boundVertices) {
             cmd.setVertexBuffer(0, caster.vertices);
             boundVertices = caster.vertices.get();
