@@ -69,6 +69,12 @@ std::pair<uint64_t, uint64_t> boundRange(const BindingItem& item) {
     const uint64_t end = item.range ? item.offset + item.range : item.buffer->desc().size;
     return {item.offset, end};
 }
+
+// The layout of the vertex buffer slot `attribute` reads (validated: the pipeline declares one).
+const VertexBufferLayout& layoutOf(const GraphicsPipelineDesc& desc, const VertexAttribute& attribute) {
+    return *std::find_if(desc.vertexBuffers.begin(), desc.vertexBuffers.end(),
+                         [&](const VertexBufferLayout& l) { return l.slot == attribute.bufferSlot; });
+}
 }  // namespace
 
 BindingSet::BindingSet(const Context& owner, const BindingSetDesc& desc)
@@ -370,8 +376,7 @@ void CommandList::recordMipRanges() {
 void CommandList::requireVertexOffsetInsideBuffers(int32_t vertexOffset) const {
     const GraphicsPipelineDesc& desc = m_pipeline->graphics();
     for (const VertexAttribute& attribute : desc.vertexAttributes) {
-        const VertexBufferLayout& layout = *std::find_if(desc.vertexBuffers.begin(), desc.vertexBuffers.end(),
-                                                         [&](const VertexBufferLayout& l) { return l.slot == attribute.bufferSlot; });
+        const VertexBufferLayout& layout = layoutOf(desc, attribute);
         if (layout.perInstance) continue;
         const uint64_t offset = boundVertexBuffer(attribute.bufferSlot).offset;
         const int64_t before = -(int64_t(offset) + int64_t(attribute.offset) + int64_t(vertexOffset) * int64_t(layout.stride));
@@ -1123,8 +1128,7 @@ void Device::specifyVertexAttributes(int64_t baseVertexOffset, uint32_t baseInst
     const GraphicsPipelineDesc& desc = m_pipeline->graphics();
     uint32_t wanted = 0;
     for (const VertexAttribute& attribute : desc.vertexAttributes) {
-        const VertexBufferLayout& layout = *std::find_if(desc.vertexBuffers.begin(), desc.vertexBuffers.end(),
-                                                         [&](const VertexBufferLayout& l) { return l.slot == attribute.bufferSlot; });
+        const VertexBufferLayout& layout = layoutOf(desc, attribute);
         const VertexBinding& binding = m_vertexBuffers[attribute.bufferSlot];   // bound: checked at record time
         const int64_t stepOffset = (layout.perInstance ? int64_t(baseInstanceOffset) : baseVertexOffset) * int64_t(layout.stride);
         const auto pointer = reinterpret_cast<const void*>(

@@ -7,6 +7,8 @@
 
 #include <fmt/format.h>
 
+#include "janus/rhi/shader_writes.h"
+
 namespace janus::rhi::gl {
 
 namespace {
@@ -96,11 +98,8 @@ GlslTranslation translateToGlsl(const ShaderDesc& desc, const GlslTarget& target
         uint64_t blockSize = 0;
         if (type == ResourceType::UniformBuffer || type == ResourceType::StorageBuffer)
             blockSize = compiler.get_declared_struct_size_runtime_array(compiler.get_type(resource.base_type_id), 0);
-        bool written = false;
-        if (type == ResourceType::StorageBuffer)
-            written = !compiler.get_buffer_block_flags(resource.id).get(spv::DecorationNonWritable);
-        else if (type == ResourceType::StorageImage)
-            written = !compiler.has_decoration(resource.id, spv::DecorationNonWritable);
+        const bool written = (type == ResourceType::StorageBuffer || type == ResourceType::StorageImage) &&
+                             detail::shaderMayWrite(compiler, resource, type == ResourceType::StorageBuffer);
         result.bindings.push_back({type, set, binding, glName, dimension, depthCompare, imageFormat, blockSize, written});
     };
     for (const auto& r : resources.uniform_buffers) flatten(r, ResourceType::UniformBuffer);

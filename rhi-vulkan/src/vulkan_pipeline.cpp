@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstring>
 
+#include "janus/rhi/shader_writes.h"
 #include "vulkan_backend.h"
 
 namespace janus::rhi::vulkan {
@@ -58,11 +59,8 @@ void reflect(const ShaderDesc& desc, VkShaderStageFlagBits stage, std::vector<Re
             if (type == VK_DESCRIPTOR_TYPE_STORAGE_IMAGE) b.imageFormat = uint32_t(spirType.image.format);
             if (type == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER || type == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER)
                 b.blockSize = compiler.get_declared_struct_size_runtime_array(compiler.get_type(r.base_type_id), 0);
-            // Hazard tracking treats a storage resource as written unless the shader says readonly.
-            if (type == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER)
-                b.written = !compiler.get_buffer_block_flags(r.id).get(spv::DecorationNonWritable);
-            else if (type == VK_DESCRIPTOR_TYPE_STORAGE_IMAGE)
-                b.written = !compiler.has_decoration(r.id, spv::DecorationNonWritable);
+            if (type == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER || type == VK_DESCRIPTOR_TYPE_STORAGE_IMAGE)
+                b.written = detail::shaderMayWrite(compiler, r, type == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
             b.name = r.name;
             bindings.push_back(b);
         };

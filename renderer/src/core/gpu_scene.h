@@ -131,7 +131,10 @@ public:
                      const rhi::BindingSetHandle& viewBindings, PassReport& report) const;
 
 private:
-    // What the draws of one pass bound so far: each is bound again only when it changes.
+    // What the draws of one pass bound so far: each is bound again only when it changes. The
+    // backends also skip a buffer bound again, but the call still passes the front's checks:
+    // leaving it out here kept a Vulkan forward draw about 30 ns cheaper when measured (session
+    // 27; the other passes and backends within noise).
     struct BoundForDraws {
         const rhi::IPipeline* pipeline = nullptr;
         uint32_t material = UINT32_MAX;
