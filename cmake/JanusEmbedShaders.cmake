@@ -22,7 +22,9 @@
 # whose translation another compiler would reject, fails your build instead of a user's run.
 # Fragment shaders also get the derivative check (implicit derivatives after a discard or in
 # divergent flow), as warnings in the build log. The translations are kept in
-# <binary dir>/janus_shaders/<target>/gl/ for reading.
+# <binary dir>/janus_shaders/<target>/<header name>/gl/ for reading.
+#
+# Variants: call it again for the same target with other DEFINES and another NAMESPACE and HEADER.
 #
 # Needs glslangValidator (Debian: glslang-tools).
 include_guard(GLOBAL)
@@ -57,7 +59,10 @@ function(janus_embed_shaders target)
     message(FATAL_ERROR "janus_embed_shaders(${target}): janus::check_gl_shaders is missing; call find_package(janus) first")
   endif()
 
-  set(outdir "${CMAKE_CURRENT_BINARY_DIR}/janus_shaders/${target}")
+  # One folder per header: a second call with other DEFINES, NAMESPACE and HEADER embeds variants
+  # of the same sources beside the first.
+  get_filename_component(header_stem "${ARG_HEADER}" NAME_WE)
+  set(outdir "${CMAKE_CURRENT_BINARY_DIR}/janus_shaders/${target}/${header_stem}")
   set(gldir "${outdir}/gl")
   set(flags "")
   foreach(d IN LISTS ARG_DEFINES)
