@@ -22,6 +22,9 @@
 #   gl_only/             DamagedHelmet at 256x256 in the GL configurations alone, one process that
 #   gl_only_against/     starts no Vulkan, and all five --against them at tolerance 0: GL alone must
 #                        draw as GL after Vulkan
+#   hello_rhi_*.txt      examples/hello_rhi on each backend and path with validation on (a user's
+#   render_scene/        program on a real driver), and examples/render_scene: vulkan/compute
+#                        against gl/compute by the parity rule (two compilers: rounding allowed)
 #   bench_renderer.{json,txt}  janus_bench_renderer: the renderer's recording ns per mesh draw
 #                        (shadow map, prepass, forward; 1024 boxes), 3 repetitions per configuration
 #   bench_rhi_footprint.{json,md}  the null-driver rows with JANUS_BENCH_NULL_FOOTPRINT=128, and
@@ -82,6 +85,7 @@ run() {
     janus) "$build_dir/apps/janus/janus" "$@" ;;
     janus_bench_rhi) "$build_dir/bench/janus_bench_rhi" "$@" ;;
     janus_bench_renderer) "$build_dir/bench/janus_bench_renderer" "$@" ;;
+    hello_rhi|render_scene) "$build_dir/examples/$program/$program" "$@" ;;
     *) "$build_dir/tests/$program" "$@" ;;
   esac
 }
@@ -247,6 +251,13 @@ if [[ $bench_only == 0 ]]; then
   step gl_only 60 janus parity "${gl_only_scene[@]}" --configs gl/compute,gl/fallback,gles/fallback --out "$results/gl_only"
   step gl_only_against 60 janus parity "${gl_only_scene[@]}" --out "$results/gl_only_against" --against "$results/gl_only" \
     --against-tolerance 0
+fi
+if [[ $bench_only == 0 ]]; then
+  # The examples as a user runs them (docs/RHI.md): a real driver rejects what Mesa forgives.
+  for configuration in vulkan/compute vulkan/fallback gl/compute gl/fallback gles/fallback; do
+    step "hello_rhi_${configuration/\//_}" 30 hello_rhi --backend "${configuration%/*}" --path "${configuration#*/}" --validation
+  done
+  step render_scene 60 render_scene --a vulkan/compute --b gl/compute --size 128 --out "$results/render_scene"
 fi
 # The renderer's own recording cost per mesh draw on this driver (docs/BENCHMARKS.md, "Renderer").
 step bench_renderer 60 janus_bench_renderer --benchmark_repetitions=$((quick == 1 ? 1 : 3)) \

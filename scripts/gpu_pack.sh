@@ -23,6 +23,11 @@ for try in 1 2 3 4 5 6; do
   echo "gpu_pack.sh: pack.sh try $try ended with status $status$([[ -f .gpu/run.sh ]] || echo ', no .gpu/run.sh'); again" >&2
 done
 [[ -f .gpu/run.sh ]] || { echo "gpu_pack.sh: pack.sh never finished; its last log: /tmp/janus-gpu-pack.log" >&2; exit 1; }
+# pack.sh takes janus and janus_* programs; the examples (examples/) run there too. They need no
+# library janus does not (both link the same static libraries).
+for example in hello_rhi render_scene; do
+  [[ -x "$build_dir/examples/$example/$example" ]] && strip -o ".gpu/bin/$example" "$build_dir/examples/$example/$example"
+done
 
 rm -rf .gpu-pack
 mkdir -p .gpu-pack
