@@ -110,35 +110,33 @@ Count drawAndCount(IDevice& device, bool useCompute) {
     count.compute = useCompute;
     BufferHandle counter;
     TextureHandle countTarget;
-    // Kept until the list has run (the list also keeps what it references alive itself).
-    std::vector<PipelineHandle> pipelines;
-    std::vector<BindingSetHandle> sets;
+    // The pipelines and sets below go out of scope before the list runs: that is fine, a command
+    // list keeps what it references alive until it is recorded again or destroyed.
     if (useCompute) {
         counter = device.createBuffer(BufferDesc().setSize(sizeof(uint32_t)).setUsage(BufferUsage::Storage).setDebugName("hello count"));
-        pipelines.push_back(device.createComputePipeline(ComputePipelineDesc()
-                                                             .setShader(shader(ShaderStage::Compute, hello_rhi_shaders::count_covered_comp,
-                                                                               "count_covered.comp"))
-                                                             .setDebugName("hello count (compute)")));
-        sets.push_back(device.createBindingSet(BindingSetDesc()
-                                                   .add(BindingItem::sampledTexture(0, image, nearest))
-                                                   .add(BindingItem::storageBuffer(1, counter))));
-        commands->setPipeline(pipelines.back());
-        commands->setBindingSet(0, sets.back());
+        const PipelineHandle pipeline = device.createComputePipeline(
+            ComputePipelineDesc()
+                .setShader(shader(ShaderStage::Compute, hello_rhi_shaders::count_covered_comp, "count_covered.comp"))
+                .setDebugName("hello count (compute)"));
+        const BindingSetHandle bindings = device.createBindingSet(
+            BindingSetDesc().add(BindingItem::sampledTexture(0, image, nearest)).add(BindingItem::storageBuffer(1, counter)));
+        commands->setPipeline(pipeline);
+        commands->setBindingSet(0, bindings);
         commands->dispatch((kSize + 7) / 8, (kSize + 7) / 8);   // local size 8x8
     } else {
         countTarget = device.createTexture(
             TextureDesc().setSize(1, 1).setFormat(Format::RGBA8_UNORM).setUsage(TextureUsage::RenderTarget).setDebugName("hello count"));
-        pipelines.push_back(device.createGraphicsPipeline(
+        const PipelineHandle pipeline = device.createGraphicsPipeline(
             GraphicsPipelineDesc()
                 .setShaders(shader(ShaderStage::Vertex, hello_rhi_shaders::fullscreen_vert, "fullscreen.vert"),
                             shader(ShaderStage::Fragment, hello_rhi_shaders::count_covered_frag, "count_covered.frag"))
                 .addColorFormat(Format::RGBA8_UNORM)
-                .setDebugName("hello count (fallback)")));
-        sets.push_back(device.createBindingSet(BindingSetDesc().add(BindingItem::sampledTexture(0, image, nearest))));
+                .setDebugName("hello count (fallback)"));
+        const BindingSetHandle bindings = device.createBindingSet(BindingSetDesc().add(BindingItem::sampledTexture(0, image, nearest)));
         commands->beginRenderPass(RenderPassDesc().addColor(Attachment::clear(countTarget)));
-        commands->setPipeline(pipelines.back());
-        commands->setBindingSet(0, sets.back());
-        commands->draw(3);
+        commands->setPipeline(pipeline);
+        commands->setBindingSet(0, bindings);
+        commands->draw(3);   // the full-screen triangle: one fragment in the 1x1 target
         commands->endRenderPass();
     }
     commands->end();
