@@ -12,7 +12,7 @@
 //       createShader runs with validation on (janus/rhi/derivative_lint.h), as warnings.
 //
 // The translations are written to the output folder. Exit 0: all accepted; 1: a translation was
-// rejected; 2: bad arguments or an unreadable or invalid module.
+// rejected; 2: bad arguments or an unreadable or invalid module (SPIRV-Tools' validator decides).
 #include <spirv_cross/spirv_cross.hpp>
 
 #include <fmt/format.h>
@@ -31,6 +31,7 @@
 #include "gl_shader_translation.h"
 #include "glsl_front_end_check.h"
 #include "janus/rhi/derivative_lint.h"
+#include "janus/rhi/spirv_validation.h"
 #include "janus/shaders/shaders.h"
 
 namespace {
@@ -146,6 +147,11 @@ std::optional<std::vector<uint32_t>> readModule(const std::filesystem::path& pat
     if (words[0] != 0x07230203u) {
         fmt::print(stderr, "{}: '{}' is not a SPIR-V module (its first word is 0x{:08x}, not SPIR-V's magic number "
                            "0x07230203; compile GLSL with glslangValidator -V first)\n", kTool, path.string(), words[0]);
+        return std::nullopt;
+    }
+    // SPIRV-Cross assumes a valid module: a damaged one could crash it.
+    if (const std::string problem = rhi::spirvModuleProblem(words); !problem.empty()) {
+        fmt::print(stderr, "{}: '{}' is not a valid SPIR-V module: {}\n", kTool, path.string(), problem);
         return std::nullopt;
     }
     return words;

@@ -5,6 +5,8 @@
 
 #include <algorithm>
 
+#include "janus/rhi/spirv_validation.h"
+
 namespace janus::rhi::detail {
 namespace {
 
@@ -35,6 +37,10 @@ ShaderReflection reflectShader(const ShaderDesc& desc) {
     if (desc.spirv[0] != kSpirvMagic)
         invalid(desc, fmt::format("spirv is not SPIR-V (magic number 0x{:08x}, not 0x{:08x}); pass SPIR-V words "
                                   "(janus::shaders::get)", desc.spirv[0], kSpirvMagic));
+    // Before SPIRV-Cross, which assumes a valid module (a damaged one could crash it).
+    if (const std::string problem = spirvModuleProblem(desc.spirv); !problem.empty())
+        invalid(desc, fmt::format("spirv is not a valid SPIR-V module: {}; compile the shader again "
+                                  "(glslangValidator -V) and pass all its words", problem));
     ShaderReflection result;
     try {
         spirv_cross::Compiler compiler(desc.spirv);

@@ -35,6 +35,15 @@ printf 'void main() {}\n' >"$tmp/source.frag"
 run 2 "source.frag' is not a SPIR-V module \\(15 bytes" --out "$tmp/e" "$tmp/source.frag"
 printf 'void main() { return; }\n' >"$tmp/text.spv"
 run 2 "text.spv' is not a SPIR-V module \\(its first word is 0x64696f76.*glslangValidator -V" --out "$tmp/e" "$tmp/text.spv"
+# A real module with one instruction's word count damaged: refused by the validator, not a crash.
+python3 - "$generated/bench_uniform_color_frag.spv" "$tmp/damaged.spv" <<'PY'
+import struct, sys
+data = bytearray(open(sys.argv[1], "rb").read())
+words = list(struct.unpack("<%dI" % (len(data) // 4), data))
+words[5] = (words[5] & 0xFFFF) | (0x7FFF << 16)   # the first instruction claims 32767 words
+open(sys.argv[2], "wb").write(struct.pack("<%dI" % len(words), *words))
+PY
+run 2 "damaged.spv' is not a valid SPIR-V module" --out "$tmp/e" "$tmp/damaged.spv"
 run 2 "cannot read '$tmp/none.spv'" --out "$tmp/e" "$tmp/none.spv"
 run 2 'no SPIR-V file given' --out "$tmp/e"
 run 2 'unknown option' --out "$tmp/e" --es "$generated/bench_triangle_vert.spv"
