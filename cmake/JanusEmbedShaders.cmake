@@ -27,7 +27,59 @@
 # Variants: call it again for the same target with other DEFINES and another NAMESPACE and HEADER.
 #
 # Needs glslangValidator (Debian: glslang-tools).
+#
+# This file is also a script (cmake -P) that writes the header of one compiled module, so that each
+# shader is compiled once: janus_add_shader (cmake/JanusShaders.cmake, Janus's own shaders) uses
+# the same step.
+
+# The header declaring `spirv_file`'s words as `const uint32_t <array>[]`. The file is read as
+# little-endian words, as glslang writes it on the hosts Janus builds on (a module of the other
+# endianness fails on its magic number here). Written under another name and renamed, so a build
+# that stops half-way never leaves a truncated header behind.
+function(_janus_write_spirv_header spirv_file header array)
+  file(READ "${spirv_file}" hex HEX)
+  string(LENGTH "${hex}" digits)
+  math(EXPR remainder "${digits} % 8")
+  if(digits EQUAL 0 OR NOT remainder EQUAL 0)
+    message(FATAL_ERROR "${spirv_file}: not a SPIR-V module (${digits} hex digits, not whole 32-bit words)")
+  endif()
+  string(REGEX REPLACE "(..)(..)(..)(..)" "0x\\4\\3\\2\\1," words "${hex}")
+  string(SUBSTRING "${words}" 0 10 magic)
+  if(NOT magic STREQUAL "0x07230203")
+    message(FATAL_ERROR "${spirv_file}: not a little-endian SPIR-V module (first word ${magic}, not 0x07230203)")
+  endif()
+  set(w "0x........,")   # eight words a line (CMake's regular expressions have no {8})
+  string(REGEX REPLACE "(${w}${w}${w}${w}${w}${w}${w}${w})" "\\1\n" words "${words}")
+  get_filename_component(spirv_name "${spirv_file}" NAME)
+  file(WRITE "${header}.tmp" "// Generated from ${spirv_name} by JanusEmbedShaders.cmake. Do not edit.\n#pragma once\nconst uint32_t ${array}[] = {\n${words}\n};\n")
+  file(RENAME "${header}.tmp" "${header}")
+endfunction()
+
+if(CMAKE_SCRIPT_MODE_FILE AND DEFINED JANUS_SPIRV_FILE)
+  _janus_write_spirv_header("${JANUS_SPIRV_FILE}" "${JANUS_SPIRV_HEADER}" "${JANUS_SPIRV_ARRAY}")
+  return()
+endif()
+
 include_guard(GLOBAL)
+
+# Sets `out_var` to the custom-command steps that compile `src` once with glslang (its flags after
+# `header array`) into `spv`, with a depfile of the files it #includes (`spv`.d), and write
+# `header` from it, declaring `const uint32_t <array>[]`; and `out_var`_DEPENDS to what the command
+# should also depend on (this file, which writes the header).
+function(janus_glslang_steps out_var src spv header array)
+  if(NOT JANUS_GLSLANG_VALIDATOR)
+    find_program(JANUS_GLSLANG_VALIDATOR NAMES glslangValidator)
+    if(NOT JANUS_GLSLANG_VALIDATOR)
+      message(FATAL_ERROR "glslangValidator not found; install it (Debian: apt install glslang-tools) or set JANUS_GLSLANG_VALIDATOR")
+    endif()
+  endif()
+  set(${out_var}
+      COMMAND "${JANUS_GLSLANG_VALIDATOR}" -V --target-env vulkan1.2 ${ARGN} --depfile "${spv}.d" -o "${spv}" "${src}"
+      COMMAND "${CMAKE_COMMAND}" "-DJANUS_SPIRV_FILE=${spv}" "-DJANUS_SPIRV_HEADER=${header}"
+              "-DJANUS_SPIRV_ARRAY=${array}" -P "${CMAKE_CURRENT_FUNCTION_LIST_FILE}"
+      PARENT_SCOPE)
+  set(${out_var}_DEPENDS "${CMAKE_CURRENT_FUNCTION_LIST_FILE}" PARENT_SCOPE)
+endfunction()
 
 function(janus_embed_shaders target)
   cmake_parse_arguments(ARG "NO_ES" "NAMESPACE;HEADER" "SOURCES;DEFINES;INCLUDE_DIRS" ${ARGN})
@@ -45,10 +97,6 @@ function(janus_embed_shaders target)
   endif()
   if(NOT ARG_HEADER)
     set(ARG_HEADER "${target}_shaders.h")
-  endif()
-  find_program(JANUS_GLSLANG_VALIDATOR NAMES glslangValidator)
-  if(NOT JANUS_GLSLANG_VALIDATOR)
-    message(FATAL_ERROR "janus_embed_shaders(${target}): glslangValidator not found; install it (Debian: apt install glslang-tools) or set JANUS_GLSLANG_VALIDATOR")
   endif()
   # The check tool: Janus's own target in its build tree, the installed one after find_package.
   if(TARGET janus_check_gl_shaders)
@@ -93,14 +141,14 @@ function(janus_embed_shaders target)
     set(spv "${outdir}/${name}.spv")
     set(header "${outdir}/${name}.spv.h")
     set(checked "${gldir}/${name}.checked")
+    janus_glslang_steps(compile "${src}" "${spv}" "${header}" "${name}" ${flags})
     add_custom_command(
       OUTPUT "${spv}" "${header}" "${checked}"
       COMMAND ${CMAKE_COMMAND} -E make_directory "${outdir}" "${gldir}"
-      COMMAND "${JANUS_GLSLANG_VALIDATOR}" -V --target-env vulkan1.2 ${flags} --depfile "${spv}.d" -o "${spv}" "${src}"
-      COMMAND "${JANUS_GLSLANG_VALIDATOR}" -V --target-env vulkan1.2 ${flags} --vn "${name}" -o "${header}" "${src}"
+      ${compile}
       COMMAND ${check_tool} --out "${gldir}" ${es_flag} "${spv}"
       COMMAND ${CMAKE_COMMAND} -E touch "${checked}"
-      DEPENDS "${src}" "$<TARGET_FILE:${check_tool}>"
+      DEPENDS "${src}" "$<TARGET_FILE:${check_tool}>" ${compile_DEPENDS}
       # glslang's depfile lists the #included files, so editing one rebuilds its users.
       DEPFILE "${spv}.d"
       COMMENT "janus_embed_shaders: ${file_name} -> SPIR-V, GL translations checked"

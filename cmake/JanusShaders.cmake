@@ -1,7 +1,7 @@
 # janus_add_shader(<target> NAME <name> SOURCE <file.vert|frag|comp> [DEFINES A B=1 ...] [NO_ES])
 #
 # Compiles one GLSL 450 source (plus defines: that is how variants are made) to SPIR-V with
-# glslang and embeds it in <target> as janus::shaders::<name>. Unless NO_ES is given, the
+# glslang and embeds it (janus_glslang_steps, cmake/JanusEmbedShaders.cmake, as users' shaders) in <target> as janus::shaders::<name>. Unless NO_ES is given, the
 # SPIR-V is also run through SPIRV-Cross for ESSL 300 at build time, so a shader that cannot be
 # expressed for GLES fails the build with SPIRV-Cross's message instead of failing at run time.
 # Compute shaders are checked against GLSL 430 only (ES 3.0 has no compute).
@@ -21,13 +21,14 @@ function(janus_add_shader target)
   if(NOT SH_NO_ES AND NOT ext STREQUAL ".comp")
     list(APPEND check_cmds COMMAND ${SPIRV_CROSS_EXECUTABLE} --version 300 --es "${spv}" --output "${outdir}/${SH_NAME}.essl300")
   endif()
+  janus_glslang_steps(compile "${src}" "${spv}" "${header}" "janus_spirv_${SH_NAME}"
+                      -I${CMAKE_CURRENT_SOURCE_DIR} -I${CMAKE_CURRENT_SOURCE_DIR}/include ${defs})
   add_custom_command(
     OUTPUT "${spv}" "${header}"
     COMMAND ${CMAKE_COMMAND} -E make_directory "${outdir}"
-    COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.2 -I${CMAKE_CURRENT_SOURCE_DIR} -I${CMAKE_CURRENT_SOURCE_DIR}/include ${defs} --depfile "${spv}.d" -o "${spv}" "${src}"
-    COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.2 -I${CMAKE_CURRENT_SOURCE_DIR} -I${CMAKE_CURRENT_SOURCE_DIR}/include ${defs} --vn "janus_spirv_${SH_NAME}" -o "${header}" "${src}"
+    ${compile}
     ${check_cmds}
-    DEPENDS "${src}"
+    DEPENDS "${src}" ${compile_DEPENDS}
     # glslang's depfile lists the #included files, so editing a shared .glsl rebuilds its users.
     DEPFILE "${spv}.d"
     COMMENT "glslang ${SH_NAME} (${SH_SOURCE} ${SH_DEFINES})"
