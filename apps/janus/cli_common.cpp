@@ -429,7 +429,7 @@ renderer::LightingSettings parseLightingOptions(const LightingOptions& options) 
 
 renderer::DebugView parseDebugOption(std::string_view text) {
     const std::optional<renderer::DebugView> view = renderer::parseDebugView(text);
-    if (!view) throw UsageError(fmt::format("--debug '{}' is not a debug view; use none, tiles, gi or gi-light", text));
+    if (!view) throw UsageError(fmt::format("--debug '{}' is not a debug view; use none, tiles, gi, gi-light or shadow", text));
     return *view;
 }
 
@@ -733,6 +733,23 @@ std::vector<std::string> splitList(const std::string& text) {
     for (std::string item; std::getline(stream, item, ',');)
         if (!item.empty()) items.push_back(item);
     return items;
+}
+
+std::vector<uint32_t> parseCountList(const std::string& text, const char* option, uint32_t lo, uint32_t hi, bool powerOfTwo) {
+    std::vector<uint32_t> values;
+    std::stringstream stream(text);
+    for (std::string item; std::getline(stream, item, ',');) {
+        uint32_t n = 0;
+        const auto [end, error] = std::from_chars(item.data(), item.data() + item.size(), n);
+        if (item.empty() || error != std::errc() || end != item.data() + item.size() || n < lo || n > hi ||
+            (powerOfTwo && (n & (n - 1)) != 0))
+            throw UsageError(fmt::format("{} '{}' must be a comma-separated list of {}integers {}..{}", option, text,
+                                         powerOfTwo ? "power-of-two " : "", lo, hi));
+        if (std::find(values.begin(), values.end(), n) == values.end()) values.push_back(n);
+    }
+    if (values.empty()) throw UsageError(fmt::format("{} '{}' is empty", option, text));
+    std::sort(values.begin(), values.end());
+    return values;
 }
 
 std::filesystem::path benchOutputDir(const std::string& out, const std::string& stem) {

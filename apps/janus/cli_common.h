@@ -78,6 +78,9 @@ rhi::Backend parseBackendOption(std::string_view text);            // throws Usa
 renderer::FeaturePath parsePathOption(std::string_view text);      // throws UsageError
 rhi::GLPlatform parseGLPlatformOption(std::string_view text);      // throws UsageError
 std::vector<std::string> splitList(const std::string& text);        // "a,b,,c" -> {a, b, c}
+// "64,16,64" -> {16, 64}: distinct, sorted, each in lo..hi (and a power of two when asked); a
+// UsageError naming `option` otherwise, or when the list is empty.
+std::vector<uint32_t> parseCountList(const std::string& text, const char* option, uint32_t lo, uint32_t hi, bool powerOfTwo);
 
 // Fails early (InputError) when `file` could not be created: its directory is missing or is
 // not a directory, or `file` itself is a directory. Saves a render that could not be saved.
@@ -284,5 +287,6 @@ Command addBakeCommand(CLI::App& parent);
 // `janus bench probes`, registered under `bench` by addBenchCommand; returns what runs it.
 std::function<int()> addBenchProbesCommand(CLI::App& bench);
 std::function<int()> addBenchGiCommand(CLI::App& bench);   // cmd_bench_gi.cpp
+std::function<int()> addBenchShadowsCommand(CLI::App& bench);   // cmd_bench_shadows.cpp
 
 }  // namespace janus::cli

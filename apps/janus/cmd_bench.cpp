@@ -353,7 +353,8 @@ Command addBenchCommand(CLI::App& parent) {
     auto options = std::make_shared<BenchOptions>();
     CLI::App* app = parent.add_subcommand("bench", "Benchmarks; 'janus bench forward' measures Forward+ light culling, "
                                                    "'janus bench probes' the GGX prefilter's accuracy vs time, "
-                                                   "'janus bench gi' the probe GI's accuracy vs time");
+                                                   "'janus bench gi' the probe GI's accuracy vs time, "
+                                                   "'janus bench shadows' the shadow map's accuracy vs time");
     CLI::App* forward = app->add_subcommand("forward", "Many-lights scene: naive / tiles-2d / tiles-depth on each path and backend; "
                                                        "writes forward.md, forward.json, forward.png and cutoff-error-<backend>-<path>.png (where the smallest "
                                                        "cut-off's error is, white = its largest) to --out");
@@ -374,13 +375,16 @@ Command addBenchCommand(CLI::App& parent) {
     forward->footer(kExitCodeHelp);
     std::function<int()> runProbes = addBenchProbesCommand(*app);
     std::function<int()> runGi = addBenchGiCommand(*app);
+    std::function<int()> runShadows = addBenchShadowsCommand(*app);
     CLI::App* gi = app->get_subcommand("gi");
-    return {app, [options, forward, gi, runProbes, runGi] {
+    CLI::App* shadows = app->get_subcommand("shadows");
+    return {app, [options, forward, gi, shadows, runProbes, runGi, runShadows] {
                 if (forward->parsed()) {
                     for (const char* name : {"--lights", "--cutoffs", "--size", "--frames", "--warmup"})
                         if (forward->count(name) > 0) options->given.insert(name);
                     return runForward(*options);
                 }
+                if (shadows->parsed()) return runShadows();
                 return gi->parsed() ? runGi() : runProbes();
             }};
 }

@@ -3,7 +3,6 @@
 // relative error against the CPU reference (GgxReference on a texel subset), beside the prefilter
 // pass's GPU time; probes.md / probes.json / probes.png (docs/BENCHMARKS.md).
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -34,23 +33,6 @@ struct ProbesOptions {
     bool pathsGiven = false, backendsGiven = false;
 };
 
-std::vector<uint32_t> parseCounts(const std::string& text, const char* option, uint32_t lo, uint32_t hi, bool powerOfTwo) {
-    std::vector<uint32_t> values;
-    std::stringstream stream(text);
-    for (std::string item; std::getline(stream, item, ',');) {
-        uint32_t n = 0;
-        const auto [end, error] = std::from_chars(item.data(), item.data() + item.size(), n);
-        if (item.empty() || error != std::errc() || end != item.data() + item.size() || n < lo || n > hi ||
-            (powerOfTwo && (n & (n - 1)) != 0))
-            throw UsageError(fmt::format("{} '{}' must be a comma-separated list of {}integers {}..{}", option, text,
-                                         powerOfTwo ? "power-of-two " : "", lo, hi));
-        if (std::find(values.begin(), values.end(), n) == values.end()) values.push_back(n);
-    }
-    if (values.empty()) throw UsageError(fmt::format("{} '{}' is empty", option, text));
-    std::sort(values.begin(), values.end());
-    return values;
-}
-
 struct Row {
     std::string backend, path;
     uint32_t faceSize = 0, samples = 0;   // 0: the default ramp
@@ -74,11 +56,11 @@ int runProbes(const ProbesOptions& options) {
     }
     std::vector<uint32_t> samples;
     if (!counts.empty() || !withDefault)
-        samples = parseCounts(counts.empty() ? options.samples : counts, "--samples", 1, renderer::kMaxProbeSamplesPerMip, false);
+        samples = parseCountList(counts.empty() ? options.samples : counts, "--samples", 1, renderer::kMaxProbeSamplesPerMip, false);
     if (withDefault) samples.insert(samples.begin(), 0u);
     if (options.brightTexels > renderer::kMaxProbeBrightTexels)
         throw UsageError(fmt::format("--bright-texels {} must be 0..{}", options.brightTexels, renderer::kMaxProbeBrightTexels));
-    const std::vector<uint32_t> sizes = parseCounts(options.quick ? "32" : options.sizes, "--sizes", 4, 2048, true);
+    const std::vector<uint32_t> sizes = parseCountList(options.quick ? "32" : options.sizes, "--sizes", 4, 2048, true);
     std::vector<renderer::FeaturePath> paths;
     for (const std::string& item : splitList(options.quick && !options.pathsGiven ? "compute" : options.paths))
         paths.push_back(parsePathOption(item));

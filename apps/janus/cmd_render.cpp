@@ -150,7 +150,8 @@ Command addRenderCommand(CLI::App& parent) {
     addSceneChoiceOptions(*app, options->sceneChoice);
     app->add_option("--debug", options->debug, "Debug view: none, tiles (heat map of lights per tile, blue to red; "
                                                "tiles at the cap white-hatched), gi (the irradiance volume's light alone and its probes) or "
-                                               "gi-light (the volume's light without the probes)")
+                                               "gi-light (the volume's light without the probes), shadow (the main directional light's visibility "
+                                               "from its shadow map, 0 black to 1 white)")
         ->type_name("VIEW");
     app->add_option("--gi-bake", options->giBake, "The scene's irradiance volume from this file (janus bake); default: bake at start-up")
         ->type_name("FILE");

@@ -86,6 +86,11 @@ void Renderer::Impl::createFeatures(const Scene& scene) {
         fmt::print(stderr, "janus renderer: warning: no GI to show: scene '{}' has no irradiance volume, so the {} debug view is black; "
                            "give the scene an \"irradianceVolume\" (docs/SCENES.md) or a glTF node named IrradianceVolume...\n",
                    scene.name, toString(settings.debugView));
+    if (settings.debugView == DebugView::Shadow && !this->shadows->active())
+        fmt::print(stderr, "janus renderer: warning: no shadow to show: scene '{}' has {}, so the shadow debug view is white "
+                           "(every surface fully lit)\n",
+                   scene.name, !lighting.shadows ? "shadows turned off (quality.shadows / --no-shadows)"
+                                                 : "no directional light that gives light, or nothing to cast a shadow");
     features.push_back(std::make_unique<Tonemap>(device, scene.environment.exposure, settings.path, gpuScene->pointSampler()));
     if (settings.debugView == DebugView::Tiles) features.push_back(std::make_unique<TileHeatmap>(device, *localLights, settings.path));
 }

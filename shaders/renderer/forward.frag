@@ -159,13 +159,15 @@ void main() {
 
     vec3 radiance = vec3(0.0);
     uint meshLayers = uint(draw.flags.w);
+    float mainLightVisibility = 1.0;   // --debug shadow shows it
     for (int i = 0; i < frame.lightCounts.x; ++i) {
         DirectionalLight light = frame.directionalLights[i];
         if ((floatBitsToUint(light.colorIntensity.w) & meshLayers) == 0u) continue;
         vec3 irradiance = light.colorIntensity.rgb;
         if (i == 0 && frame.shadowParams.x > 0.0) {
             vec3 shadowCoord = shadowCoordFor(frame.worldToShadow, vWorldPosition, geometricNormal, frame.shadowParams.z);
-            irradiance *= sampleShadowPCF(shadowMap, shadowCoord, frame.shadowParams.y);
+            mainLightVisibility = sampleShadowPCF(shadowMap, shadowCoord, frame.shadowParams.y);
+            irradiance *= mainLightVisibility;
         }
         radiance += shade(s, -light.direction.xyz, irradiance);
     }
@@ -192,6 +194,11 @@ void main() {
     if (reflectionProbes.probeCount.x > 0) probes = reflectionProbeRadiance(vWorldPosition, reflected, perceptualRoughness);
     vec3 probeSpecular = probes.rgb;
     vec4 gi = giIrradianceOverPi(vWorldPosition, s.normal);   // coverage 0 without a volume
+    if (frame.skyParams.w > 1.5) {
+        // --debug shadow: what the shadow map lets through of the main light (1 without a map).
+        outRadiance = vec4(vec3(mainLightVisibility), 1.0);
+        return;
+    }
     if (frame.skyParams.w > 0.5) {
         // --debug gi: the volume's irradiance / pi where it reaches, times its coverage.
         outRadiance = vec4(min(gi.rgb * gi.a, vec3(kMaxRadiance)), 1.0);

@@ -20,7 +20,7 @@ layout(set = JANUS_SET_VIEW, binding = JANUS_BINDING_FRAME_UNIFORMS, std140) uni
     ivec4 lightCounts;     // x directional, y local, z 1 = read tile lists (tiled culling), 0 = loop every local light
     ivec4 tileGrid;        // x tileSize, y tilesX, z maxLightsPerTile, w tileCount
     DirectionalLight directionalLights[kMaxDirectionalLights];
-    vec4 skyParams;        // x 1 = the sky lights the scene (else the ambient colour), y prefiltered cube's last mip, z intensity, w 1 = --debug gi
+    vec4 skyParams;        // x 1 = the sky lights the scene (else the ambient colour), y prefiltered cube's last mip, z intensity, w 1 = --debug gi, 2 = --debug shadow
 } frame;
 
 // Passes that draw no meshes (the GI relight) define FRAME_UNIFORMS_ONLY: no per-draw set.

@@ -11,7 +11,7 @@ expect_error 2 "--tile-size '20' is not allowed; use 16, 32, 64, 128 or 256" ren
 expect_error 2 "--max-lights-per-tile '0' is not allowed; use a whole number 1..1024" \
   render --max-lights-per-tile 0 --out "$TMP/x.png"
 expect_error 2 "--intensity-cutoff '-1' is not allowed" render --intensity-cutoff -1 --out "$TMP/x.png"
-expect_error 2 "--debug 'heat' is not a debug view; use none, tiles, gi or gi-light" render --debug heat --out "$TMP/x.png"
+expect_error 2 "--debug 'heat' is not a debug view; use none, tiles, gi, gi-light or shadow" render --debug heat --out "$TMP/x.png"
 expect_error 2 "many-lights scene takes a light count 0..16384" render many-lights:lots --out "$TMP/x.png"
 expect_error 2 "--culling 'x' is not a culling mode" parity --culling x --out "$TMP/parity"
 

@@ -59,8 +59,11 @@ TEST(LightCulling, NamesRoundTrip) {
 }
 
 TEST(DebugView, NamesRoundTrip) {
-    for (DebugView view : {DebugView::None, DebugView::Tiles}) EXPECT_EQ(parseDebugView(toString(view)), view);
+    for (DebugView view : {DebugView::None, DebugView::Tiles, DebugView::Gi, DebugView::GiLight, DebugView::Shadow})
+        EXPECT_EQ(parseDebugView(toString(view)), view);
+    EXPECT_STREQ(toString(DebugView::Shadow), "shadow");
     EXPECT_EQ(parseDebugView("heatmap"), std::nullopt);
+    EXPECT_EQ(parseDebugView("Shadow"), std::nullopt);
 }
 
 TEST(FrameReport, JsonHasTheLightCullingReportOnlyWhenPresent) {

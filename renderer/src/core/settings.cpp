@@ -33,6 +33,7 @@ const char* toString(DebugView view) {
         case DebugView::Tiles: return "tiles";
         case DebugView::Gi: return "gi";
         case DebugView::GiLight: return "gi-light";
+        case DebugView::Shadow: return "shadow";
         case DebugView::None: break;
     }
     return "none";
@@ -43,6 +44,7 @@ std::optional<DebugView> parseDebugView(std::string_view name) {
     if (name == "tiles") return DebugView::Tiles;
     if (name == "gi") return DebugView::Gi;
     if (name == "gi-light") return DebugView::GiLight;
+    if (name == "shadow") return DebugView::Shadow;
     return std::nullopt;
 }
 

@@ -155,7 +155,10 @@ FrameUniforms ForwardShading::viewFrameUniforms(const ViewState& state) const {
     frame.tileGrid = glm::ivec4(int(lighting.tileSize), state.tiled ? int(m_localLights.tilesX()) : 0, int(lighting.maxLightsPerTile),
                                 state.tiled ? int(m_localLights.tileCount()) : 0);
     frame.skyParams = m_imageBasedLighting.shadingParams();
-    frame.skyParams.w = view.debugView == DebugView::Gi || view.debugView == DebugView::GiLight ? 1.0f : 0.0f;   // forward.frag shows the volume's light
+    // forward.frag's debug outputs: 1 the volume's light, 2 the main light's shadow-map visibility.
+    frame.skyParams.w = view.debugView == DebugView::Gi || view.debugView == DebugView::GiLight ? 1.0f
+                        : view.debugView == DebugView::Shadow                                  ? 2.0f
+                                                                                                : 0.0f;
     return frame;
 }
 

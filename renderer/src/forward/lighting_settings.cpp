@@ -9,6 +9,8 @@
 
 #include <fmt/format.h>
 
+#include "janus/renderer/scene.h"
+
 namespace janus::renderer {
 namespace {
 
@@ -67,6 +69,19 @@ ResolvedLighting resolveLighting(const LightingSettings& given, const nlohmann::
                                         "culling can render; use LightCulling::Naive (\"naive\"; janus: --culling naive) or a cut-off above 0 with {}",
                                         toString(lighting.culling)));
     return lighting;
+}
+
+LightingSettings resolveLightingSettings(const LightingSettings& given, const Scene& scene) {
+    const ResolvedLighting resolved = resolveLighting(given, scene.quality);
+    LightingSettings settings;
+    settings.culling = resolved.culling;
+    settings.tileSize = resolved.tileSize;
+    settings.maxLightsPerTile = resolved.maxLightsPerTile;
+    settings.intensityCutoff = resolved.intensityCutoff;
+    settings.autoTiledThreshold = resolved.autoTiledThreshold;
+    settings.shadows = resolved.shadows;
+    settings.shadowMapSize = resolved.shadowMapSize;
+    return settings;
 }
 
 }  // namespace janus::renderer

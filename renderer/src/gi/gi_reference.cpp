@@ -537,6 +537,35 @@ ImageRGBAF GiReference::indirectIrradiance(const Camera& camera, uint32_t width,
     return image;
 }
 
+ImageRGBAF GiReference::lightVisibility(const Camera& camera, uint32_t width, uint32_t height, const glm::vec3& lightDirection,
+                                        uint32_t threads) const {
+    if (width == 0 || height == 0) throw RendererError(fmt::format("shadow reference: image size {}x{}", width, height));
+    const double length = glm::length(glm::dvec3(lightDirection));
+    if (!(length > 0.0) || !std::isfinite(length))
+        throw RendererError(fmt::format("shadow reference: the light direction ({}, {}, {}) is not a direction", lightDirection.x,
+                                        lightDirection.y, lightDirection.z));
+    const glm::dvec3 towardLight = -glm::dvec3(lightDirection) / length;
+    const glm::dmat4 inverseViewProjection = glm::inverse(glm::dmat4(makeProjection(camera, width, height)) * glm::dmat4(makeView(camera)));
+    ImageRGBAF image{width, height, std::vector<float>(size_t(width) * height * 4, 0.0f)};
+    parallelFor(height, threadCount(threads, height), [&](size_t y) {
+        for (uint32_t x = 0; x < width; ++x) {
+            // The pixel centre's ray, as indirectIrradiance.
+            const glm::dvec2 ndc((x + 0.5) / width * 2.0 - 1.0, (y + 0.5) / height * 2.0 - 1.0);
+            const glm::dvec4 nearPoint = inverseViewProjection * glm::dvec4(ndc, 0.0, 1.0);
+            const glm::dvec4 farPoint = inverseViewProjection * glm::dvec4(ndc, 1.0, 1.0);
+            const glm::dvec3 origin = glm::dvec3(nearPoint) / nearPoint.w;
+            const glm::dvec3 direction = glm::normalize(glm::dvec3(farPoint) / farPoint.w - origin);
+            const std::optional<Hit> hit = m_impl->intersect(origin, direction);
+            if (!hit || hit->geometricNormal == glm::dvec3(0.0) || glm::dot(hit->geometricNormal, towardLight) <= 0.0) continue;
+            const bool lit = !m_impl->occluded(m_impl->offsetFrom(*hit), towardLight, std::numeric_limits<double>::infinity());
+            float* out = &image.pixels[(size_t(y) * width + x) * 4];
+            out[0] = out[1] = out[2] = lit ? 1.0f : 0.0f;
+            out[3] = 1.0f;
+        }
+    });
+    return image;
+}
+
 namespace {
 
 struct ErrorAccumulator {
@@ -593,6 +622,33 @@ GiError compareIndirectImage(const ImageRGBAF& rendered, const ImageRGBAF& refer
                         glm::dvec3(reference.pixels[i], reference.pixels[i + 1], reference.pixels[i + 2]));
     }
     return accumulator.result();
+}
+
+VisibilityError compareVisibility(const ImageRGBAF& rendered, const ImageRGBAF& reference) {
+    if (rendered.width != reference.width || rendered.height != reference.height || rendered.pixels.size() != reference.pixels.size())
+        throw RendererError(fmt::format("shadow reference: a {}x{} image to compare with a {}x{} reference", rendered.width,
+                                        rendered.height, reference.width, reference.height));
+    VisibilityError error;
+    double absolute = 0.0, squared = 0.0;
+    uint64_t leaks = 0, falseShadows = 0;
+    for (size_t i = 0; i + 3 < reference.pixels.size(); i += 4) {
+        if (reference.pixels[i + 3] < 0.5f) continue;
+        const double expected = reference.pixels[i], value = rendered.pixels[i];
+        const double difference = std::isfinite(value) ? std::abs(value - expected) : 1.0;
+        absolute += difference;
+        squared += difference * difference;
+        if (expected < 0.5 && !(value <= 0.5)) ++leaks;
+        if (expected >= 0.5 && !(value >= 0.5)) ++falseShadows;
+        ++error.compared;
+    }
+    if (error.compared == 0) return error;
+    const double n = double(error.compared);
+    error.meanAbsolute = absolute / n;
+    error.rmse = std::sqrt(squared / n);
+    error.leakFraction = double(leaks) / n;
+    error.falseShadowFraction = double(falseShadows) / n;
+    error.wrongFraction = error.leakFraction + error.falseShadowFraction;
+    return error;
 }
 
 }  // namespace janus::renderer

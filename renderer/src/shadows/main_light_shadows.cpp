@@ -6,6 +6,8 @@
 
 #include <fmt/format.h>
 
+#include "janus/renderer/renderer.h"
+
 namespace janus::renderer {
 
 MainLightShadows::MainLightShadows(rhi::IDevice& device, const Scene& scene, const GpuScene& gpuScene, bool enabled, uint32_t mapSize,

@@ -11,6 +11,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "core/gpu_util.h"
+#include "janus/renderer/renderer.h"
 #include "scene/scene_internal.h"
 #include "janus/renderer/scene.h"
 #include "janus/renderer/settings.h"

@@ -34,11 +34,8 @@ struct WorldBounds {
 };
 WorldBounds sceneWorldBounds(const Scene& scene);
 
-// The directional light the shadow map serves: the brightest (largest colour channel x
-// intensity) of the first `shadedDirectionalLights` directional lights in scene order, the first
-// of equals. An index into scene.lights; nullopt when none gives any light.
-std::optional<size_t> mainDirectionalLight(const Scene& scene, uint32_t shadedDirectionalLights = 4);
-// The same over a light list (Renderer::setLights); an index into `lights`.
+// mainDirectionalLight(scene) is public (janus/renderer/renderer.h); the same over a light list
+// (Renderer::setLights), an index into `lights`.
 std::optional<size_t> mainDirectionalLight(std::span<const Light> lights, uint32_t shadedDirectionalLights = 4);
 
 // One mesh drawn into the shadow map. The vertex buffer holds renderer Vertex structs (position

@@ -76,6 +76,18 @@ public:
     // Radiance arriving at `origin` from `direction` (unit), one path, `bounces` as above.
     glm::dvec3 incidentRadiance(const glm::vec3& origin, const glm::vec3& direction, uint32_t bounces, uint64_t seed) const;
 
+    // The shadow map's reference (docs/SHADOWS.md, "Accuracy vs time"): per pixel of `camera`'s view
+    // (row 0 on top), whether light travelling along `lightDirection` (a directional light; need not be
+    // unit length) reaches the surface the pixel's centre sees: rgb 1 lit, 0 shadowed, by one ray
+    // towards the light, which the shadow map's casters block as the map does (opaque and masked
+    // meshes, masked as opaque; single-sided ones only where the light meets their front face;
+    // blended ones not). Alpha 1 where the pixel sees a front face (or a double-sided one) that
+    // faces the light; 0 (rgb 0) where it sees nothing, a back face, or a surface facing away from
+    // the light, which the light does not reach whatever its shadow. Throws RendererError for a
+    // size of 0 or a zero or non-finite direction.
+    ImageRGBAF lightVisibility(const Camera& camera, uint32_t width, uint32_t height, const glm::vec3& lightDirection,
+                               uint32_t threads = 0) const;
+
 private:
     struct Impl;
     std::unique_ptr<Impl> m_impl;
@@ -96,5 +108,18 @@ GiError compareProbeIrradiance(std::span<const IrradianceProbe> probes, std::spa
 // reference's indirectIrradiance, over the pixels where the reference's alpha is 1. Throws
 // RendererError when the sizes differ.
 GiError compareIndirectImage(const ImageRGBAF& rendered, const ImageRGBAF& reference);
+
+// How far a shadow map's visibility (the red channel of a `--debug shadow` frame's HDR image) is
+// from GiReference::lightVisibility, over the pixels whose reference alpha is 1.
+struct VisibilityError {
+    double meanAbsolute = 0.0;   // mean |rendered - reference|: the share of the light's contribution that is wrong
+    double rmse = 0.0;
+    double wrongFraction = 0.0;  // pixels on the wrong side of one half: lit where shadowed or shadowed where lit
+    double leakFraction = 0.0;   // of those, lit (> 0.5) where the reference is shadowed: light leaks, peter-panning
+    double falseShadowFraction = 0.0;   // shadowed (< 0.5) where the reference is lit: acne, shadows grown past their casters
+    uint64_t compared = 0;
+};
+// Throws RendererError when the sizes differ.
+VisibilityError compareVisibility(const ImageRGBAF& rendered, const ImageRGBAF& reference);
 
 }  // namespace janus::renderer

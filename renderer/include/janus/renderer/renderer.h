@@ -66,6 +66,12 @@ struct IrradianceBakeSummary {
 // cannot be written.
 IrradianceBakeSummary bakeIrradianceVolume(rhi::IDevice& device, const Scene& scene, const std::filesystem::path& path);
 
+// The directional light the shadow map serves (docs/SHADOWS.md): the brightest (largest colour
+// channel x intensity) of the first `shadedDirectionalLights` directional lights in scene order
+// (the forward pass shades four), the first of equals. An index into scene.lights; nullopt when
+// none gives any light.
+std::optional<size_t> mainDirectionalLight(const Scene& scene, uint32_t shadedDirectionalLights = 4);
+
 class Renderer {
 public:
     // Uploads the scene. Throws RendererError for settings the device cannot honour (absurd

@@ -29,8 +29,10 @@ enum class DebugView {
     Tiles,   // heat map of local lights per tile (blue = few, red = many) over the image; tiles at the cap are marked
     Gi,      // the irradiance volume's diffuse light (irradiance / pi x coverage) instead of the shaded image, and its probes (docs/GI.md)
     GiLight, // the same light without the probes: the image's indirect term alone (what `janus bench gi` compares)
+    Shadow,  // the main directional light's visibility from its shadow map (0 shadowed .. 1 lit; 1 without a map) on every
+             // surface, in the HDR image (what `janus bench shadows` compares; docs/SHADOWS.md)
 };
-const char* toString(DebugView view);             // "none", "tiles", "gi", "gi-light"
+const char* toString(DebugView view);             // "none", "tiles", "gi", "gi-light", "shadow"
 std::optional<DebugView> parseDebugView(std::string_view name);
 
 // Lighting knobs. Unset fields take the scene file's "quality" value, then the default shown.
@@ -46,6 +48,12 @@ struct LightingSettings {
     std::optional<bool> shadows;                  // shadow map for the main directional light; default true
     std::optional<uint32_t> shadowMapSize;        // default 1024
 };
+
+struct Scene;
+// The lighting knobs a renderer made with `given` uses for `scene`, every field set: the given
+// value, else the scene file's "quality" value, else the default. Throws RendererError, naming the
+// key, for what the renderer would refuse.
+LightingSettings resolveLightingSettings(const LightingSettings& given, const Scene& scene);
 
 struct RenderSettings {
     uint32_t width = 256;
