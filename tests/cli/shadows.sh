@@ -52,6 +52,15 @@ else
   fail "the shared DamagedHelmet is missing: $HELMET"
 fi
 
+# An --out where a file it would write is the scene it reads is refused before anything is written.
+mkdir -p "$TMP/named"
+printf '{"gltf": "%s"}\n' "$REPO_ROOT/../shared/scenes/cornell-box/cornellBox.gltf" >"$TMP/named/shadows.json"
+cp "$TMP/named/shadows.json" "$TMP/named-before.json"
+expect_error 2 "--out '.*/named' would overwrite '.*/named/shadows.json', which is the scene file" \
+  bench shadows "$TMP/named/shadows.json" --quick --out "$TMP/named"
+cmp -s "$TMP/named/shadows.json" "$TMP/named-before.json" || fail "a refused bench shadows changed its scene file"
+[[ -e $TMP/named/shadows-reference.png ]] && fail "a refused bench shadows wrote its reference picture"
+
 # Every configuration, two map sizes.
 expect_success bench shadows --quick --backends vulkan,gl,gles --paths compute,fallback --out "$TMP/bench"
 for file in shadows.md shadows.json; do
