@@ -1,7 +1,8 @@
 // `janus bench forward`: the many-lights scene at several light counts, culling modes, feature
 // paths and backends; frame time, culling time and culling efficiency, with ratios against naive
 // from the same run; the intensity cut-off's error (with a picture of where it is, for the
-// smallest cut-off); forward.md / forward.json / forward.png / cutoff-error-<backend>-<path>.png.
+// smallest cut-off); the tile size and the tile list cap against their time and their error (a
+// capped list drops lights); forward.md / forward.json / forward.png / cutoff-error-<backend>-<path>.png.
 #include <algorithm>
 #include <charconv>
 #include <chrono>
@@ -26,6 +27,8 @@ struct BenchOptions {
     std::string paths = "compute,fallback";
     std::string backends = "vulkan,gl";
     std::string cutoffs = "0.1,0.03,0.01,0.003,0.001";
+    std::string tileSizes = "16,32,64,128";
+    std::string tileCaps = "16,64,256";
     std::string size = "256x256";
     std::string out;
     uint32_t frames = 5;
@@ -102,6 +105,40 @@ Measurement measure(rhi::IDevice& device, const renderer::Scene& scene, const re
 // Frame time used for ratios: GPU time where the device has timers, CPU wall time otherwise.
 double frameMs(const Measurement& m) { return m.gpuTimed ? m.frameGpuMs : m.frameWallMs; }
 
+// An HDR image against a reference of the same size, over the colour channels.
+struct ImageError {
+    double maxError = 0.0, meanError = 0.0, psnr = INFINITY;
+    uint32_t maxX = 0, maxY = 0;     // the pixel with the largest error (row 0 on top)
+    std::vector<double> perPixel;   // the largest channel error per pixel, when asked for
+};
+ImageError compareHdr(const renderer::ImageRGBAF& reference, const renderer::ImageRGBAF& image, bool perPixel) {
+    ImageError result;
+    const std::vector<float>& a = reference.pixels;
+    const std::vector<float>& b = image.pixels;
+    if (perPixel) result.perPixel.assign(a.size() / 4, 0.0);
+    double sumSq = 0.0, sum = 0.0, peak = 0.0;
+    size_t samples = 0;
+    for (size_t i = 0; i < a.size() && i < b.size(); ++i) {
+        if (i % 4 == 3) continue;   // alpha carries no radiance
+        const double error = std::abs(double(a[i]) - double(b[i]));
+        if (error > result.maxError) {
+            result.maxX = uint32_t(i / 4 % reference.width);
+            result.maxY = uint32_t(i / 4 / reference.width);
+        }
+        if (perPixel) result.perPixel[i / 4] = std::max(result.perPixel[i / 4], error);
+        result.maxError = std::max(result.maxError, error);
+        sum += error;
+        sumSq += error * error;
+        peak = std::max(peak, double(a[i]));
+        ++samples;
+    }
+    result.meanError = sum / double(std::max<size_t>(samples, 1));
+    const double mse = sumSq / double(std::max<size_t>(samples, 1));
+    // PSNR against the reference's brightest channel (HDR has no fixed peak).
+    result.psnr = mse > 0 ? 10.0 * std::log10(peak * peak / mse) : INFINITY;
+    return result;
+}
+
 struct Row {
     std::string backend, path, mode;
     uint32_t lights = 0;
@@ -152,6 +189,9 @@ int runForward(const BenchOptions& options) {
                                          cutoffsText));
         cutoffs.push_back(cutoff);
     }
+    const std::vector<uint32_t> tileSizes =
+        parseCountList(quick && !given("--tile-sizes") ? "16,64" : options.tileSizes, "--tile-sizes", 16, 256, true);
+    const std::vector<uint32_t> tileCaps = parseCountList(quick && !given("--tile-caps") ? "4,256" : options.tileCaps, "--tile-caps", 1, 1024, false);
     const ImageSize size = parseSize(quick && !given("--size") ? "64x64" : options.size);
     if (options.frames < 1 || options.frames > 1000)
         throw UsageError(fmt::format("--frames {} is not allowed; measure 1..1000 frames per row", options.frames));
@@ -170,6 +210,22 @@ int runForward(const BenchOptions& options) {
     };
     std::vector<CutoffRow> cutoffRows;
     const uint32_t cutoffLights = std::min<uint32_t>(*std::max_element(counts.begin(), counts.end()), 128);
+    // The tile knobs: at the largest light count, one changed at a time from the renderer's default.
+    struct KnobRow {
+        std::string backend, path, knob;
+        uint32_t tileSize = 0, cap = 0;
+        Measurement m;
+        ImageError error;   // against naive with the same lights and cut-off
+        double referenceMs = 0.0;
+    };
+    std::vector<KnobRow> knobRows;
+    const uint32_t knobLights = *std::max_element(counts.begin(), counts.end());
+    renderer::LightingSettings defaults;
+    {
+        renderer::ManyLightsOptions sceneOptions;
+        sceneOptions.lightCount = knobLights;
+        defaults = renderer::resolveLightingSettings({}, renderer::manyLightsScene(sceneOptions));
+    }
     std::vector<std::string> skipped;   // configurations that cannot run here, and why
     for (rhi::Backend backend : backends) {
         rhi::DeviceDesc desc;
@@ -222,32 +278,13 @@ int runForward(const BenchOptions& options) {
                 settings.lighting.intensityCutoff = cutoff;
                 const Measurement m = measure(*device, scene, settings, warmup, frames, true, false);
                 CutoffRow row{rhi::toString(backend), renderer::toString(path), cutoff};
-                double sumSq = 0.0, sum = 0.0, peak = 0.0;
-                const std::vector<float>& a = reference.hdr->pixels;
-                const std::vector<float>& b = m.hdr->pixels;
-                size_t samples = 0;
                 // Where the error is: a picture of it for the smallest cut-off (linear, white = the
                 // largest error), where a lost light shows as a bright patch.
                 const bool picture = cutoff == *std::min_element(cutoffs.begin(), cutoffs.end());
-                std::vector<double> pixelError(picture ? a.size() / 4 : 0, 0.0);
-                for (size_t i = 0; i < a.size(); ++i) {
-                    if (i % 4 == 3) continue;   // alpha carries no radiance
-                    const double error = std::abs(double(a[i]) - double(b[i]));
-                    if (error > row.maxError) {
-                        row.maxX = uint32_t(i / 4 % size.width);
-                        row.maxY = uint32_t(i / 4 / size.width);
-                    }
-                    if (picture) pixelError[i / 4] = std::max(pixelError[i / 4], error);
-                    row.maxError = std::max(row.maxError, error);
-                    sum += error;
-                    sumSq += error * error;
-                    peak = std::max(peak, double(a[i]));
-                    ++samples;
-                }
-                row.meanError = sum / double(std::max<size_t>(samples, 1));
-                const double mse = sumSq / double(std::max<size_t>(samples, 1));
-                // PSNR against the reference's brightest channel (HDR has no fixed peak).
-                row.psnr = mse > 0 ? 10.0 * std::log10(peak * peak / mse) : INFINITY;
+                const ImageError error = compareHdr(*reference.hdr, *m.hdr, picture);
+                const std::vector<double>& pixelError = error.perPixel;
+                row.maxError = error.maxError, row.meanError = error.meanError, row.psnr = error.psnr;
+                row.maxX = error.maxX, row.maxY = error.maxY;
                 row.ms = frameMs(m);
                 row.referenceMs = frameMs(reference);
                 if (picture && row.maxError > 0.0) {
@@ -260,6 +297,37 @@ int runForward(const BenchOptions& options) {
                     renderer::writePNG(outDir / fmt::format("cutoff-error-{}-{}.png", row.backend, row.path), errorImage);
                 }
                 cutoffRows.push_back(row);
+            }
+            // Tile size and list cap: tiles-depth against naive with the same lights and cut-off.
+            // Culling is conservative, so only a full list (a cap below the lights a tile meets,
+            // which drops the rest) makes an error beyond float rounding.
+            if (knobLights > 0) {
+                renderer::ManyLightsOptions knobSceneOptions;
+                knobSceneOptions.lightCount = knobLights;
+                const renderer::Scene knobScene = renderer::manyLightsScene(knobSceneOptions);
+                renderer::RenderSettings knobSettings;
+                knobSettings.width = size.width;
+                knobSettings.height = size.height;
+                knobSettings.path = path;
+                knobSettings.lighting.culling = renderer::LightCulling::Naive;
+                const Measurement naive = measure(*device, knobScene, knobSettings, warmup, frames, true, false);
+                auto runKnob = [&](const char* knob, uint32_t tileSize, uint32_t cap) {
+                    knobSettings.lighting.culling = renderer::LightCulling::TilesDepth;
+                    knobSettings.lighting.tileSize = tileSize;
+                    knobSettings.lighting.maxLightsPerTile = cap;
+                    KnobRow row{rhi::toString(backend), renderer::toString(path), knob, tileSize, cap,
+                                measure(*device, knobScene, knobSettings, warmup, frames, true, true)};
+                    row.error = compareHdr(*naive.hdr, *row.m.hdr, false);
+                    row.m.hdr.reset();
+                    row.referenceMs = frameMs(naive);
+                    std::fprintf(stderr, "  %s/%s %5u lights tiles %3u px, cap %4u: %9.3f ms, max error %.4g\n", row.backend.c_str(),
+                                 row.path.c_str(), knobLights, tileSize, cap, frameMs(row.m), row.error.maxError);
+                    knobRows.push_back(std::move(row));
+                };
+                for (uint32_t tileSize : tileSizes) runKnob("tile size", tileSize, *defaults.maxLightsPerTile);
+                for (uint32_t cap : tileCaps)
+                    if (cap != *defaults.maxLightsPerTile || std::find(tileSizes.begin(), tileSizes.end(), *defaults.tileSize) == tileSizes.end())
+                        runKnob("list cap", *defaults.tileSize, cap);
             }
         }
         const std::vector<rhi::DebugMessage> messages = device->takeDebugMessages();
@@ -318,6 +386,30 @@ int runForward(const BenchOptions& options) {
                                    {"meanAbsError", row.meanError}, {"psnr", std::isinf(row.psnr) ? 999.0 : row.psnr},
                                    {"frameMs", row.ms}, {"referenceMs", row.referenceMs}});
     }
+    if (!knobRows.empty()) {
+        md += fmt::format("\n## Tile size and list cap ({} lights, tiles-depth against naive)\n\n"
+                          "One knob changed at a time from the renderer's defaults ({} px tiles, at most {} lights per tile). Culling is "
+                          "conservative: the error is float rounding until a tile meets more lights than the cap, whose list then drops "
+                          "the rest (counted, and warned on stderr).\n\n"
+                          "| backend | path | knob | tile px | cap | frame ms | culling ms | efficiency | overflow tiles | dropped lights | "
+                          "max abs error | mean abs error | naive ms |\n|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+                          knobLights, *defaults.tileSize, *defaults.maxLightsPerTile);
+        json["tileKnobs"] = nlohmann::json::array();
+        for (const KnobRow& row : knobRows) {
+            const renderer::LightCullingReport* culling = row.m.report.lightCulling ? &*row.m.report.lightCulling : nullptr;
+            md += fmt::format("| {} | {} | {} | {} | {} | {:.3f} | {:.3f} | {} | {} | {} | {:.4g} | {:.4g} | {:.3f} |\n", row.backend, row.path,
+                              row.knob, row.tileSize, row.cap, frameMs(row.m), row.m.cullMs,
+                              row.m.efficiency ? fmt::format("{:.3f}", row.m.efficiency->ratio()) : std::string("-"),
+                              culling ? culling->overflowTiles : 0, culling ? culling->droppedLights : 0, row.error.maxError,
+                              row.error.meanError, row.referenceMs);
+            nlohmann::json j = {{"backend", row.backend}, {"path", row.path}, {"knob", row.knob}, {"tileSize", row.tileSize},
+                                {"maxLightsPerTile", row.cap}, {"frameMs", frameMs(row.m)}, {"cullMs", row.m.cullMs},
+                                {"overflowTiles", culling ? culling->overflowTiles : 0}, {"droppedLights", culling ? culling->droppedLights : 0},
+                                {"maxAbsError", row.error.maxError}, {"meanAbsError", row.error.meanError}, {"naiveMs", row.referenceMs}};
+            if (row.m.efficiency) j["efficiency"] = row.m.efficiency->ratio();
+            json["tileKnobs"].push_back(j);
+        }
+    }
     md += "\n## Auto threshold suggestion (smallest light count where a tiled mode beats naive)\n\n";
     json["autoThreshold"] = nlohmann::json::object();
     for (const auto& [key, count] : threshold) {
@@ -364,12 +456,18 @@ Command addBenchCommand(CLI::App& parent) {
     forward->add_option("--paths", options->paths, "Comma-separated feature paths")->default_str(options->paths);
     forward->add_option("--backends", options->backends, "Comma-separated backends")->default_str(options->backends);
     forward->add_option("--cutoffs", options->cutoffs, "Intensity cut-offs (lux) whose error is measured")->default_str(options->cutoffs);
+    forward->add_option("--tile-sizes", options->tileSizes, "Tile sizes (px, powers of two 16..256) timed at the largest light count")
+        ->default_str(options->tileSizes);
+    forward->add_option("--tile-caps", options->tileCaps, "Lights-per-tile caps (1..1024) timed at the largest light count, with the error "
+                                                          "a full list makes")
+        ->default_str(options->tileCaps);
     addSizeOption(*forward, options->size);
     forward->add_option("--frames", options->frames, "Measured frames per row (median)")->default_str("5");
     forward->add_option("--warmup", options->warmup, "Frames rendered before measuring")->default_str("2");
     forward->add_option("--out,-o", options->out, "Output directory; required")->type_name("DIR");
     forward->add_flag("--quick", options->quick,
-                      "Tiny run for tests: 64x64, lights 0,64, one frame after one warm-up, cut-off 0.01; options given explicitly win");
+                      "Tiny run for tests: 64x64, lights 0,64, one frame after one warm-up, cut-off 0.01, tiles 16 and 64 px, caps 4 "
+                      "and 256; options given explicitly win");
     addGLPlatformOption(*forward, options->glPlatform);
     app->footer(kExitCodeHelp);
     forward->footer(kExitCodeHelp);
@@ -380,7 +478,7 @@ Command addBenchCommand(CLI::App& parent) {
     CLI::App* shadows = app->get_subcommand("shadows");
     return {app, [options, forward, gi, shadows, runProbes, runGi, runShadows] {
                 if (forward->parsed()) {
-                    for (const char* name : {"--lights", "--cutoffs", "--size", "--frames", "--warmup"})
+                    for (const char* name : {"--lights", "--cutoffs", "--size", "--frames", "--warmup", "--tile-sizes", "--tile-caps"})
                         if (forward->count(name) > 0) options->given.insert(name);
                     return runForward(*options);
                 }

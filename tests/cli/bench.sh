@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # `janus bench forward --quick`: every output file, a row per backend/path/count/mode with a
-# speed-up against naive, efficiencies in (0, 1], the cut-off error table. `janus bench probes
+# speed-up against naive, efficiencies in (0, 1], the cut-off error table, the tile knobs. `janus bench probes
 # --quick`: per-mip errors against the reference and the GPU time per configuration, errors that
 # fall with more samples. Needs the backends.
 source "$(dirname "$0")/common.bash" "$@"
@@ -19,6 +19,9 @@ expect_error 2 "--cutoffs 'nan': each cut-off must be a finite number > 0" bench
 expect_error 2 "--cutoffs '0.01,0'" bench forward --cutoffs 0.01,0 --out "$TMP/bench"
 expect_error 2 "--size 'abc' is not WIDTHxHEIGHT" bench forward --quick --size abc --out "$TMP/bench"
 expect_error 2 "--lights '0,99999' must be" bench forward --quick --lights 0,99999 --out "$TMP/bench"
+expect_error 2 "--tile-sizes '16,48' must be a comma-separated list of power-of-two integers 16..256" \
+  bench forward --quick --tile-sizes 16,48 --out "$TMP/bench"
+expect_error 2 "--tile-caps '0' must be a comma-separated list of integers 1..1024" bench forward --tile-caps 0 --out "$TMP/bench"
 [[ -e $TMP/bench ]] && fail "a bench forward usage error created --out"
 # Nothing can run: gles has no compute path.
 expect_error 4 "bench forward: no configuration could run \\(gles/compute: " \
@@ -45,6 +48,17 @@ json_check "$TMP/bench/forward.json" \
 json_check "$TMP/bench/forward.json" 'len(j["cutoffs"]) == 4 and all(c["maxAbsError"] >= 0 for c in j["cutoffs"])' \
   "cut-off error table missing"
 check_png "$TMP/bench/forward.png" 900 560
+# The tile knobs (64 lights): 16 and 64 px tiles at the default cap, and a cap of 4 at 16 px, per
+# backend and path. Conservative culling renders exactly what naive does until a list is full; a
+# cap of 4 drops lights (counted) and makes an error; bigger tiles test more lights per pixel.
+json_check "$TMP/bench/forward.json" 'sorted((k["knob"], k["tileSize"], k["maxLightsPerTile"]) for k in j["tileKnobs"]) ==
+  sorted([("tile size", 16, 256), ("tile size", 64, 256), ("list cap", 16, 4)] * 4)' "the tile knob rows are not the quick sweep"
+json_check "$TMP/bench/forward.json" 'all(k["maxAbsError"] == 0 and k["droppedLights"] == 0 for k in j["tileKnobs"] if k["overflowTiles"] == 0) and
+  all(k["overflowTiles"] > 0 and k["droppedLights"] > 0 and k["maxAbsError"] > 0 for k in j["tileKnobs"] if k["maxLightsPerTile"] == 4)' \
+  "a tile knob row without overflow differs from naive, or the cap of 4 dropped nothing"
+json_check "$TMP/bench/forward.json" 'all(next(k for k in j["tileKnobs"] if (k["backend"], k["path"], k["tileSize"]) == (t["backend"], t["path"], 64))["efficiency"] <
+  t["efficiency"] for t in j["tileKnobs"] if t["knob"] == "tile size" and t["tileSize"] == 16)' "64 px tiles should cull less tightly than 16 px ones"
+grep -q "^## Tile size and list cap (64 lights" "$TMP/bench/forward.md" || fail "forward.md has no tile knob section"
 
 # bench probes: usage errors before any device opens; a missing sky is an input error.
 expect_error 2 "--samples '8,2000' must be a comma-separated list of integers 1..1024" \
