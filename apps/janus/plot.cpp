@@ -54,9 +54,19 @@ const char* glyph(char c) {
     case '.': return "... ... ... ... .#.";
     case '-': return "... ... ### ... ...";
     case '/': return "..# ..# .#. #.. #..";
+    case '(': return ".#. #.. #.. #.. .#.";
+    case ')': return ".#. ..# ..# ..# .#.";
+    case '%': return "#.. ..# .#. #.. ..#";
+    case ',': return "... ... ... .#. #..";
+    case ':': return "... .#. ... .#. ...";
+    case '+': return "... .#. ### .#. ...";
+    case '*': return "... #.# .#. #.# ...";
     default: return "... ... ... ... ...";
     }
 }
+
+constexpr int kGlyphAdvance = 8;   // a 3x5 glyph at scale 2 and its one-column space
+constexpr int kLabelGap = 8;       // pixels between two tick labels at least
 
 struct Canvas {
     renderer::ImageRGBA8 image;
@@ -82,12 +92,17 @@ struct Canvas {
                     if (g[row * 4 + col] == '#')
                         for (int sy = 0; sy < scale; ++sy)
                             for (int sx = 0; sx < scale; ++sx) pixel(x + col * scale + sx, y + row * scale + sy, rgb);
-            x += 4 * scale;
+            x += kGlyphAdvance / 2 * scale;
         }
     }
 };
 
-std::string tickLabel(double value) { return value >= 1 ? fmt::format("{:g}", value) : fmt::format("{:.3g}", value); }
+// Three significant digits at most (measured times carry many): 1.10293 -> 1.1, 24.8737 -> 24.9;
+// whole numbers up to 99999 whole (light counts: 2048).
+std::string tickLabel(double value) {
+    if (value >= 1 && value < 1e5 && value == std::floor(value)) return fmt::format("{:g}", value);
+    return fmt::format("{:.3g}", value);
+}
 
 }  // namespace
 
@@ -121,9 +136,15 @@ renderer::ImageRGBA8 drawLogXPlot(const std::vector<PlotSeries>& series, const s
             for (double m : {1.0, 2.0, 5.0})
                 if (const double x = m * std::pow(10.0, d); x >= std::pow(10.0, lx0) && x <= std::pow(10.0, lx1)) xs.push_back(x);
     }
+    std::sort(xs.begin(), xs.end());
+    int labelsEnd = -1000;   // right edge of the last x label drawn: a label that would touch it is left out
     for (double x : xs) {
         canvas.line(px(x), top, px(x), top + plotH, 0xEEEEEE);
-        canvas.text(int(px(x)) - 8, top + plotH + 8, tickLabel(x), 0x333333);
+        const std::string label = tickLabel(x);
+        const int start = int(px(x)) - 8;
+        if (start < labelsEnd + kLabelGap) continue;
+        canvas.text(start, top + plotH + 8, label, 0x333333);
+        labelsEnd = start + int(label.size()) * kGlyphAdvance;
     }
     canvas.line(left, top, left, top + plotH, 0x000000, 2);
     canvas.line(left, top + plotH, left + plotW, top + plotH, 0x000000, 2);
