@@ -292,6 +292,30 @@ void addGLPlatformOption(CLI::App& app, std::string& glPlatform) {
         ->type_name("PLATFORM");
 }
 
+void addBenchTargetOptions(CLI::App& app, BenchTargets& targets) {
+    app.add_option("--paths", targets.paths, "Comma-separated feature paths")->default_str(targets.paths);
+    app.add_option("--backends", targets.backends, "Comma-separated backends")->default_str(targets.backends);
+    app.add_option("--out,-o", targets.out, "Output directory; required")->type_name("DIR");
+    addGLPlatformOption(app, targets.glPlatform);
+}
+
+void noteBenchTargetsGiven(const CLI::App& app, BenchTargets& targets) {
+    targets.pathsGiven = app.count("--paths") > 0;
+    targets.backendsGiven = app.count("--backends") > 0;
+}
+
+BenchConfigurations parseBenchTargets(const BenchTargets& targets, bool quick, const std::string& quickPaths,
+                                      const std::string& quickBackends) {
+    BenchConfigurations configurations;
+    for (const std::string& item : splitList(quick && !targets.pathsGiven && !quickPaths.empty() ? quickPaths : targets.paths))
+        configurations.paths.push_back(parsePathOption(item));
+    for (const std::string& item : splitList(quick && !targets.backendsGiven && !quickBackends.empty() ? quickBackends : targets.backends))
+        configurations.backends.push_back(parseBackendOption(item));
+    if (configurations.paths.empty() || configurations.backends.empty())
+        throw UsageError("--paths and --backends need at least one entry each");
+    return configurations;
+}
+
 std::optional<uint32_t> parseManyLightsSceneName(std::string_view text) {
     if (text.substr(0, kManyLightsSceneName.size()) != kManyLightsSceneName) return std::nullopt;
     std::string_view rest = text.substr(kManyLightsSceneName.size());

@@ -142,6 +142,24 @@ void addSceneChoiceOptions(CLI::App& app, SceneChoiceOptions& options);
 renderer::SceneLoadOptions parseSceneLoadOptions(const SceneChoiceOptions& choice, bool allowOutsidePaths);
 void addGLPlatformOption(CLI::App& app, std::string& glPlatform);
 
+// What the accuracy-vs-time benches (`janus bench probes`, `gi`, `shadows`) sweep and where they
+// write: --paths and --backends (comma-separated; the defaults are the subcommand's), --out/-o DIR
+// and --gl-platform.
+struct BenchTargets {
+    std::string paths, backends, out, glPlatform = "egl";
+    bool pathsGiven = false, backendsGiven = false;   // on the command line (noteBenchTargetsGiven)
+};
+void addBenchTargetOptions(CLI::App& app, BenchTargets& targets);
+void noteBenchTargetsGiven(const CLI::App& app, BenchTargets& targets);   // in the subcommand's callback
+struct BenchConfigurations {
+    std::vector<renderer::FeaturePath> paths;
+    std::vector<rhi::Backend> backends;
+};
+// The lists parsed; with `quick`, a non-empty `quickPaths` / `quickBackends` replaces a list not
+// given on the command line. UsageError naming an unknown entry, or when a list is empty.
+BenchConfigurations parseBenchTargets(const BenchTargets& targets, bool quick, const std::string& quickPaths = {},
+                                      const std::string& quickBackends = {});
+
 // Forward+ lighting flags (--culling, --tile-size, --max-lights-per-tile, --intensity-cutoff,
 // --no-shadows), shared by render, parity and bench. Empty strings = not given (scene/default).
 struct LightingOptions {

@@ -201,6 +201,15 @@ int runForward(const BenchOptions& options) {
     const rhi::GLPlatform glPlatform = parseGLPlatformOption(options.glPlatform);
     const std::filesystem::path outDir = benchOutputDir(options.out, "forward");
 
+    // Every row's settings: the image size, a path and a culling mode; the rest the scene's.
+    auto settingsFor = [&](renderer::FeaturePath path, renderer::LightCulling culling) {
+        renderer::RenderSettings settings;
+        settings.width = size.width;
+        settings.height = size.height;
+        settings.path = path;
+        settings.lighting.culling = culling;
+        return settings;
+    };
     std::vector<Row> rows;
     struct CutoffRow {
         std::string backend, path;
@@ -243,11 +252,7 @@ int runForward(const BenchOptions& options) {
                 const renderer::Scene scene = renderer::manyLightsScene(sceneOptions);
                 size_t naiveRow = SIZE_MAX;
                 for (renderer::LightCulling mode : modes) {
-                    renderer::RenderSettings settings;
-                    settings.width = size.width;
-                    settings.height = size.height;
-                    settings.path = path;
-                    settings.lighting.culling = mode;
+                    const renderer::RenderSettings settings = settingsFor(path, mode);
                     Row row{rhi::toString(backend), renderer::toString(path), renderer::toString(mode), count,
                             measure(*device, scene, settings, warmup, frames, false, count > 0)};
                     if (mode == renderer::LightCulling::Naive) naiveRow = rows.size();
@@ -266,11 +271,7 @@ int runForward(const BenchOptions& options) {
             sceneOptions.lightCount = cutoffLights;
             sceneOptions.rangeFraction = 0.0f;
             const renderer::Scene scene = renderer::manyLightsScene(sceneOptions);
-            renderer::RenderSettings settings;
-            settings.width = size.width;
-            settings.height = size.height;
-            settings.path = path;
-            settings.lighting.culling = renderer::LightCulling::Naive;
+            renderer::RenderSettings settings = settingsFor(path, renderer::LightCulling::Naive);
             settings.lighting.intensityCutoff = 0.0f;
             const Measurement reference = measure(*device, scene, settings, warmup, frames, true, false);
             for (float cutoff : cutoffs) {
@@ -305,11 +306,7 @@ int runForward(const BenchOptions& options) {
                 renderer::ManyLightsOptions knobSceneOptions;
                 knobSceneOptions.lightCount = knobLights;
                 const renderer::Scene knobScene = renderer::manyLightsScene(knobSceneOptions);
-                renderer::RenderSettings knobSettings;
-                knobSettings.width = size.width;
-                knobSettings.height = size.height;
-                knobSettings.path = path;
-                knobSettings.lighting.culling = renderer::LightCulling::Naive;
+                renderer::RenderSettings knobSettings = settingsFor(path, renderer::LightCulling::Naive);
                 const Measurement naive = measure(*device, knobScene, knobSettings, warmup, frames, true, false);
                 auto runKnob = [&](const char* knob, uint32_t tileSize, uint32_t cap) {
                     knobSettings.lighting.culling = renderer::LightCulling::TilesDepth;

@@ -27,17 +27,13 @@ namespace {
 struct GiOptions {
     std::string scene;
     std::string sweeps = "surfels,bricks,brick-size,surfels-per-brick,spacing,order,bounces,probes-per-frame,reduction";
-    std::string paths = "compute,fallback";
-    std::string backends = "vulkan";
+    BenchTargets targets{"compute,fallback", "vulkan"};
     std::string size = "96x96";
-    std::string out;
     uint32_t runs = 3;
     uint32_t referenceDirections = 4096;
     uint32_t referenceSamples = 512;
-    std::string glPlatform = "egl";
     bool allowOutsidePaths = false;
     bool quick = false;
-    bool pathsGiven = false, backendsGiven = false;
 };
 
 const std::vector<std::string> kSweeps = {"surfels", "bricks", "brick-size", "surfels-per-brick", "spacing", "order", "bounces",
@@ -135,18 +131,14 @@ int runGi(const GiOptions& options) {
     for (const std::string& s : sweeps)
         if (std::find(kSweeps.begin(), kSweeps.end(), s) == kSweeps.end())
             throw UsageError(fmt::format("--sweeps: unknown sweep '{}'; choose from {}", s, fmt::join(kSweeps, ", ")));
-    std::vector<renderer::FeaturePath> paths;
-    for (const std::string& item : splitList(options.quick && !options.pathsGiven ? "compute" : options.paths)) paths.push_back(parsePathOption(item));
-    std::vector<rhi::Backend> backends;
-    for (const std::string& item : splitList(options.backends)) backends.push_back(parseBackendOption(item));
-    if (paths.empty() || backends.empty()) throw UsageError("--paths and --backends need at least one entry each");
+    const auto [paths, backends] = parseBenchTargets(options.targets, options.quick, "compute");
     if (options.runs < 1 || options.runs > 100) throw UsageError(fmt::format("--runs {} must be 1..100", options.runs));
     if (options.referenceDirections < 64 || options.referenceDirections > 1u << 20)
         throw UsageError(fmt::format("--reference-directions {} must be 64..1048576", options.referenceDirections));
     if (options.referenceSamples < 1 || options.referenceSamples > 1u << 16)
         throw UsageError(fmt::format("--reference-samples {} must be 1..65536", options.referenceSamples));
     const ImageSize size = options.quick ? ImageSize{32, 32} : parseSize(options.size);
-    const std::filesystem::path outDir = benchOutputDir(options.out, "gi");
+    const std::filesystem::path outDir = benchOutputDir(options.targets.out, "gi");
 
     const std::optional<std::filesystem::path> scenePath =
         options.scene.empty() ? std::nullopt : std::optional<std::filesystem::path>(options.scene);
@@ -224,7 +216,7 @@ int runGi(const GiOptions& options) {
     std::vector<std::string> skipped;
     for (rhi::Backend backend : backends) {
         rhi::DeviceDesc desc;
-        desc.setBackend(backend).setGLPlatform(parseGLPlatformOption(options.glPlatform));
+        desc.setBackend(backend).setGLPlatform(parseGLPlatformOption(options.targets.glPlatform));
         std::unique_ptr<rhi::IDevice> device = rhi::createDevice(desc);
         for (renderer::FeaturePath path : paths) {
             if (path == renderer::FeaturePath::Compute && !device->capabilities().has(rhi::Capability::Compute)) {
@@ -427,21 +419,17 @@ std::function<int()> addBenchGiCommand(CLI::App& bench) {
               "irradiance volume; writes gi.md, gi.json, gi.png to --out");
     addSceneArgument(*gi, options->scene);
     gi->add_option("--sweeps", options->sweeps, "Comma-separated sweeps: " + fmt::format("{}", fmt::join(kSweeps, ", ")))->default_str(options->sweeps);
-    gi->add_option("--paths", options->paths, "Comma-separated feature paths")->default_str(options->paths);
-    gi->add_option("--backends", options->backends, "Comma-separated backends")->default_str(options->backends);
     gi->add_option("--size", options->size, "Image size WxH for the indirect-term error")->default_str(options->size);
     gi->add_option("--runs", options->runs, "Relights timed per configuration (median)")->default_str("3");
     gi->add_option("--reference-directions", options->referenceDirections, "Reference: directions (paths) per probe")->default_str("4096");
     gi->add_option("--reference-samples", options->referenceSamples, "Reference: paths per pixel")->default_str("512");
-    gi->add_option("--out,-o", options->out, "Output directory; required")->type_name("DIR");
     gi->add_flag("--quick", options->quick,
                  "Tiny run for tests: 32x32, one value per sweep, 1 run, a coarse reference, the compute path unless --paths is given");
     addAllowOutsidePathsFlag(*gi, options->allowOutsidePaths);
-    addGLPlatformOption(*gi, options->glPlatform);
+    addBenchTargetOptions(*gi, options->targets);
     gi->footer(kExitCodeHelp);
     return [options, gi] {
-        options->pathsGiven = gi->count("--paths") > 0;
-        options->backendsGiven = gi->count("--backends") > 0;
+        noteBenchTargetsGiven(*gi, options->targets);
         return runGi(*options);
     };
 }

@@ -21,16 +21,12 @@ namespace {
 struct ProbesOptions {
     std::string samples = "8,16,34,64,128,256,1024";
     std::string sizes = "64,128,256";
-    std::string paths = "compute,fallback";
-    std::string backends = "vulkan,gl,gles";
     std::string env;
-    std::string out;
+    BenchTargets targets{"compute,fallback", "vulkan,gl,gles"};
     uint32_t runs = 5;
     uint32_t grid = 8;
-    std::string glPlatform = "egl";
     uint32_t brightTexels = renderer::kDefaultProbeBrightTexels;
     bool quick = false;
-    bool pathsGiven = false, backendsGiven = false;
 };
 
 struct Row {
@@ -61,20 +57,14 @@ int runProbes(const ProbesOptions& options) {
     if (options.brightTexels > renderer::kMaxProbeBrightTexels)
         throw UsageError(fmt::format("--bright-texels {} must be 0..{}", options.brightTexels, renderer::kMaxProbeBrightTexels));
     const std::vector<uint32_t> sizes = parseCountList(options.quick ? "32" : options.sizes, "--sizes", 4, 2048, true);
-    std::vector<renderer::FeaturePath> paths;
-    for (const std::string& item : splitList(options.quick && !options.pathsGiven ? "compute" : options.paths))
-        paths.push_back(parsePathOption(item));
-    std::vector<rhi::Backend> backends;
-    for (const std::string& item : splitList(options.quick && !options.backendsGiven ? "vulkan" : options.backends))
-        backends.push_back(parseBackendOption(item));
-    if (paths.empty() || backends.empty()) throw UsageError("--paths and --backends need at least one entry each");
+    const auto [paths, backends] = parseBenchTargets(options.targets, options.quick, "compute", "vulkan");
     if (options.runs < 1 || options.runs > 100) throw UsageError(fmt::format("--runs {} must be 1..100", options.runs));
     if (options.grid < 1 || options.grid > 256) throw UsageError(fmt::format("--grid {} must be 1..256", options.grid));
     const uint32_t runs = options.quick ? std::min(options.runs, 3u) : options.runs;
     EnvironmentOptions envOptions;
     envOptions.map = options.env;
     const EnvironmentOverride env = parseEnvironmentOptions(envOptions);   // exit 2 bad extension, 3 missing
-    const std::filesystem::path outDir = benchOutputDir(options.out, "probes");
+    const std::filesystem::path outDir = benchOutputDir(options.targets.out, "probes");
 
     std::string envLabel;
     renderer::ImageRGBAF sky;
@@ -91,7 +81,7 @@ int runProbes(const ProbesOptions& options) {
     std::vector<std::string> skipped;
     for (rhi::Backend backend : backends) {
         rhi::DeviceDesc desc;
-        desc.setBackend(backend).setGLPlatform(parseGLPlatformOption(options.glPlatform));
+        desc.setBackend(backend).setGLPlatform(parseGLPlatformOption(options.targets.glPlatform));
         std::unique_ptr<rhi::IDevice> device = rhi::createDevice(desc);
         for (renderer::FeaturePath path : paths) {
             if (std::optional<std::string> why = renderer::probeBenchUnsupported(*device, path)) {
@@ -217,22 +207,18 @@ std::function<int()> addBenchProbesCommand(CLI::App& bench) {
     probes->add_option("--samples", options->samples, "Comma-separated samples per mip (1..1024, or 'default': 21,34,55,89,89,89)")
         ->default_str(options->samples);
     probes->add_option("--sizes", options->sizes, "Comma-separated probe face sizes (powers of two, 4..2048)")->default_str(options->sizes);
-    probes->add_option("--paths", options->paths, "Comma-separated feature paths")->default_str(options->paths);
-    probes->add_option("--backends", options->backends, "Comma-separated backends")->default_str(options->backends);
     probes->add_option("--env", options->env, "Equirectangular .hdr/.exr sky; default: a synthetic smooth sky")->type_name("FILE");
     probes->add_option("--runs", options->runs, "Timed prefilter runs per configuration (median)")->default_str("5");
     probes->add_option("--grid", options->grid, "Reference texels per face and mip: a grid of at most N x N")->default_str("8");
     probes->add_option("--bright-texels", options->brightTexels,
                        "The prefilter's bright-texel split: at most N texels taken out and summed exactly (0 = off)")
         ->default_str(std::to_string(renderer::kDefaultProbeBrightTexels));
-    probes->add_option("--out,-o", options->out, "Output directory; required")->type_name("DIR");
     probes->add_flag("--quick", options->quick,
                      "Tiny run for tests: samples 16,64 at 32^2, 3 runs, vulkan/compute unless --backends/--paths are given");
-    addGLPlatformOption(*probes, options->glPlatform);
+    addBenchTargetOptions(*probes, options->targets);
     probes->footer(kExitCodeHelp);
     return [options, probes] {
-        options->pathsGiven = probes->count("--paths") > 0;
-        options->backendsGiven = probes->count("--backends") > 0;
+        noteBenchTargetsGiven(*probes, options->targets);
         return runProbes(*options);
     };
 }

@@ -27,15 +27,12 @@ namespace {
 struct ShadowsOptions {
     std::string scene;
     std::string sizes = "256,512,1024,2048,4096";
-    std::string paths = "compute,fallback";
-    std::string backends = "vulkan,gl,gles";
+    BenchTargets targets{"compute,fallback", "vulkan,gl,gles"};
     std::string size = "256x256";
-    std::string out;
     uint32_t runs = 5;
-    std::string glPlatform = "egl";
     bool allowOutsidePaths = false;
     bool quick = false;
-    bool pathsGiven = false, sizesGiven = false;
+    bool sizesGiven = false;
 };
 
 // Map sizes the sweep may ask for; a device's own limit (its largest 2D texture) skips a row.
@@ -108,18 +105,13 @@ renderer::ImageRGBA8 errorPicture(const renderer::ImageRGBAF& rendered, const re
 }
 
 int runShadows(const ShadowsOptions& options) {
-    std::vector<renderer::FeaturePath> paths;
-    for (const std::string& item : splitList(options.quick && !options.pathsGiven ? "compute" : options.paths))
-        paths.push_back(parsePathOption(item));
-    std::vector<rhi::Backend> backends;
-    for (const std::string& item : splitList(options.backends)) backends.push_back(parseBackendOption(item));
-    if (paths.empty() || backends.empty()) throw UsageError("--paths and --backends need at least one entry each");
+    const auto [paths, backends] = parseBenchTargets(options.targets, options.quick, "compute");
     const std::vector<uint32_t> sizes =
         parseCountList(options.quick && !options.sizesGiven ? "64,512" : options.sizes, "--sizes", kMinMapSize, kMaxMapSize, true);
     if (options.runs < 1 || options.runs > 100) throw UsageError(fmt::format("--runs {} must be 1..100", options.runs));
     const ImageSize size = options.quick ? ImageSize{64, 64} : parseSize(options.size);
     const uint32_t runs = options.quick ? 1 : options.runs;
-    const std::filesystem::path outDir = benchOutputDir(options.out, "shadows");
+    const std::filesystem::path outDir = benchOutputDir(options.targets.out, "shadows");
 
     const std::optional<std::filesystem::path> scenePath =
         options.scene.empty() ? std::nullopt : std::optional<std::filesystem::path>(options.scene);
@@ -161,7 +153,7 @@ int runShadows(const ShadowsOptions& options) {
     std::vector<std::string> skipped;
     for (rhi::Backend backend : backends) {
         rhi::DeviceDesc desc;
-        desc.setBackend(backend).setGLPlatform(parseGLPlatformOption(options.glPlatform));
+        desc.setBackend(backend).setGLPlatform(parseGLPlatformOption(options.targets.glPlatform));
         std::unique_ptr<rhi::IDevice> device = rhi::createDevice(desc);
         for (renderer::FeaturePath path : paths) {
             if (path == renderer::FeaturePath::Compute && !device->capabilities().has(rhi::Capability::Compute)) {
@@ -334,18 +326,15 @@ std::function<int()> addBenchShadowsCommand(CLI::App& bench) {
                    "pass's time, per map size; writes shadows.md, shadows.json, shadows.png and pictures to --out");
     addSceneArgument(*shadows, options->scene);
     shadows->add_option("--sizes", options->sizes, "Comma-separated shadow map sizes (powers of two, 16..16384)")->default_str(options->sizes);
-    shadows->add_option("--paths", options->paths, "Comma-separated feature paths")->default_str(options->paths);
-    shadows->add_option("--backends", options->backends, "Comma-separated backends")->default_str(options->backends);
     shadows->add_option("--size", options->size, "Image size WxH")->default_str(options->size);
     shadows->add_option("--runs", options->runs, "Frames timed per map size (median)")->default_str("5");
-    shadows->add_option("--out,-o", options->out, "Output directory; required")->type_name("DIR");
     shadows->add_flag("--quick", options->quick,
                       "Tiny run for tests: 64x64, maps 64 and 512, 1 run, the compute path; --sizes and --paths given win");
     addAllowOutsidePathsFlag(*shadows, options->allowOutsidePaths);
-    addGLPlatformOption(*shadows, options->glPlatform);
+    addBenchTargetOptions(*shadows, options->targets);
     shadows->footer(kExitCodeHelp);
     return [options, shadows] {
-        options->pathsGiven = shadows->count("--paths") > 0;
+        noteBenchTargetsGiven(*shadows, options->targets);
         options->sizesGiven = shadows->count("--sizes") > 0;
         return runShadows(*options);
     };

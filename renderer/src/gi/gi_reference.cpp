@@ -259,6 +259,15 @@ struct GiReference::Impl {
         return hit;
     }
 
+    // What the centre of pixel (x, y) of a width x height view sees (NDC y = -1 is row 0; depth 0..1).
+    std::optional<Hit> intersectPixel(const glm::dmat4& inverseViewProjection, uint32_t x, size_t y, uint32_t width, uint32_t height) const {
+        const glm::dvec2 ndc((x + 0.5) / width * 2.0 - 1.0, (y + 0.5) / height * 2.0 - 1.0);
+        const glm::dvec4 nearPoint = inverseViewProjection * glm::dvec4(ndc, 0.0, 1.0);
+        const glm::dvec4 farPoint = inverseViewProjection * glm::dvec4(ndc, 1.0, 1.0);
+        const glm::dvec3 origin = glm::dvec3(nearPoint) / nearPoint.w;
+        return intersect(origin, glm::normalize(glm::dvec3(farPoint) / farPoint.w - origin));
+    }
+
     bool occluded(const glm::dvec3& origin, const glm::dvec3& direction, double distance) const {
         RTCIntersectContext context;
         rtcInitIntersectContext(&context);
@@ -509,13 +518,7 @@ ImageRGBAF GiReference::indirectIrradiance(const Camera& camera, uint32_t width,
     parallelFor(height, threadCount(settings.threads, height), [&](size_t y) {
         for (uint32_t x = 0; x < width; ++x) {
             Random random(settings.seed, (uint64_t(y) * width + x) + (uint64_t(1) << 40));
-            // The pixel centre's ray (NDC y = -1 is row 0; depth 0..1).
-            const glm::dvec2 ndc((x + 0.5) / width * 2.0 - 1.0, (y + 0.5) / height * 2.0 - 1.0);
-            const glm::dvec4 nearPoint = inverseViewProjection * glm::dvec4(ndc, 0.0, 1.0);
-            const glm::dvec4 farPoint = inverseViewProjection * glm::dvec4(ndc, 1.0, 1.0);
-            const glm::dvec3 origin = glm::dvec3(nearPoint) / nearPoint.w;
-            const glm::dvec3 direction = glm::normalize(glm::dvec3(farPoint) / farPoint.w - origin);
-            const std::optional<Hit> hit = m_impl->intersect(origin, direction);
+            const std::optional<Hit> hit = m_impl->intersectPixel(inverseViewProjection, x, y, width, height);
             if (!hit || hit->geometricNormal == glm::dvec3(0.0)) continue;
             // Irradiance / pi = the mean of cosine-distributed radiance; a randomly shifted
             // Fibonacci lattice stratifies the samples over the hemisphere.
@@ -549,13 +552,7 @@ ImageRGBAF GiReference::lightVisibility(const Camera& camera, uint32_t width, ui
     ImageRGBAF image{width, height, std::vector<float>(size_t(width) * height * 4, 0.0f)};
     parallelFor(height, threadCount(threads, height), [&](size_t y) {
         for (uint32_t x = 0; x < width; ++x) {
-            // The pixel centre's ray, as indirectIrradiance.
-            const glm::dvec2 ndc((x + 0.5) / width * 2.0 - 1.0, (y + 0.5) / height * 2.0 - 1.0);
-            const glm::dvec4 nearPoint = inverseViewProjection * glm::dvec4(ndc, 0.0, 1.0);
-            const glm::dvec4 farPoint = inverseViewProjection * glm::dvec4(ndc, 1.0, 1.0);
-            const glm::dvec3 origin = glm::dvec3(nearPoint) / nearPoint.w;
-            const glm::dvec3 direction = glm::normalize(glm::dvec3(farPoint) / farPoint.w - origin);
-            const std::optional<Hit> hit = m_impl->intersect(origin, direction);
+            const std::optional<Hit> hit = m_impl->intersectPixel(inverseViewProjection, x, y, width, height);
             if (!hit || hit->geometricNormal == glm::dvec3(0.0) || glm::dot(hit->geometricNormal, towardLight) <= 0.0) continue;
             const bool lit = !m_impl->occluded(m_impl->offsetFrom(*hit), towardLight, std::numeric_limits<double>::infinity());
             float* out = &image.pixels[(size_t(y) * width + x) * 4];
