@@ -266,9 +266,13 @@ int runShadows(const ShadowsOptions& options) {
         if (measured.empty()) continue;
         const Row& smallest = *measured.front();
         const Row& largest = *measured.back();
-        std::string line = fmt::format("- {}/{}: mean error {} % with a {} map, {} % with {} (without a map {} %)", first.backend, first.path,
-                                       percent(smallest.error.meanAbsolute), smallest.mapSize, percent(largest.error.meanAbsolute),
-                                       largest.mapSize, percent(first.error.meanAbsolute));
+        std::string line =
+            measured.size() == 1
+                ? fmt::format("- {}/{}: mean error {} % at map size {} (without a map {} %)", first.backend, first.path,
+                              percent(smallest.error.meanAbsolute), smallest.mapSize, percent(first.error.meanAbsolute))
+                : fmt::format("- {}/{}: mean error {} % at map size {}, {} % at {} (without a map {} %)", first.backend, first.path,
+                              percent(smallest.error.meanAbsolute), smallest.mapSize, percent(largest.error.meanAbsolute),
+                              largest.mapSize, percent(first.error.meanAbsolute));
         nlohmann::json entry = {{"backend", first.backend}, {"path", first.path}, {"smallestMap", smallest.mapSize}, {"largestMap", largest.mapSize},
                                 {"smallestMeanError", smallest.error.meanAbsolute}, {"largestMeanError", largest.error.meanAbsolute},
                                 {"unshadowedMeanError", first.error.meanAbsolute}};
@@ -311,7 +315,7 @@ int runShadows(const ShadowsOptions& options) {
     }
     md += fmt::format("\nPlot (shadows.png): mean visibility error (%) vs the shadow pass's {}, log-log, one line per configuration, "
                       "one point per map size. Pictures: shadows-reference.png (white lit, black shadowed, blue not compared) and "
-                      "shadows-error-<backend>-<path>.png with a {} map (grey agrees, red leaks light, blue shadows too much).\n",
+                      "shadows-error-<backend>-<path>.png at map size {} (grey agrees, red leaks light, blue shadows too much).\n",
                       unit, pictureMapSize);
     writeBenchOutputs(outDir, "shadows", md, json, drawLogXPlot(series, fmt::format("SHADOW PASS {}", gpuTimed ? "GPU MS" : "MS"), "MEAN ERROR (PERCENT)"));
     return 0;
