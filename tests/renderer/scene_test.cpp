@@ -873,5 +873,50 @@ TEST(SceneLoading, SceneFileDarkLightsAreNamedInWarnings) {
     EXPECT_STREQ(darkLightReason(point), "its range is <= 0");
 }
 
+// A key Janus does not read changes nothing, so a misspelt one would be lost without a word: each is
+// a warning naming the file, the object and, for a likely typo, the key meant. Every key Janus does
+// read, in every object, gives none.
+TEST(SceneLoading, SceneFileKeysJanusDoesNotReadAreWarningsThatNameTheLikelyKey) {
+    TinyGltf file;
+    file.write();
+    const Scene typos = loadScene(file.writeText("typos.json", R"({"gltf": "tri.gltf", "enviroment": {"exposure": 2},
+        "camera": {"positon": [0, 0, 3]}, "lights": [{"type": "point", "intensity": 5}, {"type": "point", "Intensity": 5}],
+        "markers": [{"name": "m", "postion": [0, 0, 0]}], "reflectionProbes": [{"name": "p", "resoluton": 32}],
+        "irradianceVolume": {"probes": 2, "bounce": 2}, "quality": {"shadowMapsize": 2048, "myOwnSetting": 1}, "notes": "mine"})"));
+    const std::vector<std::string> expected = {
+        R"(typos.json: the scene file has a key Janus does not read, "enviroment" (did you mean "environment"?); it changes nothing)",
+        R"(typos.json: the scene file has a key Janus does not read, "notes"; it changes nothing)",
+        R"(typos.json: "camera" has a key Janus does not read, "positon" (did you mean "position"?))",
+        R"(typos.json: lights[1] has a key Janus does not read, "Intensity" (did you mean "intensity"?))",
+        R"(typos.json: markers[0] has a key Janus does not read, "postion" (did you mean "position"?))",
+        R"(typos.json: reflectionProbes[0] has a key Janus does not read, "resoluton" (did you mean "resolution"?))",
+        R"(typos.json: "irradianceVolume" has a key Janus does not read, "bounce" (did you mean "bounces"?))",
+        R"(typos.json: "quality" has a key Janus does not read, "myOwnSetting"; it stays in Scene::quality for code of your own)",
+        R"(typos.json: "quality" has a key Janus does not read, "shadowMapsize" (did you mean "shadowMapSize"?))",
+    };
+    for (const std::string& text : expected)
+        EXPECT_EQ(std::count_if(typos.warnings.begin(), typos.warnings.end(), [&](const std::string& w) { return contains(w, text); }), 1)
+            << text << "\nin:\n" << fmt::format("{}", fmt::join(typos.warnings, "\n"));
+    EXPECT_EQ(typos.warnings.size(), expected.size()) << fmt::format("{}", fmt::join(typos.warnings, "\n"));
+    EXPECT_EQ(typos.quality.value("myOwnSetting", 0), 1) << "free-form quality keys stay for the user's code";
+
+    const Scene every = loadScene(file.writeText("every.json", R"({"gltf": "tri.gltf", "name": "all", "time": 0,
+        "camera": {"type": "perspective", "position": [0, 0, 3], "target": [0, 0, 0], "up": [0, 1, 0], "fovYDegrees": 40, "ymag": 1,
+                   "near": 0.1, "far": 10},
+        "environment": {"ambientColor": [0.1, 0.1, 0.1], "exposure": 1, "intensity": 1},
+        "lights": [{"type": "spot", "color": [1, 1, 1], "intensity": 5, "position": [0, 1, 0], "direction": [0, -1, 0], "range": 4,
+                    "innerConeDegrees": 10, "outerConeDegrees": 20, "layers": 1}],
+        "meshLayers": {}, "defaultLight": true, "markers": [{"name": "m", "position": [0, 0, 0]}],
+        "reflectionProbes": [{"name": "p", "position": [0, 0, 0], "influence": {"min": [-1, -1, -1], "max": [1, 1, 1]}, "blendDistance": 0.1,
+                              "resolution": 32, "update": "once", "timeSlicing": "none", "shadows": true, "shadowMapSize": 256,
+                              "layers": 1, "samplesPerMip": [21, 34, 55, 89, 89, 89], "brightTexels": 0}],
+        "irradianceVolume": {"name": "v", "probes": 2, "surfelsPerProbe": 64, "brickSize": 1, "bricks": true, "maxSurfelsPerBrick": 8,
+                             "parallelReduction": true, "bounces": 1, "shOrder": 2, "probesPerFrame": 0, "normalBias": 0.05,
+                             "invalidBackFaceFraction": 0.3, "near": 0.02, "far": 9},
+        "quality": {"lightCulling": "auto", "tileSize": 16, "maxLightsPerTile": 256, "intensityCutoff": 0.01, "autoTiledThreshold": 8,
+                    "shadows": true, "shadowMapSize": 1024}})"));
+    for (const std::string& warning : every.warnings) EXPECT_FALSE(contains(warning, "does not read")) << warning;
+}
+
 }  // namespace
 }  // namespace janus::renderer

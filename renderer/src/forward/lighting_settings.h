@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string_view>
 
 #include <nlohmann/json.hpp>
 
@@ -34,5 +35,9 @@ struct ResolvedLighting {
 
 // Throws RendererError for values out of range or of the wrong JSON type, naming the key.
 ResolvedLighting resolveLighting(const LightingSettings& given, const nlohmann::json& quality);
+
+// The scene file's "quality" keys the renderer reads (those resolveLighting does).
+inline constexpr std::string_view kQualityKeys[] = {"lightCulling", "tileSize", "maxLightsPerTile", "intensityCutoff",
+                                                    "autoTiledThreshold", "shadows", "shadowMapSize"};
 
 }  // namespace janus::renderer

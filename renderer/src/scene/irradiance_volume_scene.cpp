@@ -24,6 +24,13 @@ float readNumber(const std::filesystem::path& file, const json& value, const std
 
 }  // namespace
 
+std::span<const std::string_view> irradianceVolumeKeys() {
+    static constexpr std::string_view kKeys[] = {"name",    "bounds",  "probes",         "spacing",    "surfelsPerProbe",         "brickSize",
+                                                 "bricks",  "maxSurfelsPerBrick", "parallelReduction", "bounces", "shOrder", "probesPerFrame",
+                                                 "normalBias", "invalidBackFaceFraction", "near", "far"};
+    return kKeys;
+}
+
 IrradianceVolume parseIrradianceVolume(const std::filesystem::path& file, const json& v, const Scene& scene) {
     const std::string where = "irradianceVolume";
     if (!v.is_object()) fail(file, "\"irradianceVolume\" must be an object");

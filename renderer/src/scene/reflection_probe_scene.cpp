@@ -106,6 +106,12 @@ Box sceneBounds(const Scene& scene) {
     return bounds.value_or(Box{});
 }
 
+std::span<const std::string_view> reflectionProbeKeys() {
+    static constexpr std::string_view kKeys[] = {"name",    "position",     "influence", "blendDistance", "parallax",      "resolution", "update",
+                                                 "timeSlicing", "shadows", "shadowMapSize", "layers",   "samplesPerMip", "brightTexels"};
+    return kKeys;
+}
+
 std::vector<ReflectionProbe> parseReflectionProbes(const std::filesystem::path& file, const json& probes, const Scene& scene) {
     if (!probes.is_array()) fail(file, "\"reflectionProbes\" must be an array");
     std::vector<ReflectionProbe> result;

@@ -178,6 +178,57 @@ std::string environmentMapProblem(const std::filesystem::path& map) {
     return {};
 }
 
+// Edits (insertions, deletions, substitutions) between two keys, case ignored: how far a typo is.
+size_t editDistance(std::string_view a, std::string_view b) {
+    std::vector<size_t> row(b.size() + 1);
+    for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+    for (size_t i = 1; i <= a.size(); ++i) {
+        size_t diagonal = row[0];
+        row[0] = i;
+        for (size_t j = 1; j <= b.size(); ++j) {
+            const size_t above = row[j];
+            const bool same = std::tolower(static_cast<unsigned char>(a[i - 1])) == std::tolower(static_cast<unsigned char>(b[j - 1]));
+            row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (same ? 0 : 1)});
+            diagonal = above;
+        }
+    }
+    return row[b.size()];
+}
+
+// The keys each object of a scene file may have (docs/SCENES.md); the probes' and the volume's
+// live with their parsers.
+constexpr std::string_view kSceneFileKeys[] = {"gltf",       "name",         "time",    "animation",        "camera",
+                                               "environment", "lights",      "meshLayers", "defaultLight",   "markers",
+                                               "reflectionProbes", "irradianceVolume", "quality"};
+constexpr std::string_view kCameraKeys[] = {"type", "position", "target", "up", "fovYDegrees", "ymag", "near", "far"};
+constexpr std::string_view kEnvironmentKeys[] = {"ambientColor", "exposure", "intensity", "map"};
+constexpr std::string_view kLightKeys[] = {"type",     "color",           "intensity",        "position", "direction",
+                                           "range",    "innerConeDegrees", "outerConeDegrees", "layers"};
+constexpr std::string_view kMarkerKeys[] = {"name", "position"};
+
+// Every key of the scene file that Janus does not read, object by object (all of them checked for
+// their types by then), as warnings.
+void warnUnknownSceneFileKeys(const std::filesystem::path& file, const json& root, std::vector<std::string>& warnings) {
+    auto check = [&](const json& object, const std::string& where, std::span<const std::string_view> known,
+                     std::string_view consequence = "it changes nothing") {
+        std::vector<std::string> found = detail::unknownKeyWarnings(file, object, where, known, consequence);
+        warnings.insert(warnings.end(), found.begin(), found.end());
+    };
+    check(root, "the scene file", kSceneFileKeys);
+    if (root.contains("camera")) check(root["camera"], "\"camera\"", kCameraKeys);
+    if (root.contains("environment")) check(root["environment"], "\"environment\"", kEnvironmentKeys);
+    auto checkEach = [&](const char* array, std::span<const std::string_view> known) {
+        if (!root.contains(array) || !root[array].is_array()) return;
+        for (size_t i = 0; i < root[array].size(); ++i) check(root[array][i], fmt::format("{}[{}]", array, i), known);
+    };
+    checkEach("lights", kLightKeys);
+    checkEach("markers", kMarkerKeys);
+    checkEach("reflectionProbes", detail::reflectionProbeKeys());
+    if (root.contains("irradianceVolume")) check(root["irradianceVolume"], "\"irradianceVolume\"", detail::irradianceVolumeKeys());
+    if (root.contains("quality"))
+        check(root["quality"], "\"quality\"", kQualityKeys, "it stays in Scene::quality for code of your own");
+}
+
 Light parseLight(const std::filesystem::path& file, const json& j, size_t index) {
     if (!j.is_object()) fail(file, fmt::format("lights[{}] must be an object", index));
     Light light;
@@ -344,6 +395,7 @@ Scene loadSceneFile(std::string_view bytes, const std::filesystem::path& path, c
                 fail(path, fmt::format("\"quality\": {}", e.what()));
             }
         }
+        warnUnknownSceneFileKeys(path, root, scene.warnings);
         return scene;
     } catch (const json::exception& e) {
         fail(path, fmt::format("invalid scene file: {}", e.what()));
@@ -651,5 +703,26 @@ void validateScene(const Scene& scene) {
     detail::validateReflectionProbes(scene);
     detail::validateIrradianceVolume(scene);
 }
+
+namespace detail {
+
+std::vector<std::string> unknownKeyWarnings(const std::filesystem::path& file, const json& object, const std::string& where,
+                                            std::span<const std::string_view> known, std::string_view consequence) {
+    std::vector<std::string> warnings;
+    if (!object.is_object()) return warnings;
+    for (const auto& [key, value] : object.items()) {
+        if (std::find(known.begin(), known.end(), key) != known.end()) continue;
+        // A likely typo: at most a quarter of the key's letters off (at least one), the closest.
+        std::string_view closest;
+        size_t best = std::max<size_t>(1, key.size() / 4) + 1;
+        for (std::string_view candidate : known)
+            if (const size_t distance = editDistance(key, candidate); distance < best) best = distance, closest = candidate;
+        warnings.push_back(fmt::format("{}: {} has a key Janus does not read, \"{}\"{}; {}", file.string(), where, key,
+                                       closest.empty() ? std::string() : fmt::format(" (did you mean \"{}\"?)", closest), consequence));
+    }
+    return warnings;
+}
+
+}  // namespace detail
 
 }  // namespace janus::renderer
