@@ -604,7 +604,8 @@ std::string lightCullingLine(const renderer::FrameReport& report) {
     if (c.tilesX * c.tilesY > 0) {
         line += fmt::format(", {}x{} tiles of {} px, cap {}, {:.1f} lights/tile", c.tilesX, c.tilesY, c.tileSize, c.maxLightsPerTile,
                             double(c.listedLights) / double(c.tilesX * c.tilesY));
-        line += c.overflowTiles ? fmt::format(", OVERFLOW: {} tiles, {} lights dropped", c.overflowTiles, c.droppedLights)
+        line += c.overflowTiles ? fmt::format(", OVERFLOW: {} tiles, {} lights dropped (the densest tile met {})", c.overflowTiles,
+                                              c.droppedLights, c.densestTileLights)
                                 : std::string(", no overflow");
     }
     return line;

@@ -389,19 +389,21 @@ int runForward(const BenchOptions& options) {
                           "conservative: the error is float rounding until a tile meets more lights than the cap, whose list then drops "
                           "the rest (counted, and warned on stderr).\n\n"
                           "| backend | path | knob | tile px | cap | frame ms | culling ms | efficiency | overflow tiles | dropped lights | "
-                          "max abs error | mean abs error | naive ms |\n|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+                          "densest tile | max abs error | mean abs error | naive ms |\n|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
                           knobLights, *defaults.tileSize, *defaults.maxLightsPerTile);
         json["tileKnobs"] = nlohmann::json::array();
         for (const KnobRow& row : knobRows) {
             const renderer::LightCullingReport* culling = row.m.report.lightCulling ? &*row.m.report.lightCulling : nullptr;
-            md += fmt::format("| {} | {} | {} | {} | {} | {:.3f} | {:.3f} | {} | {} | {} | {:.4g} | {:.4g} | {:.3f} |\n", row.backend, row.path,
-                              row.knob, row.tileSize, row.cap, frameMs(row.m), row.m.cullMs,
+            md += fmt::format("| {} | {} | {} | {} | {} | {:.3f} | {:.3f} | {} | {} | {} | {} | {:.4g} | {:.4g} | {:.3f} |\n", row.backend,
+                              row.path, row.knob, row.tileSize, row.cap, frameMs(row.m), row.m.cullMs,
                               row.m.efficiency ? fmt::format("{:.3f}", row.m.efficiency->ratio()) : std::string("-"),
-                              culling ? culling->overflowTiles : 0, culling ? culling->droppedLights : 0, row.error.maxError,
+                              culling ? culling->overflowTiles : 0, culling ? culling->droppedLights : 0,
+                              culling ? culling->densestTileLights : 0, row.error.maxError,
                               row.error.meanError, row.referenceMs);
             nlohmann::json j = {{"backend", row.backend}, {"path", row.path}, {"knob", row.knob}, {"tileSize", row.tileSize},
                                 {"maxLightsPerTile", row.cap}, {"frameMs", frameMs(row.m)}, {"cullMs", row.m.cullMs},
                                 {"overflowTiles", culling ? culling->overflowTiles : 0}, {"droppedLights", culling ? culling->droppedLights : 0},
+                                {"densestTileLights", culling ? culling->densestTileLights : 0},
                                 {"maxAbsError", row.error.maxError}, {"meanAbsError", row.error.meanError}, {"naiveMs", row.referenceMs}};
             if (row.m.efficiency) j["efficiency"] = row.m.efficiency->ratio();
             json["tileKnobs"].push_back(j);

@@ -19,7 +19,7 @@ layout(set = 0, binding = JANUS_BINDING_CULL_UNIFORMS, std140) uniform CullUnifo
 layout(set = 0, binding = JANUS_BINDING_CULL_DEPTH) uniform sampler2D depthTexture;
 layout(set = 0, binding = JANUS_BINDING_CULL_LIGHTS, std430) readonly buffer LocalLights { uvec4 lightWords[]; };
 layout(set = 0, binding = JANUS_BINDING_CULL_TILE_LISTS, std430) buffer TileData { uint tileData[]; };
-layout(set = 0, binding = JANUS_BINDING_CULL_STATS, std430) buffer CullStats { uint overflowTiles; uint droppedLights; uint listedLights; uint unused; };
+layout(set = 0, binding = JANUS_BINDING_CULL_STATS, std430) buffer CullStats { uint overflowTiles; uint droppedLights; uint listedLights; uint densestTileLights; };
 
 const uint kThreads = 256u;
 const uint kMaskWords = 512u;   // 16384 lights (kMaxLocalLights)
@@ -117,6 +117,7 @@ void main() {
         uint listed = min(total, cap);
         tileData[tileIndex] = listed;
         atomicAdd(listedLights, listed);
+        atomicMax(densestTileLights, total);
         if (total > cap) {
             atomicAdd(overflowTiles, 1u);
             atomicAdd(droppedLights, total - cap);

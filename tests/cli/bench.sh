@@ -56,6 +56,8 @@ json_check "$TMP/bench/forward.json" 'sorted((k["knob"], k["tileSize"], k["maxLi
 json_check "$TMP/bench/forward.json" 'all(k["maxAbsError"] == 0 and k["droppedLights"] == 0 for k in j["tileKnobs"] if k["overflowTiles"] == 0) and
   all(k["overflowTiles"] > 0 and k["droppedLights"] > 0 and k["maxAbsError"] > 0 for k in j["tileKnobs"] if k["maxLightsPerTile"] == 4)' \
   "a tile knob row without overflow differs from naive, or the cap of 4 dropped nothing"
+json_check "$TMP/bench/forward.json" 'all((k["densestTileLights"] > k["maxLightsPerTile"]) == (k["overflowTiles"] > 0) for k in j["tileKnobs"])' \
+  "the densest tile's count should exceed the cap exactly where tiles overflow"
 json_check "$TMP/bench/forward.json" 'all(next(k for k in j["tileKnobs"] if (k["backend"], k["path"], k["tileSize"]) == (t["backend"], t["path"], 64))["efficiency"] <
   t["efficiency"] for t in j["tileKnobs"] if t["knob"] == "tile size" and t["tileSize"] == 16)' "64 px tiles should cull less tightly than 16 px ones"
 grep -q "^## Tile size and list cap (64 lights" "$TMP/bench/forward.md" || fail "forward.md has no tile knob section"

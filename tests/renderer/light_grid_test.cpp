@@ -484,6 +484,7 @@ TEST(LightGrid, OutputDoesNotDependOnThreadCount) {
         EXPECT_EQ(stats.listedLights, reference.listedLights);
         EXPECT_EQ(stats.overflowTiles, reference.overflowTiles);
         EXPECT_EQ(stats.droppedLights, reference.droppedLights);
+        EXPECT_EQ(stats.densestTileLights, reference.densestTileLights);
     }
 }
 
@@ -498,10 +499,11 @@ TEST(LightGrid, OverflowKeepsTheLowestIndicesAndIsCounted) {
     const TileLists capped = buildTileListsCpu(cappedGrid, packed.lights, depth, &cappedStats);
     EXPECT_EQ(uncappedStats.overflowTiles, 0u);
     EXPECT_EQ(uncappedStats.droppedLights, 0u);
-    uint32_t overflowTiles = 0;
+    uint32_t overflowTiles = 0, densest = 0;
     uint64_t dropped = 0, listed = 0;
     for (uint32_t t = 0; t < uncappedGrid.tileCount(); ++t) {
         const uint32_t all = uncapped.counts[t];
+        densest = std::max(densest, all);
         ASSERT_EQ(capped.counts[t], std::min(all, 3u));
         for (uint32_t k = 0; k < capped.counts[t]; ++k)
             EXPECT_EQ(capped.indices[t * 3 + k], uncapped.indices[t * uncapped.maxLightsPerTile + k]);
@@ -513,6 +515,10 @@ TEST(LightGrid, OverflowKeepsTheLowestIndicesAndIsCounted) {
     EXPECT_EQ(cappedStats.droppedLights, dropped);
     EXPECT_EQ(cappedStats.listedLights, listed);
     EXPECT_EQ(uncappedStats.listedLights, listed + dropped);
+    // The densest tile's count, capped or not: the cap that would drop nothing.
+    EXPECT_GT(densest, 3u);
+    EXPECT_EQ(cappedStats.densestTileLights, densest);
+    EXPECT_EQ(uncappedStats.densestTileLights, densest);
 }
 
 TEST_P(LightGridCameras, BruteForceCatchesARemovedLight) {

@@ -189,7 +189,10 @@ TEST_P(LightSpecialCases, MoreLightsThanTheCapOverflowLoudlyAndStayFinite) {
         EXPECT_GT(culling.droppedLights, 0u) << label;
         // Every tile sees all 24 lights: each overflowing tile drops 20.
         EXPECT_EQ(culling.droppedLights, uint64_t(culling.overflowTiles) * 20u) << label;
-        EXPECT_NE(warnings.find("tile"), std::string::npos) << label << ": overflow must be warned about on stderr; got: " << warnings;
+        // ... so the densest tile met all 24, and the warning says which cap would drop none.
+        EXPECT_EQ(culling.densestTileLights, 24u) << label;
+        EXPECT_NE(warnings.find("The densest tile met 24 lights: set maxLightsPerTile to 24 or more"), std::string::npos)
+            << label << ": overflow must be warned about on stderr, with the cap that fits; got: " << warnings;
         ASSERT_TRUE(output.tiles.has_value()) << label;
         expectWellFormedTileLists(*output.tiles, culling, kHardCaseSize, kHardCaseSize, label);
         uint32_t fullTiles = 0;

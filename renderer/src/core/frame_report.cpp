@@ -25,7 +25,7 @@ nlohmann::json FrameReport::toJson() const {
                                 {"maxLightsPerTile", c.maxLightsPerTile},
                                 {"listedLights", c.listedLights},
                                 {"overflowTiles", c.overflowTiles},
-                                {"droppedLights", c.droppedLights}};
+                                {"droppedLights", c.droppedLights}, {"densestTileLights", c.densestTileLights}};
     }
     if (!probeUpdates.empty()) {
         nlohmann::json probes = nlohmann::json::array();

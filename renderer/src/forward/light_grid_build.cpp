@@ -323,6 +323,7 @@ TileLists buildTileListsCpu(const TileGrid& grid, std::span<const PackedLight> l
             const uint32_t listed = std::min(met, cap);
             lists.counts[tile] = listed;
             rs.listedLights += listed;
+            rs.densestTileLights = std::max(rs.densestTileLights, met);
             if (met > cap) {
                 ++rs.overflowTiles;
                 rs.droppedLights += met - cap;
@@ -335,6 +336,7 @@ TileLists buildTileListsCpu(const TileGrid& grid, std::span<const PackedLight> l
             stats->listedLights += rs.listedLights;
             stats->overflowTiles += rs.overflowTiles;
             stats->droppedLights += rs.droppedLights;
+            stats->densestTileLights = std::max(stats->densestTileLights, rs.densestTileLights);
         }
     }
     return lists;

@@ -59,8 +59,9 @@ ResolvedLighting resolveLighting(const LightingSettings& given, const nlohmann::
     const uint32_t t = lighting.tileSize;
     if (t != 16 && t != 32 && t != 64 && t != 128 && t != 256)
         throw RendererError(fmt::format("tileSize {} is not supported: use 16, 32, 64, 128 or 256 pixels", t));
-    if (lighting.maxLightsPerTile < 1 || lighting.maxLightsPerTile > 1024)
-        throw RendererError(fmt::format("maxLightsPerTile {} is out of range: it must be between 1 and 1024", lighting.maxLightsPerTile));
+    if (lighting.maxLightsPerTile < 1 || lighting.maxLightsPerTile > kMaxLightsPerTileLimit)
+        throw RendererError(fmt::format("maxLightsPerTile {} is out of range: it must be between 1 and {}", lighting.maxLightsPerTile,
+                                        kMaxLightsPerTileLimit));
     if (!std::isfinite(lighting.intensityCutoff) || lighting.intensityCutoff < 0.0f)
         throw RendererError(fmt::format("intensityCutoff {} is not possible: it must be a finite number >= 0 (lux)",
                                         lighting.intensityCutoff));

@@ -15,6 +15,7 @@ constexpr uint32_t kMaxDirectionalLights = 4;   // must match forward_common.gls
 
 constexpr uint32_t kDefaultTileSize = 16;
 constexpr uint32_t kDefaultMaxLightsPerTile = 256;
+constexpr uint32_t kMaxLightsPerTileLimit = 1024;   // the largest maxLightsPerTile accepted
 constexpr float kDefaultIntensityCutoff = 0.01f;
 // LightCulling::Auto loops fewer local lights than this directly. `janus bench forward` on a quiet
 // machine (docs/BENCHMARKS.md) finds a tiled mode faster than naive on all four configurations

@@ -240,6 +240,7 @@ void LocalLights::buildTilesOnCpu(PassReport& report) {
     m_report->listedLights = stats.listedLights;
     m_report->overflowTiles = stats.overflowTiles;
     m_report->droppedLights = stats.droppedLights;
+    m_report->densestTileLights = stats.densestTileLights;
     m_culledThisFrame = true;
 }
 
@@ -251,14 +252,23 @@ std::optional<LightCullingReport> LocalLights::finishFrame() {
         m_report->overflowTiles = stats[0];
         m_report->droppedLights = stats[1];
         m_report->listedLights = stats[2];
+        m_report->densestTileLights = stats[3];
     }
     m_culledThisFrame = false;
     if (m_report && m_report->overflowTiles != 0 && !m_overflowWarned) {
         m_overflowWarned = true;
+        const uint32_t densest = m_report->densestTileLights;
+        const std::string advice =
+            densest <= kMaxLightsPerTileLimit
+                ? fmt::format("set maxLightsPerTile to {} or more (janus: --max-lights-per-tile; scene file: quality.maxLightsPerTile) or "
+                              "use smaller tiles",
+                              densest)
+                : fmt::format("that is more than maxLightsPerTile can be ({}): use smaller tiles, or fewer lights or shorter ranges there",
+                              kMaxLightsPerTileLimit);
         fmt::print(stderr, "janus renderer: warning: {} tile(s) had more than maxLightsPerTile = {} lights; {} light reference(s) were "
-                           "dropped (highest light indices first), so those tiles miss light. Raise maxLightsPerTile or use smaller "
-                           "tiles (reported once per renderer)\n",
-                   m_report->overflowTiles, m_report->maxLightsPerTile, m_report->droppedLights);
+                           "dropped (highest light indices first), so those tiles miss light. The densest tile met {} lights: {} "
+                           "(reported once per renderer)\n",
+                   m_report->overflowTiles, m_report->maxLightsPerTile, m_report->droppedLights, densest, advice);
     }
     return m_report;
 }

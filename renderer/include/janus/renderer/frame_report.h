@@ -39,6 +39,7 @@ struct LightCullingReport {
     uint64_t listedLights = 0;                 // sum over tiles of lights listed (after the cap)
     uint32_t overflowTiles = 0;                // tiles that had more lights than maxLightsPerTile
     uint64_t droppedLights = 0;                // light references lost to the cap (never silent: also warned on stderr)
+    uint32_t densestTileLights = 0;            // the most lights one tile met, listed or not: the cap that would drop none
 };
 
 // One frame's share of a reflection probe's update (docs/PROBES.md, "Cost of an update"): an

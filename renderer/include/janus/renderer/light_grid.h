@@ -110,6 +110,7 @@ struct TileBuildStats {
     uint64_t listedLights = 0;    // sum of the (capped) counts
     uint32_t overflowTiles = 0;   // tiles that met more lights than maxLightsPerTile
     uint64_t droppedLights = 0;   // lights those tiles could not list (the highest indices)
+    uint32_t densestTileLights = 0;   // the most lights one tile met, listed or not
 };
 
 // CPU builder (fallback path). depth: D32F values, width*height, row 0 on top; empty = Tiles2D
