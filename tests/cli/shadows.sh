@@ -52,6 +52,13 @@ else
   fail "the shared DamagedHelmet is missing: $HELMET"
 fi
 
+# Nothing can run (gles has no compute path): exit 4 naming why, and no results written.
+expect_error 4 "bench shadows: no configuration could run \(gles/compute: no compute\)" \
+  bench shadows --quick --backends gles --paths compute --out "$TMP/none"
+for file in shadows.md shadows.json shadows.png shadows-reference.png; do
+  [[ -e $TMP/none/$file ]] && fail "bench shadows wrote $file though nothing ran"
+done
+
 # An --out where a file it would write is the scene it reads is refused before anything is written.
 mkdir -p "$TMP/named"
 printf '{"gltf": "%s"}\n' "$REPO_ROOT/../shared/scenes/cornell-box/cornellBox.gltf" >"$TMP/named/shadows.json"
