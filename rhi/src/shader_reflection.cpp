@@ -32,15 +32,17 @@ std::string label(const ShaderDesc& desc) {
 
 }  // namespace
 
-ShaderReflection reflectShader(const ShaderDesc& desc) {
+void checkSpirvModule(const ShaderDesc& desc) {
     if (desc.spirv.empty()) invalid(desc, "spirv is empty; pass SPIR-V words (janus::shaders::get)");
     if (desc.spirv[0] != kSpirvMagic)
         invalid(desc, fmt::format("spirv is not SPIR-V (magic number 0x{:08x}, not 0x{:08x}); pass SPIR-V words "
                                   "(janus::shaders::get)", desc.spirv[0], kSpirvMagic));
-    // Before SPIRV-Cross, which assumes a valid module (a damaged one could crash it).
     if (const std::string problem = spirvModuleProblem(desc.spirv); !problem.empty())
         invalid(desc, fmt::format("spirv is not a valid SPIR-V module: {}; compile the shader again "
                                   "(glslangValidator -V) and pass all its words", problem));
+}
+
+ShaderReflection reflectShader(const ShaderDesc& desc) {
     ShaderReflection result;
     try {
         spirv_cross::Compiler compiler(desc.spirv);

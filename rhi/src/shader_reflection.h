@@ -29,8 +29,14 @@ struct ShaderReflection {
     std::vector<ReflectedInput> inputs;         // vertex shaders only
 };
 
-// Parses `desc.spirv` and checks what the Janus binding model cannot express. Throws
-// Error(InvalidDescription) naming the shader and what to change.
+// Whether `desc.spirv` is a SPIR-V module SPIRV-Cross may parse: words, the magic number, and
+// SPIRV-Tools' validator (SPIRV-Cross assumes a valid module; a damaged one could crash it). Once
+// per module, at createShader: pipelines reflect shaders that passed it. Throws
+// Error(InvalidDescription) naming the shader and the problem.
+void checkSpirvModule(const ShaderDesc& desc);
+
+// Parses `desc.spirv` (which checkSpirvModule accepted) and checks what the Janus binding model
+// cannot express. Throws Error(InvalidDescription) naming the shader and what to change.
 ShaderReflection reflectShader(const ShaderDesc& desc);
 
 }  // namespace janus::rhi::detail

@@ -247,6 +247,7 @@ void validateShader(const DeviceProperties& device, const ShaderDesc& desc) {
         invalid(fmt::format("{}: stage {} is not one ShaderStage; use Vertex, Fragment or Compute", name,
                             uint32_t(desc.stage)));
     if (desc.stage == ShaderStage::Compute) requireCapability(device, Capability::Compute, name + ": a compute shader");
+    checkSpirvModule(desc);
     const ShaderReflection reflection = reflectShader(desc);
     for (const ReflectedResource& r : reflection.resources) {
         if (r.type == ResourceType::StorageBuffer)

@@ -2,8 +2,8 @@
 // (reflection, the GL translation) assumes a valid module and crashed on damaged ones (session 28:
 // most of 300 randomly damaged modules that kept their magic number ended in a segfault). So a
 // damaged module is an error that names the problem, never a crash. It costs about 1.2 ms per
-// shader here (Janus's 94 embedded shaders: 111 ms), once per createShader, at start-up, beside
-// the driver's own compile of the same module.
+// shader here (Janus's 94 embedded shaders: 111 ms), once per createShader (not again when a
+// pipeline reflects its shaders), at start-up, beside the driver's own compile of the same module.
 #pragma once
 
 #include <cstdint>
