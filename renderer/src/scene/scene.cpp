@@ -209,10 +209,21 @@ constexpr std::string_view kMarkerKeys[] = {"name", "position"};
 // Every key of the scene file that Janus does not read, object by object (all of them checked for
 // their types by then), as warnings.
 void warnUnknownSceneFileKeys(const std::filesystem::path& file, const json& root, std::vector<std::string>& warnings) {
+    // A key not in `known` changes nothing: a warning, naming the key Janus reads that it most
+    // likely meant (at most a quarter of its letters off, at least one), the closest.
     auto check = [&](const json& object, const std::string& where, std::span<const std::string_view> known,
                      std::string_view consequence = "it changes nothing") {
-        std::vector<std::string> found = detail::unknownKeyWarnings(file, object, where, known, consequence);
-        warnings.insert(warnings.end(), found.begin(), found.end());
+        if (!object.is_object()) return;
+        for (const auto& [key, value] : object.items()) {
+            if (std::find(known.begin(), known.end(), key) != known.end()) continue;
+            std::string_view closest;
+            size_t best = std::max<size_t>(1, key.size() / 4) + 1;
+            for (std::string_view candidate : known)
+                if (const size_t distance = editDistance(key, candidate); distance < best) best = distance, closest = candidate;
+            warnings.push_back(fmt::format("{}: {} has a key Janus does not read, \"{}\"{}; {}", file.string(), where, key,
+                                           closest.empty() ? std::string() : fmt::format(" (did you mean \"{}\"?)", closest),
+                                           consequence));
+        }
     };
     check(root, "the scene file", kSceneFileKeys);
     if (root.contains("camera")) check(root["camera"], "\"camera\"", kCameraKeys);
@@ -703,26 +714,5 @@ void validateScene(const Scene& scene) {
     detail::validateReflectionProbes(scene);
     detail::validateIrradianceVolume(scene);
 }
-
-namespace detail {
-
-std::vector<std::string> unknownKeyWarnings(const std::filesystem::path& file, const json& object, const std::string& where,
-                                            std::span<const std::string_view> known, std::string_view consequence) {
-    std::vector<std::string> warnings;
-    if (!object.is_object()) return warnings;
-    for (const auto& [key, value] : object.items()) {
-        if (std::find(known.begin(), known.end(), key) != known.end()) continue;
-        // A likely typo: at most a quarter of the key's letters off (at least one), the closest.
-        std::string_view closest;
-        size_t best = std::max<size_t>(1, key.size() / 4) + 1;
-        for (std::string_view candidate : known)
-            if (const size_t distance = editDistance(key, candidate); distance < best) best = distance, closest = candidate;
-        warnings.push_back(fmt::format("{}: {} has a key Janus does not read, \"{}\"{}; {}", file.string(), where, key,
-                                       closest.empty() ? std::string() : fmt::format(" (did you mean \"{}\"?)", closest), consequence));
-    }
-    return warnings;
-}
-
-}  // namespace detail
 
 }  // namespace janus::renderer

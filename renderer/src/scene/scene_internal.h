@@ -56,11 +56,6 @@ uint32_t addMesh(Scene& scene, Mesh mesh);
 [[noreturn]] void fail(const std::filesystem::path& file, const std::string& what);
 glm::vec3 readVec3(const std::filesystem::path& file, const nlohmann::json& value, const std::string& where);
 Box readBox(const std::filesystem::path& file, const nlohmann::json& value, const std::string& where);
-// Warnings for the keys of `object` (named `where`) that are not in `known`: a key Janus does not
-// read changes nothing, so a misspelt one ("enviroment", "shadowMapsize") would go unseen. Each
-// names the key Janus reads that it most likely meant, when one is close (scene.cpp).
-std::vector<std::string> unknownKeyWarnings(const std::filesystem::path& file, const nlohmann::json& object, const std::string& where,
-                                            std::span<const std::string_view> known, std::string_view consequence = "it changes nothing");
 
 // Reflection probes (reflection_probe_scene.cpp): the scene file's "reflectionProbes" array;
 // one probe per "ReflectionCubemap..." marker when the scene has none (influence and parallax
@@ -74,7 +69,9 @@ std::optional<Box> instanceBounds(const Scene& scene, const Instance& instance);
 // targets, or joints and the instance a skin.
 bool isDeformed(const Scene& scene, const Instance& instance);
 std::vector<ReflectionProbe> parseReflectionProbes(const std::filesystem::path& file, const nlohmann::json& probes, const Scene& scene);
-std::span<const std::string_view> reflectionProbeKeys();   // the keys of one "reflectionProbes" entry
+// The keys of one "reflectionProbes" entry; scene.cpp warns about any other (a misspelt key would
+// otherwise change nothing unseen).
+std::span<const std::string_view> reflectionProbeKeys();
 void addProbesFromMarkers(Scene& scene);
 void validateReflectionProbes(const Scene& scene);
 
