@@ -404,7 +404,9 @@ void addLightingOptions(CLI::App& app, LightingOptions& options) {
     app.add_option("--culling", options.culling, "Local-light culling: auto, naive, tiles-2d or tiles-depth (default: scene, then auto)")
         ->type_name("MODE");
     app.add_option("--tile-size", options.tileSize, "Screen tile side in pixels: 16, 32, 64, 128 or 256 (default 16)")->type_name("N");
-    app.add_option("--max-lights-per-tile", options.maxLightsPerTile, "Cap of each tile's light list, 1..1024 (default 256)")
+    app.add_option("--max-lights-per-tile", options.maxLightsPerTile,
+                   "Cap of each tile's light list, 1..1024, or auto: the light count (no tile drops a light), within 32 MiB of lists "
+                   "(default: scene, then auto)")
         ->type_name("N");
     app.add_option("--intensity-cutoff", options.intensityCutoff,
                    "Illuminance (lux) below which a light without a range is culled; 0 = never (naive only; default 0.01)")
@@ -437,8 +439,11 @@ renderer::LightingSettings parseLightingOptions(const LightingOptions& options) 
             throw UsageError(fmt::format("--tile-size '{}' is not allowed; use 16, 32, 64, 128 or 256", options.tileSize));
         lighting.tileSize = size;
     }
-    if (!options.maxLightsPerTile.empty())
-        lighting.maxLightsPerTile = parseWholeFlag("--max-lights-per-tile", options.maxLightsPerTile, 1, 1024, "a whole number 1..1024");
+    if (options.maxLightsPerTile == "auto")
+        lighting.maxLightsPerTile = renderer::kAutoMaxLightsPerTile;
+    else if (!options.maxLightsPerTile.empty())
+        lighting.maxLightsPerTile =
+            parseWholeFlag("--max-lights-per-tile", options.maxLightsPerTile, 1, 1024, "a whole number 1..1024 or auto");
     if (!options.intensityCutoff.empty()) {
         float cutoff = 0.0f;
         const std::string& text = options.intensityCutoff;
@@ -602,8 +607,8 @@ std::string lightCullingLine(const renderer::FrameReport& report) {
     if (!c.builder.empty()) line += fmt::format(" ({} builder)", c.builder);
     line += fmt::format(", {} local + {} directional lights", c.localLights, c.directionalLights);
     if (c.tilesX * c.tilesY > 0) {
-        line += fmt::format(", {}x{} tiles of {} px, cap {}, {:.1f} lights/tile", c.tilesX, c.tilesY, c.tileSize, c.maxLightsPerTile,
-                            double(c.listedLights) / double(c.tilesX * c.tilesY));
+        line += fmt::format(", {}x{} tiles of {} px, cap {}{}, {:.1f} lights/tile", c.tilesX, c.tilesY, c.tileSize, c.maxLightsPerTile,
+                            c.maxLightsPerTileAuto ? " (auto)" : "", double(c.listedLights) / double(c.tilesX * c.tilesY));
         line += c.overflowTiles ? fmt::format(", OVERFLOW: {} tiles, {} lights dropped (the densest tile met {})", c.overflowTiles,
                                               c.droppedLights, c.densestTileLights)
                                 : std::string(", no overflow");

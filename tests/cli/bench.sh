@@ -48,11 +48,12 @@ json_check "$TMP/bench/forward.json" \
 json_check "$TMP/bench/forward.json" 'len(j["cutoffs"]) == 4 and all(c["maxAbsError"] >= 0 for c in j["cutoffs"])' \
   "cut-off error table missing"
 check_png "$TMP/bench/forward.png" 900 560
-# The tile knobs (64 lights): 16 and 64 px tiles at the default cap, and a cap of 4 at 16 px, per
-# backend and path. Conservative culling renders exactly what naive does until a list is full; a
+# The tile knobs (64 lights): 16 and 64 px tiles at the default cap (automatic: the 64 lights), and
+# a cap of 4 at 16 px, per backend and path. Conservative culling renders exactly what naive does until a list is full; a
 # cap of 4 drops lights (counted) and makes an error; bigger tiles test more lights per pixel.
 json_check "$TMP/bench/forward.json" 'sorted((k["knob"], k["tileSize"], k["maxLightsPerTile"]) for k in j["tileKnobs"]) ==
-  sorted([("tile size", 16, 256), ("tile size", 64, 256), ("list cap", 16, 4)] * 4)' "the tile knob rows are not the quick sweep"
+  sorted([("tile size", 16, 64), ("tile size", 64, 64), ("list cap", 16, 4)] * 4) and
+  all(k["maxLightsPerTileAuto"] == (k["knob"] == "tile size") for k in j["tileKnobs"])' "the tile knob rows are not the quick sweep"
 json_check "$TMP/bench/forward.json" 'all(k["maxAbsError"] == 0 and k["droppedLights"] == 0 for k in j["tileKnobs"] if k["overflowTiles"] == 0) and
   all(k["overflowTiles"] > 0 and k["droppedLights"] > 0 and k["maxAbsError"] > 0 for k in j["tileKnobs"] if k["maxLightsPerTile"] == 4)' \
   "a tile knob row without overflow differs from naive, or the cap of 4 dropped nothing"

@@ -8,7 +8,7 @@ source "$(dirname "$0")/common.bash" "$@"
 expect_error 2 "--culling 'bogus' is not a culling mode; use auto, naive, tiles-2d or tiles-depth" \
   render --culling bogus --out "$TMP/x.png"
 expect_error 2 "--tile-size '20' is not allowed; use 16, 32, 64, 128 or 256" render --tile-size 20 --out "$TMP/x.png"
-expect_error 2 "--max-lights-per-tile '0' is not allowed; use a whole number 1..1024" \
+expect_error 2 "--max-lights-per-tile '0' is not allowed; use a whole number 1..1024 or auto" \
   render --max-lights-per-tile 0 --out "$TMP/x.png"
 expect_error 2 "--intensity-cutoff '-1' is not allowed" render --intensity-cutoff -1 --out "$TMP/x.png"
 expect_error 2 "--debug 'heat' is not a debug view; use none, tiles, gi, gi-light or shadow" render --debug heat --out "$TMP/x.png"
@@ -22,6 +22,16 @@ grep -Eq "light culling: tiles-depth \(cpu builder\), 64 local \+ 1 directional 
   fail "render printed no (or a wrong) light-culling line: $(grep 'light culling' "$TMP/stdout")"
 json_check "$TMP/tiles.json" 'j["lightCulling"]["localLights"] == 64 and j["lightCulling"]["tileSize"] == 32' \
   "report has no lightCulling object for 64 lights and 32 px tiles"
+# The default list cap is automatic: the light count, so no tile can drop one; the line says so.
+grep -Eq "2x2 tiles of 32 px, cap 64 \(auto\), .*no overflow" "$TMP/stdout" ||
+  fail "the culling line does not show the automatic cap: $(grep 'light culling' "$TMP/stdout")"
+json_check "$TMP/tiles.json" 'j["lightCulling"]["maxLightsPerTile"] == 64 and j["lightCulling"]["maxLightsPerTileAuto"]' \
+  "the report does not show the automatic cap of 64"
+# --max-lights-per-tile auto asks for it by name (a scene file's "quality" may set a number).
+expect_success render many-lights:64 --path fallback --culling tiles-depth --size 64x64 --out "$TMP/auto.png" \
+  --max-lights-per-tile auto --report "$TMP/auto.json"
+json_check "$TMP/auto.json" 'j["lightCulling"]["maxLightsPerTile"] == 64 and j["lightCulling"]["maxLightsPerTileAuto"]' \
+  "--max-lights-per-tile auto did not give the automatic cap"
 
 # Naive: no tiles in the line.
 expect_success render many-lights:8 --culling naive --size 32x32 --out "$TMP/naive.png" --no-shadows

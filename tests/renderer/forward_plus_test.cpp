@@ -555,6 +555,21 @@ TEST_P(ForwardPlusFramePlan, SceneQualityKeysAndSettingsOverrideThem) {
     EXPECT_EQ(overridden.report.lightCulling->tileSize, 16u);
     EXPECT_EQ(overridden.report.lightCulling->tilesX, 4u);
     EXPECT_EQ(overridden.report.lightCulling->maxLightsPerTile, 64u) << "unset settings keep the scene's value";
+    EXPECT_FALSE(overridden.report.lightCulling->maxLightsPerTileAuto);
+
+    // An automatic cap (the default; asked for by kAutoMaxLightsPerTile, or "auto" in the scene
+    // file) is the light count.
+    settings.lighting.maxLightsPerTile = kAutoMaxLightsPerTile;
+    const FrameOutput automatic = renderOneFrame(config(), scene, settings);
+    ASSERT_TRUE(automatic.report.lightCulling.has_value());
+    EXPECT_EQ(automatic.report.lightCulling->maxLightsPerTile, 8u);
+    EXPECT_TRUE(automatic.report.lightCulling->maxLightsPerTileAuto);
+    scene.quality["maxLightsPerTile"] = "auto";
+    settings.lighting.maxLightsPerTile.reset();
+    const FrameOutput autoFromScene = renderOneFrame(config(), scene, settings);
+    ASSERT_TRUE(autoFromScene.report.lightCulling.has_value());
+    EXPECT_EQ(autoFromScene.report.lightCulling->maxLightsPerTile, 8u);
+    EXPECT_TRUE(autoFromScene.report.lightCulling->maxLightsPerTileAuto);
 }
 
 INSTANTIATE_TEST_SUITE_P(Configs, ForwardPlusFramePlan, testing::ValuesIn(allConfigs()),

@@ -134,6 +134,28 @@ TEST_P(TileHeatmap, DrawsOverTheDisplayImageOnlyWhenTilesExist) {
     EXPECT_FALSE(test_support::hasPassStartingWith(noTiles.report, "tile-heatmap")) << test_support::passNames(noTiles.report);
 }
 
+// The hatch marks tiles that may have dropped lights. An automatic cap is the light count, so a
+// tile at it met every light and dropped none: no hatch, though tiles are at the cap.
+TEST_P(TileHeatmap, AnAutomaticCapOfEveryLightHatchesNoTile) {
+    const Config& config = GetParam();
+    ManyLightsOptions options;
+    options.lightCount = 3;
+    options.rangeFraction = 2.0f;   // every light reaches every tile
+    RenderSettings debug = test_support::settingsFor(LightCulling::TilesDepth);
+    debug.debugView = DebugView::Tiles;
+    const test_support::FrameOutput with = test_support::renderOneFrame(config, manyLightsScene(options), debug);
+    ASSERT_TRUE(with.report.lightCulling);
+    const LightCullingReport& culling = *with.report.lightCulling;
+    EXPECT_TRUE(culling.maxLightsPerTileAuto);
+    EXPECT_EQ(culling.maxLightsPerTile, 3u);
+    EXPECT_EQ(culling.densestTileLights, 3u) << "the test needs tiles at the cap";
+    EXPECT_EQ(culling.overflowTiles, 0u);
+    EXPECT_TRUE(test_support::hasPassStartingWith(with.report, "tile-heatmap")) << test_support::passNames(with.report);
+    for (size_t i = 0; i + 3 < with.display.pixels.size(); i += 4)
+        ASSERT_FALSE(with.display.pixels[i] == 255 && with.display.pixels[i + 1] == 255 && with.display.pixels[i + 2] == 255)
+            << "pixel " << i / 4 << " is hatched, but no tile can have dropped a light";
+}
+
 INSTANTIATE_TEST_SUITE_P(Configs, TileHeatmap, testing::ValuesIn(test_support::allConfigs()),
                          [](const testing::TestParamInfo<Config>& info) { return info.param.name(); });
 

@@ -250,6 +250,25 @@ TEST(LightGrid, TinyRangesStayTinyInsteadOfBecomingInfinite) {
     }
 }
 
+// The automatic cap: the light count (no tile meets more), within 1024, the 32 MiB budget (never
+// below 256 for it) and the device.
+TEST(LightGrid, AnAutomaticCapIsTheLightCountWithinTheBudgetAndTheDevice) {
+    const size_t tiles1080p = 120 * 68, tiles4k = 240 * 135, tiles8k = 480 * 270;
+    EXPECT_EQ(autoMaxLightsPerTile(24, 256), 24u);
+    EXPECT_EQ(autoMaxLightsPerTile(300, 256), 300u);
+    EXPECT_EQ(autoMaxLightsPerTile(5000, 256), kMaxLightsPerTileLimit);
+    EXPECT_EQ(autoMaxLightsPerTile(2048, tiles1080p), 1024u) << "1080p in 16 px tiles holds 1024 within 32 MiB";
+    const uint32_t at4k = autoMaxLightsPerTile(2048, tiles4k);
+    EXPECT_EQ(at4k, uint32_t(kAutoTileListBudgetBytes / (4 * tiles4k) - 1));
+    EXPECT_LE(uint64_t(tiles4k) * (1 + at4k) * 4, kAutoTileListBudgetBytes);
+    EXPECT_GT(uint64_t(tiles4k) * (2 + at4k) * 4, kAutoTileListBudgetBytes) << "the largest cap within the budget";
+    EXPECT_EQ(autoMaxLightsPerTile(2048, tiles8k), kAutoMaxLightsPerTileFloor) << "the budget never takes it below the floor";
+    EXPECT_EQ(autoMaxLightsPerTile(100, tiles8k), 100u) << "nor above the light count";
+    EXPECT_EQ(autoMaxLightsPerTile(2048, tiles8k, 40), 40u) << "the device's limit wins over the floor";
+    EXPECT_EQ(autoMaxLightsPerTile(0, 256), 1u);
+    EXPECT_EQ(autoMaxLightsPerTile(2048, 0), 1024u);
+}
+
 TEST(LightGrid, TooManyLightsNamesTheLimit) {
     Scene scene;
     scene.lights.assign(kMaxLocalLights + 1, pointLight({0, 0, 0}, 1.0f));

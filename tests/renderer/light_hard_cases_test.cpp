@@ -209,6 +209,44 @@ TEST_P(LightSpecialCases, MoreLightsThanTheCapOverflowLoudlyAndStayFinite) {
     }
 }
 
+// More lights than the former fixed cap of 256, each reaching every surface: the default
+// (automatic) cap is the light count, so every tile lists every light and the image is naive's,
+// bit for bit; the old fixed cap drops lights in the same scene.
+TEST_P(LightSpecialCases, TheDefaultCapListsEveryLightATileMeets) {
+    constexpr uint32_t kLights = 300;
+    std::vector<Light> lights;
+    for (uint32_t i = 0; i < kLights; ++i) {
+        const float angle = float(i) * 0.0209f;
+        lights.push_back(pointLight({0.3f * std::cos(angle), 1.2f + 0.001f * float(i), 0.3f * std::sin(angle)}, kWhite, 0.02f, 6.0f));
+    }
+    const Scene scene = roomWith(lights);
+    const FrameOutput naive = renderOneFrame(config(), scene, settingsFor(LightCulling::Naive, kHardCaseSize));
+    for (LightCulling mode : {LightCulling::Tiles2D, LightCulling::TilesDepth}) {
+        const std::string label = fmt::format("DefaultCap-{}-{}", config().name(), cullingName(mode));
+        StderrCapture capture;
+        const FrameOutput output = renderOneFrame(config(), scene, settingsFor(mode, kHardCaseSize), ReadBack{.tiles = true});
+        const std::string warnings = capture.take();
+        ASSERT_TRUE(output.report.lightCulling.has_value()) << label;
+        const LightCullingReport& culling = *output.report.lightCulling;
+        EXPECT_TRUE(culling.maxLightsPerTileAuto) << label;
+        EXPECT_EQ(culling.maxLightsPerTile, kLights) << label;
+        EXPECT_EQ(culling.densestTileLights, kLights) << label;
+        EXPECT_EQ(culling.overflowTiles, 0u) << label;
+        EXPECT_EQ(culling.droppedLights, 0u) << label;
+        EXPECT_EQ(warnings.find("maxLightsPerTile"), std::string::npos) << label << ": " << warnings;
+        ASSERT_TRUE(output.tiles.has_value()) << label;
+        expectWellFormedTileLists(*output.tiles, culling, kHardCaseSize, kHardCaseSize, label);
+        expectSameImage(naive, output, label);
+
+        RenderSettings fixed = settingsFor(mode, kHardCaseSize);
+        fixed.lighting.maxLightsPerTile = 256;
+        StderrCapture quiet;
+        const FrameOutput capped = renderOneFrame(config(), scene, fixed);
+        EXPECT_FALSE(capped.report.lightCulling->maxLightsPerTileAuto) << label;
+        EXPECT_GT(capped.report.lightCulling->droppedLights, 0u) << label << ": the scene must overflow a cap of 256";
+    }
+}
+
 INSTANTIATE_TEST_SUITE_P(Configs, LightSpecialCases, testing::ValuesIn(allConfigs()),
                          [](const testing::TestParamInfo<Config>& info) { return info.param.name(); });
 

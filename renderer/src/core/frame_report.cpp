@@ -23,6 +23,7 @@ nlohmann::json FrameReport::toJson() const {
                                 {"tilesX", c.tilesX},
                                 {"tilesY", c.tilesY},
                                 {"maxLightsPerTile", c.maxLightsPerTile},
+                                {"maxLightsPerTileAuto", c.maxLightsPerTileAuto},
                                 {"listedLights", c.listedLights},
                                 {"overflowTiles", c.overflowTiles},
                                 {"droppedLights", c.droppedLights}, {"densestTileLights", c.densestTileLights}};

@@ -11,7 +11,8 @@ namespace {
 
 // std140 mirror of tile_heatmap.frag's HeatmapUniforms.
 struct HeatmapUniforms {
-    glm::ivec4 grid;   // x tileSize, y tilesX, z maxLightsPerTile, w tileCount
+    glm::ivec4 grid;    // x tileSize, y tilesX, z maxLightsPerTile, w tileCount
+    glm::ivec4 marks;   // x the count from which a tile is hatched
 };
 
 }  // namespace
@@ -42,8 +43,11 @@ void TileHeatmap::addPasses(PassGraph& graph, const SceneView& sceneView) {
 
 void TileHeatmap::setup() {
     const ResolvedLighting& lighting = m_localLights.lighting();
-    const HeatmapUniforms uniforms{glm::ivec4(int(lighting.tileSize), int(m_localLights.tilesX()), int(lighting.maxLightsPerTile),
-                                              int(m_localLights.tileCount()))};
+    // A cap of at least every light cannot drop one: no tile is hatched then.
+    const uint32_t cap = lighting.maxLightsPerTile;
+    const int hatchFrom = cap < m_localLights.count() ? int(cap) : int(cap) + 1;
+    const HeatmapUniforms uniforms{glm::ivec4(int(lighting.tileSize), int(m_localLights.tilesX()), int(cap), int(m_localLights.tileCount())),
+                                   glm::ivec4(hatchFrom, 0, 0, 0)};
     m_uniforms = makeUniformBuffer(m_device, uniforms, "heat map uniforms");
     m_bindings = m_device.createBindingSet(rhi::BindingSetDesc{}
                                                .add(rhi::BindingItem::uniformBuffer(JANUS_BINDING_HEATMAP_UNIFORMS, m_uniforms))

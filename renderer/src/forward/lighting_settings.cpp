@@ -2,6 +2,7 @@
 // default in lighting_settings.h; then the checks that name what to change.
 #include "forward/lighting_settings.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -50,7 +51,21 @@ ResolvedLighting resolveLighting(const LightingSettings& given, const nlohmann::
         lighting.culling = *parsed;
     }
     lighting.tileSize = resolveSetting(given.tileSize, quality, "tileSize", kDefaultTileSize);
-    lighting.maxLightsPerTile = resolveSetting(given.maxLightsPerTile, quality, "maxLightsPerTile", kDefaultMaxLightsPerTile);
+    if (given.maxLightsPerTile) {
+        lighting.maxLightsPerTile = *given.maxLightsPerTile;
+    } else if (quality.is_object() && quality.contains("maxLightsPerTile")) {
+        // A number of lights or "auto"; 0 is the API's name for auto, not a scene file's.
+        const nlohmann::json& value = quality.at("maxLightsPerTile");
+        if (value == "auto") {
+            lighting.maxLightsPerTile = kAutoMaxLightsPerTile;
+        } else if (value.is_number_integer() && value.get<int64_t>() >= 1 && value.get<int64_t>() <= kMaxLightsPerTileLimit) {
+            lighting.maxLightsPerTile = uint32_t(value.get<int64_t>());
+        } else {
+            throw RendererError(fmt::format("scene quality key 'maxLightsPerTile' is {}; use a whole number 1..{} or \"auto\" (the "
+                                            "default: sized from the scene's lights)",
+                                            value.dump(), kMaxLightsPerTileLimit));
+        }
+    }
     lighting.intensityCutoff = resolveSetting(given.intensityCutoff, quality, "intensityCutoff", kDefaultIntensityCutoff);
     lighting.autoTiledThreshold = resolveSetting(given.autoTiledThreshold, quality, "autoTiledThreshold", kDefaultAutoTiledThreshold);
     lighting.shadows = resolveSetting(given.shadows, quality, "shadows", true);
@@ -59,9 +74,10 @@ ResolvedLighting resolveLighting(const LightingSettings& given, const nlohmann::
     const uint32_t t = lighting.tileSize;
     if (t != 16 && t != 32 && t != 64 && t != 128 && t != 256)
         throw RendererError(fmt::format("tileSize {} is not supported: use 16, 32, 64, 128 or 256 pixels", t));
-    if (lighting.maxLightsPerTile < 1 || lighting.maxLightsPerTile > kMaxLightsPerTileLimit)
-        throw RendererError(fmt::format("maxLightsPerTile {} is out of range: it must be between 1 and {}", lighting.maxLightsPerTile,
-                                        kMaxLightsPerTileLimit));
+    if (lighting.maxLightsPerTile > kMaxLightsPerTileLimit)
+        throw RendererError(fmt::format("maxLightsPerTile {} is out of range: it must be between 1 and {}, or {} (kAutoMaxLightsPerTile; "
+                                        "scene file: \"auto\") to size it from the lights",
+                                        lighting.maxLightsPerTile, kMaxLightsPerTileLimit, kAutoMaxLightsPerTile));
     if (!std::isfinite(lighting.intensityCutoff) || lighting.intensityCutoff < 0.0f)
         throw RendererError(fmt::format("intensityCutoff {} is not possible: it must be a finite number >= 0 (lux)",
                                         lighting.intensityCutoff));
@@ -70,6 +86,13 @@ ResolvedLighting resolveLighting(const LightingSettings& given, const nlohmann::
                                         "culling can render; use LightCulling::Naive (\"naive\"; janus: --culling naive) or a cut-off above 0 with {}",
                                         toString(lighting.culling)));
     return lighting;
+}
+
+uint32_t autoMaxLightsPerTile(size_t localLights, size_t tileCount, uint32_t deviceLimit) {
+    const uint64_t budgetCap = kAutoTileListBudgetBytes / (sizeof(uint32_t) * std::max<uint64_t>(tileCount, 1)) - 1;   // a count each
+    const uint64_t cap = std::min<uint64_t>(
+        {localLights, kMaxLightsPerTileLimit, std::max<uint64_t>(budgetCap, kAutoMaxLightsPerTileFloor), deviceLimit});
+    return uint32_t(std::max<uint64_t>(cap, 1));
 }
 
 LightingSettings resolveLightingSettings(const LightingSettings& given, const Scene& scene) {

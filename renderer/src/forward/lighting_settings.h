@@ -14,8 +14,6 @@ namespace janus::renderer {
 constexpr uint32_t kMaxDirectionalLights = 4;   // must match forward_common.glsl
 
 constexpr uint32_t kDefaultTileSize = 16;
-constexpr uint32_t kDefaultMaxLightsPerTile = 256;
-constexpr uint32_t kMaxLightsPerTileLimit = 1024;   // the largest maxLightsPerTile accepted
 constexpr float kDefaultIntensityCutoff = 0.01f;
 // LightCulling::Auto loops fewer local lights than this directly. `janus bench forward` on a quiet
 // machine (docs/BENCHMARKS.md) finds a tiled mode faster than naive on all four configurations
@@ -27,7 +25,7 @@ constexpr uint32_t kDefaultShadowMapSize = 1024;
 struct ResolvedLighting {
     LightCulling culling = LightCulling::Auto;
     uint32_t tileSize = kDefaultTileSize;
-    uint32_t maxLightsPerTile = kDefaultMaxLightsPerTile;
+    uint32_t maxLightsPerTile = kAutoMaxLightsPerTile;   // LocalLights sizes an automatic one
     float intensityCutoff = kDefaultIntensityCutoff;
     uint32_t autoTiledThreshold = kDefaultAutoTiledThreshold;
     bool shadows = true;

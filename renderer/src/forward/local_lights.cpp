@@ -7,6 +7,7 @@
 #include <array>
 #include <chrono>
 #include <cstddef>
+#include <cstdint>
 #include <cstring>
 
 #include <fmt/format.h>
@@ -54,6 +55,11 @@ LocalLights::LocalLights(rhi::IDevice& device, const Scene& scene, const Resolve
     if (tiled()) {
         m_tilesX = m_grid.tilesX();
         m_tilesY = m_grid.tilesY();
+        if (m_lighting.maxLightsPerTile == kAutoMaxLightsPerTile) {
+            m_autoMaxLightsPerTile = true;
+            m_lighting.maxLightsPerTile = autoMaxLightsPerTile(m_lights.size(), tileCount(), largestCapThatFits());
+        }
+        m_grid.maxLightsPerTile = m_lighting.maxLightsPerTile;
         checkTileStorageFits();
     }
     if (!m_lights.empty()) {
@@ -67,6 +73,7 @@ LocalLights::LocalLights(rhi::IDevice& device, const Scene& scene, const Resolve
             report.tilesX = m_tilesX;
             report.tilesY = m_tilesY;
             report.maxLightsPerTile = m_lighting.maxLightsPerTile;
+            report.maxLightsPerTileAuto = m_autoMaxLightsPerTile;
         }
         m_report = report;
     }
@@ -115,6 +122,15 @@ void LocalLights::setLights(std::span<const Light> lights) {
     m_directionalCount = uint32_t(std::min<size_t>(directionalLightCount(lights), kMaxDirectionalLights));
     if (m_report) m_report->directionalLights = m_directionalCount;
     uploadLights();
+}
+
+uint32_t LocalLights::largestCapThatFits() const {
+    const rhi::Limits& limits = m_device.capabilities().limits;
+    const uint64_t words = m_path == FeaturePath::Compute
+                               ? (limits.maxStorageBufferRange != 0 ? limits.maxStorageBufferRange / 4 : UINT64_MAX)
+                               : uint64_t(limits.maxTextureSize2D) * kDataTextureWidth;
+    const uint64_t perTile = words / std::max<uint64_t>(tileCount(), 1);
+    return uint32_t(std::min<uint64_t>(perTile > 0 ? perTile - 1 : 0, kMaxLightsPerTileLimit));
 }
 
 void LocalLights::checkTileStorageFits() const {
@@ -265,10 +281,17 @@ std::optional<LightCullingReport> LocalLights::finishFrame() {
                               densest)
                 : fmt::format("that is more than maxLightsPerTile can be ({}): use smaller tiles, or fewer lights or shorter ranges there",
                               kMaxLightsPerTileLimit);
-        fmt::print(stderr, "janus renderer: warning: {} tile(s) had more than maxLightsPerTile = {} lights; {} light reference(s) were "
+        // An automatic cap below the light count was held down by the lists' budget or the device.
+        const std::string why =
+            m_autoMaxLightsPerTile
+                ? fmt::format(" (automatic: {} tiles of {} px hold at most {} lights each within {} MiB{})", tileCount(),
+                              m_lighting.tileSize, m_lighting.maxLightsPerTile, kAutoTileListBudgetBytes >> 20,
+                              m_lighting.maxLightsPerTile == largestCapThatFits() ? " and this device's limits" : "")
+                : std::string();
+        fmt::print(stderr, "janus renderer: warning: {} tile(s) had more than maxLightsPerTile = {} lights{}; {} light reference(s) were "
                            "dropped (highest light indices first), so those tiles miss light. The densest tile met {} lights: {} "
                            "(reported once per renderer)\n",
-                   m_report->overflowTiles, m_report->maxLightsPerTile, m_report->droppedLights, densest, advice);
+                   m_report->overflowTiles, m_report->maxLightsPerTile, why, m_report->droppedLights, densest, advice);
     }
     return m_report;
 }

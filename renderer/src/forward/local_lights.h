@@ -41,6 +41,8 @@ public:
     bool tiled() const { return m_mode == LightCulling::Tiles2D || m_mode == LightCulling::TilesDepth; }
     // Whether `view` reads tile lists (the tiled view, when it wants culling) or loops every light.
     bool tiledFor(const SceneView& view) const { return tiled() && view.passes.lightCulling && view.name == m_tiledViewName; }
+    // The settings as this renderer uses them: an automatic maxLightsPerTile is the cap it chose
+    // (kAutoMaxLightsPerTile only without tiles).
     const ResolvedLighting& lighting() const { return m_lighting; }
     uint32_t count() const { return uint32_t(m_lights.size()); }
     uint32_t directionalCount() const { return m_directionalCount; }
@@ -74,6 +76,8 @@ private:
     // RendererError (before any resource is made) when the tile lists exceed a storage buffer
     // binding (compute) or the largest data texture (fallback) of this device.
     void checkTileStorageFits() const;
+    // The largest maxLightsPerTile whose lists this device can hold for this grid and path (0: none).
+    uint32_t largestCapThatFits() const;
     void createCullCompute();
     void recordCullCompute(rhi::ICommandList& cmd, PassReport& report);
     void buildTilesOnCpu(PassReport& report);
@@ -88,6 +92,7 @@ private:
     uint32_t m_directionalCount = 0;
     TileGrid m_grid;
     uint32_t m_tilesX = 0, m_tilesY = 0;
+    bool m_autoMaxLightsPerTile = false;   // m_lighting.maxLightsPerTile was sized here (autoMaxLightsPerTile)
 
     rhi::BufferHandle m_lightBuffer, m_tileBuffer;     // compute path (storage buffers)
     rhi::TextureHandle m_lightTexture, m_tileTexture;  // fallback path (RGBA32UI / R32UI)

@@ -36,6 +36,7 @@ struct LightCullingReport {
     uint32_t directionalLights = 0;            // shaded (at most 4)
     uint32_t localLights = 0;                  // point + spot lights in the GPU light array
     uint32_t tileSize = 0, tilesX = 0, tilesY = 0, maxLightsPerTile = 0;
+    bool maxLightsPerTileAuto = false;         // the cap was sized from the lights (LightingSettings::maxLightsPerTile unset)
     uint64_t listedLights = 0;                 // sum over tiles of lights listed (after the cap)
     uint32_t overflowTiles = 0;                // tiles that had more lights than maxLightsPerTile
     uint64_t droppedLights = 0;                // light references lost to the cap (never silent: also warned on stderr)
@@ -74,6 +75,7 @@ struct FrameReport {
 // The tile light lists of the last frame as the shaders read them (docs/LIGHTING.md, "Tile lists").
 struct TileLists {
     uint32_t tileSize = 0, tilesX = 0, tilesY = 0, maxLightsPerTile = 0;
+    bool maxLightsPerTileAuto = false;         // the cap was sized from the lights (LightingSettings::maxLightsPerTile unset)
     std::vector<uint32_t> counts;    // tilesX * tilesY, row-major from the top-left tile, each <= maxLightsPerTile
     std::vector<uint32_t> indices;   // tilesX * tilesY * maxLightsPerTile; tile t's lights ascending at [t * maxLightsPerTile, + counts[t])
 };

@@ -2,6 +2,7 @@
 // cannot. Lower than renderer.h so that feature code (light_grid.h, shadows) need not include it.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -35,11 +36,31 @@ enum class DebugView {
 const char* toString(DebugView view);             // "none", "tiles", "gi", "gi-light", "shadow"
 std::optional<DebugView> parseDebugView(std::string_view name);
 
+// LightingSettings::maxLightsPerTile: sized by the renderer from the scene's lights.
+inline constexpr uint32_t kAutoMaxLightsPerTile = 0;
+
+// The largest list cap (LightingSettings::maxLightsPerTile) a renderer accepts.
+inline constexpr uint32_t kMaxLightsPerTileLimit = 1024;
+// An automatic cap (kAutoMaxLightsPerTile, the default) keeps the tile lists within this many
+// bytes, unless that leaves fewer than kAutoMaxLightsPerTileFloor entries a tile. 32 MiB is what
+// the former fixed default of 256 took at 3840x2160: a cap of 1024 fits up to about 1920x1080 in
+// 16 px tiles, 256 at 4K.
+inline constexpr uint64_t kAutoTileListBudgetBytes = uint64_t(32) << 20;
+inline constexpr uint32_t kAutoMaxLightsPerTileFloor = 256;
+// The cap an automatic maxLightsPerTile takes for `localLights` point/spot lights over `tileCount`
+// tiles: the light count (no tile meets more, so none drops one), at most kMaxLightsPerTileLimit,
+// within the budget above (but not below its floor), and at most `deviceLimit` (the largest cap
+// whose lists the device holds on the feature path). At least 1.
+uint32_t autoMaxLightsPerTile(size_t localLights, size_t tileCount, uint32_t deviceLimit = kMaxLightsPerTileLimit);
+
 // Lighting knobs. Unset fields take the scene file's "quality" value, then the default shown.
 struct LightingSettings {
     std::optional<LightCulling> culling;          // default Auto
     std::optional<uint32_t> tileSize;             // pixels: 16, 32, 64, 128 or 256; default 16
-    std::optional<uint32_t> maxLightsPerTile;     // 1..1024; default 256
+    // 1..1024, or kAutoMaxLightsPerTile (the default): as many as the scene has point and spot lights,
+    // so no tile can drop one, up to 1024 and while the lists fit 32 MiB and the device (at least
+    // 256 there); the frame report says which cap was chosen (docs/LIGHTING.md, "Tile lists").
+    std::optional<uint32_t> maxLightsPerTile;
     // Lights without a glTF range are culled where their illuminance falls below this (lux);
     // default 0.01. 0 = never cull them: infinite range, only Naive can render that (the
     // reference that measures the cut-off's error).
