@@ -247,6 +247,30 @@ TEST_P(LightSpecialCases, TheDefaultCapListsEveryLightATileMeets) {
     }
 }
 
+// More lights than the largest cap, each reaching every surface: the automatic cap stops at 1024,
+// and the overflow warning says that an automatic cap was held there, and by what.
+TEST_P(LightSpecialCases, AnAutomaticCapHeldAtTheLargestSaysSo) {
+    constexpr uint32_t kLights = kMaxLightsPerTileLimit + 40;
+    std::vector<Light> lights;
+    for (uint32_t i = 0; i < kLights; ++i) {
+        const float angle = float(i) * 0.0061f;
+        lights.push_back(pointLight({0.3f * std::cos(angle), 1.2f + 0.0003f * float(i), 0.3f * std::sin(angle)}, kWhite, 0.005f, 6.0f));
+    }
+    const std::string label = fmt::format("HeldCap-{}", config().name());
+    StderrCapture capture;
+    const FrameOutput output = renderOneFrame(config(), roomWith(lights), settingsFor(LightCulling::Tiles2D, 32));
+    const std::string warnings = capture.take();
+    expectFiniteHdr(output.hdr, label);
+    ASSERT_TRUE(output.report.lightCulling.has_value()) << label;
+    const LightCullingReport& culling = *output.report.lightCulling;
+    EXPECT_TRUE(culling.maxLightsPerTileAuto) << label;
+    EXPECT_EQ(culling.maxLightsPerTile, kMaxLightsPerTileLimit) << label;
+    EXPECT_EQ(culling.densestTileLights, kLights) << label;
+    EXPECT_EQ(culling.droppedLights, uint64_t(culling.overflowTiles) * 40u) << label;
+    EXPECT_NE(warnings.find("lights (automatic, held at the largest cap, 1024)"), std::string::npos) << label << ": " << warnings;
+    EXPECT_NE(warnings.find("more than maxLightsPerTile can be (1024): use smaller tiles"), std::string::npos) << label << ": " << warnings;
+}
+
 INSTANTIATE_TEST_SUITE_P(Configs, LightSpecialCases, testing::ValuesIn(allConfigs()),
                          [](const testing::TestParamInfo<Config>& info) { return info.param.name(); });
 

@@ -281,13 +281,16 @@ std::optional<LightCullingReport> LocalLights::finishFrame() {
                               densest)
                 : fmt::format("that is more than maxLightsPerTile can be ({}): use smaller tiles, or fewer lights or shorter ranges there",
                               kMaxLightsPerTileLimit);
-        // An automatic cap below the light count was held down by the lists' budget or the device.
+        // An automatic cap below the light count: which limit held it there.
+        const uint32_t cap = m_lighting.maxLightsPerTile;
         const std::string why =
-            m_autoMaxLightsPerTile
-                ? fmt::format(" (automatic: {} tiles of {} px hold at most {} lights each within {} MiB{})", tileCount(),
-                              m_lighting.tileSize, m_lighting.maxLightsPerTile, kAutoTileListBudgetBytes >> 20,
-                              m_lighting.maxLightsPerTile == largestCapThatFits() ? " and this device's limits" : "")
-                : std::string();
+            !m_autoMaxLightsPerTile        ? std::string()
+            : cap == kMaxLightsPerTileLimit ? fmt::format(" (automatic, held at the largest cap, {})", kMaxLightsPerTileLimit)
+            : cap == largestCapThatFits()
+                ? fmt::format(" (automatic, held at {} by what this device holds for {} tiles of {} px)", cap, tileCount(),
+                              m_lighting.tileSize)
+                : fmt::format(" (automatic, held at {} by the {} MiB budget for the lists of {} tiles of {} px)", cap,
+                              kAutoTileListBudgetBytes >> 20, tileCount(), m_lighting.tileSize);
         fmt::print(stderr, "janus renderer: warning: {} tile(s) had more than maxLightsPerTile = {} lights{}; {} light reference(s) were "
                            "dropped (highest light indices first), so those tiles miss light. The densest tile met {} lights: {} "
                            "(reported once per renderer)\n",
