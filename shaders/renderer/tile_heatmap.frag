@@ -2,14 +2,15 @@
 #extension GL_GOOGLE_include_directive : require
 #include "janus/shaders/bindings.h"
 // Debug view "tiles": local lights per tile as a heat colour blended over the display image
-// (blue = none, green = half the cap, red = at the cap). Tiles at the cap, where lights may have
+// (blue = none, red = the scale's top: the cap, or 256 lights when the cap is higher, so that one
+// colour means one density whatever an automatic cap chose; more stays red). Tiles at the cap, where lights may have
 // been dropped, also get a white diagonal hatch: only where the cap is below the light count (an
 // automatic cap of every light drops none). Drawn after tonemapping with alpha blending.
 #define TILE_DATA_ONLY 1
 #include "renderer/light_access.glsl"
 
 layout(set = 0, binding = JANUS_BINDING_HEATMAP_UNIFORMS, std140) uniform HeatmapUniforms {
-    ivec4 grid;   // x tileSize, y tilesX, z maxLightsPerTile, w tileCount
+    ivec4 grid;   // x tileSize, y tilesX, z the count shown red, w tileCount
     ivec4 marks;  // x the count from which a tile is hatched (maxLightsPerTile, or above it when no tile can drop a light)
 } heatmap;
 
@@ -26,7 +27,7 @@ void main() {
     ivec2 tileXY = pixel / heatmap.grid.x;
     int count = int(tileDataAt(tileXY.y * heatmap.grid.y + tileXY.x));
     bool atCap = count >= heatmap.marks.x;
-    vec4 color = vec4(heatColor(float(count) / float(heatmap.grid.z)), 0.45);
+    vec4 color = vec4(heatColor(min(float(count) / float(heatmap.grid.z), 1.0)), 0.45);
     ivec2 inTile = pixel - tileXY * heatmap.grid.x;
     // Tile outlines keep neighbouring tiles of equal count apart.
     if (inTile.x == 0 || inTile.y == 0) color = vec4(0.0, 0.0, 0.0, 0.35);

@@ -1,5 +1,8 @@
 #include "debug_views/tile_heatmap.h"
 
+#include <algorithm>
+#include <cstdint>
+
 #include <fmt/format.h>
 #include <glm/glm.hpp>
 
@@ -9,9 +12,11 @@
 namespace janus::renderer {
 namespace {
 
+constexpr uint32_t kHeatmapScaleTop = 256;
+
 // std140 mirror of tile_heatmap.frag's HeatmapUniforms.
 struct HeatmapUniforms {
-    glm::ivec4 grid;    // x tileSize, y tilesX, z maxLightsPerTile, w tileCount
+    glm::ivec4 grid;    // x tileSize, y tilesX, z the count shown red, w tileCount
     glm::ivec4 marks;   // x the count from which a tile is hatched
 };
 
@@ -46,7 +51,10 @@ void TileHeatmap::setup() {
     // A cap of at least every light cannot drop one: no tile is hatched then.
     const uint32_t cap = lighting.maxLightsPerTile;
     const int hatchFrom = cap < m_localLights.count() ? int(cap) : int(cap) + 1;
-    const HeatmapUniforms uniforms{glm::ivec4(int(lighting.tileSize), int(m_localLights.tilesX()), int(cap), int(m_localLights.tileCount())),
+    // Red at the cap, or at kHeatmapScaleTop lights when the cap is higher: one colour is one
+    // density whatever an automatic cap chose.
+    const int red = int(std::min(cap, kHeatmapScaleTop));
+    const HeatmapUniforms uniforms{glm::ivec4(int(lighting.tileSize), int(m_localLights.tilesX()), red, int(m_localLights.tileCount())),
                                    glm::ivec4(hatchFrom, 0, 0, 0)};
     m_uniforms = makeUniformBuffer(m_device, uniforms, "heat map uniforms");
     m_bindings = m_device.createBindingSet(rhi::BindingSetDesc{}

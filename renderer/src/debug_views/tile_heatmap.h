@@ -1,6 +1,6 @@
 // Debug view "tiles" (internal to the renderer): lights per tile as a heat colour (blue -> green
-// -> red at maxLightsPerTile) alpha-blended over the display image, with a white hatch on tiles
-// at the cap (shaders/renderer/tile_heatmap.frag).
+// -> red at maxLightsPerTile or 256, whichever is lower) alpha-blended over the display image,
+// with a white hatch on tiles at a cap below the light count (shaders/renderer/tile_heatmap.frag).
 #pragma once
 
 #include "core/pass_graph.h"

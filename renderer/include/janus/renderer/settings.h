@@ -27,7 +27,7 @@ std::optional<LightCulling> parseLightCulling(std::string_view name);
 
 enum class DebugView {
     None,
-    Tiles,   // heat map of local lights per tile (blue = few, red = many) over the image; tiles at the cap are marked
+    Tiles,   // heat map of local lights per tile (blue = none, red = the cap or 256) over the image; tiles at a cap below the light count are hatched
     Gi,      // the irradiance volume's diffuse light (irradiance / pi x coverage) instead of the shaded image, and its probes (docs/GI.md)
     GiLight, // the same light without the probes: the image's indirect term alone (what `janus bench gi` compares)
     Shadow,  // the main directional light's visibility from its shadow map (0 shadowed .. 1 lit; 1 without a map) on every
