@@ -156,6 +156,23 @@ TEST_P(TileHeatmap, AnAutomaticCapOfEveryLightHatchesNoTile) {
             << "pixel " << i / 4 << " is hatched, but no tile can have dropped a light";
 }
 
+// One colour is one density: red at 256 lights (or a lower cap), so a scene's heat map does not
+// change when an automatic cap above 256 was chosen for it.
+TEST_P(TileHeatmap, TheColourScaleDoesNotDependOnAnAutomaticCap) {
+    const Config& config = GetParam();
+    const Scene scene = manyLightsScene(ManyLightsOptions{300});
+    RenderSettings automatic = test_support::settingsFor(LightCulling::TilesDepth);
+    automatic.debugView = DebugView::Tiles;
+    RenderSettings fixed = automatic;
+    fixed.lighting.maxLightsPerTile = 256;
+    const test_support::FrameOutput a = test_support::renderOneFrame(config, scene, automatic);
+    const test_support::FrameOutput b = test_support::renderOneFrame(config, scene, fixed);
+    ASSERT_TRUE(a.report.lightCulling && b.report.lightCulling);
+    EXPECT_EQ(a.report.lightCulling->maxLightsPerTile, 300u);
+    EXPECT_LT(b.report.lightCulling->densestTileLights, 256u) << "the test needs no tile at the fixed cap (no hatch)";
+    EXPECT_EQ(a.display.pixels, b.display.pixels);
+}
+
 INSTANTIATE_TEST_SUITE_P(Configs, TileHeatmap, testing::ValuesIn(test_support::allConfigs()),
                          [](const testing::TestParamInfo<Config>& info) { return info.param.name(); });
 
