@@ -16,6 +16,7 @@
 #include "core/gpu_util.h"
 #include "scene/scene_internal.h"
 #include "core/texture_fit.h"
+#include "core/texture_mips.h"
 #include "janus/shaders/bindings.h"
 
 namespace janus::renderer {
@@ -64,48 +65,6 @@ static_assert(sizeof(Vertex) == 80 && offsetof(Vertex, normal) == 12 && offsetof
                   offsetof(Vertex, uv1) == 48 && offsetof(Vertex, color) == 56,
               "the mesh pipelines' vertex layout assumes a tightly packed Vertex");
 
-float srgbToLinear(uint8_t value) {
-    static const std::array<float, 256> table = [] {
-        std::array<float, 256> t{};
-        for (size_t i = 0; i < t.size(); ++i) {
-            const float c = float(i) / 255.0f;
-            t[i] = c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
-        }
-        return t;
-    }();
-    return table[value];
-}
-
-uint8_t linearToSrgb(float c) {
-    const float s = c <= 0.0031308f ? c * 12.92f : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
-    return uint8_t(std::clamp(std::lround(s * 255.0f), 0L, 255L));
-}
-
-// The next mip of an RGBA8 image with a 2x2 box filter (sRGB colour averaged in linear light).
-// Mips are made on the CPU rather than with generateMips so every backend samples the same texels.
-std::vector<uint8_t> downsample(const std::vector<uint8_t>& src, uint32_t width, uint32_t height, bool srgb) {
-    const uint32_t w = std::max(width / 2, 1u), h = std::max(height / 2, 1u);
-    std::vector<uint8_t> dst(size_t(w) * h * 4);
-    for (uint32_t y = 0; y < h; ++y) {
-        for (uint32_t x = 0; x < w; ++x) {
-            for (uint32_t c = 0; c < 4; ++c) {
-                float sum = 0.0f;
-                for (uint32_t dy = 0; dy < 2; ++dy) {
-                    for (uint32_t dx = 0; dx < 2; ++dx) {
-                        const uint32_t sx = std::min(x * 2 + dx, width - 1), sy = std::min(y * 2 + dy, height - 1);
-                        const uint8_t v = src[(size_t(sy) * width + sx) * 4 + c];
-                        sum += (srgb && c < 3) ? srgbToLinear(v) : float(v);
-                    }
-                }
-                const float average = sum / 4.0f;
-                dst[(size_t(y) * w + x) * 4 + c] =
-                    (srgb && c < 3) ? linearToSrgb(average) : uint8_t(std::clamp(std::lround(average), 0L, 255L));
-            }
-        }
-    }
-    return dst;
-}
-
 }  // namespace
 
 GpuScene::GpuScene(rhi::IDevice& device, const Scene& scene) : m_device(device) {
@@ -114,7 +73,7 @@ GpuScene::GpuScene(rhi::IDevice& device, const Scene& scene) : m_device(device) 
     createDraws(scene);
 }
 
-rhi::TextureHandle GpuScene::createTexture(const std::string& name, uint32_t width, uint32_t height, std::vector<uint8_t> rgba,
+rhi::TextureHandle GpuScene::createTexture(const std::string& name, uint32_t width, uint32_t height, std::span<const uint8_t> rgba,
                                                  bool srgb) {
     const uint32_t mips = rhi::fullMipCount(width, height);
     rhi::TextureHandle texture = m_device.createTexture(rhi::TextureDesc{}
@@ -123,13 +82,13 @@ rhi::TextureHandle GpuScene::createTexture(const std::string& name, uint32_t wid
                                                           .setMipLevels(mips)
                                                           .setUsage(rhi::TextureUsage::Sampled)
                                                           .setDebugName(name));
-    for (uint32_t mip = 0; mip < mips; ++mip) {
-        if (mip > 0) {
-            rgba = downsample(rgba, width, height, srgb);
-            width = std::max(width / 2, 1u);
-            height = std::max(height / 2, 1u);
-        }
-        m_device.writeTexture(texture, rhi::TextureSubresource{mip, 0}, rgba.data(), rgba.size());
+    m_device.writeTexture(texture, rhi::TextureSubresource{0, 0}, rgba.data(), rgba.size());
+    std::vector<uint8_t> level;   // the level made last: the scene keeps the image itself
+    for (uint32_t mip = 1; mip < mips; ++mip) {
+        level = nextMipLevel(mip == 1 ? rgba : std::span<const uint8_t>(level), width, height, srgb);
+        width = std::max(width / 2, 1u);
+        height = std::max(height / 2, 1u);
+        m_device.writeTexture(texture, rhi::TextureSubresource{mip, 0}, level.data(), level.size());
     }
     return texture;
 }
@@ -153,8 +112,9 @@ rhi::SamplerHandle GpuScene::createSampler(const TextureSampling& sampling) {
 }
 
 void GpuScene::uploadTextures(const Scene& scene) {
-    m_whiteTexture = createTexture("default white", 1, 1, {255, 255, 255, 255}, false);
-    m_flatNormalTexture = createTexture("default normal", 1, 1, {128, 128, 255, 255}, false);
+    constexpr std::array<uint8_t, 4> kWhite{255, 255, 255, 255}, kFlatNormal{128, 128, 255, 255};
+    m_whiteTexture = createTexture("default white", 1, 1, kWhite, false);
+    m_flatNormalTexture = createTexture("default normal", 1, 1, kFlatNormal, false);
     m_materialSampler = m_device.createSampler(rhi::SamplerDesc{});
     std::vector<std::pair<TextureSampling, rhi::SamplerHandle>> samplers{{TextureSampling{}, m_materialSampler}};
     const uint32_t maxSide = m_device.capabilities().limits.maxTextureSize2D;

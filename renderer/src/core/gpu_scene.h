@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <string>
+#include <span>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -153,7 +154,7 @@ private:
                                   const rhi::ShaderHandle& fragmentShader, rhi::DepthState depth, rhi::BlendAttachment blend,
                                   const std::vector<rhi::Format>& colorFormats, rhi::Format depthFormat, const std::string& name,
                                   bool blended) const;
-    rhi::TextureHandle createTexture(const std::string& name, uint32_t width, uint32_t height, std::vector<uint8_t> rgba, bool srgb);
+    rhi::TextureHandle createTexture(const std::string& name, uint32_t width, uint32_t height, std::span<const uint8_t> rgba, bool srgb);
     rhi::SamplerHandle createSampler(const TextureSampling& sampling);
     void uploadTextures(const Scene& scene);
     void uploadMeshes(const Scene& scene);

@@ -483,6 +483,24 @@ private:
         }
     }
 
+    // Any layout the loader takes (1 to 4 channels of 8 or 16 bits) as RGBA8.
+    static void expandToRgba8(const tinygltf::Image& image, std::vector<uint8_t>& rgba) {
+        const size_t pixels = size_t(image.width) * size_t(image.height);
+        const int channels = image.component;
+        const int bytesPerChannel = image.bits / 8;
+        for (size_t p = 0; p < pixels; ++p) {
+            uint8_t px[4] = {0, 0, 0, 255};
+            for (int c = 0; c < channels; ++c) {
+                // 16-bit images keep their high byte: textures are uploaded as RGBA8.
+                const size_t at = (p * size_t(channels) + size_t(c)) * size_t(bytesPerChannel);
+                px[c] = bytesPerChannel == 2 ? image.image[at + 1] : image.image[at];
+            }
+            if (channels == 1) px[1] = px[2] = px[0];
+            if (channels == 2) { px[3] = px[1]; px[1] = px[2] = px[0]; }
+            std::memcpy(&rgba[p * 4], px, 4);
+        }
+    }
+
     int32_t textureFor(int gltfTexture, bool srgb, Scene& scene, const std::string& materialName) {
         if (gltfTexture < 0) return -1;
         if (size_t(gltfTexture) >= m_model.textures.size())
@@ -513,16 +531,19 @@ private:
             fail(fmt::format("texture image '{}' has an unsupported layout ({} channels, {} bits)", texture.name,
                              channels, image.bits));
         texture.rgba.resize(pixels * 4);
-        for (size_t p = 0; p < pixels; ++p) {
-            uint8_t rgba[4] = {0, 0, 0, 255};
-            for (int c = 0; c < channels; ++c) {
-                // 16-bit images keep their high byte: textures are uploaded as RGBA8.
-                const size_t at = (p * size_t(channels) + size_t(c)) * size_t(bytesPerChannel);
-                rgba[c] = bytesPerChannel == 2 ? image.image[at + 1] : image.image[at];
+        if (channels == 4 && bytesPerChannel == 1) {   // the common layouts, without the general loop's per-byte work
+            std::memcpy(texture.rgba.data(), image.image.data(), pixels * 4);
+        } else if (channels == 3 && bytesPerChannel == 1) {
+            const unsigned char* in = image.image.data();
+            uint8_t* out = texture.rgba.data();
+            for (size_t p = 0; p < pixels; ++p, in += 3, out += 4) {
+                out[0] = in[0];
+                out[1] = in[1];
+                out[2] = in[2];
+                out[3] = 255;
             }
-            if (channels == 1) rgba[1] = rgba[2] = rgba[0];
-            if (channels == 2) { rgba[3] = rgba[1]; rgba[1] = rgba[2] = rgba[0]; }
-            std::memcpy(&texture.rgba[p * 4], rgba, 4);
+        } else {
+            expandToRgba8(image, texture.rgba);
         }
         scene.textures.push_back(std::move(texture));
         const int32_t index = int32_t(scene.textures.size() - 1);
