@@ -26,7 +26,7 @@ namespace {
 
 struct GiOptions {
     std::string scene;
-    std::string sweeps = "surfels,bricks,brick-size,surfels-per-brick,spacing,order,bounces,probes-per-frame,reduction";
+    std::string sweeps = "surfels,bricks,brick-size,surfels-per-brick,spacing,order,bounces,probes-per-frame,reduction,normal-bias,validity";
     BenchTargets targets{"compute,fallback", "vulkan"};
     std::string size = "96x96";
     uint32_t runs = 3;
@@ -37,7 +37,7 @@ struct GiOptions {
 };
 
 const std::vector<std::string> kSweeps = {"surfels", "bricks", "brick-size", "surfels-per-brick", "spacing", "order", "bounces",
-                                          "probes-per-frame", "reduction"};
+                                          "probes-per-frame", "reduction", "normal-bias", "validity"};
 
 // One configuration of the sweep: the volume to measure and how it differs from the scene's.
 struct Variant {
@@ -83,6 +83,15 @@ std::vector<Variant> makeVariants(const renderer::IrradianceVolume& base, const 
     if (wanted("reduction"))
         add("reduction", base.parallelReduction ? "serial SH sum" : "parallel SH reduction",
             [&](auto& v) { v.parallelReduction = !base.parallelReduction; });
+    // Where shading looks the volume up (further bounces read it the same way, so the probes' light
+    // moves a little too), and which probes shading weighs.
+    if (wanted("normal-bias"))
+        for (float bias : quick ? std::vector<float>{0.0f} : std::vector<float>{0.0f, 0.05f, 0.2f, 0.4f})
+            if (bias != base.normalBias) add("normal-bias", fmt::format("normal bias {} m", bias), [&](auto& v) { v.normalBias = bias; });
+    if (wanted("validity"))
+        for (float fraction : quick ? std::vector<float>{0.25f} : std::vector<float>{0.1f, 0.25f, 0.75f, 1.0f})
+            if (fraction != base.invalidBackFaceFraction)
+                add("validity", fmt::format("invalid above {} back faces", fraction), [&](auto& v) { v.invalidBackFaceFraction = fraction; });
     return variants;
 }
 
@@ -327,7 +336,8 @@ int runGi(const GiOptions& options) {
             {{"backend", r.backend}, {"path", r.path}, {"sweep", r.sweep}, {"label", r.label},
              {"volume", {{"probes", {r.volume.probeCounts.x, r.volume.probeCounts.y, r.volume.probeCounts.z}}, {"surfelsPerProbe", r.volume.surfelsPerProbe},
                          {"bricks", r.volume.bricks}, {"brickSize", r.volume.brickSize}, {"bounces", r.volume.bounces}, {"shOrder", r.volume.shOrder},
-                         {"probesPerFrame", r.volume.probesPerFrame}, {"parallelReduction", r.volume.parallelReduction}}},
+                         {"probesPerFrame", r.volume.probesPerFrame}, {"parallelReduction", r.volume.parallelReduction},
+                         {"normalBias", r.volume.normalBias}, {"invalidBackFaceFraction", r.volume.invalidBackFaceFraction}}},
              {"probes", r.probes}, {"validProbes", r.validProbes}, {"bakeMs", r.bakeMs},
              {"relight", {{"totalMs", r.relight.totalMs}, {"frames", r.relight.frames}, {"brickMs", r.relight.brickMs}, {"shMs", r.relight.shMs},
                           {"runsMs", r.relightRuns}}},

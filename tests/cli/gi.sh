@@ -45,7 +45,7 @@ for file in gi.md gi.json gi.png; do
 done
 B=$TMP/gi-bench/gi.json
 json_check "$B" 'sorted({c["sweep"] for c in j["configurations"]}) == sorted(["default", "surfels", "bricks", "brick-size",
-  "surfels-per-brick", "spacing", "order", "bounces", "probes-per-frame", "reduction"])' "gi.json lacks a sweep"
+  "surfels-per-brick", "spacing", "order", "bounces", "probes-per-frame", "reduction", "normal-bias", "validity"])' "gi.json lacks a sweep"
 json_check "$B" 'all(c["relight"]["totalMs"] > 0 and c["relight"]["frames"] >= 1 and c["bakeMs"] > 0 and c["validProbes"] > 0 and
   0 < c["probeError"]["relativeRmse"] < 1 and 0 < c["imageErrorConverged"]["relativeRmse"] < 2 for c in j["configurations"])' \
   "a gi.json row lacks times or has an absurd error"
@@ -54,6 +54,15 @@ json_check "$B" 'next(c for c in j["configurations"] if c["sweep"] == "bounces")
   "one bounce should be further from the converged reference than the default bounces"
 json_check "$B" 'all(c["relight"]["frames"] == 4 * c["volume"]["bounces"] for c in j["configurations"] if c["sweep"] == "probes-per-frame")' \
   "16 probes per frame should spread each bounce cycle of a 64-probe relight over 4 frames"
+# The normal-bias row looks the volume up without a bias (its image differs from the default's 0.1
+# m); a lower back-face fraction can only invalidate more probes.
+json_check "$B" 'next(c for c in j["configurations"] if c["sweep"] == "normal-bias")["volume"]["normalBias"] == 0 and
+  next(c for c in j["configurations"] if c["sweep"] == "normal-bias")["imageError"] !=
+  next(c for c in j["configurations"] if c["sweep"] == "default")["imageError"]' \
+  "the normal-bias row's bias is not 0, or its image is the default's"
+json_check "$B" 'next(c for c in j["configurations"] if c["sweep"] == "validity")["validProbes"] <=
+  next(c for c in j["configurations"] if c["sweep"] == "default")["validProbes"]' \
+  "a back-face fraction of 0.25 left more probes valid than the default 0.5"
 grep -q "^## Goals" "$TMP/gi-bench/gi.md" || fail "gi.md has no goals section"
 check_png "$TMP/gi-bench/gi.png" 900 560
 finish
