@@ -165,14 +165,21 @@ TEST_P(LightSpecialCases, AllLightsOffScreenListNothingAndLightNothing) {
     }
 }
 
+// `count` point lights on a rising circle around the room's centre, each reaching every visible
+// surface (range 6 m), together as bright as 24 of 0.2 cd: every tile meets all of them.
+std::vector<Light> lightsAroundTheCentre(uint32_t count) {
+    std::vector<Light> lights;
+    for (uint32_t i = 0; i < count; ++i) {
+        const float turn = float(i) / float(count);
+        const float angle = 6.2831853f * turn;
+        lights.push_back(pointLight({0.3f * std::cos(angle), 1.2f + 0.48f * turn, 0.3f * std::sin(angle)}, kWhite, 4.8f / float(count), 6.0f));
+    }
+    return lights;
+}
+
 TEST_P(LightSpecialCases, MoreLightsThanTheCapOverflowLoudlyAndStayFinite) {
     // 24 lights around the room's centre, each reaching every visible surface; a cap of 4.
-    std::vector<Light> lights;
-    for (uint32_t i = 0; i < 24; ++i) {
-        const float angle = float(i) * 0.2617994f;
-        lights.push_back(pointLight({0.3f * std::cos(angle), 1.2f + 0.02f * float(i), 0.3f * std::sin(angle)}, kWhite, 0.2f, 6.0f));
-    }
-    const Scene scene = roomWith(lights);
+    const Scene scene = roomWith(lightsAroundTheCentre(24));
     const FrameOutput naive = renderOneFrame(config(), scene, settingsFor(LightCulling::Naive, kHardCaseSize));
     for (LightCulling mode : {LightCulling::Tiles2D, LightCulling::TilesDepth}) {
         const std::string label = fmt::format("Overflow-{}-{}", config().name(), cullingName(mode));
@@ -214,12 +221,7 @@ TEST_P(LightSpecialCases, MoreLightsThanTheCapOverflowLoudlyAndStayFinite) {
 // bit for bit; the old fixed cap drops lights in the same scene.
 TEST_P(LightSpecialCases, TheDefaultCapListsEveryLightATileMeets) {
     constexpr uint32_t kLights = 300;
-    std::vector<Light> lights;
-    for (uint32_t i = 0; i < kLights; ++i) {
-        const float angle = float(i) * 0.0209f;
-        lights.push_back(pointLight({0.3f * std::cos(angle), 1.2f + 0.001f * float(i), 0.3f * std::sin(angle)}, kWhite, 0.02f, 6.0f));
-    }
-    const Scene scene = roomWith(lights);
+    const Scene scene = roomWith(lightsAroundTheCentre(kLights));
     const FrameOutput naive = renderOneFrame(config(), scene, settingsFor(LightCulling::Naive, kHardCaseSize));
     for (LightCulling mode : {LightCulling::Tiles2D, LightCulling::TilesDepth}) {
         const std::string label = fmt::format("DefaultCap-{}-{}", config().name(), cullingName(mode));
@@ -251,14 +253,9 @@ TEST_P(LightSpecialCases, TheDefaultCapListsEveryLightATileMeets) {
 // and the overflow warning says that an automatic cap was held there, and by what.
 TEST_P(LightSpecialCases, AnAutomaticCapHeldAtTheLargestSaysSo) {
     constexpr uint32_t kLights = kMaxLightsPerTileLimit + 40;
-    std::vector<Light> lights;
-    for (uint32_t i = 0; i < kLights; ++i) {
-        const float angle = float(i) * 0.0061f;
-        lights.push_back(pointLight({0.3f * std::cos(angle), 1.2f + 0.0003f * float(i), 0.3f * std::sin(angle)}, kWhite, 0.005f, 6.0f));
-    }
     const std::string label = fmt::format("HeldCap-{}", config().name());
     StderrCapture capture;
-    const FrameOutput output = renderOneFrame(config(), roomWith(lights), settingsFor(LightCulling::Tiles2D, 32));
+    const FrameOutput output = renderOneFrame(config(), roomWith(lightsAroundTheCentre(kLights)), settingsFor(LightCulling::Tiles2D, 32));
     const std::string warnings = capture.take();
     expectFiniteHdr(output.hdr, label);
     ASSERT_TRUE(output.report.lightCulling.has_value()) << label;
