@@ -267,6 +267,7 @@ TEST(LightGrid, AnAutomaticCapIsTheLightCountWithinTheBudgetAndTheDevice) {
     EXPECT_EQ(autoMaxLightsPerTile(2048, tiles8k, 40), 40u) << "the device's limit wins over the floor";
     EXPECT_EQ(autoMaxLightsPerTile(0, 256), 1u);
     EXPECT_EQ(autoMaxLightsPerTile(2048, 0), 1024u);
+    EXPECT_EQ(autoMaxLightsPerTile(2048, size_t(1) << 40), kAutoMaxLightsPerTileFloor) << "a budget below one word a tile is the floor";
 }
 
 TEST(LightGrid, TooManyLightsNamesTheLimit) {

@@ -89,7 +89,8 @@ ResolvedLighting resolveLighting(const LightingSettings& given, const nlohmann::
 }
 
 uint32_t autoMaxLightsPerTile(size_t localLights, size_t tileCount, uint32_t deviceLimit) {
-    const uint64_t budgetCap = kAutoTileListBudgetBytes / (sizeof(uint32_t) * std::max<uint64_t>(tileCount, 1)) - 1;   // a count each
+    const uint64_t wordsPerTile = kAutoTileListBudgetBytes / (sizeof(uint32_t) * std::max<uint64_t>(tileCount, 1));
+    const uint64_t budgetCap = wordsPerTile > 0 ? wordsPerTile - 1 : 0;   // one word of each tile is its count
     const uint64_t cap = std::min<uint64_t>(
         {localLights, kMaxLightsPerTileLimit, std::max<uint64_t>(budgetCap, kAutoMaxLightsPerTileFloor), deviceLimit});
     return uint32_t(std::max<uint64_t>(cap, 1));

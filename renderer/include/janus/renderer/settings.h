@@ -58,8 +58,8 @@ struct LightingSettings {
     std::optional<LightCulling> culling;          // default Auto
     std::optional<uint32_t> tileSize;             // pixels: 16, 32, 64, 128 or 256; default 16
     // 1..1024, or kAutoMaxLightsPerTile (the default): as many as the scene has point and spot lights,
-    // so no tile can drop one, up to 1024 and while the lists fit 32 MiB and the device (at least
-    // 256 there); the frame report says which cap was chosen (docs/LIGHTING.md, "Tile lists").
+    // so no tile can drop one, within autoMaxLightsPerTile's limits; the frame report says which cap
+    // was chosen (docs/LIGHTING.md, "The cap").
     std::optional<uint32_t> maxLightsPerTile;
     // Lights without a glTF range are culled where their illuminance falls below this (lux);
     // default 0.01. 0 = never cull them: infinite range, only Naive can render that (the
