@@ -7,12 +7,12 @@
 #include "janus/renderer/light_grid.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <limits>
-#include <thread>
 
 #include <fmt/format.h>
+
+#include "core/parallel.h"
 
 namespace janus::renderer {
 
@@ -166,29 +166,6 @@ void checkLists(const TileGrid& grid, const TileLists& lists, const char* who) {
                                         grid.tileSize));
 }
 
-unsigned threadCount(unsigned requested, uint32_t rows) {
-    unsigned n = requested != 0 ? requested : std::max(1u, std::thread::hardware_concurrency());
-    return std::max(1u, std::min<unsigned>(n, rows));
-}
-
-// Runs body(row) for every row in [0, rows) on `threads` threads; rows are claimed dynamically,
-// so results must be written per row for determinism.
-template <typename Body>
-void forEachRow(uint32_t rows, unsigned threads, Body&& body) {
-    if (threads <= 1) {
-        for (uint32_t row = 0; row < rows; ++row) body(row);
-        return;
-    }
-    std::atomic<uint32_t> next{0};
-    std::vector<std::thread> workers;
-    workers.reserve(threads);
-    for (unsigned i = 0; i < threads; ++i)
-        workers.emplace_back([&] {
-            for (uint32_t row = next++; row < rows; row = next++) body(row);
-        });
-    for (auto& worker : workers) worker.join();
-}
-
 // --- Analysis in double ---
 
 struct AnalysisLight {
@@ -259,7 +236,7 @@ TileLists buildTileListsCpu(const TileGrid& grid, std::span<const PackedLight> l
     for (const PackedLight& light : lights) cullLights.push_back(toCullLight(grid, light));
 
     std::vector<TileBuildStats> rowStats(tilesY);
-    forEachRow(tilesY, threadCount(threads, tilesY), [&](uint32_t ty) {
+    parallelFor(tilesY, parallelThreads(threads, tilesY), [&](uint32_t ty) {
         TileBuildStats& rs = rowStats[ty];
         std::vector<TileRegion> regions(tilesX);
         for (uint32_t tx = 0; tx < tilesX; ++tx) {
@@ -357,7 +334,7 @@ CullingEfficiency measureCullingEfficiency(const TileGrid& grid, std::span<const
     }
     const TileLists& evaluated = lists ? *lists : candidates;
     std::vector<CullingEfficiency> rows(grid.height);
-    forEachRow(grid.height, threadCount(0, grid.height), [&](uint32_t y) {
+    parallelFor(grid.height, parallelThreads(0, grid.height), [&](uint32_t y) {
         CullingEfficiency& e = rows[y];
         for (uint32_t x = 0; x < grid.width; ++x) {
             const float z = depth[size_t(y) * grid.width + x];
@@ -385,7 +362,7 @@ std::vector<MissingLight> findMissingLights(const TileGrid& grid, std::span<cons
     checkLists(grid, lists, "findMissingLights");
     const std::vector<AnalysisLight> analysis = toAnalysisLights(grid, lights);
     std::vector<std::vector<MissingLight>> rows(grid.height);
-    forEachRow(grid.height, threadCount(0, grid.height), [&](uint32_t y) {
+    parallelFor(grid.height, parallelThreads(0, grid.height), [&](uint32_t y) {
         std::vector<MissingLight>& missing = rows[y];
         std::vector<bool> listed(lights.size());
         uint32_t listedTile = UINT32_MAX;

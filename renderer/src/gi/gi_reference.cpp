@@ -2,16 +2,15 @@
 #include "janus/renderer/gi_reference.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <limits>
 #include <optional>
 #include <string>
-#include <thread>
 
 #include <embree3/rtcore.h>
 #include <fmt/format.h>
 
+#include "core/parallel.h"
 #include "gi/gi_bake.h"           // giSampleDirections
 #include "ibl/environment_map.h"  // equirectUv
 #include "ibl/image_based_lighting.h"
@@ -353,24 +352,6 @@ void checkBounces(uint32_t bounces) {
         throw RendererError(fmt::format("GI reference: {} bounces; at most {} (0 = converged)", bounces, kGiReferenceMaxBounces));
 }
 
-uint32_t threadCount(uint32_t requested, size_t work) {
-    const uint32_t hardware = std::max(1u, std::thread::hardware_concurrency());
-    return uint32_t(std::clamp<size_t>(requested ? requested : hardware, 1, std::max<size_t>(1, work)));
-}
-
-// Runs body(i) for i in [0, count) on `threads` threads, items handed out one at a time.
-template <typename Body>
-void parallelFor(size_t count, uint32_t threads, const Body& body) {
-    std::atomic<size_t> next{0};
-    auto worker = [&] {
-        for (size_t i = next++; i < count; i = next++) body(i);
-    };
-    std::vector<std::thread> pool;
-    for (uint32_t t = 1; t < threads; ++t) pool.emplace_back(worker);
-    worker();
-    for (std::thread& thread : pool) thread.join();
-}
-
 }  // namespace
 
 GiReference::GiReference(const Scene& scene) : m_impl(std::make_unique<Impl>()) {
@@ -491,7 +472,7 @@ std::vector<GiReferenceProbe> GiReference::probes(std::span<const glm::vec3> pos
     const double weight = 4.0 * kPi / double(directions.size());
 
     std::vector<GiReferenceProbe> result(positions.size());
-    parallelFor(positions.size(), threadCount(settings.threads, positions.size()), [&](size_t p) {
+    parallelFor(positions.size(), parallelThreads(settings.threads, positions.size()), [&](size_t p) {
         Random random(settings.seed, p + 1);
         ShRgb radiance{};
         for (size_t i = 0; i < directions.size(); ++i) {
@@ -515,7 +496,7 @@ ImageRGBAF GiReference::indirectIrradiance(const Camera& camera, uint32_t width,
     const glm::dmat4 inverseViewProjection = glm::inverse(glm::dmat4(makeProjection(camera, width, height)) * glm::dmat4(makeView(camera)));
     ImageRGBAF image{width, height, std::vector<float>(size_t(width) * height * 4, 0.0f)};
     const double goldenRatio = 0.6180339887498949;
-    parallelFor(height, threadCount(settings.threads, height), [&](size_t y) {
+    parallelFor(height, parallelThreads(settings.threads, height), [&](size_t y) {
         for (uint32_t x = 0; x < width; ++x) {
             Random random(settings.seed, (uint64_t(y) * width + x) + (uint64_t(1) << 40));
             const std::optional<Hit> hit = m_impl->intersectPixel(inverseViewProjection, x, y, width, height);
@@ -550,7 +531,7 @@ ImageRGBAF GiReference::lightVisibility(const Camera& camera, uint32_t width, ui
     const glm::dvec3 towardLight = -glm::dvec3(lightDirection) / length;
     const glm::dmat4 inverseViewProjection = glm::inverse(glm::dmat4(makeProjection(camera, width, height)) * glm::dmat4(makeView(camera)));
     ImageRGBAF image{width, height, std::vector<float>(size_t(width) * height * 4, 0.0f)};
-    parallelFor(height, threadCount(threads, height), [&](size_t y) {
+    parallelFor(height, parallelThreads(threads, height), [&](size_t y) {
         for (uint32_t x = 0; x < width; ++x) {
             const std::optional<Hit> hit = m_impl->intersectPixel(inverseViewProjection, x, y, width, height);
             if (!hit || hit->geometricNormal == glm::dvec3(0.0) || glm::dot(hit->geometricNormal, towardLight) <= 0.0) continue;

@@ -5,10 +5,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <thread>
 
 #include <fmt/format.h>
 
+#include "core/parallel.h"
 #include "ibl/cube_geometry.h"
 #include "ibl/environment_map.h"
 #include "ibl/ggx_prefilter.h"
@@ -106,19 +106,12 @@ ProbeAccuracyBench::ProbeAccuracyBench(rhi::IDevice& device, const ImageRGBAF& s
         m.reference[mip] = subsetTexels(std::max(1u, faceSize >> mip), gridPerFace);
         for (size_t i = 0; i < m.reference[mip].size(); ++i) work.emplace_back(mip, i);
     }
-    const uint32_t threads = std::max(1u, std::min(std::thread::hardware_concurrency(), 16u));
-    std::vector<std::thread> pool;
-    for (uint32_t t = 0; t < threads; ++t)
-        pool.emplace_back([&, t] {
-            for (size_t k = t; k < work.size(); k += threads) {
-                const auto [mip, i] = work[k];
-                ReferenceTexel& texel = m.reference[mip][i];
-                const uint32_t size = std::max(1u, faceSize >> mip);
-                texel.value = reference.radiance(cubeTexelDirection(texel.face, texel.x, texel.y, size),
-                                                 ggxRoughnessForMip(mip, m.mipCount));
-            }
-        });
-    for (std::thread& thread : pool) thread.join();
+    parallelFor(work.size(), parallelThreads(0, work.size()), [&](size_t k) {
+        const auto [mip, i] = work[k];
+        ReferenceTexel& texel = m.reference[mip][i];
+        const uint32_t size = std::max(1u, faceSize >> mip);
+        texel.value = reference.radiance(cubeTexelDirection(texel.face, texel.x, texel.y, size), ggxRoughnessForMip(mip, m.mipCount));
+    });
     m.referenceMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
