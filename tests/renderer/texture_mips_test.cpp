@@ -63,6 +63,18 @@ TEST(TextureMips, EveryLevelIsThePlainBoxFilterByteForByte) {
     }
 }
 
+TEST(TextureMips, TheChainIsEveryLevelDownToOneTexel) {
+    std::vector<uint8_t> image(size_t(13) * 6 * 4);
+    for (size_t i = 0; i < image.size(); ++i) image[i] = uint8_t(i * 37);
+    const std::vector<std::vector<uint8_t>> chain = mipChainBelow(image, 13, 6, true);
+    ASSERT_EQ(chain.size(), 3u);   // 6x3, 3x1, 1x1
+    EXPECT_EQ(chain[0], nextMipLevel(image, 13, 6, true));
+    EXPECT_EQ(chain[1], nextMipLevel(chain[0], 6, 3, true));
+    EXPECT_EQ(chain[2], nextMipLevel(chain[1], 3, 1, true));
+    EXPECT_EQ(chain[2].size(), 4u);
+    EXPECT_TRUE(mipChainBelow(std::vector<uint8_t>{1, 2, 3, 4}, 1, 1, false).empty());
+}
+
 TEST(TextureMips, EveryPairOfSrgbValuesAveragesInLinearLight) {
     // Every pair of sRGB bytes (a 2x2 box of two columns): the whole table of what the filter can
     // meet between two texels, including the halves that round.

@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <span>
 #include <tuple>
 #include <utility>
@@ -14,6 +15,7 @@
 #include <glm/gtc/matrix_inverse.hpp>
 
 #include "core/gpu_util.h"
+#include "core/parallel.h"
 #include "scene/scene_internal.h"
 #include "core/texture_fit.h"
 #include "core/texture_mips.h"
@@ -74,22 +76,16 @@ GpuScene::GpuScene(rhi::IDevice& device, const Scene& scene) : m_device(device) 
 }
 
 rhi::TextureHandle GpuScene::createTexture(const std::string& name, uint32_t width, uint32_t height, std::span<const uint8_t> rgba,
-                                                 bool srgb) {
-    const uint32_t mips = rhi::fullMipCount(width, height);
+                                                 bool srgb, const std::vector<std::vector<uint8_t>>& mipsBelow) {
     rhi::TextureHandle texture = m_device.createTexture(rhi::TextureDesc{}
                                                           .setFormat(srgb ? rhi::Format::RGBA8_SRGB : rhi::Format::RGBA8_UNORM)
                                                           .setSize(width, height)
-                                                          .setMipLevels(mips)
+                                                          .setMipLevels(uint32_t(mipsBelow.size()) + 1)
                                                           .setUsage(rhi::TextureUsage::Sampled)
                                                           .setDebugName(name));
     m_device.writeTexture(texture, rhi::TextureSubresource{0, 0}, rgba.data(), rgba.size());
-    std::vector<uint8_t> level;   // the level made last: the scene keeps the image itself
-    for (uint32_t mip = 1; mip < mips; ++mip) {
-        level = nextMipLevel(mip == 1 ? rgba : std::span<const uint8_t>(level), width, height, srgb);
-        width = std::max(width / 2, 1u);
-        height = std::max(height / 2, 1u);
-        m_device.writeTexture(texture, rhi::TextureSubresource{mip, 0}, level.data(), level.size());
-    }
+    for (size_t level = 0; level < mipsBelow.size(); ++level)
+        m_device.writeTexture(texture, rhi::TextureSubresource{uint32_t(level) + 1, 0}, mipsBelow[level].data(), mipsBelow[level].size());
     return texture;
 }
 
@@ -113,23 +109,36 @@ rhi::SamplerHandle GpuScene::createSampler(const TextureSampling& sampling) {
 
 void GpuScene::uploadTextures(const Scene& scene) {
     constexpr std::array<uint8_t, 4> kWhite{255, 255, 255, 255}, kFlatNormal{128, 128, 255, 255};
-    m_whiteTexture = createTexture("default white", 1, 1, kWhite, false);
-    m_flatNormalTexture = createTexture("default normal", 1, 1, kFlatNormal, false);
+    m_whiteTexture = createTexture("default white", 1, 1, kWhite, false, {});
+    m_flatNormalTexture = createTexture("default normal", 1, 1, kFlatNormal, false, {});
     m_materialSampler = m_device.createSampler(rhi::SamplerDesc{});
     std::vector<std::pair<TextureSampling, rhi::SamplerHandle>> samplers{{TextureSampling{}, m_materialSampler}};
     const uint32_t maxSide = m_device.capabilities().limits.maxTextureSize2D;
-    for (const TextureImage& image : scene.textures) {
-        if (maxSide > 0 && (image.width > maxSide || image.height > maxSide)) {
-            // Larger than the device can hold: downscaled rather than refused (docs/SCENES.md).
-            const TextureImage fitted = fitTextureToSize(image, maxSide);
+    // The CPU's share of each texture (fitting it to the device, its mip chain) on every core; the
+    // uploads then go to the device in the scene's order.
+    struct Prepared {
+        std::optional<TextureImage> fitted;   // larger than the device holds: downscaled rather than refused (docs/SCENES.md)
+        std::vector<std::vector<uint8_t>> mipsBelow;
+    };
+    std::vector<Prepared> prepared(scene.textures.size());
+    parallelFor(prepared.size(), parallelThreads(0, prepared.size()), [&](size_t i) {
+        const TextureImage& image = scene.textures[i];
+        Prepared& p = prepared[i];
+        if (maxSide > 0 && (image.width > maxSide || image.height > maxSide)) p.fitted = fitTextureToSize(image, maxSide);
+        const TextureImage& source = p.fitted ? *p.fitted : image;
+        p.mipsBelow = mipChainBelow(source.rgba, source.width, source.height, source.srgb);
+    });
+    for (size_t i = 0; i < scene.textures.size(); ++i) {
+        const TextureImage& image = scene.textures[i];
+        Prepared& p = prepared[i];
+        if (p.fitted)
             fmt::print(stderr,
                        "janus: warning: texture '{}' is {}x{}, larger than the device's largest 2D texture ({}); uploading it "
                        "downscaled to {}x{}\n",
-                       image.name, image.width, image.height, maxSide, fitted.width, fitted.height);
-            m_textures.push_back(createTexture(fitted.name, fitted.width, fitted.height, fitted.rgba, fitted.srgb));
-        } else {
-            m_textures.push_back(createTexture(image.name, image.width, image.height, image.rgba, image.srgb));
-        }
+                       image.name, image.width, image.height, maxSide, p.fitted->width, p.fitted->height);
+        const TextureImage& source = p.fitted ? *p.fitted : image;
+        m_textures.push_back(createTexture(source.name, source.width, source.height, source.rgba, source.srgb, p.mipsBelow));
+        p = Prepared{};   // uploaded: its memory goes now rather than with the rest
         auto it = std::find_if(samplers.begin(), samplers.end(), [&](const auto& s) { return s.first == image.sampling; });
         if (it == samplers.end()) it = samplers.insert(samplers.end(), {image.sampling, createSampler(image.sampling)});
         m_textureSamplers.push_back(it->second);

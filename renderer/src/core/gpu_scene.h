@@ -154,7 +154,9 @@ private:
                                   const rhi::ShaderHandle& fragmentShader, rhi::DepthState depth, rhi::BlendAttachment blend,
                                   const std::vector<rhi::Format>& colorFormats, rhi::Format depthFormat, const std::string& name,
                                   bool blended) const;
-    rhi::TextureHandle createTexture(const std::string& name, uint32_t width, uint32_t height, std::span<const uint8_t> rgba, bool srgb);
+    // Level 0 from `rgba`, then the levels below it (mipChainBelow).
+    rhi::TextureHandle createTexture(const std::string& name, uint32_t width, uint32_t height, std::span<const uint8_t> rgba, bool srgb,
+                                     const std::vector<std::vector<uint8_t>>& mipsBelow);
     rhi::SamplerHandle createSampler(const TextureSampling& sampling);
     void uploadTextures(const Scene& scene);
     void uploadMeshes(const Scene& scene);

@@ -65,4 +65,14 @@ std::vector<uint8_t> nextMipLevel(std::span<const uint8_t> rgba, uint32_t width,
     return dst;
 }
 
+std::vector<std::vector<uint8_t>> mipChainBelow(std::span<const uint8_t> rgba, uint32_t width, uint32_t height, bool srgb) {
+    std::vector<std::vector<uint8_t>> levels;
+    while (width > 1 || height > 1) {
+        levels.push_back(nextMipLevel(levels.empty() ? rgba : std::span<const uint8_t>(levels.back()), width, height, srgb));
+        width = std::max(width / 2, 1u);
+        height = std::max(height / 2, 1u);
+    }
+    return levels;
+}
+
 }  // namespace janus::renderer

@@ -14,4 +14,8 @@ namespace janus::renderer {
 // rounded half up). Each level is exact: the same bytes on every machine.
 std::vector<uint8_t> nextMipLevel(std::span<const uint8_t> rgba, uint32_t width, uint32_t height, bool srgb);
 
+// Every level below a width x height image, each from the one above it: level 1 first, down to
+// 1 x 1 (rhi::fullMipCount(width, height) - 1 levels).
+std::vector<std::vector<uint8_t>> mipChainBelow(std::span<const uint8_t> rgba, uint32_t width, uint32_t height, bool srgb);
+
 }  // namespace janus::renderer
