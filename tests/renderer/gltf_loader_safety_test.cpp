@@ -257,6 +257,42 @@ TEST(GltfImages, ImageAtTheSideLimitIsRead) {
     EXPECT_EQ(scene.textures[0].width, 16384u);
 }
 
+// Images decode side by side once the file is parsed: each lands in its own texture, and of two
+// broken ones the lower image is the error, as when they decoded one at a time.
+TEST(GltfImages, ImagesDecodeSideBySideEachIntoItsOwnTexture) {
+    TinyGltf file;
+    const char* names[] = {"a.png", "b.png", "c.png", "d.png"};
+    json images = json::array(), textures = json::array();
+    for (int i = 0; i < 4; ++i) {
+        writePNG(file.dir() / names[i], ImageRGBA8{2, 1, std::vector<uint8_t>{uint8_t(10 * i), 1, 2, 255, uint8_t(10 * i + 5), 3, 4, 255}});
+        images.push_back({{"uri", names[i]}});
+        textures.push_back({{"source", i}});
+    }
+    file.gltf["images"] = images;
+    file.gltf["textures"] = textures;
+    json& material = file.gltf["materials"][0];
+    material["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+    material["pbrMetallicRoughness"]["metallicRoughnessTexture"] = {{"index", 1}};
+    material["normalTexture"] = {{"index", 2}};
+    material["emissiveTexture"] = {{"index", 3}};
+    const Scene scene = loadScene(file.write());
+    ASSERT_EQ(scene.textures.size(), 4u);
+    for (const TextureImage& texture : scene.textures) {
+        const int i = int(std::find(std::begin(names), std::end(names), texture.name) - std::begin(names));
+        ASSERT_LT(i, 4) << texture.name;
+        EXPECT_EQ(texture.rgba, (std::vector<uint8_t>{uint8_t(10 * i), 1, 2, 255, uint8_t(10 * i + 5), 3, 4, 255})) << texture.name;
+    }
+
+    // Images 1 and 3 have a header and nothing to decode.
+    for (const char* broken : {"b.png", "d.png"}) {
+        const std::vector<uint8_t> header = pngHeaderOnly(2, 1);
+        std::ofstream(file.dir() / broken, std::ios::binary).write(reinterpret_cast<const char*>(header.data()), std::streamsize(header.size()));
+    }
+    const std::string message = sceneErrorOf([&] { loadScene(file.write()); });
+    EXPECT_TRUE(contains(message, "image 1 ('b.png') could not be decoded")) << message;
+    EXPECT_FALSE(contains(message, "image 3")) << message;
+}
+
 // What GpuScene does with a texture larger than the device's largest 2D texture (the GPU side
 // is TextureLimitTest in texture_limit_test.cpp).
 TEST(TextureFit, LargerTexturesAreDownscaledKeepingTheirAspect) {

@@ -24,6 +24,7 @@
 #include <tiny_gltf.h>
 #include <turbojpeg.h>
 
+#include "core/parallel.h"
 #include "scene/gltf_schema.h"
 #include "scene_internal.h"
 
@@ -70,11 +71,20 @@ std::string supportedExtensionList() {
 // --- what a glTF may read: URIs, data: URIs, image sizes ---------------------------------------
 
 // What tinygltf's file-system callbacks and image loader share while one file loads.
+// An image loadImage checked and sized, decoded once tinygltf's parse is done (decodeImages).
+struct PendingImage {
+    size_t index = 0;                  // in Model::images
+    std::string label;                 // "image 3 ('albedo.jpg')"
+    std::vector<unsigned char> bytes;  // the encoded file (tinygltf's copy of it does not outlive the callback)
+    bool jpeg = false;
+};
+
 struct LoadContext {
     std::filesystem::path folder;   // the glTF's folder, absolute and normalised
     std::string uriPrefix;          // how tinygltf joins that folder and a URI: folder + '/'
     bool allowOutside = false;      // SceneLoadOptions::allowPathsOutsideSceneFolder
     std::string refusal;            // the first URI or image refused (a SceneError message without the file)
+    std::vector<PendingImage> pendingImages;
 
     void refuse(std::string why) {
         if (refusal.empty()) refusal = std::move(why);
@@ -347,69 +357,118 @@ bool withinImageLimits(LoadContext& context, const std::string& label, int width
     return false;
 }
 
-void setRgba8(tinygltf::Image& image, int width, int height, std::vector<unsigned char> pixels) {
-    image.width = width;
-    image.height = height;
-    image.component = 4;
-    image.bits = 8;
-    image.pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
-    image.image = std::move(pixels);
-}
-
 // JPEG textures are decoded by libjpeg-turbo, not stb_image: stb's JPEG decoder misbehaves on
 // corrupt data in ways no check before it can catch (docs/TESTING.md, fuzzing findings 2, 3 and
 // 7). A warning (data cut short, corrupt entropy-coded data) is an error too: libjpeg-turbo would
 // otherwise fill what it could not decode with grey, a silently wrong texture.
-bool loadJpeg(tinygltf::Image& image, const std::string& label, const unsigned char* bytes, size_t size, LoadContext& context,
-              std::string* err) {
-    std::unique_ptr<void, int (*)(tjhandle)> decoder(tjInitDecompress(), tjDestroy);
-    if (!decoder) {
-        if (err) *err += fmt::format("{} could not be decoded (libjpeg-turbo did not start: {})\n", label, tjGetErrorStr2(nullptr));
+using JpegDecoder = std::unique_ptr<void, int (*)(tjhandle)>;
+
+JpegDecoder startJpegDecoder(const std::string& label, std::string& err) {
+    JpegDecoder decoder(tjInitDecompress(), tjDestroy);
+    if (!decoder) err += fmt::format("{} could not be decoded (libjpeg-turbo did not start: {})\n", label, tjGetErrorStr2(nullptr));
+    return decoder;
+}
+
+// The size in the image's header; false (and why, in err) when there is none Janus can read.
+bool imageSize(const std::string& label, const unsigned char* bytes, size_t size, bool jpeg, int& width, int& height,
+               std::string& err) {
+    if (jpeg) {
+        const JpegDecoder decoder = startJpegDecoder(label, err);
+        if (!decoder) return false;
+        int subsampling = 0, colorspace = 0;
+        if (tjDecompressHeader3(decoder.get(), bytes, static_cast<unsigned long>(size), &width, &height, &subsampling, &colorspace) != 0 ||
+            width <= 0 || height <= 0) {
+            err += fmt::format("{} is not a JPEG image Janus can decode ({})\n", label, tjGetErrorStr2(decoder.get()));
+            return false;
+        }
+        return true;
+    }
+    int channels = 0;
+    if (!stbi_info_from_memory(bytes, int(size), &width, &height, &channels)) {
+        err += fmt::format("{} is not a PNG or JPEG image Janus can decode ({})\n", label, stbi_failure_reason());
         return false;
     }
-    int width = 0, height = 0, subsampling = 0, colorspace = 0;
-    if (tjDecompressHeader3(decoder.get(), bytes, static_cast<unsigned long>(size), &width, &height, &subsampling, &colorspace) != 0 ||
-        width <= 0 || height <= 0) {
-        if (err) *err += fmt::format("{} is not a JPEG image Janus can decode ({})\n", label, tjGetErrorStr2(decoder.get()));
-        return false;
-    }
-    if (!withinImageLimits(context, label, width, height)) return false;
-    std::vector<unsigned char> rgba(size_t(width) * size_t(height) * 4);
-    if (tjDecompress2(decoder.get(), bytes, static_cast<unsigned long>(size), rgba.data(), width, 0, height, TJPF_RGBA,
-                      TJFLAG_STOPONWARNING) != 0) {
-        if (err) *err += fmt::format("{} could not be decoded ({})\n", label, tjGetErrorStr2(decoder.get()));
-        return false;
-    }
-    setRgba8(image, width, height, std::move(rgba));
     return true;
 }
 
-// tinygltf's image loader: refuses an image beyond Janus' limits before decoding it and decodes
-// the rest to 8-bit RGBA (16-bit PNGs keep their high byte), JPEG with libjpeg-turbo, PNG with stb.
+// One checked image to 8-bit RGBA (16-bit PNGs keep their high byte), JPEG with libjpeg-turbo,
+// PNG with stb. Safe to run for several images at once (stb's failure reason is per thread).
+bool decodeImage(tinygltf::Image& image, const PendingImage& pending, std::string& err) {
+    const unsigned char* bytes = pending.bytes.data();
+    const size_t size = pending.bytes.size();
+    if (pending.jpeg) {
+        const JpegDecoder decoder = startJpegDecoder(pending.label, err);
+        if (!decoder) return false;
+        std::vector<unsigned char> rgba(size_t(image.width) * size_t(image.height) * 4);
+        if (tjDecompress2(decoder.get(), bytes, static_cast<unsigned long>(size), rgba.data(), image.width, 0, image.height, TJPF_RGBA,
+                          TJFLAG_STOPONWARNING) != 0) {
+            err += fmt::format("{} could not be decoded ({})\n", pending.label, tjGetErrorStr2(decoder.get()));
+            return false;
+        }
+        image.image = std::move(rgba);
+        return true;
+    }
+    int width = 0, height = 0, channels = 0;
+    stbi_uc* pixels = stbi_load_from_memory(bytes, int(size), &width, &height, &channels, 4);
+    if (!pixels) {
+        err += fmt::format("{} could not be decoded ({})\n", pending.label, stbi_failure_reason());
+        return false;
+    }
+    std::unique_ptr<stbi_uc, void (*)(void*)> owned(pixels, stbi_image_free);
+    if (width != image.width || height != image.height) {   // the header said otherwise: not a file to trust
+        err += fmt::format("{} decodes to {}x{} pixels but its header says {}x{}\n", pending.label, width, height, image.width,
+                           image.height);
+        return false;
+    }
+    image.image.assign(pixels, pixels + size_t(width) * size_t(height) * 4);
+    return true;
+}
+
+// tinygltf's image loader: refuses what Janus does not decode (other formats, images beyond its
+// limits) from the bytes and the header's size, before decoding anything, and leaves the decoding
+// to decodeImages, after the parse, so that the images decode side by side.
 bool loadImage(tinygltf::Image* image, const int index, std::string* err, std::string*, int, int, const unsigned char* bytes,
                int size, void* user) {
     LoadContext& context = *static_cast<LoadContext*>(user);
     const std::string label =
         fmt::format("image {} ('{}')", index, !image->uri.empty() ? shown(image->uri) : !image->name.empty() ? image->name : "embedded");
-    if (std::string problem = textureBytesProblem(bytes, size_t(std::max(size, 0))); !problem.empty()) {
+    const size_t byteCount = size_t(std::max(size, 0));
+    if (std::string problem = textureBytesProblem(bytes, byteCount); !problem.empty()) {
         context.refuse(fmt::format("{} {}", label, problem));
         return false;
     }
-    if (isJpeg(bytes, size_t(std::max(size, 0)))) return loadJpeg(*image, label, bytes, size_t(size), context, err);
-    int width = 0, height = 0, channels = 0;
-    if (!stbi_info_from_memory(bytes, size, &width, &height, &channels)) {
-        if (err) *err += fmt::format("{} is not a PNG or JPEG image Janus can decode ({})\n", label, stbi_failure_reason());
+    const bool jpeg = isJpeg(bytes, byteCount);
+    int width = 0, height = 0;
+    std::string why;
+    if (!imageSize(label, bytes, byteCount, jpeg, width, height, why)) {
+        if (err) *err += why;
         return false;
     }
     if (!withinImageLimits(context, label, width, height)) return false;
-    stbi_uc* pixels = stbi_load_from_memory(bytes, size, &width, &height, &channels, 4);
-    if (!pixels) {
-        if (err) *err += fmt::format("{} could not be decoded ({})\n", label, stbi_failure_reason());
-        return false;
-    }
-    setRgba8(*image, width, height, std::vector<unsigned char>(pixels, pixels + size_t(width) * size_t(height) * 4));
-    stbi_image_free(pixels);
+    image->width = width;
+    image->height = height;
+    image->component = 4;
+    image->bits = 8;
+    image->pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
+    image->image.clear();
+    context.pendingImages.push_back({size_t(index), label, std::vector<unsigned char>(bytes, bytes + byteCount), jpeg});
     return true;
+}
+
+// Decodes the images loadImage took, on every core. The first that fails, in image order, is the
+// load's error, worded as when tinygltf reported it.
+void decodeImages(LoadContext& context, tinygltf::Model& model, const std::filesystem::path& path) {
+    std::vector<std::string> errors(context.pendingImages.size());
+    parallelFor(errors.size(), parallelThreads(0, errors.size()), [&](size_t i) {
+        const PendingImage& pending = context.pendingImages[i];
+        decodeImage(model.images.at(pending.index), pending, errors[i]);
+    });
+    context.pendingImages.clear();
+    for (std::string& reason : errors) {
+        if (reason.empty()) continue;
+        while (!reason.empty() && (reason.back() == '\n' || reason.back() == ' ')) reason.pop_back();
+        throw SceneError(fmt::format("{}: malformed glTF: {}", path.string(), reason));
+    }
 }
 
 // Everything the loader throws names the file, so errors from a scene file that references a
@@ -1715,6 +1774,7 @@ Scene loadGltfFromMemory(std::string_view bytes, const std::filesystem::path& pa
         while (!reason.empty() && (reason.back() == '\n' || reason.back() == ' ')) reason.pop_back();
         throw SceneError(fmt::format("{}: malformed glTF: {}", path.string(), reason.empty() ? "tinygltf gave no reason" : reason));
     }
+    decodeImages(context, model, path);
     Scene scene = GltfReader(path, model, options).read(hasCamera);
     for (const std::string& what : skipped) scene.warnings.push_back(fmt::format("{}: {}", path.string(), what));
     return scene;
