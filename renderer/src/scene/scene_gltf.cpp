@@ -70,7 +70,6 @@ std::string supportedExtensionList() {
 
 // --- what a glTF may read: URIs, data: URIs, image sizes ---------------------------------------
 
-// What tinygltf's file-system callbacks and image loader share while one file loads.
 // An image loadImage checked and sized, decoded once tinygltf's parse is done (decodeImages).
 struct PendingImage {
     size_t index = 0;                  // in Model::images
@@ -79,6 +78,7 @@ struct PendingImage {
     bool jpeg = false;
 };
 
+// What tinygltf's file-system callbacks and image loader share while one file loads.
 struct LoadContext {
     std::filesystem::path folder;   // the glTF's folder, absolute and normalised
     std::string uriPrefix;          // how tinygltf joins that folder and a URI: folder + '/'
@@ -392,36 +392,36 @@ bool imageSize(const std::string& label, const unsigned char* bytes, size_t size
 }
 
 // One checked image to 8-bit RGBA (16-bit PNGs keep their high byte), JPEG with libjpeg-turbo,
-// PNG with stb. Safe to run for several images at once (stb's failure reason is per thread).
-bool decodeImage(tinygltf::Image& image, const PendingImage& pending, std::string& err) {
+// PNG with stb; `err` stays empty when it decodes. Safe to run for several images at once (stb's
+// failure reason is per thread).
+void decodeImage(tinygltf::Image& image, const PendingImage& pending, std::string& err) {
     const unsigned char* bytes = pending.bytes.data();
     const size_t size = pending.bytes.size();
     if (pending.jpeg) {
         const JpegDecoder decoder = startJpegDecoder(pending.label, err);
-        if (!decoder) return false;
+        if (!decoder) return;
         std::vector<unsigned char> rgba(size_t(image.width) * size_t(image.height) * 4);
         if (tjDecompress2(decoder.get(), bytes, static_cast<unsigned long>(size), rgba.data(), image.width, 0, image.height, TJPF_RGBA,
                           TJFLAG_STOPONWARNING) != 0) {
             err += fmt::format("{} could not be decoded ({})\n", pending.label, tjGetErrorStr2(decoder.get()));
-            return false;
+            return;
         }
         image.image = std::move(rgba);
-        return true;
+        return;
     }
     int width = 0, height = 0, channels = 0;
     stbi_uc* pixels = stbi_load_from_memory(bytes, int(size), &width, &height, &channels, 4);
     if (!pixels) {
         err += fmt::format("{} could not be decoded ({})\n", pending.label, stbi_failure_reason());
-        return false;
+        return;
     }
     std::unique_ptr<stbi_uc, void (*)(void*)> owned(pixels, stbi_image_free);
     if (width != image.width || height != image.height) {   // the header said otherwise: not a file to trust
         err += fmt::format("{} decodes to {}x{} pixels but its header says {}x{}\n", pending.label, width, height, image.width,
                            image.height);
-        return false;
+        return;
     }
     image.image.assign(pixels, pixels + size_t(width) * size_t(height) * 4);
-    return true;
 }
 
 // tinygltf's image loader: refuses what Janus does not decode (other formats, images beyond its
@@ -542,24 +542,6 @@ private:
         }
     }
 
-    // Any layout the loader takes (1 to 4 channels of 8 or 16 bits) as RGBA8.
-    static void expandToRgba8(const tinygltf::Image& image, std::vector<uint8_t>& rgba) {
-        const size_t pixels = size_t(image.width) * size_t(image.height);
-        const int channels = image.component;
-        const int bytesPerChannel = image.bits / 8;
-        for (size_t p = 0; p < pixels; ++p) {
-            uint8_t px[4] = {0, 0, 0, 255};
-            for (int c = 0; c < channels; ++c) {
-                // 16-bit images keep their high byte: textures are uploaded as RGBA8.
-                const size_t at = (p * size_t(channels) + size_t(c)) * size_t(bytesPerChannel);
-                px[c] = bytesPerChannel == 2 ? image.image[at + 1] : image.image[at];
-            }
-            if (channels == 1) px[1] = px[2] = px[0];
-            if (channels == 2) { px[3] = px[1]; px[1] = px[2] = px[0]; }
-            std::memcpy(&rgba[p * 4], px, 4);
-        }
-    }
-
     int32_t textureFor(int gltfTexture, bool srgb, Scene& scene, const std::string& materialName) {
         if (gltfTexture < 0) return -1;
         if (size_t(gltfTexture) >= m_model.textures.size())
@@ -583,27 +565,12 @@ private:
         if (sampler >= 0) texture.sampling = samplingOf(m_model.samplers[size_t(sampler)]);
         texture.name = image.uri.empty() ? image.name : image.uri;
         const size_t pixels = size_t(image.width) * size_t(image.height);
-        const int channels = image.component;
-        const int bytesPerChannel = image.bits / 8;
-        if (channels < 1 || channels > 4 || (bytesPerChannel != 1 && bytesPerChannel != 2) ||
-            image.image.size() != pixels * size_t(channels) * size_t(bytesPerChannel))
+        // The image loader (loadImage, decodeImage) gives every image as 8-bit RGBA; one without
+        // that layout has no data (an external file tinygltf could not read).
+        if (image.component != 4 || image.bits != 8 || image.image.size() != pixels * 4)
             fail(fmt::format("texture image '{}' has an unsupported layout ({} channels, {} bits)", texture.name,
-                             channels, image.bits));
-        texture.rgba.resize(pixels * 4);
-        if (channels == 4 && bytesPerChannel == 1) {   // the common layouts, without the general loop's per-byte work
-            std::memcpy(texture.rgba.data(), image.image.data(), pixels * 4);
-        } else if (channels == 3 && bytesPerChannel == 1) {
-            const unsigned char* in = image.image.data();
-            uint8_t* out = texture.rgba.data();
-            for (size_t p = 0; p < pixels; ++p, in += 3, out += 4) {
-                out[0] = in[0];
-                out[1] = in[1];
-                out[2] = in[2];
-                out[3] = 255;
-            }
-        } else {
-            expandToRgba8(image, texture.rgba);
-        }
+                             image.component, image.bits));
+        texture.rgba.assign(image.image.begin(), image.image.end());
         scene.textures.push_back(std::move(texture));
         const int32_t index = int32_t(scene.textures.size() - 1);
         m_textureCache[key] = index;
