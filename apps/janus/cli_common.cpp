@@ -405,8 +405,9 @@ void addLightingOptions(CLI::App& app, LightingOptions& options) {
         ->type_name("MODE");
     app.add_option("--tile-size", options.tileSize, "Screen tile side in pixels: 16, 32, 64, 128 or 256 (default 16)")->type_name("N");
     app.add_option("--max-lights-per-tile", options.maxLightsPerTile,
-                   "Cap of each tile's light list, 1..1024, or auto: the light count (no tile drops a light), within 32 MiB of lists "
-                   "(default: scene, then auto)")
+                   fmt::format("Cap of each tile's light list, 1..{0}, or auto: the light count (no tile drops a light), within {0} and "
+                               "{1} MiB of lists (default: scene, then auto)",
+                               renderer::kMaxLightsPerTileLimit, renderer::kAutoTileListBudgetBytes >> 20))
         ->type_name("N");
     app.add_option("--intensity-cutoff", options.intensityCutoff,
                    "Illuminance (lux) below which a light without a range is culled; 0 = never (naive only; default 0.01)")

@@ -403,7 +403,8 @@ int runForward(const BenchOptions& options) {
                           "densest tile | max abs error | mean abs error | naive ms |\n|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
                           knobLights, *defaults.tileSize,
                           *defaults.maxLightsPerTile == renderer::kAutoMaxLightsPerTile
-                              ? std::string("the automatic list cap, marked \"auto\": as many lights as the scene has, within 32 MiB of lists")
+                              ? fmt::format("the automatic list cap, marked \"auto\": as many lights as the scene has, within {} MiB of lists",
+                                            renderer::kAutoTileListBudgetBytes >> 20)
                               : fmt::format("at most {} lights per tile", *defaults.maxLightsPerTile));
         json["tileKnobs"] = nlohmann::json::array();
         for (const KnobRow& row : knobRows) {

@@ -137,24 +137,20 @@ void LocalLights::checkTileStorageFits() const {
     // Checked when the renderer is made, before any resource: the tile lists (a count and
     // maxLightsPerTile entries per tile, 32 bits each) must fit one storage buffer binding on the
     // compute path and one data texture on the fallback path.
+    if (m_lighting.maxLightsPerTile <= largestCapThatFits()) return;
     const size_t words = size_t(tileCount()) * (1 + m_lighting.maxLightsPerTile);
     const rhi::Limits& limits = m_device.capabilities().limits;
     const char* advice = "use larger tiles or a smaller maxLightsPerTile (janus: --tile-size, --max-lights-per-tile)";
-    if (m_path == FeaturePath::Compute) {
-        const uint64_t bytes = uint64_t(words) * 4;
-        if (limits.maxStorageBufferRange != 0 && bytes > limits.maxStorageBufferRange)
-            throw RendererError(fmt::format("the tile light lists ({}x{} tiles of {} px, up to {} lights each) need a {}-byte storage "
-                                            "buffer on the compute path, more than this device's largest storage buffer range ({}); {}",
-                                            m_tilesX, m_tilesY, m_lighting.tileSize, m_lighting.maxLightsPerTile, bytes,
-                                            limits.maxStorageBufferRange, advice));
-    } else {
-        const size_t height = (words + kDataTextureWidth - 1) / kDataTextureWidth;
-        if (height > limits.maxTextureSize2D)
-            throw RendererError(fmt::format("the tile light lists ({}x{} tiles of {} px, up to {} lights each) need a {}x{} texture on "
-                                            "the fallback path, more than this device's maximum 2D texture size {}; {}",
-                                            m_tilesX, m_tilesY, m_lighting.tileSize, m_lighting.maxLightsPerTile,
-                                            std::min<size_t>(words, kDataTextureWidth), height, limits.maxTextureSize2D, advice));
-    }
+    if (m_path == FeaturePath::Compute)
+        throw RendererError(fmt::format("the tile light lists ({}x{} tiles of {} px, up to {} lights each) need a {}-byte storage "
+                                        "buffer on the compute path, more than this device's largest storage buffer range ({}); {}",
+                                        m_tilesX, m_tilesY, m_lighting.tileSize, m_lighting.maxLightsPerTile, uint64_t(words) * 4,
+                                        limits.maxStorageBufferRange, advice));
+    throw RendererError(fmt::format("the tile light lists ({}x{} tiles of {} px, up to {} lights each) need a {}x{} texture on "
+                                    "the fallback path, more than this device's maximum 2D texture size {}; {}",
+                                    m_tilesX, m_tilesY, m_lighting.tileSize, m_lighting.maxLightsPerTile,
+                                    std::min<size_t>(words, kDataTextureWidth), (words + kDataTextureWidth - 1) / kDataTextureWidth,
+                                    limits.maxTextureSize2D, advice));
 }
 
 void LocalLights::createTileStorage(size_t words) {

@@ -73,11 +73,12 @@ private:
     void writeDataTexture(const rhi::TextureHandle& texture, const void* data, size_t elements, size_t texelBytes);
     // The tile lists' storage buffer | R32UI texture of `words` uints (once).
     void createTileStorage(size_t words);
-    // RendererError (before any resource is made) when the tile lists exceed a storage buffer
-    // binding (compute) or the largest data texture (fallback) of this device.
-    void checkTileStorageFits() const;
-    // The largest maxLightsPerTile whose lists this device can hold for this grid and path (0: none).
+    // The largest maxLightsPerTile whose lists this device can hold for this grid and path (0: none):
+    // one storage buffer binding (compute) or one data texture (fallback).
     uint32_t largestCapThatFits() const;
+    // RendererError (before any resource is made) when maxLightsPerTile is above that, with the
+    // sizes that do not fit.
+    void checkTileStorageFits() const;
     void createCullCompute();
     void recordCullCompute(rhi::ICommandList& cmd, PassReport& report);
     void buildTilesOnCpu(PassReport& report);
