@@ -14,12 +14,15 @@ layout(set = JANUS_SET_VIEW, binding = JANUS_BINDING_GI_UNIFORMS, std140) unifor
     ivec4 counts;   // xyz probes per axis, w unused
 } giVolume;
 
-// Irradiance / pi at `position` for `normal` (rgb, clamped at 0), and how much the volume covers
+// Irradiance / pi at `position` for `normal` on a surface whose plane has normal `surfaceNormal`
+// (light from below that plane does not count: shIrradianceAboveSurface; the relight's surfels,
+// whose normals come from half floats, pass the same vector twice for the plain evaluation),
+// rgb clamped at 0, and how much the volume covers
 // the point (a): 1 inside the volume's bounds (the probes' cells: half a spacing beyond the outer
 // probes, so a room's walls are covered), falling to 0 one probe spacing outside them, and 0 where
 // every probe around is invalid. Trilinear over the 8 surrounding probes, each weighted by its
 // validity, weights renormalised; beyond the outer probes, their values.
-vec4 giIrradianceOverPi(vec3 position, vec3 normal) {
+vec4 giIrradianceOverPi(vec3 position, vec3 normal, vec3 surfaceNormal) {
     if (giVolume.origin.w <= 0.0) return vec4(0.0);
     ivec3 counts = giVolume.counts.xyz;
     vec3 g = (position + normal * giVolume.spacing.w - giVolume.origin.xyz) / giVolume.spacing.xyz;
@@ -53,8 +56,8 @@ vec4 giIrradianceOverPi(vec3 position, vec3 normal) {
         c8 += w * texelFetch(giVolumeTexture, ivec3(p.x, p.z, z0 + 8), 0).rgb;
     }
     if (weightSum < 1e-6) return vec4(0.0);
-    ShBasis y = shEvalBasis(normal);
-    vec3 sum = c0 * y.a.x + c1 * y.a.y + c2 * y.a.z + c3 * y.a.w + c4 * y.b.x + c5 * y.b.y + c6 * y.b.z + c7 * y.b.w + c8 * y.c;
+    vec3 coefficients[9] = vec3[9](c0, c1, c2, c3, c4, c5, c6, c7, c8);
+    vec3 sum = surfaceNormal == normal ? shEvaluate(coefficients, normal) : shIrradianceAboveSurface(coefficients, normal, surfaceNormal);
     return vec4(max(sum / weightSum, vec3(0.0)), coverage);
 }
 #endif

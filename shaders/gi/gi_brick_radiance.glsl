@@ -47,7 +47,7 @@ vec3 brickRadiance(int brick) {
         vec3 albedo = giData(giSurfels, s * 4 + 2).rgb;
         vec3 emission = giData(giSurfels, s * 4 + 3).rgb;
         vec3 radiance = albedo * (1.0 / kGiPi) * surfelIrradiance(position, normal) + emission;
-        if (relight.counts.z != 0) radiance += albedo * giIrradianceOverPi(position, normal).rgb;
+        if (relight.counts.z != 0) radiance += albedo * giIrradianceOverPi(position, normal, normal).rgb;
         sum += radiance;
     }
     vec3 mean = count > 0 ? sum / float(count) : vec3(0.0);

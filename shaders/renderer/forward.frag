@@ -71,6 +71,18 @@ vec3 safeNormalize(vec3 v, vec3 fallback) {
     return lengthSq > 1e-24 ? normalize(v) : fallback;
 }
 
+// The unit normal of the triangle's plane on the camera's side, from the world position's screen
+// derivatives (exact within a triangle); `fallback` where they give no plane (a triangle seen
+// edge-on). Each derivative is scaled by its largest component first, so tiny scenes keep a plane.
+vec3 faceNormal(vec3 positionDx, vec3 positionDy, vec3 toCamera, vec3 fallback) {
+    float scaleX = max(max(abs(positionDx.x), abs(positionDx.y)), abs(positionDx.z));
+    float scaleY = max(max(abs(positionDy.x), abs(positionDy.y)), abs(positionDy.z));
+    if (!(scaleX > 0.0 && scaleY > 0.0)) return fallback;
+    vec3 n = safeNormalize(cross(positionDx / scaleX, positionDy / scaleY), vec3(0.0));
+    if (n == vec3(0.0)) return fallback;
+    return dot(n, toCamera) < 0.0 ? -n : n;
+}
+
 // Outgoing radiance for light arriving along -lightDirection with irradiance `irradiance`
 // at normal incidence.
 vec3 shade(Surface s, vec3 toLight, vec3 irradiance) {
@@ -117,6 +129,8 @@ void main() {
     vec3 normalSample = texture(normalTexture, materialUv(kTextureNormal, vUv, vUv1)).xyz;
     float occlusionSample = texture(occlusionTexture, materialUv(kTextureOcclusion, vUv, vUv1)).r;
     vec3 emissiveSample = texture(emissiveTexture, materialUv(kTextureEmissive, vUv, vUv1)).rgb;
+    // The triangle's own plane, for the irradiance volume (faceNormal), here for the same reason.
+    vec3 positionDx = dFdx(vWorldPosition), positionDy = dFdy(vWorldPosition);
 
     vec4 baseColor = draw.baseColorFactor * vColor * baseColorSample;
     if (draw.flags.z == kAlphaModeMask && baseColor.a < draw.emissiveFactor.w) discard;
@@ -193,7 +207,9 @@ void main() {
     vec4 probes = vec4(0.0, 0.0, 0.0, 1.0);
     if (reflectionProbes.probeCount.x > 0) probes = reflectionProbeRadiance(vWorldPosition, reflected, perceptualRoughness);
     vec3 probeSpecular = probes.rgb;
-    vec4 gi = giIrradianceOverPi(vWorldPosition, s.normal);   // coverage 0 without a volume
+    // Smoothed vertex normals and normal maps lean the shading normal away from the triangle's
+    // plane: the volume's light from below that plane is hidden by the surface (docs/GI.md).
+    vec4 gi = giIrradianceOverPi(vWorldPosition, s.normal, faceNormal(positionDx, positionDy, toCamera, s.normal));   // coverage 0 without a volume
     if (frame.skyParams.w > 1.5) {
         // --debug shadow: what the shadow map lets through of the main light (1 without a map).
         outRadiance = vec4(vec3(mainLightVisibility), 1.0);

@@ -17,6 +17,7 @@
 #include "ibl/cube_geometry.h"
 #include "ibl/spherical_harmonics.h"
 #include "janus/renderer/gi_reference.h"
+#include "janus/renderer/light_grid.h"
 #include "janus/renderer/renderer.h"
 #include "renderer/renderer_test_support.h"
 #include "scene/scene_internal.h"
@@ -508,6 +509,100 @@ TEST_P(ProbeGiTest, TheVolumeCoversItsBoundsUpToTheWalls) {
         for (int c = 0; c < 3; ++c)
             if (std::abs(hdr.pixels[i + c] - e[c]) > 0.03f * e[c]) ++dim;   // 512 surfels, half floats: 3 %
     EXPECT_EQ(dim, 0u) << GetParam().name() << ": pixels whose indirect light is not the room's";
+    expectNoMessages();
+}
+
+// Shading normals that lean away from their surface (smoothed vertex normals, normal maps) take
+// only the light that arrives from above the surface's plane: in a uniformly glowing room, a
+// normal leaning 60 degrees gets (1 + cos 60) / 2 = 3/4 of the room's irradiance. Evaluated at the
+// leaning normal alone, the volume gave all of it (the cornell box's smooth floor saw itself:
+// docs/GI.md, "Bent normals").
+TEST_P(ProbeGiTest, ALeaningNormalGetsOnlyTheLightAboveItsSurface) {
+    device().takeDebugMessages();
+    const glm::vec3 e(0.5f, 1.0f, 0.75f);
+    Scene scene = emissiveRoom({e, e, e, e, e, e});
+    scene.irradianceVolume->bounds = Box{glm::vec3(-1.0f), glm::vec3(1.0f)};
+    scene.irradianceVolume->probeCounts = glm::uvec3(2);
+    scene.irradianceVolume->surfelsPerProbe = 512;
+    const float lean = glm::radians(60.0f);
+    for (Mesh& mesh : scene.meshes)
+        for (Vertex& v : mesh.vertices) v.normal = glm::vec3(std::sin(lean), 0.0f, std::cos(lean));   // the quads face +Z
+    RenderSettings debug = settings(32, 32);
+    debug.debugView = DebugView::GiLight;
+    Renderer renderer(device(), scene, debug);
+    renderer.renderFrame();
+    const ImageRGBAF hdr = renderer.readHdrImage();
+    const glm::vec3 expected = e * 0.5f * (1.0f + std::cos(lean));
+    uint32_t wrong = 0;
+    std::string first;
+    for (size_t i = 0; i < hdr.pixels.size(); i += 4)
+        for (int c = 0; c < 3; ++c)
+            if (std::abs(hdr.pixels[i + c] - expected[c]) > 0.03f * expected[c]) {   // 512 surfels, half floats: 3 %
+                if (wrong++ == 0) first = fmt::format("pixel {} channel {}: {} (expected {})", i / 4, c, hdr.pixels[i + c], expected[c]);
+            }
+    EXPECT_EQ(wrong, 0u) << GetParam().name() << ": values off the leaning normal's share of the room's light; first " << first;
+    expectNoMessages();
+}
+
+// The same lean under light from six colours (every SH band): each pixel against the CPU's closed
+// form (shEvaluateAboveSurface) at the probe as read back, with the wall the pixel's ray meets.
+TEST_P(ProbeGiTest, ALeaningNormalMatchesTheCpuClosedFormOnEveryWall) {
+    device().takeDebugMessages();
+    const std::array<glm::vec3, 6> emission = {glm::vec3(2.0f, 0.2f, 0.2f), glm::vec3(0.2f, 2.0f, 0.2f), glm::vec3(0.2f, 0.2f, 2.0f),
+                                               glm::vec3(1.0f, 1.0f, 0.2f), glm::vec3(0.2f, 1.0f, 1.0f), glm::vec3(1.0f, 0.2f, 1.0f)};
+    Scene scene = emissiveRoom(emission);
+    scene.irradianceVolume->bounds = Box{glm::vec3(-1.0f), glm::vec3(1.0f)};   // one probe, covering every wall
+    const double lean = glm::radians(60.0);
+    for (Mesh& mesh : scene.meshes)
+        for (Vertex& v : mesh.vertices) v.normal = glm::vec3(float(std::sin(lean)), 0.0f, float(std::cos(lean)));
+    RenderSettings debug = settings(32, 32);
+    debug.debugView = DebugView::GiLight;
+    Renderer renderer(device(), scene, debug);
+    renderer.renderFrame();
+    const ImageRGBAF hdr = renderer.readHdrImage();
+    const std::vector<IrradianceProbe> probes = renderer.readIrradianceProbes();
+    ASSERT_EQ(probes.size(), 1u);
+    const ShRgb sh = shOf(probes[0]);
+    const glm::dmat4 inverseViewProjection =
+        glm::inverse(glm::dmat4(makeProjection(scene.camera, 32, 32)) * glm::dmat4(makeView(scene.camera)));
+    uint32_t compared = 0, wrong = 0, discriminating = 0;
+    std::string first;
+    for (uint32_t y = 0; y < 32; ++y)
+        for (uint32_t x = 0; x < 32; ++x) {
+            // The pixel centre's ray (NDC y = -1 is row 0) to the wall it leaves the 2 m room through.
+            const glm::dvec2 ndc((x + 0.5) / 32.0 * 2.0 - 1.0, (y + 0.5) / 32.0 * 2.0 - 1.0);
+            const glm::dvec4 nearPoint = inverseViewProjection * glm::dvec4(ndc, 0.0, 1.0), farPoint = inverseViewProjection * glm::dvec4(ndc, 1.0, 1.0);
+            const glm::dvec3 origin = glm::dvec3(nearPoint) / nearPoint.w;
+            const glm::dvec3 direction = glm::normalize(glm::dvec3(farPoint) / farPoint.w - origin);
+            double nearest = 1e30;
+            int face = -1;
+            for (int axis = 0; axis < 3; ++axis) {
+                if (direction[axis] == 0.0) continue;
+                const double t = ((direction[axis] > 0.0 ? 1.0 : -1.0) - origin[axis]) / direction[axis];
+                if (t < nearest) nearest = t, face = 2 * axis + (direction[axis] > 0.0 ? 0 : 1);
+            }
+            const glm::dvec3 hit = origin + direction * nearest;
+            const int axis = face / 2;
+            if (std::abs(hit[(axis + 1) % 3]) > 0.9 || std::abs(hit[(axis + 2) % 3]) > 0.9) continue;   // near an edge: either wall
+            // quadFacing's frame: the wall faces into the room, its local +X is `right`.
+            glm::dvec3 inward(0.0);
+            inward[axis] = face % 2 == 0 ? -1.0 : 1.0;
+            const glm::dvec3 up = std::abs(inward.y) > 0.5 ? glm::dvec3(0, 0, 1) : glm::dvec3(0, 1, 0);
+            const glm::dvec3 right = glm::normalize(glm::cross(up, inward));
+            const glm::dvec3 leaning = std::sin(lean) * right + std::cos(lean) * inward;
+            const glm::dvec3 expected = glm::max(shEvaluateAboveSurface(sh, leaning, inward), glm::dvec3(0.0));
+            const glm::dvec3 plain = glm::max(shEvaluate(sh, leaning), glm::dvec3(0.0));
+            const float* p = &hdr.pixels[(size_t(y) * 32 + x) * 4];
+            ++compared;
+            if (glm::length(plain - expected) > 0.1 * glm::length(expected)) ++discriminating;
+            for (int c = 0; c < 3; ++c)
+                if (std::abs(p[c] - expected[c]) > 2e-3 * (1.0 + expected[c])) {   // float arithmetic on the same half-float SH
+                    if (wrong++ == 0) first = fmt::format("pixel ({}, {}) wall {} channel {}: {} (expected {}, plain {})", x, y, face, c, p[c], expected[c], plain[c]);
+                }
+        }
+    EXPECT_GT(compared, 500u) << GetParam().name();
+    EXPECT_GT(discriminating, compared / 2) << GetParam().name() << ": the plain evaluation would pass too";
+    EXPECT_EQ(wrong, 0u) << GetParam().name() << ": " << wrong << " values off the closed form; first " << first;
     expectNoMessages();
 }
 

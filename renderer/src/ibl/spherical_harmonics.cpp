@@ -1,5 +1,6 @@
 #include "ibl/spherical_harmonics.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -60,6 +61,43 @@ glm::dvec3 shEvaluate(const ShRgb& coefficients, const glm::dvec3& n) {
 
 glm::dvec3 shEvaluateIrradiance(const ShRgb& irradianceOverPi, const glm::dvec3& n) {
     return glm::max(shEvaluate(irradianceOverPi, n), glm::dvec3(0.0));
+}
+
+glm::dvec3 shEvaluateAboveSurface(const ShRgb& irradianceOverPi, const glm::dvec3& n, const glm::dvec3& surfaceNormal) {
+    // The clipped lobe K(w) = max(0, n.w) [g.w > 0], g the surface normal, meets a band-limited
+    // radiance L(w) = p0 + p.w + w^T P w only through its moments: E = p0 M0 + p.m + tr(P S).
+    // With c = cos(theta) between n and g, t the unit tangent from g towards n and b = g x t, the
+    // lobe lives on a lune of angle pi - theta, and (integrating about b):
+    //   M0 = pi (1 + c) / 2
+    //   m  = 4/3 (Ic g + Is t),  Ic = (s + (pi - theta) c) / 2,  Is = (pi - theta) s / 2
+    //   S  = pi (1 + c) / 8 b b^T + 3 pi / 8 (Jgg g g^T + Jtt t t^T + Jgt (g t^T + t g^T))
+    //   Jgg = c (2/3 + c - c^3 / 3) + s^4 / 3,  Jgt = s (1 + c) / 3,  Jtt = 1 + c - Jgg
+    // At theta = 0 these are the clamped cosine's moments, whatever t is.
+    const double pi = std::numbers::pi;
+    const glm::dvec3& g = surfaceNormal;
+    const double c = std::clamp(glm::dot(n, g), -1.0, 1.0);
+    const double s = std::sqrt(std::max(0.0, 1.0 - c * c));
+    const double theta = std::acos(c);
+    glm::dvec3 t = n - c * g;
+    const double tangentLength = glm::length(t);
+    t = tangentLength > 1e-9 ? t / tangentLength
+                             : glm::normalize(glm::cross(g, std::abs(g.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0)));
+    // Radiance SH from irradiance / pi, then its polynomial form.
+    ShRgb L{};
+    for (uint32_t i = 0; i < 9; ++i) L[i] = irradianceOverPi[i] / kShCosineOverPi[shBand(i)];
+    const glm::dvec3 p0 = kShY00 * L[0] - kShY20 * L[6];
+    auto linear = [&](const glm::dvec3& u) { return kShY1 * (L[3] * u.x + L[1] * u.y + L[2] * u.z); };
+    auto quadratic = [&](const glm::dvec3& u, const glm::dvec3& v) {
+        return kShY22 * L[8] * (u.x * v.x - u.y * v.y) + 3.0 * kShY20 * L[6] * (u.z * v.z) +
+               0.5 * kShY2a * (L[4] * (u.x * v.y + u.y * v.x) + L[5] * (u.y * v.z + u.z * v.y) + L[7] * (u.x * v.z + u.z * v.x));
+    };
+    const glm::dvec3 traceP = 3.0 * kShY20 * L[6];
+    const double ic = 0.5 * (s + (pi - theta) * c), is = 0.5 * (pi - theta) * s;
+    const double jgg = c * (2.0 / 3.0 + c - c * c * c / 3.0) + s * s * s * s / 3.0, jgt = s * (1.0 + c) / 3.0, jtt = 1.0 + c - jgg;
+    const glm::dvec3 pgg = quadratic(g, g), ptt = quadratic(t, t), pgt = quadratic(g, t);
+    const glm::dvec3 e = p0 * (0.5 * pi * (1.0 + c)) + (4.0 / 3.0) * (ic * linear(g) + is * linear(t)) +
+                         (pi / 8.0) * (1.0 + c) * (traceP - pgg - ptt) + (3.0 * pi / 8.0) * (jgg * pgg + jtt * ptt + 2.0 * jgt * pgt);
+    return e / pi;
 }
 
 ShRgb shConstantRadiance(const glm::dvec3& color) {

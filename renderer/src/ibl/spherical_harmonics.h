@@ -57,6 +57,13 @@ inline ShRgb shProjectIrradiance(const CubeImage& cube) { return shConvolveIrrad
 glm::dvec3 shEvaluate(const ShRgb& coefficients, const glm::dvec3& n);
 // What shading uses: shEvaluate clamped to >= 0 per channel (docs/IBL.md, "Clamping").
 glm::dvec3 shEvaluateIrradiance(const ShRgb& irradianceOverPi, const glm::dvec3& n);
+// Irradiance / pi at a surface whose shading normal `n` leans away from the normal of its plane
+// `surfaceNormal` (smoothed vertex normals, normal maps): the clamped cosine about n, over the
+// directions above the plane only, since the surface hides what lies below it. Exact for the
+// band-limited radiance the coefficients hold (the clipped lobe's moments up to order 2 in
+// closed form, docs/GI.md "Bent normals"); shEvaluate(irradianceOverPi, n) when the normals
+// agree; 0 when n points straight into the surface. Unclamped. Unit vectors.
+glm::dvec3 shEvaluateAboveSurface(const ShRgb& irradianceOverPi, const glm::dvec3& n, const glm::dvec3& surfaceNormal);
 
 // Closed forms of the radiance SH (exact integrals, not projections of a sampled cube):
 // L(w) = color.
