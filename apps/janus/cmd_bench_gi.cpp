@@ -4,7 +4,8 @@
 // on each path and backend. Per configuration: the bake's time, the relight's time (all its frames)
 // and per frame, and the error against the Embree reference (GiReference): relative RMSE of the
 // probes' irradiance and of the image's indirect term (a `--debug gi-light` frame), against the
-// reference with the same bounces and against the converged one. Writes gi.md, gi.json, gi.png.
+// reference with the same bounces and against the converged one, and the image with the converged
+// reference's probes written into the volume (the lookup's own error). Writes gi.md, gi.json, gi.png.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -111,6 +112,9 @@ struct Row {
     uint32_t probes = 0, validProbes = 0;
     uint64_t bricks = 0;
     renderer::GiError probeSame, probeConverged, imageSame, imageConverged;
+    // The image with the converged reference's probes written into the volume: what the lookup
+    // (grid, interpolation, L2, normal bias) loses on its own, whatever the relight's error.
+    renderer::GiError imageReferenceProbes;
 };
 
 // The relight's passes of one frame (view "gi relight"), in GPU ms (CPU recording ms without timers).
@@ -268,6 +272,16 @@ int runGi(const GiOptions& options) {
                     times.push_back(time);
                     row.relightRuns.push_back(time.totalMs);
                 }
+                {
+                    const std::vector<renderer::GiReferenceProbe>& truth = probesFor(probes, variant.volume, 0);
+                    std::vector<renderer::IrradianceProbe> written = probes;
+                    for (size_t i = 0; i < written.size(); ++i)
+                        for (size_t k = 0; k < 9; ++k)   // an L1 volume holds no L2 terms
+                            written[i].sh[k] = k >= 4 && variant.volume.shOrder < 2 ? glm::vec3(0.0f) : glm::vec3(truth[i].irradianceSh[k]);
+                    renderer.writeIrradianceProbes(written);
+                    renderer.renderFrame();
+                    row.imageReferenceProbes = renderer::compareIndirectImage(renderer.readHdrImage(), imageFor(0));
+                }
                 std::sort(times.begin(), times.end(), [](const RelightTime& a, const RelightTime& b) { return a.totalMs < b.totalMs; });
                 row.relight = times[times.size() / 2];
                 row.probes = uint32_t(probes.size());
@@ -282,10 +296,10 @@ int runGi(const GiOptions& options) {
                     renderer::writePFM(outDir / "gi-reference.pfm", imageFor(0));
                     renderer::writePFM(outDir / fmt::format("gi-reference-{}-bounces.pfm", variant.volume.bounces), imageFor(variant.volume.bounces));
                 }
-                std::fprintf(stderr, "  %s %-28s bake %8.1f ms, relight %8.3f ms in %u frame(s); probes %5.1f %% (converged %5.1f %%), image %5.1f %% (converged %5.1f %%)\n",
+                std::fprintf(stderr, "  %s %-28s bake %8.1f ms, relight %8.3f ms in %u frame(s); probes %5.1f %% (converged %5.1f %%), image %5.1f %% (converged %5.1f %%, reference probes %5.1f %%)\n",
                              configurationLabel(backend, path).c_str(), variant.label.c_str(), row.bakeMs, row.relight.totalMs, row.relight.frames,
                              100.0 * row.probeSame.relativeRmse, 100.0 * row.probeConverged.relativeRmse, 100.0 * row.imageSame.relativeRmse,
-                             100.0 * row.imageConverged.relativeRmse);
+                             100.0 * row.imageConverged.relativeRmse, 100.0 * row.imageReferenceProbes.relativeRmse);
                 rows.push_back(std::move(row));
             }
         }
@@ -306,7 +320,9 @@ int runGi(const GiOptions& options) {
         "**per frame** = relight / frames; **brick** and **SH**: its two passes.\n"
         "- **probes**: after the first relight (from a black volume: exactly `bounces` bounces), relative RMSE of the valid probes' irradiance (64 normals each) against the Embree reference with the same bounces "
         "(the method's own error) and against the converged reference (what the light really is); **image**: the same for the "
-        "image's indirect term, over the pixels the reference sees a surface at.\n"
+        "image's indirect term, over the pixels the reference sees a surface at; **image % (ref. probes)**: the image against the converged "
+        "reference with the converged reference's probes written into the volume (validity kept): what the lookup alone (grid, "
+        "interpolation, L2, normal bias) loses.\n"
         "- Reference (`GiReference`, docs/GI.md): {} directions per probe, {} paths per pixel; image noise (two seeds): {}. "
         "Reference time: {:.0f} ms.\n\n",
         sceneLabel(scenePath), base.probeCounts.x, base.probeCounts.y, base.probeCounts.z, base.surfelsPerProbe,
@@ -323,15 +339,15 @@ int runGi(const GiOptions& options) {
                            {"referenceMs", referenceMs}, {"configurations", nlohmann::json::array()}, {"skipped", skipped}};
     for (const auto& [b, noise] : referenceImageNoise) json["referenceImageNoise"][b == 0 ? "converged" : std::to_string(b)] = noise;
     md += "| backend | path | sweep | configuration | valid probes | bake ms | relight " + std::string(unit) +
-          " | frames | per frame | brick | SH | probes % | probes % (conv.) | image % | image % (conv.) |\n"
-          "|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+          " | frames | per frame | brick | SH | probes % | probes % (conv.) | image % | image % (conv.) | image % (ref. probes) |\n"
+          "|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     std::vector<PlotSeries> series;
     for (const Row& r : rows) {
-        md += fmt::format("| {} | {} | {} | {} | {} / {} | {:.1f} | {:.3f} | {} | {:.3f} | {:.3f} | {:.3f} | {} | {} | {} | {} |\n", r.backend, r.path,
+        md += fmt::format("| {} | {} | {} | {} | {} / {} | {:.1f} | {:.3f} | {} | {:.3f} | {:.3f} | {:.3f} | {} | {} | {} | {} | {} |\n", r.backend, r.path,
                           r.sweep, r.label, r.validProbes, r.probes, r.bakeMs, r.relight.totalMs, r.relight.frames,
                           r.relight.frames ? r.relight.totalMs / r.relight.frames : 0.0, r.relight.brickMs, r.relight.shMs,
                           percent(r.probeSame.relativeRmse), percent(r.probeConverged.relativeRmse), percent(r.imageSame.relativeRmse),
-                          percent(r.imageConverged.relativeRmse));
+                          percent(r.imageConverged.relativeRmse), percent(r.imageReferenceProbes.relativeRmse));
         json["configurations"].push_back(
             {{"backend", r.backend}, {"path", r.path}, {"sweep", r.sweep}, {"label", r.label},
              {"volume", {{"probes", {r.volume.probeCounts.x, r.volume.probeCounts.y, r.volume.probeCounts.z}}, {"surfelsPerProbe", r.volume.surfelsPerProbe},
@@ -342,7 +358,8 @@ int runGi(const GiOptions& options) {
              {"relight", {{"totalMs", r.relight.totalMs}, {"frames", r.relight.frames}, {"brickMs", r.relight.brickMs}, {"shMs", r.relight.shMs},
                           {"runsMs", r.relightRuns}}},
              {"probeError", errorJson(r.probeSame)}, {"probeErrorConverged", errorJson(r.probeConverged)},
-             {"imageError", errorJson(r.imageSame)}, {"imageErrorConverged", errorJson(r.imageConverged)}});
+             {"imageError", errorJson(r.imageSame)}, {"imageErrorConverged", errorJson(r.imageConverged)},
+             {"imageErrorReferenceProbes", errorJson(r.imageReferenceProbes)}});
     }
 
     // Plot: probe error against the converged reference vs relight time for the first backend and

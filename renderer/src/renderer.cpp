@@ -18,6 +18,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstddef>
 #include <cstring>
 
@@ -350,6 +351,36 @@ std::vector<IrradianceProbe> Renderer::readIrradianceProbes() {
         probes[i].backFaceFraction = bake.backFaceFraction[i];
     }
     return probes;
+}
+void Renderer::writeIrradianceProbes(std::span<const IrradianceProbe> probes) {
+    m_impl->requireDevice("writeIrradianceProbes()");
+    ProbeGi& gi = *m_impl->probeGi;
+    if (!gi.active())
+        throw RendererError("writeIrradianceProbes(): the scene has no irradiance volume; give it an \"irradianceVolume\" (docs/SCENES.md)");
+    const std::vector<glm::vec3>& positions = gi.bake().probePositions;
+    if (probes.size() != positions.size())
+        throw RendererError(fmt::format("writeIrradianceProbes(): {} probes given, the volume has {}; pass one per probe, in the grid order "
+                                        "readIrradianceProbes() gives",
+                                        probes.size(), positions.size()));
+    std::vector<GiProbeSh> stored(probes.size());
+    for (size_t i = 0; i < probes.size(); ++i) {
+        const glm::vec3 expected = positions[i], given = probes[i].position;
+        if (!(glm::length(given - expected) <= 1e-4f * (1.0f + glm::length(expected))))
+            throw RendererError(fmt::format("writeIrradianceProbes(): probe {} is at ({}, {}, {}), the volume's probe {} at ({}, {}, {}); pass the "
+                                            "probes in the grid order readIrradianceProbes() gives",
+                                            i, given.x, given.y, given.z, i, expected.x, expected.y, expected.z));
+        for (size_t k = 0; k < 9; ++k)
+            for (int c = 0; c < 3; ++c) {
+                const float value = probes[i].sh[k][c];
+                if (!std::isfinite(value) || std::abs(value) > 65504.0f)
+                    throw RendererError(fmt::format("writeIrradianceProbes(): probe {} coefficient {} channel {} is {}; the volume stores "
+                                                    "finite half floats (|value| <= 65504)",
+                                                    i, k, c, value));
+            }
+        stored[i].coefficients = probes[i].sh;
+        stored[i].valid = probes[i].valid;
+    }
+    gi.writeProbes(stored);
 }
 void Renderer::markIrradianceDirty() { m_impl->probeGi->markDirty(); }
 void Renderer::setLights(std::span<const Light> lights) {

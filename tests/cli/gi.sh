@@ -49,6 +49,11 @@ json_check "$B" 'sorted({c["sweep"] for c in j["configurations"]}) == sorted(["d
 json_check "$B" 'all(c["relight"]["totalMs"] > 0 and c["relight"]["frames"] >= 1 and c["bakeMs"] > 0 and c["validProbes"] > 0 and
   0 < c["probeError"]["relativeRmse"] < 1 and 0 < c["imageErrorConverged"]["relativeRmse"] < 2 for c in j["configurations"])' \
   "a gi.json row lacks times or has an absurd error"
+# The image with the reference's probes written in: every row has it, and another grid reads other probes.
+json_check "$B" 'all(0 < c["imageErrorReferenceProbes"]["relativeRmse"] < 2 for c in j["configurations"]) and
+  next(c for c in j["configurations"] if c["sweep"] == "spacing")["imageErrorReferenceProbes"] !=
+  next(c for c in j["configurations"] if c["sweep"] == "default")["imageErrorReferenceProbes"]' \
+  "a gi.json row lacks the image with the reference's probes, or another grid gave the default's"
 json_check "$B" 'next(c for c in j["configurations"] if c["sweep"] == "bounces")["probeErrorConverged"]["relativeRmse"] >
   next(c for c in j["configurations"] if c["sweep"] == "default")["probeErrorConverged"]["relativeRmse"]' \
   "one bounce should be further from the converged reference than the default bounces"

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <limits>
 
 #include <fmt/format.h>
 #include <glm/gtc/matrix_transform.hpp>
@@ -603,6 +604,99 @@ TEST_P(ProbeGiTest, ALeaningNormalMatchesTheCpuClosedFormOnEveryWall) {
     EXPECT_GT(compared, 500u) << GetParam().name();
     EXPECT_GT(discriminating, compared / 2) << GetParam().name() << ": the plain evaluation would pass too";
     EXPECT_EQ(wrong, 0u) << GetParam().name() << ": " << wrong << " values off the closed form; first " << first;
+    expectNoMessages();
+}
+
+// Probes written into the volume are what it holds and what shading reads, until a relight
+// replaces them (what `janus bench gi` does with the reference's probes).
+TEST_P(ProbeGiTest, WrittenProbesAreWhatShadingReadsUntilTheNextRelight) {
+    device().takeDebugMessages();
+    const glm::vec3 e(0.5f, 1.0f, 0.75f);
+    Scene scene = emissiveRoom({e, e, e, e, e, e});
+    scene.irradianceVolume->bounds = Box{glm::vec3(-1.0f), glm::vec3(1.0f)};
+    scene.irradianceVolume->probeCounts = glm::uvec3(2);
+    scene.irradianceVolume->surfelsPerProbe = 512;
+    RenderSettings debug = settings(32, 32);
+    debug.debugView = DebugView::GiLight;
+    Renderer renderer(device(), scene, debug);
+    auto expectEveryPixel = [&](const glm::vec3& expected, float tolerance, const std::string& when) {
+        const ImageRGBAF hdr = renderer.readHdrImage();
+        uint32_t wrong = 0;
+        for (size_t i = 0; i < hdr.pixels.size(); i += 4)
+            for (int c = 0; c < 3; ++c)
+                if (std::abs(hdr.pixels[i + c] - expected[c]) > tolerance * expected[c]) ++wrong;
+        EXPECT_EQ(wrong, 0u) << GetParam().name() << ": " << when;
+    };
+    renderer.renderFrame();
+    std::vector<IrradianceProbe> probes = renderer.readIrradianceProbes();
+    ASSERT_EQ(probes.size(), 8u);
+    // Uniform irradiance / pi q everywhere: coefficient 0 alone, q / Y00; one probe invalid.
+    const glm::vec3 q(0.2f, 0.4f, 0.8f);
+    for (IrradianceProbe& probe : probes) {
+        probe.sh = {};
+        probe.sh[0] = q / float(kShY00);
+        probe.valid = true;
+    }
+    probes[5].valid = false;
+    probes[5].sh[0] = glm::vec3(100.0f);   // no weight: must not show
+    renderer.writeIrradianceProbes(probes);
+    EXPECT_FALSE(renderer.irradiancePending());
+    const std::vector<IrradianceProbe> stored = renderer.readIrradianceProbes();
+    for (size_t p = 0; p < probes.size(); ++p) {
+        EXPECT_EQ(stored[p].valid, probes[p].valid) << "probe " << p;
+        for (size_t k = 0; k < 9; ++k)
+            for (int c = 0; c < 3; ++c)   // half floats: 11 bits
+                EXPECT_NEAR(stored[p].sh[k][c], probes[p].sh[k][c], 1e-3f * std::abs(probes[p].sh[k][c])) << "probe " << p << " coefficient " << k;
+    }
+    const FrameReport written = renderer.renderFrame();
+    EXPECT_EQ(test_support::passNames(written).find("gi-"), std::string::npos) << test_support::passNames(written);
+    expectEveryPixel(q, 2e-3f, "the written probes' light");   // half floats
+    renderer.markIrradianceDirty();
+    renderer.renderFrame();
+    expectEveryPixel(e, 0.03f, "the room's light after a relight");   // 512 surfels, half floats: 3 %
+    expectNoMessages();
+}
+
+TEST_P(ProbeGiTest, WritingProbesThatDoNotFitTheVolumeIsAClearError) {
+    device().takeDebugMessages();
+    const glm::vec3 e(0.5f);
+    Scene scene = emissiveRoom({e, e, e, e, e, e});
+    scene.irradianceVolume->probeCounts = glm::uvec3(2, 1, 1);
+    scene.irradianceVolume->surfelsPerProbe = 64;
+    Renderer renderer(device(), scene, settings(16, 16));
+    renderer.renderFrame();
+    const std::vector<IrradianceProbe> probes = renderer.readIrradianceProbes();
+    ASSERT_EQ(probes.size(), 2u);
+    auto expectError = [&](std::vector<IrradianceProbe> bad, const std::string& says) {
+        try {
+            renderer.writeIrradianceProbes(bad);
+            ADD_FAILURE() << GetParam().name() << ": no error; expected one saying '" << says << "'";
+        } catch (const RendererError& error) {
+            EXPECT_NE(std::string(error.what()).find(says), std::string::npos) << error.what();
+        }
+    };
+    expectError({probes[0]}, "1 probes given, the volume has 2");
+    std::vector<IrradianceProbe> swapped = {probes[1], probes[0]};
+    expectError(swapped, "probe 0 is at");
+    std::vector<IrradianceProbe> notFinite = probes;
+    notFinite[1].sh[4].g = std::numeric_limits<float>::quiet_NaN();
+    expectError(notFinite, "probe 1 coefficient 4 channel 1 is nan");
+    std::vector<IrradianceProbe> huge = probes;
+    huge[0].sh[0].r = 1e6f;
+    expectError(huge, "finite half floats");
+    // What the volume held is untouched by the refused writes.
+    const std::vector<IrradianceProbe> after = renderer.readIrradianceProbes();
+    for (size_t p = 0; p < probes.size(); ++p) EXPECT_EQ(after[p].sh[0], probes[p].sh[0]) << "probe " << p;
+
+    Scene without = scene;
+    without.irradianceVolume.reset();
+    Renderer plain(device(), without, settings(16, 16));
+    try {
+        plain.writeIrradianceProbes(probes);
+        ADD_FAILURE() << "no error without a volume";
+    } catch (const RendererError& error) {
+        EXPECT_NE(std::string(error.what()).find("no irradiance volume"), std::string::npos) << error.what();
+    }
     expectNoMessages();
 }
 

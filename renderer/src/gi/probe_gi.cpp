@@ -353,4 +353,24 @@ std::vector<GiProbeSh> ProbeGi::readProbes() const {
     return result;
 }
 
+void ProbeGi::writeProbes(std::span<const GiProbeSh> probes) {
+    if (!m_active) return;
+    const glm::uvec3 counts = m_volume.probeCounts;
+    std::vector<uint16_t> halves(size_t(counts.x) * counts.z * 4);
+    for (uint32_t slice = 0; slice < counts.y * 9; ++slice) {
+        const uint32_t y = slice / 9, k = slice % 9;
+        for (uint32_t z = 0; z < counts.z; ++z)
+            for (uint32_t x = 0; x < counts.x; ++x) {
+                const GiProbeSh& probe = probes[x + counts.x * (y + counts.y * z)];
+                uint16_t* h = halves.data() + (size_t(z) * counts.x + x) * 4;
+                for (int c = 0; c < 3; ++c) h[c] = glm::packHalf1x16(probe.coefficients[k][c]);
+                h[3] = glm::packHalf1x16(k == 0 ? (probe.valid ? 1.0f : 0.0f) : 0.0f);
+            }
+        m_device.writeTexture(m_volumeTexture, {0, slice}, halves.data(), halves.size() * sizeof(uint16_t));
+    }
+    m_cyclesDone = m_bounces;
+    m_nextRank = 0;
+    m_volumeHasLight = true;
+}
+
 }  // namespace janus::renderer

@@ -86,6 +86,9 @@ public:
     // The bake, and what the volume holds now (waits for the GPU), grid order.
     const GiBake& bake() const { return m_bake; }
     std::vector<GiProbeSh> readProbes() const;
+    // Stores `probes` (grid order, one per probe: the caller checks) in the volume and ends a
+    // relight in progress: the volume holds exactly them until the next relight.
+    void writeProbes(std::span<const GiProbeSh> probes);
 
 private:
     void upload();

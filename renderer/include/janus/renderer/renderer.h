@@ -102,6 +102,14 @@ public:
     // The irradiance volume's probes (grid order x + X (y + Y z)); empty without a volume. Waits
     // for the GPU. A probe not yet relit reads as zero and invalid.
     std::vector<IrradianceProbe> readIrradianceProbes();
+    // Replaces what the irradiance volume holds with `probes` (grid order and positions as
+    // readIrradianceProbes gives them; `sh` and `valid` are stored, as half floats, and
+    // backFaceFraction is ignored): light from another baker, or a reference's probes to measure
+    // the volume's lookup alone (`janus bench gi`). Ends a relight in progress; the next relight
+    // (markIrradianceDirty, a light changed by setLights) replaces them in turn. Throws
+    // RendererError without a volume, for another probe count, a position off the grid or a
+    // coefficient that is not finite or beyond half-float range.
+    void writeIrradianceProbes(std::span<const IrradianceProbe> probes);
     // The scene's lights or sky changed: the irradiance volume relights (docs/GI.md).
     void markIrradianceDirty();
     // Replaces the scene's lights (Scene::lights) from the next frame on: forward shading, the
