@@ -360,6 +360,12 @@ TEST(GiBakeFiles, TheSceneHashFollowsWhatTheBakeDependsOn) {
 class ProbeGiTest : public test_support::ConfigTest {
 protected:
     RenderSettings settings(uint32_t width = 96, uint32_t height = 96) const { return settingsOfSize(width, height); }
+    // size x size, the `--debug gi-light` view: the volume's light alone.
+    RenderSettings giLightSettings(uint32_t size) const {
+        RenderSettings debug = settings(size, size);
+        debug.debugView = DebugView::GiLight;
+        return debug;
+    }
 };
 
 // A read-back probe's SH in the CPU's double type.
@@ -490,26 +496,36 @@ TEST_P(ProbeGiTest, MultipleBouncesMatchTheReferenceInAReflectiveEmissiveRoom) {
     expectNoMessages();
 }
 
+// The glowing room with 2 x 2 x 2 probes filling it (bounds = the walls), 512 surfels each.
+Scene roomFilledByTheVolume(const std::array<glm::vec3, 6>& emission) {
+    Scene scene = emissiveRoom(emission);
+    scene.irradianceVolume->bounds = Box{glm::vec3(-1.0f), glm::vec3(1.0f)};
+    scene.irradianceVolume->probeCounts = glm::uvec3(2);
+    scene.irradianceVolume->surfelsPerProbe = 512;
+    return scene;
+}
+
+// Channels of the HDR image further than `tolerance` (relative) from `expected`, and the first.
+std::pair<uint32_t, std::string> channelsOff(const ImageRGBAF& hdr, const glm::vec3& expected, float tolerance) {
+    uint32_t off = 0;
+    std::string first;
+    for (size_t i = 0; i < hdr.pixels.size(); i += 4)
+        for (int c = 0; c < 3; ++c)
+            if (std::abs(hdr.pixels[i + c] - expected[c]) > tolerance * expected[c] && off++ == 0)
+                first = fmt::format("pixel {} channel {}: {} (expected {})", i / 4, c, hdr.pixels[i + c], expected[c]);
+    return {off, first};
+}
+
 // The volume covers its bounds: a room whose bounds are the volume's has its walls fully covered
 // (coverage once fell off from the outer probes' centres, half a spacing inside the walls, and the
 // walls got ~60 % of their GI).
 TEST_P(ProbeGiTest, TheVolumeCoversItsBoundsUpToTheWalls) {
     device().takeDebugMessages();
     const glm::vec3 e(0.5f, 1.0f, 0.75f);
-    Scene scene = emissiveRoom({e, e, e, e, e, e});
-    scene.irradianceVolume->bounds = Box{glm::vec3(-1.0f), glm::vec3(1.0f)};
-    scene.irradianceVolume->probeCounts = glm::uvec3(2);
-    scene.irradianceVolume->surfelsPerProbe = 512;
-    RenderSettings debug = settings(32, 32);
-    debug.debugView = DebugView::GiLight;
-    Renderer renderer(device(), scene, debug);
+    Renderer renderer(device(), roomFilledByTheVolume({e, e, e, e, e, e}), giLightSettings(32));
     renderer.renderFrame();
-    const ImageRGBAF hdr = renderer.readHdrImage();
-    uint32_t dim = 0;
-    for (size_t i = 0; i < hdr.pixels.size(); i += 4)
-        for (int c = 0; c < 3; ++c)
-            if (std::abs(hdr.pixels[i + c] - e[c]) > 0.03f * e[c]) ++dim;   // 512 surfels, half floats: 3 %
-    EXPECT_EQ(dim, 0u) << GetParam().name() << ": pixels whose indirect light is not the room's";
+    const auto [dim, first] = channelsOff(renderer.readHdrImage(), e, 0.03f);   // 512 surfels, half floats: 3 %
+    EXPECT_EQ(dim, 0u) << GetParam().name() << ": channels whose indirect light is not the room's; first " << first;
     expectNoMessages();
 }
 
@@ -521,26 +537,13 @@ TEST_P(ProbeGiTest, TheVolumeCoversItsBoundsUpToTheWalls) {
 TEST_P(ProbeGiTest, ALeaningNormalGetsOnlyTheLightAboveItsSurface) {
     device().takeDebugMessages();
     const glm::vec3 e(0.5f, 1.0f, 0.75f);
-    Scene scene = emissiveRoom({e, e, e, e, e, e});
-    scene.irradianceVolume->bounds = Box{glm::vec3(-1.0f), glm::vec3(1.0f)};
-    scene.irradianceVolume->probeCounts = glm::uvec3(2);
-    scene.irradianceVolume->surfelsPerProbe = 512;
+    Scene scene = roomFilledByTheVolume({e, e, e, e, e, e});
     const float lean = glm::radians(60.0f);
     for (Mesh& mesh : scene.meshes)
         for (Vertex& v : mesh.vertices) v.normal = glm::vec3(std::sin(lean), 0.0f, std::cos(lean));   // the quads face +Z
-    RenderSettings debug = settings(32, 32);
-    debug.debugView = DebugView::GiLight;
-    Renderer renderer(device(), scene, debug);
+    Renderer renderer(device(), scene, giLightSettings(32));
     renderer.renderFrame();
-    const ImageRGBAF hdr = renderer.readHdrImage();
-    const glm::vec3 expected = e * 0.5f * (1.0f + std::cos(lean));
-    uint32_t wrong = 0;
-    std::string first;
-    for (size_t i = 0; i < hdr.pixels.size(); i += 4)
-        for (int c = 0; c < 3; ++c)
-            if (std::abs(hdr.pixels[i + c] - expected[c]) > 0.03f * expected[c]) {   // 512 surfels, half floats: 3 %
-                if (wrong++ == 0) first = fmt::format("pixel {} channel {}: {} (expected {})", i / 4, c, hdr.pixels[i + c], expected[c]);
-            }
+    const auto [wrong, first] = channelsOff(renderer.readHdrImage(), e * 0.5f * (1.0f + std::cos(lean)), 0.03f);   // 512 surfels, half floats: 3 %
     EXPECT_EQ(wrong, 0u) << GetParam().name() << ": values off the leaning normal's share of the room's light; first " << first;
     expectNoMessages();
 }
@@ -556,9 +559,7 @@ TEST_P(ProbeGiTest, ALeaningNormalMatchesTheCpuClosedFormOnEveryWall) {
     const double lean = glm::radians(60.0);
     for (Mesh& mesh : scene.meshes)
         for (Vertex& v : mesh.vertices) v.normal = glm::vec3(float(std::sin(lean)), 0.0f, float(std::cos(lean)));
-    RenderSettings debug = settings(32, 32);
-    debug.debugView = DebugView::GiLight;
-    Renderer renderer(device(), scene, debug);
+    Renderer renderer(device(), scene, giLightSettings(32));
     renderer.renderFrame();
     const ImageRGBAF hdr = renderer.readHdrImage();
     const std::vector<IrradianceProbe> probes = renderer.readIrradianceProbes();
@@ -612,20 +613,10 @@ TEST_P(ProbeGiTest, ALeaningNormalMatchesTheCpuClosedFormOnEveryWall) {
 TEST_P(ProbeGiTest, WrittenProbesAreWhatShadingReadsUntilTheNextRelight) {
     device().takeDebugMessages();
     const glm::vec3 e(0.5f, 1.0f, 0.75f);
-    Scene scene = emissiveRoom({e, e, e, e, e, e});
-    scene.irradianceVolume->bounds = Box{glm::vec3(-1.0f), glm::vec3(1.0f)};
-    scene.irradianceVolume->probeCounts = glm::uvec3(2);
-    scene.irradianceVolume->surfelsPerProbe = 512;
-    RenderSettings debug = settings(32, 32);
-    debug.debugView = DebugView::GiLight;
-    Renderer renderer(device(), scene, debug);
+    Renderer renderer(device(), roomFilledByTheVolume({e, e, e, e, e, e}), giLightSettings(32));
     auto expectEveryPixel = [&](const glm::vec3& expected, float tolerance, const std::string& when) {
-        const ImageRGBAF hdr = renderer.readHdrImage();
-        uint32_t wrong = 0;
-        for (size_t i = 0; i < hdr.pixels.size(); i += 4)
-            for (int c = 0; c < 3; ++c)
-                if (std::abs(hdr.pixels[i + c] - expected[c]) > tolerance * expected[c]) ++wrong;
-        EXPECT_EQ(wrong, 0u) << GetParam().name() << ": " << when;
+        const auto [wrong, first] = channelsOff(renderer.readHdrImage(), expected, tolerance);
+        EXPECT_EQ(wrong, 0u) << GetParam().name() << ": " << when << "; first " << first;
     };
     renderer.renderFrame();
     std::vector<IrradianceProbe> probes = renderer.readIrradianceProbes();
