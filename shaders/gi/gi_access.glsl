@@ -17,10 +17,10 @@ layout(set = JANUS_SET_VIEW, binding = JANUS_BINDING_GI_UNIFORMS, std140) unifor
 // Irradiance / pi at `position` for `normal` on a surface whose plane has normal `surfaceNormal`
 // (light from below that plane does not count: shIrradianceAboveSurface; the relight's surfels,
 // whose normals come from half floats, pass the same vector twice for the plain evaluation),
-// rgb clamped at 0, and how much the volume covers
-// the point (a): 1 inside the volume's bounds (the probes' cells: half a spacing beyond the outer
-// probes, so a room's walls are covered), falling to 0 one probe spacing outside them, and 0 where
-// every probe around is invalid. Trilinear over the 8 surrounding probes, each weighted by its
+// rgb clamped at 0, and how much the volume covers the point (a): 1 inside the volume's bounds
+// (the probes' cells: half a spacing beyond the outer probes, so a room's walls are covered),
+// falling to 0 one probe spacing outside them, and 0 where every probe around is invalid.
+// Trilinear over the 8 surrounding probes (each axis's weight at least 0.001), each weighted by its
 // validity, weights renormalised; beyond the outer probes, their values.
 vec4 giIrradianceOverPi(vec3 position, vec3 normal, vec3 surfaceNormal) {
     if (giVolume.origin.w <= 0.0) return vec4(0.0);
@@ -39,7 +39,10 @@ vec4 giIrradianceOverPi(vec3 position, vec3 normal, vec3 surfaceNormal) {
     for (int corner = 0; corner < 8; ++corner) {
         ivec3 o = ivec3(corner & 1, (corner >> 1) & 1, (corner >> 2) & 1);
         ivec3 p = min(base + o, counts - 1);
-        vec3 w3 = mix(vec3(1.0) - f, f, vec3(o));
+        // Never quite 0 per axis: beyond the outer probes the clamp puts every weight on one layer,
+        // and where those probes are invalid the valid neighbours must still take over (the
+        // cornell box's floor beside Suzanne, whose nearest probe is inside her, was black).
+        vec3 w3 = max(mix(vec3(1.0) - f, f, vec3(o)), vec3(0.001));
         int z0 = p.y * 9;
         vec4 first = texelFetch(giVolumeTexture, ivec3(p.x, p.z, z0), 0);
         float w = w3.x * w3.y * w3.z * first.a;
@@ -55,7 +58,7 @@ vec4 giIrradianceOverPi(vec3 position, vec3 normal, vec3 surfaceNormal) {
         c7 += w * texelFetch(giVolumeTexture, ivec3(p.x, p.z, z0 + 7), 0).rgb;
         c8 += w * texelFetch(giVolumeTexture, ivec3(p.x, p.z, z0 + 8), 0).rgb;
     }
-    if (weightSum < 1e-6) return vec4(0.0);
+    if (weightSum <= 0.0) return vec4(0.0);
     vec3 coefficients[9] = vec3[9](c0, c1, c2, c3, c4, c5, c6, c7, c8);
     vec3 sum = surfaceNormal == normal ? shEvaluate(coefficients, normal) : shIrradianceAboveSurface(coefficients, normal, surfaceNormal);
     return vec4(max(sum / weightSum, vec3(0.0)), coverage);

@@ -529,6 +529,30 @@ TEST_P(ProbeGiTest, TheVolumeCoversItsBoundsUpToTheWalls) {
     expectNoMessages();
 }
 
+// Beyond the outer probes the lookup clamps, and all its weight falls on the outer layer; where the
+// probe there is invalid (inside something), its valid neighbours must give the light. They gave
+// none: the cornell box's floor and Suzanne beside the probe inside her were black in the volume's
+// light. Here a glowing box (the room's emission: the light stays uniform) holds the probe nearest
+// the room's upper right back corner, and the camera looks into that corner.
+TEST_P(ProbeGiTest, AnInvalidProbeAtTheBorderLeavesItsLightToItsValidNeighbours) {
+    device().takeDebugMessages();
+    const glm::vec3 e(0.5f, 1.0f, 0.75f);
+    Scene scene = roomFilledByTheVolume({e, e, e, e, e, e});   // probes at +-0.5
+    const int32_t glowing = detail::addMaterial(scene, "box", glm::vec3(0.0f), 0.0f, 1.0f, e);
+    glm::mat4 world(0.1f);
+    world[3] = glm::vec4(0.5f, 0.5f, -0.5f, 1.0f);
+    scene.instances.push_back(Instance{detail::addMesh(scene, detail::makeBox(glowing)), world, 1u, "box"});
+    scene.camera.target = glm::vec3(0.75f, 0.75f, -1.0f);
+    Renderer renderer(device(), scene, giLightSettings(32));
+    renderer.renderFrame();
+    const std::vector<IrradianceProbe> probes = renderer.readIrradianceProbes();
+    ASSERT_EQ(probes.size(), 8u);
+    EXPECT_EQ(std::count_if(probes.begin(), probes.end(), [](const IrradianceProbe& p) { return !p.valid; }), 1) << GetParam().name();
+    const auto [off, first] = channelsOff(renderer.readHdrImage(), e, 0.03f);   // 512 surfels, half floats: 3 %
+    EXPECT_EQ(off, 0u) << GetParam().name() << ": channels without the room's light; first " << first;
+    expectNoMessages();
+}
+
 // Shading normals that lean away from their surface (smoothed vertex normals, normal maps) take
 // only the light that arrives from above the surface's plane: in a uniformly glowing room, a
 // normal leaning 60 degrees gets (1 + cos 60) / 2 = 3/4 of the room's irradiance. Evaluated at the
