@@ -36,8 +36,8 @@ int run(const BakeOptions& options) {
     const renderer::IrradianceBakeSummary summary = renderer::bakeIrradianceVolume(*device, scene, outPath);
     std::printf("baked the irradiance volume of %s on %s in %.0f ms\n", sceneLabel(scenePath).c_str(), rhi::toString(backend),
                 summary.milliseconds);
-    std::printf("  probes:    %u (%u valid)\n  surfels:   %llu\n  bricks:    %llu\n  transfers: %llu\n  file:      %s\n", summary.probes,
-                summary.validProbes, static_cast<unsigned long long>(summary.surfels), static_cast<unsigned long long>(summary.bricks),
+    std::printf("  probes:    %u (%u valid, %u moved out of geometry)\n  surfels:   %llu\n  bricks:    %llu\n  transfers: %llu\n  file:      %s\n",
+                summary.probes, summary.validProbes, summary.relocatedProbes, static_cast<unsigned long long>(summary.surfels), static_cast<unsigned long long>(summary.bricks),
                 static_cast<unsigned long long>(summary.transfers), outPath.c_str());
     return 0;
 }

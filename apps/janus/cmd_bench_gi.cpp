@@ -25,9 +25,12 @@
 namespace janus::cli {
 namespace {
 
+const std::vector<std::string> kSweeps = {"surfels", "bricks", "brick-size", "surfels-per-brick", "spacing", "order", "bounces",
+                                          "probes-per-frame", "reduction", "normal-bias", "validity", "relocation"};
+
 struct GiOptions {
     std::string scene;
-    std::string sweeps = "surfels,bricks,brick-size,surfels-per-brick,spacing,order,bounces,probes-per-frame,reduction,normal-bias,validity";
+    std::string sweeps = fmt::format("{}", fmt::join(kSweeps, ","));   // all
     BenchTargets targets{"compute,fallback", "vulkan"};
     std::string size = "96x96";
     uint32_t runs = 3;
@@ -36,9 +39,6 @@ struct GiOptions {
     bool allowOutsidePaths = false;
     bool quick = false;
 };
-
-const std::vector<std::string> kSweeps = {"surfels", "bricks", "brick-size", "surfels-per-brick", "spacing", "order", "bounces",
-                                          "probes-per-frame", "reduction", "normal-bias", "validity"};
 
 // One configuration of the sweep: the volume to measure and how it differs from the scene's.
 struct Variant {
@@ -93,6 +93,8 @@ std::vector<Variant> makeVariants(const renderer::IrradianceVolume& base, const 
         for (float fraction : quick ? std::vector<float>{0.25f} : std::vector<float>{0.1f, 0.25f, 0.75f, 1.0f})
             if (fraction != base.invalidBackFaceFraction)
                 add("validity", fmt::format("invalid above {} back faces", fraction), [&](auto& v) { v.invalidBackFaceFraction = fraction; });
+    if (wanted("relocation"))
+        add("relocation", base.relocateProbes ? "probes not relocated" : "probes relocated", [&](auto& v) { v.relocateProbes = !base.relocateProbes; });
     return variants;
 }
 
@@ -353,7 +355,8 @@ int runGi(const GiOptions& options) {
              {"volume", {{"probes", {r.volume.probeCounts.x, r.volume.probeCounts.y, r.volume.probeCounts.z}}, {"surfelsPerProbe", r.volume.surfelsPerProbe},
                          {"bricks", r.volume.bricks}, {"brickSize", r.volume.brickSize}, {"bounces", r.volume.bounces}, {"shOrder", r.volume.shOrder},
                          {"probesPerFrame", r.volume.probesPerFrame}, {"parallelReduction", r.volume.parallelReduction},
-                         {"normalBias", r.volume.normalBias}, {"invalidBackFaceFraction", r.volume.invalidBackFaceFraction}}},
+                         {"normalBias", r.volume.normalBias}, {"invalidBackFaceFraction", r.volume.invalidBackFaceFraction},
+                         {"relocateProbes", r.volume.relocateProbes}}},
              {"probes", r.probes}, {"validProbes", r.validProbes}, {"bakeMs", r.bakeMs},
              {"relight", {{"totalMs", r.relight.totalMs}, {"frames", r.relight.frames}, {"brickMs", r.relight.brickMs}, {"shMs", r.relight.shMs},
                           {"runsMs", r.relightRuns}}},

@@ -395,11 +395,13 @@ IrradianceBakeSummary bakeIrradianceVolume(rhi::IDevice& device, const Scene& sc
                             "named IrradianceVolume...");
     const auto start = std::chrono::steady_clock::now();
     const GpuScene gpuScene(device, scene);
-    const GiBake bake = buildGiBake(*scene.irradianceVolume, captureGiSamples(device, gpuScene, *scene.irradianceVolume));
+    const GiBake bake = bakeGiVolume(device, gpuScene, *scene.irradianceVolume);
     writeGiBakeFile(path, bake, *scene.irradianceVolume, giSceneHash(scene));
     IrradianceBakeSummary summary;
     summary.probes = uint32_t(bake.probePositions.size());
     summary.validProbes = uint32_t(std::count(bake.valid.begin(), bake.valid.end(), true));
+    const std::vector<glm::vec3> grid = giProbePositions(*scene.irradianceVolume);
+    for (size_t p = 0; p < grid.size(); ++p) summary.relocatedProbes += bake.probePositions[p] != grid[p] ? 1u : 0u;
     summary.surfels = bake.surfels.size();
     summary.bricks = bake.bricks.size();
     summary.transfers = bake.transfers.size();

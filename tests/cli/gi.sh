@@ -12,7 +12,7 @@ expect_error 3 "has no irradiance volume to bake" bake --out "$TMP/none.bake"
 expect_error 2 "--gi-bake '$TMP/missing.bake' is not a file" render "$CORNELL" --gi-bake "$TMP/missing.bake" --out "$TMP/x.png"
 
 expect_success bake "$CORNELL" --out "$TMP/cornell.bake"
-grep -Eq "probes: +64 \([0-9]+ valid\)" "$TMP/stdout" || fail "bake printed no probe count: $(cat "$TMP/stdout")"
+grep -Eq "probes: +64 \([0-9]+ valid, [0-9]+ moved out of geometry\)" "$TMP/stdout" || fail "bake printed no probe count: $(cat "$TMP/stdout")"
 [[ -s "$TMP/cornell.bake" ]] || fail "bake wrote no file"
 
 expect_success render "$CORNELL" --size 64x64 --out "$TMP/baked-now.png"
@@ -45,7 +45,7 @@ for file in gi.md gi.json gi.png; do
 done
 B=$TMP/gi-bench/gi.json
 json_check "$B" 'sorted({c["sweep"] for c in j["configurations"]}) == sorted(["default", "surfels", "bricks", "brick-size",
-  "surfels-per-brick", "spacing", "order", "bounces", "probes-per-frame", "reduction", "normal-bias", "validity"])' "gi.json lacks a sweep"
+  "surfels-per-brick", "spacing", "order", "bounces", "probes-per-frame", "reduction", "normal-bias", "validity", "relocation"])' "gi.json lacks a sweep"
 json_check "$B" 'all(c["relight"]["totalMs"] > 0 and c["relight"]["frames"] >= 1 and c["bakeMs"] > 0 and c["validProbes"] > 0 and
   0 < c["probeError"]["relativeRmse"] < 1 and 0 < c["imageErrorConverged"]["relativeRmse"] < 2 for c in j["configurations"])' \
   "a gi.json row lacks times or has an absurd error"

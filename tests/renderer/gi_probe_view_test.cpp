@@ -55,6 +55,7 @@ Scene probeRoom() {
     volume.probeCounts = glm::uvec3(3);
     volume.surfelsPerProbe = 256;
     volume.bounces = 1;
+    volume.relocateProbes = false;   // the boxed probe stays in its box: invalid, to be shown so
     scene.irradianceVolume = volume;
     scene.lights.clear();
     return scene;

@@ -43,7 +43,7 @@ TEST(IrradianceVolumeScenes, ASceneFileGivesEveryField) {
     const Scene scene = loadScene(writeSceneFile("full", R"({"name": "hall", "bounds": {"min": [-1, 0, -1], "max": [1, 2, 1]},
         "probes": [2, 3, 4], "surfelsPerProbe": 128, "brickSize": 0.25, "bricks": false, "bounces": 3, "shOrder": 1,
         "probesPerFrame": 5, "normalBias": 0.05, "invalidBackFaceFraction": 0.3, "near": 0.02, "far": 9,
-        "maxSurfelsPerBrick": 8, "parallelReduction": false})"));
+        "maxSurfelsPerBrick": 8, "parallelReduction": false, "relocateProbes": false})"));
     ASSERT_TRUE(scene.irradianceVolume.has_value());
     const IrradianceVolume& v = *scene.irradianceVolume;
     EXPECT_EQ(v.name, "hall");
@@ -61,6 +61,7 @@ TEST(IrradianceVolumeScenes, ASceneFileGivesEveryField) {
     EXPECT_FLOAT_EQ(v.farPlane, 9.0f);
     EXPECT_EQ(v.maxSurfelsPerBrick, 8u);
     EXPECT_FALSE(v.parallelReduction);
+    EXPECT_FALSE(v.relocateProbes);
     // Spacing instead of counts: ceil(size / spacing) per axis.
     const Scene spaced = loadScene(writeSceneFile("spacing", R"({"bounds": {"min": [0, 0, 0], "max": [3, 1, 2]}, "spacing": 0.75})"));
     EXPECT_EQ(spaced.irradianceVolume->probeCounts, glm::uvec3(4, 2, 3));
@@ -87,6 +88,7 @@ TEST(IrradianceVolumeScenes, BadVolumesAreSceneErrorsNamingTheProblem) {
         {R"({"bounces": 0})", "0 bounces"},
         {R"({"maxSurfelsPerBrick": 0})", "maxSurfelsPerBrick"},
         {R"({"parallelReduction": 1})", "parallelReduction must be true or false"},
+        {R"({"relocateProbes": "yes"})", "relocateProbes must be true or false"},
         {R"({"shOrder": 3})", "SH order 3"},
         {R"({"normalBias": -0.1})", "normal bias"},
         {R"({"invalidBackFaceFraction": 0})", "invalidBackFaceFraction"},
@@ -247,6 +249,37 @@ TEST(GiBake, ProbesSeeingMostlyBackFacesAreInvalid) {
     EXPECT_TRUE(buildGiBake(volume, {samples}).valid[0]);
 }
 
+// Six back faces around a probe (the inside of a box), the nearest `nearest` away along +X.
+std::vector<GiSample> insideABox(const glm::vec3& at, float nearest) {
+    std::vector<GiSample> samples;
+    for (const glm::vec3 direction : {glm::vec3(1, 0, 0), glm::vec3(-1, 0, 0), glm::vec3(0, 1, 0), glm::vec3(0, -1, 0), glm::vec3(0, 0, 1),
+                                      glm::vec3(0, 0, -1)}) {
+        GiSample s;
+        s.kind = GiSample::Kind::BackFace;
+        s.direction = direction;
+        s.position = at + direction * (direction.x > 0.0f ? nearest : 0.4f);
+        samples.push_back(s);
+    }
+    return samples;
+}
+
+TEST(GiBake, AProbeInsideSomethingMovesThroughTheNearestInsideFace) {
+    const glm::vec3 grid(1.0f, 2.0f, 3.0f), spacing(1.0f, 2.0f, 0.5f);   // a tenth of the smallest: 0.05 beyond the face
+    const std::optional<glm::vec3> moved = giRelocatedPosition(insideABox(grid, 0.2f), grid, grid, spacing, 0.5f);
+    ASSERT_TRUE(moved.has_value());
+    EXPECT_NEAR(moved->x, 1.25f, 1e-5f);
+    EXPECT_EQ(moved->y, 2.0f);
+    EXPECT_EQ(moved->z, 3.0f);
+    // From where it already moved to: the offset is the grid's, clamped to 45 % of the spacing.
+    const glm::vec3 there(1.3f, 2.0f, 3.0f);
+    EXPECT_NEAR(giRelocatedPosition(insideABox(there, 0.3f), there, grid, spacing, 0.5f)->x, 1.45f, 1e-5f);
+    // Not inside anything: it stays.
+    std::vector<GiSample> outside = insideABox(grid, 0.2f);
+    for (size_t i = 0; i < 3; ++i) outside[i].kind = GiSample::Kind::Surface;
+    EXPECT_FALSE(giRelocatedPosition(outside, grid, grid, spacing, 0.5f).has_value());
+    EXPECT_FALSE(giRelocatedPosition({}, grid, grid, spacing, 0.5f).has_value());
+}
+
 // ---- Bake files ---------------------------------------------------------------------------
 
 GiBake smallBake(const IrradianceVolume& volume) {
@@ -263,7 +296,9 @@ GiBake smallBake(const IrradianceVolume& volume) {
             s.emission = glm::vec3(float(i % 11));
             samples[p].push_back(s);
         }
-    return buildGiBake(volume, samples);
+    std::vector<glm::vec3> positions = giProbePositions(volume);
+    if (positions.size() > 1) positions[1].x += 0.1f;   // a relocated probe keeps its position through a file
+    return buildGiBake(volume, samples, positions);
 }
 
 TEST(GiBakeFiles, ABakeReadsBackAsWritten) {
@@ -349,6 +384,9 @@ TEST(GiBakeFiles, TheSceneHashFollowsWhatTheBakeDependsOn) {
     Scene denser = scene;
     denser.irradianceVolume->surfelsPerProbe = 512;
     EXPECT_NE(giSceneHash(denser), hash);
+    Scene unmoved = scene;   // relocation moves probes: another bake
+    unmoved.irradianceVolume->relocateProbes = false;
+    EXPECT_NE(giSceneHash(unmoved), hash);
     Scene relit = scene;   // lights and relight settings do not change a bake
     relit.lights.clear();
     relit.irradianceVolume->bounces = 3;
@@ -429,7 +467,7 @@ TEST_P(ProbeGiTest, BakeSamplesSeeTheWallTheirDirectionPointsAt) {
     const GpuScene gpuScene(device(), scene);
     IrradianceVolume volume = *scene.irradianceVolume;
     volume.surfelsPerProbe = 512;
-    const std::vector<std::vector<GiSample>> samples = captureGiSamples(device(), gpuScene, volume, 32);
+    const std::vector<std::vector<GiSample>> samples = captureGiSamples(device(), gpuScene, volume, giProbePositions(volume), 32);
     expectNoMessages();
     ASSERT_EQ(samples.size(), 1u);
     uint32_t wrong = 0;
@@ -538,6 +576,7 @@ TEST_P(ProbeGiTest, AnInvalidProbeAtTheBorderLeavesItsLightToItsValidNeighbours)
     device().takeDebugMessages();
     const glm::vec3 e(0.5f, 1.0f, 0.75f);
     Scene scene = roomFilledByTheVolume({e, e, e, e, e, e});   // probes at +-0.5
+    scene.irradianceVolume->relocateProbes = false;              // the boxed probe stays invalid
     const int32_t glowing = detail::addMaterial(scene, "box", glm::vec3(0.0f), 0.0f, 1.0f, e);
     glm::mat4 world(0.1f);
     world[3] = glm::vec4(0.5f, 0.5f, -0.5f, 1.0f);
@@ -550,6 +589,45 @@ TEST_P(ProbeGiTest, AnInvalidProbeAtTheBorderLeavesItsLightToItsValidNeighbours)
     EXPECT_EQ(std::count_if(probes.begin(), probes.end(), [](const IrradianceProbe& p) { return !p.valid; }), 1) << GetParam().name();
     const auto [off, first] = channelsOff(renderer.readHdrImage(), e, 0.03f);   // 512 surfels, half floats: 3 %
     EXPECT_EQ(off, 0u) << GetParam().name() << ": channels without the room's light; first " << first;
+    expectNoMessages();
+}
+
+// A probe inside a glowing box is moved out through the box's nearest face at bake time, and then
+// sees the room (valid, the room's light); without relocation it stays inside, invalid.
+TEST_P(ProbeGiTest, AProbeInsideSomethingMovesOutAndSeesTheRoom) {
+    device().takeDebugMessages();
+    const glm::vec3 e(0.5f, 1.0f, 0.75f);
+    const glm::vec3 boxed(0.5f, 0.5f, -0.5f), boxCentre(0.45f, 0.5f, -0.5f);   // its nearest face: +X, 0.05 away
+    for (const bool relocate : {true, false}) {
+        SCOPED_TRACE(relocate ? "relocated" : "not relocated");
+        Scene scene = roomFilledByTheVolume({e, e, e, e, e, e});   // probes at +-0.5, spacing 1
+        scene.irradianceVolume->relocateProbes = relocate;
+        const int32_t glowing = detail::addMaterial(scene, "box", glm::vec3(0.0f), 0.0f, 1.0f, e);
+        glm::mat4 world(0.1f);
+        world[3] = glm::vec4(boxCentre, 1.0f);
+        scene.instances.push_back(Instance{detail::addMesh(scene, detail::makeBox(glowing)), world, 1u, "box"});
+        Renderer renderer(device(), scene, giLightSettings(16));
+        renderer.renderFrame();
+        const std::vector<IrradianceProbe> probes = renderer.readIrradianceProbes();
+        ASSERT_EQ(probes.size(), 8u);
+        const auto it = std::find_if(probes.begin(), probes.end(), [&](const IrradianceProbe& p) { return glm::distance(p.position, boxed) < 0.46f; });
+        ASSERT_NE(it, probes.end());
+        const IrradianceProbe& probe = *it;
+        if (!relocate) {
+            EXPECT_FALSE(probe.valid) << GetParam().name();
+            EXPECT_EQ(probe.position, boxed) << GetParam().name();
+            continue;
+        }
+        EXPECT_TRUE(probe.valid) << GetParam().name();
+        // Through +X, a tenth of the spacing beyond the face (0.55 + 0.1), so outside the box. Along
+        // the nearest of 512 sample directions, which is a few degrees off +X: 0.03.
+        EXPECT_NEAR(probe.position.x, 0.65f, 0.03f) << GetParam().name();
+        EXPECT_NEAR(probe.position.y, boxed.y, 0.03f) << GetParam().name();
+        EXPECT_NEAR(probe.position.z, boxed.z, 0.03f) << GetParam().name();
+        for (int c = 0; c < 3; ++c)   // the room's (and the box's) uniform light: coefficient 0 alone, e / Y00
+            EXPECT_NEAR(probe.sh[0][c], e[c] / float(kShY00), 0.03f * e[c] / float(kShY00)) << GetParam().name() << " channel " << c;
+        EXPECT_TRUE(std::all_of(probes.begin(), probes.end(), [](const IrradianceProbe& p) { return p.valid; })) << GetParam().name();
+    }
     expectNoMessages();
 }
 

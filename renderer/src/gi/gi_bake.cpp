@@ -70,11 +70,11 @@ void addTransfer(std::array<double, 9>& sum, const glm::vec3& direction, double 
 
 }  // namespace
 
-GiBake buildGiBake(const IrradianceVolume& volume, const std::vector<std::vector<GiSample>>& samples) {
+GiBake buildGiBake(const IrradianceVolume& volume, const std::vector<std::vector<GiSample>>& samples, const std::vector<glm::vec3>& positions) {
     GiBake bake;
     bake.probeCounts = volume.probeCounts;
-    bake.probePositions = giProbePositions(volume);
-    if (samples.size() != bake.probePositions.size())
+    bake.probePositions = positions.empty() ? giProbePositions(volume) : positions;
+    if (samples.size() != bake.probePositions.size() || bake.probePositions.size() != giProbePositions(volume).size())
         throw RendererError(fmt::format("GI bake: {} probes' samples for a {}x{}x{} volume", samples.size(), volume.probeCounts.x,
                                         volume.probeCounts.y, volume.probeCounts.z));
     bake.samplesPerProbe = samples.empty() ? 0 : uint32_t(samples[0].size());
@@ -166,8 +166,63 @@ GiBake buildGiBake(const IrradianceVolume& volume, const std::vector<std::vector
     return bake;
 }
 
+std::optional<glm::vec3> giRelocatedPosition(const std::vector<GiSample>& samples, const glm::vec3& position, const glm::vec3& gridPosition,
+                                             const glm::vec3& spacing, float invalidBackFaceFraction) {
+    size_t backFaces = 0;
+    const GiSample* nearest = nullptr;
+    float nearestDistance = 0.0f;
+    for (const GiSample& s : samples) {
+        if (s.kind != GiSample::Kind::BackFace) continue;
+        ++backFaces;
+        const float distance = glm::distance(s.position, position);
+        if (!nearest || distance < nearestDistance) nearest = &s, nearestDistance = distance;
+    }
+    if (samples.empty() || float(backFaces) / float(samples.size()) <= invalidBackFaceFraction) return std::nullopt;
+    const float margin = 0.1f * std::min({spacing.x, spacing.y, spacing.z});
+    const glm::vec3 moved = position + nearest->direction * (nearestDistance + margin);
+    return gridPosition + glm::clamp(moved - gridPosition, -0.45f * spacing, 0.45f * spacing);
+}
+
+GiBake bakeGiVolume(rhi::IDevice& device, const GpuScene& gpuScene, const IrradianceVolume& volume, PassReport* report) {
+    std::vector<glm::vec3> positions = giProbePositions(volume);
+    std::vector<std::vector<GiSample>> samples = captureGiSamples(device, gpuScene, volume, positions, 32, report);
+    if (volume.relocateProbes) {
+        const std::vector<glm::vec3> grid = positions;
+        const glm::vec3 spacing = giProbeSpacing(volume);
+        // The probes inside something, and where each would go; a move that leaves it inside
+        // moves again from there (a thick wall, a corner), three times at most.
+        std::vector<size_t> inside;
+        for (size_t p = 0; p < positions.size(); ++p) inside.push_back(p);
+        for (int attempt = 0; attempt < 3; ++attempt) {
+            std::vector<size_t> moving;
+            std::vector<glm::vec3> targets;
+            for (size_t p : inside)
+                if (const std::optional<glm::vec3> target =
+                        giRelocatedPosition(samples[p], positions[p], grid[p], spacing, volume.invalidBackFaceFraction);
+                    target && *target != positions[p])
+                    moving.push_back(p), targets.push_back(*target);
+            if (moving.empty()) break;
+            std::vector<std::vector<GiSample>> moved = captureGiSamples(device, gpuScene, volume, targets, 32, report);
+            for (size_t i = 0; i < moving.size(); ++i) positions[moving[i]] = targets[i], samples[moving[i]] = std::move(moved[i]);
+            inside = std::move(moving);
+        }
+        // A probe still inside goes back to its grid position and its samples there (invalid).
+        std::vector<size_t> failed;
+        for (size_t p = 0; p < positions.size(); ++p)
+            if (positions[p] != grid[p] && giRelocatedPosition(samples[p], positions[p], grid[p], spacing, volume.invalidBackFaceFraction))
+                failed.push_back(p);
+        if (!failed.empty()) {
+            std::vector<glm::vec3> back;
+            for (size_t p : failed) back.push_back(grid[p]);
+            std::vector<std::vector<GiSample>> original = captureGiSamples(device, gpuScene, volume, back, 32, report);
+            for (size_t i = 0; i < failed.size(); ++i) positions[failed[i]] = grid[failed[i]], samples[failed[i]] = std::move(original[i]);
+        }
+    }
+    return buildGiBake(volume, samples, positions);
+}
+
 std::vector<std::vector<GiSample>> captureGiSamples(rhi::IDevice& device, const GpuScene& gpuScene, const IrradianceVolume& volume,
-                                                    uint32_t faceSize, PassReport* report) {
+                                                    const std::vector<glm::vec3>& positions, uint32_t faceSize, PassReport* report) {
     constexpr rhi::Format kFormat = rhi::Format::RGBA16_FLOAT;
     std::array<rhi::TextureHandle, 3> targets;
     const char* names[3] = {"gi bake albedo+distance", "gi bake normal+facing", "gi bake emission"};
@@ -190,7 +245,6 @@ std::vector<std::vector<GiSample>> captureGiSamples(rhi::IDevice& device, const 
     const GpuScene::MeshPipelines pipelines = gpuScene.createUnculledPipelines(
         vertex, fragment, rhi::DepthState{true, true, rhi::CompareOp::Less}, {kFormat, kFormat, kFormat}, rhi::Format::D32_FLOAT, true,
         "gi bake g-buffer");
-    const std::vector<glm::vec3> positions = giProbePositions(volume);
     const std::vector<glm::vec3> directions = giSampleDirections(volume.surfelsPerProbe);
     std::vector<CubeTexel> texels(directions.size());
     for (size_t i = 0; i < directions.size(); ++i) texels[i] = cubeTexelOf(glm::dvec3(directions[i]), faceSize);

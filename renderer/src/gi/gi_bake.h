@@ -12,12 +12,16 @@
 //      and keeps per
 //      (probe, brick) the SH9 transfer T_k = sum over the probe's samples in the brick of
 //      Y_k(direction) * 4 pi / N. Probe SH = sum over its bricks of radiance(brick) * T.
-//   4. A probe with more than `invalidBackFaceFraction` of its samples on back faces is invalid.
+//   4. A probe with more than `invalidBackFaceFraction` of its samples on back faces is inside
+//      something. With `relocateProbes` it moves out through the nearest inside face (at most 45 %
+//      of a cell from its grid position) and steps 1-2 run again there, up to three times; it
+//      keeps the first position where it is valid, else its grid position, and is invalid.
 // Steps 3-4 are CPU functions of the samples, so tests can feed them analytic surfels.
 #pragma once
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -71,13 +75,26 @@ glm::vec3 giProbeSpacing(const IrradianceVolume& volume);
 // N unit directions, evenly spread over the sphere (spherical Fibonacci).
 std::vector<glm::vec3> giSampleDirections(uint32_t count);
 
-// Steps 3-4 above. `samples[p]` are probe p's samples (all of the same count).
-GiBake buildGiBake(const IrradianceVolume& volume, const std::vector<std::vector<GiSample>>& samples);
+// Steps 3-4 above. `samples[p]` are probe p's samples (all of the same count), taken at
+// `positions[p]` (empty: the grid positions).
+GiBake buildGiBake(const IrradianceVolume& volume, const std::vector<std::vector<GiSample>>& samples,
+                   const std::vector<glm::vec3>& positions = {});
+
+// Where a probe at `position` whose samples are `samples` moves to get out of what it is inside:
+// through the nearest back face it sees, a tenth of the smallest spacing beyond it, the offset
+// from `gridPosition` clamped to 45 % of `spacing` per axis. nullopt when the probe is not inside
+// anything (back faces at most `invalidBackFaceFraction` of its samples).
+std::optional<glm::vec3> giRelocatedPosition(const std::vector<GiSample>& samples, const glm::vec3& position, const glm::vec3& gridPosition,
+                                             const glm::vec3& spacing, float invalidBackFaceFraction);
 
 // Steps 1-2 on the GPU: renders every probe's G-buffer cube and reads the samples back.
 // `faceSize` is the cube's face size (32 gives 6144 texels for up to 4096 directions). With
 // timestamp queries, `report` gets the G-buffer draws' GPU time and their draw count.
 std::vector<std::vector<GiSample>> captureGiSamples(rhi::IDevice& device, const GpuScene& gpuScene, const IrradianceVolume& volume,
-                                                    uint32_t faceSize = 32, PassReport* report = nullptr);
+                                                    const std::vector<glm::vec3>& positions, uint32_t faceSize = 32,
+                                                    PassReport* report = nullptr);
+
+// The whole bake: steps 1-4 with relocation (when the volume asks for it) on a 32^2 G-buffer.
+GiBake bakeGiVolume(rhi::IDevice& device, const GpuScene& gpuScene, const IrradianceVolume& volume, PassReport* report = nullptr);
 
 }  // namespace janus::renderer

@@ -49,7 +49,7 @@ void hashBakeSettings(Hasher& h, const IrradianceVolume& v) {
     h.add(v.bounds.min), h.add(v.bounds.max);
     h.add(v.probeCounts.x), h.add(v.probeCounts.y), h.add(v.probeCounts.z);
     h.add(v.surfelsPerProbe), h.add(v.brickSize), h.add(uint8_t(v.bricks)), h.add(v.nearPlane), h.add(v.farPlane);
-    h.add(v.invalidBackFaceFraction), h.add(v.maxSurfelsPerBrick);
+    h.add(v.invalidBackFaceFraction), h.add(v.maxSurfelsPerBrick), h.add(uint8_t(v.relocateProbes));
 }
 
 class Writer {
@@ -65,7 +65,7 @@ public:
         add(v.bounds.min), add(v.bounds.max);
         add(v.probeCounts.x), add(v.probeCounts.y), add(v.probeCounts.z);
         add(v.surfelsPerProbe), add(v.brickSize), add(uint8_t(v.bricks)), add(v.nearPlane), add(v.farPlane);
-        add(v.invalidBackFaceFraction), add(v.maxSurfelsPerBrick);
+        add(v.invalidBackFaceFraction), add(v.maxSurfelsPerBrick), add(uint8_t(v.relocateProbes));
     }
     std::string& bytes() { return m_bytes; }
 
@@ -97,6 +97,7 @@ public:
         v.surfelsPerProbe = get<uint32_t>(), v.brickSize = get<float>(), v.bricks = get<uint8_t>() != 0;
         v.nearPlane = get<float>(), v.farPlane = get<float>(), v.invalidBackFaceFraction = get<float>();
         v.maxSurfelsPerBrick = get<uint32_t>();
+        v.relocateProbes = get<uint8_t>() != 0;
         return v;
     }
     size_t offset() const { return m_offset; }

@@ -22,7 +22,7 @@
 
 namespace janus::renderer {
 
-inline constexpr uint32_t kGiBakeFileVersion = 2;   // 2: max surfels per brick in the settings
+inline constexpr uint32_t kGiBakeFileVersion = 3;   // 2: max surfels per brick in the settings; 3: relocateProbes
 
 // A hash of everything a bake depends on: the meshes, instances, materials and their textures,
 // and the volume's bake settings (not its relight or shading settings).

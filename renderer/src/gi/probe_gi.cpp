@@ -70,7 +70,7 @@ ProbeGi::ProbeGi(rhi::IDevice& device, const Scene& scene, const GpuScene& gpuSc
         const auto start = std::chrono::steady_clock::now();
         PassReport bakeReport;
         bakeReport.name = "gi-bake";
-        m_bake = buildGiBake(m_volume, captureGiSamples(device, gpuScene, m_volume, 32, &bakeReport));
+        m_bake = bakeGiVolume(device, gpuScene, m_volume, &bakeReport);
         bakeReport.cpuMs = millisecondsSince(start);
         m_startupReports.push_back(bakeReport);
     }
@@ -141,7 +141,7 @@ void ProbeGi::upload() {
 
     GiVolumeUniforms uniforms;
     const glm::vec3 spacing = giProbeSpacing(m_volume);
-    uniforms.origin = glm::vec4(m_bake.probePositions[0], 1.0f);
+    uniforms.origin = glm::vec4(giProbePositions(m_volume)[0], 1.0f);   // the grid's: probe 0 may have moved
     uniforms.spacing = glm::vec4(spacing, m_volume.normalBias);
     uniforms.counts = glm::ivec4(glm::ivec3(counts), 0);
     m_volumeUniforms = makeUniformBuffer(m_device, uniforms, "irradiance volume");

@@ -27,7 +27,7 @@ float readNumber(const std::filesystem::path& file, const json& value, const std
 std::span<const std::string_view> irradianceVolumeKeys() {
     static constexpr std::string_view kKeys[] = {"name",    "bounds",  "probes",         "spacing",    "surfelsPerProbe",         "brickSize",
                                                  "bricks",  "maxSurfelsPerBrick", "parallelReduction", "bounces", "shOrder", "probesPerFrame",
-                                                 "normalBias", "invalidBackFaceFraction", "near", "far"};
+                                                 "normalBias", "invalidBackFaceFraction", "relocateProbes", "near", "far"};
     return kKeys;
 }
 
@@ -78,6 +78,10 @@ IrradianceVolume parseIrradianceVolume(const std::filesystem::path& file, const 
     if (v.contains("normalBias")) volume.normalBias = readNumber(file, v["normalBias"], where + ".normalBias");
     if (v.contains("invalidBackFaceFraction"))
         volume.invalidBackFaceFraction = readNumber(file, v["invalidBackFaceFraction"], where + ".invalidBackFaceFraction");
+    if (v.contains("relocateProbes")) {
+        if (!v["relocateProbes"].is_boolean()) fail(file, fmt::format("{}.relocateProbes must be true or false", where));
+        volume.relocateProbes = v["relocateProbes"].get<bool>();
+    }
     if (v.contains("near")) volume.nearPlane = readNumber(file, v["near"], where + ".near");
     if (v.contains("far")) volume.farPlane = readNumber(file, v["far"], where + ".far");
     return volume;

@@ -58,6 +58,7 @@ struct IrradianceProbe {
 // What bakeIrradianceVolume made.
 struct IrradianceBakeSummary {
     uint32_t probes = 0, validProbes = 0;
+    uint32_t relocatedProbes = 0;   // moved out of geometry (IrradianceVolume::relocateProbes)
     uint64_t surfels = 0, bricks = 0, transfers = 0;
     double milliseconds = 0.0;
 };

@@ -384,6 +384,10 @@ struct IrradianceVolume {
     // A probe with more than this fraction of its surface samples on back faces is inside
     // geometry: shading gives it no weight. In (0, 1].
     float invalidBackFaceFraction = 0.5f;
+    // A probe found inside geometry is moved out at bake time, through the nearest inside face,
+    // at most 45 % of a cell from its grid position, and kept there when it is valid then (it keeps
+    // its grid weight in shading; docs/GI.md, "Relocation"). false: it stays, invalid.
+    bool relocateProbes = true;
     float nearPlane = 0.01f, farPlane = 100.0f;   // of the bake's G-buffer cubes
 };
 inline constexpr uint32_t kMaxIrradianceProbes = 4096;
