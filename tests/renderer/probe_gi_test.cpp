@@ -543,6 +543,14 @@ Scene roomFilledByTheVolume(const std::array<glm::vec3, 6>& emission) {
     return scene;
 }
 
+// A closed box (faces outwards, single-sided) glowing `emission` with black albedo.
+void addGlowingBox(Scene& scene, const glm::vec3& centre, float halfSize, const glm::vec3& emission) {
+    const int32_t glowing = detail::addMaterial(scene, "box", glm::vec3(0.0f), 0.0f, 1.0f, emission);
+    glm::mat4 world(halfSize);
+    world[3] = glm::vec4(centre, 1.0f);
+    scene.instances.push_back(Instance{detail::addMesh(scene, detail::makeBox(glowing)), world, 1u, "box"});
+}
+
 // Channels of the HDR image further than `tolerance` (relative) from `expected`, and the first.
 std::pair<uint32_t, std::string> channelsOff(const ImageRGBAF& hdr, const glm::vec3& expected, float tolerance) {
     uint32_t off = 0;
@@ -577,10 +585,7 @@ TEST_P(ProbeGiTest, AnInvalidProbeAtTheBorderLeavesItsLightToItsValidNeighbours)
     const glm::vec3 e(0.5f, 1.0f, 0.75f);
     Scene scene = roomFilledByTheVolume({e, e, e, e, e, e});   // probes at +-0.5
     scene.irradianceVolume->relocateProbes = false;              // the boxed probe stays invalid
-    const int32_t glowing = detail::addMaterial(scene, "box", glm::vec3(0.0f), 0.0f, 1.0f, e);
-    glm::mat4 world(0.1f);
-    world[3] = glm::vec4(0.5f, 0.5f, -0.5f, 1.0f);
-    scene.instances.push_back(Instance{detail::addMesh(scene, detail::makeBox(glowing)), world, 1u, "box"});
+    addGlowingBox(scene, glm::vec3(0.5f, 0.5f, -0.5f), 0.1f, e);
     scene.camera.target = glm::vec3(0.75f, 0.75f, -1.0f);
     Renderer renderer(device(), scene, giLightSettings(32));
     renderer.renderFrame();
@@ -602,10 +607,7 @@ TEST_P(ProbeGiTest, AProbeInsideSomethingMovesOutAndSeesTheRoom) {
         SCOPED_TRACE(relocate ? "relocated" : "not relocated");
         Scene scene = roomFilledByTheVolume({e, e, e, e, e, e});   // probes at +-0.5, spacing 1
         scene.irradianceVolume->relocateProbes = relocate;
-        const int32_t glowing = detail::addMaterial(scene, "box", glm::vec3(0.0f), 0.0f, 1.0f, e);
-        glm::mat4 world(0.1f);
-        world[3] = glm::vec4(boxCentre, 1.0f);
-        scene.instances.push_back(Instance{detail::addMesh(scene, detail::makeBox(glowing)), world, 1u, "box"});
+        addGlowingBox(scene, boxCentre, 0.1f, e);
         Renderer renderer(device(), scene, giLightSettings(16));
         renderer.renderFrame();
         const std::vector<IrradianceProbe> probes = renderer.readIrradianceProbes();
