@@ -423,10 +423,14 @@ int runGi(const GiOptions& options) {
                 goals.push_back({{"goal", "parallel reduction vs serial"}, {"backend", d.backend}, {"path", d.path}, {"parallelMs", parallel}, {"serialMs", serial}});
             }
         // 3. The default settings against the converged reference.
-        md += fmt::format("- {}/{} default settings vs the converged reference: probes **{} %**, image **{} %** relative RMSE (goal: within 10 %)\n",
-                          d.backend, d.path, percent(d.probeConverged.relativeRmse), percent(d.imageConverged.relativeRmse));
+        // With the reference's own probes the image shows what the grid allows at best.
+        md += fmt::format("- {}/{} default settings vs the converged reference: probes **{} %**, image **{} %** relative RMSE (goal: within 10 %); "
+                          "with the reference's own probes the image is {} % (what this grid allows)\n",
+                          d.backend, d.path, percent(d.probeConverged.relativeRmse), percent(d.imageConverged.relativeRmse),
+                          percent(d.imageReferenceProbes.relativeRmse));
         goals.push_back({{"goal", "defaults vs converged reference"}, {"backend", d.backend}, {"path", d.path},
-                         {"probeRmse", d.probeConverged.relativeRmse}, {"imageRmse", d.imageConverged.relativeRmse}});
+                         {"probeRmse", d.probeConverged.relativeRmse}, {"imageRmse", d.imageConverged.relativeRmse},
+                         {"imageRmseReferenceProbes", d.imageReferenceProbes.relativeRmse}});
     }
     json["goals"] = goals;
     if (!skipped.empty()) {

@@ -68,6 +68,8 @@ json_check "$B" 'next(c for c in j["configurations"] if c["sweep"] == "normal-bi
 json_check "$B" 'next(c for c in j["configurations"] if c["sweep"] == "validity")["validProbes"] <=
   next(c for c in j["configurations"] if c["sweep"] == "default")["validProbes"]' \
   "a back-face fraction of 0.25 left more probes valid than the default 0.5"
+json_check "$B" 'any(g["goal"] == "defaults vs converged reference" and 0 < g["imageRmseReferenceProbes"] < 2 for g in j["goals"])' \
+  "the defaults' goal lacks the image with the reference's probes"
 grep -q "^## Goals" "$TMP/gi-bench/gi.md" || fail "gi.md has no goals section"
 check_png "$TMP/gi-bench/gi.png" 900 560
 finish
