@@ -26,13 +26,21 @@ vec3 shEvaluate(vec3 e[9], vec3 n) {
     return e[0] * y.a.x + e[1] * y.a.y + e[2] * y.a.z + e[3] * y.a.w + e[4] * y.b.x + e[5] * y.b.y + e[6] * y.b.z + e[7] * y.b.w + e[8] * y.c;
 }
 
+// u^T P v for the quadratic part P of a band-2 radiance (l4..l8: its coefficients 4..8; the
+// 3 z^2 term only, Y20's constant belongs to the caller's p0).
+vec3 shQuadraticForm(vec3 l4, vec3 l5, vec3 l6, vec3 l7, vec3 l8, vec3 u, vec3 v) {
+    return 0.54627422 * l8 * (u.x * v.x - u.y * v.y) + 3.0 * 0.31539157 * l6 * (u.z * v.z) +
+           0.54627422 * (l4 * (u.x * v.y + u.y * v.x) + l5 * (u.y * v.z + u.z * v.y) + l7 * (u.x * v.z + u.z * v.x));
+}
+
 // Irradiance / pi from irradiance-/-pi coefficients `e` (the basis order above) at a surface
 // whose shading normal n leans away from the normal of its plane g (smoothed vertex normals,
 // normal maps): the clamped cosine about n over the directions above the plane only, since the
 // surface hides what lies below it. Exact for the band-limited radiance the coefficients hold;
 // the plain evaluation at n when the normals agree, 0 when n points straight into the surface.
-// Unit vectors (a normal a little off unit length reads as a small lean). Unclamped. The closed form and its derivation: shEvaluateAboveSurface
-// (renderer/src/ibl/spherical_harmonics.cpp), which tests check against quadrature.
+// Unit vectors (a normal a little off unit length reads as a small lean). Unclamped. The closed
+// form and its derivation: shEvaluateAboveSurface (renderer/src/ibl/spherical_harmonics.cpp),
+// which tests check against quadrature.
 vec3 shIrradianceAboveSurface(vec3 e[9], vec3 n, vec3 g) {
     const float kPi = 3.14159265;
     float c = clamp(dot(n, g), -1.0, 1.0);
@@ -48,12 +56,8 @@ vec3 shIrradianceAboveSurface(vec3 e[9], vec3 n, vec3 g) {
     vec3 p0 = 0.28209479 * e[0] - 0.31539157 * l6;
     vec3 pg = 0.48860251 * (l3 * g.x + l1 * g.y + l2 * g.z), pt = 0.48860251 * (l3 * t.x + l1 * t.y + l2 * t.z);
     vec3 traceP = 3.0 * 0.31539157 * l6;
-    vec3 pgg = 0.54627422 * l8 * (g.x * g.x - g.y * g.y) + 3.0 * 0.31539157 * l6 * (g.z * g.z) +
-               1.09254843 * (l4 * (g.x * g.y) + l5 * (g.y * g.z) + l7 * (g.x * g.z));
-    vec3 ptt = 0.54627422 * l8 * (t.x * t.x - t.y * t.y) + 3.0 * 0.31539157 * l6 * (t.z * t.z) +
-               1.09254843 * (l4 * (t.x * t.y) + l5 * (t.y * t.z) + l7 * (t.x * t.z));
-    vec3 pgt = 0.54627422 * l8 * (g.x * t.x - g.y * t.y) + 3.0 * 0.31539157 * l6 * (g.z * t.z) +
-               0.54627422 * (l4 * (g.x * t.y + g.y * t.x) + l5 * (g.y * t.z + g.z * t.y) + l7 * (g.x * t.z + g.z * t.x));
+    vec3 pgg = shQuadraticForm(l4, l5, l6, l7, l8, g, g), ptt = shQuadraticForm(l4, l5, l6, l7, l8, t, t),
+         pgt = shQuadraticForm(l4, l5, l6, l7, l8, g, t);
     // The clipped lobe's moments over pi.
     float ic = 0.5 * (s + (kPi - theta) * c), is = 0.5 * (kPi - theta) * s;
     float jgg = c * (2.0 / 3.0 + c - c * c * c / 3.0) + s * s * s * s / 3.0, jgt = s * (1.0 + c) / 3.0, jtt = 1.0 + c - jgg;

@@ -209,7 +209,9 @@ void main() {
     vec3 probeSpecular = probes.rgb;
     // Smoothed vertex normals and normal maps lean the shading normal away from the triangle's
     // plane: the volume's light from below that plane is hidden by the surface (docs/GI.md).
-    vec4 gi = giIrradianceOverPi(vWorldPosition, s.normal, faceNormal(positionDx, positionDy, toCamera, s.normal));   // coverage 0 without a volume
+    // Without a volume the lookup reads nothing: no plane to find.
+    vec3 surfaceNormal = giVolume.origin.w > 0.0 ? faceNormal(positionDx, positionDy, toCamera, s.normal) : s.normal;
+    vec4 gi = giIrradianceOverPi(vWorldPosition, s.normal, surfaceNormal);   // coverage 0 without a volume
     if (frame.skyParams.w > 1.5) {
         // --debug shadow: what the shadow map lets through of the main light (1 without a map).
         outRadiance = vec4(vec3(mainLightVisibility), 1.0);

@@ -74,7 +74,8 @@ GiBake buildGiBake(const IrradianceVolume& volume, const std::vector<std::vector
     GiBake bake;
     bake.probeCounts = volume.probeCounts;
     bake.probePositions = positions.empty() ? giProbePositions(volume) : positions;
-    if (samples.size() != bake.probePositions.size() || bake.probePositions.size() != giProbePositions(volume).size())
+    const size_t gridProbes = size_t(volume.probeCounts.x) * volume.probeCounts.y * volume.probeCounts.z;
+    if (samples.size() != gridProbes || bake.probePositions.size() != gridProbes)
         throw RendererError(fmt::format("GI bake: {} probes' samples for a {}x{}x{} volume", samples.size(), volume.probeCounts.x,
                                         volume.probeCounts.y, volume.probeCounts.z));
     bake.samplesPerProbe = samples.empty() ? 0 : uint32_t(samples[0].size());
