@@ -136,9 +136,14 @@ void addRelight(const renderer::FrameReport& report, RelightTime& time, bool& gp
 }
 
 std::string percent(double value) { return std::isfinite(value) ? fmt::format("{:.1f}", 100.0 * value) : "inf"; }
+std::string signedPercent(double value) { return std::isfinite(value) ? fmt::format("{:+.1f}", 100.0 * value) : value > 0 ? "+inf" : "-inf"; }
+// "8.2 (-1.3)": relative RMSE and, in brackets, the signed bias, both in percent.
+std::string errorCell(const renderer::GiError& e) { return fmt::format("{} ({})", percent(e.relativeRmse), signedPercent(e.relativeBias)); }
+double finiteForJson(double value) { return std::isfinite(value) ? value : std::copysign(1e30, value); }
 
 nlohmann::json errorJson(const renderer::GiError& e) {
-    return {{"relativeRmse", std::isfinite(e.relativeRmse) ? e.relativeRmse : 1e30}, {"maxAbsolute", e.maxAbsolute}, {"compared", e.compared}};
+    return {{"relativeRmse", finiteForJson(e.relativeRmse)}, {"relativeBias", finiteForJson(e.relativeBias)}, {"maxAbsolute", e.maxAbsolute},
+            {"compared", e.compared}};
 }
 
 int runGi(const GiOptions& options) {
@@ -298,10 +303,10 @@ int runGi(const GiOptions& options) {
                     renderer::writePFM(outDir / "gi-reference.pfm", imageFor(0));
                     renderer::writePFM(outDir / fmt::format("gi-reference-{}-bounces.pfm", variant.volume.bounces), imageFor(variant.volume.bounces));
                 }
-                std::fprintf(stderr, "  %s %-28s bake %8.1f ms, relight %8.3f ms in %u frame(s); probes %5.1f %% (converged %5.1f %%), image %5.1f %% (converged %5.1f %%, reference probes %5.1f %%)\n",
+                std::fprintf(stderr, "  %s %-28s bake %8.1f ms, relight %8.3f ms in %u frame(s); probes %s (converged %s), image %s (converged %s, reference probes %s) %% (bias)\n",
                              configurationLabel(backend, path).c_str(), variant.label.c_str(), row.bakeMs, row.relight.totalMs, row.relight.frames,
-                             100.0 * row.probeSame.relativeRmse, 100.0 * row.probeConverged.relativeRmse, 100.0 * row.imageSame.relativeRmse,
-                             100.0 * row.imageConverged.relativeRmse, 100.0 * row.imageReferenceProbes.relativeRmse);
+                             errorCell(row.probeSame).c_str(), errorCell(row.probeConverged).c_str(), errorCell(row.imageSame).c_str(),
+                             errorCell(row.imageConverged).c_str(), errorCell(row.imageReferenceProbes).c_str());
                 rows.push_back(std::move(row));
             }
         }
@@ -324,7 +329,8 @@ int runGi(const GiOptions& options) {
         "(the method's own error) and against the converged reference (what the light really is); **image**: the same for the "
         "image's indirect term, over the pixels the reference sees a surface at; **image % (ref. probes)**: the image against the converged "
         "reference with the converged reference's probes written into the volume (validity kept): what the lookup alone (grid, "
-        "interpolation, L2, normal bias) loses.\n"
+        "interpolation, L2, normal bias) loses. In brackets after each: the signed bias, sum of (renderer - reference) / sum of "
+        "reference over every channel (< 0 too dark, > 0 too bright), which the RMSE does not tell.\n"
         "- Reference (`GiReference`, docs/GI.md): {} directions per probe, {} paths per pixel; image noise (two seeds): {}. "
         "Reference time: {:.0f} ms.\n\n",
         sceneLabel(scenePath), base.probeCounts.x, base.probeCounts.y, base.probeCounts.z, base.surfelsPerProbe,
@@ -347,9 +353,8 @@ int runGi(const GiOptions& options) {
     for (const Row& r : rows) {
         md += fmt::format("| {} | {} | {} | {} | {} / {} | {:.1f} | {:.3f} | {} | {:.3f} | {:.3f} | {:.3f} | {} | {} | {} | {} | {} |\n", r.backend, r.path,
                           r.sweep, r.label, r.validProbes, r.probes, r.bakeMs, r.relight.totalMs, r.relight.frames,
-                          r.relight.frames ? r.relight.totalMs / r.relight.frames : 0.0, r.relight.brickMs, r.relight.shMs,
-                          percent(r.probeSame.relativeRmse), percent(r.probeConverged.relativeRmse), percent(r.imageSame.relativeRmse),
-                          percent(r.imageConverged.relativeRmse), percent(r.imageReferenceProbes.relativeRmse));
+                          r.relight.frames ? r.relight.totalMs / r.relight.frames : 0.0, r.relight.brickMs, r.relight.shMs, errorCell(r.probeSame),
+                          errorCell(r.probeConverged), errorCell(r.imageSame), errorCell(r.imageConverged), errorCell(r.imageReferenceProbes));
         json["configurations"].push_back(
             {{"backend", r.backend}, {"path", r.path}, {"sweep", r.sweep}, {"label", r.label},
              {"volume", {{"probes", {r.volume.probeCounts.x, r.volume.probeCounts.y, r.volume.probeCounts.z}}, {"surfelsPerProbe", r.volume.surfelsPerProbe},

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include <fmt/format.h>
 #include <glm/gtc/matrix_transform.hpp>
@@ -208,6 +209,7 @@ TEST(GiReference, ErrorMeasuresAreRelativeAndSkipInvalidProbesAndEmptyPixels) {
     EXPECT_NEAR(compareProbeIrradiance(std::vector<IrradianceProbe>{same}, std::vector<GiReferenceProbe>{ref}).relativeRmse, 0.0, 1e-6);
     const GiError error = compareProbeIrradiance(std::vector<IrradianceProbe>{brighter, invalid}, std::vector<GiReferenceProbe>{ref, ref}, 16);
     EXPECT_NEAR(error.relativeRmse, 0.1, 1e-5);   // the invalid probe is not compared
+    EXPECT_NEAR(error.relativeBias, 0.1, 1e-5);
     EXPECT_EQ(error.compared, 16u);
     EXPECT_THROW(compareProbeIrradiance(std::vector<IrradianceProbe>{same}, std::vector<GiReferenceProbe>{}), RendererError);
 
@@ -216,7 +218,24 @@ TEST(GiReference, ErrorMeasuresAreRelativeAndSkipInvalidProbesAndEmptyPixels) {
     const GiError image = compareIndirectImage(rendered, reference);
     EXPECT_EQ(image.compared, 1u);   // the second pixel sees nothing in the reference
     EXPECT_NEAR(image.relativeRmse, 0.5, 1e-6);
+    EXPECT_NEAR(image.relativeBias, -0.5, 1e-6);
     EXPECT_THROW(compareIndirectImage(ImageRGBAF{1, 1, {0, 0, 0, 0}}, reference), RendererError);
+}
+
+TEST(GiReference, TheBiasSaysWhichWayTheErrorLeansWhereTheRmseCannot) {
+    const ImageRGBAF reference{3, 1, {1.0f, 1.0f, 1.0f, 1.0f, 1.0f, 1.0f, 1.0f, 1.0f, 2.0f, 2.0f, 2.0f, 1.0f}};
+    // As bright as the reference overall (errors of both signs), and 20 % too dark in one channel.
+    const GiError balanced = compareIndirectImage(ImageRGBAF{3, 1, {1.5f, 1.5f, 1.5f, 1.0f, 0.5f, 0.5f, 0.5f, 1.0f, 2.0f, 2.0f, 2.0f, 1.0f}},
+                                                  reference);
+    EXPECT_GT(balanced.relativeRmse, 0.2);
+    EXPECT_NEAR(balanced.relativeBias, 0.0, 1e-6);
+    const GiError darkRed = compareIndirectImage(ImageRGBAF{3, 1, {0.2f, 1.0f, 1.0f, 1.0f, 0.2f, 1.0f, 1.0f, 1.0f, 0.4f, 2.0f, 2.0f, 1.0f}},
+                                                 reference);
+    EXPECT_NEAR(darkRed.relativeBias, -0.8 / 3.0, 1e-6);
+    // No light in the reference: any light at all is infinitely too bright, none is no bias.
+    const ImageRGBAF black{1, 1, {0.0f, 0.0f, 0.0f, 1.0f}};
+    EXPECT_EQ(compareIndirectImage(black, black).relativeBias, 0.0);
+    EXPECT_EQ(compareIndirectImage(ImageRGBAF{1, 1, {0.1f, 0.0f, 0.0f, 1.0f}}, black).relativeBias, std::numeric_limits<double>::infinity());
 }
 
 TEST(GiReference, BadSettingsAreClearErrors) {

@@ -548,11 +548,14 @@ namespace {
 
 struct ErrorAccumulator {
     double squared = 0.0, reference = 0.0, maxAbsolute = 0.0;
+    double channelDifference = 0.0, channelReference = 0.0;
     uint64_t count = 0;
     void add(const glm::dvec3& value, const glm::dvec3& expected) {
         const double difference = glm::length(value - expected);
         squared += difference * difference;
         reference += glm::length(expected);
+        channelDifference += (value.x - expected.x) + (value.y - expected.y) + (value.z - expected.z);
+        channelReference += expected.x + expected.y + expected.z;
         maxAbsolute = std::max(maxAbsolute, difference);
         ++count;
     }
@@ -564,6 +567,9 @@ struct ErrorAccumulator {
             const double meanReference = reference / double(count);
             const double rms = std::sqrt(squared / double(count));
             error.relativeRmse = meanReference > 0.0 ? rms / meanReference : (rms > 0.0 ? std::numeric_limits<double>::infinity() : 0.0);
+            error.relativeBias = channelReference > 0.0 ? channelDifference / channelReference
+                                 : channelDifference == 0.0 ? 0.0
+                                                            : std::copysign(std::numeric_limits<double>::infinity(), channelDifference);
         }
         return error;
     }

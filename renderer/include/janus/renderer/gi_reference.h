@@ -96,6 +96,9 @@ private:
 // How far the renderer is from the reference.
 struct GiError {
     double relativeRmse = 0.0;   // RMS |renderer - reference| / mean |reference| (RGB vector lengths)
+    // Signed: sum of (renderer - reference) / sum of reference, over every channel of every value
+    // compared. Which way the error leans (too dark < 0 < too bright), which the RMSE does not say.
+    double relativeBias = 0.0;
     double maxAbsolute = 0.0;    // largest |renderer - reference|
     uint64_t compared = 0;       // values compared (probe x normal, or pixels)
 };
