@@ -481,8 +481,15 @@ TEST_P(ProbeGiTest, BakeSamplesSeeTheWallTheirDirectionPointsAt) {
         const int face = axis * 2 + (s.direction[axis] < 0.0f ? 1 : 0);
         EXPECT_EQ(s.kind, GiSample::Kind::Surface);
         if (glm::distance(s.emission, colours[face]) > 0.01f) ++wrong;
-        // A 32^2 face's texel spans up to ~3 % of the distance towards the face's edges.
-        EXPECT_NEAR(glm::length(s.position), 1.0f / major, 0.035f / major);
+        // On the wall: the surfel is where the texel's own ray met it, to the half float's
+        // precision of the distance (2^-11 relative). It was placed along the sample's direction
+        // at the texel's distance, off the wall by up to ~3 % of the distance towards the face's
+        // edges: below the floor for half the samples at grazing angles, where the shadow map
+        // then shadowed them (the cornell box's first bounce was 7 % too dark, 26 % with a 4096 map).
+        if (s.kind == GiSample::Kind::Surface) EXPECT_NEAR(std::abs(s.position[axis]), 1.0f, 2e-3f) << glm::length(s.position);
+        // And within the texel's footprint on the wall (2/32 wide at distance 1) from where the
+        // sample's own direction meets it.
+        EXPECT_LE(glm::distance(s.position, s.direction / major), 0.0443f);
         EXPECT_GT(glm::dot(s.normal, -s.direction), 0.5f);
     }
     EXPECT_EQ(wrong, 0u) << GetParam().name();

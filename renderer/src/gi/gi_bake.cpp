@@ -248,7 +248,14 @@ std::vector<std::vector<GiSample>> captureGiSamples(rhi::IDevice& device, const 
         "gi bake g-buffer");
     const std::vector<glm::vec3> directions = giSampleDirections(volume.surfelsPerProbe);
     std::vector<CubeTexel> texels(directions.size());
-    for (size_t i = 0; i < directions.size(); ++i) texels[i] = cubeTexelOf(glm::dvec3(directions[i]), faceSize);
+    // The ray each texel's distance was measured along: its centre's, not the sample's direction,
+    // which may be half a texel away (at grazing angles that puts the surfel centimetres off its
+    // surface, half of them below it, where the shadow map shadows them).
+    std::vector<glm::vec3> texelRays(directions.size());
+    for (size_t i = 0; i < directions.size(); ++i) {
+        texels[i] = cubeTexelOf(glm::dvec3(directions[i]), faceSize);
+        texelRays[i] = glm::vec3(cubeTexelDirection(texels[i].face, texels[i].x, texels[i].y, faceSize));
+    }
 
     const rhi::CommandListHandle cmd = device.createCommandList();
     std::vector<std::vector<GiSample>> result(positions.size());
@@ -310,9 +317,7 @@ std::vector<std::vector<GiSample>> captureGiSamples(rhi::IDevice& device, const 
             }
             const glm::vec4 normalFacing = texel(1, texels[i]);
             s.kind = normalFacing.w < 0.0f ? GiSample::Kind::BackFace : GiSample::Kind::Surface;
-            // Along the sample's own direction at the texel's distance: the surfel lies where
-            // that direction meets the surface (to the texel's precision).
-            s.position = positions[p] + directions[i] * albedoDistance.w;
+            s.position = positions[p] + texelRays[i] * albedoDistance.w;
             const glm::vec3 n(normalFacing);
             s.normal = glm::dot(n, n) > 1e-12f ? glm::normalize(n) : -directions[i];
             s.albedo = glm::clamp(glm::vec3(albedoDistance), glm::vec3(0.0f), glm::vec3(1.0f));
