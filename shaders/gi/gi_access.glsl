@@ -15,8 +15,8 @@ layout(set = JANUS_SET_VIEW, binding = JANUS_BINDING_GI_UNIFORMS, std140) unifor
 } giVolume;
 
 // Irradiance / pi at `position` for `normal` on a surface whose plane has normal `surfaceNormal`
-// (light from below that plane does not count: shIrradianceAboveSurface; the relight's surfels,
-// whose normals come from half floats, pass the same vector twice for the plain evaluation),
+// (light from below that plane does not count: shIrradianceAboveSurface; the same vector twice is
+// the plain evaluation),
 // rgb clamped at 0, and how much the volume covers the point (a): 1 inside the volume's bounds
 // (the probes' cells: half a spacing beyond the outer probes, so a room's walls are covered),
 // falling to 0 one probe spacing outside them, and 0 where every probe around is invalid.

@@ -1,6 +1,7 @@
 // The first relight pass (docs/GI.md): each brick's outgoing radiance, the mean over its surfels
 // of  albedo / pi * direct irradiance (directional lights, the main light's shadow, local
-// lights) + emission + albedo * the last relight's irradiance / pi (further bounces).
+// lights) + emission + albedo * the last relight's irradiance / pi (further bounces), both from
+// above the surfel's triangle only (its face normal), as forward shading's volume lookup.
 // A sky sample's "brick" is the sky's radiance along its direction (the ambient colour without a sky).
 #define FRAME_UNIFORMS_ONLY 1
 #include "renderer/forward_common.glsl"
@@ -16,17 +17,23 @@ layout(set = 0, binding = JANUS_BINDING_GI_BRICKS) uniform highp sampler2D giBri
 
 const float kGiPi = 3.14159265358979;
 
-vec3 surfelIrradiance(vec3 position, vec3 normal) {
+// Direct irradiance at a surfel with shading normal `normal` on a triangle whose plane has normal
+// `faceNormal`: a light below that plane does not reach it, whatever the shading normal says (as
+// the reference's). The shadow lookup moves off the triangle's plane, not along the shading normal.
+vec3 surfelIrradiance(vec3 position, vec3 normal, vec3 faceNormal) {
     vec3 irradiance = vec3(0.0);
     for (int i = 0; i < frame.lightCounts.x; ++i) {
         DirectionalLight light = frame.directionalLights[i];
+        if (dot(faceNormal, -light.direction.xyz) <= 0.0) continue;
         vec3 e = light.colorIntensity.rgb * max(dot(normal, -light.direction.xyz), 0.0);
         if (i == 0 && frame.shadowParams.x > 0.0)
-            e *= sampleShadowPCF(shadowMap, shadowCoordFor(frame.worldToShadow, position, normal, frame.shadowParams.z), frame.shadowParams.y);
+            e *= sampleShadowPCF(shadowMap, shadowCoordFor(frame.worldToShadow, position, faceNormal, frame.shadowParams.z),
+                                 frame.shadowParams.y);
         irradiance += e;
     }
     for (int k = 0; k < frame.lightCounts.y; ++k) {
         LocalLightSample light = localLightIrradiance(k, position);
+        if (dot(faceNormal, light.toLight) <= 0.0) continue;
         irradiance += light.irradiance * max(dot(normal, light.toLight), 0.0);
     }
     return irradiance;
@@ -42,12 +49,15 @@ vec3 brickRadiance(int brick) {
     int first = int(header.x), count = int(header.y);
     vec3 sum = vec3(0.0);
     for (int s = first; s < first + count; ++s) {
-        vec3 position = giData(giSurfels, s * 4).xyz;
-        vec3 normal = giData(giSurfels, s * 4 + 1).xyz;
-        vec3 albedo = giData(giSurfels, s * 4 + 2).rgb;
+        // ProbeGi's layout: position, normal, albedo, emission; the face normal in the first three's w.
+        vec4 positionFaceX = giData(giSurfels, s * 4);
+        vec4 normalFaceY = giData(giSurfels, s * 4 + 1);
+        vec4 albedoFaceZ = giData(giSurfels, s * 4 + 2);
+        vec3 position = positionFaceX.xyz, normal = normalFaceY.xyz, albedo = albedoFaceZ.rgb;
+        vec3 faceNormal = vec3(positionFaceX.w, normalFaceY.w, albedoFaceZ.w);
         vec3 emission = giData(giSurfels, s * 4 + 3).rgb;
-        vec3 radiance = albedo * (1.0 / kGiPi) * surfelIrradiance(position, normal) + emission;
-        if (relight.counts.z != 0) radiance += albedo * giIrradianceOverPi(position, normal, normal).rgb;
+        vec3 radiance = albedo * (1.0 / kGiPi) * surfelIrradiance(position, normal, faceNormal) + emission;
+        if (relight.counts.z != 0) radiance += albedo * giIrradianceOverPi(position, normal, faceNormal).rgb;
         sum += radiance;
     }
     vec3 mean = count > 0 ? sum / float(count) : vec3(0.0);

@@ -1,12 +1,15 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// The GI bake's G-buffer (docs/GI.md, "Bake"): one shader for every material, three RGBA16F
+// The GI bake's G-buffer (docs/GI.md, "Bake"): one shader for every material, four RGBA16F
 // targets of a probe's cube face, drawn with forward.vert and no face culling:
 //   0: diffuse albedo (base colour x (1 - metallic)), distance from the probe (cleared to -1: sky)
 //   1: the normal of the side seen, +1 when that side is a front face (or the material is
 //      double-sided), -1 for a back face (the probe looks at the inside of something)
 //   2: emission, 0
+//   3: the normal of the triangle's plane on the side seen, 0: the relight counts no light from
+//      below that plane where the shading normal leans away from it (as forward shading)
 #include "renderer/forward_common.glsl"
+#include "renderer/face_normal.glsl"
 
 layout(set = JANUS_SET_MATERIAL, binding = JANUS_BINDING_BASE_COLOR) uniform sampler2D baseColorTexture;
 layout(set = JANUS_SET_MATERIAL, binding = JANUS_BINDING_METALLIC_ROUGHNESS) uniform sampler2D metallicRoughnessTexture;
@@ -22,6 +25,7 @@ layout(location = 5) in vec4 vColor;
 layout(location = 0) out vec4 outAlbedoDistance;
 layout(location = 1) out vec4 outNormalFacing;
 layout(location = 2) out vec4 outEmission;
+layout(location = 3) out vec4 outFaceNormal;
 
 void main() {
     // Every lookup before the discard: a discarded neighbour leaves the quad's derivatives, and so
@@ -29,6 +33,7 @@ void main() {
     vec4 baseColorSample = texture(baseColorTexture, materialUv(kTextureBaseColor, vUv, vUv1));
     float metallicSample = texture(metallicRoughnessTexture, materialUv(kTextureMetallicRoughness, vUv, vUv1)).b;
     vec3 emissiveSample = texture(emissiveTexture, materialUv(kTextureEmissive, vUv, vUv1)).rgb;
+    vec3 positionDx = dFdx(vWorldPosition), positionDy = dFdy(vWorldPosition);
     vec4 baseColor = draw.baseColorFactor * vColor * baseColorSample;
     if (draw.flags.z == kAlphaModeMask && baseColor.a < draw.emissiveFactor.w) discard;
     float metallic = clamp(draw.materialParams.x * metallicSample, 0.0, 1.0);
@@ -39,6 +44,7 @@ void main() {
     bool front = gl_FrontFacing || draw.flags.x != 0;
     outAlbedoDistance = vec4(clamp(baseColor.rgb, 0.0, 1.0) * (1.0 - metallic), length(toSurface));
     outNormalFacing = vec4(normal, front ? 1.0 : -1.0);
+    outFaceNormal = vec4(faceNormal(positionDx, positionDy, -toSurface, normal), 0.0);
     vec3 emission = draw.emissiveFactor.rgb * emissiveSample;
     if (draw.shading.x != 0) {
         // Unlit: the surface shows its base colour whatever lights it, so to the volume it emits

@@ -12,6 +12,7 @@
 #include "renderer/sky_access.glsl"
 #include "renderer/probe_access.glsl"
 #include "gi/gi_access.glsl"
+#include "renderer/face_normal.glsl"
 
 layout(set = JANUS_SET_VIEW, binding = JANUS_BINDING_SHADOW_MAP) uniform sampler2DShadow shadowMap;
 
@@ -69,18 +70,6 @@ struct Surface {
 vec3 safeNormalize(vec3 v, vec3 fallback) {
     float lengthSq = dot(v, v);
     return lengthSq > 1e-24 ? normalize(v) : fallback;
-}
-
-// The unit normal of the triangle's plane on the camera's side, from the world position's screen
-// derivatives (exact within a triangle); `fallback` where they give no plane (a triangle seen
-// edge-on). Each derivative is scaled by its largest component first, so tiny scenes keep a plane.
-vec3 faceNormal(vec3 positionDx, vec3 positionDy, vec3 toCamera, vec3 fallback) {
-    float scaleX = max(max(abs(positionDx.x), abs(positionDx.y)), abs(positionDx.z));
-    float scaleY = max(max(abs(positionDy.x), abs(positionDy.y)), abs(positionDy.z));
-    if (!(scaleX > 0.0 && scaleY > 0.0)) return fallback;
-    vec3 n = safeNormalize(cross(positionDx / scaleX, positionDy / scaleY), vec3(0.0));
-    if (n == vec3(0.0)) return fallback;
-    return dot(n, toCamera) < 0.0 ? -n : n;
 }
 
 // Outgoing radiance for light arriving along -lightDirection with irradiance `irradiance`

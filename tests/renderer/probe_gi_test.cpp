@@ -292,6 +292,8 @@ GiBake smallBake(const IrradianceVolume& volume) {
             s.kind = i % 3 == 0 ? GiSample::Kind::Sky : i % 7 == 0 ? GiSample::Kind::BackFace : GiSample::Kind::Surface;
             s.position = directions[i] * (1.0f + float(p));
             s.normal = -directions[i];
+            // Half of them on a tilted triangle; the others leave it to the normal.
+            if (i % 2 == 0) s.faceNormal = glm::normalize(s.normal + glm::vec3(0.25f, 0.0f, 0.0f));
             s.albedo = glm::vec3(0.5f, 0.25f, float(i % 5) / 5.0f);
             s.emission = glm::vec3(float(i % 11));
             samples[p].push_back(s);
@@ -317,8 +319,19 @@ TEST(GiBakeFiles, ABakeReadsBackAsWritten) {
     ASSERT_EQ(read.surfels.size(), bake.surfels.size());
     for (size_t i = 0; i < bake.surfels.size(); ++i) {
         EXPECT_EQ(read.surfels[i].position, bake.surfels[i].position);
+        EXPECT_EQ(read.surfels[i].normal, bake.surfels[i].normal);
+        EXPECT_EQ(read.surfels[i].albedo, bake.surfels[i].albedo);
         EXPECT_EQ(read.surfels[i].emission, bake.surfels[i].emission);
+        EXPECT_EQ(read.surfels[i].faceNormal, bake.surfels[i].faceNormal);
     }
+    // A sample that names no triangle plane gets its shading normal's; the others keep theirs.
+    size_t tilted = 0;
+    for (const GiSurfel& surfel : bake.surfels) {
+        EXPECT_NEAR(glm::length(surfel.faceNormal), 1.0f, 1e-5f);
+        if (surfel.faceNormal != surfel.normal) ++tilted;
+    }
+    EXPECT_GT(tilted, 0u);
+    EXPECT_LT(tilted, bake.surfels.size());
     ASSERT_EQ(read.bricks.size(), bake.bricks.size());
     for (size_t i = 0; i < bake.bricks.size(); ++i) {
         EXPECT_EQ(read.bricks[i].firstSurfel, bake.bricks[i].firstSurfel);
@@ -463,7 +476,11 @@ TEST_P(ProbeGiTest, BakeSamplesSeeTheWallTheirDirectionPointsAt) {
     device().takeDebugMessages();
     const std::array<glm::vec3, 6> colours = {glm::vec3(1, 0, 0), glm::vec3(0, 1, 0), glm::vec3(0, 0, 1),
                                               glm::vec3(1, 1, 0), glm::vec3(0, 1, 1), glm::vec3(1, 0, 1)};
-    const Scene scene = emissiveRoom(colours);
+    Scene scene = emissiveRoom(colours);
+    // Shading normals leaning 30 degrees off every wall: the G-buffer keeps both normals.
+    const float lean = glm::radians(30.0f);
+    for (Mesh& mesh : scene.meshes)
+        for (Vertex& v : mesh.vertices) v.normal = glm::vec3(std::sin(lean), 0.0f, std::cos(lean));   // the quads face +Z
     const GpuScene gpuScene(device(), scene);
     IrradianceVolume volume = *scene.irradianceVolume;
     volume.surfelsPerProbe = 512;
@@ -490,7 +507,10 @@ TEST_P(ProbeGiTest, BakeSamplesSeeTheWallTheirDirectionPointsAt) {
         // And within the texel's footprint on the wall (2/32 wide at distance 1) from where the
         // sample's own direction meets it.
         EXPECT_LE(glm::distance(s.position, s.direction / major), 0.0443f);
-        EXPECT_GT(glm::dot(s.normal, -s.direction), 0.5f);
+        glm::vec3 inward(0.0f);
+        inward[axis] = s.direction[axis] < 0.0f ? 1.0f : -1.0f;
+        EXPECT_NEAR(glm::dot(s.normal, inward), std::cos(lean), 2e-3f);
+        EXPECT_LT(glm::distance(s.faceNormal, inward), 2e-3f) << "the triangle's plane, from the derivatives";
     }
     EXPECT_EQ(wrong, 0u) << GetParam().name();
 }
@@ -537,6 +557,83 @@ TEST_P(ProbeGiTest, MultipleBouncesMatchTheReferenceInAReflectiveEmissiveRoom) {
         EXPECT_LT(error.relativeRmse, 0.01) << GetParam().name() << ", " << bounces << " bounces";
         const double expected = (1.0 - std::pow(0.5, bounces)) / 0.5;
         EXPECT_NEAR(shEvaluate(shOf(probes[0]), glm::dvec3(0, 1, 0)).r, expected, 0.01 * expected) << GetParam().name();
+    }
+    expectNoMessages();
+}
+
+// The relight's bounces come from above each surfel's triangle only, as forward shading's lookup
+// and the reference's paths do: in a reflective glowing room whose normals lean 60 degrees, a
+// wall reflects (1 + cos 60) / 2 = 3/4 of the room's light, so two bounces give e (1 + 3/4 a).
+// The relight evaluated the plain SH at the leaning normal and gave e (1 + a): on the cornell
+// box's smoothed floor every further bounce added light from below the floor (docs/GI.md).
+TEST_P(ProbeGiTest, TheRelightsBouncesComeOnlyFromAboveTheirSurfaces) {
+    device().takeDebugMessages();
+    const glm::vec3 e(1.0f, 0.5f, 0.25f);
+    const float albedo = 0.5f, lean = glm::radians(60.0f);
+    Scene scene = emissiveRoom({e, e, e, e, e, e}, true, albedo);
+    scene.irradianceVolume->bounces = 2;
+    scene.irradianceVolume->bounds = Box{glm::vec3(-1.0f), glm::vec3(1.0f)};   // the bounce's lookup reaches the walls
+    for (Mesh& mesh : scene.meshes)
+        for (Vertex& v : mesh.vertices) v.normal = glm::vec3(std::sin(lean), 0.0f, std::cos(lean));   // the quads face +Z
+    Renderer renderer(device(), scene, settings(32, 32));
+    renderer.renderFrame();
+    const std::vector<IrradianceProbe> probes = renderer.readIrradianceProbes();
+    ASSERT_EQ(probes.size(), 1u);
+    const double expected = 1.0 + albedo * 0.5 * (1.0 + std::cos(lean));
+    for (const glm::dvec3 n : {glm::dvec3(0, 1, 0), glm::dvec3(-1, 0, 0), glm::normalize(glm::dvec3(1, -1, 2))}) {
+        const glm::dvec3 value = shEvaluate(shOf(probes[0]), n);
+        // 1024 surfels, half floats: within 1 %.
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(value[c], expected * e[c], 0.01 * expected * e[c]) << GetParam().name() << " channel " << c;
+    }
+    const GiReference reference(scene);
+    const GiError error = compareProbeIrradiance(probes, reference.probes(std::vector<glm::vec3>{probes[0].position}, GiReferenceSettings{}.setBounces(2)));
+    EXPECT_LT(error.relativeRmse, 0.01) << GetParam().name();
+    expectNoMessages();
+}
+
+// A light below a surfel's triangle does not reach it, though its shading normal leans towards
+// the light (the reference's rule): the floor's normals lean 60 degrees to -X, and a sun just
+// below the floor's plane on that side lit the floor in the relight and not in the reference.
+// The same sun just above the plane lights it in both.
+TEST_P(ProbeGiTest, ALightBelowASurfelsTriangleDoesNotReachIt) {
+    device().takeDebugMessages();
+    for (const float height : {-0.3f, 0.3f}) {
+        Scene scene;
+        scene.name = "leaning floor";
+        scene.environment.ambientColor = glm::vec3(0.0f);
+        const int32_t grey = detail::addMaterial(scene, "floor", glm::vec3(0.8f), 0.0f, 1.0f);
+        Mesh floor = detail::makeQuad(grey);
+        const float lean = glm::radians(60.0f);
+        for (Vertex& v : floor.vertices) v.normal = glm::vec3(std::sin(lean), 0.0f, std::cos(lean));
+        scene.instances.push_back(Instance{detail::addMesh(scene, std::move(floor)),
+                                           test_support::quadFacing(glm::vec3(0.0f, -1.0f, 0.0f), glm::vec3(0.0f, 1.0f, 0.0f), 4.0f), 1u,
+                                           "floor"});
+        Light sun;
+        sun.direction = -glm::normalize(glm::vec3(-0.9f, height, 0.0f));   // travels towards the floor from -X
+        sun.intensity = 3.0f;
+        scene.lights.push_back(sun);
+        scene.camera.position = glm::vec3(0.0f, 0.5f, 2.0f);
+        IrradianceVolume volume;
+        volume.bounds = Box{glm::vec3(-0.1f), glm::vec3(0.1f)};
+        volume.probeCounts = glm::uvec3(1);
+        volume.surfelsPerProbe = 1024;
+        volume.bounces = 1;
+        scene.irradianceVolume = volume;
+        Renderer renderer(device(), scene, settings(32, 32));
+        renderer.renderFrame();
+        const std::vector<IrradianceProbe> probes = renderer.readIrradianceProbes();
+        ASSERT_EQ(probes.size(), 1u);
+        const GiReference reference(scene);
+        const std::vector<GiReferenceProbe> truth = reference.probes(std::vector<glm::vec3>{probes[0].position}, GiReferenceSettings{}.setBounces(1));
+        const double fromBelow = shEvaluate(shOf(probes[0]), glm::dvec3(0, -1, 0)).g;
+        const double truthFromBelow = shEvaluate(truth[0].irradianceSh, glm::dvec3(0, -1, 0)).g;
+        if (height < 0.0f) {
+            EXPECT_EQ(truthFromBelow, 0.0);
+            EXPECT_LT(std::abs(fromBelow), 1e-4) << GetParam().name() << ": the floor was lit from below its plane";
+        } else {
+            EXPECT_GT(truthFromBelow, 0.05);
+            EXPECT_NEAR(fromBelow, truthFromBelow, 0.03 * truthFromBelow) << GetParam().name();   // 1024 surfels of a 4 m floor: 3 %
+        }
     }
     expectNoMessages();
 }

@@ -127,7 +127,7 @@ GiBake buildGiBake(const IrradianceVolume& volume, const std::vector<std::vector
                 } else {
                     brick = it->second;
                 }
-                brickSurfels[brick].push_back(GiSurfel{s.position, s.normal, s.albedo, s.emission});
+                brickSurfels[brick].push_back(GiSurfel{s.position, s.normal, s.albedo, s.emission, s.faceNormal == glm::vec3(0.0f) ? s.normal : s.faceNormal});
             }
             probeHits[p].push_back(Pending{brick, s.direction});
         }
@@ -225,9 +225,10 @@ GiBake bakeGiVolume(rhi::IDevice& device, const GpuScene& gpuScene, const Irradi
 std::vector<std::vector<GiSample>> captureGiSamples(rhi::IDevice& device, const GpuScene& gpuScene, const IrradianceVolume& volume,
                                                     const std::vector<glm::vec3>& positions, uint32_t faceSize, PassReport* report) {
     constexpr rhi::Format kFormat = rhi::Format::RGBA16_FLOAT;
-    std::array<rhi::TextureHandle, 3> targets;
-    const char* names[3] = {"gi bake albedo+distance", "gi bake normal+facing", "gi bake emission"};
-    for (size_t i = 0; i < 3; ++i)
+    constexpr size_t kTargets = 4;
+    std::array<rhi::TextureHandle, kTargets> targets;
+    const char* names[kTargets] = {"gi bake albedo+distance", "gi bake normal+facing", "gi bake emission", "gi bake face normal"};
+    for (size_t i = 0; i < kTargets; ++i)
         targets[i] = device.createTexture(rhi::TextureDesc{}
                                               .setDimension(rhi::TextureDimension::TextureCube)
                                               .setFormat(kFormat)
@@ -244,7 +245,7 @@ std::vector<std::vector<GiSample>> captureGiSamples(rhi::IDevice& device, const 
     // Cube faces are mirrored views (scene_view.h): the pipelines' winding says so, so
     // gl_FrontFacing tells front from back.
     const GpuScene::MeshPipelines pipelines = gpuScene.createUnculledPipelines(
-        vertex, fragment, rhi::DepthState{true, true, rhi::CompareOp::Less}, {kFormat, kFormat, kFormat}, rhi::Format::D32_FLOAT, true,
+        vertex, fragment, rhi::DepthState{true, true, rhi::CompareOp::Less}, {kFormat, kFormat, kFormat, kFormat}, rhi::Format::D32_FLOAT, true,
         "gi bake g-buffer");
     const std::vector<glm::vec3> directions = giSampleDirections(volume.surfelsPerProbe);
     std::vector<CubeTexel> texels(directions.size());
@@ -281,6 +282,7 @@ std::vector<std::vector<GiSample>> captureGiSamples(rhi::IDevice& device, const 
             pass.addColor(rhi::Attachment::clear(targets[0], {0.0f, 0.0f, 0.0f, -1.0f}, {0, face}))
                 .addColor(rhi::Attachment::clear(targets[1], {0.0f, 0.0f, 0.0f, 0.0f}, {0, face}))
                 .addColor(rhi::Attachment::clear(targets[2], {0.0f, 0.0f, 0.0f, 0.0f}, {0, face}))
+                .addColor(rhi::Attachment::clear(targets[3], {0.0f, 0.0f, 0.0f, 0.0f}, {0, face}))
                 .setDepth(rhi::Attachment::clearDepthTo(depth, 1.0f));
             cmd->beginRenderPass(pass);
             PassReport faceReport;
@@ -293,9 +295,9 @@ std::vector<std::vector<GiSample>> captureGiSamples(rhi::IDevice& device, const 
         device.execute(cmd);
         if (timer && report)
             if (const std::optional<double> seconds = device.timerSeconds(timer)) report->gpuMs = report->gpuMs.value_or(0.0) + *seconds * 1e3;
-        // Six faces of three targets back as halves.
-        std::array<std::array<std::vector<uint16_t>, 6>, 3> data;
-        for (size_t t = 0; t < 3; ++t)
+        // Six faces of every target back as halves.
+        std::array<std::array<std::vector<uint16_t>, 6>, kTargets> data;
+        for (size_t t = 0; t < kTargets; ++t)
             for (uint32_t face = 0; face < 6; ++face) {
                 const std::vector<std::byte> bytes = device.readTexture(targets[t], {0, face});
                 data[t][face].resize(bytes.size() / 2);
@@ -322,6 +324,8 @@ std::vector<std::vector<GiSample>> captureGiSamples(rhi::IDevice& device, const 
             s.normal = glm::dot(n, n) > 1e-12f ? glm::normalize(n) : -directions[i];
             s.albedo = glm::clamp(glm::vec3(albedoDistance), glm::vec3(0.0f), glm::vec3(1.0f));
             s.emission = glm::max(glm::vec3(texel(2, texels[i])), glm::vec3(0.0f));
+            const glm::vec3 face(texel(3, texels[i]));
+            s.faceNormal = glm::dot(face, face) > 1e-12f ? glm::normalize(face) : s.normal;
         }
     }
     return result;

@@ -2,7 +2,8 @@
 // scene.
 //
 //   1. Each probe of the volume's grid renders a G-buffer cube (gi_gbuffer.frag: albedo and
-//      distance, normal and facing, emission) with the scene's meshes, no face culling.
+//      distance, normal and facing, emission, the triangle's plane) with the scene's meshes, no
+//      face culling.
 //   2. `surfelsPerProbe` stratified directions (a spherical Fibonacci set) read it: each becomes a
 //      sample — a surfel on a front face, a back-face hit (the probe is inside something), or sky.
 //   3. buildGiBake groups the surfels into bricks (cells of `brickSize` metres x the six axis
@@ -37,10 +38,14 @@ struct GiSample {
     Kind kind = Kind::Sky;
     glm::vec3 direction{0.0f, 0.0f, 1.0f};   // unit, from the probe
     glm::vec3 position{0.0f}, normal{0.0f, 0.0f, 1.0f}, albedo{0.0f}, emission{0.0f};   // surfaces
+    // The plane of the triangle seen, on the probe's side (unit); 0: the shading normal's.
+    glm::vec3 faceNormal{0.0f};
 };
 
 struct GiSurfel {
     glm::vec3 position{0.0f}, normal{0.0f, 0.0f, 1.0f}, albedo{0.0f}, emission{0.0f};
+    // The relight counts no light from below this plane (a shading normal may lean away from it).
+    glm::vec3 faceNormal{0.0f, 0.0f, 1.0f};
 };
 
 struct GiBrick {

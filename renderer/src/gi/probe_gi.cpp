@@ -91,9 +91,10 @@ void ProbeGi::upload() {
     std::vector<glm::vec4> surfels, bricks, transfers, probes;
     surfels.reserve(m_bake.surfels.size() * 4);
     for (const GiSurfel& s : m_bake.surfels) {
-        surfels.push_back(glm::vec4(s.position, 0.0f));
-        surfels.push_back(glm::vec4(s.normal, 0.0f));
-        surfels.push_back(glm::vec4(s.albedo, 0.0f));
+        // Four texels a surfel (gi_brick_radiance.glsl): the face normal rides in their w.
+        surfels.push_back(glm::vec4(s.position, s.faceNormal.x));
+        surfels.push_back(glm::vec4(s.normal, s.faceNormal.y));
+        surfels.push_back(glm::vec4(s.albedo, s.faceNormal.z));
         surfels.push_back(glm::vec4(s.emission, 0.0f));
     }
     for (const GiBrick& b : m_bake.bricks) {
