@@ -1,6 +1,7 @@
 // GI bake files (gi_bake_file.h).
 #include "gi/gi_bake_file.h"
 
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -117,6 +118,38 @@ constexpr size_t kProbeBytes = 12 + 4 + 1 + 4 + 4;
 constexpr size_t kSurfelBytes = 5 * 12;
 constexpr size_t kBrickBytes = 4 + 4 + 1 + 12;
 constexpr size_t kTransferBytes = 4 + 9 * 4;
+
+// Values as a bake makes them, so that the relight cannot turn them into NaN or Inf light (which
+// it would spread over every probe that sees the brick): finite positions and weights, unit
+// normals and sky directions, albedo and back-face fractions in [0, 1], emission >= 0. A
+// checksum that holds proves only that the file is what its writer wrote.
+void checkGiBakeValues(const GiBake& bake, const std::string& file) {
+    auto refuse = [&](const char* item, size_t index, const char* what, const char* problem) {
+        throw GiBakeFileError(fmt::format("GI bake file {}: {} {} has {} {}; bake it again with janus bake", file, item, index, what, problem));
+    };
+    auto finite = [](const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+    auto unit = [&](const glm::vec3& v) { return finite(v) && std::abs(glm::length(v) - 1.0f) <= 1e-3f; };
+    auto inUnitInterval = [](float x) { return x >= 0.0f && x <= 1.0f; };   // false for NaN
+    for (size_t p = 0; p < bake.probePositions.size(); ++p) {
+        if (!finite(bake.probePositions[p])) refuse("probe", p, "a position", "that is not finite");
+        if (!inUnitInterval(bake.backFaceFraction[p])) refuse("probe", p, "a back-face fraction", "outside [0, 1]");
+    }
+    for (size_t i = 0; i < bake.surfels.size(); ++i) {
+        const GiSurfel& s = bake.surfels[i];
+        if (!finite(s.position)) refuse("surfel", i, "a position", "that is not finite");
+        if (!unit(s.normal)) refuse("surfel", i, "a normal", "that is not a unit vector");
+        if (!unit(s.faceNormal)) refuse("surfel", i, "a face normal", "that is not a unit vector");
+        if (!(inUnitInterval(s.albedo.r) && inUnitInterval(s.albedo.g) && inUnitInterval(s.albedo.b)))
+            refuse("surfel", i, "an albedo", "outside [0, 1]");
+        if (!finite(s.emission)) refuse("surfel", i, "an emission", "that is not finite");
+        if (s.emission.r < 0.0f || s.emission.g < 0.0f || s.emission.b < 0.0f) refuse("surfel", i, "an emission", "that is negative");
+    }
+    for (size_t b = 0; b < bake.bricks.size(); ++b)
+        if (bake.bricks[b].sky && !unit(bake.bricks[b].skyDirection)) refuse("brick", b, "a sky direction", "that is not a unit vector");
+    for (size_t t = 0; t < bake.transfers.size(); ++t)
+        for (float weight : bake.transfers[t].sh)
+            if (!std::isfinite(weight)) refuse("transfer", t, "a weight", "that is not finite");
+}
 
 }  // namespace
 
@@ -246,6 +279,7 @@ GiBake readGiBakeFile(const std::filesystem::path& path, const IrradianceVolume&
             throw GiBakeFileError(fmt::format("GI bake file {}: a brick lists surfels past the end; bake it again", file));
     for (const GiTransfer& t : bake.transfers)
         if (t.brick >= bricks) throw GiBakeFileError(fmt::format("GI bake file {}: a transfer names brick {} of {}; bake it again", file, t.brick, bricks));
+    checkGiBakeValues(bake, file);
     return bake;
 }
 
