@@ -18,6 +18,9 @@
 #   forward/             janus bench forward at 1920x1080 (issue 10 items 5 and 6: the cut-off
 #                        error table and the per-pass GPU times)
 #   shadows/             janus bench shadows at 1920x1080, maps 1024 to 8192 on each backend (fallback path)
+#   gi/                  janus bench gi on the cornell box (docs/GI.md, "Goals"): bricks against
+#                        per-surfel, the parallel SH reduction against the serial sum, and the grid
+#                        density, whose times llvmpipe cannot judge
 #   parity_helmet/      janus parity of DamagedHelmet at 512x512 (cross-driver: --against it here)
 #   parity_helmet_sky/  the same under the sky at 128x128: the two-compiler parity rule on hardware
 #   gl_only/             DamagedHelmet at 256x256 in the GL configurations alone, one process that
@@ -235,11 +238,16 @@ if [[ $bench_only == 1 ]]; then
   ((quick == 1)) || bench_options+=(--benchmark_filter='/(raw|rhi|paired|raw_null_driver|rhi_null_driver)/')
 elif [[ $quick == 1 ]]; then
   step forward 120 janus bench forward --quick --out "$results/forward"
+  step gi 60 janus bench gi "$repo_root/../shared/scenes/cornell-box/cornellBox.gltf" --quick --out "$results/gi"
 else
   step forward 150 janus bench forward --size 1920x1080 --out "$results/forward"
   # The shadow map's accuracy vs time on hardware (docs/SHADOWS.md): llvmpipe rasterises the map on
   # the CPU, so where the pass's cost turns from overhead to texels is a GPU's to say.
   step shadows 60 janus bench shadows --size 1920x1080 --paths fallback --sizes 1024,2048,4096,8192 --out "$results/shadows"
+  # Probe GI's goals that a CPU "GPU" cannot settle (docs/GI.md, "Goals"): a workgroup's
+  # reduction against a serial sum, and bricks against per-surfel, in GPU time.
+  step gi 90 janus bench gi "$repo_root/../shared/scenes/cornell-box/cornellBox.gltf" --sweeps surfels,bricks,reduction,spacing \
+    --backends vulkan,gl --runs 5 --out "$results/gi"
   # Images for a cross-driver comparison here: janus parity ... --against parity_helmet
   step parity_helmet 60 janus parity "$repo_root/../shared/scenes/DamagedHelmet/glTF/DamagedHelmet.gltf" \
     --size 512x512 --out "$results/parity_helmet"
