@@ -1,7 +1,8 @@
 // The GI relight's data (docs/GI.md, "Relight"): the bake in RGBA32F data textures 1024 texels
 // wide (element e at (e % 1024, e / 1024)), read with texelFetch on both paths (ES 3.0 has no
 // storage buffers). Counts and indices are stored as floats (exact below 2^24).
-//   surfels:   4 texels each: (position, 0), (normal, 0), (diffuse albedo, 0), (emission, 0); grouped by brick
+//   surfels:   4 texels each: (position, face normal x), (normal, face normal y), (diffuse albedo, face normal z),
+//              (emission, 0); grouped by brick
 //   bricks:    2 texels each: (first surfel, surfel count, 1 = a sky sample, 0), (sky direction, 0)
 //   transfers: 3 texels each, grouped by probe: (brick, T0, T1, T2), (T3..T6), (T7, T8, 0, 0): the SH
 //              projection of the brick's surfels this probe sees, sum of Y_k(direction) * 4 pi / N
@@ -15,7 +16,7 @@ const int kGiDataWidth = 1024;
 
 layout(set = 0, binding = JANUS_BINDING_GI_RELIGHT_PARAMS, std140) uniform GiRelightParams {
     ivec4 counts;     // x bricks, y probes, z 1 = add the last relight's irradiance (a further bounce), w SH coefficients kept (4 | 9)
-    ivec4 schedule;   // x first rank relit, y probes relit (ranks first .. first + y - 1, mod probes), z slice (fallback SH pass: y * 9 + k), w 1 = serial sum (compute SH pass: one invocation per probe, no reduction; for comparison)
+    ivec4 schedule;   // x first rank relit, y probes relit (ranks first .. first + y - 1, mod probes), z layer and coefficient group (fallback SH pass: y * 3 + g, coefficients 3g .. 3g + 2), w 1 = serial sum (compute SH pass: one invocation per probe, no reduction; for comparison)
     ivec4 grid;       // xyz probes per axis
 } relight;
 

@@ -35,16 +35,21 @@ inline double millisecondsSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
-// A render pass into `target` that draws one fullscreen triangle (fullscreen.vert) with
-// `pipeline` and `bindings` at set 0.
-inline void drawFullscreenTriangle(rhi::ICommandList& cmd, const rhi::Attachment& target, const rhi::PipelineHandle& pipeline,
+// A render pass `pass` that draws one fullscreen triangle (fullscreen.vert) with `pipeline` and
+// `bindings` at set 0.
+inline void drawFullscreenTriangle(rhi::ICommandList& cmd, const rhi::RenderPassDesc& pass, const rhi::PipelineHandle& pipeline,
                                    const rhi::BindingSetHandle& bindings, PassReport& report) {
-    cmd.beginRenderPass(rhi::RenderPassDesc{}.addColor(target));
+    cmd.beginRenderPass(pass);
     cmd.setPipeline(pipeline);
     cmd.setBindingSet(0, bindings);
     cmd.draw(3);
     ++report.draws;
     cmd.endRenderPass();
+}
+// The same into one colour target.
+inline void drawFullscreenTriangle(rhi::ICommandList& cmd, const rhi::Attachment& target, const rhi::PipelineHandle& pipeline,
+                                   const rhi::BindingSetHandle& bindings, PassReport& report) {
+    drawFullscreenTriangle(cmd, rhi::RenderPassDesc{}.addColor(target), pipeline, bindings, report);
 }
 
 // Reads back a D32F texture's mip 0 (row 0 on top). Waits for the GPU.

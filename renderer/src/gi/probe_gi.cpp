@@ -20,6 +20,7 @@ namespace {
 
 constexpr uint32_t kDataWidth = 1024;   // gi_relight_common.glsl kGiDataWidth
 constexpr uint32_t kGroupSize = 64;     // gi_brick_radiance.comp, gi_probe_sh.comp
+constexpr uint32_t kShCoefficientsPerDraw = 3;   // gi_probe_sh.frag: colour targets per draw of the fallback SH pass
 
 // std140 mirror of gi_relight_common.glsl's GiRelightParams.
 
@@ -196,17 +197,17 @@ void ProbeGi::setupRelight() {
         return m_device.createComputePipeline(
             rhi::ComputePipelineDesc{}.setShader(makeShader(m_device, rhi::ShaderStage::Compute, shader)).setDebugName(name));
     };
-    auto graphicsPipeline = [&](const char* shader, const char* name, rhi::Format format) {
-        return m_device.createGraphicsPipeline(rhi::GraphicsPipelineDesc{}
-                                                   .setShaders(makeShader(m_device, rhi::ShaderStage::Vertex, "fullscreen_vert"),
-                                                               makeShader(m_device, rhi::ShaderStage::Fragment, shader))
-                                                   .addColorFormat(format)
-                                                   .setDebugName(name));
+    auto graphicsPipeline = [&](const char* shader, const char* name, rhi::Format format, uint32_t targets) {
+        rhi::GraphicsPipelineDesc desc;
+        desc.setShaders(makeShader(m_device, rhi::ShaderStage::Vertex, "fullscreen_vert"), makeShader(m_device, rhi::ShaderStage::Fragment, shader))
+            .setDebugName(name);
+        for (uint32_t i = 0; i < targets; ++i) desc.addColorFormat(format);
+        return m_device.createGraphicsPipeline(desc);
     };
     m_brickPipeline = compute ? computePipeline("gi_brick_radiance_comp", "gi brick radiance")
-                              : graphicsPipeline("gi_brick_radiance_frag", "gi brick radiance", m_brickRadiance->desc().format);
+                              : graphicsPipeline("gi_brick_radiance_frag", "gi brick radiance", m_brickRadiance->desc().format, 1);
     m_shPipeline = compute ? computePipeline("gi_probe_sh_comp", "gi probe sh")
-                           : graphicsPipeline("gi_probe_sh_frag", "gi probe sh", rhi::Format::RGBA16_FLOAT);
+                           : graphicsPipeline("gi_probe_sh_frag", "gi probe sh", rhi::Format::RGBA16_FLOAT, kShCoefficientsPerDraw);
 
     m_frameUniforms = makeUniformBuffer(m_device, relightFrameUniforms(), "gi relight frame");
     m_relightParams = m_device.createBuffer(
@@ -266,11 +267,17 @@ void ProbeGi::recordProbeSh(rhi::ICommandList& cmd, PassReport& report, uint32_t
         ++report.dispatches;
         return;
     }
-    // One draw per slice y * 9 + k; fragments of probes not relit now are discarded (Load keeps them).
-    for (uint32_t slice = 0; slice < m_volume.probeCounts.y * 9; ++slice) {
-        params.schedule.z = int(slice);
+    // One draw per layer y and group g of three coefficients, into slices y * 9 + 3g + j at once
+    // (render passes cost the most on tilers and on llvmpipe; a third of them); fragments of probes
+    // not relit now are discarded (Load keeps them).
+    constexpr uint32_t kGroups = 9 / kShCoefficientsPerDraw;
+    for (uint32_t draw = 0; draw < m_volume.probeCounts.y * kGroups; ++draw) {
+        params.schedule.z = int(draw);
         cmd.writeBuffer(m_relightParams, &params, sizeof(params));
-        drawFullscreenTriangle(cmd, rhi::Attachment::load(m_volumeTexture, {0, slice}), m_shPipeline, m_shBindings, report);
+        rhi::RenderPassDesc pass;
+        for (uint32_t j = 0; j < kShCoefficientsPerDraw; ++j)
+            pass.addColor(rhi::Attachment::load(m_volumeTexture, {0, draw * kShCoefficientsPerDraw + j}));
+        drawFullscreenTriangle(cmd, pass, m_shPipeline, m_shBindings, report);
     }
 }
 
