@@ -284,13 +284,17 @@ rhi::GraphicsPipelineDesc& GpuScene::addVertexLayout(rhi::GraphicsPipelineDesc& 
 rhi::PipelineHandle GpuScene::createMeshPipeline(const rhi::ShaderHandle& vertexShader, const rhi::ShaderHandle& fragmentShader,
                                                  rhi::CullMode cull, bool clockwise, rhi::DepthState depth, rhi::BlendAttachment blend,
                                                  const std::vector<rhi::Format>& colorFormats, rhi::Format depthFormat,
-                                                 const std::string& name, rhi::PrimitiveTopology topology) const {
+                                                 const std::string& name, rhi::PrimitiveTopology topology,
+                                                 const rhi::RasterState& depthBias) const {
+    rhi::RasterState raster = depthBias;
+    raster.cullMode = cull;
+    raster.frontFace = clockwise ? rhi::FrontFace::Clockwise : rhi::FrontFace::CounterClockwise;
     rhi::GraphicsPipelineDesc desc;
     addVertexLayout(desc.setShaders(vertexShader, fragmentShader).setTopology(topology))
         .addDynamicUniformBuffer(JANUS_SET_DRAW, JANUS_BINDING_DRAW_UNIFORMS)
         // glTF front faces are counter-clockwise; an ordinary projection keeps that as seen in
         // the image, a mirrored one (cube faces) or a mirrored instance turns it clockwise.
-        .setRaster(rhi::RasterState{cull, clockwise ? rhi::FrontFace::Clockwise : rhi::FrontFace::CounterClockwise})
+        .setRaster(raster)
         .setDepth(depth)
         .setDepthFormat(depthFormat)
         .setDebugName(name);
@@ -321,10 +325,10 @@ GpuScene::MeshPipelines GpuScene::createUnculledPipelines(const rhi::ShaderHandl
 
 GpuScene::MeshPipelines GpuScene::createMeshPipelines(const rhi::ShaderHandle& vertexShader, const rhi::ShaderHandle& fragmentShader,
                                                       rhi::DepthState depth, rhi::Format colorFormat, rhi::Format depthFormat,
-                                                      bool mirrored, const std::string& name) const {
+                                                      bool mirrored, const std::string& name, const rhi::RasterState& depthBias) const {
     auto pipeline = [&](rhi::CullMode cull, bool clockwise, const char* variant) {
         return createMeshPipeline(vertexShader, fragmentShader, cull, clockwise, depth, {}, formatList(colorFormat), depthFormat,
-                                  fmt::format("{} ({})", name, variant));
+                                  fmt::format("{} ({})", name, variant), rhi::PrimitiveTopology::TriangleList, depthBias);
     };
     MeshPipelines pipelines;
     pipelines.culled = pipeline(rhi::CullMode::Back, mirrored, "back-face culled");
@@ -413,6 +417,17 @@ void GpuScene::drawMeshes(rhi::ICommandList& cmd, const SceneView& view, const M
     BoundForDraws bound;
     for (const Draw& draw : m_draws) {
         if (!viewSees(view, draw)) continue;
+        const rhi::PipelineHandle& pipeline = pipelines.forDraw(draw);
+        if (!pipeline && draw.topology != MeshTopology::Triangles) continue;   // a pass without line or point pipelines
+        recordDraw(cmd, pipeline, draw, viewBindings, bound, report);
+    }
+}
+
+void GpuScene::drawSelected(rhi::ICommandList& cmd, std::span<const uint32_t> drawIndices, const MeshPipelines& pipelines,
+                            const rhi::BindingSetHandle& viewBindings, PassReport& report) const {
+    BoundForDraws bound;
+    for (uint32_t index : drawIndices) {
+        const Draw& draw = m_draws.at(index);
         const rhi::PipelineHandle& pipeline = pipelines.forDraw(draw);
         if (!pipeline && draw.topology != MeshTopology::Triangles) continue;   // a pass without line or point pipelines
         recordDraw(cmd, pipeline, draw, viewBindings, bound, report);

@@ -8,8 +8,8 @@
 #pragma once
 
 #include <cstdint>
-#include <string>
 #include <span>
+#include <string>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -100,9 +100,11 @@ public:
     // Pipelines that draw the scene's Vertex layout with `vertexShader`/`fragmentShader` into a
     // target of the given formats (colorFormat Unknown: depth only). A mirrored view's
     // front faces are clockwise, and a mirrored instance flips that again.
+    // `depthBias`: its polygon offset (the shadow map's alpha-masked casters); its culling and
+    // winding are the pipelines' own.
     MeshPipelines createMeshPipelines(const rhi::ShaderHandle& vertexShader, const rhi::ShaderHandle& fragmentShader,
                                       rhi::DepthState depth, rhi::Format colorFormat, rhi::Format depthFormat, bool mirrored,
-                                      const std::string& name) const;
+                                      const std::string& name, const rhi::RasterState& depthBias = {}) const;
 
     // Pipelines without face culling (every field set; gl_FrontFacing tells the sides apart) into
     // the given colour targets: the GI bake's G-buffer. Triangles only: drawMeshes with these
@@ -122,6 +124,10 @@ public:
     // uniforms, set JANUS_SET_MATERIAL = its material's textures.
     void drawMeshes(rhi::ICommandList& cmd, const SceneView& view, const MeshPipelines& pipelines,
                     const rhi::BindingSetHandle& viewBindings, PassReport& report) const;
+    // The same for draws()[i] for each i of `drawIndices`, whatever their layers (the shadow map's
+    // alpha-masked casters: the renderer chose them).
+    void drawSelected(rhi::ICommandList& cmd, std::span<const uint32_t> drawIndices, const MeshPipelines& pipelines,
+                      const rhi::BindingSetHandle& viewBindings, PassReport& report) const;
 
     // The blended instances `view` sees, back to front: by the view-space depth of their bounds
     // centre, farthest first; ties keep scene order. Indices into blendedDraws().
@@ -148,7 +154,8 @@ private:
                                            rhi::CullMode cull, bool clockwise, rhi::DepthState depth, rhi::BlendAttachment blend,
                                            const std::vector<rhi::Format>& colorFormats, rhi::Format depthFormat,
                                            const std::string& name,
-                                           rhi::PrimitiveTopology topology = rhi::PrimitiveTopology::TriangleList) const;
+                                           rhi::PrimitiveTopology topology = rhi::PrimitiveTopology::TriangleList,
+                                           const rhi::RasterState& depthBias = {}) const;
     // The line and point pipelines of `pipelines` (where the scene has such draws).
     void addLineAndPointPipelines(rhi::PipelineHandle& lines, rhi::PipelineHandle& points, const rhi::ShaderHandle& vertexShader,
                                   const rhi::ShaderHandle& fragmentShader, rhi::DepthState depth, rhi::BlendAttachment blend,

@@ -6,13 +6,16 @@
 
 #include <fmt/format.h>
 
+#include "core/gpu_util.h"
+#include "forward/frame_uniforms.h"
 #include "janus/renderer/renderer.h"
+#include "janus/shaders/bindings.h"
 
 namespace janus::renderer {
 
 MainLightShadows::MainLightShadows(rhi::IDevice& device, const Scene& scene, const GpuScene& gpuScene, bool enabled, uint32_t mapSize,
                                    uint32_t shadedDirectionalLights)
-    : m_device(device), m_mapSize(mapSize), m_shadedDirectionalLights(shadedDirectionalLights) {
+    : m_device(device), m_gpuScene(gpuScene), m_mapSize(mapSize), m_shadedDirectionalLights(shadedDirectionalLights) {
     m_standInTexture = device.createTexture(rhi::TextureDesc{}
                                                 .setFormat(DirectionalShadowMap::kDepthFormat)
                                                 .setSize(1, 1)
@@ -42,6 +45,7 @@ MainLightShadows::MainLightShadows(rhi::IDevice& device, const Scene& scene, con
         if (material.alphaMode == AlphaMode::Blend) continue;
         // Points and lines have no area to cast a shadow with.
         if (sceneMesh.topology != MeshTopology::Triangles) continue;
+        if (material.alphaMode == AlphaMode::Mask) continue;   // drawn with their alpha test (m_maskedDraws)
         // Posed vertices for skinned and morphed instances (MeshDeformer).
         gathered.emplace_back(instance.mesh, ShadowCaster{gpuScene.instanceVertices(i), mesh.indices, mesh.indexCount, instance.world,
                                                           material.doubleSided});
@@ -53,10 +57,18 @@ MainLightShadows::MainLightShadows(rhi::IDevice& device, const Scene& scene, con
     };
     std::stable_sort(gathered.begin(), gathered.end(), [&](const auto& a, const auto& b) { return key(a) < key(b); });
     for (auto& [meshIndex, caster] : gathered) m_casters.push_back(std::move(caster));
+    const std::vector<GpuScene::Draw>& draws = gpuScene.draws();
+    for (uint32_t d = 0; d < draws.size(); ++d) {
+        const Mesh& sceneMesh = scene.meshes[draws[d].mesh];
+        const Material& material = sceneMesh.material >= 0 ? scene.materials[size_t(sceneMesh.material)] : defaultMaterial;
+        if (material.alphaMode == AlphaMode::Mask && sceneMesh.topology == MeshTopology::Triangles &&
+            gpuScene.meshes()[draws[d].mesh].indexCount > 0)
+            m_maskedDraws.push_back(d);
+    }
 }
 
 void MainLightShadows::checkLights(std::span<const Light> lights) const {
-    if (active() || m_casters.empty() || !mainDirectionalLight(lights, m_shadedDirectionalLights)) return;
+    if (active() || !hasCasters() || !mainDirectionalLight(lights, m_shadedDirectionalLights)) return;
     throw RendererError("setLights: the new lights have a directional light that gives light, but this renderer was made without "
                         "one, so its frame has no shadow-map pass; create a new Renderer for a scene with these lights");
 }
@@ -77,8 +89,40 @@ DirectionalShadowMap& MainLightShadows::createMap(uint32_t size) {
         map = std::make_unique<DirectionalShadowMap>(m_device, size);
         map->fit(m_lightDirection, m_bounds.min, m_bounds.max);
         map->setCasters(m_casters);
+        if (!m_maskedDraws.empty()) {
+            if (!m_maskedPipelines.culled)
+                m_maskedPipelines = m_gpuScene.createMeshPipelines(
+                    makeShader(m_device, rhi::ShaderStage::Vertex, "forward_vert"),
+                    makeShader(m_device, rhi::ShaderStage::Fragment, "depth_prepass_frag"), rhi::DepthState{true, true, rhi::CompareOp::LessOrEqual},
+                    rhi::Format::Unknown, DirectionalShadowMap::kDepthFormat, false, "shadow (alpha-masked casters)",
+                    DirectionalShadowMap::depthBias());
+            MaskedView& view = m_maskedViews[size];
+            view.frameUniforms = m_device.createBuffer(
+                rhi::BufferDesc{}.setSize(sizeof(FrameUniforms)).setUsage(rhi::BufferUsage::Uniform).setDebugName("shadow masked casters view"));
+            view.bindings = m_device.createBindingSet(
+                rhi::BindingSetDesc{}.add(rhi::BindingItem::uniformBuffer(JANUS_BINDING_FRAME_UNIFORMS, view.frameUniforms)));
+        }
     }
     return *map;
+}
+
+void MainLightShadows::recordMap(rhi::ICommandList& cmd, uint32_t size, PassReport& report) {
+    DirectionalShadowMap& map = *m_maps.at(size);
+    if (m_maskedDraws.empty()) {
+        map.record(cmd, m_casters, report.draws);
+        return;
+    }
+    // The light's view-projection as the masked casters' view, uploaded when a refit changed it.
+    MaskedView& view = m_maskedViews.at(size);
+    if (!view.written || view.uploaded != map.lightViewProjection()) {
+        FrameUniforms frame{};
+        frame.viewProjection = map.lightViewProjection();
+        cmd.writeBuffer(view.frameUniforms, &frame, sizeof(frame));
+        view.uploaded = map.lightViewProjection();
+        view.written = true;
+    }
+    map.record(cmd, m_casters, report.draws,
+               [&](rhi::ICommandList& pass) { m_gpuScene.drawSelected(pass, m_maskedDraws, m_maskedPipelines, view.bindings, report); });
 }
 
 const DirectionalShadowMap* MainLightShadows::map(uint32_t size) const {
@@ -99,7 +143,7 @@ void MainLightShadows::addPasses(PassGraph& graph, const SceneView& view) {
         pass.name = "shadow-map";
         pass.writes = {shadowMap};
         pass.setup = [this, size] { createMap(size); };
-        pass.record = [this, size](rhi::ICommandList& cmd, PassReport& report) { m_maps.at(size)->record(cmd, m_casters, report.draws); };
+        pass.record = [this, size](rhi::ICommandList& cmd, PassReport& report) { recordMap(cmd, size, report); };
         graph.addPass(std::move(pass));
         graph.publish("", sizeKey, ViewTarget{shadowMap, nullptr, {}});
         if (shared) graph.publish("", frame_resources::kShadowMap, ViewTarget{shadowMap, nullptr, {}});

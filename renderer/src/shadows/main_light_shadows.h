@@ -27,7 +27,7 @@ public:
 
     // True when the scene has something to shadow: shadows on, a main light that gives light,
     // and meshes with geometry that cast shadows (alphaMode BLEND ones do not).
-    bool active() const { return m_hasMainLight && !m_casters.empty(); }
+    bool active() const { return m_hasMainLight && hasCasters(); }
 
     // Renderer::setLights. checkLights throws RendererError when `lights` would need the
     // shadow-map pass this frame was planned without (a main light where there was none, with
@@ -52,16 +52,34 @@ public:
     rhi::BindingItem binding(uint32_t slot) const;
 
 private:
+    // Alpha-masked casters cast only where their alpha test keeps them, as the forward pass draws
+    // them: they are drawn through the scene's own draws (GpuScene::drawSelected) with the depth
+    // prepass's shaders (forward.vert, depth_prepass.frag), their materials and the map's
+    // polygon offset, into the map's pass after the other casters. Each map has its own view
+    // uniforms (the light's view-projection as FrameUniforms::viewProjection).
+    struct MaskedView {
+        rhi::BufferHandle frameUniforms;
+        rhi::BindingSetHandle bindings;
+        glm::mat4 uploaded{0.0f};   // the view-projection last written
+        bool written = false;
+    };
+
+    bool hasCasters() const { return !m_casters.empty() || !m_maskedDraws.empty(); }
     DirectionalShadowMap& createMap(uint32_t size);
+    void recordMap(rhi::ICommandList& cmd, uint32_t size, PassReport& report);
 
     rhi::IDevice& m_device;
+    const GpuScene& m_gpuScene;
     uint32_t m_mapSize = 0;
     uint32_t m_shadedDirectionalLights = 0;
     bool m_hasMainLight = false;
     glm::vec3 m_lightDirection{0.0f, -1.0f, 0.0f};
     WorldBounds m_bounds;
-    std::vector<ShadowCaster> m_casters;
+    std::vector<ShadowCaster> m_casters;    // opaque: the map's own position-only pipelines
+    std::vector<uint32_t> m_maskedDraws;     // alpha-masked: indices into m_gpuScene.draws()
+    GpuScene::MeshPipelines m_maskedPipelines;   // made with the first map
     std::map<uint32_t, std::unique_ptr<DirectionalShadowMap>> m_maps;   // by size
+    std::map<uint32_t, MaskedView> m_maskedViews;                       // by size, where masked casters exist
     rhi::TextureHandle m_standInTexture;   // bound when nothing casts shadows
     rhi::SamplerHandle m_standInSampler;
 };

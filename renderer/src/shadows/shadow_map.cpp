@@ -107,15 +107,12 @@ DirectionalShadowMap::DirectionalShadowMap(rhi::IDevice& device, uint32_t size) 
     const rhi::ShaderHandle vs = makeShader(device, rhi::ShaderStage::Vertex, "shadow_vert");
     const rhi::ShaderHandle fs = makeShader(device, rhi::ShaderStage::Fragment, "shadow_frag");
     auto pipeline = [&](rhi::CullMode cull, bool mirroredCaster, const char* name) {
-        rhi::RasterState raster;
+        rhi::RasterState raster = depthBias();
         raster.cullMode = cull;
         // The light's projection has the same handedness and y flip as the camera's, so glTF
         // counter-clockwise front faces stay counter-clockwise as seen in the map (clockwise for
         // a mirrored caster).
         raster.frontFace = mirroredCaster ? rhi::FrontFace::Clockwise : rhi::FrontFace::CounterClockwise;
-        raster.depthBiasEnable = true;
-        raster.depthBiasConstant = kDepthBiasConstant;
-        raster.depthBiasSlope = kDepthBiasSlope;
         return device.createGraphicsPipeline(rhi::GraphicsPipelineDesc{}
                                                  .setShaders(vs, fs)
                                                  .addDynamicUniformBuffer(1, JANUS_BINDING_SHADOW_CASTER)
@@ -221,7 +218,16 @@ void DirectionalShadowMap::uploadPassUniforms(rhi::ICommandList& cmd) {
     m_passUniformsDirty = false;
 }
 
-void DirectionalShadowMap::record(rhi::ICommandList& cmd, std::span<const ShadowCaster> casters, uint32_t& drawCount) {
+rhi::RasterState DirectionalShadowMap::depthBias() {
+    rhi::RasterState raster;
+    raster.depthBiasEnable = true;
+    raster.depthBiasConstant = kDepthBiasConstant;
+    raster.depthBiasSlope = kDepthBiasSlope;
+    return raster;
+}
+
+void DirectionalShadowMap::record(rhi::ICommandList& cmd, std::span<const ShadowCaster> casters, uint32_t& drawCount,
+                                  const std::function<void(rhi::ICommandList&)>& drawInPass) {
     if (!m_fitted) throw RendererError("DirectionalShadowMap::record() was called before fit(); fit the map to the scene first");
     if (casters.size() > m_casterSlots) setCasters(casters);
     uploadPassUniforms(cmd);
@@ -270,6 +276,7 @@ void DirectionalShadowMap::record(rhi::ICommandList& cmd, std::span<const Shadow
         cmd.drawIndexed(caster.indexCount);
         ++drawCount;
     }
+    if (drawInPass) drawInPass(cmd);
     cmd.endRenderPass();
 }
 

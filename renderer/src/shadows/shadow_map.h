@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <span>
 #include <vector>
@@ -39,7 +40,7 @@ WorldBounds sceneWorldBounds(const Scene& scene);
 std::optional<size_t> mainDirectionalLight(std::span<const Light> lights, uint32_t shadedDirectionalLights = 4);
 
 // One mesh drawn into the shadow map. The vertex buffer holds renderer Vertex structs (position
-// at offset 0, stride 48 bytes); the index buffer holds uint32 indices.
+// at offset 0); the index buffer holds uint32 indices.
 struct ShadowCaster {
     rhi::BufferHandle vertices;
     rhi::BufferHandle indices;
@@ -94,9 +95,14 @@ public:
     void setCasters(std::span<const ShadowCaster> casters);
 
     // Records the depth-only render pass: clears the map to 1 and draws every caster with an
-    // index count. Changed world matrices or a changed fit are uploaded by a copy recorded
-    // before the pass. Adds the number of draws to `drawCount`.
-    void record(rhi::ICommandList& cmd, std::span<const ShadowCaster> casters, uint32_t& drawCount);
+    // index count, then calls `drawInPass` (when given) inside the same pass: casters its owner
+    // draws itself (alpha-masked ones, whose alpha test needs their materials). Changed world
+    // matrices or a changed fit are uploaded by a copy recorded before the pass. Adds the number
+    // of caster draws to `drawCount`.
+    void record(rhi::ICommandList& cmd, std::span<const ShadowCaster> casters, uint32_t& drawCount,
+                const std::function<void(rhi::ICommandList&)>& drawInPass = {});
+    // The polygon offset of the map's own pipelines, for pipelines that draw into its pass.
+    static rhi::RasterState depthBias();
 
     // The map as a sampler2DShadow at `slot` (compare LessOrEqual: 1 = lit, linear filtering
     // gives hardware 2x2 PCF per tap).

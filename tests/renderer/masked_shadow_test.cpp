@@ -1,0 +1,126 @@
+// Alpha-masked casters cast shadows only where their alpha test keeps them, as the forward pass
+// draws them: a checkered masked quad casts a checkered shadow, and a masked quad whose alpha is
+// below its cutoff everywhere casts none. Before, the shadow map drew every masked caster solid
+// (its pass read no material), so both cast full shadows. On every configuration, through the
+// shadow debug view (the map's visibility on the surface each pixel sees).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <string>
+
+#include <fmt/format.h>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "janus/renderer/renderer.h"
+#include "janus/renderer/light_grid.h"
+#include "renderer/renderer_test_support.h"
+#include "scene/scene_internal.h"
+
+namespace janus::renderer {
+namespace {
+
+using test_support::Config;
+
+// A grey floor at y = 0 under a sun that travels along +x and down (shadows fall 0.5 m towards +x
+// of casters 0.5 m up), and two masked 1 m quads 0.5 m up, facing the sun: A (x in [-1.5, -0.5])
+// with a 2x2 checker of alpha 1 and 0 (nearest, clamped: each cell a quadrant), B (x in [0.5,
+// 1.5]) with alpha 0.2 everywhere, below its cutoff. An orthographic camera looks straight down
+// at x, z in [-2, 2].
+Scene maskedCasters() {
+    Scene scene;
+    scene.name = "masked casters";
+    const int32_t grey = detail::addMaterial(scene, "floor", glm::vec3(0.6f), 0.0f, 1.0f);
+    TextureImage checker;
+    checker.width = checker.height = 2;
+    checker.rgba = {255, 255, 255, 255, 255, 255, 255, 0, 255, 255, 255, 0, 255, 255, 255, 255};
+    checker.sampling.wrapU = checker.sampling.wrapV = TextureWrap::ClampToEdge;
+    checker.sampling.nearestMagnification = checker.sampling.nearestMinification = true;
+    checker.sampling.mipmapped = false;
+    checker.name = "checker alpha";
+    scene.textures.push_back(checker);
+    const int32_t checkered = detail::addMaterial(scene, "checkered mask", glm::vec3(0.8f, 0.2f, 0.2f), 0.0f, 1.0f);
+    scene.materials[size_t(checkered)].alphaMode = AlphaMode::Mask;
+    scene.materials[size_t(checkered)].baseColorTexture = 0;
+    const int32_t clear = detail::addMaterial(scene, "clear mask", glm::vec3(0.2f, 0.2f, 0.8f), 0.0f, 1.0f);
+    scene.materials[size_t(clear)].alphaMode = AlphaMode::Mask;
+    scene.materials[size_t(clear)].baseColorFactor.a = 0.2f;
+    const glm::vec3 up(0.0f, 1.0f, 0.0f);
+    scene.instances.push_back(
+        Instance{detail::addMesh(scene, detail::makeQuad(grey)), test_support::quadFacing(glm::vec3(0.0f), up, 6.0f), 1u, "floor"});
+    scene.instances.push_back(Instance{detail::addMesh(scene, detail::makeQuad(checkered)),
+                                       test_support::quadFacing(glm::vec3(-1.0f, 0.5f, 0.0f), up, 1.0f), 1u, "A"});
+    scene.instances.push_back(Instance{detail::addMesh(scene, detail::makeQuad(clear)),
+                                       test_support::quadFacing(glm::vec3(1.0f, 0.5f, 0.0f), up, 1.0f), 1u, "B"});
+    Light sun;
+    sun.direction = glm::normalize(glm::vec3(1.0f, -1.0f, 0.0f));
+    sun.intensity = 3.0f;
+    scene.lights.push_back(sun);
+    scene.camera.projection = CameraProjection::Orthographic;
+    scene.camera.position = glm::vec3(0.0f, 5.0f, 0.0f);
+    scene.camera.target = glm::vec3(0.0f);
+    scene.camera.up = glm::vec3(0.0f, 0.0f, -1.0f);
+    scene.camera.orthographicHalfHeight = 2.0f;
+    scene.camera.nearPlane = 0.1f;
+    scene.camera.farPlane = 10.0f;
+    return scene;
+}
+
+// The visibility (debug view's red) of the floor pixels whose centre's ray meets the floor at
+// x in [x0, x1], z in [z0, z1]: their mean, lowest and highest.
+struct RegionVisibility {
+    double mean = 0.0, lowest = 1e9, highest = -1e9;
+    uint32_t pixels = 0;
+};
+RegionVisibility visibility(const ImageRGBAF& hdr, const Camera& camera, float x0, float x1, float z0, float z1) {
+    const glm::dmat4 inverse = glm::inverse(glm::dmat4(makeProjection(camera, hdr.width, hdr.height)) * glm::dmat4(makeView(camera)));
+    RegionVisibility region;
+    for (uint32_t y = 0; y < hdr.height; ++y)
+        for (uint32_t x = 0; x < hdr.width; ++x) {
+            // NDC y = -1 is row 0; the ray is straight down, so its near point's x, z are the floor's.
+            const glm::dvec4 p = inverse * glm::dvec4((x + 0.5) / hdr.width * 2.0 - 1.0, (y + 0.5) / hdr.height * 2.0 - 1.0, 0.0, 1.0);
+            const double wx = p.x / p.w, wz = p.z / p.w;
+            if (wx < x0 || wx > x1 || wz < z0 || wz > z1) continue;
+            const double v = hdr.pixels[(size_t(y) * hdr.width + x) * 4];
+            region.mean += v;
+            region.lowest = std::min(region.lowest, v);
+            region.highest = std::max(region.highest, v);
+            ++region.pixels;
+        }
+    if (region.pixels > 0) region.mean /= region.pixels;
+    return region;
+}
+
+std::string describe(const RegionVisibility& r) {
+    return fmt::format("mean {:.3f}, lowest {:.3f}, highest {:.3f} over {} pixels", r.mean, r.lowest, r.highest, r.pixels);
+}
+
+class MaskedShadowTest : public testing::TestWithParam<Config> {};
+
+TEST_P(MaskedShadowTest, AMaskedCasterCastsOnlyWhereItsAlphaTestKeepsIt) {
+    const Scene scene = maskedCasters();
+    RenderSettings settings;
+    settings.width = settings.height = test_support::kSize;
+    settings.debugView = DebugView::Shadow;
+    const test_support::FrameOutput frame = test_support::renderOneFrame(GetParam(), scene, settings);
+    ASSERT_EQ(frame.report.passes.front().name, "shadow-map") << test_support::passNames(frame.report);
+    // Open floor, away from every shadow: lit.
+    const RegionVisibility open = visibility(frame.hdr, scene.camera, -1.95f, -1.6f, -1.5f, 1.5f);
+    EXPECT_GT(open.lowest, 0.99) << GetParam().name() << ": " << describe(open);
+    // A's right half casts here (beside A, seen directly): one of its two cells is opaque, the
+    // other clear, so half of the region is shadowed and half lit (the PCF kernel blurs the
+    // cells' edges by about two texels either way).
+    const RegionVisibility checkered = visibility(frame.hdr, scene.camera, -0.45f, -0.05f, -0.45f, 0.45f);
+    EXPECT_NEAR(checkered.mean, 0.5, 0.12) << GetParam().name() << ": " << describe(checkered);
+    EXPECT_LT(checkered.lowest, 0.01) << GetParam().name() << ": the opaque cells cast no shadow; " << describe(checkered);
+    EXPECT_GT(checkered.highest, 0.99) << GetParam().name() << ": the clear cells cast a shadow; " << describe(checkered);
+    // B is cut out everywhere: its shadow's place, and the floor seen through B, are lit.
+    const RegionVisibility clear = visibility(frame.hdr, scene.camera, 0.55f, 1.95f, -0.45f, 0.45f);
+    EXPECT_GT(clear.pixels, 100u);
+    EXPECT_GT(clear.lowest, 0.99) << GetParam().name() << ": a fully cut-out caster casts a shadow; " << describe(clear);
+}
+
+INSTANTIATE_TEST_SUITE_P(Configs, MaskedShadowTest, testing::ValuesIn(test_support::allConfigs()),
+                         [](const testing::TestParamInfo<Config>& info) { return info.param.name(); });
+
+}  // namespace
+}  // namespace janus::renderer
