@@ -2,16 +2,19 @@
 // draws them: a checkered masked quad casts a checkered shadow, and a masked quad whose alpha is
 // below its cutoff everywhere casts none. Before, the shadow map drew every masked caster solid
 // (its pass read no material), so both cast full shadows. On every configuration, through the
-// shadow debug view (the map's visibility on the surface each pixel sees).
+// shadow debug view (the map's visibility on the surface each pixel sees), and against the
+// ray-traced reference, whose rays pass where the alpha test discards too.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 
 #include <fmt/format.h>
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "janus/renderer/renderer.h"
+#include "janus/renderer/gi_reference.h"
 #include "janus/renderer/light_grid.h"
 #include "renderer/renderer_test_support.h"
 #include "scene/scene_internal.h"
@@ -119,8 +122,44 @@ TEST_P(MaskedShadowTest, AMaskedCasterCastsOnlyWhereItsAlphaTestKeepsIt) {
     EXPECT_GT(clear.lowest, 0.99) << GetParam().name() << ": a fully cut-out caster casts a shadow; " << describe(clear);
 }
 
+// The map against the ray-traced truth (GiReference::lightVisibility, whose shadow rays pass
+// where the alpha test discards): only the shadows' outlines may differ (the PCF kernel's blur).
+TEST_P(MaskedShadowTest, TheShadowMapMatchesTheRayTracedVisibility) {
+    const Scene scene = maskedCasters();
+    RenderSettings settings;
+    settings.width = settings.height = test_support::kSize;
+    settings.debugView = DebugView::Shadow;
+    const test_support::FrameOutput frame = test_support::renderOneFrame(GetParam(), scene, settings);
+    const GiReference reference(scene);
+    const ImageRGBAF truth = reference.lightVisibility(scene.camera, test_support::kSize, test_support::kSize, scene.lights[0].direction);
+    const VisibilityError error = compareVisibility(frame.hdr, truth);
+    EXPECT_GT(error.compared, 10000u);
+    // 128 px over 4 m: a pixel is 3 cm, the PCF kernel about 1.6 cm; the outlines are about 1.5 %
+    // of the pixels, and any of them may fall either way.
+    EXPECT_LT(error.wrongFraction, 0.02) << GetParam().name() << ": leaks " << error.leakFraction << ", false shadows "
+                                         << error.falseShadowFraction;
+    EXPECT_LT(error.meanAbsolute, 0.015) << GetParam().name();
+}
+
 INSTANTIATE_TEST_SUITE_P(Configs, MaskedShadowTest, testing::ValuesIn(test_support::allConfigs()),
                          [](const testing::TestParamInfo<Config>& info) { return info.param.name(); });
+
+// The reference alone (CPU): its shadow rays and its other rays pass where the alpha test
+// discards. They stopped at every masked surface before, whatever its alpha.
+TEST(MaskedReference, RaysPassWhereTheAlphaTestDiscards) {
+    const Scene scene = maskedCasters();
+    const GiReference reference(scene);
+    const ImageRGBAF truth = reference.lightVisibility(scene.camera, test_support::kSize, test_support::kSize, scene.lights[0].direction);
+    const RegionVisibility checkered = visibility(truth, scene.camera, -0.45f, -0.05f, -0.45f, 0.45f);
+    EXPECT_NEAR(checkered.mean, 0.5, 0.1) << describe(checkered);
+    const RegionVisibility clear = visibility(truth, scene.camera, 0.55f, 1.95f, -0.45f, 0.45f);
+    EXPECT_EQ(clear.lowest, 1.0) << describe(clear);
+    // Looking straight down through B at the open floor: the floor's light (albedo 0.6 / pi x the
+    // sun's 3 lux at 45 degrees), not B's blue.
+    const glm::dvec3 seen = reference.incidentRadiance(glm::vec3(0.7f, 2.0f, 0.1f), glm::vec3(0.0f, -1.0f, 0.0f), 1, 1);
+    const double floor = 0.6 / 3.14159265358979 * 3.0 * std::sqrt(0.5);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(seen[c], floor, 1e-3 * floor) << "channel " << c;
+}
 
 }  // namespace
 }  // namespace janus::renderer

@@ -121,12 +121,50 @@ struct TraceMesh {
     int32_t material = -1;
 };
 
-// What the shadow rays' filter needs of one geometry: Embree passes it back as user data.
-struct ShadowFilterData {
+// Base colour and alpha at barycentrics (u, v) of triangle `primitive`: factor x vertex colour x
+// texture (its UV set and KHR_texture_transform, as forward_common.glsl's materialUv).
+glm::dvec4 baseColorAt(const TraceMesh& mesh, const Material& material, const LinearTexture* texture, uint32_t primitive, double u,
+                       double v) {
+    const uint32_t i0 = mesh.indices[size_t(primitive) * 3], i1 = mesh.indices[size_t(primitive) * 3 + 1],
+                   i2 = mesh.indices[size_t(primitive) * 3 + 2];
+    const double w = 1.0 - u - v;
+    glm::dvec4 base = glm::dvec4(material.baseColorFactor) * (w * mesh.colors[i0] + u * mesh.colors[i1] + v * mesh.colors[i2]);
+    if (texture) {
+        const TextureTransform& transform = material.baseColorTransform;
+        const bool second = transform.texCoord == 1;
+        const glm::dvec2 uv = second ? w * mesh.uvs1[i0] + u * mesh.uvs1[i1] + v * mesh.uvs1[i2]
+                                     : w * mesh.uvs[i0] + u * mesh.uvs[i1] + v * mesh.uvs[i2];
+        base *= texture->sample(glm::dvec2(glm::dmat3(transform.matrix()) * glm::dvec3(uv, 1.0)));
+    }
+    return base;
+}
+
+// What the ray filters need of one geometry: Embree passes it back as user data.
+struct GeometryFilterData {
     const std::vector<glm::dvec3>* positions = nullptr;
-    const std::vector<uint32_t>* indices = nullptr;
+    const TraceMesh* mesh = nullptr;
     double frontSign = 1.0;
+    bool singleSided = true;
+    // alphaMode MASK: a hit where the alpha test discards (alpha below the cutoff) is no hit.
+    bool masked = false;
+    const Material* material = nullptr;
+    const LinearTexture* baseColorTexture = nullptr;
 };
+
+// Rays pass an alpha-masked surface where its alpha test discards, as the forward pass, the
+// depth prepass, the shadow map and the GI bake's G-buffer do.
+bool cutOut(const GeometryFilterData& data, const RTCFilterFunctionNArguments* args, unsigned i) {
+    if (!data.masked) return false;
+    const uint32_t primitive = RTCHitN_primID(args->hit, args->N, i);
+    const double u = RTCHitN_u(args->hit, args->N, i), v = RTCHitN_v(args->hit, args->N, i);
+    return baseColorAt(*data.mesh, *data.material, data.baseColorTexture, primitive, u, v).a < double(data.material->alphaCutoff);
+}
+
+void passWhereCutOut(const RTCFilterFunctionNArguments* args) {
+    const auto* data = static_cast<const GeometryFilterData*>(args->geometryUserPtr);
+    for (unsigned i = 0; i < args->N; ++i)
+        if (args->valid[i] == -1 && cutOut(*data, args, i)) args->valid[i] = 0;
+}
 
 // A single-sided surface casts a shadow only where the light meets its front face: the renderer's
 // shadow map draws single-sided casters back-face culled from the light's side, so light passes a
@@ -134,13 +172,18 @@ struct ShadowFilterData {
 // reference follows, so that the light it bounces is the light the image shows. A shadow ray runs
 // from the receiver towards the light: it passes where it meets a front face. Double-sided
 // materials block from both sides.
-void passWhereLightMeetsABackFace(const RTCFilterFunctionNArguments* args) {
-    const auto* data = static_cast<const ShadowFilterData*>(args->geometryUserPtr);
+void passWhereLightMeetsABackFaceOrCutOut(const RTCFilterFunctionNArguments* args) {
+    const auto* data = static_cast<const GeometryFilterData*>(args->geometryUserPtr);
     for (unsigned i = 0; i < args->N; ++i) {
         if (args->valid[i] != -1) continue;
+        if (cutOut(*data, args, i)) {
+            args->valid[i] = 0;
+            continue;
+        }
+        if (!data->singleSided) continue;
         const uint32_t primitive = RTCHitN_primID(args->hit, args->N, i);
         const std::vector<glm::dvec3>& p = *data->positions;
-        const uint32_t* tri = data->indices->data() + size_t(primitive) * 3;
+        const uint32_t* tri = data->mesh->indices.data() + size_t(primitive) * 3;
         const glm::dvec3 front = glm::cross(p[tri[1]] - p[tri[0]], p[tri[2]] - p[tri[0]]) * data->frontSign;
         const glm::dvec3 direction(RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i), RTCRayN_dir_z(args->ray, args->N, i));
         if (glm::dot(front, direction) < 0.0) args->valid[i] = 0;   // the light meets its back face: not a hit
@@ -163,7 +206,7 @@ struct GiReference::Impl {
     RTCDevice device = nullptr;
     RTCScene scene = nullptr;
     std::vector<std::vector<glm::dvec3>> meshPositions;   // world positions, per geometry
-    std::vector<std::unique_ptr<ShadowFilterData>> shadowFilters;
+    std::vector<std::unique_ptr<GeometryFilterData>> filters;
     std::vector<TraceMesh> meshes;
     std::vector<Material> materials;
     std::vector<LinearTexture> textures;
@@ -239,9 +282,8 @@ struct GiReference::Impl {
             return glm::dvec2(glm::dmat3(transform.matrix()) * glm::dvec3(transform.texCoord == 1 ? uv1 : uv0, 1.0));
         };
 
-        glm::dvec4 base = glm::dvec4(material.baseColorFactor) * (w * mesh.colors[i0] + u * mesh.colors[i1] + v * mesh.colors[i2]);
-        if (material.baseColorTexture >= 0)
-            base *= textures[size_t(material.baseColorTexture)].sample(uvFor(material.baseColorTransform));
+        const glm::dvec4 base = baseColorAt(mesh, material, material.baseColorTexture >= 0 ? &textures[size_t(material.baseColorTexture)] : nullptr,
+                                            query.hit.primID, u, v);
         hit.renderingLayers = mesh.renderingLayers;
         if (mesh.unlit) {   // as gi_gbuffer.frag: an unlit surface shows its colour whatever lights it
             hit.albedo = glm::dvec3(0.0);
@@ -416,23 +458,33 @@ GiReference::GiReference(const Scene& scene) : m_impl(std::make_unique<Impl>()) 
         for (size_t v = 0; v < positions.size(); ++v)
             for (int c = 0; c < 3; ++c) vertices[v * 3 + c] = float(positions[v][c]);
         std::copy(trace.indices.begin(), trace.indices.end(), indices);
-        const bool doubleSided = mesh.material >= 0 && size_t(mesh.material) < scene.materials.size() &&
-                                 scene.materials[size_t(mesh.material)].doubleSided;
+        const Material* material =
+            mesh.material >= 0 && size_t(mesh.material) < impl.materials.size() ? &impl.materials[size_t(mesh.material)] : nullptr;
+        const bool doubleSided = material && material->doubleSided;
+        const bool masked = material && material->alphaMode == AlphaMode::Mask;
         impl.meshPositions.push_back(std::move(positions));
-        if (!doubleSided) {
-            impl.shadowFilters.push_back(std::make_unique<ShadowFilterData>());
-            ShadowFilterData& filter = *impl.shadowFilters.back();
+        // Pointers into impl's lists, which do not grow past their reserve (meshes) or at all
+        // (materials, textures) from here on.
+        impl.meshes.push_back(std::move(trace));
+        if (!doubleSided || masked) {
+            impl.filters.push_back(std::make_unique<GeometryFilterData>());
+            GeometryFilterData& filter = *impl.filters.back();
             filter.positions = &impl.meshPositions.back();
-            filter.frontSign = trace.frontSign;
+            filter.mesh = &impl.meshes.back();
+            filter.frontSign = impl.meshes.back().frontSign;
+            filter.singleSided = !doubleSided;
+            filter.masked = masked;
+            filter.material = material;
+            if (masked && material->baseColorTexture >= 0 && size_t(material->baseColorTexture) < impl.textures.size())
+                filter.baseColorTexture = &impl.textures[size_t(material->baseColorTexture)];
             rtcSetGeometryUserData(geometry, &filter);
-            rtcSetGeometryOccludedFilterFunction(geometry, passWhereLightMeetsABackFace);
+            rtcSetGeometryOccludedFilterFunction(geometry, passWhereLightMeetsABackFaceOrCutOut);
+            if (masked) rtcSetGeometryIntersectFilterFunction(geometry, passWhereCutOut);
         }
         rtcCommitGeometry(geometry);
         const unsigned id = rtcAttachGeometry(impl.scene, geometry);
         rtcReleaseGeometry(geometry);
-        if (id != impl.meshes.size()) throw RendererError("GI reference: Embree gave an unexpected geometry id");
-        impl.meshes.push_back(std::move(trace));
-        if (!doubleSided) impl.shadowFilters.back()->indices = &impl.meshes.back().indices;
+        if (id + 1 != impl.meshes.size()) throw RendererError("GI reference: Embree gave an unexpected geometry id");
     }
     rtcCommitScene(impl.scene);
     if (const RTCError error = rtcGetDeviceError(impl.device); error != RTC_ERROR_NONE)

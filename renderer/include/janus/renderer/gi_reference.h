@@ -10,8 +10,10 @@
 // while bounces remain, albedo times the irradiance / pi it receives in turn (cosine-sampled paths);
 // a ray that hits nothing brings the sky (the environment map, else the ambient colour). Back faces
 // of single-sided materials send nothing (as the bake's back-face samples). Diffuse albedo is base
-// colour x (1 - metallic), textures sampled bilinearly at mip 0. Opaque and masked meshes take part
-// (masked as opaque); blended ones do not, as in the bake.
+// colour x (1 - metallic), textures sampled bilinearly at mip 0. Opaque meshes take part, and
+// alpha-masked ones where their alpha test keeps them (every ray passes where base colour factor x
+// vertex colour x texture alpha is below the cutoff, as the bake, the shadow map and shading
+// discard there); blended ones do not, as in the bake.
 // Results are deterministic for a given seed, whatever the number of threads.
 #pragma once
 
@@ -79,8 +81,8 @@ public:
     // The shadow map's reference (docs/SHADOWS.md, "Accuracy vs time"): per pixel of `camera`'s view
     // (row 0 on top), whether light travelling along `lightDirection` (a directional light; need not be
     // unit length) reaches the surface the pixel's centre sees: rgb 1 lit, 0 shadowed, by one ray
-    // towards the light, which the shadow map's casters block as the map does (opaque and masked
-    // meshes, masked as opaque; single-sided ones only where the light meets their front face;
+    // towards the light, which the shadow map's casters block as the map does (opaque meshes, and
+    // masked ones where their alpha test keeps them; single-sided ones only where the light meets their front face;
     // blended ones not). Alpha 1 where the pixel sees a front face (or a double-sided one) that
     // faces the light; 0 (rgb 0) where it sees nothing, a back face, or a surface facing away from
     // the light, which the light does not reach whatever its shadow. Throws RendererError for a
