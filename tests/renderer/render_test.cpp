@@ -224,11 +224,12 @@ TEST_P(RenderTest, MatchesVulkanComputeAndReportsItsPasses) {
         EXPECT_EQ(pass("shadow-map").draws, scene.instances.size() - blended);
     }
     if (scene.irradianceVolume) {
-        // One dispatch each | one draw for the bricks, one per volume slice (Y x 9) for the SH.
+        // One dispatch each | one draw for the bricks, one per layer of probes and group of three
+        // coefficients (Y x 3, three volume slices each) for the SH.
         EXPECT_EQ(pass("gi-brick-radiance" + path).dispatches, compute ? 1u : 0u);
         EXPECT_EQ(pass("gi-brick-radiance" + path).draws, compute ? 0u : 1u);
         EXPECT_EQ(pass("gi-probe-sh" + path).dispatches, compute ? 1u : 0u);
-        EXPECT_EQ(pass("gi-probe-sh" + path).draws, compute ? 0u : scene.irradianceVolume->probeCounts.y * 9);
+        EXPECT_EQ(pass("gi-probe-sh" + path).draws, compute ? 0u : scene.irradianceVolume->probeCounts.y * 3);
     }
     EXPECT_EQ(pass("forward").draws, scene.instances.size() - blended);
     if (blended > 0) {

@@ -7,7 +7,7 @@
 //   gi-brick-radiance-*   every brick's outgoing radiance (compute: one dispatch | fallback: one draw)
 //   gi-probe-sh-*         the relit probes' SH9 irradiance / pi into the volume texture
 //                         (compute: one workgroup per probe, shared-memory reduction | fallback:
-//                         one draw per volume slice, a fragment gather)
+//                         one draw per layer of probes into three volume slices, a fragment gather)
 // `bounces` cycles make the light bounce that many times: a cycle after the first adds the last
 // cycle's irradiance at each surfel. With probesPerFrame = 0 a relight runs all its cycles in one
 // frame; otherwise each frame relights the next probesPerFrame probes in camera-distance order, and
