@@ -97,14 +97,20 @@ std::string describe(const RegionVisibility& r) {
     return fmt::format("mean {:.3f}, lowest {:.3f}, highest {:.3f} over {} pixels", r.mean, r.lowest, r.highest, r.pixels);
 }
 
-class MaskedShadowTest : public testing::TestWithParam<Config> {};
+class MaskedShadowTest : public testing::TestWithParam<Config> {
+protected:
+    // The scene's shadow debug view: the map's visibility in the HDR image's red channel.
+    test_support::FrameOutput renderShadowView(const Scene& scene) {
+        RenderSettings settings;
+        settings.width = settings.height = test_support::kSize;
+        settings.debugView = DebugView::Shadow;
+        return test_support::renderOneFrame(GetParam(), scene, settings);
+    }
+};
 
 TEST_P(MaskedShadowTest, AMaskedCasterCastsOnlyWhereItsAlphaTestKeepsIt) {
     const Scene scene = maskedCasters();
-    RenderSettings settings;
-    settings.width = settings.height = test_support::kSize;
-    settings.debugView = DebugView::Shadow;
-    const test_support::FrameOutput frame = test_support::renderOneFrame(GetParam(), scene, settings);
+    const test_support::FrameOutput frame = renderShadowView(scene);
     ASSERT_EQ(frame.report.passes.front().name, "shadow-map") << test_support::passNames(frame.report);
     // Open floor, away from every shadow: lit.
     const RegionVisibility open = visibility(frame.hdr, scene.camera, -1.95f, -1.6f, -1.5f, 1.5f);
@@ -126,10 +132,7 @@ TEST_P(MaskedShadowTest, AMaskedCasterCastsOnlyWhereItsAlphaTestKeepsIt) {
 // where the alpha test discards): only the shadows' outlines may differ (the PCF kernel's blur).
 TEST_P(MaskedShadowTest, TheShadowMapMatchesTheRayTracedVisibility) {
     const Scene scene = maskedCasters();
-    RenderSettings settings;
-    settings.width = settings.height = test_support::kSize;
-    settings.debugView = DebugView::Shadow;
-    const test_support::FrameOutput frame = test_support::renderOneFrame(GetParam(), scene, settings);
+    const test_support::FrameOutput frame = renderShadowView(scene);
     const GiReference reference(scene);
     const ImageRGBAF truth = reference.lightVisibility(scene.camera, test_support::kSize, test_support::kSize, scene.lights[0].direction);
     const VisibilityError error = compareVisibility(frame.hdr, truth);
