@@ -19,11 +19,13 @@ const float kGiPi = 3.14159265358979;
 
 // Direct irradiance at a surfel with shading normal `normal` on a triangle whose plane has normal
 // `faceNormal`: a light below that plane does not reach it, whatever the shading normal says (as
-// the reference's). The shadow lookup moves off the triangle's plane, not along the shading normal.
-vec3 surfelIrradiance(vec3 position, vec3 normal, vec3 faceNormal) {
+// the reference's), nor does a light whose rendering layers share no bit with the surfel's (as
+// forward shading). The shadow lookup moves off the triangle's plane, not along the shading normal.
+vec3 surfelIrradiance(vec3 position, vec3 normal, vec3 faceNormal, uint layers) {
     vec3 irradiance = vec3(0.0);
     for (int i = 0; i < frame.lightCounts.x; ++i) {
         DirectionalLight light = frame.directionalLights[i];
+        if ((floatBitsToUint(light.colorIntensity.w) & layers) == 0u) continue;
         if (dot(faceNormal, -light.direction.xyz) <= 0.0) continue;
         vec3 e = light.colorIntensity.rgb * max(dot(normal, -light.direction.xyz), 0.0);
         if (i == 0 && frame.shadowParams.x > 0.0)
@@ -33,7 +35,7 @@ vec3 surfelIrradiance(vec3 position, vec3 normal, vec3 faceNormal) {
     }
     for (int k = 0; k < frame.lightCounts.y; ++k) {
         LocalLightSample light = localLightIrradiance(k, position);
-        if (dot(faceNormal, light.toLight) <= 0.0) continue;
+        if ((light.layers & layers) == 0u || dot(faceNormal, light.toLight) <= 0.0) continue;
         irradiance += light.irradiance * max(dot(normal, light.toLight), 0.0);
     }
     return irradiance;
@@ -49,14 +51,16 @@ vec3 brickRadiance(int brick) {
     int first = int(header.x), count = int(header.y);
     vec3 sum = vec3(0.0);
     for (int s = first; s < first + count; ++s) {
-        // ProbeGi's layout: position, normal, albedo, emission; the face normal in the first three's w.
-        vec4 positionFaceX = giData(giSurfels, s * 4);
-        vec4 normalFaceY = giData(giSurfels, s * 4 + 1);
-        vec4 albedoFaceZ = giData(giSurfels, s * 4 + 2);
-        vec3 position = positionFaceX.xyz, normal = normalFaceY.xyz, albedo = albedoFaceZ.rgb;
-        vec3 faceNormal = vec3(positionFaceX.w, normalFaceY.w, albedoFaceZ.w);
-        vec3 emission = giData(giSurfels, s * 4 + 3).rgb;
-        vec3 radiance = albedo * (1.0 / kGiPi) * surfelIrradiance(position, normal, faceNormal) + emission;
+        // gi_relight_common.glsl's layout: position, normal, albedo, emission; in their w the face
+        // normal (octahedral) and the rendering layers (two 16-bit halves).
+        vec4 positionFace = giData(giSurfels, s * 4);
+        vec4 normalFace = giData(giSurfels, s * 4 + 1);
+        vec4 albedoLayers = giData(giSurfels, s * 4 + 2);
+        vec4 emissionLayers = giData(giSurfels, s * 4 + 3);
+        vec3 position = positionFace.xyz, normal = normalFace.xyz, albedo = albedoLayers.rgb, emission = emissionLayers.rgb;
+        vec3 faceNormal = giOctahedralDecode(vec2(positionFace.w, normalFace.w));
+        uint layers = uint(albedoLayers.w) | (uint(emissionLayers.w) << 16);
+        vec3 radiance = albedo * (1.0 / kGiPi) * surfelIrradiance(position, normal, faceNormal, layers) + emission;
         if (relight.counts.z != 0) radiance += albedo * giIrradianceOverPi(position, normal, faceNormal).rgb;
         sum += radiance;
     }

@@ -5,9 +5,11 @@
 //   0: diffuse albedo (base colour x (1 - metallic)), distance from the probe (cleared to -1: sky)
 //   1: the normal of the side seen, +1 when that side is a front face (or the material is
 //      double-sided), -1 for a back face (the probe looks at the inside of something)
-//   2: emission, 0
-//   3: the normal of the triangle's plane on the side seen, 0: the relight counts no light from
-//      below that plane where the shading normal leans away from it (as forward shading)
+//   2: emission, the instance's index mod 2048
+//   3: the normal of the triangle's plane on the side seen (the relight counts no light from
+//      below that plane where the shading normal leans away from it, as forward shading), the
+//      instance's index / 2048: the bake looks up its rendering layers (half floats hold these
+//      integers exactly; a 32-bit layer mask they would not)
 #include "renderer/forward_common.glsl"
 #include "renderer/face_normal.glsl"
 
@@ -44,7 +46,8 @@ void main() {
     bool front = gl_FrontFacing || draw.flags.x != 0;
     outAlbedoDistance = vec4(clamp(baseColor.rgb, 0.0, 1.0) * (1.0 - metallic), length(toSurface));
     outNormalFacing = vec4(normal, front ? 1.0 : -1.0);
-    outFaceNormal = vec4(faceNormal(positionDx, positionDy, -toSurface, normal), 0.0);
+    int instance = draw.shading.y;
+    outFaceNormal = vec4(faceNormal(positionDx, positionDy, -toSurface, normal), float(instance / 2048));
     vec3 emission = draw.emissiveFactor.rgb * emissiveSample;
     if (draw.shading.x != 0) {
         // Unlit: the surface shows its base colour whatever lights it, so to the volume it emits
@@ -52,5 +55,5 @@ void main() {
         outAlbedoDistance.rgb = vec3(0.0);
         emission = baseColor.rgb;
     }
-    outEmission = vec4(min(mix(emission, vec3(0.0), isnan(emission)), vec3(65000.0)), 0.0);
+    outEmission = vec4(min(mix(emission, vec3(0.0), isnan(emission)), vec3(65000.0)), float(instance % 2048));
 }

@@ -1,8 +1,8 @@
 // The GI relight's data (docs/GI.md, "Relight"): the bake in RGBA32F data textures 1024 texels
 // wide (element e at (e % 1024, e / 1024)), read with texelFetch on both paths (ES 3.0 has no
 // storage buffers). Counts and indices are stored as floats (exact below 2^24).
-//   surfels:   4 texels each: (position, face normal x), (normal, face normal y), (diffuse albedo, face normal z),
-//              (emission, 0); grouped by brick
+//   surfels:   4 texels each: (position, face normal's octahedral x), (normal, its octahedral y),
+//              (diffuse albedo, rendering layers' low 16 bits), (emission, their high 16 bits); grouped by brick
 //   bricks:    2 texels each: (first surfel, surfel count, 1 = a sky sample, 0), (sky direction, 0)
 //   transfers: 3 texels each, grouped by probe: (brick, T0, T1, T2), (T3..T6), (T7, T8, 0, 0): the SH
 //              projection of the brick's surfels this probe sees, sum of Y_k(direction) * 4 pi / N
@@ -21,6 +21,13 @@ layout(set = 0, binding = JANUS_BINDING_GI_RELIGHT_PARAMS, std140) uniform GiRel
 } relight;
 
 vec4 giData(highp sampler2D data, int e) { return texelFetch(data, ivec2(e % kGiDataWidth, e / kGiDataWidth), 0); }
+
+// The unit vector ProbeGi's octahedralEncode stored as `e`.
+vec3 giOctahedralDecode(vec2 e) {
+    vec3 n = vec3(e, 1.0 - abs(e.x) - abs(e.y));
+    if (n.z < 0.0) n.xy = (1.0 - abs(n.yx)) * vec2(n.x >= 0.0 ? 1.0 : -1.0, n.y >= 0.0 ? 1.0 : -1.0);
+    return normalize(n);
+}
 
 // The clamped-cosine convolution divided by pi for coefficient k (A_l / pi: 1, 2/3, 1/4), or 0
 // for L2 terms of an L1 volume: what turns radiance SH into the irradiance / pi shading reads.

@@ -33,7 +33,7 @@ layout(set = JANUS_SET_DRAW, binding = JANUS_BINDING_DRAW_UNIFORMS, std140) unif
     vec4 materialParams;   // x metallic, y roughness, z normal scale, w occlusion strength
     ivec4 flags;           // x double-sided, y has tangents, z alpha mode (kAlphaMode*), w renderingLayers (uint bits)
     vec4 dielectricSpecular;   // rgb F0, w F90 of the non-metal part (KHR_materials_ior / _specular; glTF's default 0.04, 1)
-    ivec4 shading;         // x 1 = unlit (KHR_materials_unlit, or points and lines without normals)
+    ivec4 shading;         // x 1 = unlit (KHR_materials_unlit, or points and lines without normals), y the instance's index
     // Texture t (kTexture*): rows 2t and 2t+1 of its KHR_texture_transform matrix; row 2t's w is
     // the UV set it reads (0: TEXCOORD_0, 1: TEXCOORD_1).
     vec4 textureTransforms[10];

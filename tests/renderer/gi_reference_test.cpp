@@ -238,6 +238,28 @@ TEST(GiReference, TheBiasSaysWhichWayTheErrorLeansWhereTheRmseCannot) {
     EXPECT_EQ(compareIndirectImage(ImageRGBAF{1, 1, {0.1f, 0.0f, 0.0f, 1.0f}}, black).relativeBias, std::numeric_limits<double>::infinity());
 }
 
+// A directional light lights only the meshes whose rendering layers share a bit with its own, as
+// in forward shading (it lit every mesh).
+TEST(GiReference, ADirectionalLightLightsOnlyItsRenderingLayers) {
+    for (const uint32_t lightLayers : {1u, 2u, 3u}) {
+        Scene scene;
+        scene.environment.ambientColor = glm::vec3(0.0f);
+        const int32_t grey = detail::addMaterial(scene, "ground", glm::vec3(0.5f), 0.0f, 1.0f);
+        scene.instances.push_back(Instance{detail::addMesh(scene, detail::makeQuad(grey)),
+                                           glm::rotate(glm::scale(glm::mat4(1.0f), glm::vec3(10.0f)), -glm::half_pi<float>(), glm::vec3(1, 0, 0)),
+                                           2u, "ground"});
+        Light sun;
+        sun.direction = glm::vec3(0.0f, -1.0f, 0.0f);
+        sun.intensity = 2.0f;
+        sun.renderingLayers = lightLayers;
+        scene.lights.push_back(sun);
+        const GiReference reference(scene);
+        const glm::dvec3 seen = reference.incidentRadiance(glm::vec3(0.0f, 1.0f, 0.0f), glm::vec3(0.0f, -1.0f, 0.0f), 1, 1);
+        const double expected = (lightLayers & 2u) != 0 ? 0.5 / 3.14159265358979 * 2.0 : 0.0;
+        EXPECT_NEAR(seen.g, expected, 1e-9) << "light layers " << lightLayers;
+    }
+}
+
 TEST(GiReference, BadSettingsAreClearErrors) {
     const GiReference reference(emissiveBox(glm::vec3(1.0f), 0.5f));
     const std::vector<glm::vec3> one = {glm::vec3(0.0f)};

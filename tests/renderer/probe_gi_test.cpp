@@ -201,6 +201,29 @@ TEST(GiBake, BricksAndPerSurfelGiveTheSameShForTheSameSurfels) {
 
 // Bricks bound the relight's work: sky samples share direction bins, a brick lights at most
 // maxSurfelsPerBrick surfels; the per-surfel path keeps one brick per sample.
+// A brick's surfels share its radiance, so they must be lit by the same lights: surfels of
+// different rendering layers never share a brick, whatever their cell and normal.
+TEST(GiBake, SurfelsOfOtherRenderingLayersAreOtherBricks) {
+    const IrradianceVolume volume = oneProbeVolume(true);
+    std::vector<GiSample> samples;
+    for (uint32_t i = 0; i < 8; ++i) {
+        GiSample s;
+        s.kind = GiSample::Kind::Surface;
+        s.direction = glm::normalize(glm::vec3(0.01f * float(i), -1.0f, 0.0f));
+        s.position = glm::vec3(0.01f * float(i), -1.0f, 0.0f);   // one cell, one normal
+        s.normal = glm::vec3(0.0f, 1.0f, 0.0f);
+        s.renderingLayers = i % 2 == 0 ? 1u : 0x80000000u;
+        samples.push_back(s);
+    }
+    const GiBake bake = buildGiBake(volume, {samples});
+    ASSERT_EQ(bake.bricks.size(), 2u);
+    for (const GiBrick& brick : bake.bricks) {
+        ASSERT_EQ(brick.surfelCount, 4u);
+        for (uint32_t i = 0; i < brick.surfelCount; ++i)
+            EXPECT_EQ(bake.surfels[brick.firstSurfel + i].renderingLayers, bake.surfels[brick.firstSurfel].renderingLayers);
+    }
+}
+
 TEST(GiBake, SkySamplesShareDirectionBinsAndBricksKeepAtMostTheirCap) {
     const IrradianceVolume volume = oneProbeVolume(true);   // 1024 samples
     std::vector<GiSample> sky(volume.surfelsPerProbe);
@@ -294,6 +317,7 @@ GiBake smallBake(const IrradianceVolume& volume) {
             s.normal = -directions[i];
             // Half of them on a tilted triangle; the others leave it to the normal.
             if (i % 2 == 0) s.faceNormal = glm::normalize(s.normal + glm::vec3(0.25f, 0.0f, 0.0f));
+            if (i % 4 == 0) s.renderingLayers = 0x80000002u;
             s.albedo = glm::vec3(0.5f, 0.25f, float(i % 5) / 5.0f);
             s.emission = glm::vec3(float(i % 11));
             samples[p].push_back(s);
@@ -323,7 +347,9 @@ TEST(GiBakeFiles, ABakeReadsBackAsWritten) {
         EXPECT_EQ(read.surfels[i].albedo, bake.surfels[i].albedo);
         EXPECT_EQ(read.surfels[i].emission, bake.surfels[i].emission);
         EXPECT_EQ(read.surfels[i].faceNormal, bake.surfels[i].faceNormal);
+        EXPECT_EQ(read.surfels[i].renderingLayers, bake.surfels[i].renderingLayers);
     }
+    EXPECT_TRUE(std::any_of(bake.surfels.begin(), bake.surfels.end(), [](const GiSurfel& s) { return s.renderingLayers == 0x80000002u; }));
     // A sample that names no triangle plane gets its shading normal's; the others keep theirs.
     size_t tilted = 0;
     for (const GiSurfel& surfel : bake.surfels) {
@@ -510,6 +536,9 @@ TEST_P(ProbeGiTest, BakeSamplesSeeTheWallTheirDirectionPointsAt) {
     const float lean = glm::radians(30.0f);
     for (Mesh& mesh : scene.meshes)
         for (Vertex& v : mesh.vertices) v.normal = glm::vec3(std::sin(lean), 0.0f, std::cos(lean));   // the quads face +Z
+    // Each wall its own rendering layers, the top bit among them: the sample keeps its wall's.
+    std::array<uint32_t, 6> layers{};
+    for (uint32_t face = 0; face < 6; ++face) scene.instances.at(face).renderingLayers = layers[face] = (2u << face) | (face == 5 ? 0x80000000u : 0u);
     const GpuScene gpuScene(device(), scene);
     IrradianceVolume volume = *scene.irradianceVolume;
     volume.surfelsPerProbe = 512;
@@ -540,6 +569,7 @@ TEST_P(ProbeGiTest, BakeSamplesSeeTheWallTheirDirectionPointsAt) {
         inward[axis] = s.direction[axis] < 0.0f ? 1.0f : -1.0f;
         EXPECT_NEAR(glm::dot(s.normal, inward), std::cos(lean), 2e-3f);
         EXPECT_LT(glm::distance(s.faceNormal, inward), 2e-3f) << "the triangle's plane, from the derivatives";
+        EXPECT_EQ(s.renderingLayers, layers[face]);
     }
     EXPECT_EQ(wrong, 0u) << GetParam().name();
 }
@@ -663,6 +693,52 @@ TEST_P(ProbeGiTest, ALightBelowASurfelsTriangleDoesNotReachIt) {
             EXPECT_GT(truthFromBelow, 0.05);
             EXPECT_NEAR(fromBelow, truthFromBelow, 0.03 * truthFromBelow) << GetParam().name();   // 1024 surfels of a 4 m floor: 3 %
         }
+    }
+    expectNoMessages();
+}
+
+// The relight lights a surfel only with the lights that light its mesh in forward shading (their
+// rendering layers share a bit): a floor in two halves, layers 1 (x < 0) and 2 (x > 0), under a
+// sun and then a point light of layers 2, gives the probe above it light from the right half only,
+// as the reference. The relight lit both halves before.
+TEST_P(ProbeGiTest, ASurfelIsLitOnlyByTheLightsOfItsRenderingLayers) {
+    device().takeDebugMessages();
+    for (const LightType type : {LightType::Directional, LightType::Point}) {
+        Scene scene;
+        scene.name = "floor in two layers";
+        scene.environment.ambientColor = glm::vec3(0.0f);
+        const int32_t grey = detail::addMaterial(scene, "floor", glm::vec3(0.8f), 0.0f, 1.0f);
+        for (const float side : {-1.0f, 1.0f})
+            scene.instances.push_back(Instance{detail::addMesh(scene, detail::makeQuad(grey)),
+                                               test_support::quadFacing(glm::vec3(side, -1.0f, 0.0f), glm::vec3(0.0f, 1.0f, 0.0f), 2.0f),
+                                               side < 0.0f ? 1u : 2u, side < 0.0f ? "left" : "right"});
+        Light light;
+        light.type = type;
+        light.direction = glm::normalize(glm::vec3(0.1f, -1.0f, 0.2f));
+        light.position = glm::vec3(0.0f, 0.5f, 0.0f);
+        light.intensity = 3.0f;
+        light.renderingLayers = 2u;
+        scene.lights.push_back(light);
+        scene.camera.position = glm::vec3(0.0f, 0.5f, 2.0f);
+        IrradianceVolume volume;
+        volume.bounds = Box{glm::vec3(-0.1f), glm::vec3(0.1f)};
+        volume.probeCounts = glm::uvec3(1);
+        volume.surfelsPerProbe = 1024;
+        volume.bounces = 1;
+        scene.irradianceVolume = volume;
+        Renderer renderer(device(), scene, settings(32, 32));
+        renderer.renderFrame();
+        const std::vector<IrradianceProbe> probes = renderer.readIrradianceProbes();
+        ASSERT_EQ(probes.size(), 1u);
+        const GiReference reference(scene);
+        const std::vector<GiReferenceProbe> truth = reference.probes(std::vector<glm::vec3>{probes[0].position}, GiReferenceSettings{}.setBounces(1));
+        const glm::dvec3 downLeft = glm::normalize(glm::dvec3(-1, -1, 0)), downRight = glm::normalize(glm::dvec3(1, -1, 0));
+        const double left = shEvaluate(shOf(probes[0]), downLeft).g, right = shEvaluate(shOf(probes[0]), downRight).g;
+        const double truthLeft = shEvaluate(truth[0].irradianceSh, downLeft).g, truthRight = shEvaluate(truth[0].irradianceSh, downRight).g;
+        const char* name = type == LightType::Directional ? "sun" : "point light";
+        // 1024 surfels of a 4 m floor, L2 SH of a field lit on one side: 3 % of the lit side.
+        EXPECT_NEAR(right, truthRight, 0.03 * truthRight) << GetParam().name() << ", " << name;
+        EXPECT_NEAR(left, truthLeft, 0.03 * truthRight) << GetParam().name() << ", " << name << ": the left half was lit";
     }
     expectNoMessages();
 }

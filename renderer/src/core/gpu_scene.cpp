@@ -33,7 +33,7 @@ struct DrawUniforms {
     glm::vec4 materialParams;
     glm::ivec4 flags;
     glm::vec4 dielectricSpecular;   // rgb F0, w F90 of the non-metal part
-    glm::ivec4 shading;             // x 1 = unlit
+    glm::ivec4 shading;             // x 1 = unlit, y the instance's index (the GI bake's G-buffer)
     // Per material texture (kTexture* in forward_common.glsl) two rows of its KHR_texture_transform
     // matrix; the first row's w is the UV set it reads (0 or 1).
     glm::vec4 textureTransforms[10];
@@ -200,7 +200,7 @@ void GpuScene::createDraws(const Scene& scene) {
         uniforms.baseColorFactor = material.baseColorFactor;
         uniforms.emissiveFactor = glm::vec4(material.emissiveFactor * material.emissiveStrength, material.alphaCutoff);
         uniforms.dielectricSpecular = glm::vec4(material.dielectricF0(), material.dielectricF90());
-        uniforms.shading = glm::ivec4(material.unlit || mesh.unlit ? 1 : 0, 0, 0, 0);
+        uniforms.shading = glm::ivec4(material.unlit || mesh.unlit ? 1 : 0, int32_t(std::min<size_t>(i, INT32_MAX)), 0, 0);
         uniforms.materialParams = glm::vec4(material.metallicFactor, material.roughnessFactor, material.normalScale, material.occlusionStrength);
         // Normal maps need tangents; meshes without them shade with their vertex normals.
         // flags.z is the alpha mode as forward.frag reads it: 0 opaque, 1 mask, 2 blend.

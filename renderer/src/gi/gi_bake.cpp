@@ -51,8 +51,9 @@ std::vector<glm::vec3> giSampleDirections(uint32_t count) {
 namespace {
 
 // The brick a surfel belongs to: its cell and the axis direction closest to its normal (so a
-// thin wall's two sides, and a corner's two walls, are different bricks).
-using BrickKey = std::tuple<int64_t, int64_t, int64_t, int>;
+// thin wall's two sides, and a corner's two walls, are different bricks), and its rendering
+// layers (a brick's surfels are lit by the same lights).
+using BrickKey = std::tuple<int64_t, int64_t, int64_t, int, uint32_t>;
 
 BrickKey brickKey(const IrradianceVolume& volume, const GiSample& s) {
     const glm::dvec3 cell = glm::floor((glm::dvec3(s.position) - glm::dvec3(volume.bounds.min)) / double(volume.brickSize));
@@ -60,7 +61,7 @@ BrickKey brickKey(const IrradianceVolume& volume, const GiSample& s) {
     const int axis = a.x >= a.y && a.x >= a.z ? 0 : a.y >= a.z ? 1 : 2;
     const int direction = axis * 2 + (s.normal[axis] < 0.0f ? 1 : 0);
     auto clampCell = [](double c) { return int64_t(std::clamp(c, -1e15, 1e15)); };
-    return {clampCell(cell.x), clampCell(cell.y), clampCell(cell.z), direction};
+    return {clampCell(cell.x), clampCell(cell.y), clampCell(cell.z), direction, s.renderingLayers};
 }
 
 void addTransfer(std::array<double, 9>& sum, const glm::vec3& direction, double weight) {
@@ -127,7 +128,8 @@ GiBake buildGiBake(const IrradianceVolume& volume, const std::vector<std::vector
                 } else {
                     brick = it->second;
                 }
-                brickSurfels[brick].push_back(GiSurfel{s.position, s.normal, s.albedo, s.emission, s.faceNormal == glm::vec3(0.0f) ? s.normal : s.faceNormal});
+                brickSurfels[brick].push_back(GiSurfel{s.position, s.normal, s.albedo, s.emission,
+                                                        s.faceNormal == glm::vec3(0.0f) ? s.normal : s.faceNormal, s.renderingLayers});
             }
             probeHits[p].push_back(Pending{brick, s.direction});
         }
@@ -258,6 +260,14 @@ std::vector<std::vector<GiSample>> captureGiSamples(rhi::IDevice& device, const 
         texelRays[i] = glm::vec3(cubeTexelDirection(texels[i].face, texels[i].x, texels[i].y, faceSize));
     }
 
+    // Rendering layers by instance index (the G-buffer gives each texel's instance).
+    std::vector<uint32_t> instanceLayers;
+    for (const std::vector<GpuScene::Draw>* draws : {&gpuScene.draws(), &gpuScene.blendedDraws()})
+        for (const GpuScene::Draw& draw : *draws) {
+            if (draw.instance >= instanceLayers.size()) instanceLayers.resize(size_t(draw.instance) + 1, ~0u);
+            instanceLayers[draw.instance] = draw.renderingLayers;
+        }
+
     const rhi::CommandListHandle cmd = device.createCommandList();
     std::vector<std::vector<GiSample>> result(positions.size());
     std::array<rhi::BufferHandle, 6> uniforms;
@@ -323,9 +333,13 @@ std::vector<std::vector<GiSample>> captureGiSamples(rhi::IDevice& device, const 
             const glm::vec3 n(normalFacing);
             s.normal = glm::dot(n, n) > 1e-12f ? glm::normalize(n) : -directions[i];
             s.albedo = glm::clamp(glm::vec3(albedoDistance), glm::vec3(0.0f), glm::vec3(1.0f));
-            s.emission = glm::max(glm::vec3(texel(2, texels[i])), glm::vec3(0.0f));
-            const glm::vec3 face(texel(3, texels[i]));
+            const glm::vec4 emissionInstanceLow = texel(2, texels[i]);
+            s.emission = glm::max(glm::vec3(emissionInstanceLow), glm::vec3(0.0f));
+            const glm::vec4 faceInstanceHigh = texel(3, texels[i]);
+            const glm::vec3 face(faceInstanceHigh);
             s.faceNormal = glm::dot(face, face) > 1e-12f ? glm::normalize(face) : s.normal;
+            const double instance = double(faceInstanceHigh.w) * 2048.0 + double(emissionInstanceLow.w);
+            s.renderingLayers = instance >= 0.0 && instance < double(instanceLayers.size()) ? instanceLayers[size_t(instance)] : ~0u;
         }
     }
     return result;

@@ -7,7 +7,7 @@
 //   2. `surfelsPerProbe` stratified directions (a spherical Fibonacci set) read it: each becomes a
 //      sample — a surfel on a front face, a back-face hit (the probe is inside something), or sky.
 //   3. buildGiBake groups the surfels into bricks (cells of `brickSize` metres x the six axis
-//      directions of the normal, each lit from at most maxSurfelsPerBrick of its surfels; or one
+//      directions of the normal x rendering layers, each lit from at most maxSurfelsPerBrick of its surfels; or one
 //      brick per surfel on the per-surfel path), groups sky samples into direction bins (a brick
 //      per bin, lit by the sky along the bin's mean direction; per-surfel: a brick per sample),
 //      and keeps per
@@ -40,12 +40,14 @@ struct GiSample {
     glm::vec3 position{0.0f}, normal{0.0f, 0.0f, 1.0f}, albedo{0.0f}, emission{0.0f};   // surfaces
     // The plane of the triangle seen, on the probe's side (unit); 0: the shading normal's.
     glm::vec3 faceNormal{0.0f};
+    uint32_t renderingLayers = ~0u;   // its instance's: the lights that light it (every one by default)
 };
 
 struct GiSurfel {
     glm::vec3 position{0.0f}, normal{0.0f, 0.0f, 1.0f}, albedo{0.0f}, emission{0.0f};
     // The relight counts no light from below this plane (a shading normal may lean away from it).
     glm::vec3 faceNormal{0.0f, 0.0f, 1.0f};
+    uint32_t renderingLayers = ~0u;   // lit by the lights whose layers share a bit with these
 };
 
 struct GiBrick {

@@ -115,7 +115,7 @@ private:
 };
 
 constexpr size_t kProbeBytes = 12 + 4 + 1 + 4 + 4;
-constexpr size_t kSurfelBytes = 5 * 12;
+constexpr size_t kSurfelBytes = 5 * 12 + 4;
 constexpr size_t kBrickBytes = 4 + 4 + 1 + 12;
 constexpr size_t kTransferBytes = 4 + 9 * 4;
 
@@ -194,7 +194,8 @@ void writeGiBakeFile(const std::filesystem::path& path, const GiBake& bake, cons
         w.add(bake.probeFirstTransfer[p]);
         w.add(bake.probeTransferCount[p]);
     }
-    for (const GiSurfel& s : bake.surfels) w.add(s.position), w.add(s.normal), w.add(s.albedo), w.add(s.emission), w.add(s.faceNormal);
+    for (const GiSurfel& s : bake.surfels)
+        w.add(s.position), w.add(s.normal), w.add(s.albedo), w.add(s.emission), w.add(s.faceNormal), w.add(s.renderingLayers);
     for (const GiBrick& b : bake.bricks) w.add(b.firstSurfel), w.add(b.surfelCount), w.add(uint8_t(b.sky)), w.add(b.skyDirection);
     for (const GiTransfer& t : bake.transfers) {
         w.add(t.brick);
@@ -256,6 +257,7 @@ GiBake readGiBakeFile(const std::filesystem::path& path, const IrradianceVolume&
     for (uint64_t i = 0; i < surfels; ++i) {
         GiSurfel s;
         s.position = r.vec3(), s.normal = r.vec3(), s.albedo = r.vec3(), s.emission = r.vec3(), s.faceNormal = r.vec3();
+        s.renderingLayers = r.get<uint32_t>();
         bake.surfels.push_back(s);
     }
     for (uint64_t i = 0; i < bricks; ++i) {

@@ -6,7 +6,7 @@
 //            settings (bounds, probe counts, surfels per probe, brick size, bricks on/off, planes,
 //            invalid back-face fraction, max surfels per brick), u32 counts of probes, surfels, bricks, transfers
 //   body     per probe: position, back-face fraction, valid, first transfer, transfer count;
-//            surfels (position, normal, albedo, emission, face normal); bricks (first surfel, count, sky, sky
+//            surfels (position, normal, albedo, emission, face normal, u32 rendering layers); bricks (first surfel, count, sky, sky
 //            direction); transfers (brick, 9 SH weights)
 //   trailer  u64 XXH3 checksum of everything before it
 // Written atomically (writeFileAtomically). Reading checks, in order: the file opens; the magic;
@@ -23,8 +23,9 @@
 namespace janus::renderer {
 
 // 2: max surfels per brick in the settings; 3: relocateProbes; 4: surfels' face normals, and their
-// positions along their texels' rays (version 3's are off their surfaces at grazing angles).
-inline constexpr uint32_t kGiBakeFileVersion = 4;
+// positions along their texels' rays (version 3's are off their surfaces at grazing angles);
+// 5: surfels' rendering layers.
+inline constexpr uint32_t kGiBakeFileVersion = 5;
 
 // A hash of everything a bake depends on: the meshes, instances, materials and their textures,
 // and the volume's bake settings (not its relight or shading settings).

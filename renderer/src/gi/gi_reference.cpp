@@ -198,6 +198,7 @@ struct Hit {
 
 struct DirectionalLightData {
     glm::dvec3 towardLight, irradiance;
+    uint32_t renderingLayers = 1u;
 };
 
 }  // namespace
@@ -332,6 +333,7 @@ struct GiReference::Impl {
         const glm::dvec3 origin = offsetFrom(hit);
         glm::dvec3 sum(0.0);
         for (const DirectionalLightData& light : directional) {
+            if ((light.renderingLayers & hit.renderingLayers) == 0) continue;
             const double cosine = glm::dot(hit.normal, light.towardLight);
             if (cosine <= 0.0 || glm::dot(hit.geometricNormal, light.towardLight) <= 0.0) continue;
             if (!occluded(origin, light.towardLight, std::numeric_limits<double>::infinity())) sum += light.irradiance * cosine;
@@ -495,7 +497,7 @@ GiReference::GiReference(const Scene& scene) : m_impl(std::make_unique<Impl>()) 
         if (light.type != LightType::Directional) continue;
         const double length = glm::length(glm::dvec3(light.direction));
         if (!(length > 0.0)) continue;
-        impl.directional.push_back({-glm::dvec3(light.direction) / length, glm::dvec3(light.color) * double(light.intensity)});
+        impl.directional.push_back({-glm::dvec3(light.direction) / length, glm::dvec3(light.color) * double(light.intensity), light.renderingLayers});
     }
     // Cut-off 0: a light without a glTF range reaches everywhere (inverse square), as glTF says.
     impl.local = packLocalLights(scene, 0.0f).lights;

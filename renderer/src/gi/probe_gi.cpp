@@ -20,7 +20,16 @@ namespace {
 
 constexpr uint32_t kDataWidth = 1024;   // gi_relight_common.glsl kGiDataWidth
 constexpr uint32_t kGroupSize = 64;     // gi_brick_radiance.comp, gi_probe_sh.comp
-constexpr uint32_t kShCoefficientsPerDraw = 3;   // gi_probe_sh.frag: colour targets per draw of the fallback SH pass
+constexpr uint32_t kShCoefficientsPerDraw = 3;
+
+// A unit vector as a point of the octahedron unfolded onto [-1, 1]^2 (gi_relight_common.glsl's
+// giOctahedralDecode inverts it).
+glm::vec2 octahedralEncode(const glm::vec3& n) {
+    const glm::vec3 o = n / (std::abs(n.x) + std::abs(n.y) + std::abs(n.z));
+    if (o.z >= 0.0f) return glm::vec2(o.x, o.y);
+    auto signNotZero = [](float v) { return v >= 0.0f ? 1.0f : -1.0f; };
+    return glm::vec2((1.0f - std::abs(o.y)) * signNotZero(o.x), (1.0f - std::abs(o.x)) * signNotZero(o.y));
+}   // gi_probe_sh.frag: colour targets per draw of the fallback SH pass
 
 // std140 mirror of gi_relight_common.glsl's GiRelightParams.
 
@@ -92,11 +101,13 @@ void ProbeGi::upload() {
     std::vector<glm::vec4> surfels, bricks, transfers, probes;
     surfels.reserve(m_bake.surfels.size() * 4);
     for (const GiSurfel& s : m_bake.surfels) {
-        // Four texels a surfel (gi_brick_radiance.glsl): the face normal rides in their w.
-        surfels.push_back(glm::vec4(s.position, s.faceNormal.x));
-        surfels.push_back(glm::vec4(s.normal, s.faceNormal.y));
-        surfels.push_back(glm::vec4(s.albedo, s.faceNormal.z));
-        surfels.push_back(glm::vec4(s.emission, 0.0f));
+        // Four texels a surfel (gi_relight_common.glsl): in their w, the face normal octahedrally
+        // and the rendering layers as two 16-bit halves (floats hold both exactly).
+        const glm::vec2 face = octahedralEncode(s.faceNormal);
+        surfels.push_back(glm::vec4(s.position, face.x));
+        surfels.push_back(glm::vec4(s.normal, face.y));
+        surfels.push_back(glm::vec4(s.albedo, float(s.renderingLayers & 0xFFFFu)));
+        surfels.push_back(glm::vec4(s.emission, float(s.renderingLayers >> 16)));
     }
     for (const GiBrick& b : m_bake.bricks) {
         bricks.push_back(glm::vec4(float(b.firstSurfel), float(b.surfelCount), b.sky ? 1.0f : 0.0f, 0.0f));

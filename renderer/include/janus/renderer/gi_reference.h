@@ -5,8 +5,9 @@
 //   - the indirect diffuse irradiance / pi at every pixel of a camera's view (what `--debug gi`
 //     shows: the volume's light alone).
 // Light transport, with the same "bounces" as IrradianceVolume::bounces: a surface reached by a
-// ray sends its emission plus albedo / pi times the direct irradiance of every light (directional,
-// point and spot, with the renderer's attenuation and cone, each shadowed by a ray to the light) and,
+// ray sends its emission plus albedo / pi times the direct irradiance of every light whose rendering
+// layers share a bit with its instance's (directional, point and spot, with the renderer's
+// attenuation and cone, each shadowed by a ray to the light) and,
 // while bounces remain, albedo times the irradiance / pi it receives in turn (cosine-sampled paths);
 // a ray that hits nothing brings the sky (the environment map, else the ambient colour). Back faces
 // of single-sided materials send nothing (as the bake's back-face samples). Diffuse albedo is base
