@@ -22,6 +22,7 @@
 #include <tinyexr.h>
 
 #include "glb_with_image.h"
+#include "gi/gi_bake_file.h"
 #include "janus/renderer/image.h"
 
 namespace fs = std::filesystem;
@@ -180,13 +181,55 @@ void imageSeeds(const fs::path& scenes, const fs::path& out, int& written) {
 
 }  // namespace
 
+// GI bake files in this build's format (so a format change never leaves the seeds stale): a
+// small bake made by hand, one per kind of brick mix, written by the renderer's own writer.
+int giBakeSeeds(const fs::path& out) {
+    using namespace janus::renderer;
+    int count = 0;
+    for (const bool withSky : {false, true}) {
+        IrradianceVolume volume;
+        volume.probeCounts = glm::uvec3(2, 1, 1);
+        volume.surfelsPerProbe = 16;
+        GiBake bake;
+        bake.probeCounts = volume.probeCounts;
+        bake.samplesPerProbe = volume.surfelsPerProbe;
+        for (uint32_t p = 0; p < 2; ++p) {
+            bake.probePositions.push_back(glm::vec3(float(p) - 0.5f, 0.0f, 0.0f));
+            bake.backFaceFraction.push_back(0.0f);
+            bake.valid.push_back(true);
+            bake.probeFirstTransfer.push_back(p * 2);
+            bake.probeTransferCount.push_back(2);
+        }
+        for (uint32_t b = 0; b < 3; ++b) {
+            GiSurfel surfel;
+            surfel.position = glm::vec3(float(b), -1.0f, 0.0f);
+            surfel.normal = surfel.faceNormal = glm::vec3(0.0f, 1.0f, 0.0f);
+            surfel.albedo = glm::vec3(0.5f);
+            surfel.emission = glm::vec3(float(b));
+            surfel.renderingLayers = 1u << b;
+            bake.surfels.push_back(surfel);
+            bake.bricks.push_back(GiBrick{b, 1, false, glm::vec3(0.0f)});
+        }
+        if (withSky) bake.bricks.push_back(GiBrick{0, 0, true, glm::vec3(0.0f, 1.0f, 0.0f)});
+        for (uint32_t t = 0; t < 4; ++t) {
+            GiTransfer transfer;
+            transfer.brick = t % uint32_t(bake.bricks.size());
+            for (size_t k = 0; k < 9; ++k) transfer.sh[k] = 0.1f * float(k + t);
+            bake.transfers.push_back(transfer);
+        }
+        writeGiBakeFile(out / "gi_bake" / (withSky ? "with-sky.bake" : "surfels.bake"), bake, volume, 0x5eedu);
+        ++count;
+    }
+    return count;
+}
+
 int main(int argc, char** argv) {
     if (argc != 4) {
         std::cerr << "usage: janus_fuzz_seeds SCENES_DIR SCENE_FILES_DIR OUT_DIR\n";
         return 2;
     }
     const fs::path scenes = argv[1], sceneFiles = argv[2], out = argv[3];
-    for (const char* dir : {"gltf", "image", "scene_file"}) fs::create_directories(out / dir);
+    for (const char* dir : {"gltf", "image", "scene_file", "gi_bake"}) fs::create_directories(out / dir);
     int gltfCount = 0, imageCount = 0, sceneCount = 0;
     for (const fs::directory_entry& entry : fs::recursive_directory_iterator(scenes))
         if (entry.is_regular_file() && entry.path().extension() == ".gltf" && entry.file_size() <= kMaxSeedBytes)
@@ -201,7 +244,8 @@ int main(int argc, char** argv) {
             writeFile(out / "scene_file" / entry.path().filename(), scene.dump(2));
             ++sceneCount;
         }
-    std::cout << "seeds: " << gltfCount << " glTF/GLB, " << imageCount << " images, " << sceneCount << " scene files in " << out.string()
-              << "\n";
+    const int bakeCount = giBakeSeeds(out);
+    std::cout << "seeds: " << gltfCount << " glTF/GLB, " << imageCount << " images, " << sceneCount << " scene files, " << bakeCount
+              << " GI bake files in " << out.string() << "\n";
     return 0;
 }

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets (clang, ASan + UBSan, own build folder) and runs one of them.
 #
-#   scripts/fuzz.sh TARGET SECONDS [libFuzzer flags...]     TARGET: gltf | scene_file | image
+#   scripts/fuzz.sh TARGET SECONDS [libFuzzer flags...]     TARGET: gltf | scene_file | image | gi_bake
 #
 # The corpus is fuzz/corpus/TARGET (small hand-made seeds) plus seeds generated from
 # ../shared/scenes into the build folder, where new inputs are kept between runs. Prints the
@@ -11,7 +11,7 @@
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${JANUS_FUZZ_BUILD_DIR:-$root/build-fuzz}
-targets=(gltf scene_file image)
+targets=(gltf scene_file image gi_bake)
 
 usage() { echo "usage: scripts/fuzz.sh TARGET SECONDS [libFuzzer flags...]  (TARGET: ${targets[*]})" >&2; exit 2; }
 (($# >= 2)) || usage
@@ -31,7 +31,7 @@ cmake --build "$build" --parallel "${JANUS_JOBS:-$(nproc)}" --target "janus_fuzz
 
 corpus=$build/corpus/$target
 seeds=$build/seeds
-if [[ ! -d $seeds ]]; then
+if [[ ! -d $seeds/$target ]]; then   # made once; again when a target has none yet
   shared=$root/../shared/scenes
   [[ -d $shared ]] || { echo "fuzz: $shared is missing; fuzzing with the committed seeds only" >&2; shared=$root/fuzz/corpus; }
   "$build/fuzz/janus_fuzz_seeds" "$shared" "$root/tests/renderer/data" "$seeds"

@@ -28,50 +28,10 @@
 #include <glm/glm.hpp>
 
 #include "core/gpu_scene.h"
+#include "gi/gi_bake_data.h"
 #include "janus/renderer/scene.h"
 
 namespace janus::renderer {
-
-// One direction of one probe's G-buffer.
-struct GiSample {
-    enum class Kind : uint8_t { Surface, BackFace, Sky };
-    Kind kind = Kind::Sky;
-    glm::vec3 direction{0.0f, 0.0f, 1.0f};   // unit, from the probe
-    glm::vec3 position{0.0f}, normal{0.0f, 0.0f, 1.0f}, albedo{0.0f}, emission{0.0f};   // surfaces
-    // The plane of the triangle seen, on the probe's side (unit); 0: the shading normal's.
-    glm::vec3 faceNormal{0.0f};
-    uint32_t renderingLayers = ~0u;   // its instance's: the lights that light it (every one by default)
-};
-
-struct GiSurfel {
-    glm::vec3 position{0.0f}, normal{0.0f, 0.0f, 1.0f}, albedo{0.0f}, emission{0.0f};
-    // The relight counts no light from below this plane (a shading normal may lean away from it).
-    glm::vec3 faceNormal{0.0f, 0.0f, 1.0f};
-    uint32_t renderingLayers = ~0u;   // lit by the lights whose layers share a bit with these
-};
-
-struct GiBrick {
-    uint32_t firstSurfel = 0, surfelCount = 0;
-    bool sky = false;
-    glm::vec3 skyDirection{0.0f};
-};
-
-struct GiTransfer {
-    uint32_t brick = 0;
-    std::array<float, 9> sh{};
-};
-
-struct GiBake {
-    glm::uvec3 probeCounts{1, 1, 1};
-    std::vector<glm::vec3> probePositions;   // grid order: x + X (y + Y z)
-    std::vector<float> backFaceFraction;     // per probe
-    std::vector<bool> valid;                 // per probe
-    std::vector<GiSurfel> surfels;           // grouped by brick
-    std::vector<GiBrick> bricks;
-    std::vector<GiTransfer> transfers;       // grouped by probe
-    std::vector<uint32_t> probeFirstTransfer, probeTransferCount;
-    uint32_t samplesPerProbe = 0;
-};
 
 // Sky samples' direction bins on the brick path: texels of a cube this many texels wide.
 inline constexpr uint32_t kGiSkyBinsPerFace = 8;

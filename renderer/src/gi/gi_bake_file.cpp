@@ -209,6 +209,10 @@ GiBake readGiBakeFile(const std::filesystem::path& path, const IrradianceVolume&
     std::ifstream in(path, std::ios::binary);
     if (!in) throw GiBakeFileError(fmt::format("GI bake file {}: cannot open it (does it exist?); make one with janus bake", path.string()));
     const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    return parseGiBakeFile(bytes, path, volume, sceneHash);
+}
+
+GiBake parseGiBakeFile(const std::string& bytes, const std::filesystem::path& path, const IrradianceVolume& volume, uint64_t sceneHash) {
     const std::string file = path.string();
     if (bytes.size() < sizeof(kMagic) || std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0)
         throw GiBakeFileError(fmt::format("GI bake file {}: not a Janus GI bake (no JANUSGI header)", file));

@@ -16,8 +16,9 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <string>
 
-#include "gi/gi_bake.h"
+#include "gi/gi_bake_data.h"
 #include "janus/renderer/scene.h"
 
 namespace janus::renderer {
@@ -33,5 +34,8 @@ uint64_t giSceneHash(const Scene& scene);
 
 void writeGiBakeFile(const std::filesystem::path& path, const GiBake& bake, const IrradianceVolume& volume, uint64_t sceneHash);
 GiBake readGiBakeFile(const std::filesystem::path& path, const IrradianceVolume& volume, uint64_t sceneHash);
+// The same checks on a file's bytes (`path` names it in messages): what readGiBakeFile does once
+// the file is read, and what fuzz/fuzz_gi_bake.cpp feeds.
+GiBake parseGiBakeFile(const std::string& bytes, const std::filesystem::path& path, const IrradianceVolume& volume, uint64_t sceneHash);
 
 }  // namespace janus::renderer
