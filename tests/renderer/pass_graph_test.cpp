@@ -102,6 +102,35 @@ TEST(PassGraphTest, WithoutOutputsOnlySideEffectPassesRun) {
     EXPECT_EQ(graph.keptPasses(), (Names{"writes-a", "readback"}));
 }
 
+// A pass whose skip() says its result is still valid is left out of that execution: not
+// recorded, not reported; its readers run. Asked again at every execution.
+TEST(PassGraphTest, ASkippedPassIsNeitherRecordedNorReportedThatTime) {
+    PassGraph graph;
+    Names log, setups;
+    const auto map = graph.addResource("map");
+    const auto output = graph.importResource("display");
+    bool valid = false;
+    PassGraph::PassDesc producer = gpuPass("producer", {}, {map}, log, setups);
+    producer.skip = [&valid] { return valid; };
+    graph.addPass(std::move(producer));
+    graph.addPass(gpuPass("consumer", {map}, {output}, log, setups));
+    graph.markOutput(output);
+    graph.compile(device());
+    EXPECT_EQ(graph.keptPasses(), (Names{"producer", "consumer"}));
+    auto executed = [&] {
+        log.clear();
+        Names reported;
+        for (const PassReport& report : graph.execute(device(), device().createCommandList())) reported.push_back(report.name);
+        EXPECT_EQ(reported, log);
+        return log;
+    };
+    EXPECT_EQ(executed(), (Names{"producer", "consumer"}));
+    valid = true;
+    EXPECT_EQ(executed(), (Names{"consumer"}));
+    valid = false;
+    EXPECT_EQ(executed(), (Names{"producer", "consumer"}));
+}
+
 TEST(PassGraphTest, AReadWithoutAnEarlierWriterIsAnError) {
     PassGraph graph;
     Names log, setups;

@@ -90,7 +90,7 @@ std::vector<PassReport> PassGraph::execute(rhi::IDevice& device, const rhi::Comm
         recording = false;
     };
     for (const Pass& pass : m_passes) {
-        if (!pass.kept) continue;
+        if (!pass.kept || (pass.desc.skip && pass.desc.skip())) continue;
         PassReport report;
         report.name = pass.desc.name;
         report.view = pass.desc.view;

@@ -59,6 +59,10 @@ public:
         std::function<void(PassReport&)> run;
         // Kept even when nothing reads what it writes (e.g. a readback for the report).
         bool sideEffect = false;
+        // Asked at every execute() (optional): true leaves the pass out of that execution (nothing
+        // recorded, no report), for work whose result is still valid from an earlier one, as a
+        // static scene's shadow map. Its readers read what the resource holds.
+        std::function<bool()> skip;
     };
     void addPass(PassDesc pass);
 

@@ -144,6 +144,14 @@ void MainLightShadows::addPasses(PassGraph& graph, const SceneView& view) {
         pass.writes = {shadowMap};
         pass.setup = [this, size] { createMap(size); };
         pass.record = [this, size](rhi::ICommandList& cmd, PassReport& report) { recordMap(cmd, size, report); };
+        // Left out while the map already holds this scene under this light: nothing in a scene
+        // moves once it is loaded, and setLights refits. A static scene draws its map once (in the
+        // first graph of its first frame that reads it: the GI relight's, a probe capture's or
+        // the frame's), and captures reuse the frame's.
+        pass.skip = [this, size] {
+            auto it = m_maps.find(size);
+            return it != m_maps.end() && it->second->upToDate();
+        };
         graph.addPass(std::move(pass));
         graph.publish("", sizeKey, ViewTarget{shadowMap, nullptr, {}});
         if (shared) graph.publish("", frame_resources::kShadowMap, ViewTarget{shadowMap, nullptr, {}});

@@ -176,7 +176,9 @@ void DirectionalShadowMap::fit(const glm::vec3& lightDirection, const glm::vec3&
     projection[1][1] *= -1.0;
     projection[3][1] *= -1.0;
 
-    m_lightViewProjection = glm::mat4(projection * view);
+    const glm::mat4 lightViewProjection(projection * view);
+    if (!m_fitted || lightViewProjection != m_lightViewProjection) m_upToDate = false;
+    m_lightViewProjection = lightViewProjection;
     m_lightDirection = glm::vec3(direction);
     m_texelWorldSize = float(texel);
     m_fitted = true;
@@ -210,6 +212,7 @@ void DirectionalShadowMap::setCasters(std::span<const ShadowCaster> casters) {
         rhi::BindingItem::uniformBuffer(JANUS_BINDING_SHADOW_CASTER, m_casterUniforms, 0, sizeof(glm::mat4)).setDynamicOffset()));
     m_casterSlots = casters.size();
     m_device.writeBuffer(m_casterUniforms, data.data(), data.size());
+    m_upToDate = false;
 }
 
 void DirectionalShadowMap::uploadPassUniforms(rhi::ICommandList& cmd) {
@@ -278,6 +281,7 @@ void DirectionalShadowMap::record(rhi::ICommandList& cmd, std::span<const Shadow
     }
     if (drawInPass) drawInPass(cmd);
     cmd.endRenderPass();
+    m_upToDate = true;
 }
 
 rhi::BindingItem DirectionalShadowMap::binding(uint32_t slot) const {

@@ -104,6 +104,12 @@ public:
     // The polygon offset of the map's own pipelines, for pipelines that draw into its pass.
     static rhi::RasterState depthBias();
 
+    // Whether the map holds what record() would draw now: it was recorded since it was made, since
+    // setCasters and since a fit that changed the light's view-projection (a fit to the same light
+    // and bounds changes nothing). Casters that moved since are for its owner to know. Its owner
+    // records it again only when not (a static scene's map is drawn once).
+    bool upToDate() const { return m_upToDate; }
+
     // The map as a sampler2DShadow at `slot` (compare LessOrEqual: 1 = lit, linear filtering
     // gives hardware 2x2 PCF per tap).
     rhi::BindingItem binding(uint32_t slot) const;
@@ -131,6 +137,7 @@ private:
     uint64_t m_casterStride = 0;
     bool m_passUniformsDirty = true;
     bool m_fitted = false;
+    bool m_upToDate = false;
     glm::vec3 m_lightDirection{0.0f, -1.0f, 0.0f};
     glm::mat4 m_lightViewProjection{1.0f};
     float m_texelWorldSize = 0.0f;
