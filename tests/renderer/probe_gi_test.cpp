@@ -8,6 +8,7 @@
 #include <cmath>
 #include <fstream>
 #include <limits>
+#include <utility>
 
 #include <fmt/format.h>
 #include <glm/gtc/matrix_transform.hpp>
@@ -650,6 +651,25 @@ TEST_P(ProbeGiTest, TheRelightsBouncesComeOnlyFromAboveTheirSurfaces) {
     expectNoMessages();
 }
 
+// `scene` with one probe at the origin (1024 surfels, one bounce) under a camera looking at it:
+// the probe's irradiance / pi SH after the first relight, and the reference's.
+std::pair<ShRgb, ShRgb> oneProbeAndItsReference(rhi::IDevice& device, Scene scene, const RenderSettings& settings) {
+    scene.camera.position = glm::vec3(0.0f, 0.5f, 2.0f);
+    IrradianceVolume volume;
+    volume.bounds = Box{glm::vec3(-0.1f), glm::vec3(0.1f)};
+    volume.probeCounts = glm::uvec3(1);
+    volume.surfelsPerProbe = 1024;
+    volume.bounces = 1;
+    scene.irradianceVolume = volume;
+    Renderer renderer(device, scene, settings);
+    renderer.renderFrame();
+    const std::vector<IrradianceProbe> probes = renderer.readIrradianceProbes();
+    EXPECT_EQ(probes.size(), 1u);
+    const GiReference reference(scene);
+    const std::vector<GiReferenceProbe> truth = reference.probes(std::vector<glm::vec3>{probes.at(0).position}, GiReferenceSettings{}.setBounces(1));
+    return {shOf(probes.at(0)), truth.at(0).irradianceSh};
+}
+
 // A light below a surfel's triangle does not reach it, though its shading normal leans towards
 // the light (the reference's rule): the floor's normals lean 60 degrees to -X, and a sun just
 // below the floor's plane on that side lit the floor in the relight and not in the reference.
@@ -671,21 +691,9 @@ TEST_P(ProbeGiTest, ALightBelowASurfelsTriangleDoesNotReachIt) {
         sun.direction = -glm::normalize(glm::vec3(-0.9f, height, 0.0f));   // travels towards the floor from -X
         sun.intensity = 3.0f;
         scene.lights.push_back(sun);
-        scene.camera.position = glm::vec3(0.0f, 0.5f, 2.0f);
-        IrradianceVolume volume;
-        volume.bounds = Box{glm::vec3(-0.1f), glm::vec3(0.1f)};
-        volume.probeCounts = glm::uvec3(1);
-        volume.surfelsPerProbe = 1024;
-        volume.bounces = 1;
-        scene.irradianceVolume = volume;
-        Renderer renderer(device(), scene, settings(32, 32));
-        renderer.renderFrame();
-        const std::vector<IrradianceProbe> probes = renderer.readIrradianceProbes();
-        ASSERT_EQ(probes.size(), 1u);
-        const GiReference reference(scene);
-        const std::vector<GiReferenceProbe> truth = reference.probes(std::vector<glm::vec3>{probes[0].position}, GiReferenceSettings{}.setBounces(1));
-        const double fromBelow = shEvaluate(shOf(probes[0]), glm::dvec3(0, -1, 0)).g;
-        const double truthFromBelow = shEvaluate(truth[0].irradianceSh, glm::dvec3(0, -1, 0)).g;
+        const auto [probe, truth] = oneProbeAndItsReference(device(), scene, settings(32, 32));
+        const double fromBelow = shEvaluate(probe, glm::dvec3(0, -1, 0)).g;
+        const double truthFromBelow = shEvaluate(truth, glm::dvec3(0, -1, 0)).g;
         if (height < 0.0f) {
             EXPECT_EQ(truthFromBelow, 0.0);
             EXPECT_LT(std::abs(fromBelow), 1e-4) << GetParam().name() << ": the floor was lit from below its plane";
@@ -719,22 +727,10 @@ TEST_P(ProbeGiTest, ASurfelIsLitOnlyByTheLightsOfItsRenderingLayers) {
         light.intensity = 3.0f;
         light.renderingLayers = 2u;
         scene.lights.push_back(light);
-        scene.camera.position = glm::vec3(0.0f, 0.5f, 2.0f);
-        IrradianceVolume volume;
-        volume.bounds = Box{glm::vec3(-0.1f), glm::vec3(0.1f)};
-        volume.probeCounts = glm::uvec3(1);
-        volume.surfelsPerProbe = 1024;
-        volume.bounces = 1;
-        scene.irradianceVolume = volume;
-        Renderer renderer(device(), scene, settings(32, 32));
-        renderer.renderFrame();
-        const std::vector<IrradianceProbe> probes = renderer.readIrradianceProbes();
-        ASSERT_EQ(probes.size(), 1u);
-        const GiReference reference(scene);
-        const std::vector<GiReferenceProbe> truth = reference.probes(std::vector<glm::vec3>{probes[0].position}, GiReferenceSettings{}.setBounces(1));
+        const auto [probe, truth] = oneProbeAndItsReference(device(), scene, settings(32, 32));
         const glm::dvec3 downLeft = glm::normalize(glm::dvec3(-1, -1, 0)), downRight = glm::normalize(glm::dvec3(1, -1, 0));
-        const double left = shEvaluate(shOf(probes[0]), downLeft).g, right = shEvaluate(shOf(probes[0]), downRight).g;
-        const double truthLeft = shEvaluate(truth[0].irradianceSh, downLeft).g, truthRight = shEvaluate(truth[0].irradianceSh, downRight).g;
+        const double left = shEvaluate(probe, downLeft).g, right = shEvaluate(probe, downRight).g;
+        const double truthLeft = shEvaluate(truth, downLeft).g, truthRight = shEvaluate(truth, downRight).g;
         const char* name = type == LightType::Directional ? "sun" : "point light";
         // 1024 surfels of a 4 m floor, L2 SH of a field lit on one side: 3 % of the lit side.
         EXPECT_NEAR(right, truthRight, 0.03 * truthRight) << GetParam().name() << ", " << name;
