@@ -20,7 +20,7 @@ namespace {
 
 constexpr uint32_t kDataWidth = 1024;   // gi_relight_common.glsl kGiDataWidth
 constexpr uint32_t kGroupSize = 64;     // gi_brick_radiance.comp, gi_probe_sh.comp
-constexpr uint32_t kShCoefficientsPerDraw = 3;
+constexpr uint32_t kShCoefficientsPerDraw = 3;   // gi_probe_sh.frag: colour targets per draw of the fallback SH pass
 
 // A unit vector as a point of the octahedron unfolded onto [-1, 1]^2 (gi_relight_common.glsl's
 // giOctahedralDecode inverts it).
@@ -29,7 +29,7 @@ glm::vec2 octahedralEncode(const glm::vec3& n) {
     if (o.z >= 0.0f) return glm::vec2(o.x, o.y);
     auto signNotZero = [](float v) { return v >= 0.0f ? 1.0f : -1.0f; };
     return glm::vec2((1.0f - std::abs(o.y)) * signNotZero(o.x), (1.0f - std::abs(o.x)) * signNotZero(o.y));
-}   // gi_probe_sh.frag: colour targets per draw of the fallback SH pass
+}
 
 // std140 mirror of gi_relight_common.glsl's GiRelightParams.
 
