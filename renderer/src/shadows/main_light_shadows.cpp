@@ -112,15 +112,12 @@ void MainLightShadows::recordMap(rhi::ICommandList& cmd, uint32_t size, PassRepo
         map.record(cmd, m_casters, report.draws);
         return;
     }
-    // The light's view-projection as the masked casters' view, uploaded when a refit changed it.
+    // The light's view-projection as the masked casters' view. The map is recorded only when
+    // out of date (made, or refitted to another view-projection), so each recording uploads it.
     MaskedView& view = m_maskedViews.at(size);
-    if (!view.written || view.uploaded != map.lightViewProjection()) {
-        FrameUniforms frame{};
-        frame.viewProjection = map.lightViewProjection();
-        cmd.writeBuffer(view.frameUniforms, &frame, sizeof(frame));
-        view.uploaded = map.lightViewProjection();
-        view.written = true;
-    }
+    FrameUniforms frame{};
+    frame.viewProjection = map.lightViewProjection();
+    cmd.writeBuffer(view.frameUniforms, &frame, sizeof(frame));
     map.record(cmd, m_casters, report.draws,
                [&](rhi::ICommandList& pass) { m_gpuScene.drawSelected(pass, m_maskedDraws, m_maskedPipelines, view.bindings, report); });
 }

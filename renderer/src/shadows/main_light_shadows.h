@@ -60,8 +60,6 @@ private:
     struct MaskedView {
         rhi::BufferHandle frameUniforms;
         rhi::BindingSetHandle bindings;
-        glm::mat4 uploaded{0.0f};   // the view-projection last written
-        bool written = false;
     };
 
     bool hasCasters() const { return !m_casters.empty() || !m_maskedDraws.empty(); }
