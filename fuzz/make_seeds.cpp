@@ -217,6 +217,11 @@ int giBakeSeeds(const fs::path& out) {
             for (size_t k = 0; k < 9; ++k) transfer.sh[k] = 0.1f * float(k + t);
             bake.transfers.push_back(transfer);
         }
+        if (withSky)   // and visibility maps
+            for (size_t i = 0; i < 2 * size_t(kGiVisibilityResolution) * kGiVisibilityResolution; ++i) {
+                const float mean = 1.0f + float(i % 5) * 0.5f;
+                bake.distanceMoments.push_back(glm::vec2(mean, mean * mean + 0.01f));
+            }
         writeGiBakeFile(out / "gi_bake" / (withSky ? "with-sky.bake" : "surfels.bake"), bake, volume, 0x5eedu);
         ++count;
     }

@@ -26,7 +26,7 @@ namespace janus::cli {
 namespace {
 
 const std::vector<std::string> kSweeps = {"surfels", "bricks", "brick-size", "surfels-per-brick", "spacing", "order", "bounces",
-                                          "probes-per-frame", "reduction", "normal-bias", "validity", "relocation"};
+                                          "probes-per-frame", "reduction", "normal-bias", "validity", "relocation", "visibility"};
 
 struct GiOptions {
     std::string scene;
@@ -95,6 +95,8 @@ std::vector<Variant> makeVariants(const renderer::IrradianceVolume& base, const 
                 add("validity", fmt::format("invalid above {} back faces", fraction), [&](auto& v) { v.invalidBackFaceFraction = fraction; });
     if (wanted("relocation"))
         add("relocation", base.relocateProbes ? "probes not relocated" : "probes relocated", [&](auto& v) { v.relocateProbes = !base.relocateProbes; });
+    if (wanted("visibility"))
+        add("visibility", base.visibility ? "no visibility test" : "visibility test", [&](auto& v) { v.visibility = !base.visibility; });
     return variants;
 }
 
@@ -361,7 +363,8 @@ int runGi(const GiOptions& options) {
                          {"bricks", r.volume.bricks}, {"brickSize", r.volume.brickSize}, {"bounces", r.volume.bounces}, {"shOrder", r.volume.shOrder},
                          {"probesPerFrame", r.volume.probesPerFrame}, {"parallelReduction", r.volume.parallelReduction},
                          {"normalBias", r.volume.normalBias}, {"invalidBackFaceFraction", r.volume.invalidBackFaceFraction},
-                         {"relocateProbes", r.volume.relocateProbes}}},
+                         {"relocateProbes", r.volume.relocateProbes},
+                         {"visibility", r.volume.visibility}}},
              {"probes", r.probes}, {"validProbes", r.validProbes}, {"bakeMs", r.bakeMs},
              {"relight", {{"totalMs", r.relight.totalMs}, {"frames", r.relight.frames}, {"brickMs", r.relight.brickMs}, {"shMs", r.relight.shMs},
                           {"runsMs", r.relightRuns}}},

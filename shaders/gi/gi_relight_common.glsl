@@ -11,6 +11,7 @@
 #ifndef JANUS_GI_RELIGHT_COMMON_GLSL
 #define JANUS_GI_RELIGHT_COMMON_GLSL
 #include "janus/shaders/bindings.h"
+#include "gi/gi_octahedral.glsl"
 
 const int kGiDataWidth = 1024;
 
@@ -21,13 +22,6 @@ layout(set = 0, binding = JANUS_BINDING_GI_RELIGHT_PARAMS, std140) uniform GiRel
 } relight;
 
 vec4 giData(highp sampler2D data, int e) { return texelFetch(data, ivec2(e % kGiDataWidth, e / kGiDataWidth), 0); }
-
-// The unit vector ProbeGi's octahedralEncode stored as `e`.
-vec3 giOctahedralDecode(vec2 e) {
-    vec3 n = vec3(e, 1.0 - abs(e.x) - abs(e.y));
-    if (n.z < 0.0) n.xy = (1.0 - abs(n.yx)) * vec2(n.x >= 0.0 ? 1.0 : -1.0, n.y >= 0.0 ? 1.0 : -1.0);
-    return normalize(n);
-}
 
 // The clamped-cosine convolution divided by pi for coefficient k (A_l / pi: 1, 2/3, 1/4), or 0
 // for L2 terms of an L1 volume: what turns radiance SH into the irradiance / pi shading reads.

@@ -45,7 +45,7 @@ for file in gi.md gi.json gi.png; do
 done
 B=$TMP/gi-bench/gi.json
 json_check "$B" 'sorted({c["sweep"] for c in j["configurations"]}) == sorted(["default", "surfels", "bricks", "brick-size",
-  "surfels-per-brick", "spacing", "order", "bounces", "probes-per-frame", "reduction", "normal-bias", "validity", "relocation"])' "gi.json lacks a sweep"
+  "surfels-per-brick", "spacing", "order", "bounces", "probes-per-frame", "reduction", "normal-bias", "validity", "relocation", "visibility"])' "gi.json lacks a sweep"
 json_check "$B" 'all(c["relight"]["totalMs"] > 0 and c["relight"]["frames"] >= 1 and c["bakeMs"] > 0 and c["validProbes"] > 0 and
   0 < c["probeError"]["relativeRmse"] < 1 and 0 < c["imageErrorConverged"]["relativeRmse"] < 2 for c in j["configurations"])' \
   "a gi.json row lacks times or has an absurd error"
@@ -68,6 +68,11 @@ json_check "$B" 'next(c for c in j["configurations"] if c["sweep"] == "normal-bi
 json_check "$B" 'next(c for c in j["configurations"] if c["sweep"] == "validity")["validProbes"] <=
   next(c for c in j["configurations"] if c["sweep"] == "default")["validProbes"]' \
   "a back-face fraction of 0.25 left more probes valid than the default 0.5"
+# The visibility row turns the test off: the volume says so, and the image differs from the default's.
+json_check "$B" 'next(c for c in j["configurations"] if c["sweep"] == "visibility")["volume"]["visibility"] is False and
+  next(c for c in j["configurations"] if c["sweep"] == "visibility")["imageError"] !=
+  next(c for c in j["configurations"] if c["sweep"] == "default")["imageError"]' \
+  "the visibility row does not turn the test off, or its image is the default's"
 json_check "$B" 'any(g["goal"] == "defaults vs converged reference" and 0 < g["imageRmseReferenceProbes"] < 2 for g in j["goals"])' \
   "the defaults' goal lacks the image with the reference's probes"
 grep -q "^## Goals" "$TMP/gi-bench/gi.md" || fail "gi.md has no goals section"

@@ -48,6 +48,71 @@ std::vector<glm::vec3> giSampleDirections(uint32_t count) {
     return directions;
 }
 
+glm::vec2 giOctahedralEncode(const glm::vec3& n) {
+    const glm::vec3 o = n / (std::abs(n.x) + std::abs(n.y) + std::abs(n.z));
+    if (o.z >= 0.0f) return glm::vec2(o.x, o.y);
+    auto signNotZero = [](float v) { return v >= 0.0f ? 1.0f : -1.0f; };
+    return glm::vec2((1.0f - std::abs(o.y)) * signNotZero(o.x), (1.0f - std::abs(o.x)) * signNotZero(o.y));
+}
+
+glm::vec3 giOctahedralDecode(const glm::vec2& e) {
+    glm::vec3 n(e.x, e.y, 1.0f - std::abs(e.x) - std::abs(e.y));
+    if (n.z < 0.0f) {
+        const glm::vec2 folded = (1.0f - glm::abs(glm::vec2(n.y, n.x))) * glm::vec2(n.x >= 0.0f ? 1.0f : -1.0f, n.y >= 0.0f ? 1.0f : -1.0f);
+        n.x = folded.x, n.y = folded.y;
+    }
+    return glm::normalize(n);
+}
+
+GiDistanceMomentFilter::GiDistanceMomentFilter(uint32_t faceSize, uint32_t resolution) : m_faceSize(faceSize), m_resolution(resolution) {
+    // DDGI's sharpness for distances: a lobe about 10 degrees wide at half its height. Taps below
+    // 1e-3 of the peak (beyond about 30 degrees) are dropped.
+    constexpr double kExponent = 50.0;
+    const double minCosine = std::pow(1e-3, 1.0 / kExponent);
+    const size_t faceTexels = size_t(faceSize) * faceSize;
+    std::vector<glm::dvec3> directions(6 * faceTexels);
+    std::vector<double> solidAngles(faceTexels);
+    for (uint32_t face = 0; face < 6; ++face)
+        for (uint32_t y = 0; y < faceSize; ++y)
+            for (uint32_t x = 0; x < faceSize; ++x) directions[face * faceTexels + y * faceSize + x] = cubeTexelDirection(face, x, y, faceSize);
+    for (uint32_t y = 0; y < faceSize; ++y)
+        for (uint32_t x = 0; x < faceSize; ++x) solidAngles[y * faceSize + x] = cubeTexelSolidAngle(x, y, faceSize);
+    m_firstTap.reserve(size_t(resolution) * resolution + 1);
+    for (uint32_t y = 0; y < resolution; ++y)
+        for (uint32_t x = 0; x < resolution; ++x) {
+            const glm::vec2 point = (glm::vec2(x, y) + 0.5f) / float(resolution) * 2.0f - 1.0f;
+            const glm::dvec3 axis(giOctahedralDecode(point));
+            m_firstTap.push_back(uint32_t(m_taps.size()));
+            double sum = 0.0;
+            const size_t first = m_taps.size();
+            for (size_t t = 0; t < directions.size(); ++t) {
+                const double c = glm::dot(axis, directions[t]);
+                if (c < minCosine) continue;
+                const double weight = std::pow(c, kExponent) * solidAngles[t % faceTexels];
+                m_taps.push_back(Tap{uint32_t(t), float(weight)});
+                sum += weight;
+            }
+            for (size_t i = first; i < m_taps.size(); ++i) m_taps[i].weight = float(m_taps[i].weight / sum);
+        }
+    m_firstTap.push_back(uint32_t(m_taps.size()));
+}
+
+std::vector<glm::vec2> GiDistanceMomentFilter::moments(const std::vector<float>& distances) const {
+    if (distances.size() != size_t(6) * m_faceSize * m_faceSize)
+        throw RendererError(fmt::format("GI distance moments: {} distances for a cube of 6 x {}^2 texels", distances.size(), m_faceSize));
+    std::vector<glm::vec2> result(size_t(m_resolution) * m_resolution);
+    for (size_t texel = 0; texel < result.size(); ++texel) {
+        double mean = 0.0, meanSquare = 0.0;
+        for (uint32_t i = m_firstTap[texel]; i < m_firstTap[texel + 1]; ++i) {
+            const double d = distances[m_taps[i].texel];
+            mean += m_taps[i].weight * d;
+            meanSquare += m_taps[i].weight * d * d;
+        }
+        result[texel] = glm::vec2(float(mean), float(meanSquare));
+    }
+    return result;
+}
+
 namespace {
 
 // The brick a surfel belongs to: its cell and the axis direction closest to its normal (so a
@@ -188,7 +253,8 @@ std::optional<glm::vec3> giRelocatedPosition(const std::vector<GiSample>& sample
 
 GiBake bakeGiVolume(rhi::IDevice& device, const GpuScene& gpuScene, const IrradianceVolume& volume, PassReport* report) {
     std::vector<glm::vec3> positions = giProbePositions(volume);
-    std::vector<std::vector<GiSample>> samples = captureGiSamples(device, gpuScene, volume, positions, 32, report);
+    std::vector<std::vector<glm::vec2>> moments;
+    std::vector<std::vector<GiSample>> samples = captureGiSamples(device, gpuScene, volume, positions, 32, report, &moments);
     if (volume.relocateProbes) {
         const std::vector<glm::vec3> grid = positions;
         const glm::vec3 spacing = giProbeSpacing(volume);
@@ -205,8 +271,10 @@ GiBake bakeGiVolume(rhi::IDevice& device, const GpuScene& gpuScene, const Irradi
                     target && *target != positions[p])
                     moving.push_back(p), targets.push_back(*target);
             if (moving.empty()) break;
-            std::vector<std::vector<GiSample>> moved = captureGiSamples(device, gpuScene, volume, targets, 32, report);
-            for (size_t i = 0; i < moving.size(); ++i) positions[moving[i]] = targets[i], samples[moving[i]] = std::move(moved[i]);
+            std::vector<std::vector<glm::vec2>> movedMoments;
+            std::vector<std::vector<GiSample>> moved = captureGiSamples(device, gpuScene, volume, targets, 32, report, &movedMoments);
+            for (size_t i = 0; i < moving.size(); ++i)
+                positions[moving[i]] = targets[i], samples[moving[i]] = std::move(moved[i]), moments[moving[i]] = std::move(movedMoments[i]);
             inside = std::move(moving);
         }
         // A probe still inside goes back to its grid position and its samples there (invalid).
@@ -217,15 +285,20 @@ GiBake bakeGiVolume(rhi::IDevice& device, const GpuScene& gpuScene, const Irradi
         if (!failed.empty()) {
             std::vector<glm::vec3> back;
             for (size_t p : failed) back.push_back(grid[p]);
-            std::vector<std::vector<GiSample>> original = captureGiSamples(device, gpuScene, volume, back, 32, report);
-            for (size_t i = 0; i < failed.size(); ++i) positions[failed[i]] = grid[failed[i]], samples[failed[i]] = std::move(original[i]);
+            std::vector<std::vector<glm::vec2>> originalMoments;
+            std::vector<std::vector<GiSample>> original = captureGiSamples(device, gpuScene, volume, back, 32, report, &originalMoments);
+            for (size_t i = 0; i < failed.size(); ++i)
+                positions[failed[i]] = grid[failed[i]], samples[failed[i]] = std::move(original[i]), moments[failed[i]] = std::move(originalMoments[i]);
         }
     }
-    return buildGiBake(volume, samples, positions);
+    GiBake bake = buildGiBake(volume, samples, positions);
+    for (const std::vector<glm::vec2>& probe : moments) bake.distanceMoments.insert(bake.distanceMoments.end(), probe.begin(), probe.end());
+    return bake;
 }
 
 std::vector<std::vector<GiSample>> captureGiSamples(rhi::IDevice& device, const GpuScene& gpuScene, const IrradianceVolume& volume,
-                                                    const std::vector<glm::vec3>& positions, uint32_t faceSize, PassReport* report) {
+                                                    const std::vector<glm::vec3>& positions, uint32_t faceSize, PassReport* report,
+                                                    std::vector<std::vector<glm::vec2>>* distanceMoments) {
     constexpr rhi::Format kFormat = rhi::Format::RGBA16_FLOAT;
     constexpr size_t kTargets = 4;
     std::array<rhi::TextureHandle, kTargets> targets;
@@ -267,6 +340,10 @@ std::vector<std::vector<GiSample>> captureGiSamples(rhi::IDevice& device, const 
             if (draw.instance >= instanceLayers.size()) instanceLayers.resize(size_t(draw.instance) + 1, ~0u);
             instanceLayers[draw.instance] = draw.renderingLayers;
         }
+
+    std::optional<GiDistanceMomentFilter> momentFilter;
+    if (distanceMoments) momentFilter.emplace(faceSize), distanceMoments->assign(positions.size(), {});
+    std::vector<float> distances;
 
     const rhi::CommandListHandle cmd = device.createCommandList();
     std::vector<std::vector<GiSample>> result(positions.size());
@@ -317,6 +394,16 @@ std::vector<std::vector<GiSample>> captureGiSamples(rhi::IDevice& device, const 
             const uint16_t* h = data[target][c.face].data() + (size_t(c.y) * faceSize + c.x) * 4;
             return glm::vec4(glm::unpackHalf1x16(h[0]), glm::unpackHalf1x16(h[1]), glm::unpackHalf1x16(h[2]), glm::unpackHalf1x16(h[3]));
         };
+        if (momentFilter) {
+            // Every texel's distance (4th channel of target 0; negative where nothing was hit: the far plane).
+            distances.resize(size_t(6) * faceSize * faceSize);
+            for (uint32_t face = 0; face < 6; ++face)
+                for (size_t t = 0; t < size_t(faceSize) * faceSize; ++t) {
+                    const float d = glm::unpackHalf1x16(data[0][face][t * 4 + 3]);
+                    distances[face * size_t(faceSize) * faceSize + t] = d >= 0.0f ? std::min(d, volume.farPlane) : volume.farPlane;
+                }
+            (*distanceMoments)[p] = momentFilter->moments(distances);
+        }
         std::vector<GiSample>& out = result[p];
         out.resize(directions.size());
         for (size_t i = 0; i < directions.size(); ++i) {

@@ -36,6 +36,32 @@ namespace janus::renderer {
 // Sky samples' direction bins on the brick path: texels of a cube this many texels wide.
 inline constexpr uint32_t kGiSkyBinsPerFace = 8;
 
+// A unit vector as a point of the octahedron unfolded onto [-1, 1]^2, and back (both mirror
+// gi_access.glsl / gi_relight_common.glsl).
+glm::vec2 giOctahedralEncode(const glm::vec3& direction);
+glm::vec3 giOctahedralDecode(const glm::vec2& point);
+
+// Distance moments for visibility (DDGI, Majercik et al. 2019): texel t of an N x N octahedral map
+// (centre direction giOctahedralDecode((t + 0.5) / N * 2 - 1)) gets the mean and mean square of
+// the distances a cube of faceSize^2 texels measured, weighted by max(0, cos)^50 to t's direction
+// and the cube texel's solid angle. Built once per cube size; `moments` is then cheap per probe.
+class GiDistanceMomentFilter {
+public:
+    explicit GiDistanceMomentFilter(uint32_t faceSize, uint32_t resolution = kGiVisibilityResolution);
+    // `distances`: 6 faces x faceSize^2 texels (row 0 first), each >= 0. Returns resolution^2
+    // (mean, mean square) pairs, row by row.
+    std::vector<glm::vec2> moments(const std::vector<float>& distances) const;
+
+private:
+    struct Tap {
+        uint32_t texel;
+        float weight;   // normalised per map texel
+    };
+    uint32_t m_faceSize, m_resolution;
+    std::vector<uint32_t> m_firstTap;   // per map texel, then one past the last
+    std::vector<Tap> m_taps;
+};
+
 // Probe i of the grid sits at the centre of cell i of `bounds` split into probeCounts cells.
 std::vector<glm::vec3> giProbePositions(const IrradianceVolume& volume);
 glm::vec3 giProbeSpacing(const IrradianceVolume& volume);
@@ -56,12 +82,16 @@ std::optional<glm::vec3> giRelocatedPosition(const std::vector<GiSample>& sample
 
 // Steps 1-2 on the GPU: renders every probe's G-buffer cube and reads the samples back.
 // `faceSize` is the cube's face size (32 gives 6144 texels for up to 4096 directions). With
-// timestamp queries, `report` gets the G-buffer draws' GPU time and their draw count.
+// timestamp queries, `report` gets the G-buffer draws' GPU time and their draw count. With
+// `distanceMoments`, each probe's GiDistanceMomentFilter map of its cube (a texel that sees nothing
+// counts as the far plane).
 std::vector<std::vector<GiSample>> captureGiSamples(rhi::IDevice& device, const GpuScene& gpuScene, const IrradianceVolume& volume,
                                                     const std::vector<glm::vec3>& positions, uint32_t faceSize = 32,
-                                                    PassReport* report = nullptr);
+                                                    PassReport* report = nullptr,
+                                                    std::vector<std::vector<glm::vec2>>* distanceMoments = nullptr);
 
-// The whole bake: steps 1-4 with relocation (when the volume asks for it) on a 32^2 G-buffer.
+// The whole bake: steps 1-4 with relocation (when the volume asks for it) on a 32^2 G-buffer, and
+// every probe's distance moments from where it ends up.
 GiBake bakeGiVolume(rhi::IDevice& device, const GpuScene& gpuScene, const IrradianceVolume& volume, PassReport* report = nullptr);
 
 }  // namespace janus::renderer

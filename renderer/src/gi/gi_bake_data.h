@@ -11,6 +11,10 @@
 
 namespace janus::renderer {
 
+// What a probe sees around each direction, for shading's visibility test (DDGI's Chebyshev test,
+// gi_access.glsl): an N x N octahedral map (giOctahedralEncode) per probe.
+inline constexpr uint32_t kGiVisibilityResolution = 16;
+
 // One direction of one probe's G-buffer.
 struct GiSample {
     enum class Kind : uint8_t { Surface, BackFace, Sky };
@@ -50,6 +54,10 @@ struct GiBake {
     std::vector<GiTransfer> transfers;       // grouped by probe
     std::vector<uint32_t> probeFirstTransfer, probeTransferCount;
     uint32_t samplesPerProbe = 0;
+    // Per probe (grid order) kGiVisibilityResolution^2 texels, row by row: the mean distance and
+    // mean squared distance to what the probe sees about the texel's direction (giDistanceMoments).
+    // Empty: no visibility (every probe counts wherever it is).
+    std::vector<glm::vec2> distanceMoments;
 };
 
 }  // namespace janus::renderer

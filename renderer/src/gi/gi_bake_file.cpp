@@ -149,6 +149,14 @@ void checkGiBakeValues(const GiBake& bake, const std::string& file) {
     for (size_t t = 0; t < bake.transfers.size(); ++t)
         for (float weight : bake.transfers[t].sh)
             if (!std::isfinite(weight)) refuse("transfer", t, "a weight", "that is not finite");
+    // A mean distance and a mean square: both finite and >= 0, the square at least the mean's
+    // square (a weighted mean of squares; float rounding allowed), or the visibility test's variance would be negative.
+    for (size_t i = 0; i < bake.distanceMoments.size(); ++i) {
+        const glm::vec2 m = bake.distanceMoments[i];
+        if (!(std::isfinite(m.x) && std::isfinite(m.y) && m.x >= 0.0f && m.y >= 0.0f))
+            refuse("visibility texel", i, "distance moments", "that are negative or not finite");
+        if (m.y < m.x * m.x * (1.0f - 1e-4f)) refuse("visibility texel", i, "a mean square distance", "below its mean distance squared");
+    }
 }
 
 }  // namespace
@@ -179,6 +187,10 @@ uint64_t giSceneHash(const Scene& scene) {
 }
 
 void writeGiBakeFile(const std::filesystem::path& path, const GiBake& bake, const IrradianceVolume& volume, uint64_t sceneHash) {
+    const size_t mapTexels = size_t(kGiVisibilityResolution) * kGiVisibilityResolution;
+    if (!bake.distanceMoments.empty() && bake.distanceMoments.size() != bake.probePositions.size() * mapTexels)
+        throw RendererError(fmt::format("GI bake file {}: {} distance moments for {} probes of {} texels each", path.string(),
+                                        bake.distanceMoments.size(), bake.probePositions.size(), mapTexels));
     Writer w;
     w.bytes().append(kMagic, sizeof(kMagic));
     w.add(kGiBakeFileVersion);
@@ -187,6 +199,8 @@ void writeGiBakeFile(const std::filesystem::path& path, const GiBake& bake, cons
     w.add(uint32_t(bake.probePositions.size())), w.add(uint32_t(bake.surfels.size())), w.add(uint32_t(bake.bricks.size()));
     w.add(uint32_t(bake.transfers.size()));
     w.add(bake.samplesPerProbe);
+    const uint32_t visibility = bake.distanceMoments.empty() ? 0 : kGiVisibilityResolution;
+    w.add(visibility);
     for (size_t p = 0; p < bake.probePositions.size(); ++p) {
         w.add(bake.probePositions[p]);
         w.add(bake.backFaceFraction[p]);
@@ -201,6 +215,7 @@ void writeGiBakeFile(const std::filesystem::path& path, const GiBake& bake, cons
         w.add(t.brick);
         for (float f : t.sh) w.add(f);
     }
+    for (const glm::vec2& m : bake.distanceMoments) w.add(m.x), w.add(m.y);
     w.add(uint64_t(XXH3_64bits(w.bytes().data(), w.bytes().size())));
     writeFileAtomically(path, w.bytes());
 }
@@ -227,8 +242,14 @@ GiBake parseGiBakeFile(const std::string& bytes, const std::filesystem::path& pa
     const IrradianceVolume settings = r.settings();
     const uint64_t probes = r.get<uint32_t>(), surfels = r.get<uint32_t>(), bricks = r.get<uint32_t>(), transfers = r.get<uint32_t>();
     const uint32_t samplesPerProbe = r.get<uint32_t>();
+    const uint32_t visibility = r.get<uint32_t>();
+    if (visibility != 0 && visibility != kGiVisibilityResolution)
+        throw GiBakeFileError(fmt::format("GI bake file {}: visibility maps of {}^2 texels; this janus reads {}^2 (or none): bake it again "
+                                        "with janus bake",
+                                        file, visibility, kGiVisibilityResolution));
+    const uint64_t momentsPerProbe = uint64_t(visibility) * visibility;
     const uint64_t expected = r.offset() + probes * kProbeBytes + surfels * kSurfelBytes + bricks * kBrickBytes +
-                              transfers * kTransferBytes + 8;
+                              transfers * kTransferBytes + probes * momentsPerProbe * 8 + 8;
     if (bytes.size() != expected)
         throw GiBakeFileError(fmt::format("GI bake file {}: {} bytes where its counts ({} probes, {} surfels, {} bricks, {} transfers) "
                                         "need {}: truncated or damaged; bake it again with janus bake",
@@ -275,6 +296,8 @@ GiBake parseGiBakeFile(const std::string& bytes, const std::filesystem::path& pa
         for (float& f : t.sh) f = r.get<float>();
         bake.transfers.push_back(t);
     }
+    bake.distanceMoments.resize(probes * momentsPerProbe);
+    for (glm::vec2& m : bake.distanceMoments) m.x = r.get<float>(), m.y = r.get<float>();
     // Indices within range, so the relight cannot read past its data (a consistent checksum
     // does not prove a well-formed writer).
     for (uint64_t p = 0; p < probes; ++p)

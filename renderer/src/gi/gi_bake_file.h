@@ -4,10 +4,11 @@
 // Layout (little-endian, no padding between fields):
 //   header   "JANUSGI\0", u32 format version, u64 scene content hash (giSceneHash), the bake
 //            settings (bounds, probe counts, surfels per probe, brick size, bricks on/off, planes,
-//            invalid back-face fraction, max surfels per brick), u32 counts of probes, surfels, bricks, transfers
+//            invalid back-face fraction, max surfels per brick), u32 counts of probes, surfels, bricks, transfers,
+//            u32 samples per probe, u32 visibility map size N (kGiVisibilityResolution, or 0: none)
 //   body     per probe: position, back-face fraction, valid, first transfer, transfer count;
 //            surfels (position, normal, albedo, emission, face normal, u32 rendering layers); bricks (first surfel, count, sky, sky
-//            direction); transfers (brick, 9 SH weights)
+//            direction); transfers (brick, 9 SH weights); per probe N^2 distance moments (mean, mean square)
 //   trailer  u64 XXH3 checksum of everything before it
 // Written atomically (writeFileAtomically). Reading checks, in order: the file opens; the magic;
 // the version; the length against the counts; the checksum; the scene hash; the settings. Each
@@ -25,8 +26,8 @@ namespace janus::renderer {
 
 // 2: max surfels per brick in the settings; 3: relocateProbes; 4: surfels' face normals, and their
 // positions along their texels' rays (version 3's are off their surfaces at grazing angles);
-// 5: surfels' rendering layers.
-inline constexpr uint32_t kGiBakeFileVersion = 5;
+// 5: surfels' rendering layers; 6: the probes' distance moments (visibility).
+inline constexpr uint32_t kGiBakeFileVersion = 6;
 
 // A hash of everything a bake depends on: the meshes, instances, materials and their textures,
 // and the volume's bake settings (not its relight or shading settings).

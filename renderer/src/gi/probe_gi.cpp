@@ -22,15 +22,6 @@ constexpr uint32_t kDataWidth = 1024;   // gi_relight_common.glsl kGiDataWidth
 constexpr uint32_t kGroupSize = 64;     // gi_brick_radiance.comp, gi_probe_sh.comp
 constexpr uint32_t kShCoefficientsPerDraw = 3;   // gi_probe_sh.frag: colour targets per draw of the fallback SH pass
 
-// A unit vector as a point of the octahedron unfolded onto [-1, 1]^2 (gi_relight_common.glsl's
-// giOctahedralDecode inverts it).
-glm::vec2 octahedralEncode(const glm::vec3& n) {
-    const glm::vec3 o = n / (std::abs(n.x) + std::abs(n.y) + std::abs(n.z));
-    if (o.z >= 0.0f) return glm::vec2(o.x, o.y);
-    auto signNotZero = [](float v) { return v >= 0.0f ? 1.0f : -1.0f; };
-    return glm::vec2((1.0f - std::abs(o.y)) * signNotZero(o.x), (1.0f - std::abs(o.x)) * signNotZero(o.y));
-}
-
 // std140 mirror of gi_relight_common.glsl's GiRelightParams.
 
 // An RGBA32F data texture 1024 texels wide holding `texels` (padded with zeros).
@@ -43,6 +34,40 @@ rhi::TextureHandle makeDataTexture(rhi::IDevice& device, std::vector<glm::vec4> 
     return texture;
 }
 
+// The visibility texture (gi_access.glsl): per probe a tile of (N + 2) x (N + 3) texels, its
+// N x N distance moments inside a border that continues the octahedral map across its folds (a
+// border texel repeats the interior texel its direction folds onto: an edge's mirror, a corner's
+// opposite corner), and below them its position. Tiles fill rows of at most 2048 texels (GLES 3.0's
+// smallest maximum texture size).
+rhi::TextureHandle makeVisibilityTexture(rhi::IDevice& device, const GiBake& bake) {
+    const uint32_t n = kGiVisibilityResolution;
+    const uint32_t probes = uint32_t(bake.probePositions.size());
+    const uint32_t tileWidth = n + 2, tileHeight = n + 3;
+    const uint32_t perRow = std::min(probes, 2048u / tileWidth);
+    const uint32_t rows = (probes + perRow - 1) / perRow;
+    const uint32_t width = perRow * tileWidth, height = rows * tileHeight;
+    std::vector<glm::vec4> texels(size_t(width) * height, glm::vec4(0.0f));
+    for (uint32_t p = 0; p < probes; ++p) {
+        const glm::vec2* moments = bake.distanceMoments.data() + size_t(p) * n * n;
+        const uint32_t x0 = (p % perRow) * tileWidth, y0 = (p / perRow) * tileHeight;
+        for (int y = -1; y <= int(n); ++y)
+            for (int x = -1; x <= int(n); ++x) {
+                // Across a horizontal edge the map continues mirrored in x, across a vertical one
+                // mirrored in y; past a corner, at the opposite corner (all four are -z).
+                const int cx = std::clamp(x, 0, int(n) - 1), cy = std::clamp(y, 0, int(n) - 1);
+                const uint32_t sx = uint32_t(y != cy ? int(n) - 1 - cx : cx);
+                const uint32_t sy = uint32_t(x != cx ? int(n) - 1 - cy : cy);
+                const glm::vec2 m = moments[sy * n + sx];
+                texels[size_t(y0 + uint32_t(y + 1)) * width + x0 + uint32_t(x + 1)] = glm::vec4(m, 0.0f, 0.0f);
+            }
+        texels[size_t(y0 + n + 2) * width + x0] = glm::vec4(bake.probePositions[p], 1.0f);
+    }
+    rhi::TextureHandle texture = device.createTexture(
+        rhi::TextureDesc{}.setFormat(rhi::Format::RGBA32_FLOAT).setSize(width, height).setUsage(rhi::TextureUsage::Sampled).setDebugName("gi visibility"));
+    device.writeTexture(texture, {}, texels.data(), texels.size() * sizeof(glm::vec4));
+    return texture;
+}
+
 }  // namespace
 
 ProbeGi::ProbeGi(rhi::IDevice& device, const Scene& scene, const GpuScene& gpuScene, const LocalLights& localLights,
@@ -51,6 +76,12 @@ ProbeGi::ProbeGi(rhi::IDevice& device, const Scene& scene, const GpuScene& gpuSc
     : m_device(device), m_localLights(localLights), m_shadows(shadows), m_imageBasedLighting(imageBasedLighting), m_path(path) {
     m_pointSampler = device.createSampler(rhi::SamplerDesc{}.setFilter(rhi::Filter::Nearest).setAddress(rhi::AddressMode::ClampToEdge));
     m_standInUniforms = makeUniformBuffer(device, GiVolumeUniforms{}, "no irradiance volume");   // origin.w 0: off
+    {
+        const glm::vec4 nothing(0.0f);
+        m_standInVisibility = device.createTexture(
+            rhi::TextureDesc{}.setFormat(rhi::Format::RGBA32_FLOAT).setSize(1, 1).setUsage(rhi::TextureUsage::Sampled).setDebugName("no gi visibility"));
+        device.writeTexture(m_standInVisibility, {}, &nothing, sizeof(nothing));
+    }
     if (!scene.irradianceVolume) {
         if (!bakeFile.empty())
             throw GiBakeFileError(fmt::format("{}: RenderSettings::giBakeFile is set but the scene has no irradiance volume for a "
@@ -103,7 +134,7 @@ void ProbeGi::upload() {
     for (const GiSurfel& s : m_bake.surfels) {
         // Four texels a surfel (gi_relight_common.glsl): in their w, the face normal octahedrally
         // and the rendering layers as two 16-bit halves (floats hold both exactly).
-        const glm::vec2 face = octahedralEncode(s.faceNormal);
+        const glm::vec2 face = giOctahedralEncode(s.faceNormal);
         surfels.push_back(glm::vec4(s.position, face.x));
         surfels.push_back(glm::vec4(s.normal, face.y));
         surfels.push_back(glm::vec4(s.albedo, float(s.renderingLayers & 0xFFFFu)));
@@ -156,7 +187,9 @@ void ProbeGi::upload() {
     const glm::vec3 spacing = giProbeSpacing(m_volume);
     uniforms.origin = glm::vec4(giProbePositions(m_volume)[0], 1.0f);   // the grid's: probe 0 may have moved
     uniforms.spacing = glm::vec4(spacing, m_volume.normalBias);
-    uniforms.counts = glm::ivec4(glm::ivec3(counts), 0);
+    const bool visibility = m_volume.visibility && !m_bake.distanceMoments.empty();
+    uniforms.counts = glm::ivec4(glm::ivec3(counts), visibility ? int(kGiVisibilityResolution) : 0);
+    if (visibility) m_visibility = makeVisibilityTexture(m_device, m_bake);
     m_volumeUniforms = makeUniformBuffer(m_device, uniforms, "irradiance volume");
 }
 
@@ -167,7 +200,8 @@ void ProbeGi::addPasses(PassGraph& graph, const SceneView&) {
 
 void ProbeGi::addViewBindings(rhi::BindingSetDesc& set) const {
     set.add(rhi::BindingItem::sampledTexture(JANUS_BINDING_GI_VOLUME, m_active ? m_volumeTexture : m_standInVolume, m_pointSampler))
-        .add(rhi::BindingItem::uniformBuffer(JANUS_BINDING_GI_UNIFORMS, m_active ? m_volumeUniforms : m_standInUniforms));
+        .add(rhi::BindingItem::uniformBuffer(JANUS_BINDING_GI_UNIFORMS, m_active ? m_volumeUniforms : m_standInUniforms))
+        .add(rhi::BindingItem::sampledTexture(JANUS_BINDING_GI_VISIBILITY, m_visibility ? m_visibility : m_standInVisibility, m_pointSampler));
 }
 
 void ProbeGi::markDirty() {

@@ -72,7 +72,8 @@ public:
     std::vector<PassReport> takeStartupReports() override { return std::move(m_startupReports); }
     // This frame's relight step, when one is due.
     void beginFrame(FrameReport& frame) override;
-    // JANUS_BINDING_GI_VOLUME and _GI_UNIFORMS of a view set (stand-ins, "off", without a volume).
+    // JANUS_BINDING_GI_VOLUME, _GI_UNIFORMS and _GI_VISIBILITY of a view set (stand-ins, "off",
+    // without a volume).
     void addViewBindings(rhi::BindingSetDesc& set) const;
 
     // The lights changed: relight (all cycles again, starting from what the volume holds).
@@ -113,6 +114,7 @@ private:
     std::vector<uint32_t> m_rankToProbe;
 
     rhi::TextureHandle m_volumeTexture, m_standInVolume;
+    rhi::TextureHandle m_visibility, m_standInVisibility;   // null m_visibility: no visibility test
     rhi::BufferHandle m_volumeUniforms, m_standInUniforms;
     rhi::TextureHandle m_surfels, m_bricks, m_transfers, m_probes, m_brickRadiance;
     FrameUniforms m_relightFrame{};   // the scene's lights; the shadow is filled in at setup

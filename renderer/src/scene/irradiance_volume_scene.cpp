@@ -27,7 +27,7 @@ float readNumber(const std::filesystem::path& file, const json& value, const std
 std::span<const std::string_view> irradianceVolumeKeys() {
     static constexpr std::string_view kKeys[] = {"name",    "bounds",  "probes",         "spacing",    "surfelsPerProbe",         "brickSize",
                                                  "bricks",  "maxSurfelsPerBrick", "parallelReduction", "bounces", "shOrder", "probesPerFrame",
-                                                 "normalBias", "invalidBackFaceFraction", "relocateProbes", "near", "far"};
+                                                 "normalBias", "invalidBackFaceFraction", "relocateProbes", "visibility", "near", "far"};
     return kKeys;
 }
 
@@ -81,6 +81,10 @@ IrradianceVolume parseIrradianceVolume(const std::filesystem::path& file, const 
     if (v.contains("relocateProbes")) {
         if (!v["relocateProbes"].is_boolean()) fail(file, fmt::format("{}.relocateProbes must be true or false", where));
         volume.relocateProbes = v["relocateProbes"].get<bool>();
+    }
+    if (v.contains("visibility")) {
+        if (!v["visibility"].is_boolean()) fail(file, fmt::format("{}.visibility must be true or false", where));
+        volume.visibility = v["visibility"].get<bool>();
     }
     if (v.contains("near")) volume.nearPlane = readNumber(file, v["near"], where + ".near");
     if (v.contains("far")) volume.farPlane = readNumber(file, v["far"], where + ".far");

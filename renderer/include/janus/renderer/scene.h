@@ -388,6 +388,10 @@ struct IrradianceVolume {
     // at most 45 % of a cell from its grid position, and kept there when it is valid then (it keeps
     // its grid weight in shading; docs/GI.md, "Relocation"). false: it stays, invalid.
     bool relocateProbes = true;
+    // Shading weighs each probe by how likely it sees the point (DDGI's Chebyshev test on the
+    // distances the probe saw at bake time; docs/GI.md, "Visibility"), so light does not leak
+    // through walls from probes on their other side. false: the plain trilinear weights.
+    bool visibility = true;
     float nearPlane = 0.01f, farPlane = 100.0f;   // of the bake's G-buffer cubes
 };
 inline constexpr uint32_t kMaxIrradianceProbes = 4096;

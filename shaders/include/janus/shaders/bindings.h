@@ -25,6 +25,7 @@
 #define JANUS_BINDING_REFLECTION_PROBES 15  // ReflectionProbeUniforms (probe_access.glsl): the shown probes in blend order
 #define JANUS_BINDING_GI_VOLUME 16          // irradiance volume (gi_access.glsl): RGBA16F 3D texture of the probes' SH
 #define JANUS_BINDING_GI_UNIFORMS 17        // GiVolumeUniforms (gi_access.glsl): grid, normal bias, on/off
+#define JANUS_BINDING_GI_VISIBILITY 18      // RGBA32F 2D texture (gi_access.glsl): per probe its position and distance moments
 // Set 1: per draw: one set for every draw, a dynamic uniform buffer whose offset picks the draw's
 // slot (renderer/src/core/gpu_scene.cpp; mesh pipelines declare it with addDynamicUniformBuffer).
 #define JANUS_SET_DRAW 1
