@@ -9,8 +9,16 @@
 
 namespace janus::rhi::gl {
 
+// The per-stage minimums GL 4.3 and GLES 3.0 both guarantee (GL_MAX_TEXTURE_IMAGE_UNITS and
+// GL_MAX_VERTEX_TEXTURE_IMAGE_UNITS: 16; GL_MAX_{VERTEX,FRAGMENT}_UNIFORM_BLOCKS: 12 in GLES 3.0,
+// 14 in GL 4.3).
+inline constexpr int kMinTextureUnitsPerStage = 16;
+inline constexpr int kMinUniformBlocksPerStage = 12;
+
 // Empty when glslang accepts `source` (with its own #version, GLSL or ESSL) as a complete shader
-// of `stage`; otherwise glslang's info log (parse or link).
+// of `stage` that samples at most kMinTextureUnitsPerStage textures and reads at most
+// kMinUniformBlocksPerStage uniform blocks; otherwise glslang's info log (parse or link) or which
+// limit it passes.
 std::string glslangRejection(const std::string& source, ShaderStage stage);
 
 }  // namespace janus::rhi::gl

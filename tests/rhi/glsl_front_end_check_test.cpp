@@ -45,5 +45,25 @@ TEST(GlslFrontEndCheck, RejectsAShaderThatDoesNotLink) {
     EXPECT_NE(log.find("Missing entry point"), std::string::npos) << log;
 }
 
+// A shader at the limits links; one texture or one uniform block more is refused, naming the limit
+// (the renderer's forward shader samples 15 textures: its next feature's texture must fit).
+TEST(GlslFrontEndCheck, RejectsMoreTexturesOrUniformBlocksPerStageThanTheMinimums) {
+    auto fragment = [](int textures, int blocks) {
+        std::string source = "#version 300 es\nprecision highp float;\nlayout(location = 0) out vec4 color;\n";
+        for (int i = 0; i < textures; ++i) source += "uniform highp sampler2D t" + std::to_string(i) + ";\n";
+        for (int i = 0; i < blocks; ++i) source += "layout(std140) uniform B" + std::to_string(i) + " { vec4 v; } b" + std::to_string(i) + ";\n";
+        source += "void main() {\n    color = vec4(0.0);\n";
+        for (int i = 0; i < textures; ++i) source += "    color += texture(t" + std::to_string(i) + ", vec2(0.5));\n";
+        for (int i = 0; i < blocks; ++i) source += "    color += b" + std::to_string(i) + ".v;\n";
+        return source + "}\n";
+    };
+    EXPECT_EQ(glslangRejection(fragment(kMinTextureUnitsPerStage, kMinUniformBlocksPerStage), ShaderStage::Fragment), "");
+    const std::string textures = glslangRejection(fragment(kMinTextureUnitsPerStage + 1, 1), ShaderStage::Fragment);
+    EXPECT_NE(textures.find("samples 17 textures"), std::string::npos) << textures;
+    EXPECT_NE(textures.find("GL_MAX_TEXTURE_IMAGE_UNITS"), std::string::npos) << textures;
+    const std::string blocks = glslangRejection(fragment(1, kMinUniformBlocksPerStage + 1), ShaderStage::Fragment);
+    EXPECT_NE(blocks.find("reads 13 uniform blocks"), std::string::npos) << blocks;
+}
+
 }  // namespace
 }  // namespace janus::rhi::gl
