@@ -3,7 +3,8 @@
 // storage buffers). Counts and indices are stored as floats (exact below 2^24).
 //   surfels:   4 texels each: (position, face normal's octahedral x), (normal, its octahedral y),
 //              (diffuse albedo, rendering layers' low 16 bits), (emission, their high 16 bits); grouped by brick
-//   bricks:    2 texels each: (first surfel, surfel count, 1 = a sky sample, 0), (sky direction, 0)
+//   bricks:    2 texels each: (first surfel, surfel count, 1 = a sky sample, 0), (sky direction, 0);
+//              placed by surfel count (gi_bake.h giBrickSlot), some empty (count 0, not sky)
 //   transfers: 3 texels each, grouped by probe: (brick, T0, T1, T2), (T3..T6), (T7, T8, 0, 0): the SH
 //              projection of the brick's surfels this probe sees, sum of Y_k(direction) * 4 pi / N
 //   probes:    texel p (grid order p = x + X (y + Y z)): (first transfer, count, validity, relight rank);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <map>
+#include <numeric>
 #include <optional>
 #include <tuple>
 
@@ -136,6 +137,13 @@ void addTransfer(std::array<double, 9>& sum, const glm::vec3& direction, double 
 
 }  // namespace
 
+uint32_t giBrickSlot(uint32_t rank) {
+    // Bands of four 1024-texel rows; in a band, 4 x 4 blocks left to right; in a block, row by row.
+    const uint32_t band = rank / (4 * kGiBrickRowTexels), block = (rank / 16) % (kGiBrickRowTexels / 4), inBlock = rank % 16;
+    const uint32_t x = block * 4 + inBlock % 4, y = band * 4 + inBlock / 4;
+    return y * kGiBrickRowTexels + x;
+}
+
 GiBake buildGiBake(const IrradianceVolume& volume, const std::vector<std::vector<GiSample>>& samples, const std::vector<glm::vec3>& positions) {
     GiBake bake;
     bake.probeCounts = volume.probeCounts;
@@ -203,17 +211,37 @@ GiBake buildGiBake(const IrradianceVolume& volume, const std::vector<std::vector
         bake.valid[p] = count > 0 && bake.backFaceFraction[p] <= volume.invalidBackFaceFraction;
     }
     skyDirectionSums.resize(bake.bricks.size(), glm::dvec3(0.0));
-    for (size_t b = 0; b < bake.bricks.size(); ++b) {
-        if (bake.bricks[b].sky && glm::length(skyDirectionSums[b]) > 1e-12)
-            bake.bricks[b].skyDirection = glm::vec3(glm::normalize(skyDirectionSums[b]));
+    const uint32_t keepAtMost = std::max(1u, volume.maxSurfelsPerBrick);
+    auto keptSurfels = [&](size_t b) { return std::min<size_t>(brickSurfels[b].size(), keepAtMost); };
+    // The relight lights bricks side by side (a SIMD group of compute invocations, a block of
+    // fragments), and a group runs as long as its longest brick: bricks are placed by how many
+    // surfels they keep, so neighbours loop alike (giBrickSlot).
+    std::vector<uint32_t> byCount(bake.bricks.size());
+    std::iota(byCount.begin(), byCount.end(), 0u);
+    std::stable_sort(byCount.begin(), byCount.end(), [&](uint32_t a, uint32_t b) { return keptSurfels(a) > keptSurfels(b); });
+    std::vector<uint32_t> slotOf(bake.bricks.size());
+    uint32_t slots = 0;
+    for (uint32_t rank = 0; rank < byCount.size(); ++rank) {
+        slotOf[byCount[rank]] = giBrickSlot(rank);
+        slots = std::max(slots, slotOf[byCount[rank]] + 1);
+    }
+    std::vector<GiBrick> placed(slots);   // slots no brick takes: no surfel, no transfer, no light
+    for (uint32_t rank = 0; rank < byCount.size(); ++rank) {
+        const uint32_t b = byCount[rank];
+        GiBrick brick = bake.bricks[b];
+        if (brick.sky && glm::length(skyDirectionSums[b]) > 1e-12) brick.skyDirection = glm::vec3(glm::normalize(skyDirectionSums[b]));
         // A brick seen by many probes holds many surfels: its radiance is the mean over at most
         // maxSurfelsPerBrick of them, spread evenly over the list (which is in probe order).
         const std::vector<GiSurfel>& all = brickSurfels[b];
-        const size_t keep = std::min<size_t>(all.size(), std::max(1u, volume.maxSurfelsPerBrick));
-        bake.bricks[b].firstSurfel = uint32_t(bake.surfels.size());
-        bake.bricks[b].surfelCount = uint32_t(keep);
+        const size_t keep = keptSurfels(b);
+        brick.firstSurfel = uint32_t(bake.surfels.size());
+        brick.surfelCount = uint32_t(keep);
         for (size_t i = 0; i < keep; ++i) bake.surfels.push_back(all[(2 * i + 1) * all.size() / (2 * keep)]);
+        placed[slotOf[b]] = brick;
     }
+    bake.bricks = std::move(placed);
+    for (std::vector<Pending>& hits : probeHits)
+        for (Pending& hit : hits) hit.brick = slotOf[hit.brick];
 
     // Transfers: per probe, per brick it sees, the sum of its samples' SH weights.
     bake.probeFirstTransfer.resize(samples.size());

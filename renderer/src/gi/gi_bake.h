@@ -68,6 +68,14 @@ glm::vec3 giProbeSpacing(const IrradianceVolume& volume);
 // N unit directions, evenly spread over the sphere (spherical Fibonacci).
 std::vector<glm::vec3> giSampleDirections(uint32_t count);
 
+// Where the brick of rank `rank` (bricks ranked by how many surfels they keep, most first) is
+// stored: its index, and so its texel (index % 1024, index / 1024) of the relight's brick data.
+// Ranks 16k .. 16k + 15 fill a 4 x 4 block of texels, blocks fill bands of four rows: bricks that
+// are lit side by side (a fragment block, a SIMD group) loop over about as many surfels. Indices
+// no rank takes hold empty bricks.
+inline constexpr uint32_t kGiBrickRowTexels = 1024;   // gi_relight_common.glsl kGiDataWidth
+uint32_t giBrickSlot(uint32_t rank);
+
 // Steps 3-4 above. `samples[p]` are probe p's samples (all of the same count), taken at
 // `positions[p]` (empty: the grid positions).
 GiBake buildGiBake(const IrradianceVolume& volume, const std::vector<std::vector<GiSample>>& samples,
