@@ -197,9 +197,9 @@ void main() {
     if (reflectionProbes.probeCount.x > 0) probes = reflectionProbeRadiance(vWorldPosition, reflected, perceptualRoughness);
     vec3 probeSpecular = probes.rgb;
     // Smoothed vertex normals and normal maps lean the shading normal away from the triangle's
-    // plane: the volume's light from below that plane is hidden by the surface (docs/GI.md).
-    // Without a volume the lookup reads nothing: no plane to find.
-    vec3 surfaceNormal = giVolume.origin.w > 0.0 ? faceNormal(positionDx, positionDy, toCamera, s.normal) : s.normal;
+    // plane: the volume's and the sky's light from below that plane is hidden by the surface
+    // (docs/GI.md, "Bent normals"). Without either no plane is needed.
+    vec3 surfaceNormal = giVolume.origin.w > 0.0 || frame.skyParams.x > 0.0 ? faceNormal(positionDx, positionDy, toCamera, s.normal) : s.normal;
     vec4 gi = giIrradianceOverPi(vWorldPosition, s.normal, surfaceNormal);   // coverage 0 without a volume
     if (frame.skyParams.w > 1.5) {
         // --debug shadow: what the shadow map lets through of the main light (1 without a map).
@@ -217,7 +217,7 @@ void main() {
         vec3 specularLight = skyPrefilteredRadiance(reflected, perceptualRoughness, frame.skyParams.y) * frame.skyParams.z;
         specularLight = probeSpecular + remaining * specularLight;
         // Diffuse: the irradiance volume where it reaches (docs/GI.md), the sky's SH elsewhere.
-        vec3 diffuseIrradiance = skyIrradianceOverPi(s.normal);
+        vec3 diffuseIrradiance = skyIrradianceOverPi(s.normal, surfaceNormal);
         float diffuseScale = occlusion * frame.skyParams.z;
         if (gi.a > 0.0) {
             diffuseIrradiance = mix(diffuseIrradiance * frame.skyParams.z, gi.rgb, gi.a);

@@ -29,6 +29,16 @@ vec3 skyIrradianceOverPi(vec3 n) {
     return max(sum, vec3(0.0));
 }
 
+// The same for a shading normal n on a surface whose triangle's plane has normal g: only the sky
+// above that plane counts (the surface hides the rest; docs/GI.md "Bent normals", the volume's
+// lookup does the same). n == g is the plain evaluation.
+vec3 skyIrradianceOverPi(vec3 n, vec3 g) {
+    if (n == g) return skyIrradianceOverPi(n);
+    vec3 e[9] = vec3[9](skyShCoefficient(0), skyShCoefficient(1), skyShCoefficient(2), skyShCoefficient(3), skyShCoefficient(4),
+                        skyShCoefficient(5), skyShCoefficient(6), skyShCoefficient(7), skyShCoefficient(8));
+    return max(shIrradianceAboveSurface(e, n, g), vec3(0.0));
+}
+
 // Split-sum specular (docs/IBL.md): prefiltered radiance along the reflection at the roughness's
 // mip, times f0 * A + f90 * B from the DFG table (f90 1 but for KHR_materials_specular dielectrics).
 vec3 skyPrefilteredRadiance(vec3 reflected, float perceptualRoughness, float lastMip) {
