@@ -269,7 +269,8 @@ std::vector<NamedPath> sceneInputFiles(const std::optional<std::filesystem::path
 
 void addSceneArgument(CLI::App& app, std::string& scene) {
     app.add_option("scene", scene, ".gltf, .glb or .json scene file (extension in any case), or a built-in scene: many-lights[:N] (the "
-                                   "many-lights hall with N local lights, 0..16384, default 128) or probes (the reflection-probe scene); "
+                                   "many-lights hall with N local lights, 0..16384, default 128), probes (the reflection-probe scene) or "
+                                   "gi-rooms (two rooms with probe GI); "
                                    "a file (not a folder) of that name wins (default: the built-in room)")
         ->type_name("SCENE");
 }
@@ -336,7 +337,7 @@ namespace {
 bool namesBuiltInScene(const std::filesystem::path& scenePath) {
     std::error_code ec;
     if (std::filesystem::is_regular_file(scenePath, ec)) return false;
-    return parseManyLightsSceneName(scenePath.string()) || scenePath.string() == kProbesSceneName;
+    return parseManyLightsSceneName(scenePath.string()) || scenePath.string() == kProbesSceneName || scenePath.string() == kGiRoomsSceneName;
 }
 }  // namespace
 
@@ -353,6 +354,7 @@ renderer::Scene loadSceneOrDefault(const std::optional<std::filesystem::path>& s
             options.lightCount = *lights;
             return renderer::manyLightsScene(options);
         }
+        if (scenePath->string() == kGiRoomsSceneName) return renderer::giRoomsScene();
         return renderer::probesScene();
     }
     if (!std::filesystem::exists(*scenePath, ec))

@@ -115,6 +115,7 @@ void checkFolderOutputs(const std::filesystem::path& dir, std::string_view optio
 // not), or the default scene.
 inline constexpr std::string_view kManyLightsSceneName = "many-lights";
 inline constexpr std::string_view kProbesSceneName = "probes";   // renderer::probesScene()
+inline constexpr std::string_view kGiRoomsSceneName = "gi-rooms";   // renderer::giRoomsScene()
 std::optional<uint32_t> parseManyLightsSceneName(std::string_view text);   // nullopt: not that name; throws UsageError for a bad N
 // `options`: --allow-outside-paths, --scene, --camera (renderer::SceneLoadOptions); --scene and
 // --camera with a built-in scene are a UsageError.

@@ -21,6 +21,12 @@ expect_success render "$CORNELL" --size 64x64 --gi-bake "$TMP/cornell.bake" --ou
 cmp -s "$TMP/baked-now.png" "$TMP/from-file.png" || fail "the image from the bake file differs from the one baked at start-up"
 json_check "$TMP/from-file.json" 'not any(p["name"] == "gi-bake" for p in j["passes"])' "a bake file still baked at start-up"
 
+# The built-in gi-rooms scene: a volume to bake and render by name.
+expect_success bake gi-rooms --out "$TMP/rooms.bake"
+grep -Eq "probes: +48 \(48 valid" "$TMP/stdout" || fail "bake gi-rooms printed no 48 probes: $(cat "$TMP/stdout")"
+expect_success render gi-rooms --size 64x48 --gi-bake "$TMP/rooms.bake" --out "$TMP/rooms.png" --report "$TMP/rooms.json"
+json_check "$TMP/rooms.json" 'any(p["name"].startswith("forward") for p in j["passes"])' "gi-rooms rendered no forward pass"
+
 expect_success render "$CORNELL" --size 64x64 --debug gi --out "$TMP/gi.png" --report "$TMP/gi.json"
 cmp -s "$TMP/gi.png" "$TMP/baked-now.png" && fail "--debug gi wrote the shaded image"
 json_check "$TMP/gi.json" 'any(p["name"] == "gi-probes" for p in j["passes"])' "--debug gi drew no probes"

@@ -511,6 +511,12 @@ Scene manyLightsScene(const ManyLightsOptions& options = {});
 // (128^2, once, in one frame). The ground in front of the alcove is outside both: sky only.
 Scene probesScene();
 
+// The built-in probe-GI scene (`janus render gi-rooms`): two rooms under one roof, a wall with a
+// doorway between them, a sun through a skylight onto the left room's orange floor, no ambient
+// light, and an 8 x 2 x 3 irradiance volume whose probes stand either side of the wall (docs/GI.md,
+// "Visibility": what leaks through the wall without the visibility test).
+Scene giRoomsScene();
+
 // Throws SceneError when the scene holds NaN/Inf or out-of-range values (checked by loadScene
 // and by the Renderer for scenes built in code). A light with range <= 0 is valid: it lights
 // nothing (the renderer skips it).
