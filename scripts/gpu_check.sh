@@ -21,6 +21,7 @@
 #   gi/                  janus bench gi on the cornell box (docs/GI.md, "Goals"): bricks against
 #                        per-surfel, the parallel SH reduction against the serial sum, and the grid
 #                        density, whose times llvmpipe cannot judge
+#   gi_rooms/            janus bench gi on the built-in gi-rooms scene, visibility test on and off
 #   parity_helmet/      janus parity of DamagedHelmet at 512x512 (cross-driver: --against it here)
 #   parity_helmet_sky/  the same under the sky at 128x128: the two-compiler parity rule on hardware
 #   gl_only/             DamagedHelmet at 256x256 in the GL configurations alone, one process that
@@ -248,6 +249,8 @@ else
   # reduction against a serial sum, and bricks against per-surfel, in GPU time.
   step gi 90 janus bench gi "$repo_root/../shared/scenes/cornell-box/cornellBox.gltf" --sweeps surfels,bricks,reduction,spacing \
     --backends vulkan,gl --runs 5 --out "$results/gi"
+  # The visibility test's worth where light can leak through a wall, and its cost, on hardware.
+  step gi_rooms 45 janus bench gi gi-rooms --sweeps visibility --backends vulkan,gl --runs 5 --out "$results/gi_rooms"
   # Images for a cross-driver comparison here: janus parity ... --against parity_helmet
   step parity_helmet 60 janus parity "$repo_root/../shared/scenes/DamagedHelmet/glTF/DamagedHelmet.gltf" \
     --size 512x512 --out "$results/parity_helmet"
