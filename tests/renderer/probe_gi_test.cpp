@@ -577,6 +577,9 @@ TEST(GiBakeFiles, TheSceneHashFollowsWhatTheBakeDependsOn) {
     relit.lights.clear();
     relit.irradianceVolume->bounces = 3;
     EXPECT_EQ(giSceneHash(relit), hash);
+    Scene unhidden = scene;   // every bake keeps the visibility maps: shading decides whether to test
+    unhidden.irradianceVolume->visibility = false;
+    EXPECT_EQ(giSceneHash(unhidden), hash);
 }
 
 // ---- On every configuration ---------------------------------------------------------------
