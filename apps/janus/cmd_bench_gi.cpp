@@ -430,7 +430,25 @@ int runGi(const GiOptions& options) {
                                   d.path, parallel, unit, serial, unit, serial / std::max(1e-9, parallel));
                 goals.push_back({{"goal", "parallel reduction vs serial"}, {"backend", d.backend}, {"path", d.path}, {"parallelMs", parallel}, {"serialMs", serial}});
             }
-        // 3. The default settings against the converged reference.
+        // 3. The visibility test: what it changes in the image, and what it costs a relight (its
+        // further bounces read the volume through it).
+        for (const Row& r : rows)
+            if (same(r) && r.sweep == "visibility") {
+                const Row& with = d.volume.visibility ? d : r;
+                const Row& without = d.volume.visibility ? r : d;
+                md += fmt::format("- {}/{} visibility test: image {} % ({}) with it, {} % ({}) without, against the converged reference; "
+                                  "with the reference's own probes {} % and {} %; relight {:.3f} and {:.3f} {}\n",
+                                  d.backend, d.path, percent(with.imageConverged.relativeRmse), signedPercent(with.imageConverged.relativeBias),
+                                  percent(without.imageConverged.relativeRmse), signedPercent(without.imageConverged.relativeBias),
+                                  percent(with.imageReferenceProbes.relativeRmse), percent(without.imageReferenceProbes.relativeRmse),
+                                  with.relight.totalMs, without.relight.totalMs, unit);
+                goals.push_back({{"goal", "visibility test"}, {"backend", d.backend}, {"path", d.path},
+                                 {"imageRmseWith", with.imageConverged.relativeRmse}, {"imageRmseWithout", without.imageConverged.relativeRmse},
+                                 {"imageRmseReferenceProbesWith", with.imageReferenceProbes.relativeRmse},
+                                 {"imageRmseReferenceProbesWithout", without.imageReferenceProbes.relativeRmse},
+                                 {"relightMsWith", with.relight.totalMs}, {"relightMsWithout", without.relight.totalMs}});
+            }
+        // 4. The default settings against the converged reference.
         // With the reference's own probes the image shows what the grid allows at best.
         md += fmt::format("- {}/{} default settings vs the converged reference: probes **{} %**, image **{} %** relative RMSE (goal: within 10 %); "
                           "with the reference's own probes the image is {} % (what this grid allows)\n",

@@ -79,6 +79,8 @@ json_check "$B" 'next(c for c in j["configurations"] if c["sweep"] == "visibilit
   next(c for c in j["configurations"] if c["sweep"] == "visibility")["imageError"] !=
   next(c for c in j["configurations"] if c["sweep"] == "default")["imageError"]' \
   "the visibility row does not turn the test off, or its image is the default's"
+json_check "$B" 'any(g["goal"] == "visibility test" and g["imageRmseWith"] != g["imageRmseWithout"] and g["relightMsWith"] > 0 for g in j["goals"])' \
+  "gi.json's goals lack the visibility test's line"
 json_check "$B" 'any(g["goal"] == "defaults vs converged reference" and 0 < g["imageRmseReferenceProbes"] < 2 for g in j["goals"])' \
   "the defaults' goal lacks the image with the reference's probes"
 grep -q "^## Goals" "$TMP/gi-bench/gi.md" || fail "gi.md has no goals section"
