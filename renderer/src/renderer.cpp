@@ -403,8 +403,7 @@ IrradianceBakeSummary bakeIrradianceVolume(rhi::IDevice& device, const Scene& sc
     const std::vector<glm::vec3> grid = giProbePositions(*scene.irradianceVolume);
     for (size_t p = 0; p < grid.size(); ++p) summary.relocatedProbes += bake.probePositions[p] != grid[p] ? 1u : 0u;
     summary.surfels = bake.surfels.size();
-    // Bricks that hold light: the bake also keeps empty slots (giBrickSlot's placement).
-    summary.bricks = uint64_t(std::count_if(bake.bricks.begin(), bake.bricks.end(), [](const GiBrick& b) { return b.sky || b.surfelCount > 0; }));
+    summary.bricks = uint64_t(std::count_if(bake.bricks.begin(), bake.bricks.end(), [](const GiBrick& b) { return b.holdsLight(); }));
     summary.transfers = bake.transfers.size();
     summary.milliseconds = millisecondsSince(start);
     return summary;

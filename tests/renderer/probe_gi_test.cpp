@@ -232,7 +232,7 @@ TEST(GiBake, OneBrightSurfelGivesTheClampedCosineLobe) {
 
 // Bricks that hold light (a sky bin or surfels): a bake also keeps empty slots (giBrickSlot).
 size_t bricksWithLight(const GiBake& bake) {
-    return size_t(std::count_if(bake.bricks.begin(), bake.bricks.end(), [](const GiBrick& b) { return b.sky || b.surfelCount > 0; }));
+    return size_t(std::count_if(bake.bricks.begin(), bake.bricks.end(), [](const GiBrick& b) { return b.holdsLight(); }));
 }
 
 TEST(GiBake, BricksAndPerSurfelGiveTheSameShForTheSameSurfels) {

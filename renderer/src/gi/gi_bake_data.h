@@ -37,6 +37,8 @@ struct GiBrick {
     uint32_t firstSurfel = 0, surfelCount = 0;
     bool sky = false;
     glm::vec3 skyDirection{0.0f};
+    // False for the empty slots the bake's placement leaves (gi_bake.h giBrickSlot).
+    bool holdsLight() const { return sky || surfelCount > 0; }
 };
 
 struct GiTransfer {
@@ -55,7 +57,7 @@ struct GiBake {
     std::vector<uint32_t> probeFirstTransfer, probeTransferCount;
     uint32_t samplesPerProbe = 0;
     // Per probe (grid order) kGiVisibilityResolution^2 texels, row by row: the mean distance and
-    // mean squared distance to what the probe sees about the texel's direction (giDistanceMoments).
+    // mean squared distance to what the probe sees about the texel's direction (GiDistanceMomentFilter).
     // Empty: no visibility (every probe counts wherever it is).
     std::vector<glm::vec2> distanceMoments;
 };

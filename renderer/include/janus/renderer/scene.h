@@ -512,9 +512,9 @@ Scene manyLightsScene(const ManyLightsOptions& options = {});
 Scene probesScene();
 
 // The built-in probe-GI scene (`janus render gi-rooms`): two rooms under one roof, a wall with a
-// doorway between them, a sun through a skylight onto the left room's orange floor, no ambient
-// light, and an 8 x 2 x 3 irradiance volume whose probes stand either side of the wall (docs/GI.md,
-// "Visibility": what leaks through the wall without the visibility test).
+// doorway between them, a glowing panel in the left room as the only light (no lamp, no ambient
+// light), and an 8 x 2 x 3 irradiance volume whose probes stand either side of the wall
+// (docs/GI.md, "Visibility": what leaks through the wall without the visibility test).
 Scene giRoomsScene();
 
 // Throws SceneError when the scene holds NaN/Inf or out-of-range values (checked by loadScene
