@@ -384,50 +384,24 @@ std::vector<std::vector<GiSample>> captureGiSamples(rhi::IDevice& device, const 
         bindings[face] = device.createBindingSet(
             rhi::BindingSetDesc{}.add(rhi::BindingItem::uniformBuffer(JANUS_BINDING_FRAME_UNIFORMS, uniforms[face])));
     const rhi::TimerQueryHandle timer = device.capabilities().timestampQueries ? device.createTimerQuery() : nullptr;
-    for (size_t p = 0; p < positions.size(); ++p) {
-        const std::array<SceneView, 6> views = makeCubeFaceViews(positions[p], faceSize, volume.nearPlane, volume.farPlane, "gi bake");
-        cmd->begin();
-        if (timer) cmd->beginTimer(timer);
-        for (uint32_t face = 0; face < 6; ++face) {
-            FrameUniforms frame{};
-            frame.viewProjection = views[face].viewProjection();
-            frame.cameraPosition = glm::vec4(positions[p], 1.0f);
-            cmd->writeBuffer(uniforms[face], &frame, sizeof(frame));
-            rhi::RenderPassDesc pass;
-            pass.addColor(rhi::Attachment::clear(targets[0], {0.0f, 0.0f, 0.0f, -1.0f}, {0, face}))
-                .addColor(rhi::Attachment::clear(targets[1], {0.0f, 0.0f, 0.0f, 0.0f}, {0, face}))
-                .addColor(rhi::Attachment::clear(targets[2], {0.0f, 0.0f, 0.0f, 0.0f}, {0, face}))
-                .addColor(rhi::Attachment::clear(targets[3], {0.0f, 0.0f, 0.0f, 0.0f}, {0, face}))
-                .setDepth(rhi::Attachment::clearDepthTo(depth, 1.0f));
-            cmd->beginRenderPass(pass);
-            PassReport faceReport;
-            gpuScene.drawMeshes(*cmd, views[face], pipelines, bindings[face], faceReport);
-            if (report) report->draws += faceReport.draws;
-            cmd->endRenderPass();
-        }
-        if (timer) cmd->endTimer(timer);
-        cmd->end();
-        device.execute(cmd);
-        if (timer && report)
-            if (const std::optional<double> seconds = device.timerSeconds(timer)) report->gpuMs = report->gpuMs.value_or(0.0) + *seconds * 1e3;
-        // Six faces of every target back as halves.
-        std::array<std::array<std::vector<uint16_t>, 6>, kTargets> data;
-        for (size_t t = 0; t < kTargets; ++t)
-            for (uint32_t face = 0; face < 6; ++face) {
-                const std::vector<std::byte> bytes = device.readTexture(targets[t], {0, face});
-                data[t][face].resize(bytes.size() / 2);
-                std::memcpy(data[t][face].data(), bytes.data(), bytes.size());
-            }
-        auto texel = [&](size_t target, const CubeTexel& c) {
-            const uint16_t* h = data[target][c.face].data() + (size_t(c.y) * faceSize + c.x) * 4;
+
+    // One probe's samples (and distance moments) from its faces as read back: target by target,
+    // face by face, each face faceSize^2 RGBA16F texels, row 0 first.
+    const uint64_t faceBytes = uint64_t(faceSize) * faceSize * 4 * sizeof(uint16_t);
+    const uint64_t probeBytes = faceBytes * 6 * kTargets;
+    auto unpackProbe = [&](size_t p, const std::byte* faces) {
+        auto texel = [&](size_t target, uint32_t face, size_t index) {
+            std::array<uint16_t, 4> h;
+            std::memcpy(h.data(), faces + (target * 6 + face) * faceBytes + index * sizeof(h), sizeof(h));
             return glm::vec4(glm::unpackHalf1x16(h[0]), glm::unpackHalf1x16(h[1]), glm::unpackHalf1x16(h[2]), glm::unpackHalf1x16(h[3]));
         };
+        auto texelAt = [&](size_t target, const CubeTexel& c) { return texel(target, c.face, size_t(c.y) * faceSize + c.x); };
         if (momentFilter) {
             // Every texel's distance (4th channel of target 0; negative where nothing was hit: the far plane).
             distances.resize(size_t(6) * faceSize * faceSize);
             for (uint32_t face = 0; face < 6; ++face)
                 for (size_t t = 0; t < size_t(faceSize) * faceSize; ++t) {
-                    const float d = glm::unpackHalf1x16(data[0][face][t * 4 + 3]);
+                    const float d = texel(0, face, t).w;
                     distances[face * size_t(faceSize) * faceSize + t] = d >= 0.0f ? std::min(d, volume.farPlane) : volume.farPlane;
                 }
             (*distanceMoments)[p] = momentFilter->moments(distances);
@@ -437,25 +411,70 @@ std::vector<std::vector<GiSample>> captureGiSamples(rhi::IDevice& device, const 
         for (size_t i = 0; i < directions.size(); ++i) {
             GiSample& s = out[i];
             s.direction = directions[i];
-            const glm::vec4 albedoDistance = texel(0, texels[i]);
+            const glm::vec4 albedoDistance = texelAt(0, texels[i]);
             if (!(albedoDistance.w >= 0.0f)) {
                 s.kind = GiSample::Kind::Sky;
                 continue;
             }
-            const glm::vec4 normalFacing = texel(1, texels[i]);
+            const glm::vec4 normalFacing = texelAt(1, texels[i]);
             s.kind = normalFacing.w < 0.0f ? GiSample::Kind::BackFace : GiSample::Kind::Surface;
             s.position = positions[p] + texelRays[i] * albedoDistance.w;
             const glm::vec3 n(normalFacing);
             s.normal = glm::dot(n, n) > 1e-12f ? glm::normalize(n) : -directions[i];
             s.albedo = glm::clamp(glm::vec3(albedoDistance), glm::vec3(0.0f), glm::vec3(1.0f));
-            const glm::vec4 emissionInstanceLow = texel(2, texels[i]);
+            const glm::vec4 emissionInstanceLow = texelAt(2, texels[i]);
             s.emission = glm::max(glm::vec3(emissionInstanceLow), glm::vec3(0.0f));
-            const glm::vec4 faceInstanceHigh = texel(3, texels[i]);
+            const glm::vec4 faceInstanceHigh = texelAt(3, texels[i]);
             const glm::vec3 face(faceInstanceHigh);
             s.faceNormal = glm::dot(face, face) > 1e-12f ? glm::normalize(face) : s.normal;
             const double instance = double(faceInstanceHigh.w) * 2048.0 + double(emissionInstanceLow.w);
             s.renderingLayers = instance >= 0.0 && instance < double(instanceLayers.size()) ? instanceLayers[size_t(instance)] : ~0u;
         }
+    };
+
+    // Probes are rendered and copied out in batches, one submission and one readback a batch:
+    // reading each face of each target on its own (24 a probe) waited for the device 24 times a
+    // probe, which cost more than the rendering. The batch's buffer stays under 8 MiB (41 probes
+    // at 32^2 faces).
+    constexpr uint64_t kReadbackBytes = 8ull << 20;
+    const size_t probesPerBatch = size_t(std::clamp<uint64_t>(kReadbackBytes / probeBytes, 1, std::max<size_t>(positions.size(), 1)));
+    const rhi::BufferHandle readback =
+        device.createBuffer(rhi::BufferDesc{}.setSize(probeBytes * probesPerBatch).setDebugName("gi bake readback"));
+    for (size_t first = 0; first < positions.size(); first += probesPerBatch) {
+        const size_t count = std::min(probesPerBatch, positions.size() - first);
+        cmd->begin();
+        if (timer) cmd->beginTimer(timer);
+        for (size_t b = 0; b < count; ++b) {
+            const glm::vec3 position = positions[first + b];
+            const std::array<SceneView, 6> views = makeCubeFaceViews(position, faceSize, volume.nearPlane, volume.farPlane, "gi bake");
+            for (uint32_t face = 0; face < 6; ++face) {
+                FrameUniforms frame{};
+                frame.viewProjection = views[face].viewProjection();
+                frame.cameraPosition = glm::vec4(position, 1.0f);
+                cmd->writeBuffer(uniforms[face], &frame, sizeof(frame));
+                rhi::RenderPassDesc pass;
+                pass.addColor(rhi::Attachment::clear(targets[0], {0.0f, 0.0f, 0.0f, -1.0f}, {0, face}))
+                    .addColor(rhi::Attachment::clear(targets[1], {0.0f, 0.0f, 0.0f, 0.0f}, {0, face}))
+                    .addColor(rhi::Attachment::clear(targets[2], {0.0f, 0.0f, 0.0f, 0.0f}, {0, face}))
+                    .addColor(rhi::Attachment::clear(targets[3], {0.0f, 0.0f, 0.0f, 0.0f}, {0, face}))
+                    .setDepth(rhi::Attachment::clearDepthTo(depth, 1.0f));
+                cmd->beginRenderPass(pass);
+                PassReport faceReport;
+                gpuScene.drawMeshes(*cmd, views[face], pipelines, bindings[face], faceReport);
+                if (report) report->draws += faceReport.draws;
+                cmd->endRenderPass();
+            }
+            for (size_t t = 0; t < kTargets; ++t)
+                for (uint32_t face = 0; face < 6; ++face)
+                    cmd->copyTextureToBuffer(readback, b * probeBytes + (t * 6 + face) * faceBytes, targets[t], {0, face});
+        }
+        if (timer) cmd->endTimer(timer);
+        cmd->end();
+        device.execute(cmd);
+        if (timer && report)
+            if (const std::optional<double> seconds = device.timerSeconds(timer)) report->gpuMs = report->gpuMs.value_or(0.0) + *seconds * 1e3;
+        const std::vector<std::byte> bytes = device.readBuffer(readback, 0, probeBytes * count);
+        for (size_t b = 0; b < count; ++b) unpackProbe(first + b, bytes.data() + b * probeBytes);
     }
     return result;
 }
