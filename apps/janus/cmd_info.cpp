@@ -84,11 +84,16 @@ rhi::FormatCapabilities formatCaps(const BackendReport& r, rhi::Format format) {
 std::string formatTableText(const BackendReport& r) {
     std::vector<std::vector<std::string>> rows{{"format", "kind", "bytes", "srgb"}};
     for (rhi::FormatCapability cap : rhi::kAllFormatCapabilities) rows[0].push_back(rhi::toString(cap));
+    rows[0].push_back("samples");
     for (const rhi::FormatInfo& info : rhi::allFormats()) {
         std::vector<std::string> row{info.name, rhi::toString(info.kind), std::to_string(info.bytesPerPixel),
                                      info.srgb ? "yes" : "-"};
         const rhi::FormatCapabilities caps = formatCaps(r, info.format);
         for (rhi::FormatCapability cap : rhi::kAllFormatCapabilities) row.push_back(caps.has(cap) ? "yes" : "-");
+        std::string samples;
+        for (uint32_t n = 1; n <= caps.sampleCounts && n; n <<= 1)
+            if (caps.sampleCounts & n) samples += (samples.empty() ? "" : ",") + std::to_string(n);
+        row.push_back(samples.empty() ? "-" : samples);
         rows.push_back(std::move(row));
     }
     return formatTable(rows);
@@ -140,6 +145,10 @@ nlohmann::json toJson(const std::vector<BackendReport>& reports, rhi::GLPlatform
                                   {"channels", info.channels}, {"srgb", info.srgb}};
             const rhi::FormatCapabilities caps = formatCaps(r, info.format);
             for (rhi::FormatCapability cap : rhi::kAllFormatCapabilities) format[rhi::toString(cap)] = caps.has(cap);
+            nlohmann::json samples = nlohmann::json::array();
+            for (uint32_t n = 1; n <= caps.sampleCounts && n; n <<= 1)
+                if (caps.sampleCounts & n) samples.push_back(n);
+            format["sampleCounts"] = std::move(samples);
             formats[info.name] = std::move(format);
         }
         entry["formats"] = std::move(formats);

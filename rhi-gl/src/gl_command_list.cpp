@@ -188,6 +188,7 @@ void CommandList::beginImpl() {
     m_indexOffset = 0;
     m_passColorFormats.clear();
     m_passDepthFormat = Format::Unknown;
+    m_passSampleCount = 1;
     m_debugGroupDepth = 0;
     m_timers.clear();
 }
@@ -209,6 +210,11 @@ void CommandList::requireCompatiblePipeline(const char* what) const {
                     fmt::format("{}: the pipeline's depth format {} does not match the render pass depth attachment ({})",
                                 what, toString(desc.depthFormat),
                                 m_passDepthFormat == Format::Unknown ? "none" : toString(m_passDepthFormat)));
+    if (desc.sampleCount != m_passSampleCount)
+        throw Error(ErrorCode::InvalidUsage,
+                    fmt::format("{}: pipeline '{}' renders with {} sample(s) but the render pass's attachments have {}; "
+                                "set GraphicsPipelineDesc::sampleCount to the attachments' TextureDesc::sampleCount",
+                                what, desc.debugName, desc.sampleCount, m_passSampleCount));
 }
 
 void CommandList::requireBindingsCached(const char* what) {
@@ -470,10 +476,19 @@ void CommandList::end() {
 // `desc` is validated (rhi/src/validation.cpp); the attachments must still be this device's.
 void CommandList::beginRenderPassImpl(const RenderPassDesc& desc) {
     requireOutsideRenderPass("beginRenderPass");
-    for (const Attachment& a : desc.colors) cast<Texture>(*m_context, a.texture, "beginRenderPass", "attachment texture");
+    bool resolves = false;
+    for (const Attachment& a : desc.colors) {
+        cast<Texture>(*m_context, a.texture, "beginRenderPass", "attachment texture");
+        if (a.resolveTexture) cast<Texture>(*m_context, a.resolveTexture, "beginRenderPass", "resolve texture");
+        resolves = resolves || a.resolveTexture;
+    }
     if (desc.depth) cast<Texture>(*m_context, desc.depth->texture, "beginRenderPass", "attachment texture");
     GLbitfield needed = 0;
-    for (const Attachment& a : desc.colors) needed |= textureHazard(a.texture.get(), GL_FRAMEBUFFER_BARRIER_BIT);
+    for (const Attachment& a : desc.colors) {
+        needed |= textureHazard(a.texture.get(), GL_FRAMEBUFFER_BARRIER_BIT);
+        // The resolve writes it through a framebuffer (a blit) at the pass's end.
+        if (a.resolveTexture) needed |= textureHazard(a.resolveTexture.get(), GL_FRAMEBUFFER_BARRIER_BIT);
+    }
     if (desc.depth) needed |= textureHazard(desc.depth->texture.get(), GL_FRAMEBUFFER_BARRIER_BIT);
     recordBarrier(needed);
     m_inRenderPass = true;
@@ -486,11 +501,14 @@ void CommandList::beginRenderPassImpl(const RenderPassDesc& desc) {
     m_passColorFormats.clear();
     for (const Attachment& a : desc.colors) m_passColorFormats.push_back(a.texture->desc().format);
     m_passDepthFormat = desc.depth ? desc.depth->texture->desc().format : Format::Unknown;
+    m_passSampleCount = (desc.depth ? desc.depth->texture : desc.colors[0].texture)->desc().sampleCount;
+    m_passResolves = resolves;
     record(command::BeginRenderPass{uint32_t(m_renderPassCount - 1)});
 }
 
 void CommandList::endRenderPass() {
     requireInsideRenderPass("endRenderPass");
+    if (m_passResolves) record(command::ResolveRenderPass{uint32_t(m_renderPassCount - 1)});
     m_inRenderPass = false;
     invalidateDrawState();
 }
@@ -803,6 +821,7 @@ void CommandList::replay(Device& device) {
         Device& device;
         const GLFunctions& gl;
         void operator()(const command::BeginRenderPass& c) { device.beginRenderPass(list.m_renderPasses[c.pass]); }
+        void operator()(const command::ResolveRenderPass& c) { device.resolveRenderPass(list.m_renderPasses[c.pass]); }
         void operator()(const command::SetViewport& c) {
             // GL's window origin is row 0 as well, so y needs no flip.
             const Viewport& v = c.viewport;
@@ -888,7 +907,7 @@ void CommandList::replay(Device& device) {
     };
     Replayer replayer{*this, device, gl};
     // A switch rather than std::visit, whose table of out-of-line calls costs a call per command.
-    static_assert(std::variant_size_v<Command> == 26, "one case per command below");
+    static_assert(std::variant_size_v<Command> == 27, "one case per command below");
 #define JANUS_REPLAY_CASE(N) \
     case N: replayer(*std::get_if<N>(&command)); break;
     for (const Command& command : std::span(m_commands).first(m_commandCount)) {
@@ -924,6 +943,7 @@ void CommandList::replay(Device& device) {
                 JANUS_REPLAY_CASE(23)
                 JANUS_REPLAY_CASE(24)
                 JANUS_REPLAY_CASE(25)
+                JANUS_REPLAY_CASE(26)
         }
     }
 #undef JANUS_REPLAY_CASE
@@ -958,11 +978,11 @@ void Device::beginRenderPass(const RenderPassDesc& desc) {
     for (const Attachment& a : desc.colors) {
         auto* texture = static_cast<const Texture*>(a.texture.get());
         colors.push_back(texture);
-        key.colors.push_back({texture->name(), a.subresource.mipLevel, a.subresource.layer});
+        key.colors.push_back(texture->attachmentKey(a.subresource));
     }
     if (desc.depth) {
         depth = static_cast<const Texture*>(desc.depth->texture.get());
-        key.depth = {depth->name(), desc.depth->subresource.mipLevel, desc.depth->subresource.layer};
+        key.depth = depth->attachmentKey(desc.depth->subresource);
     }
     const GLuint fbo = m_context->framebuffer(key, colors, depth);
     f.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo);
@@ -978,24 +998,56 @@ void Device::beginRenderPass(const RenderPassDesc& desc) {
     GLStateCache& state = m_context->state;
     state.setDepthRange(0.0f, 1.0f);
 
+    // A multisampled texture's first pass loads zeros (Texture::takeFirstUse).
+    auto clears = [](const Attachment& a, const Texture& texture) {
+        const bool first = texture.isRenderbuffer() && texture.takeFirstUse();
+        return a.loadOp == LoadOp::Clear || (first && a.loadOp == LoadOp::Load);
+    };
+    auto clearValue = [](const Attachment& a) {
+        return a.loadOp == LoadOp::Clear ? a.clearColor : std::array<float, 4>{0.0f, 0.0f, 0.0f, 0.0f};
+    };
+    uint32_t clearColor = 0;   // a bit per colour attachment (Limits::maxColorAttachments is at most 8)
+    for (size_t i = 0; i < desc.colors.size(); ++i) clearColor |= uint32_t(clears(desc.colors[i], *colors[i])) << i;
+    const bool clearDepth = desc.depth && clears(*desc.depth, *depth);
     // Clears obey the write masks, which the previous pipeline may have narrowed.
-    const bool clearsColor = std::any_of(desc.colors.begin(), desc.colors.end(),
-                                         [](const Attachment& a) { return a.loadOp == LoadOp::Clear; });
-    if (clearsColor) state.setAllColorMasks(0xF);
-    if (desc.depth && desc.depth->loadOp == LoadOp::Clear) state.setDepthMask(true);
+    if (clearColor) state.setAllColorMasks(0xF);
+    if (clearDepth) state.setDepthMask(true);
     for (size_t i = 0; i < desc.colors.size(); ++i) {
         const Attachment& a = desc.colors[i];
-        if (a.loadOp != LoadOp::Clear) continue;
+        if (!(clearColor & (1u << i))) continue;
+        const std::array<float, 4> value = clearValue(a);
         if (formatInfo(colors[i]->desc().format).kind == FormatKind::UInt) {
-            const GLuint value[4] = {GLuint(a.clearColor[0]), GLuint(a.clearColor[1]), GLuint(a.clearColor[2]),
-                                     GLuint(a.clearColor[3])};
-            f.glClearBufferuiv(GL_COLOR, GLint(i), value);
+            const GLuint uintValue[4] = {GLuint(value[0]), GLuint(value[1]), GLuint(value[2]), GLuint(value[3])};
+            f.glClearBufferuiv(GL_COLOR, GLint(i), uintValue);
         } else {
-            f.glClearBufferfv(GL_COLOR, GLint(i), a.clearColor.data());
+            f.glClearBufferfv(GL_COLOR, GLint(i), value.data());
         }
     }
-    if (desc.depth && desc.depth->loadOp == LoadOp::Clear) f.glClearBufferfv(GL_DEPTH, 0, &desc.depth->clearDepth);
+    if (clearDepth) {
+        const float value = desc.depth->loadOp == LoadOp::Clear ? desc.depth->clearDepth : 0.0f;
+        f.glClearBufferfv(GL_DEPTH, 0, &value);
+    }
     if (m_pipeline) m_pipeline->applyState();
+}
+
+// Blits are clipped by the scissor (the pass may have narrowed it) but not by write masks.
+void Device::resolveRenderPass(const RenderPassDesc& desc) {
+    const GLFunctions& f = gl();
+    for (const Attachment& a : desc.colors) {
+        if (!a.resolveTexture) continue;
+        auto* source = static_cast<const Texture*>(a.texture.get());
+        auto* target = static_cast<const Texture*>(a.resolveTexture.get());
+        FramebufferKey readKey, drawKey;
+        readKey.colors.push_back(source->attachmentKey(a.subresource));
+        drawKey.colors.push_back(target->attachmentKey(a.resolveSubresource));
+        const GLuint readFbo = m_context->framebuffer(readKey, {source}, nullptr);
+        const GLuint drawFbo = m_context->framebuffer(drawKey, {target}, nullptr);
+        f.glBindFramebuffer(GL_READ_FRAMEBUFFER, readFbo);
+        f.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, drawFbo);
+        const auto width = GLint(source->width(0)), height = GLint(source->height(0));
+        f.glScissor(0, 0, width, height);
+        f.glBlitFramebuffer(0, 0, width, height, 0, 0, width, height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    }
 }
 
 void Device::bindPipeline(const Pipeline& pipeline) {

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <bit>
 #include <cstdio>
 #include <cstring>
 #include <utility>
@@ -156,6 +157,10 @@ void Context::deleteNow(GLObjectKind kind, std::span<const GLuint> names) {
             for (GLuint name : names) forgetTexture(name);
             gl.glDeleteTextures(count, names.data());
             break;
+        case GLObjectKind::Renderbuffer:
+            for (GLuint name : names) forgetTexture(name, true);
+            gl.glDeleteRenderbuffers(count, names.data());
+            break;
         case GLObjectKind::Sampler: gl.glDeleteSamplers(count, names.data()); break;
         case GLObjectKind::Shader:
             for (GLuint name : names) gl.glDeleteShader(name);
@@ -237,12 +242,11 @@ GLuint Context::framebuffer(const FramebufferKey& key, const std::vector<const T
 }
 
 // Called by ~Texture with the context current.
-void Context::forgetTexture(GLuint texture) {
+void Context::forgetTexture(GLuint texture, bool renderbuffer) {
+    auto names = [&](const AttachmentKey& a) { return a.texture == texture && a.renderbuffer == renderbuffer; };
     for (auto it = m_framebuffers.begin(); it != m_framebuffers.end();) {
         const FramebufferKey& key = it->first;
-        bool uses = key.depth.texture == texture ||
-                    std::any_of(key.colors.begin(), key.colors.end(),
-                                [&](const AttachmentKey& a) { return a.texture == texture; });
+        bool uses = names(key.depth) || std::any_of(key.colors.begin(), key.colors.end(), names);
         if (uses) {
             gl.glDeleteFramebuffers(1, &it->second);
             it = m_framebuffers.erase(it);
@@ -490,6 +494,21 @@ std::vector<FormatCapabilities> Device::queryFormatCapabilities(const Capabiliti
         c.set(FormatCapability::Copyable, copyable);
         // glGenerateMipmap: colour-renderable and filterable formats only.
         c.set(FormatCapability::GenerateMips, !depth && renderable && sampled && filterable);
+        // Multisampling: the counts a renderbuffer of the format takes (GL 4.3 and ES 3.0 both
+        // answer for GL_RENDERBUFFER), below GL_MAX_SAMPLES. Integer formats stay single-sampled,
+        // as on Vulkan (ES 3.0 has no multisampled integer renderbuffers; their resolve is no average).
+        c.sampleCounts = 1;
+        if (renderable && !integer) {
+            GLint maxSamples = 0, counts = 0;
+            f.glGetIntegerv(GL_MAX_SAMPLES, &maxSamples);
+            const GLenum internalFormat = glFormat(format).internalFormat;
+            f.glGetInternalformativ(GL_RENDERBUFFER, internalFormat, GL_NUM_SAMPLE_COUNTS, 1, &counts);
+            std::vector<GLint> samples(size_t(std::clamp(counts, 0, 64)));
+            if (!samples.empty())
+                f.glGetInternalformativ(GL_RENDERBUFFER, internalFormat, GL_SAMPLES, GLsizei(samples.size()), samples.data());
+            for (GLint n : samples)
+                if (n > 1 && n <= std::min(maxSamples, 16) && std::has_single_bit(uint32_t(n))) c.sampleCounts |= uint32_t(n);
+        }
     }
     return table;
 }

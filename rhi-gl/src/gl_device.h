@@ -12,6 +12,7 @@
 #include <span>
 #include <string>
 #include <thread>
+#include <utility>
 #include <tuple>
 #include <type_traits>
 #include <utility>
@@ -44,6 +45,7 @@ struct AttachmentKey {
     GLuint texture = 0;
     uint32_t mipLevel = 0;
     uint32_t layer = 0;
+    bool renderbuffer = false;   // `texture` names a renderbuffer (a multisampled texture): another name space
     auto operator<=>(const AttachmentKey&) const = default;
 };
 
@@ -56,7 +58,7 @@ struct FramebufferKey {
 class Texture;
 
 // The GL objects resource destructors delete (Context::deleteObjects).
-enum class GLObjectKind : uint8_t { Buffer, Texture, Sampler, Shader, Program, Query };
+enum class GLObjectKind : uint8_t { Buffer, Texture, Renderbuffer, Sampler, Shader, Program, Query };
 
 // A context's platform and the thread it is current on: what a thread needs to let go of the
 // context, held by the context and by that thread (so a context destroyed elsewhere is still
@@ -101,7 +103,7 @@ public:
     // (GL reuses texture names, so a stale entry would render into a deleted texture).
     GLuint framebuffer(const FramebufferKey& key, const std::vector<const Texture*>& colorTextures,
                        const Texture* depthTexture);
-    void forgetTexture(GLuint texture);
+    void forgetTexture(GLuint texture, bool renderbuffer = false);
 
     // Debug output, filled by the KHR_debug callback.
     void collectDebugMessage(DebugMessage message);
@@ -177,6 +179,14 @@ public:
     uint64_t subresourceSize(uint32_t mip) const;
     // Attaches one image to the bound framebuffer object at `attachmentPoint`.
     void attach(GLenum framebufferTarget, GLenum attachmentPoint, uint32_t mip, uint32_t layer) const;
+    // A multisampled texture is a renderbuffer (GLES 3.0 has no multisampled textures; they are
+    // only rendered to and resolved, never sampled).
+    bool isRenderbuffer() const { return m_target == GL_RENDERBUFFER; }
+    AttachmentKey attachmentKey(TextureSubresource sub) const { return {m_name, sub.mipLevel, sub.layer, isRenderbuffer()}; }
+    // True once, for a multisampled texture no pass has rendered to yet: its first pass clears
+    // it to zero where it would load it (new textures read as zero; a renderbuffer cannot be
+    // cleared without a framebuffer, which only a pass has).
+    bool takeFirstUse() const { return std::exchange(m_firstUse, false); }
 
     // Desktop GL: a texture view (glTextureView) showing `view`, created on first use and
     // cached; the texture itself when the view is the whole texture. Returns name and target.
@@ -191,6 +201,7 @@ public:
     KeepMark keepMark;
 
 private:
+    void createRenderbuffer();
     void zeroContents() const;
 
     ContextPtr m_context;
@@ -198,6 +209,7 @@ private:
     GLuint m_name = 0;
     GLenum m_target = 0;
     mutable std::map<std::tuple<int, uint32_t, uint32_t, uint32_t, uint32_t>, GLuint> m_views;
+    mutable bool m_firstUse = false;    // multisampled textures: takeFirstUse
     mutable uint32_t m_baseLevel = 0;   // GLES: the range applyMipRange last set
     mutable uint32_t m_maxLevel = 0;
 };
@@ -492,6 +504,7 @@ struct TextureMipRange {
 // list's keep-alive holds each one for as long as the recording needs it.
 namespace command {
 struct BeginRenderPass { uint32_t pass; };   // index into CommandList::m_renderPasses
+struct ResolveRenderPass { uint32_t pass; };   // its attachments' resolves, at the pass's end
 struct SetViewport { Viewport viewport; };
 struct SetScissor { ScissorRect scissor; };
 struct BindPipeline { const Pipeline* pipeline; };
@@ -535,7 +548,7 @@ using Command = std::variant<command::BeginRenderPass, command::SetViewport, com
                              command::CopyBufferToTexture, command::CopyTextureToBuffer, command::CopyTexture,
                              command::GenerateMips, command::BeginTimer, command::EndTimer, command::PushDebugGroup,
                              command::PopDebugGroup, command::BindSetAndDraw, command::BindSetAndDrawIndexed,
-                             command::BindSetAndDrawOne, command::BindDynamicSet>;
+                             command::BindSetAndDrawOne, command::BindDynamicSet, command::ResolveRenderPass>;
 // A draw writes one at recording and reads it at replay: a command per draw stays this small.
 static_assert(sizeof(Command) == 48, "a command grew");
 // Command::index() of a command of type T.
@@ -807,6 +820,8 @@ private:
     uint64_t m_indexLimit = 0;
     std::vector<Format> m_passColorFormats;   // formats of the open render pass
     Format m_passDepthFormat = Format::Unknown;
+    uint32_t m_passSampleCount = 1;   // the open pass's attachments' TextureDesc::sampleCount
+    bool m_passResolves = false;      // the open pass resolves an attachment at its end
     std::array<const BindingSet*, kMaxBindingSets> m_bindingSets{};   // by set index
     // The bound items the pipeline uses (last check) and how it accesses them (parallel): in a
     // cached check of the set, or in the storage below. Read it through found(): a set bound with
@@ -895,6 +910,8 @@ public:
     void copyTextureImage(const Texture& dst, TextureSubresource dstSub, const Texture& src,
                           TextureSubresource srcSub);
     void beginRenderPass(const RenderPassDesc& desc);
+    // Blits each multisampled colour attachment with a resolveTexture into it.
+    void resolveRenderPass(const RenderPassDesc& desc);
     void bindPipeline(const Pipeline& pipeline);
     // GL has one binding point per number for all sets: a set takes the points of its items from
     // whatever was there, also from the other sets. What the current pipeline reads of a set whose

@@ -70,6 +70,12 @@ class Platform;
     X(PFNGLCLEARBUFFERFVPROC, glClearBufferfv)                                                                \
     X(PFNGLCLEARBUFFERUIVPROC, glClearBufferuiv)                                                              \
     X(PFNGLBLITFRAMEBUFFERPROC, glBlitFramebuffer)                                                            \
+    X(PFNGLGENRENDERBUFFERSPROC, glGenRenderbuffers)                                                          \
+    X(PFNGLDELETERENDERBUFFERSPROC, glDeleteRenderbuffers)                                                    \
+    X(PFNGLBINDRENDERBUFFERPROC, glBindRenderbuffer)                                                          \
+    X(PFNGLRENDERBUFFERSTORAGEMULTISAMPLEPROC, glRenderbufferStorageMultisample)                              \
+    X(PFNGLFRAMEBUFFERRENDERBUFFERPROC, glFramebufferRenderbuffer)                                            \
+    X(PFNGLGETINTERNALFORMATIVPROC, glGetInternalformativ)                                                    \
     X(PFNGLCREATESHADERPROC, glCreateShader)                                                                  \
     X(PFNGLDELETESHADERPROC, glDeleteShader)                                                                  \
     X(PFNGLSHADERSOURCEPROC, glShaderSource)                                                                  \
@@ -137,7 +143,6 @@ class Platform;
     X(PFNGLCLIPCONTROLPROC, glClipControl, "glClipControlEXT")                                                \
     X(PFNGLCLEARTEXIMAGEPROC, glClearTexImage, "glClearTexImageEXT")                                          \
     X(PFNGLCLEARBUFFERDATAPROC, glClearBufferData, nullptr)                                                   \
-    X(PFNGLGETINTERNALFORMATIVPROC, glGetInternalformativ, nullptr)                                           \
     X(PFNGLTEXTUREVIEWPROC, glTextureView, nullptr)
 
 struct GLFunctions {

@@ -80,6 +80,10 @@ const GLFormat& glFormat(Format format) {
 Texture::Texture(ContextPtr context, const TextureDesc& resolvedDesc)
     : m_context(std::move(context)), m_desc(resolvedDesc) {
     const GLFunctions& gl = m_context->gl;
+    if (m_desc.sampleCount > 1) {
+        createRenderbuffer();
+        return;
+    }
     switch (m_desc.dimension) {
         case TextureDimension::Texture2D: m_target = GL_TEXTURE_2D; break;
         case TextureDimension::TextureCube: m_target = GL_TEXTURE_CUBE_MAP; break;
@@ -107,6 +111,26 @@ Texture::Texture(ContextPtr context, const TextureDesc& resolvedDesc)
     zeroContents();
     if (!m_desc.debugName.empty() && gl.glObjectLabel && !m_context->isES())
         gl.glObjectLabel(GL_TEXTURE, m_name, GLsizei(m_desc.debugName.size()), m_desc.debugName.data());
+}
+
+// A multisampled texture (validated: a 2D render target, one mip, a count the format table allows).
+void Texture::createRenderbuffer() {
+    const GLFunctions& gl = m_context->gl;
+    m_target = GL_RENDERBUFFER;
+    m_firstUse = true;
+    gl.glGenRenderbuffers(1, &m_name);
+    gl.glBindRenderbuffer(GL_RENDERBUFFER, m_name);
+    gl.glRenderbufferStorageMultisample(GL_RENDERBUFFER, GLsizei(m_desc.sampleCount), format().internalFormat,
+                                        GLsizei(m_desc.width), GLsizei(m_desc.height));
+    gl.glBindRenderbuffer(GL_RENDERBUFFER, 0);
+    if (gl.glGetError() == GL_OUT_OF_MEMORY) {
+        gl.glDeleteRenderbuffers(1, &m_name);
+        throw Error(ErrorCode::OutOfMemory, fmt::format("texture '{}': the driver could not allocate {}x{} {} with {} samples",
+                                                        m_desc.debugName, m_desc.width, m_desc.height,
+                                                        toString(m_desc.format), m_desc.sampleCount));
+    }
+    if (!m_desc.debugName.empty() && gl.glObjectLabel && !m_context->isES())
+        gl.glObjectLabel(GL_RENDERBUFFER, m_name, GLsizei(m_desc.debugName.size()), m_desc.debugName.data());
 }
 
 void Texture::zeroContents() const {
@@ -145,7 +169,7 @@ void Texture::zeroContents() const {
 
 Texture::~Texture() {
     for (auto& [key, view] : m_views) m_context->deleteObjects(GLObjectKind::Texture, std::span(&view, 1));
-    m_context->deleteObjects(GLObjectKind::Texture, std::span(&m_name, 1));
+    m_context->deleteObjects(isRenderbuffer() ? GLObjectKind::Renderbuffer : GLObjectKind::Texture, std::span(&m_name, 1));
 }
 
 namespace {
@@ -204,6 +228,7 @@ uint64_t Texture::subresourceSize(uint32_t mip) const {
 
 void Texture::attach(GLenum framebufferTarget, GLenum attachmentPoint, uint32_t mip, uint32_t layer) const {
     const GLFunctions& gl = m_context->gl;
+    if (isRenderbuffer()) return gl.glFramebufferRenderbuffer(framebufferTarget, attachmentPoint, GL_RENDERBUFFER, m_name);
     switch (m_desc.dimension) {
         case TextureDimension::Texture2D:
             gl.glFramebufferTexture2D(framebufferTarget, attachmentPoint, GL_TEXTURE_2D, m_name, GLint(mip));

@@ -727,6 +727,7 @@ private:
         std::vector<VkRenderingAttachmentInfo> colors;
     } m_passScratch;
     Format m_passDepthFormat = Format::Unknown;
+    uint32_t m_passSampleCount = 1;   // the open pass's attachments' TextureDesc::sampleCount
     // Bound objects; m_keepAlive owns them.
     Pipeline* m_graphicsPipeline = nullptr;
     Pipeline* m_computePipeline = nullptr;

@@ -216,6 +216,20 @@ void CommandList::beginRenderPassImpl(const RenderPassDesc& desc) {
         } else {
             for (int i = 0; i < 4; ++i) info.clearValue.color.float32[i] = a.clearColor[i];
         }
+        if (a.resolveTexture) {
+            // Validated: a colour attachment of the same non-integer format and size. The resolve
+            // writes the whole subresource at the end of the pass, in the colour output stage.
+            auto* target = native<Texture>(a.resolveTexture, [&] { return fmt::format("colour attachment {}'s resolve", colorIndex); },
+                                           m_context.get());
+            m_keepAlive.keep(a.resolveTexture, target->keepMark);
+            attachmentAccesses.push_back(textureAccess(*target, keysOf(a.resolveSubresource),
+                                                       VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
+                                                       VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT,
+                                                       true));
+            info.resolveMode = VK_RESOLVE_MODE_AVERAGE_BIT;
+            info.resolveImageView = target->attachmentView(a.resolveSubresource);
+            info.resolveImageLayout = VK_IMAGE_LAYOUT_GENERAL;
+        }
         return info;
     };
 
@@ -247,6 +261,7 @@ void CommandList::beginRenderPassImpl(const RenderPassDesc& desc) {
     m_passDesc.depth = desc.depth;
     m_passTrackedSets = 0;
     m_passDepthFormat = desc.depth ? desc.depth->texture->desc().format : Format::Unknown;
+    m_passSampleCount = (desc.depth ? desc.depth->texture : desc.colors[0].texture)->desc().sampleCount;
     setViewportImpl({0, 0, float(extent->width), float(extent->height), 0, 1});
     setScissorImpl({0, 0, extent->width, extent->height});
 }
@@ -480,6 +495,11 @@ void CommandList::checkDrawState(std::string_view call) {
                     fmt::format("{}: pipeline '{}' renders to {} but the render pass has {}", call,
                                 m_graphicsPipeline->debugName, formatList(desc.colorFormats, desc.depthFormat),
                                 formatList(m_passColorFormats, m_passDepthFormat)));
+    if (desc.sampleCount != m_passSampleCount)
+        throw Error(ErrorCode::InvalidUsage,
+                    fmt::format("{}: pipeline '{}' renders with {} sample(s) but the render pass's attachments have {}; "
+                                "set GraphicsPipelineDesc::sampleCount to the attachments' TextureDesc::sampleCount",
+                                call, m_graphicsPipeline->debugName, desc.sampleCount, m_passSampleCount));
     for (const VertexBufferLayout& layout : desc.vertexBuffers)
         if (layout.slot >= m_vertexBindings.size() || !m_vertexBindings[layout.slot].buffer)
             throw Error(ErrorCode::InvalidUsage,

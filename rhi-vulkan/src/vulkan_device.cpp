@@ -425,6 +425,25 @@ std::vector<FormatCapabilities> queryFormatCapabilities(const Context& ctx, cons
         c.set(FormatCapability::GenerateMips,
               !depth && has(VK_FORMAT_FEATURE_BLIT_SRC_BIT | VK_FORMAT_FEATURE_BLIT_DST_BIT |
                             VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT));
+        // Multisampling: what a 2D render target of the format can have (Texture's own usage) and
+        // a framebuffer takes. Integer formats stay single-sampled: their resolve is one sample,
+        // not an average, and GLES 3.0 has no multisampled integer targets at all.
+        c.sampleCounts = VK_SAMPLE_COUNT_1_BIT;
+        if (c.has(FormatCapability::RenderTarget) && info.kind != FormatKind::UInt) {
+            VkImageFormatProperties image{};
+            const VkImageUsageFlags usage = VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT |
+                                            (depth ? VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT
+                                                   : VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT);
+            if (vkGetPhysicalDeviceImageFormatProperties(ctx.physicalDevice, toVkFormat(info.format), VK_IMAGE_TYPE_2D,
+                                                         VK_IMAGE_TILING_OPTIMAL, usage, 0, &image) == VK_SUCCESS) {
+                const VkPhysicalDeviceLimits& limits = ctx.properties.limits;
+                c.sampleCounts = image.sampleCounts &
+                                 (depth ? limits.framebufferDepthSampleCounts : limits.framebufferColorSampleCounts) &
+                                 (VK_SAMPLE_COUNT_1_BIT | VK_SAMPLE_COUNT_2_BIT | VK_SAMPLE_COUNT_4_BIT |
+                                  VK_SAMPLE_COUNT_8_BIT | VK_SAMPLE_COUNT_16_BIT);
+                c.sampleCounts |= VK_SAMPLE_COUNT_1_BIT;
+            }
+        }
     }
     return table;
 }

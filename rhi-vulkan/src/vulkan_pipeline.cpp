@@ -257,7 +257,7 @@ Pipeline::Pipeline(ContextPtr context, const GraphicsPipelineDesc& desc)
     lineState.lineRasterizationMode = VK_LINE_RASTERIZATION_MODE_BRESENHAM_EXT;
     if (desc.topology == PrimitiveTopology::LineList && m_context->bresenhamLines) raster.pNext = &lineState;
     VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
-    multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+    multisample.rasterizationSamples = VkSampleCountFlagBits(desc.sampleCount);   // validated against the formats
     VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
     const bool hasDepth = desc.depthFormat != Format::Unknown;
     depth.depthTestEnable = desc.depth.testEnable;

@@ -60,7 +60,7 @@ Texture::Texture(ContextPtr context, const TextureDesc& desc) : m_context(std::m
     info.extent = {m_desc.width, m_desc.height, m_desc.dimension == TextureDimension::Texture3D ? m_desc.depth : 1};
     info.mipLevels = m_desc.mipLevels;
     info.arrayLayers = arrayLayers();
-    info.samples = VK_SAMPLE_COUNT_1_BIT;
+    info.samples = VkSampleCountFlagBits(m_desc.sampleCount);   // validated: a count the format table allows
     info.tiling = VK_IMAGE_TILING_OPTIMAL;
     info.usage = imageUsage(m_desc);
     info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
@@ -82,6 +82,9 @@ Texture::Texture(ContextPtr context, const TextureDesc& desc) : m_context(std::m
         info.extent.depth > supported.maxExtent.depth)
         invalid(m_desc, fmt::format("the device's largest texture of this kind is {}x{}x{}", supported.maxExtent.width,
                                     supported.maxExtent.height, supported.maxExtent.depth));
+    if (!(supported.sampleCounts & info.samples))
+        invalid(m_desc, fmt::format("the device cannot make {} textures with {} samples", toString(m_desc.format),
+                                    m_desc.sampleCount));
     if (info.arrayLayers > supported.maxArrayLayers)
         invalid(m_desc, fmt::format("the device allows at most {} layers for a texture of this kind",
                                     supported.maxArrayLayers));

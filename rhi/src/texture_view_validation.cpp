@@ -210,7 +210,8 @@ void validateViewOverlaps(std::span<const UsedBinding> bindings, const RenderPas
         // The common case (per draw): a sampled texture that is no attachment; nothing to resolve.
         bool attached = false;
         if (anyAttachment) {
-            for (const Attachment& a : pass->colors) attached = attached || a.texture.get() == item.texture.get();
+            for (const Attachment& a : pass->colors)
+                attached = attached || a.texture.get() == item.texture.get() || a.resolveTexture.get() == item.texture.get();
             attached = attached || (pass->depth && pass->depth->texture.get() == item.texture.get());
         }
         if (!attached && item.type != ResourceType::StorageImage) continue;
@@ -218,9 +219,9 @@ void validateViewOverlaps(std::span<const UsedBinding> bindings, const RenderPas
         const TextureDesc& desc = item.texture->desc();
         const bool volume = desc.dimension == TextureDimension::Texture3D;
         if (attached) {
-            auto check = [&](const Attachment& a, const std::string& which) {
-                if (a.texture.get() != item.texture.get()) return;
-                const uint32_t mip = a.subresource.mipLevel, layer = a.subresource.layer;
+            auto check = [&](const ITexture* texture, TextureSubresource sub, const std::string& which) {
+                if (texture != item.texture.get()) return;
+                const uint32_t mip = sub.mipLevel, layer = sub.layer;
                 if (!overlaps(v.baseMip, v.mipCount, mip, 1) || (!volume && !overlaps(v.baseLayer, v.layerCount, layer, 1)))
                     return;
                 throw Error(ErrorCode::InvalidUsage,
@@ -230,9 +231,12 @@ void validateViewOverlaps(std::span<const UsedBinding> bindings, const RenderPas
                                         call, bindings[i].set, item.binding, verb(item), describe(v), textureName(desc),
                                         which, mip, layer));
             };
-            for (size_t c = 0; c < pass->colors.size(); ++c)
-                check(pass->colors[c], fmt::format("colour attachment {}", c));
-            if (pass->depth) check(*pass->depth, "the depth attachment");
+            for (size_t c = 0; c < pass->colors.size(); ++c) {
+                const Attachment& a = pass->colors[c];
+                check(a.texture.get(), a.subresource, fmt::format("colour attachment {}", c));
+                check(a.resolveTexture.get(), a.resolveSubresource, fmt::format("colour attachment {}'s resolve", c));
+            }
+            if (pass->depth) check(pass->depth->texture.get(), pass->depth->subresource, "the depth attachment");
         }
         if (item.type != ResourceType::StorageImage) continue;
         for (size_t j = 0; j < bindings.size(); ++j) {

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstring>
 #include <string>
@@ -116,6 +117,22 @@ constexpr std::string_view kCompareOps = "Never, Less, Equal, LessOrEqual, Great
 
 bool isFloat32(Format f) { return formatInfo(f).kind == FormatKind::Float && formatInfo(f).bytesPerPixel / formatInfo(f).channels == 4; }
 
+// "1, 2, 4" from FormatCapabilities::sampleCounts.
+std::string sampleCountList(uint32_t counts) {
+    std::string list;
+    for (uint32_t c = 1; c && c <= counts; c <<= 1)
+        if (counts & c) list += (list.empty() ? "" : ", ") + std::to_string(c);
+    return list.empty() ? "none" : list;
+}
+
+// InvalidUsage for a multisampled texture where only single-sampled ones go (copies, readback):
+// its samples must be resolved first.
+void requireSingleSampled(const ITexture& texture, std::string_view what) {
+    if (texture.desc().sampleCount > 1)
+        misuse(fmt::format("{}: texture '{}' is multisampled ({} samples); resolve it into a single-sampled texture "
+                           "(Attachment::resolveTo) and use that", what, textureName(texture), texture.desc().sampleCount));
+}
+
 }  // namespace
 
 void requireFormatCapability(const DeviceProperties& device, Format format, FormatCapability cap,
@@ -218,6 +235,26 @@ TextureDesc validateTexture(const DeviceProperties& device, const TextureDesc& d
         requireFormatCapability(device, desc.format, FormatCapability::Sampled, name + ": TextureUsage::Sampled");
     if (any(desc.usage, TextureUsage::RenderTarget))
         requireFormatCapability(device, desc.format, FormatCapability::RenderTarget, name + ": TextureUsage::RenderTarget");
+    if (desc.sampleCount != 1) {
+        if (desc.sampleCount == 0 || !std::has_single_bit(desc.sampleCount))
+            invalid(fmt::format("{}: sampleCount is {}; it must be 1 or a power of two the format allows", name,
+                                desc.sampleCount));
+        if (desc.dimension != TextureDimension::Texture2D || desc.arrayLayers != 1 || resolved.mipLevels != 1)
+            invalid(fmt::format("{}: sampleCount is {} but the texture has {} layer(s) and {} mip level(s); a "
+                                "multisampled texture is a Texture2D with one layer and mipLevels 1", name,
+                                desc.sampleCount, textureLayerCount(desc), resolved.mipLevels));
+        if (desc.usage != TextureUsage::RenderTarget)
+            invalid(fmt::format("{}: sampleCount is {} with usage {:#x}; a multisampled texture's usage is "
+                                "RenderTarget alone (shaders read the single-sampled texture it resolves into)",
+                                name, desc.sampleCount, uint32_t(desc.usage)));
+        const FormatCapabilities& caps = device.formats[size_t(desc.format)];
+        if (!caps.supportsSampleCount(desc.sampleCount))
+            throw Error(ErrorCode::UnsupportedCapability,
+                        fmt::format("{}: sampleCount {} is not supported for format {} on this {} device (it allows "
+                                    "{}: FormatCapabilities::sampleCounts, `janus info`)", name, desc.sampleCount,
+                                    toString(desc.format), toString(device.info.backend),
+                                    sampleCountList(caps.sampleCounts)));
+    }
     return resolved;
 }
 
@@ -374,6 +411,20 @@ void validateGraphicsPipeline(const DeviceProperties& device, const GraphicsPipe
                         fmt::format("{}: colour attachment {} blends (or masks) differently from attachment 0, which "
                                     "needs capability '{}', which the {} backend does not have; use one blend state",
                                     name, i, toString(Capability::IndependentBlend), toString(device.info.backend)));
+    }
+    if (desc.sampleCount == 0 || !std::has_single_bit(desc.sampleCount))
+        invalid(fmt::format("{}: sampleCount is {}; it must be 1 or the render pass's (a power of two)", name,
+                            desc.sampleCount));
+    if (desc.sampleCount > 1) {
+        std::vector<Format> formats = desc.colorFormats;
+        if (desc.depthFormat != Format::Unknown) formats.push_back(desc.depthFormat);
+        for (Format format : formats)
+            if (size_t(format) < device.formats.size() && !device.formats[size_t(format)].supportsSampleCount(desc.sampleCount))
+                throw Error(ErrorCode::UnsupportedCapability,
+                            fmt::format("{}: sampleCount {} is not supported for format {} on this {} device (it "
+                                        "allows {})", name, desc.sampleCount, toString(format),
+                                        toString(device.info.backend),
+                                        sampleCountList(device.formats[size_t(format)].sampleCounts)));
     }
     if (desc.depthFormat != Format::Unknown) {
         if (size_t(desc.depthFormat) >= device.formats.size() || !isDepthFormat(desc.depthFormat))
@@ -540,7 +591,7 @@ void validateRenderPass(const DeviceProperties& device, const RenderPassDesc& de
     if (desc.colors.size() > caps.limits.maxColorAttachments)
         invalid(fmt::format("RenderPassDesc: {} colour attachments, above Limits::maxColorAttachments ({})",
                             desc.colors.size(), caps.limits.maxColorAttachments));
-    uint32_t width = 0, height = 0;
+    uint32_t width = 0, height = 0, samples = 0;
     // Passes are begun per frame: the attachment's name is made only for a message.
     auto check = [&](const Attachment& a, size_t colorIndex, bool depth) {
         auto where = [&] {
@@ -587,6 +638,41 @@ void validateRenderPass(const DeviceProperties& device, const RenderPassDesc& de
                                 "attachments must have the same size", where(), td.debugName, w, h, sub.mipLevel, width,
                                 height));
         }
+        if (samples == 0) {
+            samples = td.sampleCount;
+        } else if (td.sampleCount != samples) {
+            invalid(fmt::format("{}: texture '{}' has {} sample(s) but the first attachment has {}; all attachments "
+                                "must have the same sampleCount", where(), td.debugName, td.sampleCount, samples));
+        }
+        if (!a.resolveTexture) return;
+        if (depth)
+            invalid(fmt::format("{}: a depth attachment cannot be resolved; resolve colour attachments only (a "
+                                "multisampled depth texture is left as it is: StoreOp::DontCare)", where()));
+        if (td.sampleCount == 1)
+            invalid(fmt::format("{}: resolveTexture is set but texture '{}' is single-sampled; resolve only "
+                                "multisampled attachments (TextureDesc::sampleCount > 1)", where(), td.debugName));
+        const TextureDesc& rd = a.resolveTexture->desc();
+        const TextureSubresource rs = a.resolveSubresource;
+        if (rd.sampleCount != 1)
+            invalid(fmt::format("{}: resolveTexture '{}' is multisampled ({} samples); resolve into a single-sampled "
+                                "texture", where(), rd.debugName, rd.sampleCount));
+        if (!any(rd.usage, TextureUsage::RenderTarget))
+            invalid(fmt::format("{}: resolveTexture '{}' lacks TextureUsage::RenderTarget", where(), rd.debugName));
+        if (rd.format != td.format)
+            invalid(fmt::format("{}: resolveTexture '{}' is {} but the attachment is {}; the formats must be the same",
+                                where(), rd.debugName, toString(rd.format), toString(td.format)));
+        if (rs.mipLevel >= rd.mipLevels || rs.layer >= layersAt(rd, rs.mipLevel))
+            invalid(fmt::format("{}: resolveSubresource (mip {}, layer {}) does not exist in the {} texture '{}' ({} mip "
+                                "level(s))", where(), rs.mipLevel, rs.layer, toString(rd.dimension), rd.debugName,
+                                rd.mipLevels));
+        if (rd.dimension == TextureDimension::Texture3D)
+            requireCapability(device, Capability::RenderToVolumeSlice, where() + ": resolving into a 3D texture slice");
+        if (isCubeLike(rd.dimension) && rs.mipLevel > 0)
+            requireCapability(device, Capability::RenderToCubeFaceMip, where() + ": resolving into a cube face at mip > 0");
+        if (mipExtent(rd.width, rs.mipLevel) != w || mipExtent(rd.height, rs.mipLevel) != h)
+            invalid(fmt::format("{}: resolveTexture '{}' is {}x{} at mip {} but the attachment is {}x{}; they must be "
+                                "the same size", where(), rd.debugName, mipExtent(rd.width, rs.mipLevel),
+                                mipExtent(rd.height, rs.mipLevel), rs.mipLevel, w, h));
     };
     for (size_t i = 0; i < desc.colors.size(); ++i) {
         check(desc.colors[i], i, false);
@@ -602,6 +688,16 @@ void validateRenderPass(const DeviceProperties& device, const RenderPassDesc& de
                                     desc.colors[i].subresource.layer, j));
     }
     if (desc.depth) check(*desc.depth, 0, true);
+    // Two resolves into one subresource: which one lands is undefined.
+    for (size_t i = 0; i < desc.colors.size(); ++i)
+        for (size_t j = 0; j < i && desc.colors[i].resolveTexture; ++j)
+            if (desc.colors[j].resolveTexture == desc.colors[i].resolveTexture &&
+                desc.colors[j].resolveSubresource.mipLevel == desc.colors[i].resolveSubresource.mipLevel &&
+                desc.colors[j].resolveSubresource.layer == desc.colors[i].resolveSubresource.layer)
+                invalid(fmt::format("RenderPassDesc colors[{}]: resolves into texture '{}' (mip {}, layer {}) as "
+                                    "colors[{}] does; resolve each attachment into its own subresource", i,
+                                    desc.colors[i].resolveTexture->desc().debugName,
+                                    desc.colors[i].resolveSubresource.mipLevel, desc.colors[i].resolveSubresource.layer, j));
 }
 
 void validateViewport(const DeviceProperties& device, const Viewport& v) {
@@ -688,6 +784,7 @@ void validateWriteTexture(const DeviceProperties& device, const TextureHandle& t
                           const void* data, uint64_t size) {
     requireHandle(texture, "writeTexture(): the texture");
     checkSubresource(*texture, sub, "writeTexture()");
+    requireSingleSampled(*texture, "writeTexture()");
     requireFormatCapability(device, texture->desc().format, FormatCapability::Copyable, "writeTexture()");
     const uint64_t expected = subresourceBytes(texture->desc(), sub.mipLevel);
     if (size != expected)
@@ -713,6 +810,7 @@ void validateWriteTexture(const DeviceProperties& device, const TextureHandle& t
 void validateReadTexture(const DeviceProperties& device, const TextureHandle& texture, TextureSubresource sub) {
     requireHandle(texture, "readTexture(): the texture");
     checkSubresource(*texture, sub, "readTexture()");
+    requireSingleSampled(*texture, "readTexture()");
     requireFormatCapability(device, texture->desc().format, FormatCapability::Copyable, "readTexture()");
 }
 
@@ -733,6 +831,7 @@ void checkBufferImageCopy(const DeviceProperties& device, const BufferHandle& bu
     requireHandle(texture, fmt::format("{}: the texture", call));
     requireHandle(buffer, fmt::format("{}: the buffer", call));
     checkSubresource(*texture, sub, call);
+    requireSingleSampled(*texture, call);
     requireFormatCapability(device, texture->desc().format, FormatCapability::Copyable, call);
     checkRange(*buffer, offset, subresourceBytes(texture->desc(), sub.mipLevel), fmt::format("{} {}", call, bufferRole));
     const uint32_t texel = formatInfo(texture->desc().format).bytesPerPixel;
@@ -758,6 +857,8 @@ void validateCopyTexture(const DeviceProperties& device, const TextureHandle& ds
     requireHandle(src, "copyTexture(): the source");
     checkSubresource(*dst, dstSub, "copyTexture() destination");
     checkSubresource(*src, srcSub, "copyTexture() source");
+    requireSingleSampled(*dst, "copyTexture() destination");
+    requireSingleSampled(*src, "copyTexture() source");
     const Format dstFormat = dst->desc().format, srcFormat = src->desc().format;
     if (dstFormat != srcFormat)
         misuse(fmt::format("copyTexture(): cannot copy {} into {}; the formats must be the same",
@@ -774,6 +875,7 @@ void validateCopyTexture(const DeviceProperties& device, const TextureHandle& ds
 
 void validateGenerateMips(const DeviceProperties& device, const TextureHandle& texture) {
     requireHandle(texture, "generateMips(): the texture");
+    requireSingleSampled(*texture, "generateMips()");
     requireFormatCapability(device, texture->desc().format, FormatCapability::GenerateMips,
                             fmt::format("generateMips() of texture '{}' (write each mip level yourself instead)",
                                         textureName(*texture)));

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <array>
+#include <bit>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -65,12 +66,18 @@ inline constexpr std::array kAllFormatCapabilities = {
 
 struct FormatCapabilities {
     uint32_t bits = 0;
+    // The sample counts a render target of this format can have (TextureDesc::sampleCount): bit
+    // n set = 2^n samples allowed; 1 (single-sampled only) where multisampling is not possible
+    // (not a render target, integer formats: their resolve is not an average) and 0 only in the
+    // table's Unknown row.
+    uint32_t sampleCounts = 1;
 
     bool has(FormatCapability cap) const { return (bits & uint32_t(cap)) != 0; }
     FormatCapabilities& set(FormatCapability cap, bool on = true) {
         bits = on ? bits | uint32_t(cap) : bits & ~uint32_t(cap);
         return *this;
     }
+    bool supportsSampleCount(uint32_t count) const { return count && std::has_single_bit(count) && (sampleCounts & count); }
     bool operator==(const FormatCapabilities&) const = default;
 };
 

@@ -284,6 +284,11 @@ struct TextureDesc {
     uint32_t arrayLayers = 1;
     uint32_t mipLevels = 1;       // 0 = full chain
     TextureUsage usage = TextureUsage::Sampled;   // copies and readback are always allowed
+    // Multisampling (MSAA): 1, or a count in FormatCapabilities::sampleCounts (2, 4, 8, ...). A
+    // multisampled texture is a Texture2D render target only (usage RenderTarget, one mip, one
+    // layer): it is rendered to and resolved (Attachment::resolveTo) into a single-sampled
+    // texture, which is what shaders sample, copies copy and readTexture reads.
+    uint32_t sampleCount = 1;
     std::string debugName;
 
     TextureDesc& setDimension(TextureDimension v) { dimension = v; return *this; }
@@ -292,6 +297,7 @@ struct TextureDesc {
     TextureDesc& setArrayLayers(uint32_t v) { arrayLayers = v; return *this; }
     TextureDesc& setMipLevels(uint32_t v) { mipLevels = v; return *this; }
     TextureDesc& setUsage(TextureUsage v) { usage = v; return *this; }
+    TextureDesc& setSampleCount(uint32_t v) { sampleCount = v; return *this; }
     TextureDesc& setDebugName(std::string v) { debugName = std::move(v); return *this; }
 };
 
@@ -446,6 +452,7 @@ struct GraphicsPipelineDesc {
     // Formats of the attachments the pipeline renders into (must match the render pass).
     std::vector<Format> colorFormats;
     Format depthFormat = Format::Unknown;
+    uint32_t sampleCount = 1;   // the attachments' TextureDesc::sampleCount (must match the render pass)
     std::vector<DynamicUniformBuffer> dynamicUniformBuffers;   // read with dynamic offsets
     std::string debugName;
 
@@ -457,6 +464,7 @@ struct GraphicsPipelineDesc {
     GraphicsPipelineDesc& setDepth(DepthState v) { depth = v; return *this; }
     GraphicsPipelineDesc& addColorFormat(Format f, BlendAttachment b = {}) { colorFormats.push_back(f); blend.push_back(b); return *this; }
     GraphicsPipelineDesc& setDepthFormat(Format f) { depthFormat = f; return *this; }
+    GraphicsPipelineDesc& setSampleCount(uint32_t v) { sampleCount = v; return *this; }
     GraphicsPipelineDesc& addDynamicUniformBuffer(uint32_t set, uint32_t binding) { dynamicUniformBuffers.push_back({set, binding}); return *this; }
     GraphicsPipelineDesc& setDebugName(std::string v) { debugName = std::move(v); return *this; }
 };
@@ -600,6 +608,13 @@ struct Attachment {
     StoreOp storeOp = StoreOp::Store;
     std::array<float, 4> clearColor{0, 0, 0, 0};
     float clearDepth = 1.0f;
+    // Colour attachments of a multisampled texture: at the end of the pass its samples are
+    // averaged into this single-sampled texture of the same format and size (its subresource
+    // resolveSubresource), which is written whole. Null: no resolve.
+    TextureHandle resolveTexture;
+    TextureSubresource resolveSubresource;
+
+    Attachment& resolveTo(TextureHandle t, TextureSubresource s = {}) { resolveTexture = std::move(t); resolveSubresource = s; return *this; }
 
     static Attachment clear(TextureHandle t, std::array<float, 4> c = {0, 0, 0, 0}, TextureSubresource s = {}) { Attachment a; a.texture = std::move(t); a.clearColor = c; a.subresource = s; return a; }
     static Attachment clearDepthTo(TextureHandle t, float d = 1.0f, TextureSubresource s = {}) { Attachment a; a.texture = std::move(t); a.clearDepth = d; a.subresource = s; return a; }
