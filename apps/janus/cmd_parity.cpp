@@ -29,6 +29,7 @@ struct ParityOptions {
     bool validation = false;
     bool allowOutsidePaths = false;
     LightingOptions lighting;
+    std::string msaa;
     EnvironmentOptions environment;
     AnimationOptions animation;
     SceneChoiceOptions sceneChoice;
@@ -170,6 +171,7 @@ int run(const ParityOptions& options) {
     base.glPlatform = parseGLPlatformOption(options.glPlatform);
     base.validation = options.validation;
     base.lighting = parseLightingOptions(options.lighting);
+    base.msaaSamples = parseMsaaOption(options.msaa);
     const uint32_t tolerance = parseTolerance(options.tolerance);
     const uint64_t edgePixels = parseEdgePixels(options.edgePixels);
     const bool compilerRounding = parseCompilerRounding(options.compilerRounding);
@@ -301,6 +303,7 @@ int run(const ParityOptions& options) {
                                  {"selectedConfigurations", selected},
                                  {"width", base.size.width},
                                  {"height", base.size.height},
+                                 {"msaaSamples", base.msaaSamples},
                                  {"tolerance", tolerance},
                                  {"edgePixels", edgePixels},
                                  {"compilerRounding", options.compilerRounding},
@@ -359,6 +362,7 @@ Command addParityCommand(CLI::App& parent) {
         ->type_name("STEPS");
     addGLPlatformOption(*app, options->glPlatform);
     addLightingOptions(*app, options->lighting);
+    addMsaaOption(*app, options->msaa);
     addEnvironmentOptions(*app, options->environment);
     addAnimationOptions(*app, options->animation);
     addSceneChoiceOptions(*app, options->sceneChoice);

@@ -24,6 +24,7 @@ struct RenderOptions {
     std::string debug;
     std::string giBake;
     LightingOptions lighting;
+    std::string msaa;
     EnvironmentOptions environment;
     AnimationOptions animation;
     SceneChoiceOptions sceneChoice;
@@ -40,6 +41,7 @@ int run(const RenderOptions& options) {
     request.size = parseSize(options.size);
     request.validation = options.validation;
     request.lighting = parseLightingOptions(options.lighting);
+    request.msaaSamples = parseMsaaOption(options.msaa);
     if (!options.debug.empty()) request.debugView = parseDebugOption(options.debug);
     if (!options.giBake.empty()) {
         request.giBakeFile = options.giBake;
@@ -145,6 +147,7 @@ Command addRenderCommand(CLI::App& parent) {
     app->add_option("--report", options->report, "Also write the frame report as JSON")->type_name("FILE.json");
     addGLPlatformOption(*app, options->glPlatform);
     addLightingOptions(*app, options->lighting);
+    addMsaaOption(*app, options->msaa);
     addEnvironmentOptions(*app, options->environment);
     addAnimationOptions(*app, options->animation);
     addSceneChoiceOptions(*app, options->sceneChoice);

@@ -40,6 +40,7 @@ Renderer::Impl::Impl(rhi::IDevice& d, const Scene& scene, const RenderSettings& 
     lighting = resolveLighting(settings.lighting, scene.quality);
     mainView = makeCameraView(scene.camera, settings.width, settings.height, "main");
     mainView.debugView = settings.debugView;
+    mainView.sampleCount = settings.msaaSamples;
     createTargets();
     gpuScene = std::make_unique<GpuScene>(device, scene);
     createFeatures(scene);
@@ -92,6 +93,8 @@ void Renderer::Impl::createFeatures(const Scene& scene) {
                            "(every surface fully lit)\n",
                    scene.name, !lighting.shadows ? "shadows turned off (quality.shadows / --no-shadows)"
                                                  : "no directional light that gives light, or nothing to cast a shadow");
+    // Every pass that shades the view's samples comes before the resolve, the tonemap after it.
+    features.push_back(std::make_unique<MsaaResolve>());
     features.push_back(std::make_unique<Tonemap>(device, scene.environment.exposure, settings.path, gpuScene->pointSampler()));
     if (settings.debugView == DebugView::Tiles) features.push_back(std::make_unique<TileHeatmap>(device, *localLights, settings.path));
 }
@@ -121,6 +124,19 @@ void Renderer::Impl::checkSettings() const {
         throw RendererError(fmt::format("the forward pass renders into RGBA16F, which needs the '{}' capability that this {} "
                                         "device lacks",
                                         rhi::toString(rhi::Capability::FloatRenderTargets), rhi::toString(device.info().backend)));
+    if (settings.msaaSamples != 1) {
+        const rhi::FormatCapabilities color = device.formatCapabilities(mainView.colorFormat);
+        const rhi::FormatCapabilities depth = device.formatCapabilities(mainView.depthFormat);
+        if (!color.supportsSampleCount(settings.msaaSamples) || !depth.supportsSampleCount(settings.msaaSamples)) {
+            std::string allowed;
+            for (uint32_t n = 1; n <= 64; n <<= 1)
+                if (color.supportsSampleCount(n) && depth.supportsSampleCount(n)) allowed += (allowed.empty() ? "" : ", ") + std::to_string(n);
+            throw RendererError(fmt::format("msaa {} is not possible on this {} device: its {} and {} render targets allow {} "
+                                            "samples per pixel",
+                                            settings.msaaSamples, rhi::toString(device.info().backend),
+                                            rhi::toString(mainView.colorFormat), rhi::toString(mainView.depthFormat), allowed));
+        }
+    }
     if (settings.path == FeaturePath::Compute) {
         for (rhi::Capability cap : {rhi::Capability::Compute, rhi::Capability::StorageImages, rhi::Capability::StorageBuffers})
             if (!caps.has(cap))
@@ -137,12 +153,24 @@ void Renderer::Impl::createTargets() {
                                          .setSize(w, h)
                                          .setUsage(rhi::TextureUsage::RenderTarget | rhi::TextureUsage::Sampled)
                                          .setDebugName("hdr radiance"));
-    // Sampled: light_cull.comp reads the prepass depth for the tile depth bounds.
+    // Sampled: light_cull.comp reads the prepass depth for the tile depth bounds. With
+    // multisampling the scene is drawn into multisampled colour and depth, the colour resolved
+    // into hdrTarget; multisampled depth is never sampled (tiles then have no depth bounds).
+    const uint32_t samples = settings.msaaSamples;
     depthTarget = device.createTexture(rhi::TextureDesc{}
                                            .setFormat(mainView.depthFormat)
                                            .setSize(w, h)
-                                           .setUsage(rhi::TextureUsage::RenderTarget | rhi::TextureUsage::Sampled)
-                                           .setDebugName("depth"));
+                                           .setUsage(samples > 1 ? rhi::TextureUsage::RenderTarget
+                                                                 : rhi::TextureUsage::RenderTarget | rhi::TextureUsage::Sampled)
+                                           .setSampleCount(samples)
+                                           .setDebugName(samples > 1 ? fmt::format("depth ({} samples)", samples) : "depth"));
+    if (samples > 1)
+        msaaColorTarget = device.createTexture(rhi::TextureDesc{}
+                                                   .setFormat(mainView.colorFormat)
+                                                   .setSize(w, h)
+                                                   .setUsage(rhi::TextureUsage::RenderTarget)
+                                                   .setSampleCount(samples)
+                                                   .setDebugName(fmt::format("hdr radiance ({} samples)", samples)));
     rhi::TextureUsage displayUsage = Tonemap::displayUsage(settings.path);
     if (settings.debugView == DebugView::Tiles) displayUsage = displayUsage | TileHeatmap::displayUsage();
     displayImage = device.createTexture(
@@ -163,7 +191,14 @@ void Renderer::Impl::buildFrameGraph() {
     const ViewTarget hdr{frameGraph.importResource("hdr"), hdrTarget, {}};
     const ViewTarget depth{frameGraph.importResource("depth"), depthTarget, {}};
     const ViewTarget display{frameGraph.importResource("display"), displayImage, {}};
-    addView(frameGraph, mainView, hdr, depth, &display);
+    if (msaaColorTarget) {
+        // The scene shades the samples; MsaaResolve averages them into hdrTarget.
+        const ViewTarget samples{frameGraph.importResource("hdr-samples"), msaaColorTarget, {}};
+        frameGraph.publish(mainView.name, frame_resources::kHdrResolved, hdr);
+        addView(frameGraph, mainView, samples, depth, &display);
+    } else {
+        addView(frameGraph, mainView, hdr, depth, &display);
+    }
     frameGraph.markOutput(display.resource);
     frameGraph.markOutput(hdr.resource);
     frameGraph.markOutput(depth.resource);
@@ -181,6 +216,7 @@ FrameReport Renderer::Impl::newReport(uint32_t width, uint32_t height) const {
 
 FrameReport Renderer::Impl::renderFrame() {
     FrameReport frame = newReport(settings.width, settings.height);
+    frame.msaaSamples = settings.msaaSamples;   // cube captures stay single-sampled
     frame.views.push_back(ViewReport{mainView.name, mainView.width, mainView.height});
     // Work done once when the renderer was made (e.g. the sky's filtering) opens the first report.
     for (const std::unique_ptr<RenderFeature>& feature : features)
@@ -424,6 +460,10 @@ TileLists Renderer::readTileLists() {
 std::vector<float> Renderer::readDepth() {
     m_impl->requireDevice("readDepth()");
     m_impl->requireFrame("readDepth()");
+    if (m_impl->settings.msaaSamples > 1)
+        throw RendererError(fmt::format("readDepth(): the renderer draws with msaa {}, so its depth is multisampled and cannot be read "
+                                        "back; read it from a renderer with msaaSamples 1",
+                                        m_impl->settings.msaaSamples));
     return readDepth32F(m_impl->device, m_impl->depthTarget);
 }
 

@@ -6,6 +6,7 @@
 //   forward/       lighting settings, local lights + tile lists + culling, forward shading,
 //                  transparent (alphaMode BLEND) shading
 //   shadows/       the main directional light's shadow map
+//   msaa/          averaging a multisampled view's samples before the tonemap
 //   tonemap/       HDR -> display image
 //   ibl/           the sky: cube, GGX prefilter, SH irradiance, background
 //   probes/        reflection probes: capture, time-sliced updates, what shading reads
@@ -30,6 +31,7 @@
 #include "gi/probe_gi.h"
 #include "ibl/image_based_lighting.h"
 #include "ibl/sky_background.h"
+#include "msaa/msaa_resolve.h"
 #include "janus/renderer/renderer.h"
 #include "probes/reflection_probes.h"
 #include "shadows/main_light_shadows.h"
@@ -44,6 +46,7 @@ struct Renderer::Impl {
     ResolvedLighting lighting;
     SceneView mainView;
     rhi::TextureHandle hdrTarget, depthTarget, displayImage;   // the main view's targets
+    rhi::TextureHandle msaaColorTarget;   // with msaaSamples > 1: what the scene is shaded into (depthTarget is multisampled too)
 
     std::unique_ptr<GpuScene> gpuScene;
     std::unique_ptr<LocalLights> localLights;   // forward/'s light data; also behind readTileLists()

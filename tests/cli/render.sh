@@ -60,3 +60,19 @@ expect_error 4 "gles.*'compute'.*--path fallback" render --backend gles --path c
 [[ ! -e $TMP/gles-compute.png ]] || fail "a refused render wrote its PNG"
 
 finish
+
+# --msaa: the samples resolved before the tonemap (the report's msaa-resolve pass), on gles too;
+# a count no target allows is exit 4 naming the counts, one that is no count a usage error; tiled
+# culling with depth bounds cannot read multisampled depth (exit 4 naming tiles-2d).
+expect_success render --size 32x32 --msaa 4 --out "$TMP/msaa.png" --report "$TMP/msaa.json" --validation
+check_png "$TMP/msaa.png" 32 32
+json_check "$TMP/msaa.json" '"msaa-resolve" in [p["name"] for p in j["passes"]] and j["msaaSamples"] == 4' "--msaa 4 ran no msaa-resolve pass or its report does not say 4 samples"
+expect_success render --backend gles --path fallback --size 32x32 --msaa 4 --out "$TMP/msaa-gles.png" --report "$TMP/msaa-gles.json"
+json_check "$TMP/msaa-gles.json" '"msaa-resolve" in [p["name"] for p in j["passes"]]' "--msaa 4 on gles ran no msaa-resolve pass"
+expect_error 2 "--msaa '3' is not allowed" render --size 16x16 --msaa 3 --out "$TMP/msaa3.png"
+expect_success info --json
+max_samples=$(python3 -c "import json,sys; j=json.load(open('$TMP/stdout')); print(max(max(b['formats']['rgba16f']['sampleCounts']) for b in j['backends'] if b['available']))")
+if (( max_samples < 16 )); then
+  expect_error 4 "--msaa 16 is not possible.*allow 1, " render --size 16x16 --msaa 16 --out "$TMP/msaa16.png"
+fi
+expect_error 4 "tiles-depth.*tiles-2d" render many-lights --culling tiles-depth --msaa 4 --size 16x16 --out "$TMP/msaa-depth.png"

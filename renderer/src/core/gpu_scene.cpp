@@ -285,7 +285,7 @@ rhi::PipelineHandle GpuScene::createMeshPipeline(const rhi::ShaderHandle& vertex
                                                  rhi::CullMode cull, bool clockwise, rhi::DepthState depth, rhi::BlendAttachment blend,
                                                  const std::vector<rhi::Format>& colorFormats, rhi::Format depthFormat,
                                                  const std::string& name, rhi::PrimitiveTopology topology,
-                                                 const rhi::RasterState& depthBias) const {
+                                                 const rhi::RasterState& depthBias, uint32_t sampleCount) const {
     rhi::RasterState raster = depthBias;
     raster.cullMode = cull;
     raster.frontFace = clockwise ? rhi::FrontFace::Clockwise : rhi::FrontFace::CounterClockwise;
@@ -297,6 +297,7 @@ rhi::PipelineHandle GpuScene::createMeshPipeline(const rhi::ShaderHandle& vertex
         .setRaster(raster)
         .setDepth(depth)
         .setDepthFormat(depthFormat)
+        .setSampleCount(sampleCount)
         .setDebugName(name);
     for (rhi::Format format : colorFormats) desc.addColorFormat(format, blend);
     return m_device.createGraphicsPipeline(desc);
@@ -325,10 +326,12 @@ GpuScene::MeshPipelines GpuScene::createUnculledPipelines(const rhi::ShaderHandl
 
 GpuScene::MeshPipelines GpuScene::createMeshPipelines(const rhi::ShaderHandle& vertexShader, const rhi::ShaderHandle& fragmentShader,
                                                       rhi::DepthState depth, rhi::Format colorFormat, rhi::Format depthFormat,
-                                                      bool mirrored, const std::string& name, const rhi::RasterState& depthBias) const {
+                                                      bool mirrored, const std::string& name, const rhi::RasterState& depthBias,
+                                                      uint32_t sampleCount) const {
     auto pipeline = [&](rhi::CullMode cull, bool clockwise, const char* variant) {
         return createMeshPipeline(vertexShader, fragmentShader, cull, clockwise, depth, {}, formatList(colorFormat), depthFormat,
-                                  fmt::format("{} ({})", name, variant), rhi::PrimitiveTopology::TriangleList, depthBias);
+                                  fmt::format("{} ({})", name, variant), rhi::PrimitiveTopology::TriangleList, depthBias,
+                                  sampleCount);
     };
     MeshPipelines pipelines;
     pipelines.culled = pipeline(rhi::CullMode::Back, mirrored, "back-face culled");
@@ -336,17 +339,18 @@ GpuScene::MeshPipelines GpuScene::createMeshPipelines(const rhi::ShaderHandle& v
     if (m_hasKind[0][1]) pipelines.culledMirrored = pipeline(rhi::CullMode::Back, !mirrored, "back-face culled, mirrored instances");
     if (m_hasKind[1][1]) pipelines.doubleSidedMirrored = pipeline(rhi::CullMode::None, !mirrored, "double-sided, mirrored instances");
     addLineAndPointPipelines(pipelines.lines, pipelines.points, vertexShader, fragmentShader, depth, {}, formatList(colorFormat),
-                             depthFormat, name, false);
+                             depthFormat, name, false, sampleCount);
     return pipelines;
 }
 
 GpuScene::BlendedPipelines GpuScene::createBlendedPipelines(const rhi::ShaderHandle& vertexShader,
                                                             const rhi::ShaderHandle& fragmentShader, rhi::DepthState depth,
                                                             rhi::BlendAttachment blend, rhi::Format colorFormat,
-                                                            rhi::Format depthFormat, bool mirrored, const std::string& name) const {
+                                                            rhi::Format depthFormat, bool mirrored, const std::string& name,
+                                                            uint32_t sampleCount) const {
     auto pipeline = [&](rhi::CullMode cull, bool clockwise, const char* variant) {
         return createMeshPipeline(vertexShader, fragmentShader, cull, clockwise, depth, blend, formatList(colorFormat), depthFormat,
-                                  fmt::format("{} ({})", name, variant));
+                                  fmt::format("{} ({})", name, variant), rhi::PrimitiveTopology::TriangleList, {}, sampleCount);
     };
     BlendedPipelines pipelines;
     // Every blended draw uses a back-culled pipeline (a double-sided one for its front faces).
@@ -357,21 +361,21 @@ GpuScene::BlendedPipelines GpuScene::createBlendedPipelines(const rhi::ShaderHan
     if (m_hasBlendedKind[1][1])
         pipelines.frontCulledMirrored = pipeline(rhi::CullMode::Front, !mirrored, "back faces of double-sided, mirrored instances");
     addLineAndPointPipelines(pipelines.lines, pipelines.points, vertexShader, fragmentShader, depth, blend, formatList(colorFormat),
-                             depthFormat, name, true);
+                             depthFormat, name, true, sampleCount);
     return pipelines;
 }
 
 void GpuScene::addLineAndPointPipelines(rhi::PipelineHandle& lines, rhi::PipelineHandle& points, const rhi::ShaderHandle& vertexShader,
                                         const rhi::ShaderHandle& fragmentShader, rhi::DepthState depth, rhi::BlendAttachment blend,
                                         const std::vector<rhi::Format>& colorFormats, rhi::Format depthFormat, const std::string& name,
-                                        bool blended) const {
+                                        bool blended, uint32_t sampleCount) const {
     // Lines and points have no faces: no culling, and winding does not matter.
     if (m_hasTopology[blended][size_t(MeshTopology::Lines)])
         lines = createMeshPipeline(vertexShader, fragmentShader, rhi::CullMode::None, false, depth, blend, colorFormats, depthFormat,
-                                   fmt::format("{} (lines)", name), rhi::PrimitiveTopology::LineList);
+                                   fmt::format("{} (lines)", name), rhi::PrimitiveTopology::LineList, {}, sampleCount);
     if (m_hasTopology[blended][size_t(MeshTopology::Points)])
         points = createMeshPipeline(vertexShader, fragmentShader, rhi::CullMode::None, false, depth, blend, colorFormats, depthFormat,
-                                    fmt::format("{} (points)", name), rhi::PrimitiveTopology::PointList);
+                                    fmt::format("{} (points)", name), rhi::PrimitiveTopology::PointList, {}, sampleCount);
 }
 
 namespace {

@@ -104,7 +104,7 @@ public:
     // winding are the pipelines' own.
     MeshPipelines createMeshPipelines(const rhi::ShaderHandle& vertexShader, const rhi::ShaderHandle& fragmentShader,
                                       rhi::DepthState depth, rhi::Format colorFormat, rhi::Format depthFormat, bool mirrored,
-                                      const std::string& name, const rhi::RasterState& depthBias = {}) const;
+                                      const std::string& name, const rhi::RasterState& depthBias = {}, uint32_t sampleCount = 1) const;
 
     // Pipelines without face culling (every field set; gl_FrontFacing tells the sides apart) into
     // the given colour targets: the GI bake's G-buffer. Triangles only: drawMeshes with these
@@ -117,7 +117,8 @@ public:
     // of BlendedPipelines (null where the scene has no such blended draw).
     BlendedPipelines createBlendedPipelines(const rhi::ShaderHandle& vertexShader, const rhi::ShaderHandle& fragmentShader,
                                             rhi::DepthState depth, rhi::BlendAttachment blend, rhi::Format colorFormat,
-                                            rhi::Format depthFormat, bool mirrored, const std::string& name) const;
+                                            rhi::Format depthFormat, bool mirrored, const std::string& name,
+                                            uint32_t sampleCount = 1) const;
 
     // Draws every opaque or alpha-masked instance the view sees (its rendering layers) inside the
     // current render pass: set JANUS_SET_VIEW = viewBindings, set JANUS_SET_DRAW at each draw's
@@ -155,12 +156,12 @@ private:
                                            const std::vector<rhi::Format>& colorFormats, rhi::Format depthFormat,
                                            const std::string& name,
                                            rhi::PrimitiveTopology topology = rhi::PrimitiveTopology::TriangleList,
-                                           const rhi::RasterState& depthBias = {}) const;
+                                           const rhi::RasterState& depthBias = {}, uint32_t sampleCount = 1) const;
     // The line and point pipelines of `pipelines` (where the scene has such draws).
     void addLineAndPointPipelines(rhi::PipelineHandle& lines, rhi::PipelineHandle& points, const rhi::ShaderHandle& vertexShader,
                                   const rhi::ShaderHandle& fragmentShader, rhi::DepthState depth, rhi::BlendAttachment blend,
                                   const std::vector<rhi::Format>& colorFormats, rhi::Format depthFormat, const std::string& name,
-                                  bool blended) const;
+                                  bool blended, uint32_t sampleCount) const;
     // Level 0 from `rgba`, then the levels below it (mipChainBelow).
     rhi::TextureHandle createTexture(const std::string& name, uint32_t width, uint32_t height, std::span<const uint8_t> rgba, bool srgb,
                                      const std::vector<std::vector<uint8_t>>& mipsBelow);

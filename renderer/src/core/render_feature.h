@@ -16,6 +16,9 @@ namespace janus::renderer {
 namespace frame_resources {
 inline constexpr const char* kHdr = "hdr";                // per view: RGBA16F radiance the scene is shaded into
 inline constexpr const char* kDepth = "depth";            // per view: D32F depth
+// Per view with SceneView::sampleCount > 1: the single-sampled RGBA16F "hdr" resolves into, which
+// the resolve then publishes as "hdr" for what comes after it (tonemap, readback).
+inline constexpr const char* kHdrResolved = "hdr-resolved";
 inline constexpr const char* kDisplay = "display";        // per view, optional: the RGBA8 image people look at
 inline constexpr const char* kShadowMap = "shadow-map";   // frame-wide: the main directional light's map
 inline constexpr const char* kTileLists = "tile-lists";   // per view: Forward+ light lists

@@ -64,6 +64,7 @@ void GiProbeView::setup() {
                                                      .addColorFormat(m_view.colorFormat)
                                                      .setDepth(rhi::DepthState{true, true, rhi::CompareOp::LessOrEqual})
                                                      .setDepthFormat(m_view.depthFormat)
+                                                     .setSampleCount(m_view.sampleCount)
                                                      .setDebugName("gi probe view"));
 }
 

@@ -190,14 +190,16 @@ void ForwardShading::setupView(ViewState& state) {
 }
 
 const GpuScene::MeshPipelines& ForwardShading::pipelines(bool prepass, const ViewState& state) {
-    const PipelineKey key{prepass, state.tiled, state.view.colorFormat, state.view.depthFormat, state.view.mirrored};
+    const PipelineKey key{prepass, state.tiled, state.view.colorFormat, state.view.depthFormat, state.view.mirrored,
+                          state.view.sampleCount};
     auto it = m_pipelines.find(key);
     if (it != m_pipelines.end()) return it->second;
     GpuScene::MeshPipelines made;
     if (prepass) {
         if (!m_prepassShader) m_prepassShader = makeShader(m_device, rhi::ShaderStage::Fragment, "depth_prepass_frag");
         made = m_gpuScene.createMeshPipelines(m_vertexShader, m_prepassShader, rhi::DepthState{true, true, rhi::CompareOp::Less},
-                                              rhi::Format::Unknown, state.view.depthFormat, state.view.mirrored, "depth prepass");
+                                              rhi::Format::Unknown, state.view.depthFormat, state.view.mirrored, "depth prepass", {},
+                                              state.view.sampleCount);
     } else {
         // After a depth prepass the forward pass only shades the surfaces the prepass kept
         // (forward.vert's invariant position gives both the same depth bits). Without one it
@@ -207,7 +209,7 @@ const GpuScene::MeshPipelines& ForwardShading::pipelines(bool prepass, const Vie
         const rhi::DepthState depth = state.tiled ? rhi::DepthState{true, false, rhi::CompareOp::LessOrEqual}
                                                   : rhi::DepthState{true, true, rhi::CompareOp::LessOrEqual};
         made = m_gpuScene.createMeshPipelines(m_vertexShader, m_forwardShader, depth, state.view.colorFormat, state.view.depthFormat,
-                                              state.view.mirrored, "forward");
+                                              state.view.mirrored, "forward", {}, state.view.sampleCount);
     }
     return m_pipelines.emplace(key, std::move(made)).first->second;
 }

@@ -70,7 +70,7 @@ private:
         rhi::BindingSetHandle bindings;
         GpuScene::MeshPipelines forward, prepass;
     };
-    using PipelineKey = std::tuple<bool /*prepass*/, bool /*tiled*/, rhi::Format, rhi::Format, bool /*mirrored*/>;
+    using PipelineKey = std::tuple<bool /*prepass*/, bool /*tiled*/, rhi::Format, rhi::Format, bool /*mirrored*/, uint32_t /*samples*/>;
 
     const ViewState& stateOf(const std::string& viewName) const;
     FrameUniforms viewFrameUniforms(const ViewState& state) const;

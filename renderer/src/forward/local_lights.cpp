@@ -45,10 +45,18 @@ LocalLights::LocalLights(rhi::IDevice& device, const Scene& scene, const Resolve
 
     // The culling mode this scene renders with.
     m_mode = m_lighting.culling;
+    // Tile depth bounds come from a single-sampled depth prepass; a multisampled view's samples
+    // may see surfaces no pixel centre of their tile sees, so it is culled without depth bounds.
+    const bool multisampled = tiledView.sampleCount > 1;
+    if (multisampled && m_mode == LightCulling::TilesDepth)
+        throw RendererError(fmt::format("light culling tiles-depth takes its depth bounds from single-sampled depth, which a view with "
+                                        "msaa {} does not have; use tiles-2d, naive or auto (which picks tiles-2d with msaa)",
+                                        tiledView.sampleCount));
     if (m_mode == LightCulling::Auto) {
         // Infinite ranges (cut-off 0) can only be looped directly.
         const bool tiledPossible = m_lighting.intensityCutoff > 0.0f;
-        m_mode = tiledPossible && m_lights.size() >= m_lighting.autoTiledThreshold ? LightCulling::TilesDepth : LightCulling::Naive;
+        const LightCulling tiledMode = multisampled ? LightCulling::Tiles2D : LightCulling::TilesDepth;
+        m_mode = tiledPossible && m_lights.size() >= m_lighting.autoTiledThreshold ? tiledMode : LightCulling::Naive;
     }
     // No local lights: nothing to cull, no prepass.
     if (m_lights.empty()) m_mode = LightCulling::Naive;
@@ -183,6 +191,16 @@ void LocalLights::writeDataTexture(const rhi::TextureHandle& texture, const void
 PassGraph::ResourceId LocalLights::addCullingPass(PassGraph& graph, PassGraph::ResourceId depth, rhi::TextureHandle depthTexture) {
     const PassGraph::ResourceId tileLists =
         graph.addResource("tile-lists", [this] { createTileStorage(size_t(tileCount()) * (1 + m_lighting.maxLightsPerTile)); });
+    // Tiles2D reads no depth; a multisampled depth cannot be bound, so a stand-in fills the binding.
+    if (depthTexture->desc().sampleCount > 1) {
+        if (m_mode == LightCulling::TilesDepth)
+            throw RendererError("light culling: tiles-depth cannot read a multisampled depth target");
+        depthTexture = m_device.createTexture(rhi::TextureDesc{}
+                                                  .setFormat(depthTexture->desc().format)
+                                                  .setSize(1, 1)
+                                                  .setUsage(rhi::TextureUsage::Sampled)
+                                                  .setDebugName("cull depth (unused without depth bounds)"));
+    }
     m_depthTexture = std::move(depthTexture);
     PassGraph::PassDesc pass;
     pass.view = m_tiledViewName;

@@ -80,14 +80,14 @@ void TransparentShading::setup(ViewState& state) {
 }
 
 const GpuScene::BlendedPipelines& TransparentShading::pipelines(const SceneView& view) {
-    const PipelineKey key{view.colorFormat, view.depthFormat, view.mirrored};
+    const PipelineKey key{view.colorFormat, view.depthFormat, view.mirrored, view.sampleCount};
     auto it = m_pipelines.find(key);
     if (it != m_pipelines.end()) return it->second;
     // Tested against the opaque surfaces' depth (LessOrEqual, as forward after the prepass), not
     // written: blended surfaces never hide each other, the order composites them.
     GpuScene::BlendedPipelines made = m_gpuScene.createBlendedPipelines(
         m_forward.vertexShader(), m_forward.fragmentShader(), rhi::DepthState{true, false, rhi::CompareOp::LessOrEqual},
-        blendState(), view.colorFormat, view.depthFormat, view.mirrored, "transparent");
+        blendState(), view.colorFormat, view.depthFormat, view.mirrored, "transparent", view.sampleCount);
     return m_pipelines.emplace(key, std::move(made)).first->second;
 }
 

@@ -47,7 +47,7 @@ private:
         std::vector<uint32_t> order;   // back to front, indices into GpuScene::blendedDraws()
         rhi::BindingSetHandle bindings;
     };
-    using PipelineKey = std::tuple<rhi::Format, rhi::Format, bool /*mirrored*/>;
+    using PipelineKey = std::tuple<rhi::Format, rhi::Format, bool /*mirrored*/, uint32_t /*samples*/>;
 
     void requireBlendable(rhi::Format format, const std::string& target) const;
     void setup(ViewState& state);

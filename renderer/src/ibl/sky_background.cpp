@@ -56,6 +56,7 @@ void SkyBackground::setup(ViewState& state) {
                                                          .setDepth(rhi::DepthState{true, false, rhi::CompareOp::LessOrEqual})
                                                          .addColorFormat(state.view.colorFormat)
                                                          .setDepthFormat(state.view.depthFormat)
+                                                         .setSampleCount(state.view.sampleCount)
                                                          .setDebugName("sky"));
 }
 

@@ -42,6 +42,9 @@ struct SceneView {
     uint32_t width = 0, height = 0;
     rhi::Format colorFormat = rhi::Format::RGBA16_FLOAT;
     rhi::Format depthFormat = rhi::Format::D32_FLOAT;
+    // Samples per pixel of the view's colour and depth targets (the pipelines drawing into them
+    // say the same); > 1 only for the main view with RenderSettings::msaaSamples.
+    uint32_t sampleCount = 1;
     // True when the projection flips handedness (cube faces do): glTF's counter-clockwise front
     // faces then appear clockwise in the image, and the view's pipelines say so.
     bool mirrored = false;

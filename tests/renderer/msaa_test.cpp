@@ -1,0 +1,206 @@
+// Multisampled rendering (RenderSettings::msaaSamples; docs/LIGHTING.md, "Anti-aliasing"): the
+// main view shades into multisampled targets, "msaa-resolve" averages them before the tonemap.
+// On every configuration: edges get the covered fraction of their samples and everything else
+// stays as it was, blended surfaces and tiled culling keep working, the five configurations
+// agree, and what cannot be done says so.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "janus/renderer/renderer.h"
+#include "janus/renderer/scene_view.h"
+#include "renderer/renderer_test_support.h"
+#include "scene/scene_internal.h"
+
+namespace janus::renderer {
+namespace {
+
+using test_support::Config;
+using test_support::FrameOutput;
+
+constexpr uint32_t kSize = 64;
+constexpr uint32_t kSamples = 4;
+
+// A camera at z = 4 looking at the origin; no light, no ambient: surfaces show their emission.
+Scene stage() {
+    Scene scene;
+    scene.name = "msaa stage";
+    scene.camera.position = {0.0f, 0.0f, 4.0f};
+    scene.camera.target = {0.0f, 0.0f, 0.0f};
+    scene.camera.fovYRadians = glm::radians(50.0f);
+    scene.camera.nearPlane = 0.1f;
+    scene.camera.farPlane = 50.0f;
+    scene.environment.ambientColor = glm::vec3(0.0f);
+    return scene;
+}
+
+void addEmissiveQuad(Scene& scene, glm::vec3 emission, float alpha, AlphaMode mode, glm::vec3 center, float turnZ) {
+    Material material;
+    material.name = fmt::format("emissive {}", scene.materials.size());
+    material.baseColorFactor = glm::vec4(0.0f, 0.0f, 0.0f, alpha);
+    material.metallicFactor = 0.0f;
+    material.roughnessFactor = 1.0f;
+    material.emissiveFactor = emission;
+    material.alphaMode = mode;
+    scene.materials.push_back(material);
+    scene.meshes.push_back(detail::makeQuad(int32_t(scene.materials.size() - 1)));
+    const glm::mat4 world = glm::translate(glm::mat4(1.0f), center) * glm::rotate(glm::mat4(1.0f), turnZ, glm::vec3(0, 0, 1)) *
+                            glm::scale(glm::mat4(1.0f), glm::vec3(0.8f, 0.8f, 1.0f));
+    scene.instances.push_back(Instance{uint32_t(scene.meshes.size() - 1), world});
+}
+
+RenderSettings settings(uint32_t samples) {
+    RenderSettings s;
+    s.width = s.height = kSize;
+    s.msaaSamples = samples;
+    return s;
+}
+
+class MsaaTest : public testing::TestWithParam<Config> {
+protected:
+    const Config& config() const { return GetParam(); }
+};
+
+// A red quad turned 20 degrees: with 4 samples each pixel's red is the covered quarter of its
+// samples times the emission (exact in fp16), flat areas are exactly what one sample gives, the
+// edges have values between, and the covered area is the one-sample image's within 3 %.
+TEST_P(MsaaTest, EdgesGetTheirCoveredFractionAndFlatAreasStay) {
+    Scene scene = stage();
+    addEmissiveQuad(scene, {1.0f, 0.0f, 0.0f}, 1.0f, AlphaMode::Opaque, {0.0f, 0.0f, 0.0f}, glm::radians(20.0f));
+    const FrameOutput one = test_support::renderOneFrame(config(), scene, settings(1));
+    const FrameOutput four = test_support::renderOneFrame(config(), scene, settings(kSamples));
+    ASSERT_EQ(four.hdr.pixels.size(), one.hdr.pixels.size());
+    EXPECT_TRUE(test_support::hasPassStartingWith(four.report, "msaa-resolve")) << test_support::passNames(four.report);
+    EXPECT_FALSE(test_support::hasPassStartingWith(one.report, "msaa-resolve")) << test_support::passNames(one.report);
+    EXPECT_EQ(four.report.msaaSamples, kSamples);
+    EXPECT_EQ(one.report.msaaSamples, 1u);
+    EXPECT_EQ(four.report.toJson().at("msaaSamples"), kSamples);
+
+    auto red = [](const ImageRGBAF& image, uint32_t x, uint32_t y) { return image.pixels[(size_t(y) * image.width + x) * 4]; };
+    size_t partial = 0, flat = 0;
+    double areaOne = 0.0, areaFour = 0.0;
+    for (uint32_t y = 0; y < kSize; ++y)
+        for (uint32_t x = 0; x < kSize; ++x) {
+            const float r4 = red(four.hdr, x, y), r1 = red(one.hdr, x, y);
+            areaOne += r1;
+            areaFour += r4;
+            const float steps = r4 * kSamples;
+            EXPECT_EQ(steps, std::round(steps)) << "pixel (" << x << ", " << y << ") holds " << r4 << ", no multiple of 1/4";
+            // A pixel whose 3x3 neighbourhood is one colour in the one-sample image lies away from
+            // the quad's edges: all its samples see what its centre sees.
+            bool uniform = true;
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const int nx = std::clamp(int(x) + dx, 0, int(kSize) - 1), ny = std::clamp(int(y) + dy, 0, int(kSize) - 1);
+                    uniform = uniform && red(one.hdr, uint32_t(nx), uint32_t(ny)) == r1;
+                }
+            if (uniform) {
+                EXPECT_EQ(r4, r1) << "flat pixel (" << x << ", " << y << ")";
+                ++flat;
+            }
+            if (r4 > 0.0f && r4 < 1.0f) ++partial;
+        }
+    EXPECT_GT(flat, size_t(kSize) * kSize / 2);
+    EXPECT_GE(partial, 60u) << "too few partly covered edge pixels: the edges were not multisampled";
+    EXPECT_NEAR(areaFour, areaOne, 0.03 * areaOne);
+    test_support::expectFiniteHdr(four.hdr, config().name());
+}
+
+// A half-transparent blue quad over the red one: the transparent pass draws into the samples
+// too, so where both cover a pixel wholly it is half blue over red, exactly, and the blended
+// quad's own edges are averaged like the opaque one's.
+TEST_P(MsaaTest, BlendedSurfacesAreDrawnIntoTheSamples) {
+    Scene scene = stage();
+    addEmissiveQuad(scene, {1.0f, 0.0f, 0.0f}, 1.0f, AlphaMode::Opaque, {0.0f, 0.0f, 0.0f}, 0.0f);
+    addEmissiveQuad(scene, {0.0f, 0.0f, 1.0f}, 0.5f, AlphaMode::Blend, {0.3f, 0.2f, 0.5f}, glm::radians(30.0f));
+    const FrameOutput four = test_support::renderOneFrame(config(), scene, settings(kSamples));
+    EXPECT_TRUE(test_support::hasPassStartingWith(four.report, "transparent")) << test_support::passNames(four.report);
+    const SceneView view = makeCameraView(scene.camera, kSize, kSize);
+    const glm::vec4 clip = view.viewProjection() * glm::vec4(0.3f, 0.2f, 0.5f, 1.0f);
+    const glm::uvec2 p = glm::uvec2(glm::floor((glm::vec2(clip) / clip.w * 0.5f + 0.5f) * float(kSize)));
+    const size_t i = (size_t(p.y) * kSize + p.x) * 4;
+    // Premultiplied blue (0.5 x emission, alpha 0.5) over red: 0.5 red + 0.5 blue.
+    EXPECT_NEAR(four.hdr.pixels[i + 0], 0.5f, 1e-3f);
+    EXPECT_NEAR(four.hdr.pixels[i + 2], 0.5f, 1e-3f);
+    size_t blendedEdges = 0;
+    for (size_t k = 0; k < size_t(kSize) * kSize; ++k) {
+        const float b = four.hdr.pixels[k * 4 + 2];
+        if (b > 0.0f && b < 0.5f) ++blendedEdges;
+    }
+    EXPECT_GE(blendedEdges, 20u) << "the blended quad's edges are not averaged";
+}
+
+// Many lights: Auto culls them in screen tiles without depth bounds (the depth is multisampled),
+// and the tiled image is the naive one's: the same lights reach every sample.
+TEST_P(MsaaTest, TiledCullingWithoutDepthBoundsMatchesTheNaiveImage) {
+    const Scene scene = manyLightsScene(ManyLightsOptions{.lightCount = 48});
+    RenderSettings tiled = settings(kSamples);
+    RenderSettings naive = settings(kSamples);
+    naive.lighting.culling = LightCulling::Naive;
+    const FrameOutput a = test_support::renderOneFrame(config(), scene, tiled);
+    const FrameOutput b = test_support::renderOneFrame(config(), scene, naive);
+    ASSERT_TRUE(a.report.lightCulling.has_value());
+    EXPECT_EQ(a.report.lightCulling->mode, LightCulling::Tiles2D);
+    EXPECT_TRUE(test_support::hasPassStartingWith(a.report, "depth-prepass")) << test_support::passNames(a.report);
+    test_support::expectSameImage(b, a, config().name() + "-msaa-tiled-vs-naive");
+}
+
+// What cannot be done is a RendererError naming it.
+TEST_P(MsaaTest, ImpossibleRequestsSaySo) {
+    const Scene scene = defaultScene();
+    rhi::IDevice& device = test_support::deviceFor(config().backend);
+    auto message = [&](RenderSettings s, auto&& body) -> std::string {
+        s.path = config().path;
+        try {
+            Renderer renderer(device, scene, s);
+            body(renderer);
+        } catch (const RendererError& e) {
+            return e.what();
+        }
+        return "(no error)";
+    };
+    auto nothing = [](Renderer&) {};
+    EXPECT_NE(message(settings(3), nothing).find("msaa 3 is not possible"), std::string::npos);
+    EXPECT_NE(message(settings(64), nothing).find("msaa 64 is not possible"), std::string::npos);
+    RenderSettings depthBounds = settings(kSamples);
+    depthBounds.lighting.culling = LightCulling::TilesDepth;
+    const Scene lights = manyLightsScene(ManyLightsOptions{.lightCount = 16});
+    std::string culling = "(no error)";
+    try {
+        depthBounds.path = config().path;
+        Renderer renderer(device, lights, depthBounds);
+    } catch (const RendererError& e) {
+        culling = e.what();
+    }
+    EXPECT_NE(culling.find("tiles-depth"), std::string::npos) << culling;
+    EXPECT_NE(message(settings(kSamples), [](Renderer& r) { r.renderFrame(); r.readDepth(); }).find("multisampled"), std::string::npos);
+    device.takeDebugMessages();
+}
+
+INSTANTIATE_TEST_SUITE_P(Configs, MsaaTest, testing::ValuesIn(test_support::allConfigs()),
+                         [](const testing::TestParamInfo<Config>& info) { return info.param.name(); });
+
+// The default scene with 4 samples on the five configurations, held to the suite's parity rule
+// against vulkan/compute.
+class MsaaParity : public testing::TestWithParam<Config> {};
+
+TEST_P(MsaaParity, MatchesVulkanCompute) {
+    const Scene scene = defaultScene();
+    RenderSettings s = settings(kSamples);
+    s.width = s.height = 128;
+    const FrameOutput reference = test_support::renderOneFrame(test_support::allConfigs().front(), scene, s);
+    const FrameOutput result = test_support::renderOneFrame(GetParam(), scene, s);
+    test_support::expectMatchesVulkanCompute(reference.display, result.display, "msaa-default", GetParam());
+}
+
+INSTANTIATE_TEST_SUITE_P(Configs, MsaaParity, testing::ValuesIn(test_support::allConfigs()),
+                         [](const testing::TestParamInfo<Config>& info) { return info.param.name(); });
+
+}  // namespace
+}  // namespace janus::renderer
