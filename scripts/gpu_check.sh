@@ -24,6 +24,9 @@
 #   gi_rooms/            janus bench gi on the built-in gi-rooms scene, visibility test on and off
 #   parity_helmet/      janus parity of DamagedHelmet at 512x512 (cross-driver: --against it here)
 #   parity_helmet_sky/  the same under the sky at 128x128: the two-compiler parity rule on hardware
+#   parity_msaa/         janus parity of the default scene at 512x512 with --msaa 4: the driver's
+#                        resolve (Vulkan's resolve attachment, GL's blit) on all five, and in
+#                        parity.json each configuration's msaa-resolve and forward GPU ms
 #   gl_only/             DamagedHelmet at 256x256 in the GL configurations alone, one process that
 #   gl_only_against/     starts no Vulkan, and all five --against them at tolerance 0: GL alone must
 #                        draw as GL after Vulkan
@@ -258,6 +261,9 @@ else
   # parity.json's pairs say which needed it (twoCompilers, roundingPixels).
   step parity_helmet_sky 60 janus parity "$repo_root/../shared/scenes/DamagedHelmet/glTF/DamagedHelmet.gltf" \
     --env "$repo_root/../shared/scenes/env/chinese_garden_1k.hdr" --size 128x128 --out "$results/parity_helmet_sky"
+  # Multisampling on a real driver (docs/LIGHTING.md, "Anti-aliasing"): the five agree, and what the
+  # resolve costs where hardware does it (llvmpipe: ~40 ms at 256x256).
+  step parity_msaa 60 janus parity --size 512x512 --msaa 4 --out "$results/parity_msaa"
 fi
 if [[ $bench_only == 0 ]]; then
   # GL in a process that never starts Vulkan (NVIDIA's GL lost buffer contents only there, session

@@ -185,6 +185,20 @@ TEST_P(MultisampleTest, EveryMisuseHasOneErrorCodeOnEveryBackend) {
     auto pass = [&](RenderPassDesc desc) {
         return [this, desc] { submit([&](ICommandList& cmd) { cmd.beginRenderPass(desc); cmd.endRenderPass(); }); };
     };
+    // A triangle drawn into `target` with a pipeline of `samples` samples.
+    auto drawWith = [this](uint32_t samples, const TextureHandle& target) {
+        return [this, samples, target] {
+            const PipelineHandle pipe = pipeline(samples);
+            const BufferHandle vb = createBufferFrom(BufferUsage::Vertex, triangle({-1, -1, 1, -1, 0, 1}, {1, 1, 1, 1}));
+            submit([&](ICommandList& cmd) {
+                cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(target)));
+                cmd.setPipeline(pipe);
+                cmd.setVertexBuffer(0, vb);
+                cmd.draw(3);
+                cmd.endRenderPass();
+            });
+        };
+    };
     struct Mistake {
         const char* what;
         ErrorCode code;
@@ -237,26 +251,8 @@ TEST_P(MultisampleTest, EveryMisuseHasOneErrorCodeOnEveryBackend) {
          pass(RenderPassDesc()
                   .addColor(Attachment::clear(color).resolveTo(resolved))
                   .addColor(Attachment::clear(multisampled(Format::RGBA8_UNORM)).resolveTo(resolved)))},
-        {"a single-sampled pipeline in a multisampled pass", kUsage, {"1 sample(s)", "have 4"}, [&] {
-             const PipelineHandle pipe = pipeline(1);
-             const BufferHandle vb = createBufferFrom(BufferUsage::Vertex, triangle({-1, -1, 1, -1, 0, 1}, {1, 1, 1, 1}));
-             submit([&](ICommandList& cmd) {
-                 cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(color)));
-                 cmd.setPipeline(pipe);
-                 cmd.setVertexBuffer(0, vb);
-                 cmd.draw(3);
-                 cmd.endRenderPass();
-             }); }},
-        {"a multisampled pipeline in a single-sampled pass", kUsage, {"4 sample(s)", "have 1"}, [&] {
-             const PipelineHandle pipe = pipeline(kSamples);
-             const BufferHandle vb = createBufferFrom(BufferUsage::Vertex, triangle({-1, -1, 1, -1, 0, 1}, {1, 1, 1, 1}));
-             submit([&](ICommandList& cmd) {
-                 cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(single)));
-                 cmd.setPipeline(pipe);
-                 cmd.setVertexBuffer(0, vb);
-                 cmd.draw(3);
-                 cmd.endRenderPass();
-             }); }},
+        {"a single-sampled pipeline in a multisampled pass", kUsage, {"1 sample(s)", "have 4"}, drawWith(1, color)},
+        {"a multisampled pipeline in a single-sampled pass", kUsage, {"4 sample(s)", "have 1"}, drawWith(kSamples, single)},
     };
     for (const Mistake& m : mistakes) EXPECT_TRUE(throwsRhiError(m.make, m.code, m.mentions)) << m.what;
 }
