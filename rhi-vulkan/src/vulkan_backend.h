@@ -726,6 +726,15 @@ private:
         std::vector<ResourceAccess> accesses;
         std::vector<VkRenderingAttachmentInfo> colors;
     } m_passScratch;
+    // Resolves into a layer other than 0 (a cube face, an array layer, a 3D slice), which
+    // endRenderPass records with vkCmdResolveImage: lavapipe wrote a resolve attachment's view
+    // of such a layer into layer 0 (tests/rhi/multisample_test.cpp).
+    struct LayerResolve {
+        Texture* from;
+        Texture* to;
+        TextureSubresource sub;
+    };
+    std::vector<LayerResolve> m_layerResolves;
     Format m_passDepthFormat = Format::Unknown;
     uint32_t m_passSampleCount = 1;   // the open pass's attachments' TextureDesc::sampleCount
     // Bound objects; m_keepAlive owns them.

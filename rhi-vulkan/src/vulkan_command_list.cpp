@@ -181,6 +181,7 @@ void CommandList::beginRenderPassImpl(const RenderPassDesc& desc) {
     std::vector<VkRenderingAttachmentInfo>& colors = m_passScratch.colors;
     attachmentAccesses.clear();
     colors.clear();
+    m_layerResolves.clear();
     m_passColorFormats.clear();
     auto attach = [&](const Attachment& a, bool depth, size_t colorIndex) {
         auto* texture = native<Texture>(
@@ -222,6 +223,12 @@ void CommandList::beginRenderPassImpl(const RenderPassDesc& desc) {
             auto* target = native<Texture>(a.resolveTexture, [&] { return fmt::format("colour attachment {}'s resolve", colorIndex); },
                                            m_context.get());
             m_keepAlive.keep(a.resolveTexture, target->keepMark);
+            if (a.resolveSubresource.layer != 0) {
+                // After the pass, from the stored samples (m_layerResolves).
+                m_layerResolves.push_back({texture, target, a.resolveSubresource});
+                info.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+                return info;
+            }
             attachmentAccesses.push_back(textureAccess(*target, keysOf(a.resolveSubresource),
                                                        VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
                                                        VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT,
@@ -272,6 +279,17 @@ void CommandList::endRenderPass() {
     flushPassReads();
     m_context->cmdEndRendering(m_commands);
     m_drawNeeds |= kNeedsRenderPass;
+    for (const LayerResolve& resolve : m_layerResolves) {
+        access({transferRead(*resolve.from, keysOf(TextureSubresource{})), transferWrite(*resolve.to, keysOf(resolve.sub))});
+        VkImageResolve region{};
+        region.srcSubresource = resolve.from->copyLayers({});
+        region.dstSubresource = resolve.to->copyLayers(resolve.sub);
+        region.dstOffset = resolve.to->copyOffset(resolve.sub);
+        region.extent = resolve.from->copyExtent({});
+        vkCmdResolveImage(m_commands, resolve.from->image, VK_IMAGE_LAYOUT_GENERAL, resolve.to->image, VK_IMAGE_LAYOUT_GENERAL, 1,
+                          &region);
+    }
+    m_layerResolves.clear();
     m_passDesc.colors.clear();   // keeps its capacity for the next pass
     m_passDesc.depth.reset();
 }

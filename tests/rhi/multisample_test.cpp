@@ -167,6 +167,49 @@ TEST_P(MultisampleTest, LoadKeepsTheSamplesOfThePreviousPass) {
         }
 }
 
+// A resolve writes the subresource it names and nothing else: mip 1 of a 2D texture, face 4 of a
+// cube and slice 2 of a volume (the clear colour of a pass without draws, in every pixel). On
+// lavapipe a resolve attachment's view of face 4 wrote face 0; Vulkan resolves layers other than
+// 0 after the pass with vkCmdResolveImage since.
+TEST_P(MultisampleTest, ResolvesIntoTheSubresourceItNames) {
+    const TextureHandle color = multisampled(Format::RGBA8_UNORM);
+    const TextureHandle mips = device().createTexture(TextureDesc()
+                                                          .setSize(2 * kSize, 2 * kSize)
+                                                          .setMipLevels(2)
+                                                          .setUsage(TextureUsage::RenderTarget | TextureUsage::Sampled));
+    const TextureHandle cube = device().createTexture(TextureDesc()
+                                                          .setDimension(TextureDimension::TextureCube)
+                                                          .setSize(kSize, kSize)
+                                                          .setUsage(TextureUsage::RenderTarget | TextureUsage::Sampled));
+    const Color first = {0.2f, 0.4f, 0.6f, 1.0f}, second = {1.0f, 0.8f, 0.0f, 0.4f};
+    submit([&](ICommandList& cmd) {
+        cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(color, first).resolveTo(mips, {1, 0})));
+        cmd.endRenderPass();
+        cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(color, second).resolveTo(cube, {0, 4})));
+        cmd.endRenderPass();
+    });
+    EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(mips, {1, 0}), std::vector<Rgba8>(kSize * kSize, toRgba8(first)), kSize));
+    EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(mips, {0, 0}), std::vector<Rgba8>(4 * kSize * kSize, Rgba8{}), 2 * kSize));
+    for (uint32_t face = 0; face < 6; ++face)
+        EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(cube, {0, face}),
+                                std::vector<Rgba8>(kSize * kSize, face == 4 ? toRgba8(second) : Rgba8{}), kSize))
+            << "face " << face;
+    if (!caps().has(Capability::RenderToVolumeSlice)) return;
+    // Slice 2 of a volume (layer = slice).
+    const TextureHandle volume = device().createTexture(TextureDesc()
+                                                            .setDimension(TextureDimension::Texture3D)
+                                                            .setSize(kSize, kSize, 4)
+                                                            .setUsage(TextureUsage::RenderTarget | TextureUsage::Sampled));
+    submit([&](ICommandList& cmd) {
+        cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(color, first).resolveTo(volume, {0, 2})));
+        cmd.endRenderPass();
+    });
+    for (uint32_t slice = 0; slice < 4; ++slice)
+        EXPECT_TRUE(imagesEqual(readTextureAs<Rgba8>(volume, {0, slice}),
+                                std::vector<Rgba8>(kSize * kSize, slice == 2 ? toRgba8(first) : Rgba8{}), kSize))
+            << "slice " << slice;
+}
+
 TEST_P(MultisampleTest, EveryMisuseHasOneErrorCodeOnEveryBackend) {
     constexpr ErrorCode kDesc = ErrorCode::InvalidDescription;
     constexpr ErrorCode kUsage = ErrorCode::InvalidUsage;
