@@ -438,7 +438,7 @@ void addMsaaOption(CLI::App& app, std::string& msaa) {
 }
 
 uint32_t parseMsaaOption(const std::string& msaa) {
-    if (msaa.empty()) return 1;
+    if (msaa.empty()) return 0;
     const uint32_t samples = parseWholeFlag("--msaa", msaa, 1, 16, "1, 2, 4, 8 or 16");
     if (!std::has_single_bit(samples)) throw UsageError(fmt::format("--msaa '{}' is not allowed; use 1, 2, 4, 8 or 16", msaa));
     return samples;

@@ -173,7 +173,8 @@ struct LightingOptions {
 void addLightingOptions(CLI::App& app, LightingOptions& options);
 renderer::LightingSettings parseLightingOptions(const LightingOptions& options);   // throws UsageError naming the flag
 renderer::DebugView parseDebugOption(std::string_view text);                        // throws UsageError
-// --msaa N, shared by render and parity: samples per pixel (1 = off, 2, 4, 8 or 16; empty = 1).
+// --msaa N, shared by render and parity: samples per pixel (1 = off, 2, 4, 8 or 16; empty = 0,
+// the scene's quality "msaa", else 1).
 void addMsaaOption(CLI::App& app, std::string& msaa);
 uint32_t parseMsaaOption(const std::string& msaa);   // throws UsageError
 
@@ -238,7 +239,7 @@ struct RenderRequest {
     renderer::LightingSettings lighting;
     renderer::DebugView debugView = renderer::DebugView::None;
     std::filesystem::path giBakeFile;   // empty: the irradiance volume (if any) is baked at start-up
-    uint32_t msaaSamples = 1;
+    uint32_t msaaSamples = 0;   // 0: the scene's quality "msaa", else 1
 };
 
 struct RenderOutcome {

@@ -1,4 +1,5 @@
 // `janus parity`: render every configuration and compare every pair pixel by pixel.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -281,6 +282,10 @@ int run(const ParityOptions& options) {
     if (against) againstJson = compareAgainst(*against, results, outDir, passed);
 
     nlohmann::json configsJson = nlohmann::json::array();
+    // --msaa, else what the scene's quality asked for (every configuration renders with the same).
+    uint32_t msaaSamples = base.msaaSamples;
+    for (const ConfigurationResult& r : results)
+        if (msaaSamples == 0 && r.outcome) msaaSamples = r.outcome->report.msaaSamples;
     for (const ConfigurationResult& r : results) {
         nlohmann::json entry{{"backend", rhi::toString(r.config.backend)},
                              {"path", renderer::toString(r.config.path)},
@@ -303,7 +308,7 @@ int run(const ParityOptions& options) {
                                  {"selectedConfigurations", selected},
                                  {"width", base.size.width},
                                  {"height", base.size.height},
-                                 {"msaaSamples", base.msaaSamples},
+                                 {"msaaSamples", std::max(msaaSamples, 1u)},
                                  {"tolerance", tolerance},
                                  {"edgePixels", edgePixels},
                                  {"compilerRounding", options.compilerRounding},

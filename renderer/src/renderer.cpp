@@ -36,6 +36,7 @@ namespace janus::renderer {
 Renderer::Impl::Impl(rhi::IDevice& d, const Scene& scene, const RenderSettings& s)
     : device(d), deviceLifetime(d.lifetime()), settings(s) {
     validateScene(scene);
+    settings.msaaSamples = resolveMsaaSamples(s.msaaSamples, scene.quality);
     checkSettings();
     lighting = resolveLighting(settings.lighting, scene.quality);
     mainView = makeCameraView(scene.camera, settings.width, settings.height, "main");

@@ -32,6 +32,7 @@
 #include "ibl/image_based_lighting.h"
 #include "ibl/sky_background.h"
 #include "msaa/msaa_resolve.h"
+#include "msaa/msaa_settings.h"
 #include "janus/renderer/renderer.h"
 #include "probes/reflection_probes.h"
 #include "shadows/main_light_shadows.h"

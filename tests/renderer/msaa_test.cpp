@@ -151,6 +151,22 @@ TEST_P(MsaaTest, TiledCullingWithoutDepthBoundsMatchesTheNaiveImage) {
     test_support::expectSameImage(b, a, config().name() + "-msaa-tiled-vs-naive");
 }
 
+// A scene file's quality key "msaa" chooses the count where the settings leave it (0); settings
+// that give one win.
+TEST_P(MsaaTest, TheScenesQualityKeyChoosesTheCountUnlessTheSettingsDo) {
+    Scene scene = stage();
+    addEmissiveQuad(scene, {1.0f, 0.0f, 0.0f}, 1.0f, AlphaMode::Opaque, {0.0f, 0.0f, 0.0f}, glm::radians(20.0f));
+    scene.quality = nlohmann::json{{"msaa", 4}};
+    const FrameOutput fromScene = test_support::renderOneFrame(config(), scene, settings(0));
+    EXPECT_EQ(fromScene.report.msaaSamples, kSamples);
+    EXPECT_TRUE(test_support::hasPassStartingWith(fromScene.report, "msaa-resolve")) << test_support::passNames(fromScene.report);
+    const FrameOutput fromSettings = test_support::renderOneFrame(config(), scene, settings(1));
+    EXPECT_EQ(fromSettings.report.msaaSamples, 1u);
+    EXPECT_FALSE(test_support::hasPassStartingWith(fromSettings.report, "msaa-resolve")) << test_support::passNames(fromSettings.report);
+    scene.quality = nlohmann::json::object();
+    EXPECT_EQ(test_support::renderOneFrame(config(), scene, settings(0)).report.msaaSamples, 1u);
+}
+
 // What cannot be done is a RendererError naming it.
 TEST_P(MsaaTest, ImpossibleRequestsSaySo) {
     const Scene scene = defaultScene();

@@ -914,7 +914,7 @@ TEST(SceneLoading, SceneFileKeysJanusDoesNotReadAreWarningsThatNameTheLikelyKey)
                              "parallelReduction": true, "bounces": 1, "shOrder": 2, "probesPerFrame": 0, "normalBias": 0.05,
                              "invalidBackFaceFraction": 0.3, "near": 0.02, "far": 9},
         "quality": {"lightCulling": "auto", "tileSize": 16, "maxLightsPerTile": 256, "intensityCutoff": 0.01, "autoTiledThreshold": 8,
-                    "shadows": true, "shadowMapSize": 1024}})"));
+                    "shadows": true, "shadowMapSize": 1024, "msaa": 4}})"));
     for (const std::string& warning : every.warnings) EXPECT_FALSE(contains(warning, "does not read")) << warning;
 }
 

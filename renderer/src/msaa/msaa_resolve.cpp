@@ -6,6 +6,7 @@
 
 namespace janus::renderer {
 
+
 void MsaaResolve::addPasses(PassGraph& graph, const SceneView& view) {
     if (view.sampleCount <= 1) return;
     const ViewTarget* samples = graph.find(view.name, frame_resources::kHdr);

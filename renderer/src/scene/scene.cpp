@@ -14,6 +14,7 @@
 
 #include "animation.h"
 #include "forward/lighting_settings.h"
+#include "msaa/msaa_settings.h"
 #include "janus/renderer/settings.h"
 #include "scene_internal.h"
 
@@ -399,9 +400,10 @@ Scene loadSceneFile(std::string_view bytes, const std::filesystem::path& path, c
         detail::addIrradianceVolumeFromMarkers(scene);
         if (root.contains("quality")) {
             scene.quality = objectAt(path, root, "quality");
-            // The lighting keys are checked now, naming the file, not when a renderer is made.
+            // The lighting and msaa keys are checked now, naming the file, not when a renderer is made.
             try {
                 (void)resolveLighting(LightingSettings{}, scene.quality);
+                (void)resolveMsaaSamples(0, scene.quality);
             } catch (const RendererError& e) {
                 fail(path, fmt::format("\"quality\": {}", e.what()));
             }

@@ -82,13 +82,14 @@ struct RenderSettings {
     FeaturePath path = FeaturePath::Compute;
     LightingSettings lighting;
     DebugView debugView = DebugView::None;
-    // Multisampling of the main view: 1 (off), or 2, 4, 8... samples per pixel where the device
+    // Multisampling of the main view: 0 = the scene file's quality key "msaa", else 1 (off); or
+    // 1, 2, 4, 8, 16 samples per pixel where the device
     // allows that count for RGBA16F and D32F render targets (rhi::FormatCapabilities::sampleCounts;
     // 4 is allowed everywhere). The scene is shaded per pixel and depth-tested per sample, and the
     // samples are averaged before the tonemap (docs/LIGHTING.md, "Anti-aliasing"). Tiled light
     // culling then uses screen tiles without depth bounds (Auto picks Tiles2D; TilesDepth, whose
     // bounds come from single-sampled depth, is a RendererError), and readDepth() is not possible.
-    uint32_t msaaSamples = 1;
+    uint32_t msaaSamples = 0;
     // The scene's irradiance volume from a file `bakeIrradianceVolume` (janus bake) wrote; empty:
     // baked when the renderer is made (docs/GI.md). A file of another scene, version or volume is
     // a RendererError.

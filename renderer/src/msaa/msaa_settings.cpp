@@ -1,0 +1,19 @@
+#include "msaa/msaa_settings.h"
+
+#include <fmt/format.h>
+
+#include "janus/renderer/settings.h"
+
+namespace janus::renderer {
+
+uint32_t resolveMsaaSamples(uint32_t given, const nlohmann::json& quality) {
+    if (given != 0) return given;
+    if (!quality.is_object() || !quality.contains("msaa")) return 1;
+    const nlohmann::json& value = quality.at("msaa");
+    if (value.is_number_integer())
+        for (int64_t count : {1, 2, 4, 8, 16})
+            if (value.get<int64_t>() == count) return uint32_t(count);
+    throw RendererError(fmt::format("scene quality key 'msaa' must be 1, 2, 4, 8 or 16 (samples per pixel), not {}", value.dump()));
+}
+
+}  // namespace janus::renderer
