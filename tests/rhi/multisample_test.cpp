@@ -22,7 +22,8 @@ protected:
     TextureHandle resolveTarget(Format format = Format::RGBA8_UNORM) {
         return createTexture2D(format, kSize, kSize, TextureUsage::RenderTarget | TextureUsage::Sampled);
     }
-    PipelineHandle pipeline(uint32_t samples, Format depthFormat = Format::Unknown, DepthState depth = {}) {
+    // The vertex colour pipeline into RGBA8 (and `depthFormat`) with `samples` samples.
+    GraphicsPipelineDesc pipelineDesc(uint32_t samples, Format depthFormat = Format::Unknown, DepthState depth = {}) {
         GraphicsPipelineDesc desc;
         desc.setShaders(shader("rt_vertex_color_vert"), shader("rt_vertex_color_frag"))
             .addVertexBuffer({0, sizeof(ColorVertex), false})
@@ -33,7 +34,10 @@ protected:
             .setDepth(depth)
             .setSampleCount(samples)
             .setDebugName(fmt::format("{}x colour", samples));
-        return device().createGraphicsPipeline(desc);
+        return desc;
+    }
+    PipelineHandle pipeline(uint32_t samples, Format depthFormat = Format::Unknown, DepthState depth = {}) {
+        return device().createGraphicsPipeline(pipelineDesc(samples, depthFormat, depth));
     }
     // The resolved image, copied out in the same command list as the pass (so the resolve's
     // write and the copy's read meet the hazard tracking, which validation watches).
@@ -260,15 +264,7 @@ TEST_P(MultisampleTest, EveryMisuseHasOneErrorCodeOnEveryBackend) {
         {"a multisampled texture with mips", kDesc, {"mipLevels 1"}, texture(TextureDesc(base).setMipLevels(2).setSampleCount(4))},
         {"a multisampled cube", kDesc, {"Texture2D with one layer"},
          texture(TextureDesc(base).setDimension(TextureDimension::TextureCube).setSampleCount(4))},
-        {"a pipeline with 3 samples", kDesc, {"sampleCount is 3"}, [&] {
-             GraphicsPipelineDesc d;
-             d.setShaders(shader("rt_vertex_color_vert"), shader("rt_vertex_color_frag"))
-                 .addVertexBuffer({0, sizeof(ColorVertex), false})
-                 .addVertexAttribute({0, VertexFormat::Float4, 0, offsetof(ColorVertex, x)})
-                 .addVertexAttribute({1, VertexFormat::Float4, 0, offsetof(ColorVertex, r)})
-                 .addColorFormat(Format::RGBA8_UNORM)
-                 .setSampleCount(3);
-             dev.createGraphicsPipeline(d); }},
+        {"a pipeline with 3 samples", kDesc, {"sampleCount is 3"}, [&] { dev.createGraphicsPipeline(pipelineDesc(3)); }},
         {"readTexture of a multisampled texture", kUsage, {"multisampled", "resolve"}, [&] { dev.readTexture(color, {}); }},
         {"copyTextureToBuffer from a multisampled texture", kUsage, {"multisampled", "resolve"},
          [&] { submit([&](ICommandList& cmd) { cmd.copyTextureToBuffer(buffer, 0, color, {}); }); }},
