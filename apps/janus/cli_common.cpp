@@ -669,9 +669,7 @@ RenderOutcome renderConfiguration(const renderer::Scene& scene, const RenderRequ
         const rhi::FormatCapabilities color = device->formatCapabilities(rhi::Format::RGBA16_FLOAT);
         const rhi::FormatCapabilities depth = device->formatCapabilities(rhi::Format::D32_FLOAT);
         if (!color.supportsSampleCount(request.msaaSamples) || !depth.supportsSampleCount(request.msaaSamples)) {
-            std::string allowed;
-            for (uint32_t n = 1; n <= 16; n <<= 1)
-                if (color.supportsSampleCount(n) && depth.supportsSampleCount(n)) allowed += fmt::format("{}{}", allowed.empty() ? "" : ", ", n);
+            const std::string allowed = rhi::FormatCapabilities::sampleCountText(color.sampleCounts & depth.sampleCounts);
             throw UnavailableError(fmt::format("--msaa {} is not possible on the {} backend: its RGBA16F and D32F render targets allow "
                                                "{} samples per pixel",
                                                request.msaaSamples, rhi::toString(request.backend), allowed));

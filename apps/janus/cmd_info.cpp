@@ -90,10 +90,7 @@ std::string formatTableText(const BackendReport& r) {
                                      info.srgb ? "yes" : "-"};
         const rhi::FormatCapabilities caps = formatCaps(r, info.format);
         for (rhi::FormatCapability cap : rhi::kAllFormatCapabilities) row.push_back(caps.has(cap) ? "yes" : "-");
-        std::string samples;
-        for (uint32_t n = 1; n <= caps.sampleCounts && n; n <<= 1)
-            if (caps.sampleCounts & n) samples += (samples.empty() ? "" : ",") + std::to_string(n);
-        row.push_back(samples.empty() ? "-" : samples);
+        row.push_back(caps.sampleCounts ? rhi::FormatCapabilities::sampleCountText(caps.sampleCounts, ",") : "-");
         rows.push_back(std::move(row));
     }
     return formatTable(rows);

@@ -129,9 +129,7 @@ void Renderer::Impl::checkSettings() const {
         const rhi::FormatCapabilities color = device.formatCapabilities(mainView.colorFormat);
         const rhi::FormatCapabilities depth = device.formatCapabilities(mainView.depthFormat);
         if (!color.supportsSampleCount(settings.msaaSamples) || !depth.supportsSampleCount(settings.msaaSamples)) {
-            std::string allowed;
-            for (uint32_t n = 1; n <= 64; n <<= 1)
-                if (color.supportsSampleCount(n) && depth.supportsSampleCount(n)) allowed += (allowed.empty() ? "" : ", ") + std::to_string(n);
+            const std::string allowed = rhi::FormatCapabilities::sampleCountText(color.sampleCounts & depth.sampleCounts);
             throw RendererError(fmt::format("msaa {} is not possible on this {} device: its {} and {} render targets allow {} "
                                             "samples per pixel",
                                             settings.msaaSamples, rhi::toString(device.info().backend),

@@ -5,6 +5,16 @@
 
 namespace janus::rhi {
 
+std::string FormatCapabilities::sampleCountText(uint32_t counts, std::string_view separator) {
+    std::string text;
+    for (uint32_t count = 1; count != 0; count <<= 1)
+        if (counts & count) {
+            if (!text.empty()) text += separator;
+            text += std::to_string(count);
+        }
+    return text.empty() ? "none" : text;
+}
+
 namespace {
 // The one table of what formats are made of. Adding a format: a row here (in enum order), the
 // enum entry in format.h, and each backend's mapping (toVkFormat, glFormat and its capability

@@ -117,14 +117,6 @@ constexpr std::string_view kCompareOps = "Never, Less, Equal, LessOrEqual, Great
 
 bool isFloat32(Format f) { return formatInfo(f).kind == FormatKind::Float && formatInfo(f).bytesPerPixel / formatInfo(f).channels == 4; }
 
-// "1, 2, 4" from FormatCapabilities::sampleCounts.
-std::string sampleCountList(uint32_t counts) {
-    std::string list;
-    for (uint32_t c = 1; c && c <= counts; c <<= 1)
-        if (counts & c) list += (list.empty() ? "" : ", ") + std::to_string(c);
-    return list.empty() ? "none" : list;
-}
-
 // InvalidUsage for a multisampled texture where only single-sampled ones go (copies, readback):
 // its samples must be resolved first.
 void requireSingleSampled(const ITexture& texture, std::string_view what) {
@@ -253,7 +245,7 @@ TextureDesc validateTexture(const DeviceProperties& device, const TextureDesc& d
                         fmt::format("{}: sampleCount {} is not supported for format {} on this {} device (it allows "
                                     "{}: FormatCapabilities::sampleCounts, `janus info`)", name, desc.sampleCount,
                                     toString(desc.format), toString(device.info.backend),
-                                    sampleCountList(caps.sampleCounts)));
+                                    FormatCapabilities::sampleCountText(caps.sampleCounts)));
     }
     return resolved;
 }
@@ -424,7 +416,7 @@ void validateGraphicsPipeline(const DeviceProperties& device, const GraphicsPipe
                             fmt::format("{}: sampleCount {} is not supported for format {} on this {} device (it "
                                         "allows {})", name, desc.sampleCount, toString(format),
                                         toString(device.info.backend),
-                                        sampleCountList(device.formats[size_t(format)].sampleCounts)));
+                                        FormatCapabilities::sampleCountText(device.formats[size_t(format)].sampleCounts)));
     }
     if (desc.depthFormat != Format::Unknown) {
         if (size_t(desc.depthFormat) >= device.formats.size() || !isDepthFormat(desc.depthFormat))

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <optional>
 #include <span>
+#include <string>
 #include <string_view>
 
 namespace janus::rhi {
@@ -78,6 +79,8 @@ struct FormatCapabilities {
         return *this;
     }
     bool supportsSampleCount(uint32_t count) const { return count && std::has_single_bit(count) && (sampleCounts & count); }
+    // The counts of `sampleCounts` (or of any such mask) joined by `separator`: "1, 4"; "none" for 0.
+    static std::string sampleCountText(uint32_t counts, std::string_view separator = ", ");
     bool operator==(const FormatCapabilities&) const = default;
 };
 
