@@ -125,6 +125,16 @@ void requireSingleSampled(const ITexture& texture, std::string_view what) {
                            "(Attachment::resolveTo) and use that", what, textureName(texture), texture.desc().sampleCount));
 }
 
+// UnsupportedCapability unless `format` allows `count` samples (FormatCapabilities::sampleCounts).
+void requireSampleCount(const DeviceProperties& device, Format format, uint32_t count, std::string_view what) {
+    const uint32_t counts = size_t(format) < device.formats.size() ? device.formats[size_t(format)].sampleCounts : 0;
+    if (count && std::has_single_bit(count) && (counts & count)) return;
+    throw Error(ErrorCode::UnsupportedCapability,
+                fmt::format("{}: sampleCount {} is not supported for format {} on this {} device (it allows {}: "
+                            "FormatCapabilities::sampleCounts, `janus info`)", what, count, toString(format),
+                            toString(device.info.backend), FormatCapabilities::sampleCountText(counts)));
+}
+
 }  // namespace
 
 void requireFormatCapability(const DeviceProperties& device, Format format, FormatCapability cap,
@@ -239,13 +249,7 @@ TextureDesc validateTexture(const DeviceProperties& device, const TextureDesc& d
             invalid(fmt::format("{}: sampleCount is {} with usage {:#x}; a multisampled texture's usage is "
                                 "RenderTarget alone (shaders read the single-sampled texture it resolves into)",
                                 name, desc.sampleCount, uint32_t(desc.usage)));
-        const FormatCapabilities& caps = device.formats[size_t(desc.format)];
-        if (!caps.supportsSampleCount(desc.sampleCount))
-            throw Error(ErrorCode::UnsupportedCapability,
-                        fmt::format("{}: sampleCount {} is not supported for format {} on this {} device (it allows "
-                                    "{}: FormatCapabilities::sampleCounts, `janus info`)", name, desc.sampleCount,
-                                    toString(desc.format), toString(device.info.backend),
-                                    FormatCapabilities::sampleCountText(caps.sampleCounts)));
+        requireSampleCount(device, desc.format, desc.sampleCount, name);
     }
     return resolved;
 }
@@ -408,15 +412,8 @@ void validateGraphicsPipeline(const DeviceProperties& device, const GraphicsPipe
         invalid(fmt::format("{}: sampleCount is {}; it must be 1 or the render pass's (a power of two)", name,
                             desc.sampleCount));
     if (desc.sampleCount > 1) {
-        std::vector<Format> formats = desc.colorFormats;
-        if (desc.depthFormat != Format::Unknown) formats.push_back(desc.depthFormat);
-        for (Format format : formats)
-            if (size_t(format) < device.formats.size() && !device.formats[size_t(format)].supportsSampleCount(desc.sampleCount))
-                throw Error(ErrorCode::UnsupportedCapability,
-                            fmt::format("{}: sampleCount {} is not supported for format {} on this {} device (it "
-                                        "allows {})", name, desc.sampleCount, toString(format),
-                                        toString(device.info.backend),
-                                        FormatCapabilities::sampleCountText(device.formats[size_t(format)].sampleCounts)));
+        for (Format format : desc.colorFormats) requireSampleCount(device, format, desc.sampleCount, name);
+        if (desc.depthFormat != Format::Unknown) requireSampleCount(device, desc.depthFormat, desc.sampleCount, name);
     }
     if (desc.depthFormat != Format::Unknown) {
         if (size_t(desc.depthFormat) >= device.formats.size() || !isDepthFormat(desc.depthFormat))
@@ -584,6 +581,21 @@ void validateRenderPass(const DeviceProperties& device, const RenderPassDesc& de
         invalid(fmt::format("RenderPassDesc: {} colour attachments, above Limits::maxColorAttachments ({})",
                             desc.colors.size(), caps.limits.maxColorAttachments));
     uint32_t width = 0, height = 0, samples = 0;
+    // One 2D image of a texture written by the pass (an attachment, a resolve target): it exists,
+    // and the device can render to its kind.
+    // `field` names it in messages; `verb` says what the pass does to it ("" or "resolving into ").
+    auto checkTargetSubresource = [&](const TextureDesc& td, TextureSubresource sub, const auto& where, std::string_view field,
+                                      std::string_view verb) {
+        if (sub.mipLevel >= td.mipLevels || sub.layer >= layersAt(td, sub.mipLevel))
+            invalid(fmt::format("{}: {} (mip {}, layer {}) does not exist in the {} texture '{}' ({} mip "
+                                "level(s), {} layer(s)/slice(s) at that mip)", where(), field, sub.mipLevel, sub.layer,
+                                toString(td.dimension), td.debugName, td.mipLevels,
+                                sub.mipLevel < td.mipLevels ? layersAt(td, sub.mipLevel) : 0));
+        if (td.dimension == TextureDimension::Texture3D)
+            requireCapability(device, Capability::RenderToVolumeSlice, fmt::format("{}: {}a 3D texture slice", where(), verb));
+        if (isCubeLike(td.dimension) && sub.mipLevel > 0)
+            requireCapability(device, Capability::RenderToCubeFaceMip, fmt::format("{}: {}a cube face at mip > 0", where(), verb));
+    };
     // Passes are begun per frame: the attachment's name is made only for a message.
     auto check = [&](const Attachment& a, size_t colorIndex, bool depth) {
         auto where = [&] {
@@ -600,15 +612,7 @@ void validateRenderPass(const DeviceProperties& device, const RenderPassDesc& de
                                 toString(td.format), depth ? "not " : "",
                                 depth ? "pass a depth texture to setDepth" : "pass depth textures to setDepth"));
         const TextureSubresource sub = a.subresource;
-        if (sub.mipLevel >= td.mipLevels || sub.layer >= layersAt(td, sub.mipLevel))
-            invalid(fmt::format("{}: subresource (mip {}, layer {}) does not exist in the {} texture '{}' ({} mip "
-                                "level(s), {} layer(s)/slice(s) at that mip)", where(), sub.mipLevel, sub.layer,
-                                toString(td.dimension), td.debugName, td.mipLevels,
-                                sub.mipLevel < td.mipLevels ? layersAt(td, sub.mipLevel) : 0));
-        if (td.dimension == TextureDimension::Texture3D)
-            requireCapability(device, Capability::RenderToVolumeSlice, where() + ": a 3D texture slice");
-        if (isCubeLike(td.dimension) && sub.mipLevel > 0)
-            requireCapability(device, Capability::RenderToCubeFaceMip, where() + ": a cube face at mip > 0");
+        checkTargetSubresource(td, sub, where, "subresource", "");
         // Clear values every backend stores alike: Vulkan needs depth in [0, 1] (without
         // VK_EXT_depth_range_unrestricted), and a float outside an unsigned integer's range does
         // not convert to one (C++ leaves it undefined; the backends converted differently).
@@ -653,14 +657,7 @@ void validateRenderPass(const DeviceProperties& device, const RenderPassDesc& de
         if (rd.format != td.format)
             invalid(fmt::format("{}: resolveTexture '{}' is {} but the attachment is {}; the formats must be the same",
                                 where(), rd.debugName, toString(rd.format), toString(td.format)));
-        if (rs.mipLevel >= rd.mipLevels || rs.layer >= layersAt(rd, rs.mipLevel))
-            invalid(fmt::format("{}: resolveSubresource (mip {}, layer {}) does not exist in the {} texture '{}' ({} mip "
-                                "level(s))", where(), rs.mipLevel, rs.layer, toString(rd.dimension), rd.debugName,
-                                rd.mipLevels));
-        if (rd.dimension == TextureDimension::Texture3D)
-            requireCapability(device, Capability::RenderToVolumeSlice, where() + ": resolving into a 3D texture slice");
-        if (isCubeLike(rd.dimension) && rs.mipLevel > 0)
-            requireCapability(device, Capability::RenderToCubeFaceMip, where() + ": resolving into a cube face at mip > 0");
+        checkTargetSubresource(rd, rs, where, "resolveSubresource", "resolving into ");
         if (mipExtent(rd.width, rs.mipLevel) != w || mipExtent(rd.height, rs.mipLevel) != h)
             invalid(fmt::format("{}: resolveTexture '{}' is {}x{} at mip {} but the attachment is {}x{}; they must be "
                                 "the same size", where(), rd.debugName, mipExtent(rd.width, rs.mipLevel),
