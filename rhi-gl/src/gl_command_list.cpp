@@ -889,12 +889,12 @@ void CommandList::replay(Device& device) {
             gl.glGenerateMipmap(texture.target());
         }
         void operator()(const command::BeginTimer& c) {
-            device.timestamp(c.timer->beginQuery());
+            device.timestamp(c.timer->beginQuery(), true);
             c.timer->begun = true;
             c.timer->ended = false;
         }
         void operator()(const command::EndTimer& c) {
-            device.timestamp(c.timer->endQuery());
+            device.timestamp(c.timer->endQuery(), false);
             c.timer->ended = true;
         }
         void operator()(const command::PushDebugGroup& c) {

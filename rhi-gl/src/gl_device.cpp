@@ -308,6 +308,9 @@ Device::Device(const DeviceDesc& desc, std::unique_ptr<Platform> platform) {
     info.apiVersion = glString(GL_VERSION);
     if (!es && info.apiVersion.rfind("OpenGL", 0) != 0) info.apiVersion = "OpenGL " + info.apiVersion;
     info.deviceName = glString(GL_RENDERER);
+    // llvmpipe takes a timestamp in every screen tile as it rasterises them and keeps each
+    // thread's last: one binned with a pass's draws reads as the pass's last tile (timestamp()).
+    m_timestampsPerTile = info.deviceName.find("llvmpipe") != std::string::npos;
     info.driverInfo = glString(GL_VENDOR);
     info.platform = m_context->platformName();
     info.shadingLanguage = es ? "ESSL 300" : "GLSL 430";

@@ -1026,7 +1026,8 @@ public:
     // What a draw or dispatch does first when m_drawChecks is not 0.
     void runDrawChecks(const char* call);
     void memoryBarrier(GLbitfield bits);
-    void timestamp(GLuint query);
+    // glQueryCounter(GL_TIMESTAMP); `beginsTimer`: the first of a timer's two.
+    void timestamp(GLuint query, bool beginsTimer);
     uint32_t renderWidth() const { return m_renderWidth; }
     uint32_t renderHeight() const { return m_renderHeight; }
 
@@ -1084,6 +1085,7 @@ private:
     // What a draw or dispatch checks first (runDrawChecks), one flag read per draw.
     enum DrawCheck : uint8_t { kRestoreTakenPoints = 1, kCheckSamplerUnits = 2 };
     uint8_t m_drawChecks = 0;
+    bool m_timestampsPerTile = false;   // llvmpipe: see timestamp()
     struct VertexBinding { GLuint buffer = 0; uint64_t offset = 0; };
     // By slot (a vector, not a map: cleared by every execute, it keeps its storage).
     std::vector<VertexBinding> m_vertexBuffers;
