@@ -803,6 +803,13 @@ std::vector<uint32_t> parseCountList(const std::string& text, const char* option
     return values;
 }
 
+double median(std::vector<double> values) {
+    if (values.empty()) return 0.0;
+    std::sort(values.begin(), values.end());
+    const size_t mid = values.size() / 2;
+    return values.size() % 2 ? values[mid] : 0.5 * (values[mid - 1] + values[mid]);
+}
+
 std::filesystem::path benchOutputDir(const std::string& out, const std::string& stem) {
     if (out.empty()) throw UsageError(fmt::format("--out DIR is required: where to write {0}.md, {0}.json and {0}.png", stem));
     const std::filesystem::path dir = out;

@@ -281,6 +281,8 @@ std::string lightCullingLine(const renderer::FrameReport& report);
 // The benchmark's --out directory, created if needed: a UsageError without one (naming STEM.md,
 // STEM.json and STEM.png), an InputError when it cannot be created.
 std::filesystem::path benchOutputDir(const std::string& out, const std::string& stem);
+// The median of a benchmark's runs (the mean of the middle two for an even count); 0 for none.
+double median(std::vector<double> values);
 void writeBenchOutputs(const std::filesystem::path& dir, const std::string& stem, const std::string& markdown,
                        const nlohmann::json& json, const renderer::ImageRGBA8& plot);
 
@@ -312,5 +314,6 @@ Command addBakeCommand(CLI::App& parent);
 std::function<int()> addBenchProbesCommand(CLI::App& bench);
 std::function<int()> addBenchGiCommand(CLI::App& bench);   // cmd_bench_gi.cpp
 std::function<int()> addBenchShadowsCommand(CLI::App& bench);   // cmd_bench_shadows.cpp
+std::function<int()> addBenchMsaaCommand(CLI::App& bench);      // cmd_bench_msaa.cpp
 
 }  // namespace janus::cli

@@ -38,13 +38,6 @@ struct BenchOptions {
     std::set<std::string> given;   // the options given on the command line (--quick does not override them)
 };
 
-double median(std::vector<double> values) {
-    if (values.empty()) return 0.0;
-    std::sort(values.begin(), values.end());
-    const size_t mid = values.size() / 2;
-    return values.size() % 2 ? values[mid] : 0.5 * (values[mid - 1] + values[mid]);
-}
-
 struct Measurement {
     double frameGpuMs = 0.0, frameWallMs = 0.0, cullMs = 0.0;
     bool gpuTimed = true;
@@ -444,12 +437,7 @@ int runForward(const BenchOptions& options) {
     for (const Row& row : rows) {
         if (row.lights == 0) continue;   // log x
         const std::string name = fmt::format("{}/{} {}", row.backend, row.path, row.mode);
-        auto it = std::find_if(series.begin(), series.end(), [&](const PlotSeries& s) { return s.name == name; });
-        if (it == series.end()) {
-            series.push_back(PlotSeries{name, {}});
-            it = series.end() - 1;
-        }
-        it->points.push_back({double(row.lights), frameMs(row.m)});
+        seriesNamed(series, name).points.push_back({double(row.lights), frameMs(row.m)});
     }
     writeBenchOutputs(outDir, "forward", md, json, drawLogXPlot(series, "LIGHTS", "FRAME MS"));
     return 0;
@@ -462,7 +450,8 @@ Command addBenchCommand(CLI::App& parent) {
     CLI::App* app = parent.add_subcommand("bench", "Benchmarks; 'janus bench forward' measures Forward+ light culling, "
                                                    "'janus bench probes' the GGX prefilter's accuracy vs time, "
                                                    "'janus bench gi' the probe GI's accuracy vs time, "
-                                                   "'janus bench shadows' the shadow map's accuracy vs time");
+                                                   "'janus bench shadows' the shadow map's accuracy vs time, "
+                                                   "'janus bench msaa' anti-aliasing's accuracy vs time");
     CLI::App* forward = app->add_subcommand("forward", "Many-lights scene: naive / tiles-2d / tiles-depth on each path and backend; "
                                                        "writes forward.md, forward.json, forward.png and cutoff-error-<backend>-<path>.png (where the smallest "
                                                        "cut-off's error is, white = its largest) to --out");
@@ -490,15 +479,18 @@ Command addBenchCommand(CLI::App& parent) {
     std::function<int()> runProbes = addBenchProbesCommand(*app);
     std::function<int()> runGi = addBenchGiCommand(*app);
     std::function<int()> runShadows = addBenchShadowsCommand(*app);
+    std::function<int()> runMsaa = addBenchMsaaCommand(*app);
     CLI::App* gi = app->get_subcommand("gi");
     CLI::App* shadows = app->get_subcommand("shadows");
-    return {app, [options, forward, gi, shadows, runProbes, runGi, runShadows] {
+    CLI::App* msaa = app->get_subcommand("msaa");
+    return {app, [options, forward, gi, shadows, msaa, runProbes, runGi, runShadows, runMsaa] {
                 if (forward->parsed()) {
                     for (const char* name : {"--lights", "--cutoffs", "--size", "--frames", "--warmup", "--tile-sizes", "--tile-caps"})
                         if (forward->count(name) > 0) options->given.insert(name);
                     return runForward(*options);
                 }
                 if (shadows->parsed()) return runShadows();
+                if (msaa->parsed()) return runMsaa();
                 return gi->parsed() ? runGi() : runProbes();
             }};
 }

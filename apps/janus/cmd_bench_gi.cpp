@@ -381,13 +381,10 @@ int runGi(const GiOptions& options) {
     for (const Row& r : rows) {
         if (r.sweep == "default" || r.backend != rows.front().backend || r.path != rows.front().path) continue;
         if (!(r.relight.totalMs > 0.0 && r.probeConverged.relativeRmse > 0.0)) continue;
-        auto it = std::find_if(series.begin(), series.end(), [&](const PlotSeries& s) { return s.name == r.sweep; });
-        if (it == series.end()) {
-            series.push_back(PlotSeries{r.sweep, {}});
-            it = series.end() - 1;
-            if (defaultRow) it->points.push_back({defaultRow->relight.totalMs, 100.0 * defaultRow->probeConverged.relativeRmse});
-        }
-        it->points.push_back({r.relight.totalMs, 100.0 * r.probeConverged.relativeRmse});
+        PlotSeries& line = seriesNamed(series, r.sweep);
+        if (line.points.empty() && defaultRow)   // each sweep's line starts at the default row
+            line.points.push_back({defaultRow->relight.totalMs, 100.0 * defaultRow->probeConverged.relativeRmse});
+        line.points.push_back({r.relight.totalMs, 100.0 * r.probeConverged.relativeRmse});
     }
 
     // ---- Goals (docs/GI.md): measured in this run ----

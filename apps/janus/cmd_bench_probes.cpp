@@ -184,12 +184,8 @@ int runProbes(const ProbesOptions& options) {
              {"brightFound", row.m.brightFound}, {"brightOverflow", row.m.brightOverflow}, {"mips", mips}});
         // Plot: worst-mip relative RMSE (%) vs GPU ms, one line per backend/path/size.
         const std::string name = fmt::format("{}/{} {}", row.backend, row.path, row.faceSize);
-        auto it = std::find_if(series.begin(), series.end(), [&](const PlotSeries& s) { return s.name == name; });
-        if (it == series.end()) {
-            series.push_back(PlotSeries{name, {}});
-            it = series.end() - 1;
-        }
-        if (row.m.gpuMs > 0.0 && worst > 0.0) it->points.push_back({row.m.gpuMs, 100.0 * worst});
+        PlotSeries& line = seriesNamed(series, name);
+        if (row.m.gpuMs > 0.0 && worst > 0.0) line.points.push_back({row.m.gpuMs, 100.0 * worst});
     }
     md += "\nPlot (probes.png): worst-mip relative RMSE (%) against GPU ms per update, log-log, one line per backend/path/face "
           "size, points in order of samples.\n";

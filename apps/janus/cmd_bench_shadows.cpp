@@ -48,12 +48,6 @@ struct Row {
     renderer::VisibilityError error;
 };
 
-double median(std::vector<double> values) {
-    if (values.empty()) return 0.0;
-    std::sort(values.begin(), values.end());
-    return values[values.size() / 2];
-}
-
 std::string percent(double value) { return fmt::format("{:.2f}", 100.0 * value); }
 
 nlohmann::json errorJson(const renderer::VisibilityError& e) {
@@ -259,12 +253,7 @@ int runShadows(const ShadowsOptions& options) {
         // Plot: mean error against the shadow pass's time, one line per configuration.
         if (r.mapSize == 0 || !(r.shadowMs > 0.0) || !(r.error.meanAbsolute > 0.0)) continue;
         const std::string name = r.backend + "/" + r.path;
-        auto it = std::find_if(series.begin(), series.end(), [&](const PlotSeries& s) { return s.name == name; });
-        if (it == series.end()) {
-            series.push_back(PlotSeries{name, {}});
-            it = series.end() - 1;
-        }
-        it->points.push_back({r.shadowMs, 100.0 * r.error.meanAbsolute});
+        seriesNamed(series, name).points.push_back({r.shadowMs, 100.0 * r.error.meanAbsolute});
     }
 
     // What the sweep says, per configuration: how the error falls with the map's size (the slope of

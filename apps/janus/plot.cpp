@@ -106,6 +106,12 @@ std::string tickLabel(double value) {
 
 }  // namespace
 
+PlotSeries& seriesNamed(std::vector<PlotSeries>& series, const std::string& name) {
+    for (PlotSeries& s : series)
+        if (s.name == name) return s;
+    return series.emplace_back(PlotSeries{name, {}});
+}
+
 renderer::ImageRGBA8 drawLogXPlot(const std::vector<PlotSeries>& series, const std::string& xLabel, const std::string& yLabel) {
     constexpr int width = 900, height = 560, left = 70, right = 330, top = 30, bottom = 60;
     Canvas canvas{renderer::ImageRGBA8{width, height, std::vector<uint8_t>(size_t(width) * height * 4, 255)}};

@@ -8,6 +8,15 @@
 namespace janus::cli {
 namespace {
 
+// The benches' medians: the middle run, or the mean of the middle two (shadows took the upper
+// one until session 35).
+TEST(BenchMedian, MiddleRunOrMeanOfTheMiddleTwo) {
+    EXPECT_EQ(median({}), 0.0);
+    EXPECT_EQ(median({3.0}), 3.0);
+    EXPECT_EQ(median({5.0, 1.0, 3.0}), 3.0);
+    EXPECT_EQ(median({4.0, 1.0, 2.0, 8.0}), 3.0);
+}
+
 TEST(ValidUtf8, KeepsValidTextAndEscapesEveryInvalidByte) {
     EXPECT_EQ(validUtf8("plain/path.gltf"), "plain/path.gltf");
     EXPECT_EQ(validUtf8("caf\xC3\xA9 \xE2\x82\xAC \xF0\x9F\x98\x80"), "caf\xC3\xA9 \xE2\x82\xAC \xF0\x9F\x98\x80");

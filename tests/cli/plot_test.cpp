@@ -52,5 +52,18 @@ TEST(Plot, WholeNumbersKeepEveryDigit) {
     EXPECT_EQ(widths[1], 4 * 6 + 3 * 2) << "2048 should be written whole, not as 2.05e+03";
 }
 
+// A bench adds its rows' points one by one: each to the line of its name, lines in order of first use.
+TEST(SeriesNamed, FindsTheLineOfANameOrAppendsIt) {
+    std::vector<PlotSeries> series;
+    seriesNamed(series, "vulkan/compute").points.push_back({1.0, 2.0});
+    seriesNamed(series, "gl/compute").points.push_back({1.0, 3.0});
+    seriesNamed(series, "vulkan/compute").points.push_back({2.0, 1.0});
+    ASSERT_EQ(series.size(), 2u);
+    EXPECT_EQ(series[0].name, "vulkan/compute");
+    EXPECT_EQ(series[0].points.size(), 2u);
+    EXPECT_EQ(series[1].name, "gl/compute");
+    EXPECT_EQ(series[1].points.size(), 1u);
+}
+
 }  // namespace
 }  // namespace janus::cli
