@@ -295,6 +295,7 @@ void Pipeline::applyState() const {
     const DepthState& depth = m_graphics.depth;
     state.setDepthTest(depth.testEnable, compareFunction(depth.compare));
     state.setDepthMask(depth.writeEnable);
+    state.setAlphaToCoverage(m_graphics.alphaToCoverage);
 
     auto blendOf = [&](size_t i) { return i < m_graphics.blend.size() ? m_graphics.blend[i] : BlendAttachment{}; };
     // ES: one state for all attachments (checked equal at creation).

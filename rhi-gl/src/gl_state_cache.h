@@ -40,6 +40,10 @@ public:
         if (m_depthTest.update(enable)) enable ? m_gl.glEnable(GL_DEPTH_TEST) : m_gl.glDisable(GL_DEPTH_TEST);
         if (enable && m_depthFunc.update(compare)) m_gl.glDepthFunc(compare);
     }
+    void setAlphaToCoverage(bool enable) {
+        if (m_alphaToCoverage.update(enable))
+            enable ? m_gl.glEnable(GL_SAMPLE_ALPHA_TO_COVERAGE) : m_gl.glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
+    }
     void setDepthMask(bool write) {
         if (m_depthMask.update(write)) m_gl.glDepthMask(write ? GL_TRUE : GL_FALSE);
     }
@@ -114,7 +118,7 @@ private:
 
     const GLFunctions& m_gl;
     bool m_es;
-    Known<bool> m_cullEnable, m_offsetEnable, m_depthTest, m_depthMask;
+    Known<bool> m_cullEnable, m_offsetEnable, m_depthTest, m_depthMask, m_alphaToCoverage;
     Known<GLenum> m_cullFace, m_frontFace, m_depthFunc;
     Known<std::pair<float, float>> m_offset, m_depthRange;
     std::array<Attachment, kCachedAttachments> m_attachments;

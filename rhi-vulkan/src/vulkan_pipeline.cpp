@@ -258,6 +258,7 @@ Pipeline::Pipeline(ContextPtr context, const GraphicsPipelineDesc& desc)
     if (desc.topology == PrimitiveTopology::LineList && m_context->bresenhamLines) raster.pNext = &lineState;
     VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
     multisample.rasterizationSamples = VkSampleCountFlagBits(desc.sampleCount);   // validated against the formats
+    multisample.alphaToCoverageEnable = desc.alphaToCoverage ? VK_TRUE : VK_FALSE;
     VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
     const bool hasDepth = desc.depthFormat != Format::Unknown;
     depth.depthTestEnable = desc.depth.testEnable;

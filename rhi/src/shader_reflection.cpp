@@ -98,6 +98,12 @@ ShaderReflection reflectShader(const ShaderDesc& desc) {
         for (const auto& r : resources.storage_buffers) add(r, ResourceType::StorageBuffer);
         for (const auto& r : resources.sampled_images) add(r, ResourceType::SampledTexture);
         for (const auto& r : resources.storage_images) add(r, ResourceType::StorageImage);
+        if (desc.stage == ShaderStage::Fragment) {
+            for (const auto& r : resources.stage_outputs)
+                if (compiler.has_decoration(r.id, spv::DecorationLocation) && compiler.get_decoration(r.id, spv::DecorationLocation) == 0 &&
+                    compiler.get_type(r.type_id).vecsize == 4)
+                    result.writesAlphaAtLocation0 = true;
+        }
         if (desc.stage == ShaderStage::Vertex) {
             for (const auto& r : resources.stage_inputs) {
                 if (!compiler.has_decoration(r.id, spv::DecorationLocation)) continue;   // built-ins

@@ -27,6 +27,7 @@ struct ReflectedInput {
 struct ShaderReflection {
     std::vector<ReflectedResource> resources;   // statically used by the entry point
     std::vector<ReflectedInput> inputs;         // vertex shaders only
+    bool writesAlphaAtLocation0 = false;        // fragment shaders: a 4-component output at location 0
 };
 
 // Whether `desc.spirv` is a SPIR-V module SPIRV-Cross may parse: words, the magic number, and

@@ -415,6 +415,18 @@ void validateGraphicsPipeline(const DeviceProperties& device, const GraphicsPipe
         for (Format format : desc.colorFormats) requireSampleCount(device, format, desc.sampleCount, name);
         if (desc.depthFormat != Format::Unknown) requireSampleCount(device, desc.depthFormat, desc.sampleCount, name);
     }
+    if (desc.alphaToCoverage) {
+        // With one sample GL ignores alpha to coverage and Vulkan turns alpha into a per-pixel
+        // cut-off of its own choosing: the backends would draw differently.
+        if (desc.sampleCount < 2)
+            invalid(fmt::format("{}: alphaToCoverage needs a multisampled pipeline (sampleCount > 1), not sampleCount {}; "
+                                "discard below a cut-off in the shader instead, or turn it off",
+                                name, desc.sampleCount));
+        if (!reflectShader(fs.desc()).writesAlphaAtLocation0)
+            invalid(fmt::format("{}: alphaToCoverage reads the alpha of fragment output location 0, which the fragment shader "
+                                "'{}' does not write; declare a vec4 output at location 0",
+                                name, fs.desc().debugName));
+    }
     if (desc.depthFormat != Format::Unknown) {
         if (size_t(desc.depthFormat) >= device.formats.size() || !isDepthFormat(desc.depthFormat))
             invalid(fmt::format("{}: depthFormat {} is not a depth format", name, toString(desc.depthFormat)));

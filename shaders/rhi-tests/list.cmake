@@ -5,6 +5,8 @@ janus_add_shader(janus_shaders NAME rt_vertex_color_vert SOURCE ${_rt}/vertex_co
 janus_add_shader(janus_shaders NAME rt_vertex_color_frag SOURCE ${_rt}/vertex_color.frag)
 janus_add_shader(janus_shaders NAME rt_sample_2d_frag SOURCE ${_rt}/sample_2d.frag)
 janus_add_shader(janus_shaders NAME rt_uv_frag SOURCE ${_rt}/uv.frag)
+janus_add_shader(janus_shaders NAME rt_alpha_ramp_frag SOURCE ${_rt}/alpha_ramp.frag)
+janus_add_shader(janus_shaders NAME rt_no_color_frag SOURCE ${_rt}/no_color.frag)
 janus_add_shader(janus_shaders NAME rt_sample_stretched_frag SOURCE ${_rt}/sample_stretched.frag)
 janus_add_shader(janus_shaders NAME rt_two_textures_frag SOURCE ${_rt}/two_textures.frag)
 janus_add_shader(janus_shaders NAME rt_two_textures_two_sets_frag SOURCE ${_rt}/two_textures.frag DEFINES SEPARATE_SETS)

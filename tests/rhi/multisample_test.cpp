@@ -1,6 +1,9 @@
 // Multisampling: multisampled colour and depth attachments resolved at the end of a pass
-// (TextureDesc::sampleCount, Attachment::resolveTo, GraphicsPipelineDesc::sampleCount), and the
+// (TextureDesc::sampleCount, Attachment::resolveTo, GraphicsPipelineDesc::sampleCount), alpha to
+// coverage (GraphicsPipelineDesc::alphaToCoverage), and the
 // validation of every way to misuse them, with the same error code on every backend.
+#include <set>
+
 #include "backend_test.h"
 
 namespace janus::rhi::test {
@@ -38,6 +41,17 @@ protected:
     }
     PipelineHandle pipeline(uint32_t samples, Format depthFormat = Format::Unknown, DepthState depth = {}) {
         return device().createGraphicsPipeline(pipelineDesc(samples, depthFormat, depth));
+    }
+    // rt_fullscreen_vert + rt_alpha_ramp_frag (white, alpha 0 at the left edge to 1 at the right)
+    // into RGBA8 with `samples` samples.
+    GraphicsPipelineDesc alphaRampDesc(uint32_t samples, bool alphaToCoverage) {
+        GraphicsPipelineDesc desc;
+        desc.setShaders(shader("rt_fullscreen_vert"), shader("rt_alpha_ramp_frag"))
+            .addColorFormat(Format::RGBA8_UNORM)
+            .setSampleCount(samples)
+            .setAlphaToCoverage(alphaToCoverage)
+            .setDebugName(fmt::format("{}x alpha ramp{}", samples, alphaToCoverage ? ", alpha to coverage" : ""));
+        return desc;
     }
     // The resolved image, copied out in the same command list as the pass (so the resolve's
     // write and the copy's read meet the hazard tracking, which validation watches).
@@ -292,8 +306,65 @@ TEST_P(MultisampleTest, EveryMisuseHasOneErrorCodeOnEveryBackend) {
                   .addColor(Attachment::clear(multisampled(Format::RGBA8_UNORM)).resolveTo(resolved)))},
         {"a single-sampled pipeline in a multisampled pass", kUsage, {"1 sample(s)", "have 4"}, drawWith(1, color)},
         {"a multisampled pipeline in a single-sampled pass", kUsage, {"4 sample(s)", "have 1"}, drawWith(kSamples, single)},
+        {"alpha to coverage with one sample", kDesc, {"alphaToCoverage needs a multisampled pipeline", "sampleCount 1"},
+         [&] { dev.createGraphicsPipeline(alphaRampDesc(1, true)); }},
+        {"alpha to coverage from a shader without a colour output", kDesc, {"alphaToCoverage", "rt_no_color_frag", "location 0"},
+         [&] {
+             GraphicsPipelineDesc desc = alphaRampDesc(kSamples, true);
+             desc.fragmentShader = shader("rt_no_color_frag");
+             dev.createGraphicsPipeline(desc);
+         }},
     };
     for (const Mistake& m : mistakes) EXPECT_TRUE(throwsRhiError(m.make, m.code, m.mentions)) << m.what;
+}
+
+// Alpha to coverage (GraphicsPipelineDesc::alphaToCoverage): a white fullscreen triangle whose
+// alpha ramps from 0 to 1 across the target covers about alpha x 4 of each pixel's samples, so
+// the resolved image ramps too: every pixel a multiple of 1/4, each column's mean near its
+// alpha (which samples a driver picks, and whether it varies them between pixels, is its own),
+// and at least three levels between black and white. The same pipeline without it covers every
+// sample; drawn right after the one with it (GL keeps the state on the context), it still does.
+TEST_P(MultisampleTest, AlphaToCoverageCoversAsManySamplesAsAlphaSays) {
+    const PipelineHandle withCoverage = device().createGraphicsPipeline(alphaRampDesc(kSamples, true));
+    const PipelineHandle without = device().createGraphicsPipeline(alphaRampDesc(kSamples, false));
+    const TextureHandle color = multisampled(Format::RGBA8_UNORM);
+    const TextureHandle resolved = resolveTarget(), resolvedWithout = resolveTarget();
+    BufferHandle readback = createBuffer(BufferUsage::None, uint64_t(kSize) * kSize * 4 * 2);
+    submit([&](ICommandList& cmd) {
+        for (const auto& [pipe, target] : {std::pair{withCoverage, resolved}, std::pair{without, resolvedWithout}}) {
+            cmd.beginRenderPass(RenderPassDesc().addColor(Attachment::clear(color, {0.0f, 0.0f, 0.0f, 0.0f}).resolveTo(target)));
+            cmd.setPipeline(pipe);
+            cmd.draw(3);
+            cmd.endRenderPass();
+        }
+        cmd.copyTextureToBuffer(readback, 0, resolved, {});
+        cmd.copyTextureToBuffer(readback, uint64_t(kSize) * kSize * 4, resolvedWithout, {});
+    });
+    const std::vector<Rgba8> pixels = readBufferAs<Rgba8>(readback);
+    ASSERT_EQ(pixels.size(), size_t(kSize) * kSize * 2);
+    std::set<int> levels;
+    double total = 0.0;
+    for (uint32_t x = 0; x < kSize; ++x) {
+        double column = 0.0;
+        for (uint32_t y = 0; y < kSize; ++y) {
+            const Rgba8 p = pixels[y * kSize + x];
+            const double steps = p.r / 255.0 * kSamples;
+            EXPECT_LE(std::abs(steps - std::round(steps)) * 255.0 / kSamples, 1.0)
+                << "pixel (" << x << ", " << y << ") = " << int(p.r) << ", no multiple of 1/4";
+            levels.insert(int(std::lround(steps)));
+            column += p.r / 255.0;
+            EXPECT_EQ(pixels[size_t(kSize) * kSize + y * kSize + x].r, 255) << "without alpha to coverage, pixel (" << x << ", " << y << ")";
+        }
+        column /= kSize;
+        total += column;
+        const double alpha = (x + 0.5) / kSize;
+        // A quarter: the coverage is alpha rounded to whole samples (or dithered around it).
+        EXPECT_NEAR(column, alpha, 0.25) << "column " << x;
+    }
+    // The mean alpha is 1/2; rounding each pixel's alpha x 4 up (llvmpipe and lavapipe: any alpha
+    // above 0 covers a sample) or down moves the mean by 1/8 at most.
+    EXPECT_NEAR(total / kSize, 0.5, 0.125 + 1.0 / 255.0);   // and the 8-bit storage of quarters
+    EXPECT_GE(levels.size(), 3u) << "alpha to coverage gave only full or no coverage";
 }
 
 // What `janus info` shows: every backend allows 4 samples where GL 4.3, ES 3.0 and Vulkan

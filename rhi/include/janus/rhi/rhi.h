@@ -453,6 +453,13 @@ struct GraphicsPipelineDesc {
     std::vector<Format> colorFormats;
     Format depthFormat = Format::Unknown;
     uint32_t sampleCount = 1;   // the attachments' TextureDesc::sampleCount (must match the render pass)
+    // Alpha to coverage: each fragment covers only as many of its pixel's samples as the alpha of
+    // its colour output 0 says (about alpha x sampleCount; which ones, and whether the pattern
+    // varies between pixels, is the driver's), on top of the triangle's own coverage and the
+    // depth test. Needs sampleCount > 1 and a fragment shader writing a vec4 at location 0 (also
+    // without colour attachments: GL then skips the step, so a depth-only pass with it draws as
+    // without on GL and ES; keep it to passes with a colour attachment 0).
+    bool alphaToCoverage = false;
     std::vector<DynamicUniformBuffer> dynamicUniformBuffers;   // read with dynamic offsets
     std::string debugName;
 
@@ -465,6 +472,7 @@ struct GraphicsPipelineDesc {
     GraphicsPipelineDesc& addColorFormat(Format f, BlendAttachment b = {}) { colorFormats.push_back(f); blend.push_back(b); return *this; }
     GraphicsPipelineDesc& setDepthFormat(Format f) { depthFormat = f; return *this; }
     GraphicsPipelineDesc& setSampleCount(uint32_t v) { sampleCount = v; return *this; }
+    GraphicsPipelineDesc& setAlphaToCoverage(bool v) { alphaToCoverage = v; return *this; }
     GraphicsPipelineDesc& addDynamicUniformBuffer(uint32_t set, uint32_t binding) { dynamicUniformBuffers.push_back({set, binding}); return *this; }
     GraphicsPipelineDesc& setDebugName(std::string v) { debugName = std::move(v); return *this; }
 };
