@@ -444,6 +444,20 @@ uint32_t parseMsaaOption(const std::string& msaa) {
     return samples;
 }
 
+void addAlphaToCoverageOption(CLI::App& app, std::string& alphaToCoverage) {
+    app.add_option("--alpha-to-coverage", alphaToCoverage,
+                   "With --msaa above 1: 'on' (the default) gives alpha-masked materials coverage by alpha around their cut-off, so "
+                   "cut-out edges are anti-aliased; 'off' keeps the per-pixel cut-off (docs/LIGHTING.md, \"Anti-aliasing\")")
+        ->type_name("on|off");
+}
+
+std::optional<bool> parseAlphaToCoverageOption(const std::string& alphaToCoverage) {
+    if (alphaToCoverage.empty()) return std::nullopt;
+    if (alphaToCoverage == "on") return true;
+    if (alphaToCoverage == "off") return false;
+    throw UsageError(fmt::format("--alpha-to-coverage '{}' is not allowed; use on or off", alphaToCoverage));
+}
+
 renderer::LightingSettings parseLightingOptions(const LightingOptions& options) {
     renderer::LightingSettings lighting;
     if (!options.culling.empty()) {
@@ -667,6 +681,7 @@ RenderOutcome renderConfiguration(const renderer::Scene& scene, const RenderRequ
     // A count the device does not allow (given here or by the scene's quality.msaa) is the
     // renderer's RendererError: exit 4, naming the counts it allows.
     settings.msaaSamples = request.msaaSamples;
+    settings.alphaToCoverage = request.alphaToCoverage;
 
     RenderOutcome outcome;
     outcome.device = device->info();

@@ -177,6 +177,10 @@ renderer::DebugView parseDebugOption(std::string_view text);                    
 // the scene's quality "msaa", else 1).
 void addMsaaOption(CLI::App& app, std::string& msaa);
 uint32_t parseMsaaOption(const std::string& msaa);   // throws UsageError
+// --alpha-to-coverage on|off, beside --msaa: alpha-masked materials' coverage with samples
+// (RenderSettings::alphaToCoverage; empty = nullopt, the scene's quality "alphaToCoverage", else on).
+void addAlphaToCoverageOption(CLI::App& app, std::string& alphaToCoverage);
+std::optional<bool> parseAlphaToCoverageOption(const std::string& alphaToCoverage);   // throws UsageError
 
 // --env FILE.hdr|FILE.exr and --env-intensity X, shared by render and parity: they set or override
 // the scene's environment map and intensity. Empty strings = not given (the scene's own).
@@ -240,6 +244,7 @@ struct RenderRequest {
     renderer::DebugView debugView = renderer::DebugView::None;
     std::filesystem::path giBakeFile;   // empty: the irradiance volume (if any) is baked at start-up
     uint32_t msaaSamples = 0;   // 0: the scene's quality "msaa", else 1
+    std::optional<bool> alphaToCoverage;   // nullopt: the scene's quality "alphaToCoverage", else on
 };
 
 struct RenderOutcome {

@@ -98,7 +98,11 @@ Error measure(const std::vector<double>& errors, const std::vector<uint8_t>& ali
     return result;
 }
 
-enum class Method { Msaa, Supersample };
+// Msaa: RenderSettings::msaaSamples (alpha-masked materials with alpha to coverage, the default);
+// MsaaCutOff: the same with alphaToCoverage off (measured where the scene has masked materials);
+// Supersample: rendered larger with one sample, box-filtered.
+enum class Method { Msaa, MsaaCutOff, Supersample };
+bool multisampled(Method method) { return method != Method::Supersample; }
 
 struct Row {
     std::string backend, path;
@@ -113,7 +117,8 @@ struct Row {
 
 std::string methodLabel(const Row& row) {
     if (row.method == Method::Supersample) return fmt::format("ssaa {}x{}", row.scale, row.scale);
-    return row.samples == 1 ? std::string("1 sample") : fmt::format("msaa {}", row.samples);
+    if (row.samples == 1) return "1 sample";
+    return fmt::format("msaa {}{}", row.samples, row.method == Method::MsaaCutOff ? ", cut-off" : "");
 }
 
 struct Timing {
@@ -207,6 +212,8 @@ int runMsaa(const MsaaOptions& options) {
             for (renderer::FeaturePath path : paths) outputs.push_back(fmt::format("msaa-error-{}.png", configurationFileStem(backend, path)));
         checkFolderOutputs(outDir, "--out", outputs, sceneInputFiles(scenePath));
     }
+    const auto maskedMaterials = std::count_if(scene.materials.begin(), scene.materials.end(),
+                                               [](const renderer::Material& m) { return m.alphaMode == renderer::AlphaMode::Mask; });
     const uint64_t pixels = uint64_t(size.width) * size.height;
     auto targetBytes = [&](uint32_t sampleCount, uint32_t scale) {
         const uint64_t sampled = pixels * scale * scale * sampleCount * (8 + 4);
@@ -229,12 +236,13 @@ int runMsaa(const MsaaOptions& options) {
             }
             // Renders at `scale` x the size with `sampleCount` samples; nullopt (and a skipped
             // entry) where the device cannot.
-            auto render = [&](uint32_t sampleCount, uint32_t scale, const std::string& what)
+            auto render = [&](uint32_t sampleCount, uint32_t scale, const std::string& what, bool alphaToCoverage = true)
                 -> std::optional<std::pair<Timing, renderer::ImageRGBAF>> {
                 renderer::RenderSettings settings;
                 settings.width = size.width * scale, settings.height = size.height * scale;
                 settings.path = path;
                 settings.msaaSamples = sampleCount;
+                settings.alphaToCoverage = alphaToCoverage;
                 std::optional<renderer::Renderer> frameRenderer;
                 try {
                     frameRenderer.emplace(*device, scene, settings);
@@ -255,8 +263,8 @@ int runMsaa(const MsaaOptions& options) {
             std::vector<uint8_t> aliased;
             std::vector<double> oneSampleErrors, largestErrors;
             auto addRow = [&](Method method, uint32_t sampleCount, uint32_t scale) {
-                const std::string what = method == Method::Msaa ? fmt::format("msaa {}", sampleCount) : fmt::format("ssaa {}x{}", scale, scale);
-                const auto measured = render(method == Method::Msaa ? sampleCount : 1, scale, what);
+                const std::string what = multisampled(method) ? fmt::format("msaa {}", sampleCount) : fmt::format("ssaa {}x{}", scale, scale);
+                const auto measured = render(multisampled(method) ? sampleCount : 1, scale, what, method != Method::MsaaCutOff);
                 if (!measured) return false;
                 const std::vector<double> errors = pixelErrors(measured->second, reference->second);
                 if (aliased.empty()) {   // the one-sample row, first
@@ -267,10 +275,10 @@ int runMsaa(const MsaaOptions& options) {
                 } else if (method == Method::Msaa) {
                     largestErrors = errors;
                 }
-                Row row{rhi::toString(backend), renderer::toString(path), method, method == Method::Msaa ? sampleCount : scale * scale, scale};
+                Row row{rhi::toString(backend), renderer::toString(path), method, multisampled(method) ? sampleCount : scale * scale, scale};
                 row.frameMs = measured->first.frameMs, row.forwardMs = measured->first.forwardMs, row.resolveMs = measured->first.resolveMs;
                 row.gpuTimed = measured->first.gpuTimed && reference->first.gpuTimed;
-                row.targetBytes = targetBytes(method == Method::Msaa ? sampleCount : 1, scale);
+                row.targetBytes = targetBytes(multisampled(method) ? sampleCount : 1, scale);
                 row.error = measure(errors, aliased);
                 std::fprintf(stderr, "  %s %-9s frame %8.3f ms (forward %.3f, resolve %.3f); error %6.2f %% (aliased pixels %6.2f %%, %llu still wrong)\n",
                              label.c_str(), methodLabel(row).c_str(), row.frameMs, row.forwardMs, row.resolveMs, 100.0 * row.error.meanAll,
@@ -280,8 +288,11 @@ int runMsaa(const MsaaOptions& options) {
             };
             // Without the one-sample image there is nothing to measure the others against.
             if (!addRow(Method::Msaa, 1, 1)) continue;
-            for (uint32_t count : samples)
-                if (count > 1) addRow(Method::Msaa, count, 1);
+            for (uint32_t count : samples) {
+                if (count == 1) continue;
+                // What alpha to coverage buys at this count, where there are cut-outs for it to smooth.
+                if (addRow(Method::Msaa, count, 1) && maskedMaterials > 0) addRow(Method::MsaaCutOff, count, 1);
+            }
             for (uint32_t scale : scales) addRow(Method::Supersample, 1, scale);
             renderer::writePNG(outDir / fmt::format("msaa-error-{}.png", configurationFileStem(backend, path)),
                                errorPicture(reference->second, oneSampleErrors, largestErrors.empty() ? oneSampleErrors : largestErrors));
@@ -298,8 +309,9 @@ int runMsaa(const MsaaOptions& options) {
         "Scene: {}. Image: {}x{}. Each row renders the main view and compares its HDR image with a reference: the same "
         "configuration at {}x the size with one sample, box-filtered ({} samples a pixel on a regular grid).\n\n"
         "- **msaa N**: `--msaa N`, shaded once per pixel, depth-tested per sample, averaged by `msaa-resolve` "
-        "(docs/LIGHTING.md, \"Anti-aliasing\"). **ssaa KxK**: rendered at K times the size with one sample and box-filtered on "
-        "the CPU (not timed): shading too is sampled K^2 times.\n"
+        "(docs/LIGHTING.md, \"Anti-aliasing\"), alpha-masked materials covering samples by alpha; **msaa N, cut-off**: the same "
+        "with `--alpha-to-coverage off` (where the scene has alpha-masked materials: what alpha to coverage buys). **ssaa KxK**: "
+        "rendered at K times the size with one sample and box-filtered on the CPU (not timed): shading too is sampled K^2 times.\n"
         "- **error**: per pixel the largest channel's |difference| in x/(1+x) of linear radiance (0..1, so one bright "
         "emitter cannot outweigh every edge). **all**: its mean over every pixel. **aliased**: its mean over the {} pixels "
         "the one-sample image gets wrong (> 2/255); **still wrong**: how many of those stay so.\n"
@@ -317,14 +329,17 @@ int runMsaa(const MsaaOptions& options) {
     std::vector<PlotSeries> series;
     for (const Row& r : rows) {
         md += fmt::format("| {} | {} | {} | {} | {:.3f} | {:.3f} | {} | {} | {} | {} | {} |\n", r.backend, r.path, methodLabel(r), r.samples,
-                          r.frameMs, r.forwardMs, r.method == Method::Msaa && r.samples > 1 ? fmt::format("{:.3f}", r.resolveMs) : "-",
+                          r.frameMs, r.forwardMs, multisampled(r.method) && r.samples > 1 ? fmt::format("{:.3f}", r.resolveMs) : "-",
                           mebibytes(r.targetBytes), percent(r.error.meanAll), percent(r.error.meanAliased), r.error.aliasedLeft);
-        nlohmann::json row = {{"backend", r.backend}, {"path", r.path}, {"method", r.method == Method::Msaa ? "msaa" : "ssaa"},
+        nlohmann::json row = {{"backend", r.backend}, {"path", r.path}, {"method", multisampled(r.method) ? "msaa" : "ssaa"},
                               {"samples", r.samples}, {"scale", r.scale}, {"frameMs", r.frameMs}, {"forwardMs", r.forwardMs},
                               {"targetBytes", r.targetBytes},
                               {"error", {{"meanAll", r.error.meanAll}, {"meanAliased", r.error.meanAliased},
                                          {"aliasedLeft", r.error.aliasedLeft}, {"max", r.error.maxError}}}};
-        if (r.method == Method::Msaa && r.samples > 1) row["resolveMs"] = r.resolveMs;
+        if (multisampled(r.method) && r.samples > 1) {
+            row["resolveMs"] = r.resolveMs;
+            row["alphaToCoverage"] = r.method == Method::Msaa;
+        }
         json["configurations"].push_back(row);
         // Plot: the aliased pixels' error against the frame's time; a line per configuration and
         // method, each starting at the one-sample row.
@@ -333,8 +348,10 @@ int runMsaa(const MsaaOptions& options) {
         if (r.samples == 1) {
             seriesNamed(series, name + " msaa").points.push_back({r.frameMs, 100.0 * r.error.meanAliased});
             if (!scales.empty()) seriesNamed(series, name + " ssaa").points.push_back({r.frameMs, 100.0 * r.error.meanAliased});
+            if (maskedMaterials > 0) seriesNamed(series, name + " msaa cut-off").points.push_back({r.frameMs, 100.0 * r.error.meanAliased});
         } else {
-            seriesNamed(series, name + (r.method == Method::Msaa ? " msaa" : " ssaa")).points.push_back({r.frameMs, 100.0 * r.error.meanAliased});
+            const char* line = r.method == Method::Msaa ? " msaa" : r.method == Method::MsaaCutOff ? " msaa cut-off" : " ssaa";
+            seriesNamed(series, name + line).points.push_back({r.frameMs, 100.0 * r.error.meanAliased});
         }
     }
 
@@ -353,7 +370,8 @@ int runMsaa(const MsaaOptions& options) {
                                         "and {:.1f}x the targets' memory",
                                         methodLabel(r), errorRatio, r.error.aliasedLeft, base.error.aliasedLeft, timeRatio,
                                         double(r.targetBytes) / double(base.targetBytes)));
-            summary.push_back({{"backend", r.backend}, {"path", r.path}, {"method", r.method == Method::Msaa ? "msaa" : "ssaa"},
+            summary.push_back({{"backend", r.backend}, {"path", r.path}, {"method", multisampled(r.method) ? "msaa" : "ssaa"},
+                               {"alphaToCoverage", r.method != Method::MsaaCutOff},
                                {"samples", r.samples}, {"aliasedErrorRatio", errorRatio}, {"frameTimeRatio", timeRatio}});
         }
         md += fmt::format("- {}/{}: one sample: aliased pixels' error {} % ({:.3f} {}). {}.\n", base.backend, base.path,

@@ -31,6 +31,7 @@ struct ParityOptions {
     bool allowOutsidePaths = false;
     LightingOptions lighting;
     std::string msaa;
+    std::string alphaToCoverage;
     EnvironmentOptions environment;
     AnimationOptions animation;
     SceneChoiceOptions sceneChoice;
@@ -173,6 +174,7 @@ int run(const ParityOptions& options) {
     base.validation = options.validation;
     base.lighting = parseLightingOptions(options.lighting);
     base.msaaSamples = parseMsaaOption(options.msaa);
+    base.alphaToCoverage = parseAlphaToCoverageOption(options.alphaToCoverage);
     const uint32_t tolerance = parseTolerance(options.tolerance);
     const uint64_t edgePixels = parseEdgePixels(options.edgePixels);
     const bool compilerRounding = parseCompilerRounding(options.compilerRounding);
@@ -284,8 +286,11 @@ int run(const ParityOptions& options) {
     nlohmann::json configsJson = nlohmann::json::array();
     // --msaa, else what the scene's quality asked for (every configuration renders with the same).
     uint32_t msaaSamples = base.msaaSamples;
-    for (const ConfigurationResult& r : results)
+    bool alphaToCoverage = false;   // used: samples, and not turned off
+    for (const ConfigurationResult& r : results) {
         if (msaaSamples == 0 && r.outcome) msaaSamples = r.outcome->report.msaaSamples;
+        if (r.outcome) alphaToCoverage = r.outcome->report.alphaToCoverage;
+    }
     for (const ConfigurationResult& r : results) {
         nlohmann::json entry{{"backend", rhi::toString(r.config.backend)},
                              {"path", renderer::toString(r.config.path)},
@@ -309,6 +314,7 @@ int run(const ParityOptions& options) {
                                  {"width", base.size.width},
                                  {"height", base.size.height},
                                  {"msaaSamples", std::max(msaaSamples, 1u)},
+                                 {"alphaToCoverage", alphaToCoverage},
                                  {"tolerance", tolerance},
                                  {"edgePixels", edgePixels},
                                  {"compilerRounding", options.compilerRounding},
@@ -368,6 +374,7 @@ Command addParityCommand(CLI::App& parent) {
     addGLPlatformOption(*app, options->glPlatform);
     addLightingOptions(*app, options->lighting);
     addMsaaOption(*app, options->msaa);
+    addAlphaToCoverageOption(*app, options->alphaToCoverage);
     addEnvironmentOptions(*app, options->environment);
     addAnimationOptions(*app, options->animation);
     addSceneChoiceOptions(*app, options->sceneChoice);

@@ -25,6 +25,7 @@ struct RenderOptions {
     std::string giBake;
     LightingOptions lighting;
     std::string msaa;
+    std::string alphaToCoverage;
     EnvironmentOptions environment;
     AnimationOptions animation;
     SceneChoiceOptions sceneChoice;
@@ -42,6 +43,7 @@ int run(const RenderOptions& options) {
     request.validation = options.validation;
     request.lighting = parseLightingOptions(options.lighting);
     request.msaaSamples = parseMsaaOption(options.msaa);
+    request.alphaToCoverage = parseAlphaToCoverageOption(options.alphaToCoverage);
     if (!options.debug.empty()) request.debugView = parseDebugOption(options.debug);
     if (!options.giBake.empty()) {
         request.giBakeFile = options.giBake;
@@ -148,6 +150,7 @@ Command addRenderCommand(CLI::App& parent) {
     addGLPlatformOption(*app, options->glPlatform);
     addLightingOptions(*app, options->lighting);
     addMsaaOption(*app, options->msaa);
+    addAlphaToCoverageOption(*app, options->alphaToCoverage);
     addEnvironmentOptions(*app, options->environment);
     addAnimationOptions(*app, options->animation);
     addSceneChoiceOptions(*app, options->sceneChoice);

@@ -37,11 +37,13 @@ Renderer::Impl::Impl(rhi::IDevice& d, const Scene& scene, const RenderSettings& 
     : device(d), deviceLifetime(d.lifetime()), settings(s) {
     validateScene(scene);
     settings.msaaSamples = resolveMsaaSamples(s.msaaSamples, scene.quality);
+    settings.alphaToCoverage = resolveAlphaToCoverage(s.alphaToCoverage, scene.quality);
     checkSettings();
     lighting = resolveLighting(settings.lighting, scene.quality);
     mainView = makeCameraView(scene.camera, settings.width, settings.height, "main");
     mainView.debugView = settings.debugView;
     mainView.sampleCount = settings.msaaSamples;
+    mainView.alphaToCoverage = settings.msaaSamples > 1 && *settings.alphaToCoverage;
     createTargets();
     gpuScene = std::make_unique<GpuScene>(device, scene);
     createFeatures(scene);
@@ -216,6 +218,7 @@ FrameReport Renderer::Impl::newReport(uint32_t width, uint32_t height) const {
 FrameReport Renderer::Impl::renderFrame() {
     FrameReport frame = newReport(settings.width, settings.height);
     frame.msaaSamples = settings.msaaSamples;   // cube captures stay single-sampled
+    frame.alphaToCoverage = mainView.alphaToCoverage;
     frame.views.push_back(ViewReport{mainView.name, mainView.width, mainView.height});
     // Work done once when the renderer was made (e.g. the sky's filtering) opens the first report.
     for (const std::unique_ptr<RenderFeature>& feature : features)

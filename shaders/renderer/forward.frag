@@ -97,15 +97,16 @@ vec3 shadeLocalLight(Surface s, vec3 worldPosition, int index, uint meshLayers) 
     return shade(s, light.toLight, light.irradiance);
 }
 
-// Writes the fragment's radiance, `coverage` being the base colour's alpha.
-void writeRadiance(vec3 radiance, float coverage) {
+// Writes the fragment's radiance with `alpha`: the base colour's alpha for alphaMode BLEND (the
+// transparent pass, docs/LIGHTING.md "Transparent surfaces": coverage, the output premultiplied
+// and blended as One, OneMinusSrcAlpha); for MASK with alpha to coverage, the share of the
+// pixel's samples the (unblended) radiance goes to; else 1, opaque.
+void writeRadiance(vec3 radiance, float alpha) {
     // Whatever went wrong upstream, no NaN reaches the target (min() would not stop it).
     radiance = mix(radiance, vec3(0.0), isnan(radiance));
-    // alphaMode BLEND (the transparent pass, docs/LIGHTING.md "Transparent surfaces"): alpha is
-    // coverage, and the output is premultiplied, blended as One, OneMinusSrcAlpha. Everything
-    // else is opaque: alpha 1.
-    float alpha = draw.flags.z == kAlphaModeBlend ? clamp(coverage, 0.0, 1.0) : 1.0;
-    outRadiance = vec4(min(radiance, vec3(kMaxRadiance)) * alpha, alpha);
+    bool blended = draw.flags.z == kAlphaModeBlend;
+    alpha = clamp(alpha, 0.0, 1.0);
+    outRadiance = vec4(min(radiance, vec3(kMaxRadiance)) * (blended ? alpha : 1.0), alpha);
 }
 
 void main() {
@@ -122,10 +123,24 @@ void main() {
     vec3 positionDx = dFdx(vWorldPosition), positionDy = dFdy(vWorldPosition);
 
     vec4 baseColor = draw.baseColorFactor * vColor * baseColorSample;
-    if (draw.flags.z == kAlphaModeMask && baseColor.a < draw.emissiveFactor.w) discard;
+    // Before any discard, as the lookups: the quad's four lanes must all be alive.
+    float alphaWidth = fwidth(baseColor.a);
+    // What writeRadiance writes as alpha (see there).
+    float outputAlpha = draw.flags.z == kAlphaModeBlend ? baseColor.a : 1.0;
+    if (draw.flags.z == kAlphaModeMask) {
+        if (frame.lightCounts.w != 0) {
+            // Alpha to coverage (docs/LIGHTING.md, "Anti-aliasing"): the cut-off as a ramp one
+            // pixel wide (alpha's change across the pixel), so the cut-out's edge covers samples
+            // as a triangle's edge would and its inside stays opaque however soft the alpha is.
+            outputAlpha = clamp((baseColor.a - draw.emissiveFactor.w) / max(alphaWidth, 1e-4) + 0.5, 0.0, 1.0);
+            if (outputAlpha <= 0.0) discard;
+        } else if (baseColor.a < draw.emissiveFactor.w) {
+            discard;
+        }
+    }
     if (draw.shading.x != 0) {
         // Unlit (KHR_materials_unlit; points and lines without normals): the base colour is the radiance.
-        writeRadiance(baseColor.rgb, baseColor.a);
+        writeRadiance(baseColor.rgb, outputAlpha);
         return;
     }
     float metallic = clamp(draw.materialParams.x * metallicRoughness.b, 0.0, 1.0);
@@ -237,5 +252,5 @@ void main() {
             radiance += probeSpecular * splitSumScale(NoV, perceptualRoughness, s.f0, s.f90) * specularOcclusion(NoV, occlusion, perceptualRoughness);
     }
     radiance += draw.emissiveFactor.rgb * emissiveSample;
-    writeRadiance(radiance, baseColor.a);
+    writeRadiance(radiance, outputAlpha);
 }

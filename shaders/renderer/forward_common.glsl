@@ -17,7 +17,8 @@ layout(set = JANUS_SET_VIEW, binding = JANUS_BINDING_FRAME_UNIFORMS, std140) uni
     vec4 cameraPosition;   // homogeneous: w 1 the eye; w 0 the direction towards an orthographic camera (toCamera = xyz - position * w)
     vec4 ambientColor;
     vec4 shadowParams;     // x 1 when directional light 0 casts shadows, y shadow texel size, z normal offset (world)
-    ivec4 lightCounts;     // x directional, y local, z 1 = read tile lists (tiled culling), 0 = loop every local light
+    ivec4 lightCounts;     // x directional, y local, z 1 = read tile lists (tiled culling), 0 = loop every local light,
+                           // w 1 = alpha-masked surfaces give their coverage by alpha (alpha to coverage, multisampled views)
     ivec4 tileGrid;        // x tileSize, y tilesX, z maxLightsPerTile, w tileCount
     DirectionalLight directionalLights[kMaxDirectionalLights];
     vec4 skyParams;        // x 1 = the sky lights the scene (else the ambient colour), y prefiltered cube's last mip, z intensity, w 1 = --debug gi, 2 = --debug shadow

@@ -70,4 +70,35 @@ json_check "$TMP/some/msaa.json" '[(c["method"], c["samples"]) for c in j["confi
   all(c["method"] == "msaa" for c in j["configurations"])' "the one-sample row is missing, or supersampling ran though 'none'"
 json_check "$TMP/some/msaa.json" 'any(c["samples"] == 8 for c in j["configurations"]) != any(s.startswith("vulkan/compute: msaa 8 is not possible")
   for s in j["skipped"])' "8 samples were neither measured nor skipped with the reason"
+# A scene with an alpha-masked cut-out (a quad whose vertex alpha ramps across it, cut off at 0.55,
+# turned 20 degrees): each count is measured with alpha to coverage and without ("cut-off"), and
+# alpha to coverage is closer to the reference on the aliased pixels; the default scene, which has
+# no masked material, gets no such rows (checked above: three rows per configuration).
+python3 - "$TMP/cutout.gltf" <<'PY'
+import base64, json, math, struct, sys
+positions = [(-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, 1, 0)]
+colors = [(1, 1, 1, (x + 1) / 2) for x, _, _ in positions]
+data = b"".join(struct.pack("<3f", *p) for p in positions) + b"".join(struct.pack("<4f", *c) for c in colors)
+data += struct.pack("<6H", 0, 1, 2, 0, 2, 3)
+s, c = math.sin(math.radians(10)), math.cos(math.radians(10))
+json.dump({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+  "nodes": [{"mesh": 0, "rotation": [0, 0, s, c]}],
+  "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "COLOR_0": 1}, "indices": 2, "material": 0}]}],
+  "materials": [{"alphaMode": "MASK", "alphaCutoff": 0.55, "emissiveFactor": [1, 0, 0],
+                 "pbrMetallicRoughness": {"baseColorFactor": [0, 0, 0, 1]}}],
+  "buffers": [{"byteLength": len(data), "uri": "data:application/octet-stream;base64," + base64.b64encode(data).decode()}],
+  "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48}, {"buffer": 0, "byteOffset": 48, "byteLength": 64},
+                  {"buffer": 0, "byteOffset": 112, "byteLength": 12}],
+  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-1, -1, 0], "max": [1, 1, 0]},
+                {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC4"},
+                {"bufferView": 2, "componentType": 5123, "count": 6, "type": "SCALAR"}]}, open(sys.argv[1], "w"))
+PY
+expect_success bench msaa "$TMP/cutout.gltf" --quick --backends vulkan,gles --paths fallback --supersample none --out "$TMP/cutout"
+C=$TMP/cutout/msaa.json
+json_check "$C" 'all(sorted((c["samples"], c.get("alphaToCoverage")) for c in j["configurations"] if c["backend"] == b) ==
+  [(1, None), (4, False), (4, True)] for b in ("vulkan", "gles"))' "each count should be measured with and without alpha to coverage"
+json_check "$C" 'all(next(c for c in j["configurations"] if c["backend"] == b and c.get("alphaToCoverage") is True)["error"]["meanAliased"] <
+  next(c for c in j["configurations"] if c["backend"] == b and c.get("alphaToCoverage") is False)["error"]["meanAliased"] for b in ("vulkan", "gles"))' \
+  "alpha to coverage should bring the cut-out's edge closer to the reference"
+grep -q "| msaa 4, cut-off | 4 |" "$TMP/cutout/msaa.md" || fail "msaa.md has no cut-off row"
 finish

@@ -70,6 +70,13 @@ json_check "$TMP/msaa.json" '"msaa-resolve" in [p["name"] for p in j["passes"]] 
 expect_success render --backend gles --path fallback --size 32x32 --msaa 4 --out "$TMP/msaa-gles.png" --report "$TMP/msaa-gles.json"
 json_check "$TMP/msaa-gles.json" '"msaa-resolve" in [p["name"] for p in j["passes"]]' "--msaa 4 on gles ran no msaa-resolve pass"
 expect_error 2 "--msaa '3' is not allowed" render --size 16x16 --msaa 3 --out "$TMP/msaa3.png"
+# --alpha-to-coverage: on by default with samples (the report says so), off on request, nothing else.
+json_check "$TMP/msaa.json" 'j["alphaToCoverage"] is True' "alpha to coverage should be on by default with --msaa 4"
+expect_success render --size 16x16 --msaa 4 --alpha-to-coverage off --out "$TMP/a2c-off.png" --report "$TMP/a2c-off.json"
+json_check "$TMP/a2c-off.json" 'j["alphaToCoverage"] is False' "--alpha-to-coverage off was not followed"
+expect_success render --size 16x16 --alpha-to-coverage on --out "$TMP/a2c-one.png" --report "$TMP/a2c-one.json"
+json_check "$TMP/a2c-one.json" 'j["alphaToCoverage"] is False and j["msaaSamples"] == 1' "alpha to coverage cannot apply with one sample"
+expect_error 2 "--alpha-to-coverage 'maybe' is not allowed; use on or off" render --size 16x16 --msaa 4 --alpha-to-coverage maybe --out "$TMP/a2c.png"
 expect_success info --json
 max_samples=$(python3 -c "import json,sys; j=json.load(open('$TMP/stdout')); print(max(max(b['formats']['rgba16f']['sampleCounts']) for b in j['backends'] if b['available']))")
 if (( max_samples < 16 )); then

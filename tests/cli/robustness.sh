@@ -127,7 +127,7 @@ expect_error 3 "environment map '.*/fake.hdr' \\(given by --env\\) cannot be rea
 echo '{"gltf": "box/BoxTextured.gltf", "environment": {"map": "fake.hdr"}}' >"$TMP/fake-sky.json"
 expect_error 3 "environment map '.*/fake.hdr' \\(the \"environment.map\" of .*/fake-sky.json\\) cannot be read" \
   render "$TMP/fake-sky.json" --size 8x8 --out "$TMP/a.png"
-for quality in '"lightCulling": "bogus"' '"tileSize": 7' '"maxLightsPerTile": 0' '"maxLightsPerTile": "many"' '"shadowMapSize": -5' '"intensityCutoff": -1' '"msaa": 3' '"msaa": "4x"'; do
+for quality in '"lightCulling": "bogus"' '"tileSize": 7' '"maxLightsPerTile": 0' '"maxLightsPerTile": "many"' '"shadowMapSize": -5' '"intensityCutoff": -1' '"msaa": 3' '"msaa": "4x"' '"alphaToCoverage": 1'; do
   key=${quality%%\":*}
   key=${key#\"}
   echo "{\"gltf\": \"box/BoxTextured.gltf\", \"quality\": {$quality}}" >"$TMP/quality.json"

@@ -12,7 +12,7 @@ nlohmann::json FrameReport::toJson() const {
     nlohmann::json viewsJson = nlohmann::json::array();
     for (const ViewReport& v : views) viewsJson.push_back({{"name", v.name}, {"width", v.width}, {"height", v.height}});
     nlohmann::json json{{"backend", backend}, {"path", path},        {"width", width},         {"height", height},
-                        {"msaaSamples", msaaSamples}, {"views", viewsJson}, {"passes", passesJson}};
+                        {"msaaSamples", msaaSamples}, {"alphaToCoverage", alphaToCoverage}, {"views", viewsJson}, {"passes", passesJson}};
     if (lightCulling) {
         const LightCullingReport& c = *lightCulling;
         json["lightCulling"] = {{"mode", toString(c.mode)},

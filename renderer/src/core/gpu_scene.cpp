@@ -221,6 +221,7 @@ void GpuScene::createDraws(const Scene& scene) {
         draw.doubleSided = material.doubleSided;
         draw.mirrored = glm::determinant(glm::mat3(instance.world)) < 0.0f;
         draw.blended = material.alphaMode == AlphaMode::Blend;
+        draw.masked = material.alphaMode == AlphaMode::Mask;
         draw.topology = mesh.topology;
         draw.vertices = m_meshes[instance.mesh].vertices;
         draw.renderingLayers = instance.renderingLayers;
@@ -285,7 +286,7 @@ rhi::PipelineHandle GpuScene::createMeshPipeline(const rhi::ShaderHandle& vertex
                                                  rhi::CullMode cull, bool clockwise, rhi::DepthState depth, rhi::BlendAttachment blend,
                                                  const std::vector<rhi::Format>& colorFormats, rhi::Format depthFormat,
                                                  const std::string& name, rhi::PrimitiveTopology topology,
-                                                 const rhi::RasterState& depthBias, uint32_t sampleCount) const {
+                                                 const rhi::RasterState& depthBias, uint32_t sampleCount, bool alphaToCoverage) const {
     rhi::RasterState raster = depthBias;
     raster.cullMode = cull;
     raster.frontFace = clockwise ? rhi::FrontFace::Clockwise : rhi::FrontFace::CounterClockwise;
@@ -298,6 +299,7 @@ rhi::PipelineHandle GpuScene::createMeshPipeline(const rhi::ShaderHandle& vertex
         .setDepth(depth)
         .setDepthFormat(depthFormat)
         .setSampleCount(sampleCount)
+        .setAlphaToCoverage(alphaToCoverage)
         .setDebugName(name);
     for (rhi::Format format : colorFormats) desc.addColorFormat(format, blend);
     return m_device.createGraphicsPipeline(desc);
@@ -327,11 +329,11 @@ GpuScene::MeshPipelines GpuScene::createUnculledPipelines(const rhi::ShaderHandl
 GpuScene::MeshPipelines GpuScene::createMeshPipelines(const rhi::ShaderHandle& vertexShader, const rhi::ShaderHandle& fragmentShader,
                                                       rhi::DepthState depth, rhi::Format colorFormat, rhi::Format depthFormat,
                                                       bool mirrored, const std::string& name, const rhi::RasterState& depthBias,
-                                                      uint32_t sampleCount) const {
+                                                      uint32_t sampleCount, bool alphaToCoverage) const {
     auto pipeline = [&](rhi::CullMode cull, bool clockwise, const char* variant) {
         return createMeshPipeline(vertexShader, fragmentShader, cull, clockwise, depth, {}, formatList(colorFormat), depthFormat,
                                   fmt::format("{} ({})", name, variant), rhi::PrimitiveTopology::TriangleList, depthBias,
-                                  sampleCount);
+                                  sampleCount, alphaToCoverage);
     };
     MeshPipelines pipelines;
     pipelines.culled = pipeline(rhi::CullMode::Back, mirrored, "back-face culled");
@@ -339,7 +341,7 @@ GpuScene::MeshPipelines GpuScene::createMeshPipelines(const rhi::ShaderHandle& v
     if (m_hasKind[0][1]) pipelines.culledMirrored = pipeline(rhi::CullMode::Back, !mirrored, "back-face culled, mirrored instances");
     if (m_hasKind[1][1]) pipelines.doubleSidedMirrored = pipeline(rhi::CullMode::None, !mirrored, "double-sided, mirrored instances");
     addLineAndPointPipelines(pipelines.lines, pipelines.points, vertexShader, fragmentShader, depth, {}, formatList(colorFormat),
-                             depthFormat, name, false, sampleCount);
+                             depthFormat, name, false, sampleCount, alphaToCoverage);
     return pipelines;
 }
 
@@ -368,14 +370,15 @@ GpuScene::BlendedPipelines GpuScene::createBlendedPipelines(const rhi::ShaderHan
 void GpuScene::addLineAndPointPipelines(rhi::PipelineHandle& lines, rhi::PipelineHandle& points, const rhi::ShaderHandle& vertexShader,
                                         const rhi::ShaderHandle& fragmentShader, rhi::DepthState depth, rhi::BlendAttachment blend,
                                         const std::vector<rhi::Format>& colorFormats, rhi::Format depthFormat, const std::string& name,
-                                        bool blended, uint32_t sampleCount) const {
+                                        bool blended, uint32_t sampleCount, bool alphaToCoverage) const {
     // Lines and points have no faces: no culling, and winding does not matter.
     if (m_hasTopology[blended][size_t(MeshTopology::Lines)])
         lines = createMeshPipeline(vertexShader, fragmentShader, rhi::CullMode::None, false, depth, blend, colorFormats, depthFormat,
-                                   fmt::format("{} (lines)", name), rhi::PrimitiveTopology::LineList, {}, sampleCount);
+                                   fmt::format("{} (lines)", name), rhi::PrimitiveTopology::LineList, {}, sampleCount, alphaToCoverage);
     if (m_hasTopology[blended][size_t(MeshTopology::Points)])
         points = createMeshPipeline(vertexShader, fragmentShader, rhi::CullMode::None, false, depth, blend, colorFormats, depthFormat,
-                                    fmt::format("{} (points)", name), rhi::PrimitiveTopology::PointList, {}, sampleCount);
+                                    fmt::format("{} (points)", name), rhi::PrimitiveTopology::PointList, {}, sampleCount,
+                                    alphaToCoverage);
 }
 
 namespace {
@@ -417,12 +420,13 @@ void GpuScene::recordDraw(rhi::ICommandList& cmd, const rhi::PipelineHandle& pip
 }
 
 void GpuScene::drawMeshes(rhi::ICommandList& cmd, const SceneView& view, const MeshPipelines& pipelines,
-                          const rhi::BindingSetHandle& viewBindings, PassReport& report) const {
+                          const rhi::BindingSetHandle& viewBindings, PassReport& report, const MeshPipelines* maskedPipelines) const {
     BoundForDraws bound;
     for (const Draw& draw : m_draws) {
         if (!viewSees(view, draw)) continue;
-        const rhi::PipelineHandle& pipeline = pipelines.forDraw(draw);
-        if (!pipeline && draw.topology != MeshTopology::Triangles) continue;   // a pass without line or point pipelines
+        const rhi::PipelineHandle& pipeline = (draw.masked && maskedPipelines ? *maskedPipelines : pipelines).forDraw(draw);
+        // A pass without line or point pipelines, or one that leaves masked draws out.
+        if (!pipeline && (draw.topology != MeshTopology::Triangles || (draw.masked && maskedPipelines))) continue;
         recordDraw(cmd, pipeline, draw, viewBindings, bound, report);
     }
 }

@@ -38,6 +38,7 @@ public:
         // alphaMode BLEND: not in draws() (so not in the prepass, the forward pass or the shadow
         // map) but in blendedDraws(), drawn by the transparent pass.
         bool blended = false;
+        bool masked = false;   // alphaMode MASK: drawMeshes can give these pipelines of their own
         MeshTopology topology = MeshTopology::Triangles;   // points and lines draw without culling
         uint32_t renderingLayers = 1u;
         rhi::BufferHandle vertices;       // the mesh's, or the instance's posed vertices (MeshDeformer)
@@ -101,10 +102,11 @@ public:
     // target of the given formats (colorFormat Unknown: depth only). A mirrored view's
     // front faces are clockwise, and a mirrored instance flips that again.
     // `depthBias`: its polygon offset (the shadow map's alpha-masked casters); its culling and
-    // winding are the pipelines' own.
+    // winding are the pipelines' own. `alphaToCoverage`: rhi::GraphicsPipelineDesc's (sampleCount > 1).
     MeshPipelines createMeshPipelines(const rhi::ShaderHandle& vertexShader, const rhi::ShaderHandle& fragmentShader,
                                       rhi::DepthState depth, rhi::Format colorFormat, rhi::Format depthFormat, bool mirrored,
-                                      const std::string& name, const rhi::RasterState& depthBias = {}, uint32_t sampleCount = 1) const;
+                                      const std::string& name, const rhi::RasterState& depthBias = {}, uint32_t sampleCount = 1,
+                                      bool alphaToCoverage = false) const;
 
     // Pipelines without face culling (every field set; gl_FrontFacing tells the sides apart) into
     // the given colour targets: the GI bake's G-buffer. Triangles only: drawMeshes with these
@@ -122,9 +124,11 @@ public:
 
     // Draws every opaque or alpha-masked instance the view sees (its rendering layers) inside the
     // current render pass: set JANUS_SET_VIEW = viewBindings, set JANUS_SET_DRAW at each draw's
-    // uniforms, set JANUS_SET_MATERIAL = its material's textures.
+    // uniforms, set JANUS_SET_MATERIAL = its material's textures. Alpha-masked draws take
+    // `maskedPipelines` when given (an empty MeshPipelines leaves them out).
     void drawMeshes(rhi::ICommandList& cmd, const SceneView& view, const MeshPipelines& pipelines,
-                    const rhi::BindingSetHandle& viewBindings, PassReport& report) const;
+                    const rhi::BindingSetHandle& viewBindings, PassReport& report,
+                    const MeshPipelines* maskedPipelines = nullptr) const;
     // The same for draws()[i] for each i of `drawIndices`, whatever their layers (the shadow map's
     // alpha-masked casters: the renderer chose them).
     void drawSelected(rhi::ICommandList& cmd, std::span<const uint32_t> drawIndices, const MeshPipelines& pipelines,
@@ -156,12 +160,13 @@ private:
                                            const std::vector<rhi::Format>& colorFormats, rhi::Format depthFormat,
                                            const std::string& name,
                                            rhi::PrimitiveTopology topology = rhi::PrimitiveTopology::TriangleList,
-                                           const rhi::RasterState& depthBias = {}, uint32_t sampleCount = 1) const;
+                                           const rhi::RasterState& depthBias = {}, uint32_t sampleCount = 1,
+                                           bool alphaToCoverage = false) const;
     // The line and point pipelines of `pipelines` (where the scene has such draws).
     void addLineAndPointPipelines(rhi::PipelineHandle& lines, rhi::PipelineHandle& points, const rhi::ShaderHandle& vertexShader,
                                   const rhi::ShaderHandle& fragmentShader, rhi::DepthState depth, rhi::BlendAttachment blend,
                                   const std::vector<rhi::Format>& colorFormats, rhi::Format depthFormat, const std::string& name,
-                                  bool blended, uint32_t sampleCount) const;
+                                  bool blended, uint32_t sampleCount, bool alphaToCoverage = false) const;
     // Level 0 from `rgba`, then the levels below it (mipChainBelow).
     rhi::TextureHandle createTexture(const std::string& name, uint32_t width, uint32_t height, std::span<const uint8_t> rgba, bool srgb,
                                      const std::vector<std::vector<uint8_t>>& mipsBelow);

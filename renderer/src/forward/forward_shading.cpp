@@ -94,7 +94,7 @@ void ForwardShading::addPasses(PassGraph& graph, const SceneView& view) {
         prepass.name = "depth-prepass";
         prepass.view = view.name;
         prepass.writes = {depth.resource};
-        prepass.setup = [this, &state] { pipelines(true, state); };
+        prepass.setup = [this, &state] { pipelines(MeshPass::Prepass, state); };
         prepass.record = [this, &state](rhi::ICommandList& cmd, PassReport& report) { recordPrepass(state, cmd, report); };
         graph.addPass(std::move(prepass));
         tileLists = m_localLights.addCullingPass(graph, depth.resource, depth.texture);
@@ -151,7 +151,7 @@ FrameUniforms ForwardShading::viewFrameUniforms(const ViewState& state) const {
         frame.shadowParams = glm::vec4(1.0f, map->texelSize(), map->normalOffset(), 0.0f);
     }
     const ResolvedLighting& lighting = m_localLights.lighting();
-    frame.lightCounts = glm::ivec4(frame.lightCounts.x, int(m_localLights.count()), state.tiled ? 1 : 0, 0);
+    frame.lightCounts = glm::ivec4(frame.lightCounts.x, int(m_localLights.count()), state.tiled ? 1 : 0, view.alphaToCoverage ? 1 : 0);
     frame.tileGrid = glm::ivec4(int(lighting.tileSize), state.tiled ? int(m_localLights.tilesX()) : 0, int(lighting.maxLightsPerTile),
                                 state.tiled ? int(m_localLights.tileCount()) : 0);
     frame.skyParams = m_imageBasedLighting.shadingParams();
@@ -186,16 +186,23 @@ void ForwardShading::setupView(ViewState& state) {
     m_reflectionProbes.addViewBindings(set, view);
     m_probeGi.addViewBindings(set);
     state.bindings = m_device.createBindingSet(set);
-    pipelines(false, state);
+    pipelines(MeshPass::Forward, state);
+    maskedPipelines(MeshPass::Forward, state);
 }
 
-const GpuScene::MeshPipelines& ForwardShading::pipelines(bool prepass, const ViewState& state) {
-    const PipelineKey key{prepass, state.tiled, state.view.colorFormat, state.view.depthFormat, state.view.mirrored,
+const GpuScene::MeshPipelines& ForwardShading::pipelines(MeshPass pass, const ViewState& state) {
+    const PipelineKey key{pass, state.tiled, state.view.colorFormat, state.view.depthFormat, state.view.mirrored,
                           state.view.sampleCount};
     auto it = m_pipelines.find(key);
     if (it != m_pipelines.end()) return it->second;
     GpuScene::MeshPipelines made;
-    if (prepass) {
+    if (pass == MeshPass::ForwardMaskedCoverage) {
+        // Not in the prepass, so they test and write depth here, LessOrEqual as forward without a
+        // prepass; their coverage comes from forward.frag's alpha (lightCounts.w).
+        made = m_gpuScene.createMeshPipelines(m_vertexShader, m_forwardShader, rhi::DepthState{true, true, rhi::CompareOp::LessOrEqual},
+                                              state.view.colorFormat, state.view.depthFormat, state.view.mirrored,
+                                              "forward (alpha to coverage)", {}, state.view.sampleCount, true);
+    } else if (pass == MeshPass::Prepass) {
         if (!m_prepassShader) m_prepassShader = makeShader(m_device, rhi::ShaderStage::Fragment, "depth_prepass_frag");
         made = m_gpuScene.createMeshPipelines(m_vertexShader, m_prepassShader, rhi::DepthState{true, true, rhi::CompareOp::Less},
                                               rhi::Format::Unknown, state.view.depthFormat, state.view.mirrored, "depth prepass", {},
@@ -214,10 +221,19 @@ const GpuScene::MeshPipelines& ForwardShading::pipelines(bool prepass, const Vie
     return m_pipelines.emplace(key, std::move(made)).first->second;
 }
 
+const GpuScene::MeshPipelines* ForwardShading::maskedPipelines(MeshPass pass, const ViewState& state) {
+    static const GpuScene::MeshPipelines kNone;
+    if (!state.view.alphaToCoverage) return nullptr;
+    if (pass == MeshPass::Prepass) return &kNone;
+    const bool anyMasked = std::any_of(m_gpuScene.draws().begin(), m_gpuScene.draws().end(), [](const GpuScene::Draw& d) { return d.masked; });
+    return anyMasked ? &pipelines(MeshPass::ForwardMaskedCoverage, state) : nullptr;
+}
+
 void ForwardShading::recordPrepass(const ViewState& state, rhi::ICommandList& cmd, PassReport& report) {
     cmd.beginRenderPass(
         rhi::RenderPassDesc{}.setDepth(rhi::Attachment::clearDepthTo(state.depth.texture, 1.0f, state.depth.subresource)));
-    m_gpuScene.drawMeshes(cmd, state.view, pipelines(true, state), state.bindings, report);
+    m_gpuScene.drawMeshes(cmd, state.view, pipelines(MeshPass::Prepass, state), state.bindings, report,
+                          maskedPipelines(MeshPass::Prepass, state));
     cmd.endRenderPass();
 }
 
@@ -226,7 +242,8 @@ void ForwardShading::recordForward(const ViewState& state, rhi::ICommandList& cm
                             .addColor(rhi::Attachment::clear(state.color.texture, m_background, state.color.subresource))
                             .setDepth(state.tiled ? rhi::Attachment::load(state.depth.texture, state.depth.subresource)
                                                   : rhi::Attachment::clearDepthTo(state.depth.texture, 1.0f, state.depth.subresource)));
-    m_gpuScene.drawMeshes(cmd, state.view, pipelines(false, state), state.bindings, report);
+    m_gpuScene.drawMeshes(cmd, state.view, pipelines(MeshPass::Forward, state), state.bindings, report,
+                          maskedPipelines(MeshPass::Forward, state));
     cmd.endRenderPass();
 }
 

@@ -70,12 +70,20 @@ private:
         rhi::BindingSetHandle bindings;
         GpuScene::MeshPipelines forward, prepass;
     };
-    using PipelineKey = std::tuple<bool /*prepass*/, bool /*tiled*/, rhi::Format, rhi::Format, bool /*mirrored*/, uint32_t /*samples*/>;
+    // The mesh pipelines a view's passes draw with: the depth prepass's, the forward pass's, and
+    // with alpha to coverage (SceneView::alphaToCoverage) the forward pass's for alpha-masked
+    // draws, which cover samples by alpha and write depth (the prepass leaves them out: GL
+    // applies no alpha to coverage in a pass without colour attachments).
+    enum class MeshPass { Prepass, Forward, ForwardMaskedCoverage };
+    using PipelineKey = std::tuple<MeshPass, bool /*tiled*/, rhi::Format, rhi::Format, bool /*mirrored*/, uint32_t /*samples*/>;
 
     const ViewState& stateOf(const std::string& viewName) const;
     FrameUniforms viewFrameUniforms(const ViewState& state) const;
     void setupView(ViewState& state);
-    const GpuScene::MeshPipelines& pipelines(bool prepass, const ViewState& state);
+    const GpuScene::MeshPipelines& pipelines(MeshPass pass, const ViewState& state);
+    // What alpha-masked draws take in `pass` (GpuScene::drawMeshes): nullptr = the pass's own
+    // pipelines; with alpha to coverage, none in the prepass and their own in the forward pass.
+    const GpuScene::MeshPipelines* maskedPipelines(MeshPass pass, const ViewState& state);
     void recordPrepass(const ViewState& state, rhi::ICommandList& cmd, PassReport& report);
     void recordForward(const ViewState& state, rhi::ICommandList& cmd, PassReport& report);
 

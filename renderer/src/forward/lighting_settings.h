@@ -35,9 +35,10 @@ struct ResolvedLighting {
 // Throws RendererError for values out of range or of the wrong JSON type, naming the key.
 ResolvedLighting resolveLighting(const LightingSettings& given, const nlohmann::json& quality);
 
-// The scene file's "quality" keys the renderer reads (those resolveLighting does, and "msaa":
-// resolveMsaaSamples, msaa/msaa_settings.h).
+// The scene file's "quality" keys the renderer reads (those resolveLighting does, and "msaa" and
+// "alphaToCoverage": msaa/msaa_settings.h).
 inline constexpr std::string_view kQualityKeys[] = {"lightCulling", "tileSize", "maxLightsPerTile", "intensityCutoff",
-                                                    "autoTiledThreshold", "shadows", "shadowMapSize", "msaa"};
+                                                    "autoTiledThreshold", "shadows", "shadowMapSize", "msaa",
+                                                    "alphaToCoverage"};
 
 }  // namespace janus::renderer

@@ -16,4 +16,13 @@ uint32_t resolveMsaaSamples(uint32_t given, const nlohmann::json& quality) {
     throw RendererError(fmt::format("scene quality key 'msaa' must be 1, 2, 4, 8 or 16 (samples per pixel), not {}", value.dump()));
 }
 
+bool resolveAlphaToCoverage(std::optional<bool> given, const nlohmann::json& quality) {
+    if (given) return *given;
+    if (!quality.is_object() || !quality.contains("alphaToCoverage")) return true;
+    const nlohmann::json& value = quality.at("alphaToCoverage");
+    if (!value.is_boolean())
+        throw RendererError(fmt::format("scene quality key 'alphaToCoverage' must be true or false, not {}", value.dump()));
+    return value.get<bool>();
+}
+
 }  // namespace janus::renderer

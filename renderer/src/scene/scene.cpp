@@ -404,6 +404,7 @@ Scene loadSceneFile(std::string_view bytes, const std::filesystem::path& path, c
             try {
                 (void)resolveLighting(LightingSettings{}, scene.quality);
                 (void)resolveMsaaSamples(0, scene.quality);
+                (void)resolveAlphaToCoverage(std::nullopt, scene.quality);
             } catch (const RendererError& e) {
                 fail(path, fmt::format("\"quality\": {}", e.what()));
             }

@@ -63,6 +63,7 @@ struct FrameReport {
     std::string path;              // "compute", "fallback"
     uint32_t width = 0, height = 0;
     uint32_t msaaSamples = 1;   // samples per pixel of the main view (RenderSettings::msaaSamples)
+    bool alphaToCoverage = false;   // the main view's alpha-masked materials used alpha to coverage (msaaSamples > 1)
     std::vector<ViewReport> views;     // in the order they were rendered; views[0] is "main" for renderFrame()
     std::vector<PassReport> passes;    // in execution order; PassReport::view names the view
     std::optional<LightCullingReport> lightCulling;

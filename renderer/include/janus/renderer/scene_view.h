@@ -45,6 +45,9 @@ struct SceneView {
     // Samples per pixel of the view's colour and depth targets (the pipelines drawing into them
     // say the same); > 1 only for the main view with RenderSettings::msaaSamples.
     uint32_t sampleCount = 1;
+    // With sampleCount > 1: alpha-masked materials cover samples by their alpha around the cut-off
+    // (RenderSettings::alphaToCoverage) rather than cutting whole pixels.
+    bool alphaToCoverage = false;
     // True when the projection flips handedness (cube faces do): glTF's counter-clockwise front
     // faces then appear clockwise in the image, and the view's pipelines say so.
     bool mirrored = false;

@@ -90,6 +90,13 @@ struct RenderSettings {
     // culling then uses screen tiles without depth bounds (Auto picks Tiles2D; TilesDepth, whose
     // bounds come from single-sampled depth, is a RendererError), and readDepth() is not possible.
     uint32_t msaaSamples = 0;
+    // Alpha-masked materials (glTF alphaMode MASK) in a multisampled view: true gives each
+    // fragment as many samples as its alpha says around the material's cut-off (alpha to
+    // coverage, over about one pixel), so a cut-out's edge is anti-aliased like a triangle's;
+    // false keeps the per-pixel cut-off. nullopt: the scene file's quality key
+    // "alphaToCoverage", else true. Nothing changes with one sample (docs/LIGHTING.md,
+    // "Anti-aliasing").
+    std::optional<bool> alphaToCoverage;
     // The scene's irradiance volume from a file `bakeIrradianceVolume` (janus bake) wrote; empty:
     // baked when the renderer is made (docs/GI.md). A file of another scene, version or volume is
     // a RendererError.
