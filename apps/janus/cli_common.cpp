@@ -693,7 +693,8 @@ RenderOutcome renderConfiguration(const renderer::Scene& scene, const RenderRequ
         // is shown; the report keeps the last frame's passes and every frame's probe updates.
         std::vector<renderer::ProbeUpdateReport> probeUpdates = outcome.report.probeUpdates;
         outcome.frames = 1;
-        while ((frameRenderer.probesPending() || frameRenderer.irradiancePending()) && outcome.frames < kMaxWarmUpFrames) {
+        while (((frameRenderer.probesPending() || frameRenderer.irradiancePending()) && outcome.frames < kMaxWarmUpFrames) ||
+               outcome.frames < request.frames) {
             outcome.report = frameRenderer.renderFrame();
             probeUpdates.insert(probeUpdates.end(), outcome.report.probeUpdates.begin(), outcome.report.probeUpdates.end());
             ++outcome.frames;

@@ -245,6 +245,9 @@ struct RenderRequest {
     std::filesystem::path giBakeFile;   // empty: the irradiance volume (if any) is baked at start-up
     uint32_t msaaSamples = 0;   // 0: the scene's quality "msaa", else 1
     std::optional<bool> alphaToCoverage;   // nullopt: the scene's quality "alphaToCoverage", else on
+    // Frames rendered at least (`janus render --frames`): the report is the last one's, so more
+    // than one gives times without the first frame's first-use costs.
+    uint32_t frames = 1;
 };
 
 struct RenderOutcome {

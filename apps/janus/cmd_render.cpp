@@ -10,6 +10,8 @@
 namespace janus::cli {
 namespace {
 
+constexpr uint32_t kMaxRenderFrames = 1000;
+
 struct RenderOptions {
     std::string scene;
     std::string backend = "vulkan";
@@ -26,6 +28,7 @@ struct RenderOptions {
     LightingOptions lighting;
     std::string msaa;
     std::string alphaToCoverage;
+    uint32_t frames = 1;
     EnvironmentOptions environment;
     AnimationOptions animation;
     SceneChoiceOptions sceneChoice;
@@ -44,6 +47,9 @@ int run(const RenderOptions& options) {
     request.lighting = parseLightingOptions(options.lighting);
     request.msaaSamples = parseMsaaOption(options.msaa);
     request.alphaToCoverage = parseAlphaToCoverageOption(options.alphaToCoverage);
+    if (options.frames < 1 || options.frames > kMaxRenderFrames)
+        throw UsageError(fmt::format("--frames {} is not allowed; render 1..{} frames", options.frames, kMaxRenderFrames));
+    request.frames = options.frames;
     if (!options.debug.empty()) request.debugView = parseDebugOption(options.debug);
     if (!options.giBake.empty()) {
         request.giBakeFile = options.giBake;
@@ -118,10 +124,16 @@ int run(const RenderOptions& options) {
     if (reportPath) std::printf("  report: %s\n", reportPath->c_str());
     if (const std::string pose = poseLine(scene); !pose.empty()) std::printf("  pose:   %s\n", pose.c_str());
     if (const std::string culling = lightCullingLine(outcome.report); !culling.empty()) std::printf("  %s\n", culling.c_str());
-    if (outcome.frames > 1)
+    if (outcome.frames > options.frames)
         std::printf("  frames: %u (until every reflection probe was shown; passes below are the last frame's)\n", outcome.frames);
+    else if (outcome.frames > 1)
+        std::printf("  frames: %u (--frames; passes below are the last frame's)\n", outcome.frames);
     std::printf("\n");
     printPassSummary(outcome.report);
+    // The first frame pays for first use (pipelines, target memory): an msaa-resolve took 40 ms
+    // there on llvmpipe and 0.7 ms after it (docs/LIGHTING.md, "Anti-aliasing").
+    if (outcome.frames == 1)
+        std::printf("  (the first frame: its times include first use; --frames 3 shows a later frame's)\n");
     printProbeUpdates(outcome.report.probeUpdates);
     printPerformanceMessages(outcome.report.performanceMessages);
 
@@ -151,6 +163,11 @@ Command addRenderCommand(CLI::App& parent) {
     addLightingOptions(*app, options->lighting);
     addMsaaOption(*app, options->msaa);
     addAlphaToCoverageOption(*app, options->alphaToCoverage);
+    app->add_option("--frames", options->frames,
+                    "Frames to render (1..1000); the image, report and pass times are the last frame's, so 3 shows times "
+                    "without the first frame's first-use costs")
+        ->default_str("1")
+        ->type_name("N");
     addEnvironmentOptions(*app, options->environment);
     addAnimationOptions(*app, options->animation);
     addSceneChoiceOptions(*app, options->sceneChoice);

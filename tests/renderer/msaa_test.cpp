@@ -289,27 +289,25 @@ INSTANTIATE_TEST_SUITE_P(Configs, MsaaTest, testing::ValuesIn(test_support::allC
 
 // The default scene with 4 samples on the five configurations, held to the suite's parity rule
 // against vulkan/compute.
-class MsaaParity : public testing::TestWithParam<Config> {};
+class MsaaParity : public testing::TestWithParam<Config> {
+protected:
+    // `scene` at 128x128 with 4 samples here and on vulkan/compute, held to the parity rule.
+    FrameOutput expectParity(const Scene& scene, const std::string& name) {
+        RenderSettings s = settings(kSamples);
+        s.width = s.height = 128;
+        const FrameOutput reference = test_support::renderOneFrame(test_support::allConfigs().front(), scene, s);
+        FrameOutput result = test_support::renderOneFrame(GetParam(), scene, s);
+        test_support::expectMatchesVulkanCompute(reference.display, result.display, name, GetParam());
+        return result;
+    }
+};
 
-TEST_P(MsaaParity, MatchesVulkanCompute) {
-    const Scene scene = defaultScene();
-    RenderSettings s = settings(kSamples);
-    s.width = s.height = 128;
-    const FrameOutput reference = test_support::renderOneFrame(test_support::allConfigs().front(), scene, s);
-    const FrameOutput result = test_support::renderOneFrame(GetParam(), scene, s);
-    test_support::expectMatchesVulkanCompute(reference.display, result.display, "msaa-default", GetParam());
-}
+TEST_P(MsaaParity, MatchesVulkanCompute) { expectParity(defaultScene(), "msaa-default"); }
 
 // The alpha-masked cut-out of AlphaToCoverageSmoothsACutOutsEdge, with alpha to coverage, under
 // the same rule: which samples an alpha covers is each driver's, but one driver is one pattern.
 TEST_P(MsaaParity, CutOutWithAlphaToCoverageMatchesVulkanCompute) {
-    const Scene scene = cutOutStage();
-    RenderSettings s = settings(kSamples);
-    s.width = s.height = 128;
-    const FrameOutput reference = test_support::renderOneFrame(test_support::allConfigs().front(), scene, s);
-    const FrameOutput result = test_support::renderOneFrame(GetParam(), scene, s);
-    EXPECT_TRUE(result.report.alphaToCoverage);
-    test_support::expectMatchesVulkanCompute(reference.display, result.display, "msaa-cut-out", GetParam());
+    EXPECT_TRUE(expectParity(cutOutStage(), "msaa-cut-out").report.alphaToCoverage);
 }
 
 INSTANTIATE_TEST_SUITE_P(Configs, MsaaParity, testing::ValuesIn(test_support::allConfigs()),
