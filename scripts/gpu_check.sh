@@ -27,7 +27,7 @@
 #   parity_msaa/         janus parity of the default scene at 512x512 with --msaa 4: the driver's
 #                        resolve (Vulkan's resolve attachment, GL's blit) on all five, and in
 #                        parity.json each configuration's msaa-resolve and forward GPU ms
-#   msaa/                janus bench msaa at 1280x720 (fallback path): error against a 4x4-supersampled
+#   msaa/                janus bench msaa at 960x540 (fallback path): error against a 4x4-supersampled
 #                        reference and frame GPU ms for 1, 2, 4, 8 samples and 2x2 supersampling
 #   gl_only/             DamagedHelmet at 256x256 in the GL configurations alone, one process that
 #   gl_only_against/     starts no Vulkan, and all five --against them at tolerance 0: GL alone must
@@ -268,7 +268,7 @@ else
   step parity_msaa 60 janus parity --size 512x512 --msaa 4 --out "$results/parity_msaa"
   # Anti-aliasing's accuracy vs time where the samples are hardware's: 2 and 8 samples too (llvmpipe
   # has 1 and 4 only), the frame's cost per count, against a 4x4-supersampled reference.
-  step msaa 60 janus bench msaa --size 1280x720 --paths fallback --out "$results/msaa"
+  step msaa 45 janus bench msaa --size 960x540 --runs 3 --paths fallback --out "$results/msaa"
 fi
 if [[ $bench_only == 0 ]]; then
   # GL in a process that never starts Vulkan (NVIDIA's GL lost buffer contents only there, session
