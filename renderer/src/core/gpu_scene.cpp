@@ -269,6 +269,7 @@ void GpuScene::createDraws(const Scene& scene) {
     for (const Draw& draw : m_draws) {
         if (draw.topology == MeshTopology::Triangles) m_hasKind[draw.doubleSided][draw.mirrored] = true;
         m_hasTopology[0][size_t(draw.topology)] = true;
+        m_hasMasked = m_hasMasked || draw.masked;
     }
 }
 

@@ -95,6 +95,8 @@ public:
     const std::vector<Draw>& blendedDraws() const { return m_blendedDraws; }
     // Whether `view` (its rendering layers) sees any blended instance.
     bool viewSeesBlended(const SceneView& view) const;
+    // Whether draws() holds alpha-masked instances (their own pipelines with alpha to coverage).
+    bool hasMaskedDraws() const { return m_hasMasked; }
     // Nearest, clamp: for targets and data textures read with texelFetch (filtering never applies).
     const rhi::SamplerHandle& pointSampler() const { return m_pointSampler; }
 
@@ -181,6 +183,7 @@ private:
     std::vector<Draw> m_draws, m_blendedDraws;
     bool m_hasKind[2][2] = {};          // [doubleSided][mirrored]: which pipelines draws() needs
     bool m_hasBlendedKind[2][2] = {};   // the same for blendedDraws()
+    bool m_hasMasked = false;           // draws() holds an alphaMode MASK instance
     bool m_hasTopology[2][3] = {};      // [blended][MeshTopology]: which topologies draws() / blendedDraws() hold
     std::vector<rhi::TextureHandle> m_textures;
     std::vector<rhi::SamplerHandle> m_textureSamplers;   // per scene texture, shared between equal samplings

@@ -225,8 +225,7 @@ const GpuScene::MeshPipelines* ForwardShading::maskedPipelines(MeshPass pass, co
     static const GpuScene::MeshPipelines kNone;
     if (!state.view.alphaToCoverage) return nullptr;
     if (pass == MeshPass::Prepass) return &kNone;
-    const bool anyMasked = std::any_of(m_gpuScene.draws().begin(), m_gpuScene.draws().end(), [](const GpuScene::Draw& d) { return d.masked; });
-    return anyMasked ? &pipelines(MeshPass::ForwardMaskedCoverage, state) : nullptr;
+    return m_gpuScene.hasMaskedDraws() ? &pipelines(MeshPass::ForwardMaskedCoverage, state) : nullptr;
 }
 
 void ForwardShading::recordPrepass(const ViewState& state, rhi::ICommandList& cmd, PassReport& report) {
