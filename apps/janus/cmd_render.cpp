@@ -113,6 +113,7 @@ int run(const RenderOptions& options) {
     if (reportPath) {
         nlohmann::json report = outcome.report.toJson();
         report["sceneWarnings"] = scene.warnings;   // what the loader ignored (also printed on stderr when it loaded)
+        report["frames"] = outcome.frames;          // the report is the last of these frames'
         renderer::writeFileAtomically(*reportPath, jsonFileText(report));
     }
 
