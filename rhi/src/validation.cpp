@@ -422,6 +422,11 @@ void validateGraphicsPipeline(const DeviceProperties& device, const GraphicsPipe
             invalid(fmt::format("{}: alphaToCoverage needs a multisampled pipeline (sampleCount > 1), not sampleCount {}; "
                                 "discard below a cut-off in the shader instead, or turn it off",
                                 name, desc.sampleCount));
+        // GL skips alpha to coverage without a colour buffer at draw buffer 0; Vulkan still applies it.
+        if (desc.colorFormats.empty())
+            invalid(fmt::format("{}: alphaToCoverage needs a colour attachment (colorFormats is empty): GL skips it in a "
+                                "depth-only pass and Vulkan does not; discard in the shader there instead",
+                                name));
         if (!reflectShader(fs.desc()).writesAlphaAtLocation0)
             invalid(fmt::format("{}: alphaToCoverage reads the alpha of fragment output location 0, which the fragment shader "
                                 "'{}' does not write; declare a vec4 output at location 0",

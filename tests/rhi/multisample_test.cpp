@@ -308,6 +308,14 @@ TEST_P(MultisampleTest, EveryMisuseHasOneErrorCodeOnEveryBackend) {
         {"a multisampled pipeline in a single-sampled pass", kUsage, {"4 sample(s)", "have 1"}, drawWith(kSamples, single)},
         {"alpha to coverage with one sample", kDesc, {"alphaToCoverage needs a multisampled pipeline", "sampleCount 1"},
          [&] { dev.createGraphicsPipeline(alphaRampDesc(1, true)); }},
+        {"alpha to coverage in a depth-only pipeline", kDesc, {"alphaToCoverage needs a colour attachment"},
+         [&] {
+             GraphicsPipelineDesc desc = alphaRampDesc(kSamples, true);
+             desc.colorFormats.clear();
+             desc.blend.clear();
+             desc.setDepthFormat(Format::D32_FLOAT).setDepth(DepthState{true, true, CompareOp::Less});
+             dev.createGraphicsPipeline(desc);
+         }},
         {"alpha to coverage from a shader without a colour output", kDesc, {"alphaToCoverage", "rt_no_color_frag", "location 0"},
          [&] {
              GraphicsPipelineDesc desc = alphaRampDesc(kSamples, true);

@@ -72,8 +72,8 @@ private:
     };
     // The mesh pipelines a view's passes draw with: the depth prepass's, the forward pass's, and
     // with alpha to coverage (SceneView::alphaToCoverage) the forward pass's for alpha-masked
-    // draws, which cover samples by alpha and write depth (the prepass leaves them out: GL
-    // applies no alpha to coverage in a pass without colour attachments).
+    // draws, which cover samples by alpha and write depth (the prepass leaves them out: it has no
+    // colour attachment, which alpha to coverage needs; rhi::GraphicsPipelineDesc::alphaToCoverage).
     enum class MeshPass { Prepass, Forward, ForwardMaskedCoverage };
     using PipelineKey = std::tuple<MeshPass, bool /*tiled*/, rhi::Format, rhi::Format, bool /*mirrored*/, uint32_t /*samples*/>;
 

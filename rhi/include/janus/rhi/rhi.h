@@ -456,9 +456,9 @@ struct GraphicsPipelineDesc {
     // Alpha to coverage: each fragment covers only as many of its pixel's samples as the alpha of
     // its colour output 0 says (about alpha x sampleCount; which ones, and whether the pattern
     // varies between pixels, is the driver's), on top of the triangle's own coverage and the
-    // depth test. Needs sampleCount > 1 and a fragment shader writing a vec4 at location 0 (also
-    // without colour attachments: GL then skips the step, so a depth-only pass with it draws as
-    // without on GL and ES; keep it to passes with a colour attachment 0).
+    // depth test. Needs sampleCount > 1, a colour attachment (GL skips the step in a depth-only
+    // pass, Vulkan does not, so the RHI refuses one) and a fragment shader writing a vec4 at
+    // location 0.
     bool alphaToCoverage = false;
     std::vector<DynamicUniformBuffer> dynamicUniformBuffers;   // read with dynamic offsets
     std::string debugName;
