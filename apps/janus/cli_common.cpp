@@ -430,32 +430,41 @@ uint32_t parseWholeFlag(std::string_view flag, std::string_view text, uint32_t l
 
 }  // namespace
 
-void addMsaaOption(CLI::App& app, std::string& msaa) {
-    app.add_option("--msaa", msaa,
+void addMultisamplingOptions(CLI::App& app, MultisamplingOptions& options) {
+    app.add_option("--msaa", options.msaa,
                    "Samples per pixel: 1 (off), 2, 4, 8 or 16, where the backend allows it for RGBA16F and D32F targets (`janus info`, "
                    "column samples; 4 everywhere). Edges are anti-aliased; tiled culling then has no depth bounds (docs/LIGHTING.md)")
         ->type_name("N");
-}
-
-uint32_t parseMsaaOption(const std::string& msaa) {
-    if (msaa.empty()) return 0;
-    const uint32_t samples = parseWholeFlag("--msaa", msaa, 1, 16, "1, 2, 4, 8 or 16");
-    if (!std::has_single_bit(samples)) throw UsageError(fmt::format("--msaa '{}' is not allowed; use 1, 2, 4, 8 or 16", msaa));
-    return samples;
-}
-
-void addAlphaToCoverageOption(CLI::App& app, std::string& alphaToCoverage) {
-    app.add_option("--alpha-to-coverage", alphaToCoverage,
+    app.add_option("--alpha-to-coverage", options.alphaToCoverage,
                    "With --msaa above 1: 'on' (the default) gives alpha-masked materials coverage by alpha around their cut-off, so "
                    "cut-out edges are anti-aliased; 'off' keeps the per-pixel cut-off (docs/LIGHTING.md, \"Anti-aliasing\")")
         ->type_name("on|off");
+    app.add_option("--probe-msaa", options.probeMsaa,
+                   "Samples per pixel of every reflection probe's capture, as --msaa (default: each probe's own \"msaa\" in the scene "
+                   "file, else 1); sharper edges in mirror-like reflections (docs/PROBES.md, \"Multisampled captures\")")
+        ->type_name("N");
 }
 
-std::optional<bool> parseAlphaToCoverageOption(const std::string& alphaToCoverage) {
-    if (alphaToCoverage.empty()) return std::nullopt;
-    if (alphaToCoverage == "on") return true;
-    if (alphaToCoverage == "off") return false;
-    throw UsageError(fmt::format("--alpha-to-coverage '{}' is not allowed; use on or off", alphaToCoverage));
+namespace {
+
+uint32_t parseSampleCount(std::string_view flag, const std::string& text) {
+    if (text.empty()) return 0;
+    const uint32_t samples = parseWholeFlag(flag, text, 1, 16, "1, 2, 4, 8 or 16");
+    if (!std::has_single_bit(samples)) throw UsageError(fmt::format("{} '{}' is not allowed; use 1, 2, 4, 8 or 16", flag, text));
+    return samples;
+}
+
+}  // namespace
+
+void applyMultisamplingOptions(const MultisamplingOptions& options, RenderRequest& request) {
+    request.msaaSamples = parseSampleCount("--msaa", options.msaa);
+    request.probeMsaaSamples = parseSampleCount("--probe-msaa", options.probeMsaa);
+    if (options.alphaToCoverage.empty())
+        request.alphaToCoverage.reset();
+    else if (options.alphaToCoverage == "on" || options.alphaToCoverage == "off")
+        request.alphaToCoverage = options.alphaToCoverage == "on";
+    else
+        throw UsageError(fmt::format("--alpha-to-coverage '{}' is not allowed; use on or off", options.alphaToCoverage));
 }
 
 renderer::LightingSettings parseLightingOptions(const LightingOptions& options) {
@@ -682,6 +691,7 @@ RenderOutcome renderConfiguration(const renderer::Scene& scene, const RenderRequ
     // renderer's RendererError: exit 4, naming the counts it allows.
     settings.msaaSamples = request.msaaSamples;
     settings.alphaToCoverage = request.alphaToCoverage;
+    settings.probeMsaaSamples = request.probeMsaaSamples;
 
     RenderOutcome outcome;
     outcome.device = device->info();
@@ -871,9 +881,11 @@ void printPerformanceMessages(const std::vector<std::string>& messages) {
 void printProbeUpdates(const std::vector<renderer::ProbeUpdateReport>& updates) {
     if (updates.empty()) return;
     std::vector<std::vector<std::string>> rows{
-        {"probe", "update", "step", "shown", "GPU ms", "draws", "dispatches", "update draws", "prefilter draws", "prefilter dispatches"}};
+        {"probe", "samples", "update", "step", "shown", "GPU ms", "draws", "dispatches", "update draws", "prefilter draws",
+         "prefilter dispatches"}};
     for (const renderer::ProbeUpdateReport& u : updates)
-        rows.push_back({u.probe, std::to_string(u.update), fmt::format("{}/{}", u.step, u.steps), u.shown ? "yes" : "no",
+        rows.push_back({u.probe, std::to_string(u.msaaSamples), std::to_string(u.update), fmt::format("{}/{}", u.step, u.steps),
+                        u.shown ? "yes" : "no",
                         u.gpuMs ? fmt::format("{:.3f}", *u.gpuMs) : "-", std::to_string(u.draws), std::to_string(u.dispatches),
                         std::to_string(u.updateDraws), std::to_string(u.prefilterDraws), std::to_string(u.prefilterDispatches)});
     std::printf("\nreflection probe updates (one row per probe per frame):\n");

@@ -173,14 +173,15 @@ struct LightingOptions {
 void addLightingOptions(CLI::App& app, LightingOptions& options);
 renderer::LightingSettings parseLightingOptions(const LightingOptions& options);   // throws UsageError naming the flag
 renderer::DebugView parseDebugOption(std::string_view text);                        // throws UsageError
-// --msaa N, shared by render and parity: samples per pixel (1 = off, 2, 4, 8 or 16; empty = 0,
-// the scene's quality "msaa", else 1).
-void addMsaaOption(CLI::App& app, std::string& msaa);
-uint32_t parseMsaaOption(const std::string& msaa);   // throws UsageError
-// --alpha-to-coverage on|off, beside --msaa: alpha-masked materials' coverage with samples
-// (RenderSettings::alphaToCoverage; empty = nullopt, the scene's quality "alphaToCoverage", else on).
-void addAlphaToCoverageOption(CLI::App& app, std::string& alphaToCoverage);
-std::optional<bool> parseAlphaToCoverageOption(const std::string& alphaToCoverage);   // throws UsageError
+// Multisampling flags, shared by render and parity: --msaa N, samples per pixel of the main view
+// (1 = off, 2, 4, 8 or 16; empty: the scene's quality "msaa", else 1); --alpha-to-coverage on|off,
+// alpha-masked materials' coverage with samples (empty: the scene's quality "alphaToCoverage",
+// else on); --probe-msaa N, samples per pixel of every reflection probe's capture (empty: each
+// probe's own "msaa").
+struct MultisamplingOptions {
+    std::string msaa, alphaToCoverage, probeMsaa;
+};
+void addMultisamplingOptions(CLI::App& app, MultisamplingOptions& options);
 
 // --env FILE.hdr|FILE.exr and --env-intensity X, shared by render and parity: they set or override
 // the scene's environment map and intensity. Empty strings = not given (the scene's own).
@@ -245,10 +246,13 @@ struct RenderRequest {
     std::filesystem::path giBakeFile;   // empty: the irradiance volume (if any) is baked at start-up
     uint32_t msaaSamples = 0;   // 0: the scene's quality "msaa", else 1
     std::optional<bool> alphaToCoverage;   // nullopt: the scene's quality "alphaToCoverage", else on
+    uint32_t probeMsaaSamples = 0;   // 0: each reflection probe's own
     // Frames rendered at least (`janus render --frames`): the report is the last one's, so more
     // than one gives times without the first frame's first-use costs.
     uint32_t frames = 1;
 };
+// Sets msaaSamples, alphaToCoverage and probeMsaaSamples from the flags; throws UsageError naming the flag.
+void applyMultisamplingOptions(const MultisamplingOptions& options, RenderRequest& request);
 
 struct RenderOutcome {
     rhi::DeviceInfo device;

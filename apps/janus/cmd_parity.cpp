@@ -30,8 +30,7 @@ struct ParityOptions {
     bool validation = false;
     bool allowOutsidePaths = false;
     LightingOptions lighting;
-    std::string msaa;
-    std::string alphaToCoverage;
+    MultisamplingOptions msaa;
     EnvironmentOptions environment;
     AnimationOptions animation;
     SceneChoiceOptions sceneChoice;
@@ -173,8 +172,7 @@ int run(const ParityOptions& options) {
     base.glPlatform = parseGLPlatformOption(options.glPlatform);
     base.validation = options.validation;
     base.lighting = parseLightingOptions(options.lighting);
-    base.msaaSamples = parseMsaaOption(options.msaa);
-    base.alphaToCoverage = parseAlphaToCoverageOption(options.alphaToCoverage);
+    applyMultisamplingOptions(options.msaa, base);
     const uint32_t tolerance = parseTolerance(options.tolerance);
     const uint64_t edgePixels = parseEdgePixels(options.edgePixels);
     const bool compilerRounding = parseCompilerRounding(options.compilerRounding);
@@ -373,8 +371,7 @@ Command addParityCommand(CLI::App& parent) {
         ->type_name("STEPS");
     addGLPlatformOption(*app, options->glPlatform);
     addLightingOptions(*app, options->lighting);
-    addMsaaOption(*app, options->msaa);
-    addAlphaToCoverageOption(*app, options->alphaToCoverage);
+    addMultisamplingOptions(*app, options->msaa);
     addEnvironmentOptions(*app, options->environment);
     addAnimationOptions(*app, options->animation);
     addSceneChoiceOptions(*app, options->sceneChoice);

@@ -26,8 +26,7 @@ struct RenderOptions {
     std::string debug;
     std::string giBake;
     LightingOptions lighting;
-    std::string msaa;
-    std::string alphaToCoverage;
+    MultisamplingOptions msaa;
     uint32_t frames = 1;
     EnvironmentOptions environment;
     AnimationOptions animation;
@@ -45,8 +44,7 @@ int run(const RenderOptions& options) {
     request.size = parseSize(options.size);
     request.validation = options.validation;
     request.lighting = parseLightingOptions(options.lighting);
-    request.msaaSamples = parseMsaaOption(options.msaa);
-    request.alphaToCoverage = parseAlphaToCoverageOption(options.alphaToCoverage);
+    applyMultisamplingOptions(options.msaa, request);
     if (options.frames < 1 || options.frames > kMaxRenderFrames)
         throw UsageError(fmt::format("--frames {} is not allowed; render 1..{} frames", options.frames, kMaxRenderFrames));
     request.frames = options.frames;
@@ -162,8 +160,7 @@ Command addRenderCommand(CLI::App& parent) {
     app->add_option("--report", options->report, "Also write the frame report as JSON")->type_name("FILE.json");
     addGLPlatformOption(*app, options->glPlatform);
     addLightingOptions(*app, options->lighting);
-    addMsaaOption(*app, options->msaa);
-    addAlphaToCoverageOption(*app, options->alphaToCoverage);
+    addMultisamplingOptions(*app, options->msaa);
     app->add_option("--frames", options->frames,
                     "Frames to render (1..1000); the image, report and pass times are the last frame's, so 3 shows times "
                     "without the first frame's first-use costs")

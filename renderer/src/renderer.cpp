@@ -63,7 +63,7 @@ void Renderer::Impl::createFeatures(const Scene& scene) {
                                                       kMaxDirectionalLights);
     this->shadows = shadows.get();
     auto imageBasedLighting = std::make_unique<ImageBasedLighting>(device, scene.environment, settings.path, gpuScene->pointSampler());
-    auto probes = std::make_unique<ReflectionProbes>(device, scene, settings.path, mainView.position,
+    auto probes = std::make_unique<ReflectionProbes>(device, scene, settings.path, mainView.position, settings.probeMsaaSamples,
                                                      [this](const CubeCaptureDesc& capture) { return renderCubeCapture(capture); });
     reflectionProbes = probes.get();
     auto gi = std::make_unique<ProbeGi>(device, scene, *gpuScene, *localLights, *shadows, *imageBasedLighting, settings.path,
@@ -127,17 +127,11 @@ void Renderer::Impl::checkSettings() const {
         throw RendererError(fmt::format("the forward pass renders into RGBA16F, which needs the '{}' capability that this {} "
                                         "device lacks",
                                         rhi::toString(rhi::Capability::FloatRenderTargets), rhi::toString(device.info().backend)));
-    if (settings.msaaSamples != 1) {
-        const rhi::FormatCapabilities color = device.formatCapabilities(mainView.colorFormat);
-        const rhi::FormatCapabilities depth = device.formatCapabilities(mainView.depthFormat);
-        if (!color.supportsSampleCount(settings.msaaSamples) || !depth.supportsSampleCount(settings.msaaSamples)) {
-            const std::string allowed = rhi::FormatCapabilities::sampleCountText(color.sampleCounts & depth.sampleCounts);
-            throw RendererError(fmt::format("msaa {} is not possible on this {} device: its {} and {} render targets allow {} "
-                                            "samples per pixel",
-                                            settings.msaaSamples, rhi::toString(device.info().backend),
-                                            rhi::toString(mainView.colorFormat), rhi::toString(mainView.depthFormat), allowed));
-        }
-    }
+    requireSampleCount(device, settings.msaaSamples, mainView.colorFormat, mainView.depthFormat, "msaa");
+    // Each probe's own count is checked where the probes are made, naming the probe.
+    if (settings.probeMsaaSamples != 0)
+        requireSampleCount(device, settings.probeMsaaSamples, ReflectionProbes::kCaptureFormat, ReflectionProbes::kCaptureDepthFormat,
+                           "probe msaa");
     if (settings.path == FeaturePath::Compute) {
         for (rhi::Capability cap : {rhi::Capability::Compute, rhi::Capability::StorageImages, rhi::Capability::StorageBuffers})
             if (!caps.has(cap))
@@ -217,9 +211,9 @@ FrameReport Renderer::Impl::newReport(uint32_t width, uint32_t height) const {
 
 FrameReport Renderer::Impl::renderFrame() {
     FrameReport frame = newReport(settings.width, settings.height);
-    frame.msaaSamples = settings.msaaSamples;   // cube captures stay single-sampled
+    frame.msaaSamples = settings.msaaSamples;
     frame.alphaToCoverage = mainView.alphaToCoverage;
-    frame.views.push_back(ViewReport{mainView.name, mainView.width, mainView.height});
+    frame.views.push_back(ViewReport{mainView.name, mainView.width, mainView.height, mainView.sampleCount});
     // Work done once when the renderer was made (e.g. the sky's filtering) opens the first report.
     for (const std::unique_ptr<RenderFeature>& feature : features)
         for (PassReport& pass : feature->takeStartupReports()) frame.passes.push_back(std::move(pass));
@@ -236,15 +230,27 @@ void Renderer::Impl::takePerformanceMessages(FrameReport& frame) {
     for (rhi::DebugMessage& message : device.takePerformanceMessages()) frame.performanceMessages.push_back(std::move(message.text));
 }
 
-const rhi::TextureHandle& Renderer::Impl::captureDepth(uint32_t size) {
-    for (const rhi::TextureHandle& texture : captureDepths)
-        if (texture->desc().width == size) return texture;
-    captureDepths.push_back(device.createTexture(rhi::TextureDesc{}
-                                                     .setFormat(rhi::Format::D32_FLOAT)
-                                                     .setSize(size, size)
-                                                     .setUsage(rhi::TextureUsage::RenderTarget)
-                                                     .setDebugName(fmt::format("capture depth {}", size))));
-    return captureDepths.back();
+const Renderer::Impl::CaptureTargets& Renderer::Impl::captureTargets(uint32_t size, uint32_t samples, rhi::Format color) {
+    if (samples == 1) color = rhi::Format::Unknown;   // faces render straight into the capture's target
+    for (const CaptureTargets& targets : captureTargetSets)
+        if (targets.size == size && targets.samples == samples && targets.color == color) return targets;
+    CaptureTargets targets{size, samples, color, {}, {}};
+    const std::string samplesText = samples > 1 ? fmt::format(", {} samples", samples) : "";
+    targets.depth = device.createTexture(rhi::TextureDesc{}
+                                             .setFormat(ReflectionProbes::kCaptureDepthFormat)
+                                             .setSize(size, size)
+                                             .setUsage(rhi::TextureUsage::RenderTarget)
+                                             .setSampleCount(samples)
+                                             .setDebugName(fmt::format("capture depth {}{}", size, samplesText)));
+    if (samples > 1)
+        targets.multisampledColor = device.createTexture(rhi::TextureDesc{}
+                                                             .setFormat(color)
+                                                             .setSize(size, size)
+                                                             .setUsage(rhi::TextureUsage::RenderTarget)
+                                                             .setSampleCount(samples)
+                                                             .setDebugName(fmt::format("capture radiance {}{}", size, samplesText)));
+    captureTargetSets.push_back(std::move(targets));
+    return captureTargetSets.back();
 }
 
 FrameReport Renderer::Impl::renderCubeCapture(const CubeCaptureDesc& capture) {
@@ -270,11 +276,23 @@ FrameReport Renderer::Impl::renderCubeCapture(const CubeCaptureDesc& capture) {
     if (capture.faces == 0 || capture.faces > 0x3f)
         throw RendererError(fmt::format("cube capture: faces mask {:#x} must name at least one of the six faces (bits 0..5)", capture.faces));
     if (capture.mipLevel > 0) device.require(rhi::Capability::RenderToCubeFaceMip, "cube capture into a mip level other than 0");
+    const uint32_t samples = capture.msaaSamples;
+    if (samples == 0 || samples > 16 || (samples & (samples - 1)) != 0)
+        throw RendererError(fmt::format("cube capture: msaa {} must be 1 (off), 2, 4, 8 or 16 samples per pixel", samples));
+    requireSampleCount(device, samples, desc.format, ReflectionProbes::kCaptureDepthFormat,
+                       fmt::format("cube capture into '{}': msaa", desc.debugName));
     const uint32_t size = rhi::mipExtent(desc.width, capture.mipLevel);
 
     PassGraph graph;
-    const ViewTarget depth{graph.importResource("capture depth"), captureDepth(size), {}};
+    const CaptureTargets& targets = captureTargets(size, samples, desc.format);
+    const ViewTarget depth{graph.importResource("capture depth"), targets.depth, {}};
+    // With samples every face is shaded into the same multisampled target, and its msaa-resolve
+    // pass (msaa/) averages them into the face before the next face clears it.
+    std::optional<ViewTarget> multisampled;
+    if (samples > 1) multisampled = ViewTarget{graph.importResource("capture samples"), targets.multisampledColor, {}};
     FrameReport frame = newReport(size, size);
+    frame.msaaSamples = samples;
+    frame.alphaToCoverage = samples > 1 && *settings.alphaToCoverage;
     std::array<SceneView, 6> views = makeCubeFaceViews(capture.position, size, capture.nearPlane, capture.farPlane, capture.viewPrefix);
     for (uint32_t face = 0; face < 6; ++face) {
         if ((capture.faces & (1u << face)) == 0) continue;
@@ -286,11 +304,18 @@ FrameReport Renderer::Impl::renderCubeCapture(const CubeCaptureDesc& capture) {
         view.passes.lightCulling = false;
         view.passes.tonemap = false;
         view.passes.reflectionProbes = false;
+        view.sampleCount = samples;
+        view.alphaToCoverage = frame.alphaToCoverage;
         const ViewTarget color{graph.importResource(fmt::format("capture {}", cubeFaceName(face))), capture.target,
                                rhi::TextureSubresource{capture.mipLevel, capture.cube * 6 + face}};
-        addView(graph, view, color, depth, nullptr);
+        if (multisampled) {
+            graph.publish(view.name, frame_resources::kHdrResolved, color);
+            addView(graph, view, *multisampled, depth, nullptr);
+        } else {
+            addView(graph, view, color, depth, nullptr);
+        }
         graph.markOutput(color.resource);
-        frame.views.push_back(ViewReport{view.name, size, size});
+        frame.views.push_back(ViewReport{view.name, size, size, samples});
     }
     graph.compile(device);
     frame.passes = graph.execute(device, commandList);

@@ -15,6 +15,7 @@
 //   scene/, io/    loading scenes, reading and writing images
 #pragma once
 
+#include <deque>
 #include <memory>
 #include <span>
 #include <vector>
@@ -61,7 +62,14 @@ struct Renderer::Impl {
 
     PassGraph frameGraph;                   // the main view's frame, compiled once
     rhi::CommandListHandle commandList;
-    std::vector<rhi::TextureHandle> captureDepths;   // one D32F per capture face size in use
+    // What cube captures render into besides their target, per face size and sample count in use:
+    // depth, and with samples the multisampled colour (of the target's format) they resolve.
+    struct CaptureTargets {
+        uint32_t size = 0, samples = 1;
+        rhi::Format color = rhi::Format::Unknown;   // Unknown with one sample
+        rhi::TextureHandle depth, multisampledColor;
+    };
+    std::deque<CaptureTargets> captureTargetSets;   // a deque: references to its elements stay valid
     bool frameRendered = false;   // the targets hold nothing readable before the first frame
 
     Impl(rhi::IDevice& d, const Scene& scene, const RenderSettings& s);
@@ -80,7 +88,7 @@ struct Renderer::Impl {
     FrameReport renderCubeCapture(const CubeCaptureDesc& capture);
     // Moves the device's performance messages (collected apart from validation messages) into the report.
     void takePerformanceMessages(FrameReport& frame);
-    const rhi::TextureHandle& captureDepth(uint32_t size);
+    const CaptureTargets& captureTargets(uint32_t size, uint32_t samples, rhi::Format color);
     void setLights(std::span<const Light> newLights);
     void requireFrame(const char* what) const;
     // Throws RendererError when the device was destroyed (a Renderer must not outlive it).

@@ -1,5 +1,6 @@
 // Multisampled rendering (RenderSettings::msaaSamples; docs/LIGHTING.md, "Anti-aliasing"): the
-// main view shades into multisampled targets, "msaa-resolve" averages them before the tonemap.
+// main view shades into multisampled targets, "msaa-resolve" averages them before the tonemap;
+// cube captures (CubeCaptureDesc::msaaSamples, reflection probes) resolve each face.
 // On every configuration: edges get the covered fraction of their samples and everything else
 // stays as it was, blended surfaces and tiled culling keep working, the five configurations
 // agree, and what cannot be done says so.
@@ -7,11 +8,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <string>
 #include <vector>
 
 #include <fmt/format.h>
 #include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/packing.hpp>
 
 #include "janus/renderer/renderer.h"
 #include "janus/renderer/scene_view.h"
@@ -281,6 +284,130 @@ TEST_P(MsaaTest, ImpossibleRequestsSaySo) {
     }
     EXPECT_NE(culling.find("tiles-depth"), std::string::npos) << culling;
     EXPECT_NE(message(settings(kSamples), [](Renderer& r) { r.renderFrame(); r.readDepth(); }).find("multisampled"), std::string::npos);
+    device.takeDebugMessages();
+}
+
+// A cube capture with samples (CubeCaptureDesc::msaaSamples): each face is shaded into the
+// multisampled targets and resolved into its face, so the red quad of
+// EdgesGetTheirCoveredFractionAndFlatAreasStay, seen by the capture's -Z face, gets partly covered
+// pixels at its edges, exact quarters, and everything else (the rest of that face, the five faces
+// that see nothing) is what one sample gives. The report says so per view.
+TEST_P(MsaaTest, ACubeCaptureResolvesEachFaceOfItsSamples) {
+    Scene scene = stage();
+    addEmissiveQuad(scene, {1.0f, 0.0f, 0.0f}, 1.0f, AlphaMode::Opaque, {0.0f, 0.0f, -1.5f}, glm::radians(20.0f));
+    rhi::IDevice& device = test_support::deviceFor(config().backend);
+    device.takeDebugMessages();
+    RenderSettings s = settings(1);
+    s.path = config().path;
+    Renderer renderer(device, scene, s);
+    constexpr uint32_t kFace = 48;
+    auto capture = [&](uint32_t samples, FrameReport& report) {
+        const rhi::TextureHandle cube = device.createTexture(rhi::TextureDesc{}
+                                                                 .setDimension(rhi::TextureDimension::TextureCube)
+                                                                 .setFormat(rhi::Format::RGBA16_FLOAT)
+                                                                 .setSize(kFace, kFace)
+                                                                 .setUsage(rhi::TextureUsage::RenderTarget | rhi::TextureUsage::Sampled)
+                                                                 .setDebugName(fmt::format("cube {} samples", samples)));
+        CubeCaptureDesc desc;
+        desc.target = cube;
+        desc.msaaSamples = samples;
+        report = renderer.renderCubeCapture(desc);
+        std::vector<float> red;   // faces 0..5, rows top down
+        for (uint32_t face = 0; face < 6; ++face) {
+            const std::vector<std::byte> bytes = device.readTexture(cube, {0, face});
+            EXPECT_EQ(bytes.size(), size_t(kFace) * kFace * 8);
+            for (size_t texel = 0; texel + 8 <= bytes.size(); texel += 8) {
+                uint16_t half;
+                std::memcpy(&half, bytes.data() + texel, 2);
+                red.push_back(glm::unpackHalf1x16(half));
+            }
+        }
+        return red;
+    };
+    // One view name for every count: the features' per-view state follows the view's count.
+    FrameReport oneReport, fourReport, againReport;
+    const std::vector<float> one = capture(1, oneReport), four = capture(kSamples, fourReport);
+    EXPECT_EQ(capture(1, againReport), one) << "a capture with one sample after one with samples differs from the first";
+    const std::vector<rhi::DebugMessage> messages = device.takeDebugMessages();
+    EXPECT_TRUE(messages.empty()) << test_support::joinMessages(messages);
+    ASSERT_EQ(one.size(), four.size());
+    ASSERT_EQ(one.size(), size_t(6) * kFace * kFace);
+
+    EXPECT_EQ(fourReport.msaaSamples, kSamples);
+    EXPECT_EQ(oneReport.msaaSamples, 1u);
+    ASSERT_EQ(fourReport.views.size(), 6u);
+    for (const ViewReport& view : fourReport.views) EXPECT_EQ(view.sampleCount, kSamples) << view.name;
+    EXPECT_EQ(fourReport.toJson().at("views").at(0).at("samples"), kSamples);
+    auto resolves = [](const FrameReport& report) {
+        return std::count_if(report.passes.begin(), report.passes.end(), [](const PassReport& p) { return p.name == "msaa-resolve"; });
+    };
+    EXPECT_EQ(resolves(fourReport), 6);
+    EXPECT_EQ(resolves(oneReport), 0);
+
+    const size_t faceTexels = size_t(kFace) * kFace;
+    size_t partial = 0, flat = 0, lit = 0;
+    double areaOne = 0.0, areaFour = 0.0;
+    for (uint32_t face = 0; face < 6; ++face)
+        for (uint32_t y = 0; y < kFace; ++y)
+            for (uint32_t x = 0; x < kFace; ++x) {
+                const size_t i = face * faceTexels + size_t(y) * kFace + x;
+                SCOPED_TRACE(fmt::format("face {} texel ({}, {})", face, x, y));
+                EXPECT_EQ(four[i] * kSamples, std::round(four[i] * kSamples)) << four[i] << " is no multiple of 1/4";
+                areaOne += one[i];
+                areaFour += four[i];
+                lit += one[i] > 0.0f;
+                bool uniform = true;
+                for (int dy = -1; dy <= 1; ++dy)
+                    for (int dx = -1; dx <= 1; ++dx) {
+                        const int nx = std::clamp(int(x) + dx, 0, int(kFace) - 1), ny = std::clamp(int(y) + dy, 0, int(kFace) - 1);
+                        uniform = uniform && one[face * faceTexels + size_t(ny) * kFace + size_t(nx)] == one[i];
+                    }
+                if (uniform) {
+                    EXPECT_EQ(four[i], one[i]) << "away from every edge";
+                    ++flat;
+                }
+                partial += four[i] > 0.0f && four[i] < 1.0f;
+            }
+    EXPECT_GT(lit, 100u) << "the capture's -Z face does not see the quad";
+    EXPECT_GT(flat, 5 * faceTexels);
+    EXPECT_GE(partial, 40u) << "too few partly covered edge texels: the faces were not multisampled";
+    EXPECT_NEAR(areaFour, areaOne, 0.03 * areaOne);
+}
+
+// A count the device does not allow, or none at all, is a RendererError naming it.
+TEST_P(MsaaTest, ACubeCaptureRefusesSampleCountsTheDeviceLacks) {
+    rhi::IDevice& device = test_support::deviceFor(config().backend);
+    RenderSettings s = settings(1);
+    s.path = config().path;
+    Renderer renderer(device, stage(), s);
+    CubeCaptureDesc desc;
+    desc.target = device.createTexture(rhi::TextureDesc{}
+                                           .setDimension(rhi::TextureDimension::TextureCube)
+                                           .setFormat(rhi::Format::RGBA16_FLOAT)
+                                           .setSize(16, 16)
+                                           .setUsage(rhi::TextureUsage::RenderTarget | rhi::TextureUsage::Sampled)
+                                           .setDebugName("refused capture"));
+    auto message = [&](uint32_t samples) -> std::string {
+        desc.msaaSamples = samples;
+        try {
+            renderer.renderCubeCapture(desc);
+        } catch (const RendererError& e) {
+            return e.what();
+        }
+        return "(no error)";
+    };
+    EXPECT_NE(message(3).find("msaa 3 must be 1 (off), 2, 4, 8 or 16"), std::string::npos) << message(3);
+    EXPECT_NE(message(0).find("msaa 0 must be"), std::string::npos) << message(0);
+    const uint32_t allowed = device.formatCapabilities(rhi::Format::RGBA16_FLOAT).sampleCounts &
+                             device.formatCapabilities(rhi::Format::D32_FLOAT).sampleCounts;
+    for (uint32_t samples : {2u, 8u, 16u}) {
+        if (allowed & samples) continue;
+        const std::string text = message(samples);
+        EXPECT_NE(text.find(fmt::format("cube capture into 'refused capture': msaa {} is not possible on this {} device", samples,
+                                        rhi::toString(config().backend))),
+                  std::string::npos)
+            << text;
+    }
     device.takeDebugMessages();
 }
 

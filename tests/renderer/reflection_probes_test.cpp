@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <fstream>
+#include <map>
 #include <set>
 
 #include <fmt/format.h>
@@ -89,7 +90,7 @@ TEST(ReflectionProbeScenes, ASceneFileGivesEveryFieldAndReplacesTheMarkersProbe)
         "name": "hall", "position": [0, 1, 0], "influence": {"min": [-1, 0, -1], "max": [1, 2, 1]}, "blendDistance": 0.3,
         "parallax": {"center": [0, 1.5, 0], "size": [4, 3, 4]}, "resolution": 64, "near": 0.1, "far": 20,
         "update": "on-request", "timeSlicing": "individual-faces", "shadows": false, "shadowMapSize": 256, "layers": 6,
-        "samplesPerMip": [21, 34, 55], "brightTexels": 32 }, {"samplesPerMip": 8}])"));
+        "samplesPerMip": [21, 34, 55], "brightTexels": 32, "msaa": 4 }, {"samplesPerMip": 8}])"));
     ASSERT_EQ(scene.reflectionProbes.size(), 2u);   // the cornell box's marker adds none: the file has probes
     const ReflectionProbe& p = scene.reflectionProbes[0];
     EXPECT_EQ(p.name, "hall");
@@ -108,6 +109,7 @@ TEST(ReflectionProbeScenes, ASceneFileGivesEveryFieldAndReplacesTheMarkersProbe)
     EXPECT_EQ(p.renderingLayers, 6u);
     EXPECT_EQ(p.samplesPerMip, (std::vector<uint32_t>{21, 34, 55}));
     EXPECT_EQ(p.brightTexels, 32u);
+    EXPECT_EQ(p.msaaSamples, 4u);
     // Defaults: the scene's bounds, at their centre, at infinity, once, all at once.
     const ReflectionProbe& d = scene.reflectionProbes[1];
     EXPECT_EQ(d.name, "probe 1");
@@ -117,6 +119,7 @@ TEST(ReflectionProbeScenes, ASceneFileGivesEveryFieldAndReplacesTheMarkersProbe)
     EXPECT_EQ(d.timeSlicing, ProbeTimeSlicing::None);
     EXPECT_EQ(d.samplesPerMip, std::vector<uint32_t>{8});   // one number: every mip
     EXPECT_EQ(d.brightTexels, 0u);
+    EXPECT_EQ(d.msaaSamples, 1u);
     EXPECT_GT(d.influence.size().x, 1.0f);
 }
 
@@ -153,6 +156,11 @@ TEST(ReflectionProbeScenes, BadProbesAreSceneErrorsNamingTheProblem) {
         {R"([{"samplesPerMip": 5000}])", "5000 GGX samples per mip"},
         {R"([{"brightTexels": 4096}])", "4096 bright texels"},
         {R"([{"brightTexels": true}])", "brightTexels must be 0 (off)"},
+        {R"([{"msaa": 3}])", "msaa 3 must be 1 (off), 2, 4, 8 or 16"},
+        {R"([{"msaa": 0}])", "msaa 0 must be"},
+        {R"([{"msaa": 32}])", "msaa 32 must be"},
+        {R"([{"msaa": "4"}])", "msaa must be the capture's samples per pixel"},
+        {R"([{"msaa": true}])", "msaa must be the capture's samples per pixel"},
         {R"({"name": "x"})", "must be an array"},
     };
     for (size_t i = 0; i < cases.size(); ++i) {
@@ -438,6 +446,86 @@ TEST_P(ReflectionProbesTest, AProbesPrefilterSettingsReachItsUpdates) {
     expectNoMessages();
     EXPECT_GT(compareImages(plain, split, 0).differingPixels, 0u) << "the split did not change the probe";
     EXPECT_GT(compareImages(plain, fewSamples, 0).differingPixels, 0u) << "4 samples per mip gave the default's image";
+}
+
+// Multisampled captures (ReflectionProbe::msaaSamples, RenderSettings::probeMsaaSamples): a
+// probe's own count reaches its updates and their capture views, the settings' count overrides
+// every probe's, the mirror spheres' reflections change (their edges) and nothing the probes do
+// not reach, and the image holds the parity rule against vulkan/compute with the same samples.
+TEST_P(ReflectionProbesTest, MultisampledCapturesReachTheUpdatesAndKeepParity) {
+    device().takeDebugMessages();
+    Scene scene = probesScene();
+    scene.reflectionProbes[0].msaaSamples = 4;   // its own; the other keeps 1
+    auto samplesOf = [](const FrameReport& report) {
+        std::map<std::string, uint32_t> samples;
+        for (const ProbeUpdateReport& u : report.probeUpdates) samples[u.probe] = u.msaaSamples;
+        for (const ViewReport& v : report.views)
+            if (v.name.rfind("probe ", 0) == 0) samples[v.name] = v.sampleCount;
+        return samples;
+    };
+    {
+        Renderer renderer(device(), scene, settings(64, 48));
+        const std::map<std::string, uint32_t> samples = samplesOf(renderer.renderFrame());
+        const std::string own = scene.reflectionProbes[0].name, other = scene.reflectionProbes[1].name;
+        EXPECT_EQ(samples.at(own), 4u);
+        EXPECT_EQ(samples.at(other), 1u);
+        EXPECT_EQ(samples.at(fmt::format("probe {} +X", own)), 4u);
+        EXPECT_EQ(samples.at(fmt::format("probe {} +X", other)), 1u);
+    }
+    RenderSettings four = settings();
+    four.probeMsaaSamples = 4;
+    RenderSettings one = settings();
+    one.probeMsaaSamples = 1;   // overrides the probe's own 4
+    const test_support::FrameOutput a = renderSettled(device(), scene, four);
+    const test_support::FrameOutput b = renderSettled(device(), scene, one);
+    expectNoMessages();
+    for (const auto& [name, count] : samplesOf(a.report)) EXPECT_EQ(count, 4u) << name;
+    for (const auto& [name, count] : samplesOf(b.report)) EXPECT_EQ(count, 1u) << name;
+    test_support::expectFiniteHdr(a.hdr, GetParam().name());
+    // The chrome spheres reflect the alcove's edges; the sky above the walls stays.
+    EXPECT_GT(compareImages(a.display, b.display, 0).differingPixels, 0u) << "4 samples gave the one-sample captures' image";
+    for (uint32_t x = 0; x < a.display.width; ++x)
+        for (uint32_t c = 0; c < 3; ++c) EXPECT_EQ(a.display.pixels[x * 4 + c], b.display.pixels[x * 4 + c]) << "top row, x " << x;
+    static const test_support::FrameOutput reference = renderSettled(test_support::deviceFor(rhi::Backend::Vulkan), scene, [&] {
+        RenderSettings s = four;
+        s.path = FeaturePath::Compute;
+        return s;
+    }());
+    test_support::expectMatchesVulkanCompute(reference.display, a.display, "probes-msaa", GetParam());
+}
+
+// A probe's count the device does not allow is a RendererError naming the probe when the renderer
+// is made; so is a settings count that no probe could use.
+TEST_P(ReflectionProbesTest, SampleCountsTheDeviceLacksAreRefusedNamingTheProbe) {
+    const uint32_t allowed = device().formatCapabilities(rhi::Format::RGBA16_FLOAT).sampleCounts &
+                             device().formatCapabilities(rhi::Format::D32_FLOAT).sampleCounts;
+    auto message = [&](const Scene& scene, const RenderSettings& s) -> std::string {
+        try {
+            Renderer renderer(device(), scene, s);
+        } catch (const RendererError& e) {
+            return e.what();
+        }
+        return "(no error)";
+    };
+    const std::string backend = rhi::toString(GetParam().backend);
+    RenderSettings odd = settings(64, 48);
+    odd.probeMsaaSamples = 3;
+    EXPECT_NE(message(probesScene(), odd).find(fmt::format("probe msaa 3 is not possible on this {} device", backend)), std::string::npos)
+        << message(probesScene(), odd);
+    size_t lacking = 0;
+    for (uint32_t samples : {2u, 8u, 16u}) {
+        if (allowed & samples) continue;
+        ++lacking;
+        Scene scene = probesScene();
+        scene.reflectionProbes[1].msaaSamples = samples;
+        const std::string text = message(scene, settings(64, 48));
+        EXPECT_NE(text.find(fmt::format("reflection probe '{}': msaa {} is not possible on this {} device", scene.reflectionProbes[1].name,
+                                        samples, backend)),
+                  std::string::npos)
+            << text;
+    }
+    RecordProperty("countsTheDeviceLacks", int(lacking));
+    device().takeDebugMessages();
 }
 
 TEST_P(ReflectionProbesTest, WithoutCubeArraysTwoProbesAreShownAndTheRestLeftOut) {

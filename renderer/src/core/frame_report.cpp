@@ -10,7 +10,7 @@ nlohmann::json FrameReport::toJson() const {
         passesJson.push_back(std::move(j));
     }
     nlohmann::json viewsJson = nlohmann::json::array();
-    for (const ViewReport& v : views) viewsJson.push_back({{"name", v.name}, {"width", v.width}, {"height", v.height}});
+    for (const ViewReport& v : views) viewsJson.push_back({{"name", v.name}, {"width", v.width}, {"height", v.height}, {"samples", v.sampleCount}});
     nlohmann::json json{{"backend", backend}, {"path", path},        {"width", width},         {"height", height},
                         {"msaaSamples", msaaSamples}, {"alphaToCoverage", alphaToCoverage}, {"views", viewsJson}, {"passes", passesJson}};
     if (lightCulling) {
@@ -43,7 +43,8 @@ nlohmann::json FrameReport::toJson() const {
                               {"updateDispatches", u.updateDispatches},
                               {"prefilterDraws", u.prefilterDraws},
                               {"prefilterDispatches", u.prefilterDispatches},
-                              {"copies", u.copies}});
+                              {"copies", u.copies},
+                              {"msaaSamples", u.msaaSamples}});
         json["probeUpdates"] = std::move(probes);
     }
     json["performanceMessages"] = performanceMessages;

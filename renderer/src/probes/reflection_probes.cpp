@@ -8,6 +8,7 @@
 
 #include "core/gpu_util.h"
 #include "janus/shaders/bindings.h"
+#include "msaa/msaa_settings.h"
 
 namespace janus::renderer {
 namespace {
@@ -38,7 +39,7 @@ uint32_t log2u(uint32_t v) {
 }  // namespace
 
 ReflectionProbes::ReflectionProbes(rhi::IDevice& device, const Scene& scene, FeaturePath path, const glm::vec3& cameraPosition,
-                                   CaptureFunction capture)
+                                   uint32_t msaaSamples, CaptureFunction capture)
     : m_device(device), m_path(path), m_capture(std::move(capture)) {
     m_cubeArrays = device.capabilities().cubeArrays;
     // Which probes the main view shows: all, or the nearest to the camera that fit.
@@ -80,11 +81,14 @@ ReflectionProbes::ReflectionProbes(rhi::IDevice& device, const Scene& scene, Fea
     for (size_t index : order) {
         Probe probe;
         probe.desc = scene.reflectionProbes[index];
+        if (msaaSamples != 0) probe.desc.msaaSamples = msaaSamples;
+        requireSampleCount(device, probe.desc.msaaSamples, kCaptureFormat, kCaptureDepthFormat,
+                           fmt::format("reflection probe '{}': msaa", probe.desc.name));
         probe.slot = uint32_t(m_probes.size());
         probe.baseMip = m_cubeArrays ? log2u(largest / probe.desc.resolution) : 0;
         probe.capture = device.createTexture(rhi::TextureDesc{}
                                                  .setDimension(rhi::TextureDimension::TextureCube)
-                                                 .setFormat(rhi::Format::RGBA16_FLOAT)
+                                                 .setFormat(kCaptureFormat)
                                                  .setSize(probe.desc.resolution, probe.desc.resolution)
                                                  .setMipLevels(0)
                                                  .setUsage(rhi::TextureUsage::RenderTarget | rhi::TextureUsage::Sampled)
@@ -189,6 +193,7 @@ void ReflectionProbes::beginFrame(FrameReport& frame) {
             probe.report.probe = probe.desc.name;
             probe.report.update = probe.updates;
             probe.report.steps = uint32_t(probe.plan.size());
+            probe.report.msaaSamples = probe.desc.msaaSamples;
         }
         runStep(probe, frame);
     }
@@ -218,6 +223,7 @@ void ReflectionProbes::runStep(Probe& probe, FrameReport& frame) {
         capture.shadowMapSize = probe.desc.shadowMapSize;
         capture.renderingLayers = probe.desc.renderingLayers;
         capture.faces = step.captureFaces;
+        capture.msaaSamples = probe.desc.msaaSamples;
         capture.viewPrefix = view;
         FrameReport captured = m_capture(capture);
         for (const PassReport& pass : captured.passes) account(pass);

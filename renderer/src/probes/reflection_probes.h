@@ -2,7 +2,8 @@
 //
 // Each probe the main view can use is captured with the renderer's own passes (six mirrored
 // cube-face views, the reduced pass set: no tile culling, no tonemap, no probes; shadows and
-// rendering layers as the probe says) into the probe's capture cube, whose mip chain is built and
+// rendering layers as the probe says; with the probe's samples per pixel, resolved face by face)
+// into the probe's capture cube, whose mip chain is built and
 // GGX-prefiltered (GgxPrefilter: 7 levels, roughness = mip / 6) into the probe's staging cube;
 // when the whole update is done the staging mips are copied where shading reads them and the
 // probe is listed in the view's probe uniforms. Updates follow the probe's mode (once / every
@@ -42,11 +43,15 @@ public:
     static constexpr uint32_t kMaxShownWithCubeArrays = 16;   // probe_access.glsl kMaxShownProbes
     static constexpr uint32_t kMaxShownWithoutCubeArrays = 2;
     static constexpr uint32_t kPrefilteredMips = 7;           // mip 0 + 6 GGX mips (36 draws on the fallback path)
+    static constexpr rhi::Format kCaptureFormat = rhi::Format::RGBA16_FLOAT;
+    static constexpr rhi::Format kCaptureDepthFormat = rhi::Format::D32_FLOAT;
 
-    // Picks the probes the view at `cameraPosition` shows and makes their textures. Throws
-    // RendererError when the path cannot prefilter on this device.
+    // Picks the probes the view at `cameraPosition` shows and makes their textures; a probe's
+    // capture takes `msaaSamples` per pixel, or its own (ReflectionProbe::msaaSamples) when 0.
+    // Throws RendererError when the path cannot prefilter on this device, or the device does not
+    // allow a shown probe's sample count.
     ReflectionProbes(rhi::IDevice& device, const Scene& scene, FeaturePath path, const glm::vec3& cameraPosition,
-                     CaptureFunction capture);
+                     uint32_t msaaSamples, CaptureFunction capture);
 
     bool active() const { return !m_probes.empty(); }
 

@@ -108,7 +108,7 @@ Box sceneBounds(const Scene& scene) {
 
 std::span<const std::string_view> reflectionProbeKeys() {
     static constexpr std::string_view kKeys[] = {"name",    "position",     "influence", "blendDistance", "parallax",      "resolution", "update",
-                                                 "timeSlicing", "shadows", "shadowMapSize", "layers",   "samplesPerMip", "brightTexels"};
+                                                 "timeSlicing", "shadows", "shadowMapSize", "layers",   "samplesPerMip", "brightTexels", "msaa"};
     return kKeys;
 }
 
@@ -188,6 +188,11 @@ std::vector<ReflectionProbe> parseReflectionProbes(const std::filesystem::path& 
                                        p["brightTexels"].dump()));
             probe.brightTexels = uint32_t(std::min<uint64_t>(p["brightTexels"].get<uint64_t>(), UINT32_MAX));
         }
+        if (p.contains("msaa")) {
+            if (!p["msaa"].is_number_unsigned())
+                fail(file, fmt::format("{}.msaa must be the capture's samples per pixel, 1, 2, 4, 8 or 16, got {}", where, p["msaa"].dump()));
+            probe.msaaSamples = uint32_t(std::min<uint64_t>(p["msaa"].get<uint64_t>(), UINT32_MAX));
+        }
         result.push_back(std::move(probe));
     }
     return result;
@@ -243,6 +248,9 @@ void validateReflectionProbes(const Scene& scene) {
         if (p.brightTexels > kMaxGgxBrightTexels)
             throw SceneError(fmt::format("reflection probe {}: {} bright texels is above the most, {} (0 turns the split off)", name,
                                          p.brightTexels, kMaxGgxBrightTexels));
+        if (p.msaaSamples < 1 || p.msaaSamples > 16 || (p.msaaSamples & (p.msaaSamples - 1)) != 0)
+            throw SceneError(fmt::format("reflection probe {}: msaa {} must be 1 (off), 2, 4, 8 or 16 samples per pixel", name,
+                                         p.msaaSamples));
         if (!(std::isfinite(p.nearPlane) && std::isfinite(p.farPlane) && p.nearPlane > 0.0f && p.nearPlane < p.farPlane))
             throw SceneError(fmt::format("reflection probe {}: planes near {} and far {} must satisfy 0 < near < far", name, p.nearPlane,
                                          p.farPlane));

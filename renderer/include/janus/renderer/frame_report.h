@@ -27,6 +27,7 @@ struct PassReport {
 struct ViewReport {
     std::string name;
     uint32_t width = 0, height = 0;
+    uint32_t sampleCount = 1;   // samples per pixel it was shaded with
 };
 
 // What the light culling of one frame did. Present when the scene has point or spot lights.
@@ -56,14 +57,18 @@ struct ProbeUpdateReport {
     uint32_t updateDraws = 0, updateDispatches = 0;
     uint32_t prefilterDraws = 0, prefilterDispatches = 0;
     uint32_t copies = 0;                  // texture copies that showed it (faces x mips)
+    uint32_t msaaSamples = 1;             // samples per pixel of its capture
 };
 
 struct FrameReport {
     std::string backend;           // "vulkan", "gl", "gles"
     std::string path;              // "compute", "fallback"
     uint32_t width = 0, height = 0;
-    uint32_t msaaSamples = 1;   // samples per pixel of the main view (RenderSettings::msaaSamples)
-    bool alphaToCoverage = false;   // the main view's alpha-masked materials used alpha to coverage (msaaSamples > 1)
+    // Samples per pixel of the main view (RenderSettings::msaaSamples), and whether its
+    // alpha-masked materials used alpha to coverage (msaaSamples > 1). In renderCubeCapture's
+    // report: the capture's.
+    uint32_t msaaSamples = 1;
+    bool alphaToCoverage = false;
     std::vector<ViewReport> views;     // in the order they were rendered; views[0] is "main" for renderFrame()
     std::vector<PassReport> passes;    // in execution order; PassReport::view names the view
     std::optional<LightCullingReport> lightCulling;

@@ -43,6 +43,10 @@ struct CubeCaptureDesc {
     uint32_t shadowMapSize = 0;         // its size for the capture; 0 = the renderer's
     uint32_t renderingLayers = ~0u;     // meshes the capture sees
     uint32_t faces = 0x3f;              // bit f: render face f (+X, -X, +Y, -Y, +Z, -Z); at least one
+    // Samples per pixel: each face is shaded into multisampled targets the renderer keeps and
+    // resolved into the target's face (1, 2, 4, 8 or 16 where the device allows the count for the
+    // target's format and D32F; alpha-masked materials then use the renderer's alphaToCoverage).
+    uint32_t msaaSamples = 1;
     std::string viewPrefix = "cube";    // views are named "<prefix> +X" ... in reports
 };
 

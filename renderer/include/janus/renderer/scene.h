@@ -353,6 +353,13 @@ struct ReflectionProbe {
     // exactly instead of ghosting, for 7 draws | 2 dispatches more), at most 1023.
     std::vector<uint32_t> samplesPerMip;
     uint32_t brightTexels = 0;
+    // Samples per pixel of the capture (1 = off, 2, 4, 8 or 16 where the device allows the count
+    // for RGBA16F and D32F render targets; 4 is allowed everywhere): each face is shaded into
+    // multisampled targets and resolved into the capture cube, so the edges a mirror-like
+    // surface reflects (mip 0) lose their stairs. Alpha-masked materials get alpha to coverage as
+    // in the main view (RenderSettings::alphaToCoverage). RenderSettings::probeMsaaSamples
+    // overrides it for every probe.
+    uint32_t msaaSamples = 1;
 };
 
 // Probe-based diffuse GI (docs/GI.md): a grid of irradiance probes over `bounds`. A bake renders a

@@ -97,6 +97,10 @@ struct RenderSettings {
     // "alphaToCoverage", else true. Nothing changes with one sample (docs/LIGHTING.md,
     // "Anti-aliasing").
     std::optional<bool> alphaToCoverage;
+    // Samples per pixel of every reflection probe's capture: 0 = each probe's own
+    // (ReflectionProbe::msaaSamples, the scene file's "msaa" of the probe), else 1, 2, 4, 8 or 16
+    // where the device allows the count, as msaaSamples (docs/PROBES.md, "Multisampled captures").
+    uint32_t probeMsaaSamples = 0;
     // The scene's irradiance volume from a file `bakeIrradianceVolume` (janus bake) wrote; empty:
     // baked when the renderer is made (docs/GI.md). A file of another scene, version or volume is
     // a RendererError.
