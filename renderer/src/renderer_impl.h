@@ -34,6 +34,7 @@
 #include "ibl/sky_background.h"
 #include "msaa/msaa_resolve.h"
 #include "msaa/msaa_settings.h"
+#include "msaa/sample_count.h"
 #include "janus/renderer/renderer.h"
 #include "probes/reflection_probes.h"
 #include "shadows/main_light_shadows.h"

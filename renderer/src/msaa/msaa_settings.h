@@ -3,11 +3,8 @@
 
 #include <cstdint>
 #include <optional>
-#include <string_view>
 
 #include <nlohmann/json.hpp>
-
-#include "janus/rhi/rhi.h"
 
 namespace janus::renderer {
 
@@ -18,8 +15,5 @@ uint32_t resolveMsaaSamples(uint32_t given, const nlohmann::json& quality);
 // RenderSettings::alphaToCoverage when given, else the scene file's quality key "alphaToCoverage"
 // (true or false; anything else is a RendererError naming the key), else true.
 bool resolveAlphaToCoverage(std::optional<bool> given, const nlohmann::json& quality);
-// A RendererError, "<setting> <samples> is not possible on this ... device", unless the device
-// allows `samples` per pixel for render targets of both formats; it names the counts it does allow.
-void requireSampleCount(const rhi::IDevice& device, uint32_t samples, rhi::Format color, rhi::Format depth, std::string_view setting);
 
 }  // namespace janus::renderer

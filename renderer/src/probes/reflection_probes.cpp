@@ -8,7 +8,7 @@
 
 #include "core/gpu_util.h"
 #include "janus/shaders/bindings.h"
-#include "msaa/msaa_settings.h"
+#include "msaa/sample_count.h"
 
 namespace janus::renderer {
 namespace {
