@@ -29,6 +29,8 @@
 #                        parity.json each configuration's msaa-resolve and forward GPU ms
 #   msaa/                janus bench msaa at 960x540 (fallback path): error against a 4x4-supersampled
 #                        reference and frame GPU ms for 1, 2, 4, 8 samples and 2x2 supersampling
+#   msaa_probes/         janus bench msaa of the built-in probes scene (fallback path): its two reflection
+#                        probes' captures with 1, 2, 4, 8 samples against 4x4-supersampled captures
 #   gl_only/             DamagedHelmet at 256x256 in the GL configurations alone, one process that
 #   gl_only_against/     starts no Vulkan, and all five --against them at tolerance 0: GL alone must
 #                        draw as GL after Vulkan
@@ -264,11 +266,13 @@ else
   step parity_helmet_sky 60 janus parity "$repo_root/../shared/scenes/DamagedHelmet/glTF/DamagedHelmet.gltf" \
     --env "$repo_root/../shared/scenes/env/chinese_garden_1k.hdr" --size 128x128 --out "$results/parity_helmet_sky"
   # Multisampling on a real driver (docs/LIGHTING.md, "Anti-aliasing"): the five agree, and what the
-  # resolve costs where hardware does it (llvmpipe: ~40 ms at 256x256).
+  # resolve costs where hardware does it (llvmpipe, steady: 0.7 ms at 256x256; this is a first frame).
   step parity_msaa 60 janus parity --size 512x512 --msaa 4 --out "$results/parity_msaa"
   # Anti-aliasing's accuracy vs time where the samples are hardware's: 2 and 8 samples too (llvmpipe
   # has 1 and 4 only), the frame's cost per count, against a 4x4-supersampled reference.
   step msaa 45 janus bench msaa --size 960x540 --runs 3 --paths fallback --out "$results/msaa"
+  # Multisampled reflection-probe captures (docs/PROBES.md): their error per count and what they cost an update.
+  step msaa_probes 40 janus bench msaa probes --runs 3 --paths fallback --supersample none --out "$results/msaa_probes"
 fi
 if [[ $bench_only == 0 ]]; then
   # GL in a process that never starts Vulkan (NVIDIA's GL lost buffer contents only there, session

@@ -3,15 +3,20 @@
 // msaaSamples) and supersampled (rendered at k times the size with one sample, box-filtered down),
 // each against a reference supersampled at a larger scale: the error over every pixel and over the
 // pixels the one-sample image aliases, how many of those stay wrong, the frame's time and the
-// resolve's, and the memory the view's targets take. Writes msaa.md, msaa.json, msaa.png and
-// msaa-error-<backend>-<path>.png (one sample beside the largest count measured).
+// resolve's, and the memory the view's targets take. Where the scene has reflection probes, their
+// captures too (Renderer::renderCubeCapture, as a probe update captures them; docs/PROBES.md,
+// "Multisampled captures"): each face's error against a supersampled capture, and the capture's
+// time. Writes msaa.md, msaa.json, msaa.png and msaa-error-<backend>-<path>.png (one sample beside
+// the largest count measured).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <memory>
 #include <optional>
 
 #include <fmt/format.h>
+#include <glm/gtc/packing.hpp>
 #include <nlohmann/json.hpp>
 
 #include "cli_common.h"
@@ -150,6 +155,124 @@ Timing timeFrames(renderer::Renderer& renderer, uint32_t runs) {
     return timing;
 }
 
+// ---- Reflection-probe captures ----
+
+constexpr size_t kMaxCapturedProbes = 4;   // of the scene's, in its order: enough to see the trend, bounded time
+
+struct CaptureRow {
+    std::string backend, path, probe;
+    uint32_t faceSize = 0;
+    Method method = Method::Msaa;   // Msaa or Supersample
+    uint32_t samples = 1, scale = 1;
+    double captureMs = 0.0;         // median over runs
+    bool gpuTimed = true;
+    Error error;
+};
+
+struct Capture {
+    double ms = 0.0;
+    bool gpuTimed = true;
+    renderer::ImageRGBAF faces;   // +X .. -Z stacked top to bottom, faceSize wide, box-filtered from scale x
+};
+
+// Captures `probe` as its updates do, at `scale` x its face size with `samples`: one capture not
+// timed (first use), then `runs` timed (every pass of the capture summed); the faces of the last.
+Capture captureProbe(rhi::IDevice& device, renderer::Renderer& renderer, const renderer::ReflectionProbe& probe, uint32_t samples,
+                     uint32_t scale, uint32_t runs) {
+    const uint32_t size = probe.resolution * scale;
+    const rhi::TextureHandle cube = device.createTexture(rhi::TextureDesc{}
+                                                             .setDimension(rhi::TextureDimension::TextureCube)
+                                                             .setFormat(rhi::Format::RGBA16_FLOAT)
+                                                             .setSize(size, size)
+                                                             .setUsage(rhi::TextureUsage::RenderTarget | rhi::TextureUsage::Sampled)
+                                                             .setDebugName(fmt::format("bench capture {}", probe.name)));
+    renderer::CubeCaptureDesc desc;
+    desc.position = probe.position;
+    desc.nearPlane = probe.nearPlane;
+    desc.farPlane = probe.farPlane;
+    desc.target = cube;
+    desc.shadows = probe.shadows;
+    desc.shadowMapSize = probe.shadowMapSize;
+    desc.renderingLayers = probe.renderingLayers;
+    desc.msaaSamples = samples;
+    desc.viewPrefix = fmt::format("probe {}", probe.name);
+    Capture capture;
+    renderer.renderCubeCapture(desc);
+    std::vector<double> times;
+    for (uint32_t run = 0; run < runs; ++run) {
+        double ms = 0.0;
+        for (const renderer::PassReport& pass : renderer.renderCubeCapture(desc).passes) {
+            if (!pass.gpuMs) capture.gpuTimed = false;
+            ms += pass.gpuMs.value_or(pass.cpuMs);
+        }
+        times.push_back(ms);
+    }
+    capture.ms = median(times);
+    renderer::ImageRGBAF faces{size, size * 6, {}};
+    faces.pixels.reserve(size_t(size) * size * 6 * 4);
+    for (uint32_t face = 0; face < 6; ++face) {
+        const std::vector<std::byte> bytes = device.readTexture(cube, {0, face});
+        for (size_t offset = 0; offset + 2 <= bytes.size(); offset += 2) {
+            uint16_t half;
+            std::memcpy(&half, bytes.data() + offset, 2);
+            faces.pixels.push_back(glm::unpackHalf1x16(half));
+        }
+    }
+    // Faces are stacked whole, so scale x scale blocks never straddle two of them.
+    capture.faces = scale > 1 ? boxFiltered(faces, scale) : std::move(faces);
+    return capture;
+}
+
+std::string captureMethodLabel(const CaptureRow& row) {
+    if (row.method == Method::Supersample) return fmt::format("ssaa {}x{}", row.scale, row.scale);
+    return row.samples == 1 ? "1 sample" : fmt::format("msaa {}", row.samples);
+}
+
+// Every probe (at most kMaxCapturedProbes) on one configuration: one sample, each count of
+// `samples`, each supersampling scale, against the reference scale's capture. Counts the device
+// lacks go to `skipped` with the renderer's reason.
+void measureCaptures(rhi::IDevice& device, const renderer::Scene& scene, renderer::FeaturePath path, const std::string& label,
+                     const std::vector<uint32_t>& samples, const std::vector<uint32_t>& scales, uint32_t referenceScale, uint32_t runs,
+                     std::vector<CaptureRow>& rows, std::vector<std::string>& skipped) {
+    renderer::RenderSettings settings;
+    settings.width = settings.height = 16;   // the main view is not rendered
+    settings.path = path;
+    renderer::Renderer renderer(device, scene, settings);
+    const size_t probes = std::min(scene.reflectionProbes.size(), kMaxCapturedProbes);
+    for (size_t index = 0; index < probes; ++index) {
+        const renderer::ReflectionProbe& probe = scene.reflectionProbes[index];
+        const Capture reference = captureProbe(device, renderer, probe, 1, referenceScale, 1);
+        std::vector<uint8_t> aliased;
+        auto addRow = [&](Method method, uint32_t count, uint32_t scale) {
+            std::optional<Capture> measured;
+            try {
+                measured = captureProbe(device, renderer, probe, count, scale, runs);
+            } catch (const renderer::RendererError& e) {   // a count the device lacks: the message names it
+                skipped.push_back(fmt::format("{} probe '{}': {}", label, probe.name, e.what()));
+                return;
+            }
+            const std::vector<double> errors = pixelErrors(measured->faces, reference.faces);
+            if (aliased.empty()) {   // the one-sample row, first
+                aliased.resize(errors.size());
+                for (size_t p = 0; p < errors.size(); ++p) aliased[p] = errors[p] > kWrongThreshold;
+            }
+            CaptureRow row{label.substr(0, label.find('/')), renderer::toString(path), probe.name, probe.resolution, method,
+                           method == Method::Supersample ? scale * scale : count, scale};
+            row.captureMs = measured->ms;
+            row.gpuTimed = measured->gpuTimed && reference.gpuTimed;
+            row.error = measure(errors, aliased);
+            std::fprintf(stderr, "  %s probe '%s' %-9s capture %8.3f ms; error %6.2f %% (aliased texels %6.2f %%, %llu still wrong)\n",
+                         label.c_str(), probe.name.c_str(), captureMethodLabel(row).c_str(), row.captureMs, 100.0 * row.error.meanAll,
+                         100.0 * row.error.meanAliased, static_cast<unsigned long long>(row.error.aliasedLeft));
+            rows.push_back(std::move(row));
+        };
+        addRow(Method::Msaa, 1, 1);
+        for (uint32_t count : samples)
+            if (count > 1) addRow(Method::Msaa, count, 1);
+        for (uint32_t scale : scales) addRow(Method::Supersample, 1, scale);
+    }
+}
+
 // Where the error is, the one-sample image (left) beside the largest count measured (right), two
 // dark blue columns between: grey as the reference's brightness, red where a pixel is wrong,
 // brighter the larger the error.
@@ -180,6 +303,53 @@ renderer::ImageRGBA8 errorPicture(const renderer::ImageRGBAF& reference, const s
 
 std::string percent(double value) { return fmt::format("{:.2f}", 100.0 * value); }
 std::string mebibytes(uint64_t bytes) { return fmt::format("{:.2f}", double(bytes) / (1024.0 * 1024.0)); }
+
+// The captures' table, what it says per configuration and probe, and their JSON ("captures",
+// "captureSummary").
+void appendCaptureReport(const std::vector<CaptureRow>& rows, uint32_t referenceScale, uint32_t runs, const char* unit, std::string& md,
+                         nlohmann::json& json) {
+    md += fmt::format(
+        "\n## Reflection-probe captures\n\n"
+        "Each reflection probe of the scene (the first {}) captured as its updates capture it (`Renderer::renderCubeCapture` "
+        "at its position, planes and face size) with N samples per pixel (the probe's `msaa`, `--probe-msaa`; docs/PROBES.md, "
+        "\"Multisampled captures\") or supersampled, against the same capture at {}x the face size with one sample, "
+        "box-filtered. Error as above over the six faces' texels (mip 0: what mirror-like surfaces reflect); **aliased**: the "
+        "texels the one-sample capture gets wrong. **capture**: every pass of one capture (six faces, the shadow map where "
+        "the probe has shadows), {} (median of {} after one not timed).\n\n"
+        "| backend | path | probe | face | method | samples | capture {} | error all % | error aliased % | still wrong |\n"
+        "|---|---|---|---:|---|---:|---:|---:|---:|---:|\n",
+        kMaxCapturedProbes, referenceScale, unit, runs, unit);
+    json["captures"] = nlohmann::json::array();
+    for (const CaptureRow& r : rows) {
+        md += fmt::format("| {} | {} | {} | {} | {} | {} | {:.3f} | {} | {} | {} |\n", r.backend, r.path, r.probe, r.faceSize,
+                          captureMethodLabel(r), r.samples, r.captureMs, percent(r.error.meanAll), percent(r.error.meanAliased),
+                          r.error.aliasedLeft);
+        json["captures"].push_back({{"backend", r.backend}, {"path", r.path}, {"probe", r.probe}, {"faceSize", r.faceSize},
+                                    {"method", multisampled(r.method) ? "msaa" : "ssaa"}, {"samples", r.samples}, {"scale", r.scale},
+                                    {"captureMs", r.captureMs}, {"gpuTimed", r.gpuTimed},
+                                    {"error", {{"meanAll", r.error.meanAll}, {"meanAliased", r.error.meanAliased},
+                                               {"aliasedLeft", r.error.aliasedLeft}, {"max", r.error.maxError}}}});
+    }
+    md += "\nWhat they say:\n\n";
+    nlohmann::json summary = nlohmann::json::array();
+    for (const CaptureRow& base : rows) {
+        if (base.method != Method::Msaa || base.samples != 1) continue;
+        std::vector<std::string> parts;
+        for (const CaptureRow& r : rows) {
+            if (r.backend != base.backend || r.path != base.path || r.probe != base.probe || &r == &base) continue;
+            const double errorRatio = r.error.meanAliased / std::max(1e-12, base.error.meanAliased);
+            const double timeRatio = r.captureMs / std::max(1e-9, base.captureMs);
+            parts.push_back(fmt::format("{}: **{:.2f}x** the aliased texels' error for **{:.2f}x** the capture", captureMethodLabel(r),
+                                        errorRatio, timeRatio));
+            summary.push_back({{"backend", r.backend}, {"path", r.path}, {"probe", r.probe}, {"method", multisampled(r.method) ? "msaa" : "ssaa"},
+                               {"samples", r.samples}, {"aliasedErrorRatio", errorRatio}, {"captureTimeRatio", timeRatio}});
+        }
+        md += fmt::format("- {}/{} probe '{}' ({}²): one sample: aliased texels' error {} % ({:.3f} {}). {}.\n", base.backend, base.path,
+                          base.probe, base.faceSize, percent(base.error.meanAliased), base.captureMs, unit,
+                          parts.empty() ? std::string("nothing else ran") : fmt::format("{}", fmt::join(parts, "; ")));
+    }
+    json["captureSummary"] = summary;
+}
 
 int runMsaa(const MsaaOptions& options) {
     const auto [paths, backends] = parseBenchTargets(options.targets, options.quick, "compute");
@@ -221,6 +391,7 @@ int runMsaa(const MsaaOptions& options) {
     };
 
     std::vector<Row> rows;
+    std::vector<CaptureRow> captureRows;
     std::vector<std::string> skipped;
     nlohmann::json references = nlohmann::json::array();
     uint64_t aliasedPixels = 0;   // of the first configuration measured (they agree within parity)
@@ -294,6 +465,8 @@ int runMsaa(const MsaaOptions& options) {
                 if (addRow(Method::Msaa, count, 1) && maskedMaterials > 0) addRow(Method::MsaaCutOff, count, 1);
             }
             for (uint32_t scale : scales) addRow(Method::Supersample, 1, scale);
+            if (!scene.reflectionProbes.empty())
+                measureCaptures(*device, scene, path, label, samples, scales, referenceScale, runs, captureRows, skipped);
             renderer::writePNG(outDir / fmt::format("msaa-error-{}.png", configurationFileStem(backend, path)),
                                errorPicture(reference->second, oneSampleErrors, largestErrors.empty() ? oneSampleErrors : largestErrors));
         }
@@ -378,6 +551,7 @@ int runMsaa(const MsaaOptions& options) {
                           percent(base.error.meanAliased), base.frameMs, unit, parts.empty() ? std::string("nothing else ran") : fmt::format("{}", fmt::join(parts, "; ")));
     }
     json["summary"] = summary;
+    if (!captureRows.empty()) appendCaptureReport(captureRows, referenceScale, runs, unit, md, json);
     if (!skipped.empty()) {
         md += "\nSkipped:\n\n";
         for (const std::string& s : skipped) md += "- " + s + "\n";

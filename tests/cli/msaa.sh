@@ -101,4 +101,21 @@ json_check "$C" 'all(next(c for c in j["configurations"] if c["backend"] == b an
   next(c for c in j["configurations"] if c["backend"] == b and c.get("alphaToCoverage") is False)["error"]["meanAliased"] for b in ("vulkan", "gles"))' \
   "alpha to coverage should bring the cut-out's edge closer to the reference"
 grep -q "| msaa 4, cut-off | 4 |" "$TMP/cutout/msaa.md" || fail "msaa.md has no cut-off row"
+
+# Reflection-probe captures, where the scene has probes (the built-in `probes`: 'left' 64^2, 'right'
+# 128^2): per probe one sample, 4 samples and 2x2 supersampling against a 4x4-supersampled capture,
+# and more samples are closer to it on the edges the one-sample capture aliases. The default scene,
+# without probes, gets no such section.
+json_check "$B" '"captures" not in j' "the default scene has no probes, so no capture rows"
+expect_success bench msaa probes --quick --backends vulkan,gles --paths fallback --out "$TMP/probes"
+P=$TMP/probes/msaa.json
+json_check "$P" 'sorted((c["backend"], c["probe"], c["faceSize"], c["method"], c["samples"]) for c in j["captures"]) == sorted(
+  (b, p, f, m, n) for b in ("vulkan", "gles") for p, f in (("left", 64), ("right", 128)) for m, n in (("msaa", 1), ("msaa", 4), ("ssaa", 4)))'   "a capture row is missing"
+json_check "$P" 'all(c["captureMs"] > 0 and c["error"]["meanAliased"] > 0 for c in j["captures"])' "a capture row lacks its time or error"
+json_check "$P" 'all(c["error"]["aliasedLeft"] > 100 for c in j["captures"] if c["samples"] == 1)' "the one-sample captures should alias"
+json_check "$P" 'len(j["captureSummary"]) == 8 and all(s["aliasedErrorRatio"] < 0.7 for s in j["captureSummary"])'   "4 samples (or 2x2 supersampling) should take a capture's aliased texels well towards the reference"
+json_check "$P" 'all(abs(c["error"]["meanAliased"] - d["error"]["meanAliased"]) < 0.005 for c in j["captures"] for d in j["captures"]
+  if (c["probe"], c["method"], c["samples"]) == (d["probe"], d["method"], d["samples"]))' "the backends disagree on a capture's error"
+grep -q "^## Reflection-probe captures" "$TMP/probes/msaa.md" || fail "msaa.md has no captures section"
+grep -q "| vulkan | fallback | right | 128 | msaa 4 | 4 |" "$TMP/probes/msaa.md" || fail "msaa.md has no msaa 4 capture row"
 finish
