@@ -65,6 +65,33 @@ RenderSettings settings(uint32_t samples) {
     return s;
 }
 
+// The six faces (+X .. -Z, rows top down) of a capture at `position` into a new RGBA16F cube.
+std::vector<glm::vec4> captureFaces(rhi::IDevice& device, Renderer& renderer, uint32_t samples, uint32_t size, glm::vec3 position,
+                                    FrameReport& report) {
+    const rhi::TextureHandle cube = device.createTexture(rhi::TextureDesc{}
+                                                             .setDimension(rhi::TextureDimension::TextureCube)
+                                                             .setFormat(rhi::Format::RGBA16_FLOAT)
+                                                             .setSize(size, size)
+                                                             .setUsage(rhi::TextureUsage::RenderTarget | rhi::TextureUsage::Sampled)
+                                                             .setDebugName(fmt::format("cube {} samples", samples)));
+    CubeCaptureDesc desc;
+    desc.position = position;
+    desc.target = cube;
+    desc.msaaSamples = samples;
+    report = renderer.renderCubeCapture(desc);
+    std::vector<glm::vec4> texels;
+    for (uint32_t face = 0; face < 6; ++face) {
+        const std::vector<std::byte> bytes = device.readTexture(cube, {0, face});
+        EXPECT_EQ(bytes.size(), size_t(size) * size * 8);
+        for (size_t texel = 0; texel + 8 <= bytes.size(); texel += 8) {
+            uint64_t halves;
+            std::memcpy(&halves, bytes.data() + texel, 8);
+            texels.push_back(glm::unpackHalf4x16(halves));
+        }
+    }
+    return texels;
+}
+
 class MsaaTest : public testing::TestWithParam<Config> {
 protected:
     const Config& config() const { return GetParam(); }
@@ -302,26 +329,8 @@ TEST_P(MsaaTest, ACubeCaptureResolvesEachFaceOfItsSamples) {
     Renderer renderer(device, scene, s);
     constexpr uint32_t kFace = 48;
     auto capture = [&](uint32_t samples, FrameReport& report) {
-        const rhi::TextureHandle cube = device.createTexture(rhi::TextureDesc{}
-                                                                 .setDimension(rhi::TextureDimension::TextureCube)
-                                                                 .setFormat(rhi::Format::RGBA16_FLOAT)
-                                                                 .setSize(kFace, kFace)
-                                                                 .setUsage(rhi::TextureUsage::RenderTarget | rhi::TextureUsage::Sampled)
-                                                                 .setDebugName(fmt::format("cube {} samples", samples)));
-        CubeCaptureDesc desc;
-        desc.target = cube;
-        desc.msaaSamples = samples;
-        report = renderer.renderCubeCapture(desc);
         std::vector<float> red;   // faces 0..5, rows top down
-        for (uint32_t face = 0; face < 6; ++face) {
-            const std::vector<std::byte> bytes = device.readTexture(cube, {0, face});
-            EXPECT_EQ(bytes.size(), size_t(kFace) * kFace * 8);
-            for (size_t texel = 0; texel + 8 <= bytes.size(); texel += 8) {
-                uint16_t half;
-                std::memcpy(&half, bytes.data() + texel, 2);
-                red.push_back(glm::unpackHalf1x16(half));
-            }
-        }
+        for (const glm::vec4& texel : captureFaces(device, renderer, samples, kFace, glm::vec3(0.0f), report)) red.push_back(texel.r);
         return red;
     };
     // One view name for every count: the features' per-view state follows the view's count.
@@ -372,6 +381,36 @@ TEST_P(MsaaTest, ACubeCaptureResolvesEachFaceOfItsSamples) {
     EXPECT_GT(flat, 5 * faceTexels);
     EXPECT_GE(partial, 40u) << "too few partly covered edge texels: the faces were not multisampled";
     EXPECT_NEAR(areaFour, areaOne, 0.03 * areaOne);
+}
+
+// A capture's masked cut-out (cutOutStage, seen from z = 2 by the -Z face) gets alpha to coverage
+// as the main view's does: more partly covered texels than with the renderer's alphaToCoverage off,
+// every sample the cut-out's or the quad's behind it, and the capture's report says it was used.
+TEST_P(MsaaTest, ACubeCaptureGivesCutOutsAlphaToCoverage) {
+    const Scene scene = cutOutStage();
+    rhi::IDevice& device = test_support::deviceFor(config().backend);
+    device.takeDebugMessages();
+    constexpr uint32_t kFace = 64;
+    auto partlyRed = [&](bool alphaToCoverage) {
+        RenderSettings s = settings(1);
+        s.path = config().path;
+        s.alphaToCoverage = alphaToCoverage;
+        Renderer renderer(device, scene, s);
+        FrameReport report;
+        const std::vector<glm::vec4> faces = captureFaces(device, renderer, kSamples, kFace, glm::vec3(0.0f, 0.0f, 2.0f), report);
+        EXPECT_EQ(report.alphaToCoverage, alphaToCoverage);
+        size_t partial = 0;
+        for (size_t i = 5 * size_t(kFace) * kFace; i < faces.size(); ++i) {   // the -Z face
+            EXPECT_NEAR(faces[i].r + faces[i].g, 1.0f, 1e-3f) << "texel " << i << ": a sample is neither the cut-out nor the quad behind it";
+            partial += faces[i].r > 0.0f && faces[i].r < 1.0f;
+        }
+        return partial;
+    };
+    const size_t coverage = partlyRed(true), cutOff = partlyRed(false);
+    const std::vector<rhi::DebugMessage> messages = device.takeDebugMessages();
+    EXPECT_TRUE(messages.empty()) << test_support::joinMessages(messages);
+    // The cut line crosses about 25 rows of the face; the quad's own edges are partly covered in both.
+    EXPECT_GE(coverage, cutOff + 15) << "the capture's cut-out edge was not anti-aliased";
 }
 
 // A count the device does not allow, or none at all, is a RendererError naming it.
