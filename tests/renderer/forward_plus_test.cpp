@@ -165,6 +165,13 @@ const SceneCase kEqualityScenes[] = {
          scene.camera.nearPlane = scene.camera.farPlane * 1e-4f;
          return scene;
      }, 16},
+    // ... and 1e5 (depth steps of 2 m at 600 m; on GL this room once differed in one pixel, before
+    // GL's invariant gl_Position and LessOrEqual ties: docs/LIGHTING.md).
+    {"FarOverNearOf1e5", [] {
+         Scene scene = roomWithManyLights(64);
+         scene.camera.nearPlane = scene.camera.farPlane * 1e-5f;
+         return scene;
+     }, 16},
     {"OrthographicManyLights", [] { return orthographic(roomWithManyLights(64), 0.02f); }, 16},
     {"CoplanarQuads", coplanarQuadsInTheRoom, 16},
     {"OrthographicLightsBehindTheCamera", [] { return orthographic(lightsBehindTheCamera(), 0.0f); }, 32},
