@@ -158,6 +158,9 @@ Timing timeFrames(renderer::Renderer& renderer, uint32_t runs) {
 // ---- Reflection-probe captures ----
 
 constexpr size_t kMaxCapturedProbes = 4;   // of the scene's, in its order: enough to see the trend, bounded time
+// The largest reference face: 6 x 2048^2 texels are 400 MB as floats on the host, and 2048 is the
+// least cube size any backend allows (GLES 3.0). Larger probes are skipped, saying so.
+constexpr uint32_t kMaxReferenceFace = 2048;
 
 struct CaptureRow {
     std::string backend, path, probe;
@@ -241,6 +244,12 @@ void measureCaptures(rhi::IDevice& device, const renderer::Scene& scene, rendere
     const size_t probes = std::min(scene.reflectionProbes.size(), kMaxCapturedProbes);
     for (size_t index = 0; index < probes; ++index) {
         const renderer::ReflectionProbe& probe = scene.reflectionProbes[index];
+        if (uint64_t(probe.resolution) * referenceScale > kMaxReferenceFace) {
+            skipped.push_back(fmt::format("{} probe '{}': its {}x{} reference faces would exceed {}^2; give a smaller --reference-scale",
+                                          label, probe.name, probe.resolution * referenceScale, probe.resolution * referenceScale,
+                                          kMaxReferenceFace));
+            continue;
+        }
         const Capture reference = captureProbe(device, renderer, probe, 1, referenceScale, 1);
         std::vector<uint8_t> aliased;
         auto addRow = [&](Method method, uint32_t count, uint32_t scale) {

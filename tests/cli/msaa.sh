@@ -118,4 +118,9 @@ json_check "$P" 'all(abs(c["error"]["meanAliased"] - d["error"]["meanAliased"]) 
   if (c["probe"], c["method"], c["samples"]) == (d["probe"], d["method"], d["samples"]))' "the backends disagree on a capture's error"
 grep -q "^## Reflection-probe captures" "$TMP/probes/msaa.md" || fail "msaa.md has no captures section"
 grep -q "| vulkan | fallback | right | 128 | msaa 4 | 4 |" "$TMP/probes/msaa.md" || fail "msaa.md has no msaa 4 capture row"
+# A probe whose reference faces would pass 2048^2 (1024^2 at 4x) is skipped saying so; the others are measured.
+printf '{"gltf": "cutout.gltf", "reflectionProbes": [{"name": "big", "resolution": 1024}, {"name": "small", "resolution": 16}]}' > "$TMP/bigprobe.json"
+expect_success bench msaa "$TMP/bigprobe.json" --quick --backends vulkan --paths fallback --supersample none --out "$TMP/big"
+json_check "$TMP/big/msaa.json" 'any("probe \x27big\x27: its 4096x4096 reference faces would exceed 2048^2" in s for s in j["skipped"]) and
+  sorted({c["probe"] for c in j["captures"]}) == ["small"]' "the 1024^2 probe should be skipped with its reason, the 16^2 one measured"
 finish
