@@ -33,7 +33,7 @@ glm::dvec3 equirectDirection(const glm::dvec2& uv) {
 
 
 EnvironmentMap::EnvironmentMap(rhi::IDevice& device, const ImageRGBAF& equirect, uint32_t faceSize, FeaturePath path)
-    : m_device(device), m_path(path), m_faceSize(faceSize) {
+    : m_device(device), m_path(path) {
     if (equirect.width == 0 || equirect.height == 0 || equirect.pixels.size() != size_t(equirect.width) * equirect.height * 4)
         throw RendererError(fmt::format("environment map: the equirect image is empty or malformed ({}x{}, {} floats)", equirect.width,
                                         equirect.height, equirect.pixels.size()));
@@ -63,15 +63,8 @@ EnvironmentMap::EnvironmentMap(rhi::IDevice& device, const ImageRGBAF& equirect,
         for (size_t i = 0; i < count; ++i) halves[i] = glm::packHalf1x16(std::clamp(equirect.pixels[i], 0.0f, 65504.0f));
         device.writeTexture(m_equirect, {}, halves.data(), count * sizeof(uint16_t));
     }
-    const rhi::TextureUsage usage = rhi::TextureUsage::Sampled |
-                                    (path == FeaturePath::Compute ? rhi::TextureUsage::Storage : rhi::TextureUsage::RenderTarget);
-    m_cube = device.createTexture(rhi::TextureDesc{}
-                                      .setDimension(rhi::TextureDimension::TextureCube)
-                                      .setFormat(rhi::Format::RGBA16_FLOAT)
-                                      .setSize(faceSize, faceSize)
-                                      .setMipLevels(0)
-                                      .setUsage(usage)
-                                      .setDebugName("environment cube"));
+    m_lighting.faceSize = faceSize;
+    m_lighting.cube = createCube(faceSize, "environment cube");
     rhi::SamplerDesc sampler;
     sampler.setFilter(rhi::Filter::Linear);
     sampler.addressU = rhi::AddressMode::Repeat;   // wraps around the horizon
@@ -79,64 +72,101 @@ EnvironmentMap::EnvironmentMap(rhi::IDevice& device, const ImageRGBAF& equirect,
     m_sampler = device.createSampler(sampler);
 }
 
+rhi::TextureHandle EnvironmentMap::createCube(uint32_t faceSize, const char* debugName) const {
+    const rhi::TextureUsage usage = rhi::TextureUsage::Sampled |
+                                    (m_path == FeaturePath::Compute ? rhi::TextureUsage::Storage : rhi::TextureUsage::RenderTarget);
+    return m_device.createTexture(rhi::TextureDesc{}
+                                      .setDimension(rhi::TextureDimension::TextureCube)
+                                      .setFormat(rhi::Format::RGBA16_FLOAT)
+                                      .setSize(faceSize, faceSize)
+                                      .setMipLevels(0)
+                                      .setUsage(usage)
+                                      .setDebugName(debugName));
+}
+
 ViewTarget EnvironmentMap::addPasses(PassGraph& graph) {
     ViewTarget target;
     target.resource = graph.addResource(ibl_resources::kEnvironment);
-    target.texture = m_cube;
+    target.texture = m_lighting.cube;
     PassGraph::PassDesc pass;
     pass.name = m_path == FeaturePath::Compute ? "equirect-to-cube-compute" : "equirect-to-cube-fallback";
     pass.writes = {target.resource};
-    pass.setup = [this] { setup(); };
-    pass.record = [this](rhi::ICommandList& cmd, PassReport& report) { record(cmd, report); };
+    pass.setup = [this] { setup(m_lighting); };
+    pass.record = [this](rhi::ICommandList& cmd, PassReport& report) { record(m_lighting, cmd, report); };
     graph.addPass(std::move(pass));
     graph.publish("", ibl_resources::kEnvironment, target);
     return target;
 }
 
-void EnvironmentMap::setup() {
-    if (m_pipeline) return;
-    m_bindings.clear();
+ViewTarget EnvironmentMap::addBackgroundPasses(PassGraph& graph, uint32_t faceSize) {
+    if (m_background.cube) throw RendererError("environment map: the background cube was added already");
+    if (faceSize == 0 || faceSize > m_device.capabilities().limits.maxTextureSizeCube)
+        throw RendererError(fmt::format("environment map: background face size {} is outside 1..{}", faceSize,
+                                        m_device.capabilities().limits.maxTextureSizeCube));
+    m_background.faceSize = faceSize;
+    m_background.cube = createCube(faceSize, "sky background cube");
+    ViewTarget target;
+    target.resource = graph.addResource("sky background");
+    target.texture = m_background.cube;
+    PassGraph::PassDesc pass;
+    pass.name = m_path == FeaturePath::Compute ? "background-cube-compute" : "background-cube-fallback";
+    pass.writes = {target.resource};
+    pass.setup = [this] { setup(m_background); };
+    pass.record = [this](rhi::ICommandList& cmd, PassReport& report) {
+        record(m_background, cmd, report);
+        // A box-filtered chain: the background samples it by the pixel's footprint, so an image
+        // smaller than the sky averages it instead of aliasing it.
+        if (m_background.cube->desc().mipLevels > 1) cmd.generateMips(m_background.cube);
+    };
+    graph.addPass(std::move(pass));
+    return target;
+}
+
+void EnvironmentMap::setup(Conversion& conversion) {
+    if (!conversion.bindings.empty()) return;
     if (m_path == FeaturePath::Compute) {
-        m_pipeline = m_device.createComputePipeline(rhi::ComputePipelineDesc{}
-                                                        .setShader(makeShader(m_device, rhi::ShaderStage::Compute, "equirect_to_cube_comp"))
-                                                        .setDebugName("equirect to cube"));
+        if (!m_pipeline)
+            m_pipeline = m_device.createComputePipeline(rhi::ComputePipelineDesc{}
+                                                            .setShader(makeShader(m_device, rhi::ShaderStage::Compute, "equirect_to_cube_comp"))
+                                                            .setDebugName("equirect to cube"));
         const rhi::BufferHandle params =
-            makeUniformBuffer(m_device, EquirectParams{glm::ivec4(0, int(m_faceSize), 0, 0)}, "equirect params");
-        m_bindings.push_back(m_device.createBindingSet(
+            makeUniformBuffer(m_device, EquirectParams{glm::ivec4(0, int(conversion.faceSize), 0, 0)}, "equirect params");
+        conversion.bindings.push_back(m_device.createBindingSet(
             rhi::BindingSetDesc{}
                 .add(rhi::BindingItem::uniformBuffer(JANUS_BINDING_EQUIRECT_PARAMS, params))
                 .add(rhi::BindingItem::sampledTexture(JANUS_BINDING_EQUIRECT_SOURCE, m_equirect, m_sampler))
-                .add(rhi::BindingItem::storageImage(JANUS_BINDING_EQUIRECT_CUBE, m_cube, 0))));
+                .add(rhi::BindingItem::storageImage(JANUS_BINDING_EQUIRECT_CUBE, conversion.cube, 0))));
         return;
     }
-    m_pipeline = m_device.createGraphicsPipeline(rhi::GraphicsPipelineDesc{}
-                                                     .setShaders(makeShader(m_device, rhi::ShaderStage::Vertex, "fullscreen_vert"),
-                                                                 makeShader(m_device, rhi::ShaderStage::Fragment, "equirect_to_cube_frag"))
-                                                     .addColorFormat(m_cube->desc().format)
-                                                     .setDebugName("equirect to cube"));
+    if (!m_pipeline)
+        m_pipeline = m_device.createGraphicsPipeline(rhi::GraphicsPipelineDesc{}
+                                                         .setShaders(makeShader(m_device, rhi::ShaderStage::Vertex, "fullscreen_vert"),
+                                                                     makeShader(m_device, rhi::ShaderStage::Fragment, "equirect_to_cube_frag"))
+                                                         .addColorFormat(rhi::Format::RGBA16_FLOAT)
+                                                         .setDebugName("equirect to cube"));
     for (int face = 0; face < 6; ++face) {
         const rhi::BufferHandle params =
-            makeUniformBuffer(m_device, EquirectParams{glm::ivec4(face, int(m_faceSize), 0, 0)}, "equirect params");
-        m_bindings.push_back(m_device.createBindingSet(
+            makeUniformBuffer(m_device, EquirectParams{glm::ivec4(face, int(conversion.faceSize), 0, 0)}, "equirect params");
+        conversion.bindings.push_back(m_device.createBindingSet(
             rhi::BindingSetDesc{}
                 .add(rhi::BindingItem::uniformBuffer(JANUS_BINDING_EQUIRECT_PARAMS, params))
                 .add(rhi::BindingItem::sampledTexture(JANUS_BINDING_EQUIRECT_SOURCE, m_equirect, m_sampler))));
     }
 }
 
-void EnvironmentMap::record(rhi::ICommandList& cmd, PassReport& report) {
+void EnvironmentMap::record(const Conversion& conversion, rhi::ICommandList& cmd, PassReport& report) {
     if (m_path == FeaturePath::Compute) {
         cmd.setPipeline(m_pipeline);
-        cmd.setBindingSet(0, m_bindings[0]);
-        const uint32_t groups = (m_faceSize + kGroupSize - 1) / kGroupSize;
+        cmd.setBindingSet(0, conversion.bindings[0]);
+        const uint32_t groups = (conversion.faceSize + kGroupSize - 1) / kGroupSize;
         cmd.dispatch(groups, groups, 6);
         ++report.dispatches;
         return;
     }
     for (uint32_t face = 0; face < 6; ++face) {
-        rhi::Attachment target = rhi::Attachment::clear(m_cube, {0, 0, 0, 0}, {0, face});
+        rhi::Attachment target = rhi::Attachment::clear(conversion.cube, {0, 0, 0, 0}, {0, face});
         target.loadOp = rhi::LoadOp::DontCare;   // every texel is written
-        drawFullscreenTriangle(cmd, target, m_pipeline, m_bindings[face], report);
+        drawFullscreenTriangle(cmd, target, m_pipeline, conversion.bindings[face], report);
     }
 }
 

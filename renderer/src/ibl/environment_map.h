@@ -3,7 +3,9 @@
 // mip chain, converted on the GPU. Compute path: one dispatch writes mip 0 of all six faces
 // (equirect_to_cube.comp, storage imageCube); fallback: six fullscreen draws, one per face as an
 // attachment (equirect_to_cube.frag). Both sample the equirect bilinearly, wrapping in u.
-// Only mip 0 is written; GgxPrefilter builds the rest of the chain from it.
+// Only mip 0 is written; GgxPrefilter builds the rest of the chain from it. The same equirect can
+// also be converted into a second cube, the sky's background (addBackgroundPasses), with its own
+// face size and a box-filtered mip chain.
 #pragma once
 
 #include <cstdint>
@@ -44,20 +46,34 @@ public:
     // Runs the conversion now (its own graph and command list) and returns the pass's report.
     PassReport convert();
 
-    const rhi::TextureHandle& cube() const { return m_cube; }
+    // Adds "background-cube-compute" | "background-cube-fallback": the same conversion into a
+    // second RGBA16F cube of `faceSize`, then its box-filtered mip chain (generateMips), for the
+    // sky's background (docs/IBL.md, "The background"); returns it. Throws RendererError for a
+    // face size of 0 or above the device's cube limit, or a second call.
+    ViewTarget addBackgroundPasses(PassGraph& graph, uint32_t faceSize);
+
+    const rhi::TextureHandle& cube() const { return m_lighting.cube; }
+    // The background cube; null before addBackgroundPasses.
+    const rhi::TextureHandle& background() const { return m_background.cube; }
     FeaturePath path() const { return m_path; }
 
 private:
-    void setup();
-    void record(rhi::ICommandList& cmd, PassReport& report);
+    // A cube the equirect is converted into, and the binding sets that write its mip 0.
+    struct Conversion {
+        uint32_t faceSize = 0;
+        rhi::TextureHandle cube;
+        std::vector<rhi::BindingSetHandle> bindings;   // compute: 1; fallback: one per face
+    };
+    rhi::TextureHandle createCube(uint32_t faceSize, const char* debugName) const;
+    void setup(Conversion& conversion);
+    void record(const Conversion& conversion, rhi::ICommandList& cmd, PassReport& report);
 
     rhi::IDevice& m_device;
     FeaturePath m_path;
-    uint32_t m_faceSize = 0;
-    rhi::TextureHandle m_equirect, m_cube;
+    rhi::TextureHandle m_equirect;
     rhi::SamplerHandle m_sampler;
-    rhi::PipelineHandle m_pipeline;
-    std::vector<rhi::BindingSetHandle> m_bindings;   // compute: 1; fallback: one per face
+    rhi::PipelineHandle m_pipeline;   // one for both conversions: the face size is a uniform
+    Conversion m_lighting, m_background;
 };
 
 }  // namespace janus::renderer

@@ -68,8 +68,11 @@ ImageBasedLighting::ImageBasedLighting(rhi::IDevice& device, const Environment& 
     const ViewTarget prefiltered = m_prefilter->addPasses(graph, cube);
     const PassGraph::ResourceId sh = graph.addResource("sky SH");
     m_sh->addPass(graph, cube.resource, m_environment->cube(), 0, sh);
+    const ViewTarget background =
+        m_environment->addBackgroundPasses(graph, backgroundFaceSize(sky.width, device.capabilities().limits.maxTextureSizeCube));
     graph.markOutput(prefiltered.resource);
     graph.markOutput(sh);
+    graph.markOutput(background.resource);
     graph.compile(device);
     m_startupReports = graph.execute(device, device.createCommandList());
     m_dfg = uploadDfgTable(device, sharedDfgTable());
@@ -96,6 +99,10 @@ glm::vec4 ImageBasedLighting::shadingParams() const {
     return glm::vec4(1.0f, float(m_prefilter->mipCount() - 1), m_intensity, 0.0f);
 }
 
-rhi::TextureHandle ImageBasedLighting::skyCube() const { return active() ? m_prefilter->prefiltered() : nullptr; }
+rhi::TextureHandle ImageBasedLighting::backgroundCube() const { return active() ? m_environment->background() : nullptr; }
+
+uint32_t ImageBasedLighting::backgroundFaceSize(uint32_t equirectWidth, uint32_t maxCubeSize) {
+    return std::max(kSkyFaceSize, std::min({equirectWidth / 4, kMaxBackgroundFaceSize, maxCubeSize}));
+}
 
 }  // namespace janus::renderer

@@ -1,6 +1,7 @@
 // Image-based lighting from the scene's sky (internal to the renderer; docs/IBL.md): the
 // equirectangular map becomes a cube (EnvironmentMap), GGX-prefiltered mips (GgxPrefilter) and
-// SH9 irradiance (ShIrradiance), once, when the renderer is made; forward shading then reads the
+// SH9 irradiance (ShIrradiance), and a second, sharper cube for the background, once, when the
+// renderer is made; forward shading then reads the
 // prefiltered cube, the DFG table and the SH through bindings JANUS_BINDING_SKY_*. Without a sky
 // the feature makes only 1x1 stand-ins and the forward pass keeps the ambient colour.
 #pragma once
@@ -31,6 +32,11 @@ class ImageBasedLighting final : public RenderFeature {
 public:
     // The sky's cube face size (mip 0 of the prefiltered cube; 8 mips).
     static constexpr uint32_t kSkyFaceSize = 128;
+    // The background cube's face size for an equirect `equirectWidth` texels around: a quarter of
+    // it (the equirect's texel density along the horizon), at least kSkyFaceSize, at most
+    // kMaxBackgroundFaceSize and the device's cube limit (docs/IBL.md, "The background").
+    static constexpr uint32_t kMaxBackgroundFaceSize = 1024;
+    static uint32_t backgroundFaceSize(uint32_t equirectWidth, uint32_t maxCubeSize);
 
     // Reads environment.map (.hdr or .exr) when set and processes it on the GPU. Throws
     // RendererError naming the file when it cannot be read or is not a usable sky.
@@ -47,8 +53,8 @@ public:
     void addViewBindings(rhi::BindingSetDesc& set) const;
     // frame.skyParams: x 1 with a sky, y the prefiltered cube's last mip, z intensity.
     glm::vec4 shadingParams() const;
-    // The sky cube (mip 0 = the sky's radiance) for the background; null without a sky.
-    rhi::TextureHandle skyCube() const;
+    // The sky's radiance for the background, with a box-filtered mip chain; null without a sky.
+    rhi::TextureHandle backgroundCube() const;
     float intensity() const { return m_intensity; }
 
 private:

@@ -48,7 +48,7 @@ void SkyBackground::setup(ViewState& state) {
     state.uniforms = makeUniformBuffer(m_device, uniforms, fmt::format("sky uniforms ({})", state.view.name).c_str());
     state.bindings = m_device.createBindingSet(rhi::BindingSetDesc{}
                                                    .add(rhi::BindingItem::uniformBuffer(JANUS_BINDING_SKY_UNIFORMS, state.uniforms))
-                                                   .add(rhi::BindingItem::sampledTexture(JANUS_BINDING_SKY_RADIANCE, m_lighting.skyCube(),
+                                                   .add(rhi::BindingItem::sampledTexture(JANUS_BINDING_SKY_RADIANCE, m_lighting.backgroundCube(),
                                                                                          m_sampler)));
     state.pipeline = m_device.createGraphicsPipeline(rhi::GraphicsPipelineDesc{}
                                                          .setShaders(makeShader(m_device, rhi::ShaderStage::Vertex, "sky_vert"),
