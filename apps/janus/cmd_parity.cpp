@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <fstream>
 #include <memory>
+#include <set>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -116,7 +117,20 @@ void recordDifference(const std::string& name, const renderer::ImageRGBA8& a, co
 // Each configuration that ran against the same configuration's image in --against's directory:
 // prints the table, returns parity.json's `against` and clears `passed` on a failure.
 nlohmann::json compareAgainst(const AgainstDirectory& against, const std::vector<ConfigurationResult>& results,
-                              const std::filesystem::path& outDir, bool& passed) {
+                              const nlohmann::json& imageSettings, const std::filesystem::path& outDir, bool& passed) {
+    // Settings that change every image (samples per pixel; checkAgainstSummary checked the size and
+    // the scene): said, since the comparison below will then fail for a reason other than the driver.
+    try {
+        std::ifstream file(against.dir / "parity.json");
+        const nlohmann::json other = nlohmann::json::parse(file);
+        for (const auto& [key, ours] : imageSettings.items())
+            if (other.contains(key) && other[key] != ours)
+                std::fprintf(stderr, "janus: warning: --against: %s rendered with %s %s, this run with %s; its images differ wherever "
+                                     "that matters\n",
+                             against.dir.c_str(), key.c_str(), other[key].dump().c_str(), ours.dump().c_str());
+    } catch (const std::exception&) {
+        // checkAgainstSummary read it before the renders; a file changed since is compared as it is.
+    }
     std::vector<std::vector<std::string>> rows{
         {"configuration", "max diff", "PSNR dB", fmt::format("pixels > {} step(s)", against.tolerance), "result"}};
     nlohmann::json entries = nlohmann::json::array();
@@ -278,17 +292,25 @@ int run(const ParityOptions& options) {
     else
         std::printf("one configuration: no pairs to compare\n");
 
-    nlohmann::json againstJson;
-    if (against) againstJson = compareAgainst(*against, results, outDir, passed);
-
-    nlohmann::json configsJson = nlohmann::json::array();
     // --msaa, else what the scene's quality asked for (every configuration renders with the same).
     uint32_t msaaSamples = base.msaaSamples;
     bool alphaToCoverage = false;   // used: samples, and not turned off
+    std::set<uint32_t> probeSamples;   // the reflection probes' captures' (--probe-msaa, else each probe's own)
     for (const ConfigurationResult& r : results) {
         if (msaaSamples == 0 && r.outcome) msaaSamples = r.outcome->report.msaaSamples;
         if (r.outcome) alphaToCoverage = r.outcome->report.alphaToCoverage;
+        if (r.outcome)
+            for (const renderer::ProbeUpdateReport& update : r.outcome->report.probeUpdates) probeSamples.insert(update.msaaSamples);
     }
+    // What changes every image without changing the scene: --against warns where the other run differs.
+    const nlohmann::json imageSettings{{"msaaSamples", std::max(msaaSamples, 1u)},
+                                       {"alphaToCoverage", alphaToCoverage},
+                                       {"probeCaptureSamples", probeSamples}};
+
+    nlohmann::json againstJson;
+    if (against) againstJson = compareAgainst(*against, results, imageSettings, outDir, passed);
+
+    nlohmann::json configsJson = nlohmann::json::array();
     for (const ConfigurationResult& r : results) {
         nlohmann::json entry{{"backend", rhi::toString(r.config.backend)},
                              {"path", renderer::toString(r.config.path)},
@@ -311,8 +333,9 @@ int run(const ParityOptions& options) {
                                  {"selectedConfigurations", selected},
                                  {"width", base.size.width},
                                  {"height", base.size.height},
-                                 {"msaaSamples", std::max(msaaSamples, 1u)},
-                                 {"alphaToCoverage", alphaToCoverage},
+                                 {"msaaSamples", imageSettings["msaaSamples"]},
+                                 {"alphaToCoverage", imageSettings["alphaToCoverage"]},
+                                 {"probeCaptureSamples", imageSettings["probeCaptureSamples"]},
                                  {"tolerance", tolerance},
                                  {"edgePixels", edgePixels},
                                  {"compilerRounding", options.compilerRounding},

@@ -27,6 +27,12 @@ run_janus parity --size 32x32 --out "$TMP/machine-c" --against "$TMP/machine-a"
 grep -Eq "^  gl-fallback +20 .*FAIL" "$TMP/stdout" || fail "the against table does not fail gl-fallback by 20 steps: $(cat "$TMP/stdout")"
 json_check "$TMP/machine-c/parity.json" '[c["configuration"] for c in j["against"]["configurations"] if not c["passed"]] == ["gl-fallback"] and j["passed"] is False' "only gl-fallback must fail against machine-a"
 expect_success parity --size 32x32 --out "$TMP/machine-d" --against "$TMP/machine-a" --against-tolerance 20
+grep -q "warning" "$TMP/stderr" && fail "runs with the same settings should compare without a warning: $(cat "$TMP/stderr")"
+# Another sample count than the other run's changes every edge: said before the comparison fails.
+run_janus parity --size 32x32 --msaa 4 --out "$TMP/machine-msaa" --against "$TMP/machine-b"
+grep -q "warning: --against: .*machine-b rendered with msaaSamples 1, this run with 4" "$TMP/stderr" ||
+  fail "--against with another --msaa should warn: $(cat "$TMP/stderr")"
+json_check "$TMP/machine-msaa/parity.json" 'j["msaaSamples"] == 4 and j["probeCaptureSamples"] == []' "parity.json should record the samples (and no probe captures)"
 
 # An image the other run lists as rendered but that is missing is an input error naming it, not
 # "not in --against".
