@@ -91,6 +91,9 @@ void Renderer::Impl::createFeatures(const Scene& scene) {
         fmt::print(stderr, "janus renderer: warning: no GI to show: scene '{}' has no irradiance volume, so the {} debug view is black; "
                            "give the scene an \"irradianceVolume\" (docs/SCENES.md) or a glTF node named IrradianceVolume...\n",
                    scene.name, toString(settings.debugView));
+    if (settings.probeMsaaSamples > 1 && scene.reflectionProbes.empty())
+        fmt::print(stderr, "janus renderer: warning: probe msaa {} has nothing to do: scene '{}' has no reflection probes (docs/PROBES.md)\n",
+                   settings.probeMsaaSamples, scene.name);
     if (settings.debugView == DebugView::Shadow && !this->shadows->active())
         fmt::print(stderr, "janus renderer: warning: no shadow to show: scene '{}' has {}, so the shadow debug view is white "
                            "(every surface fully lit)\n",

@@ -95,11 +95,15 @@ expect_error 4 "tiles-depth.*tiles-2d" render many-lights --culling tiles-depth 
 # so, and each face resolves), the main view keeps one; a bad count is a usage error, a count the
 # device lacks exit 4 naming the flag.
 expect_success render probes --size 32x24 --probe-msaa 4 --out "$TMP/probe-msaa.png" --report "$TMP/probe-msaa.json" --validation
+grep -q "nothing to do" "$TMP/stderr" && fail "a scene with probes should not be told --probe-msaa does nothing"
 json_check "$TMP/probe-msaa.json" 'j["probeUpdates"] and all(u["msaaSamples"] == 4 for u in j["probeUpdates"]) and j["msaaSamples"] == 1' "--probe-msaa 4 did not reach every probe update (or changed the main view)"
 grep -q "samples" "$TMP/stdout" || fail "the probe update table has no samples column"
 expect_success render probes --size 32x24 --out "$TMP/probe-one.png" --report "$TMP/probe-one.json"
 json_check "$TMP/probe-one.json" 'all(u["msaaSamples"] == 1 for u in j["probeUpdates"]) and all(v["samples"] == 1 for v in j["views"])' "probes take one sample unless asked"
 expect_error 2 "--probe-msaa '6' is not allowed; use 1, 2, 4, 8 or 16" render probes --size 16x16 --probe-msaa 6 --out "$TMP/probe6.png"
+expect_success render --size 16x16 --probe-msaa 4 --out "$TMP/no-probes.png"
+grep -q "warning: probe msaa 4 has nothing to do: scene '.*' has no reflection probes" "$TMP/stderr" ||
+  fail "--probe-msaa on a scene without probes should say it does nothing: $(cat "$TMP/stderr")"
 if (( max_samples < 16 )); then
   expect_error 4 "probe msaa 16 is not possible on this vulkan device" render probes --size 16x16 --probe-msaa 16 --out "$TMP/probe16.png"
 fi
