@@ -306,7 +306,7 @@ FrameReport Renderer::Impl::renderCubeCapture(const CubeCaptureDesc& capture) {
         view.passes.shadowMapSize = capture.shadowMapSize;
         view.passes.lightCulling = false;
         view.passes.tonemap = false;
-        view.passes.reflectionProbes = false;
+        view.passes.reflectionProbes = capture.reflectionProbes;
         view.sampleCount = samples;
         view.alphaToCoverage = frame.alphaToCoverage;
         const ViewTarget color{graph.importResource(fmt::format("capture {}", cubeFaceName(face))), capture.target,

@@ -90,7 +90,7 @@ TEST(ReflectionProbeScenes, ASceneFileGivesEveryFieldAndReplacesTheMarkersProbe)
         "name": "hall", "position": [0, 1, 0], "influence": {"min": [-1, 0, -1], "max": [1, 2, 1]}, "blendDistance": 0.3,
         "parallax": {"center": [0, 1.5, 0], "size": [4, 3, 4]}, "resolution": 64, "near": 0.1, "far": 20,
         "update": "on-request", "timeSlicing": "individual-faces", "shadows": false, "shadowMapSize": 256, "layers": 6,
-        "samplesPerMip": [21, 34, 55], "brightTexels": 32, "msaa": 4 }, {"samplesPerMip": 8}])"));
+        "samplesPerMip": [21, 34, 55], "brightTexels": 32, "msaa": 4, "seesProbes": true }, {"samplesPerMip": 8}])"));
     ASSERT_EQ(scene.reflectionProbes.size(), 2u);   // the cornell box's marker adds none: the file has probes
     const ReflectionProbe& p = scene.reflectionProbes[0];
     EXPECT_EQ(p.name, "hall");
@@ -110,6 +110,7 @@ TEST(ReflectionProbeScenes, ASceneFileGivesEveryFieldAndReplacesTheMarkersProbe)
     EXPECT_EQ(p.samplesPerMip, (std::vector<uint32_t>{21, 34, 55}));
     EXPECT_EQ(p.brightTexels, 32u);
     EXPECT_EQ(p.msaaSamples, 4u);
+    EXPECT_TRUE(p.seesProbes);
     // Defaults: the scene's bounds, at their centre, at infinity, once, all at once.
     const ReflectionProbe& d = scene.reflectionProbes[1];
     EXPECT_EQ(d.name, "probe 1");
@@ -120,6 +121,7 @@ TEST(ReflectionProbeScenes, ASceneFileGivesEveryFieldAndReplacesTheMarkersProbe)
     EXPECT_EQ(d.samplesPerMip, std::vector<uint32_t>{8});   // one number: every mip
     EXPECT_EQ(d.brightTexels, 0u);
     EXPECT_EQ(d.msaaSamples, 1u);
+    EXPECT_FALSE(d.seesProbes);
     EXPECT_GT(d.influence.size().x, 1.0f);
 }
 
@@ -161,6 +163,7 @@ TEST(ReflectionProbeScenes, BadProbesAreSceneErrorsNamingTheProblem) {
         {R"([{"msaa": 32}])", "msaa 32 must be"},
         {R"([{"msaa": "4"}])", "msaa must be the capture's samples per pixel"},
         {R"([{"msaa": true}])", "msaa must be the capture's samples per pixel"},
+        {R"([{"seesProbes": 1}])", "seesProbes must be true or false"},
         {R"({"name": "x"})", "must be an array"},
     };
     for (size_t i = 0; i < cases.size(); ++i) {
@@ -492,6 +495,84 @@ TEST_P(ReflectionProbesTest, MultisampledCapturesReachTheUpdatesAndKeepParity) {
         return s;
     }());
     test_support::expectMatchesVulkanCompute(reference.display, a.display, "probes-msaa", GetParam());
+}
+
+// Probes that see probes (ReflectionProbe::seesProbes): the every-frame "left" probe's captures
+// shade their glossy ground and chrome spheres with the probes shown at the time (its own last
+// update and "right"), so from its second update on the image differs from the one where it sees
+// only the sky, and the difference is confined to where the left probe reaches; "right", updated
+// once in the first frame before any probe was shown, sees none and changes nothing. Parity with
+// vulkan/compute holds.
+TEST_P(ReflectionProbesTest, AProbeThatSeesProbesCapturesTheirReflections) {
+    device().takeDebugMessages();
+    auto render = [&](bool leftSees, bool rightSees, uint32_t frames, rhi::IDevice& on, FeaturePath path) {
+        Scene scene = probesScene();
+        scene.reflectionProbes[0].seesProbes = leftSees;
+        scene.reflectionProbes[1].seesProbes = rightSees;
+        RenderSettings s = settings();
+        s.path = path;
+        Renderer renderer(on, scene, s);
+        for (uint32_t frame = 1; frame < frames; ++frame) renderer.renderFrame();
+        test_support::FrameOutput output;
+        output.report = renderer.renderFrame();
+        output.display = renderer.readDisplayImage();
+        output.hdr = renderer.readHdrImage();
+        return output;
+    };
+    // Frame 6: "left" has completed its second update (3 frames each), captured while the first was shown.
+    const test_support::FrameOutput skyOnly = render(false, false, 6, device(), GetParam().path);
+    const test_support::FrameOutput seeing = render(true, false, 6, device(), GetParam().path);
+    const test_support::FrameOutput rightSeeing = render(false, true, 6, device(), GetParam().path);
+    expectNoMessages();
+    test_support::expectFiniteHdr(seeing.hdr, GetParam().name());
+    const ImageDifference diff = compareImages(skyOnly.display, seeing.display, 1);
+    EXPECT_GT(diff.differingPixels, 100u) << "the left probe's captures did not change when it saw the probes";
+    EXPECT_EQ(compareImages(skyOnly.display, rightSeeing.display, 0).differingPixels, 0u)
+        << "a probe whose only update ran before any probe was shown saw something";
+    // The right third of the image is outside the left probe's influence (x > 0.5): unchanged.
+    for (uint32_t y = 0; y < seeing.display.height; ++y)
+        for (uint32_t x = seeing.display.width * 4 / 5; x < seeing.display.width; ++x)
+            for (uint32_t c = 0; c < 3; ++c) {
+                const size_t i = (size_t(y) * seeing.display.width + x) * 4 + c;
+                ASSERT_EQ(seeing.display.pixels[i], skyOnly.display.pixels[i]) << "pixel (" << x << ", " << y << ")";
+            }
+    static const test_support::FrameOutput reference =
+        render(true, false, 6, test_support::deviceFor(rhi::Backend::Vulkan), FeaturePath::Compute);
+    test_support::expectMatchesVulkanCompute(reference.display, seeing.display, "probes-seeing-probes", GetParam());
+}
+
+// Feedback stays bounded: two every-frame probes that see probes, facing each other across
+// mirror walls (metallic, roughness 0, base colour 1: every reflection keeps all its light), for
+// 12 frames (12 bounces). Light is only passed on, never made, so no pixel exceeds the brightest the scene
+// has without probes by more than rounding, and nothing turns NaN or infinite.
+TEST_P(ReflectionProbesTest, ProbesThatSeeProbesStayBoundedBetweenMirrors) {
+    device().takeDebugMessages();
+    Scene scene = probesScene();
+    for (Material& material : scene.materials) {
+        if (material.name != "red wall" && material.name != "green wall" && material.name != "chrome") continue;
+        material.baseColorFactor = glm::vec4(1.0f);
+        material.metallicFactor = 1.0f;
+        material.roughnessFactor = 0.0f;
+    }
+    Scene mirrors = scene;
+    for (ReflectionProbe& probe : mirrors.reflectionProbes) {
+        probe.seesProbes = true;
+        probe.update = ProbeUpdate::EveryFrame;
+        probe.timeSlicing = ProbeTimeSlicing::None;
+    }
+    auto brightest = [](const ImageRGBAF& image) {
+        float most = 0.0f;
+        for (size_t i = 0; i < image.pixels.size(); ++i)
+            if (i % 4 != 3) most = std::max(most, image.pixels[i]);
+        return most;
+    };
+    const float skyOnly = brightest(renderSettled(device(), scene, settings(64, 48)).hdr);
+    Renderer renderer(device(), mirrors, settings(64, 48));
+    for (int frame = 0; frame < 12; ++frame) renderer.renderFrame();
+    const ImageRGBAF hdr = renderer.readHdrImage();
+    expectNoMessages();
+    test_support::expectFiniteHdr(hdr, GetParam().name());
+    EXPECT_LE(brightest(hdr), skyOnly * 1.05f) << "reflections between the mirror walls gained light";
 }
 
 // A probe's count the device does not allow is a RendererError naming the probe when the renderer

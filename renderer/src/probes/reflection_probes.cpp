@@ -224,6 +224,7 @@ void ReflectionProbes::runStep(Probe& probe, FrameReport& frame) {
         capture.renderingLayers = probe.desc.renderingLayers;
         capture.faces = step.captureFaces;
         capture.msaaSamples = probe.desc.msaaSamples;
+        capture.reflectionProbes = probe.desc.seesProbes;
         capture.viewPrefix = view;
         FrameReport captured = m_capture(capture);
         for (const PassReport& pass : captured.passes) account(pass);

@@ -1,7 +1,8 @@
 // Reflection probes feature (internal to the renderer; docs/PROBES.md).
 //
 // Each probe the main view can use is captured with the renderer's own passes (six mirrored
-// cube-face views, the reduced pass set: no tile culling, no tonemap, no probes; shadows and
+// cube-face views, the reduced pass set: no tile culling, no tonemap, no probes unless the probe
+// sees probes (the shown ones, never what it writes); shadows and
 // rendering layers as the probe says; with the probe's samples per pixel, resolved face by face)
 // into the probe's capture cube, whose mip chain is built and
 // GGX-prefiltered (GgxPrefilter: 7 levels, roughness = mip / 6) into the probe's staging cube;

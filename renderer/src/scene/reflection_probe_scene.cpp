@@ -108,7 +108,7 @@ Box sceneBounds(const Scene& scene) {
 
 std::span<const std::string_view> reflectionProbeKeys() {
     static constexpr std::string_view kKeys[] = {"name",    "position",     "influence", "blendDistance", "parallax",      "resolution", "update",
-                                                 "timeSlicing", "shadows", "shadowMapSize", "layers",   "samplesPerMip", "brightTexels", "msaa"};
+                                                 "timeSlicing", "shadows", "shadowMapSize", "layers",   "samplesPerMip", "brightTexels", "msaa", "seesProbes"};
     return kKeys;
 }
 
@@ -187,6 +187,10 @@ std::vector<ReflectionProbe> parseReflectionProbes(const std::filesystem::path& 
                 fail(file, fmt::format("{}.brightTexels must be 0 (off) or a count up to {}, got {}", where, kMaxGgxBrightTexels,
                                        p["brightTexels"].dump()));
             probe.brightTexels = uint32_t(std::min<uint64_t>(p["brightTexels"].get<uint64_t>(), UINT32_MAX));
+        }
+        if (p.contains("seesProbes")) {
+            if (!p["seesProbes"].is_boolean()) fail(file, fmt::format("{}.seesProbes must be true or false, got {}", where, p["seesProbes"].dump()));
+            probe.seesProbes = p["seesProbes"].get<bool>();
         }
         if (p.contains("msaa")) {
             if (!p["msaa"].is_number_unsigned())

@@ -47,6 +47,10 @@ struct CubeCaptureDesc {
     // resolved into the target's face (1, 2, 4, 8 or 16 where the device allows the count for the
     // target's format and D32F; alpha-masked materials then use the renderer's alphaToCoverage).
     uint32_t msaaSamples = 1;
+    // Surfaces shade with the reflection probes shown now (ReflectionProbe::seesProbes) instead of
+    // the sky alone. What the capture writes is never what shading reads: probes are shown from
+    // copies made when an update completes.
+    bool reflectionProbes = false;
     std::string viewPrefix = "cube";    // views are named "<prefix> +X" ... in reports
 };
 

@@ -360,6 +360,12 @@ struct ReflectionProbe {
     // in the main view (RenderSettings::alphaToCoverage). RenderSettings::probeMsaaSamples
     // overrides it for every probe.
     uint32_t msaaSamples = 1;
+    // Whether the capture's surfaces reflect the probes as shading shows them now (every probe's
+    // last complete update, its own included) instead of the sky alone: a second bounce of glossy
+    // light, so a mirror in a room captures the room, not the sky behind it. It converges over
+    // updates (each reflection loses what the surface does not reflect); a probe updated once sees
+    // only the probes shown before its update (docs/PROBES.md, "Probes that see probes").
+    bool seesProbes = false;
 };
 
 // Probe-based diffuse GI (docs/GI.md): a grid of irradiance probes over `bounds`. A bake renders a
