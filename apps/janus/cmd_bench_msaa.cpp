@@ -234,9 +234,10 @@ std::string captureMethodLabel(const CaptureRow& row) {
 // Every probe (at most kMaxCapturedProbes) on one configuration: one sample, each count of
 // `samples`, each supersampling scale, against the reference scale's capture. Counts the device
 // lacks go to `skipped` with the renderer's reason.
-void measureCaptures(rhi::IDevice& device, const renderer::Scene& scene, renderer::FeaturePath path, const std::string& label,
+void measureCaptures(rhi::IDevice& device, const renderer::Scene& scene, rhi::Backend backend, renderer::FeaturePath path,
                      const std::vector<uint32_t>& samples, const std::vector<uint32_t>& scales, uint32_t referenceScale, uint32_t runs,
                      std::vector<CaptureRow>& rows, std::vector<std::string>& skipped) {
+    const std::string label = configurationLabel(backend, path);
     renderer::RenderSettings settings;
     settings.width = settings.height = 16;   // the main view is not rendered
     settings.path = path;
@@ -265,7 +266,7 @@ void measureCaptures(rhi::IDevice& device, const renderer::Scene& scene, rendere
                 aliased.resize(errors.size());
                 for (size_t p = 0; p < errors.size(); ++p) aliased[p] = errors[p] > kWrongThreshold;
             }
-            CaptureRow row{label.substr(0, label.find('/')), renderer::toString(path), probe.name, probe.resolution, method,
+            CaptureRow row{rhi::toString(backend), renderer::toString(path), probe.name, probe.resolution, method,
                            method == Method::Supersample ? scale * scale : count, scale};
             row.captureMs = measured->ms;
             row.gpuTimed = measured->gpuTimed && reference.gpuTimed;
@@ -475,7 +476,7 @@ int runMsaa(const MsaaOptions& options) {
             }
             for (uint32_t scale : scales) addRow(Method::Supersample, 1, scale);
             if (!scene.reflectionProbes.empty())
-                measureCaptures(*device, scene, path, label, samples, scales, referenceScale, runs, captureRows, skipped);
+                measureCaptures(*device, scene, backend, path, samples, scales, referenceScale, runs, captureRows, skipped);
             renderer::writePNG(outDir / fmt::format("msaa-error-{}.png", configurationFileStem(backend, path)),
                                errorPicture(reference->second, oneSampleErrors, largestErrors.empty() ? oneSampleErrors : largestErrors));
         }
