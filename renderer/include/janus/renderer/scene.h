@@ -362,8 +362,8 @@ struct ReflectionProbe {
     uint32_t msaaSamples = 1;
     // Whether the capture's surfaces reflect the probes as shading shows them now (every probe's
     // last complete update, its own included) instead of the sky alone: a second bounce of glossy
-    // light, so a mirror in a room captures the room, not the sky behind it. It converges over
-    // updates (each reflection loses what the surface does not reflect); a probe updated once sees
+    // light, so a mirror in a room captures the room, not the sky behind it. It stays bounded over
+    // updates (a reflection passes on at most what reaches it); a probe updated once sees
     // only the probes shown before its update (docs/PROBES.md, "Probes that see probes").
     bool seesProbes = false;
 };
