@@ -189,14 +189,8 @@ Capture captureProbe(rhi::IDevice& device, renderer::Renderer& renderer, const r
                                                              .setSize(size, size)
                                                              .setUsage(rhi::TextureUsage::RenderTarget | rhi::TextureUsage::Sampled)
                                                              .setDebugName(fmt::format("bench capture {}", probe.name)));
-    renderer::CubeCaptureDesc desc;
-    desc.position = probe.position;
-    desc.nearPlane = probe.nearPlane;
-    desc.farPlane = probe.farPlane;
+    renderer::CubeCaptureDesc desc = renderer::cubeCaptureOf(probe);
     desc.target = cube;
-    desc.shadows = probe.shadows;
-    desc.shadowMapSize = probe.shadowMapSize;
-    desc.renderingLayers = probe.renderingLayers;
     desc.msaaSamples = samples;
     desc.viewPrefix = fmt::format("probe {}", probe.name);
     Capture capture;

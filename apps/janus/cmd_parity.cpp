@@ -43,6 +43,7 @@ struct ParityOptions {
 struct AgainstDirectory {
     std::filesystem::path dir;
     uint32_t tolerance = 1;
+    nlohmann::json summary;   // its parity.json, read once by checkAgainstSummary
 };
 
 std::optional<AgainstDirectory> parseAgainst(const ParityOptions& options) {
@@ -61,13 +62,14 @@ std::optional<AgainstDirectory> parseAgainst(const ParityOptions& options) {
 }
 
 // The other run's parity.json must describe renders this one can be compared with.
-void checkAgainstSummary(const AgainstDirectory& against, const std::string& scene, const ImageSize& size) {
+void checkAgainstSummary(AgainstDirectory& against, const std::string& scene, const ImageSize& size) {
     const std::filesystem::path path = against.dir / "parity.json";
     uint32_t width = 0, height = 0;
     std::string otherScene;
     try {
         std::ifstream file(path);
-        const nlohmann::json other = nlohmann::json::parse(file);
+        against.summary = nlohmann::json::parse(file);
+        const nlohmann::json& other = against.summary;
         width = other.at("width").get<uint32_t>();
         height = other.at("height").get<uint32_t>();
         otherScene = other.value("scene", std::string());
@@ -120,17 +122,12 @@ nlohmann::json compareAgainst(const AgainstDirectory& against, const std::vector
                               const nlohmann::json& imageSettings, const std::filesystem::path& outDir, bool& passed) {
     // Settings that change every image (samples per pixel; checkAgainstSummary checked the size and
     // the scene): said, since the comparison below will then fail for a reason other than the driver.
-    try {
-        std::ifstream file(against.dir / "parity.json");
-        const nlohmann::json other = nlohmann::json::parse(file);
-        for (const auto& [key, ours] : imageSettings.items())
-            if (other.contains(key) && other[key] != ours)
-                std::fprintf(stderr, "janus: warning: --against: %s rendered with %s %s, this run with %s; its images differ wherever "
-                                     "that matters\n",
-                             against.dir.c_str(), key.c_str(), other[key].dump().c_str(), ours.dump().c_str());
-    } catch (const std::exception&) {
-        // checkAgainstSummary read it before the renders; a file changed since is compared as it is.
-    }
+    const nlohmann::json& other = against.summary;
+    for (const auto& [key, ours] : imageSettings.items())
+        if (other.is_object() && other.contains(key) && other[key] != ours)
+            std::fprintf(stderr, "janus: warning: --against: %s rendered with %s %s, this run with %s; its images differ wherever "
+                                 "that matters\n",
+                         against.dir.c_str(), key.c_str(), other[key].dump().c_str(), ours.dump().c_str());
     std::vector<std::vector<std::string>> rows{
         {"configuration", "max diff", "PSNR dB", fmt::format("pixels > {} step(s)", against.tolerance), "result"}};
     nlohmann::json entries = nlohmann::json::array();
@@ -191,7 +188,7 @@ int run(const ParityOptions& options) {
     const uint64_t edgePixels = parseEdgePixels(options.edgePixels);
     const bool compilerRounding = parseCompilerRounding(options.compilerRounding);
     if (options.out.empty()) throw UsageError("--out DIR is required: where to write the images and parity.json");
-    const std::optional<AgainstDirectory> against = parseAgainst(options);
+    std::optional<AgainstDirectory> against = parseAgainst(options);
     const std::vector<Configuration> configurations =
         options.configsGiven ? parseConfigurations(options.configs)
                              : std::vector<Configuration>(kConfigurations.begin(), kConfigurations.end());

@@ -280,7 +280,7 @@ FrameReport Renderer::Impl::renderCubeCapture(const CubeCaptureDesc& capture) {
         throw RendererError(fmt::format("cube capture: faces mask {:#x} must name at least one of the six faces (bits 0..5)", capture.faces));
     if (capture.mipLevel > 0) device.require(rhi::Capability::RenderToCubeFaceMip, "cube capture into a mip level other than 0");
     const uint32_t samples = capture.msaaSamples;
-    if (samples == 0 || samples > 16 || (samples & (samples - 1)) != 0)
+    if (!isMsaaSampleCount(samples))
         throw RendererError(fmt::format("cube capture: msaa {} must be 1 (off), 2, 4, 8 or 16 samples per pixel", samples));
     requireSampleCount(device, samples, desc.format, ReflectionProbes::kCaptureDepthFormat,
                        fmt::format("cube capture into '{}': msaa", desc.debugName));

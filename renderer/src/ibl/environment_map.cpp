@@ -38,8 +38,7 @@ EnvironmentMap::EnvironmentMap(rhi::IDevice& device, const ImageRGBAF& equirect,
         throw RendererError(fmt::format("environment map: the equirect image is empty or malformed ({}x{}, {} floats)", equirect.width,
                                         equirect.height, equirect.pixels.size()));
     const rhi::Capabilities& caps = device.capabilities();
-    if (faceSize == 0 || faceSize > caps.limits.maxTextureSizeCube)
-        throw RendererError(fmt::format("environment map: face size {} is outside 1..{}", faceSize, caps.limits.maxTextureSizeCube));
+    requireFaceSize(faceSize, "face size");
     if (equirect.width > caps.limits.maxTextureSize2D || equirect.height > caps.limits.maxTextureSize2D)
         throw RendererError(fmt::format("environment map: the equirect image {}x{} exceeds the device's 2D limit {}", equirect.width,
                                         equirect.height, caps.limits.maxTextureSize2D));
@@ -72,6 +71,11 @@ EnvironmentMap::EnvironmentMap(rhi::IDevice& device, const ImageRGBAF& equirect,
     m_sampler = device.createSampler(sampler);
 }
 
+void EnvironmentMap::requireFaceSize(uint32_t faceSize, const char* what) const {
+    const uint32_t most = m_device.capabilities().limits.maxTextureSizeCube;
+    if (faceSize == 0 || faceSize > most) throw RendererError(fmt::format("environment map: {} {} is outside 1..{}", what, faceSize, most));
+}
+
 rhi::TextureHandle EnvironmentMap::createCube(uint32_t faceSize, const char* debugName) const {
     const rhi::TextureUsage usage = rhi::TextureUsage::Sampled |
                                     (m_path == FeaturePath::Compute ? rhi::TextureUsage::Storage : rhi::TextureUsage::RenderTarget);
@@ -100,9 +104,7 @@ ViewTarget EnvironmentMap::addPasses(PassGraph& graph) {
 
 ViewTarget EnvironmentMap::addBackgroundPasses(PassGraph& graph, uint32_t faceSize) {
     if (m_background.cube) throw RendererError("environment map: the background cube was added already");
-    if (faceSize == 0 || faceSize > m_device.capabilities().limits.maxTextureSizeCube)
-        throw RendererError(fmt::format("environment map: background face size {} is outside 1..{}", faceSize,
-                                        m_device.capabilities().limits.maxTextureSizeCube));
+    requireFaceSize(faceSize, "background face size");
     m_background.faceSize = faceSize;
     m_background.cube = createCube(faceSize, "sky background cube");
     ViewTarget target;

@@ -64,6 +64,7 @@ private:
         rhi::TextureHandle cube;
         std::vector<rhi::BindingSetHandle> bindings;   // compute: 1; fallback: one per face
     };
+    void requireFaceSize(uint32_t faceSize, const char* what) const;   // RendererError unless 1..the device's cube limit
     rhi::TextureHandle createCube(uint32_t faceSize, const char* debugName) const;
     void setup(Conversion& conversion);
     void record(const Conversion& conversion, rhi::ICommandList& cmd, PassReport& report);

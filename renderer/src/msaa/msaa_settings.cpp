@@ -10,9 +10,8 @@ uint32_t resolveMsaaSamples(uint32_t given, const nlohmann::json& quality) {
     if (given != 0) return given;
     if (!quality.is_object() || !quality.contains("msaa")) return 1;
     const nlohmann::json& value = quality.at("msaa");
-    if (value.is_number_integer())
-        for (int64_t count : {1, 2, 4, 8, 16})
-            if (value.get<int64_t>() == count) return uint32_t(count);
+    if (value.is_number_integer() && value.get<int64_t>() > 0 && isMsaaSampleCount(uint64_t(value.get<int64_t>())))
+        return uint32_t(value.get<int64_t>());
     throw RendererError(fmt::format("scene quality key 'msaa' must be 1, 2, 4, 8 or 16 (samples per pixel), not {}", value.dump()));
 }
 

@@ -38,6 +38,19 @@ uint32_t log2u(uint32_t v) {
 
 }  // namespace
 
+CubeCaptureDesc cubeCaptureOf(const ReflectionProbe& probe) {
+    CubeCaptureDesc capture;
+    capture.position = probe.position;
+    capture.nearPlane = probe.nearPlane;
+    capture.farPlane = probe.farPlane;
+    capture.shadows = probe.shadows;
+    capture.shadowMapSize = probe.shadowMapSize;
+    capture.renderingLayers = probe.renderingLayers;
+    capture.msaaSamples = probe.msaaSamples;
+    capture.reflectionProbes = probe.seesProbes;
+    return capture;
+}
+
 ReflectionProbes::ReflectionProbes(rhi::IDevice& device, const Scene& scene, FeaturePath path, const glm::vec3& cameraPosition,
                                    uint32_t msaaSamples, CaptureFunction capture)
     : m_device(device), m_path(path), m_capture(std::move(capture)) {
@@ -214,17 +227,9 @@ void ReflectionProbes::runStep(Probe& probe, FrameReport& frame) {
     };
 
     if (step.captureFaces != 0) {
-        CubeCaptureDesc capture;
-        capture.position = probe.desc.position;
-        capture.nearPlane = probe.desc.nearPlane;
-        capture.farPlane = probe.desc.farPlane;
+        CubeCaptureDesc capture = cubeCaptureOf(probe.desc);
         capture.target = probe.capture;
-        capture.shadows = probe.desc.shadows;
-        capture.shadowMapSize = probe.desc.shadowMapSize;
-        capture.renderingLayers = probe.desc.renderingLayers;
         capture.faces = step.captureFaces;
-        capture.msaaSamples = probe.desc.msaaSamples;
-        capture.reflectionProbes = probe.desc.seesProbes;
         capture.viewPrefix = view;
         FrameReport captured = m_capture(capture);
         for (const PassReport& pass : captured.passes) account(pass);

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "ibl/ggx_samples.h"
+#include "msaa/msaa_settings.h"
 #include "scene/scene_internal.h"
 
 namespace janus::renderer {
@@ -252,7 +253,7 @@ void validateReflectionProbes(const Scene& scene) {
         if (p.brightTexels > kMaxGgxBrightTexels)
             throw SceneError(fmt::format("reflection probe {}: {} bright texels is above the most, {} (0 turns the split off)", name,
                                          p.brightTexels, kMaxGgxBrightTexels));
-        if (p.msaaSamples < 1 || p.msaaSamples > 16 || (p.msaaSamples & (p.msaaSamples - 1)) != 0)
+        if (!isMsaaSampleCount(p.msaaSamples))
             throw SceneError(fmt::format("reflection probe {}: msaa {} must be 1 (off), 2, 4, 8 or 16 samples per pixel", name,
                                          p.msaaSamples));
         if (!(std::isfinite(p.nearPlane) && std::isfinite(p.farPlane) && p.nearPlane > 0.0f && p.nearPlane < p.farPlane))

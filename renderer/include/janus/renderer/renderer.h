@@ -54,6 +54,10 @@ struct CubeCaptureDesc {
     std::string viewPrefix = "cube";    // views are named "<prefix> +X" ... in reports
 };
 
+// The capture a reflection probe's updates make (docs/PROBES.md): its position, planes, passes,
+// samples and whether it sees probes. `target`, `faces` and `viewPrefix` are the caller's.
+CubeCaptureDesc cubeCaptureOf(const ReflectionProbe& probe);
+
 // One probe of the scene's irradiance volume as the last relight left it (docs/GI.md).
 struct IrradianceProbe {
     glm::vec3 position{0.0f};
